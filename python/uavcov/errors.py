@@ -1,0 +1,50 @@
+"""The exceptions uavcov raises for input a user can get wrong.
+
+Every error derives from :class:`UavcovError`, and also from ``ValueError`` or ``TypeError``
+where that is the natural category, so ``except ValueError`` keeps working in user code.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "UavcovError",
+    "InvalidInputError",
+    "InvalidTypeError",
+    "MeshError",
+    "SurfaceTooLargeError",
+    "ConfigError",
+    "InfeasibleError",
+    "ResultsFormatError",
+]
+
+
+class UavcovError(Exception):
+    """Base class of every error raised by uavcov."""
+
+
+class InvalidInputError(UavcovError, ValueError):
+    """A value has the wrong shape, is not finite, or is out of its documented range."""
+
+
+class InvalidTypeError(UavcovError, TypeError):
+    """An argument has the wrong type or dtype (for example a float array for mesh faces)."""
+
+
+class MeshError(InvalidInputError):
+    """A surface mesh is empty, degenerate, has out-of-range indices, or cannot be read."""
+
+
+class SurfaceTooLargeError(InvalidInputError):
+    """A surface would need more memory than the chosen path allows; use the grid path."""
+
+
+class ConfigError(InvalidInputError):
+    """A sweep or command-line configuration does not parse or names unknown settings."""
+
+
+class InfeasibleError(InvalidInputError):
+    """Settings that no configuration can satisfy (for example d_safe too large for N UAVs)."""
+
+
+class ResultsFormatError(InvalidInputError):
+    """Stored results are empty, from an unknown format, or miss fields a consumer needs."""

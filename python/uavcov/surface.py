@@ -1,0 +1,324 @@
+"""The surface to cover: a triangle mesh, Z up, metres, with fast geometric queries.
+
+A :class:`Terrain` is built from vertices and faces, from any mesh object with ``.vertices`` and
+``.faces`` (``trimesh.Trimesh`` among them), or from a regular elevation grid. The Rust core keeps
+a bounding volume hierarchy over the triangles and answers every query in parallel without the
+GIL.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from . import _core
+from ._validate import as_finite_float, as_float_array, as_index_array, as_n_threads, as_points, as_positive_float
+from .errors import InvalidInputError, InvalidTypeError, MeshError
+from .targets import Targets
+
+__all__ = ["Terrain", "GridInfo"]
+
+DEFAULT_TARGET_DENSITY = 1.0
+"""Targets per m^2 on a general mesh when none is asked for: one per square metre, the paper's
+1 m discretisation."""
+
+
+@dataclass(frozen=True, eq=False)
+class GridInfo:
+    """The regular elevation grid a terrain was built from.
+
+    Attributes
+    ----------
+    z : (ny, nx) float64 array
+        Heights in metres, read-only; NaN marks nodata. Node ``(i, j)`` stands at
+        ``x = origin[0] + j * spacing[0]``, ``y = origin[1] + i * spacing[1]``.
+    spacing : (float, float)
+        Cell size ``(dx, dy)`` in metres.
+    origin : (float, float)
+        ``(x, y)`` of node ``(0, 0)`` in metres.
+    """
+
+    z: np.ndarray
+    spacing: tuple[float, float]
+    origin: tuple[float, float]
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(ny, nx)``."""
+        return self.z.shape  # type: ignore[return-value]
+
+    def node_xy(self) -> tuple[np.ndarray, np.ndarray]:
+        """The x coordinates of the columns ``(nx,)`` and y coordinates of the rows ``(ny,)``."""
+        ny, nx = self.shape
+        return (
+            self.origin[0] + np.arange(nx) * self.spacing[0],
+            self.origin[1] + np.arange(ny) * self.spacing[1],
+        )
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
+class Terrain:
+    """A surface to cover: a triangle mesh in metres, Z up.
+
+    Parameters
+    ----------
+    vertices : (V, 3) array_like of float
+        Vertex coordinates, metres.
+    faces : (F, 3) array_like of int
+        Triangles as indices into ``vertices``.
+    drop_degenerate : bool, default False
+        Leave out zero-area triangles instead of raising :class:`~uavcov.errors.MeshError`
+        (meshes read from files often carry a few).
+
+    Raises
+    ------
+    MeshError
+        No triangle, an index out of range, a non-finite coordinate, or a zero-area triangle.
+    InvalidTypeError
+        Faces that are not integers.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> t = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+    >>> float(t.area)
+    100.0
+    >>> t.ground_height([[5.0, 5.0]])
+    array([0.])
+    """
+
+    __slots__ = ("_surface", "_grid", "_vertices", "_faces")
+
+    def __init__(self, vertices: Any, faces: Any, *, drop_degenerate: bool = False) -> None:
+        v = as_float_array(vertices, "vertices", allow_nan=True)
+        if v.ndim != 2 or v.shape[1] != 3:
+            raise MeshError(f"vertices must have shape (V, 3), got {v.shape}")
+        if not np.isfinite(v).all():
+            raise MeshError("vertices contain NaN or infinite coordinates")
+        f = as_index_array(faces, "faces")
+        if f.shape[0] == 0:
+            raise MeshError("the mesh has no face")
+        if f.min() < 0 or f.max() >= v.shape[0]:
+            raise MeshError(f"face indices must lie in [0, {v.shape[0]}), found {f.min()}..{f.max()}")
+        if drop_degenerate:
+            f = f[~_degenerate_faces(v, f)]
+            if f.shape[0] == 0:
+                raise MeshError("every face of the mesh is degenerate (zero area)")
+        self._init(_core.Surface(v, f), None)
+
+    def _init(self, surface: Any, grid: GridInfo | None) -> None:
+        self._surface = surface
+        self._grid = grid
+        self._vertices = _read_only(surface.vertices())
+        self._faces = _read_only(surface.faces())
+
+    @classmethod
+    def from_mesh(cls, mesh: Any, *, drop_degenerate: bool = False) -> "Terrain":
+        """Build from any object with ``.vertices`` ``(V, 3)`` and ``.faces`` ``(F, 3)``.
+
+        A ``trimesh.Trimesh`` works without uavcov depending on trimesh.
+        """
+        if not (hasattr(mesh, "vertices") and hasattr(mesh, "faces")):
+            raise InvalidTypeError(
+                f"a mesh needs .vertices and .faces attributes, {type(mesh).__name__} has not both"
+            )
+        return cls(np.asarray(mesh.vertices), np.asarray(mesh.faces), drop_degenerate=drop_degenerate)
+
+    @classmethod
+    def from_grid(cls, z: Any, spacing: Any, origin: Any = (0.0, 0.0)) -> "Terrain":
+        """Build from a regular elevation grid.
+
+        Parameters
+        ----------
+        z : (ny, nx) array_like of float
+            Heights in metres. Node ``(i, j)`` stands at ``x = origin[0] + j * dx``,
+            ``y = origin[1] + i * dy``. NaN is nodata: no triangle touches a NaN node and no
+            target stands there.
+        spacing : float or (float, float)
+            Cell size, metres: one value for square cells or ``(dx, dy)``.
+        origin : (float, float), default (0, 0)
+            ``(x, y)`` of node ``(0, 0)``, metres.
+
+        Notes
+        -----
+        Each cell is split along its diagonal from node ``(i, j)`` to ``(i + 1, j + 1)``.
+        """
+        heights = as_float_array(z, "z", ndim=2, allow_nan=True)
+        if heights.shape[0] < 2 or heights.shape[1] < 2:
+            raise InvalidInputError(f"an elevation grid needs at least 2 rows and 2 columns, got {heights.shape}")
+        dx, dy = _pair(spacing, "spacing", positive=True)
+        x0, y0 = _pair(origin, "origin", positive=False)
+        surface = _core.Surface.from_grid(heights, dx, dy, x0, y0)
+        terrain = cls.__new__(cls)
+        terrain._init(surface, GridInfo(_read_only(heights.copy()), (dx, dy), (x0, y0)))
+        return terrain
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        if self._grid is not None:
+            return (Terrain.from_grid, (self._grid.z, self._grid.spacing, self._grid.origin))
+        return (Terrain, (self._vertices, self._faces))
+
+    def __repr__(self) -> str:
+        kind = f"grid {self._grid.shape[0]}x{self._grid.shape[1]}" if self._grid else "mesh"
+        return f"Terrain({kind}, {self.n_vertices} vertices, {self.n_faces} faces, area {self.area:.1f} m^2)"
+
+    # -- what the terrain is -------------------------------------------------------------------
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """``(V, 3)`` float64 vertex coordinates, metres (read-only)."""
+        return self._vertices
+
+    @property
+    def faces(self) -> np.ndarray:
+        """``(F, 3)`` int64 vertex indices of each triangle (read-only)."""
+        return self._faces
+
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices."""
+        return int(self._surface.n_vertices)
+
+    @property
+    def n_faces(self) -> int:
+        """Number of triangles."""
+        return int(self._surface.n_faces)
+
+    @property
+    def area(self) -> float:
+        """Total surface area, m^2."""
+        return float(self._surface.area)
+
+    @property
+    def face_areas(self) -> np.ndarray:
+        """``(F,)`` area of each triangle, m^2."""
+        return _read_only(self._surface.face_areas())
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """``(2, 3)`` array ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]``, metres."""
+        return _read_only(self._surface.bounds())
+
+    @property
+    def grid(self) -> GridInfo | None:
+        """The elevation grid this terrain was built from, or None for a general mesh."""
+        return self._grid
+
+    @property
+    def core(self) -> Any:
+        """The Rust surface (``uavcov._core.Surface``), for library internals."""
+        return self._surface
+
+    # -- targets -------------------------------------------------------------------------------
+
+    def default_targets(self, density: float | None = None) -> Targets:
+        """The points whose visibility defines coverage, each weighted by the area it stands for.
+
+        Parameters
+        ----------
+        density : float, optional
+            Targets per m^2. When omitted, a grid terrain gives its nodes (each weighted by a third
+            of the triangles around it) and a mesh gives one point per m^2. When given, points are
+            spread evenly over every triangle at this density (grid or not): each triangle is cut
+            into ``m^2`` congruent pieces, ``m = ceil(sqrt(area * density))``, with a target at
+            each piece's centroid.
+
+        Returns
+        -------
+        Targets
+            Weights sum to :attr:`area`.
+        """
+        if density is None and self._grid is not None:
+            points, weights = self._surface.vertex_targets()
+        else:
+            rate = DEFAULT_TARGET_DENSITY if density is None else as_positive_float(density, "density")
+            points, weights = self._surface.area_targets(rate)
+        return Targets(points, weights)
+
+    # -- geometric queries ---------------------------------------------------------------------
+
+    def ground_height(self, xy: Any, *, n_threads: int | None = None) -> np.ndarray:
+        """Height of the highest surface point straight below each ``(x, y)``.
+
+        Parameters
+        ----------
+        xy : (n, 2) array_like of float
+            Horizontal positions, metres; ``(n, 3)`` points are accepted and their z ignored.
+
+        Returns
+        -------
+        (n,) float64 array
+            Heights in metres; NaN where no surface lies below.
+        """
+        array = as_float_array(xy, "xy")
+        if array.ndim == 1 and array.shape[0] in (2, 3):
+            array = array.reshape(1, -1)
+        if array.ndim != 2 or array.shape[1] not in (2, 3):
+            raise InvalidInputError(f"xy must have shape (n, 2), got {array.shape}")
+        return self._surface.ground_height(np.ascontiguousarray(array[:, :2]), as_n_threads(n_threads))
+
+    def clearance(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
+        """Distance from each point straight down to the surface.
+
+        Parameters
+        ----------
+        points : (n, 3) array_like of float
+
+        Returns
+        -------
+        (n,) float64 array
+            Metres; ``inf`` where nothing lies below (off the surface or under it).
+        """
+        return self._surface.clearance(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+
+    def closest_point(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
+        """The surface point closest to each point: ``(n, 3)`` in, ``(n, 3)`` out, metres."""
+        return self._surface.closest_point(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+
+    def segments_clear(self, a: Any, b: Any, *, n_threads: int | None = None) -> np.ndarray:
+        """Whether each closed segment ``a[k] -> b[k]`` crosses no triangle.
+
+        Parameters
+        ----------
+        a, b : (n, 3) array_like of float
+            Segment ends, metres.
+
+        Returns
+        -------
+        (n,) bool array
+            True where the segment touches no triangle, ends included.
+        """
+        pa = as_points(a, "a", allow_empty=True)
+        pb = as_points(b, "b", allow_empty=True)
+        if pa.shape != pb.shape:
+            raise InvalidInputError(f"a and b must have the same shape, got {pa.shape} and {pb.shape}")
+        return self._surface.segments_clear(pa, pb, as_n_threads(n_threads))
+
+
+def _pair(value: Any, name: str, *, positive: bool) -> tuple[float, float]:
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        values = (value, value)
+    else:
+        try:
+            values = tuple(value)
+        except TypeError:
+            raise InvalidTypeError(f"{name} must be a number or a pair of numbers, got {type(value).__name__}") from None
+        if len(values) != 2:
+            raise InvalidInputError(f"{name} must be a number or a pair of numbers, got {len(values)} values")
+    check = as_positive_float if positive else as_finite_float
+    return (check(values[0], name), check(values[1], name))
+
+
+def _degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Faces whose area is zero relative to the mesh size (the rule the Rust core enforces)."""
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    diagonal = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))
+    # A margin of 10 over the core's threshold, so rounding never lets one through to it.
+    return area <= 1e-13 * max(diagonal, 1e-300) ** 2

@@ -1,0 +1,145 @@
+"""Who sees what: the coverage objective (paper eq. 1, discretised on targets).
+
+A target ``q`` is seen by a UAV at ``p`` when ``|p - q| <= d_max`` (3D) and the segment from
+``p`` towards ``q``, stopped 0.1 % of its length short of ``q``, crosses no triangle. Coverage is
+the weighted share of targets seen by at least one UAV.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from . import _core
+from ._validate import as_n_threads, as_points, as_positive_float
+from .errors import InvalidTypeError
+from .surface import Terrain
+from .targets import Targets
+
+__all__ = ["Visibility", "UavCounts", "coverage"]
+
+
+@dataclass(frozen=True, eq=False)
+class UavCounts:
+    """What each UAV contributes.
+
+    Attributes
+    ----------
+    seen : (N,) int64
+        Number of targets each UAV sees.
+    exclusive : (N,) int64
+        Number of targets only that UAV sees: its marginal contribution.
+    seen_share, exclusive_share : (N,) float64
+        The same as weighted shares of all targets, in [0, 1].
+    """
+
+    seen: np.ndarray
+    exclusive: np.ndarray
+    seen_share: np.ndarray
+    exclusive_share: np.ndarray
+
+
+class Visibility:
+    """The coverage objective for one terrain, one target set and one sensing range.
+
+    Build it once and call it many times: targets and their spatial index live in Rust.
+
+    Parameters
+    ----------
+    terrain : Terrain
+        The surface that both holds the targets and blocks the lines of sight.
+    d_max : float
+        Sensing range, metres (> 0).
+    targets : Targets, optional
+        Defaults to ``terrain.default_targets()``.
+    n_threads : int, optional
+        Threads for each evaluation; all cores by default. Results do not depend on it.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> t = uavcov.Terrain.from_grid(np.zeros((21, 21)), spacing=1.0)
+    >>> vis = uavcov.Visibility(t, d_max=50.0)
+    >>> vis.coverage([[10.0, 10.0, 5.0]])
+    1.0
+    """
+
+    __slots__ = ("_terrain", "_targets", "_d_max", "_n_threads", "_core")
+
+    def __init__(self, terrain: Terrain, d_max: float, targets: Targets | None = None, *, n_threads: int | None = None) -> None:
+        if not isinstance(terrain, Terrain):
+            raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
+        if targets is None:
+            targets = terrain.default_targets()
+        elif not isinstance(targets, Targets):
+            raise InvalidTypeError(f"targets must be a uavcov.Targets, got {type(targets).__name__}")
+        self._terrain = terrain
+        self._targets = targets
+        self._d_max = as_positive_float(d_max, "d_max")
+        self._n_threads = as_n_threads(n_threads)
+        self._core = _core.Visibility(terrain.core, targets.points, targets.weights, self._d_max)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        n_threads = self._n_threads or None
+        return (_rebuild, (self._terrain, self._d_max, self._targets, n_threads))
+
+    @property
+    def terrain(self) -> Terrain:
+        """The terrain."""
+        return self._terrain
+
+    @property
+    def targets(self) -> Targets:
+        """The targets."""
+        return self._targets
+
+    @property
+    def d_max(self) -> float:
+        """The sensing range, metres."""
+        return self._d_max
+
+    def _uavs(self, uavs: Any) -> np.ndarray:
+        return as_points(uavs, "uavs")
+
+    def coverage(self, uavs: Any) -> float:
+        """Weighted share of targets seen by at least one UAV.
+
+        Parameters
+        ----------
+        uavs : (N, 3) array_like of float
+            UAV positions, metres.
+
+        Returns
+        -------
+        float
+            In [0, 1].
+        """
+        return float(self._core.coverage(self._uavs(uavs), self._n_threads))
+
+    def seen(self, uavs: Any) -> np.ndarray:
+        """``(T,)`` bool: whether at least one UAV sees each target."""
+        return self._core.seen(self._uavs(uavs), self._n_threads)
+
+    def per_uav(self, uavs: Any) -> UavCounts:
+        """How many targets each UAV sees and how many only it sees (see :class:`UavCounts`)."""
+        seen, exclusive, seen_w, exclusive_w, total = self._core.per_uav(self._uavs(uavs), self._n_threads)
+        return UavCounts(
+            seen.astype(np.int64),
+            exclusive.astype(np.int64),
+            seen_w / total,
+            exclusive_w / total,
+        )
+
+
+def _rebuild(terrain: Terrain, d_max: float, targets: Targets, n_threads: int | None) -> Visibility:
+    return Visibility(terrain, d_max, targets, n_threads=n_threads)
+
+
+def coverage(terrain: Terrain, uavs: Any, d_max: float, targets: Targets | None = None, *, n_threads: int | None = None) -> float:
+    """Coverage of one configuration: a one-off :meth:`Visibility.coverage`.
+
+    Prefer a :class:`Visibility` object when evaluating many configurations.
+    """
+    return Visibility(terrain, d_max, targets, n_threads=n_threads).coverage(uavs)

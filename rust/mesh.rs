@@ -1,0 +1,453 @@
+//! The surface to cover: a triangle mesh (Z up, metres) with parry's BVH over its triangles.
+//!
+//! A [`Surface`] answers the geometric questions the rest of the crate asks: does a segment cross
+//! the surface, how high is the ground below a point, which surface point is closest.
+//!
+//! ```
+//! use uavcov::mesh::Surface;
+//! // One 10 m x 10 m square at z = 0, as two triangles.
+//! let s = Surface::new(
+//!     vec![[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0], [0.0, 10.0, 0.0]],
+//!     vec![[0, 1, 2], [0, 2, 3]],
+//! ).unwrap();
+//! assert_eq!(s.ground_height(5.0, 5.0), Some(0.0));
+//! assert!(!s.segment_clear([5.0, 5.0, 1.0], [5.0, 5.0, -1.0]));
+//! ```
+
+use parry3d_f64::math::Vector;
+use parry3d_f64::partitioning::TraversalAction;
+use parry3d_f64::query::details::local_ray_intersection_with_triangle;
+use parry3d_f64::query::{PointQuery, Ray};
+use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+
+use crate::error::{Error, Result};
+
+/// A point or vector in metres.
+pub type Point = [f64; 3];
+
+/// Most triangles the general mesh path accepts: about 300 bytes each with the BVH, so this caps
+/// the mesh at a few gigabytes; larger maps belong on the elevation-grid path.
+pub const MAX_TRIANGLES: usize = 10_000_000;
+
+/// The regular elevation grid a surface was built from, kept for the grid fast path and targets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Number of rows (along y).
+    pub ny: usize,
+    /// Number of columns (along x).
+    pub nx: usize,
+    /// Cell size along x, metres.
+    pub dx: f64,
+    /// Cell size along y, metres.
+    pub dy: f64,
+    /// x of column 0, metres.
+    pub x0: f64,
+    /// y of row 0, metres.
+    pub y0: f64,
+    /// Heights, row-major `(ny, nx)`; NaN marks nodata.
+    pub z: Vec<f64>,
+    /// For each grid node, its index among the surface vertices, or `u32::MAX` when unused.
+    pub vertex_of_node: Vec<u32>,
+}
+
+/// A triangle mesh with an acceleration structure for ray and point queries.
+#[derive(Clone)]
+pub struct Surface {
+    mesh: TriMesh,
+    areas: Vec<f64>,
+    total_area: f64,
+    grid: Option<Grid>,
+}
+
+impl std::fmt::Debug for Surface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Surface")
+            .field("vertices", &self.n_vertices())
+            .field("triangles", &self.n_triangles())
+            .field("area", &self.total_area)
+            .field("grid", &self.grid.as_ref().map(|g| (g.ny, g.nx)))
+            .finish()
+    }
+}
+
+#[inline]
+pub(crate) fn v(p: Point) -> Vector {
+    Vector::new(p[0], p[1], p[2])
+}
+
+#[inline]
+pub(crate) fn p(v: Vector) -> Point {
+    [v.x, v.y, v.z]
+}
+
+/// Area of the triangle `abc`.
+pub(crate) fn triangle_area(a: Vector, b: Vector, c: Vector) -> f64 {
+    0.5 * (b - a).cross(c - a).length()
+}
+
+impl Surface {
+    /// Builds a surface from vertices and triangles (indices into `vertices`).
+    ///
+    /// # Errors
+    /// [`Error::Mesh`] when there is no triangle, an index is out of range, a coordinate is not
+    /// finite, or a triangle has zero area (drop those first: a zero-area triangle hides nothing,
+    /// but it usually means the mesh was not what the caller thinks).
+    pub fn new(vertices: Vec<Point>, faces: Vec<[u32; 3]>) -> Result<Self> {
+        Self::build(vertices, faces, None)
+    }
+
+    fn build(vertices: Vec<Point>, faces: Vec<[u32; 3]>, grid: Option<Grid>) -> Result<Self> {
+        if faces.is_empty() {
+            return Err(Error::Mesh("the surface has no triangle".into()));
+        }
+        if faces.len() > MAX_TRIANGLES {
+            return Err(Error::TooLarge(format!(
+                "{} triangles exceed the general mesh path's limit of {MAX_TRIANGLES} \
+                 (about 300 bytes each); build elevation data with the grid path instead",
+                faces.len()
+            )));
+        }
+        if let Some(i) = vertices.iter().position(|q| q.iter().any(|c| !c.is_finite())) {
+            return Err(Error::Mesh(format!("vertex {i} has a non-finite coordinate")));
+        }
+        let n = vertices.len() as u64;
+        if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| k as u64 >= n)) {
+            return Err(Error::Mesh(format!(
+                "face {f} refers to vertex {:?} but there are only {n} vertices",
+                faces[f]
+            )));
+        }
+        let points: Vec<Vector> = vertices.into_iter().map(v).collect();
+        let scale = bounding_diagonal(&points).max(1e-300);
+        let mut areas = Vec::with_capacity(faces.len());
+        for (f, t) in faces.iter().enumerate() {
+            let area = triangle_area(points[t[0] as usize], points[t[1] as usize], points[t[2] as usize]);
+            // Relative to the mesh size, so the test means the same in millimetres or kilometres.
+            if area <= 1e-14 * scale * scale {
+                return Err(Error::Mesh(format!(
+                    "face {f} {t:?} is degenerate (zero area); drop degenerate faces first"
+                )));
+            }
+            areas.push(area);
+        }
+        let total_area = areas.iter().sum();
+        let mesh = TriMesh::with_flags(points, faces, TriMeshFlags::empty())
+            .map_err(|e| Error::Mesh(format!("cannot build the triangle mesh: {e}")))?;
+        Ok(Self { mesh, areas, total_area, grid })
+    }
+
+    /// Builds the surface of an elevation grid.
+    ///
+    /// Node `(i, j)` stands at `x = x0 + j dx`, `y = y0 + i dy`, height `z[i * nx + j]`. Each cell
+    /// is split along its diagonal from `(i, j)` to `(i + 1, j + 1)`. NaN heights are nodata: a
+    /// triangle with a NaN corner is left out, and so is every node no triangle uses.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for fewer than 2 rows or columns, a wrong-sized `z`, spacing that is
+    /// not finite and positive, infinite heights; [`Error::Mesh`] when nodata leaves no triangle.
+    pub fn from_grid(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
+        crate::error::ensure!(ny >= 2 && nx >= 2, "an elevation grid needs at least 2 rows and 2 columns, got {ny} x {nx}");
+        crate::error::ensure!(z.len() == ny * nx, "z has {} values, expected {ny} x {nx}", z.len());
+        crate::error::ensure!(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0, "grid spacing must be finite and > 0, got ({dx}, {dy})");
+        crate::error::ensure!(x0.is_finite() && y0.is_finite(), "grid origin must be finite, got ({x0}, {y0})");
+        crate::error::ensure!(z.iter().all(|h| !h.is_infinite()), "heights must be finite or NaN (nodata), found an infinite value");
+        let node = |i: usize, j: usize| i * nx + j;
+        let mut faces_by_node: Vec<[usize; 3]> = Vec::with_capacity(2 * (ny - 1) * (nx - 1));
+        for i in 0..ny - 1 {
+            for j in 0..nx - 1 {
+                let (a, b, c, d) = (node(i, j), node(i, j + 1), node(i + 1, j + 1), node(i + 1, j));
+                for t in [[a, b, c], [a, c, d]] {
+                    if t.iter().all(|&k| !z[k].is_nan()) {
+                        faces_by_node.push(t);
+                    }
+                }
+            }
+        }
+        if faces_by_node.is_empty() {
+            return Err(Error::Mesh("the elevation grid has no triangle without nodata".into()));
+        }
+        let mut vertex_of_node = vec![u32::MAX; ny * nx];
+        let mut vertices = Vec::new();
+        for t in &faces_by_node {
+            for &k in t {
+                if vertex_of_node[k] == u32::MAX {
+                    vertex_of_node[k] = vertices.len() as u32;
+                    let (i, j) = (k / nx, k % nx);
+                    vertices.push([x0 + j as f64 * dx, y0 + i as f64 * dy, z[k]]);
+                }
+            }
+        }
+        // Renumber so vertex order follows the grid's row-major order: targets then come out in
+        // the same order as the grid, whatever the nodata pattern.
+        let mut order: Vec<usize> = (0..ny * nx).filter(|&k| vertex_of_node[k] != u32::MAX).collect();
+        order.sort_unstable();
+        let mut renum = vec![u32::MAX; ny * nx];
+        let mut sorted_vertices = Vec::with_capacity(vertices.len());
+        for (new, &k) in order.iter().enumerate() {
+            renum[k] = new as u32;
+            sorted_vertices.push(vertices[vertex_of_node[k] as usize]);
+        }
+        let faces = faces_by_node.iter().map(|t| [renum[t[0]], renum[t[1]], renum[t[2]]]).collect();
+        let grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: renum };
+        Self::build(sorted_vertices, faces, Some(grid))
+    }
+
+    /// The parry triangle mesh.
+    pub fn trimesh(&self) -> &TriMesh {
+        &self.mesh
+    }
+
+    /// The elevation grid this surface was built from, if any.
+    pub fn grid(&self) -> Option<&Grid> {
+        self.grid.as_ref()
+    }
+
+    /// Number of vertices.
+    pub fn n_vertices(&self) -> usize {
+        self.mesh.vertices().len()
+    }
+
+    /// Number of triangles.
+    pub fn n_triangles(&self) -> usize {
+        self.mesh.indices().len()
+    }
+
+    /// Vertex `i`.
+    pub fn vertex(&self, i: usize) -> Point {
+        p(self.mesh.vertices()[i])
+    }
+
+    /// The vertices.
+    pub fn vertices(&self) -> impl ExactSizeIterator<Item = Point> + '_ {
+        self.mesh.vertices().iter().map(|&q| p(q))
+    }
+
+    /// The triangles, as vertex indices.
+    pub fn faces(&self) -> &[[u32; 3]] {
+        self.mesh.indices()
+    }
+
+    /// The corners of triangle `f`.
+    pub fn triangle(&self, f: usize) -> [Vector; 3] {
+        let t = self.mesh.indices()[f];
+        let vs = self.mesh.vertices();
+        [vs[t[0] as usize], vs[t[1] as usize], vs[t[2] as usize]]
+    }
+
+    /// Area of each triangle, m^2.
+    pub fn areas(&self) -> &[f64] {
+        &self.areas
+    }
+
+    /// Total area, m^2.
+    pub fn area(&self) -> f64 {
+        self.total_area
+    }
+
+    /// `(mins, maxs)` of the vertices.
+    pub fn bounds(&self) -> (Point, Point) {
+        let aabb = self.mesh.local_aabb();
+        (p(aabb.mins), p(aabb.maxs))
+    }
+
+    /// Whether the ray `origin + t dir`, `0 <= t <= t_max`, crosses a triangle.
+    ///
+    /// Any-hit: the traversal stops at the first triangle found, since visibility needs no more.
+    pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        let ray = Ray::new(v(origin), v(dir));
+        let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
+        let mut hit = false;
+        self.mesh.bvh().traverse(|node| {
+            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, t_max) {
+                return TraversalAction::Prune;
+            }
+            if let Some(f) = node.leaf_data() {
+                let [a, b, c] = self.triangle(f as usize);
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
+                    if inter.time_of_impact <= t_max {
+                        hit = true;
+                        return TraversalAction::EarlyExit;
+                    }
+                }
+            }
+            TraversalAction::Continue
+        });
+        hit
+    }
+
+    /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
+    pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
+        let ray = Ray::new(v(origin), v(dir));
+        let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
+        let mut best = t_max;
+        let mut found = false;
+        self.mesh.bvh().traverse(|node| {
+            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, best) {
+                return TraversalAction::Prune;
+            }
+            if let Some(f) = node.leaf_data() {
+                let [a, b, c] = self.triangle(f as usize);
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
+                    if inter.time_of_impact <= best {
+                        best = inter.time_of_impact;
+                        found = true;
+                    }
+                }
+            }
+            TraversalAction::Continue
+        });
+        found.then_some(best)
+    }
+
+    /// Whether the closed segment from `a` to `b` crosses no triangle.
+    pub fn segment_clear(&self, a: Point, b: Point) -> bool {
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        if d == [0.0; 3] {
+            return true; // a point: nothing to cross (touching is not crossing for a move of 0)
+        }
+        !self.ray_hits(a, d, 1.0)
+    }
+
+    /// Whether a UAV at `uav` has a line of sight to the surface point `target`: the segment
+    /// from `uav` towards `target`, stopped 0.1 % of its length short of it, crosses no triangle.
+    #[inline]
+    pub fn line_of_sight(&self, uav: Point, target: Point) -> bool {
+        let d = [target[0] - uav[0], target[1] - uav[1], target[2] - uav[2]];
+        !self.ray_hits(uav, d, SIGHT_FRACTION)
+    }
+
+    /// Height of the highest surface point straight below `(x, y)`, or `None` off the surface.
+    pub fn ground_height(&self, x: f64, y: f64) -> Option<f64> {
+        let (mins, maxs) = self.bounds();
+        if x < mins[0] || x > maxs[0] || y < mins[1] || y > maxs[1] {
+            return None;
+        }
+        let top = maxs[2] + 1.0 + (maxs[2] - mins[2]);
+        let depth = top - mins[2] + 1.0;
+        self.first_hit([x, y, top], [0.0, 0.0, -1.0], depth).map(|t| top - t)
+    }
+
+    /// Distance from `point` straight down to the surface; infinite when nothing is below.
+    pub fn clearance(&self, point: Point) -> f64 {
+        let (mins, _) = self.bounds();
+        let depth = point[2] - mins[2] + 1.0;
+        if depth < 0.0 {
+            return f64::INFINITY;
+        }
+        self.first_hit(point, [0.0, 0.0, -1.0], depth).unwrap_or(f64::INFINITY)
+    }
+
+    /// The surface point closest to `point`.
+    pub fn closest_point(&self, point: Point) -> Point {
+        p(self.mesh.project_local_point(v(point), false).point)
+    }
+}
+
+/// The segment from a UAV to a target is tested up to this fraction of its length, so the
+/// target's own triangles never count as an obstruction.
+pub const SIGHT_FRACTION: f64 = 0.999;
+
+fn bounding_diagonal(points: &[Vector]) -> f64 {
+    let mut lo = Vector::splat(f64::INFINITY);
+    let mut hi = Vector::splat(f64::NEG_INFINITY);
+    for &q in points {
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    (hi - lo).length()
+}
+
+/// Slab test of the ray `o + t d` (`inv = 1 / d`) against a box, for `t` in `[0, t_max]`.
+///
+/// An axis the ray does not move along (`inv` infinite) is tested by position alone: the
+/// product `0 * inf` would otherwise give NaN and prune boxes the ray runs along the face of,
+/// which is what a vertical ray through a grid node does.
+#[inline(always)]
+fn slab_test(mins: Vector, maxs: Vector, o: Vector, inv: Vector, t_max: f64) -> bool {
+    let mut enter = 0.0_f64;
+    let mut exit = t_max;
+    for axis in 0..3 {
+        let (lo, hi, origin, inv_d) = (mins[axis], maxs[axis], o[axis], inv[axis]);
+        if inv_d.is_infinite() {
+            if origin < lo || origin > hi {
+                return false;
+            }
+            continue;
+        }
+        let (a, b) = ((lo - origin) * inv_d, (hi - origin) * inv_d);
+        let (near, far) = if a < b { (a, b) } else { (b, a) };
+        enter = enter.max(near);
+        exit = exit.min(far);
+    }
+    enter <= exit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plane() -> Surface {
+        Surface::from_grid(vec![0.0; 9], 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap()
+    }
+
+    #[test]
+    fn grid_triangulation_counts_and_area() {
+        let s = plane();
+        assert_eq!(s.n_vertices(), 9);
+        assert_eq!(s.n_triangles(), 8);
+        assert!((s.area() - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nodata_removes_touching_triangles() {
+        let mut z = vec![0.0; 9];
+        z[0] = f64::NAN; // corner (0, 0): used only by the two triangles of cell (0, 0)
+        let s = Surface::from_grid(z, 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
+        assert_eq!(s.n_triangles(), 6);
+        assert_eq!(s.n_vertices(), 8);
+    }
+
+    #[test]
+    fn vertical_queries_on_a_tilted_grid() {
+        // z = x + 2 y on a 3 x 3 grid: planar, so every query is exact.
+        let z: Vec<f64> = (0..9).map(|k| (k % 3) as f64 + 2.0 * (k / 3) as f64).collect();
+        let s = Surface::from_grid(z, 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
+        let h = s.ground_height(0.3, 1.2).unwrap();
+        assert!((h - 2.7).abs() < 1e-12);
+        assert!((s.clearance([0.3, 1.2, 5.0]) - 2.3).abs() < 1e-12);
+        assert_eq!(s.ground_height(-0.1, 0.5), None);
+        assert_eq!(s.clearance([0.3, 1.2, 1.0]), f64::INFINITY);
+    }
+
+    #[test]
+    fn segments_and_sight() {
+        let s = plane();
+        assert!(s.segment_clear([0.5, 0.5, 1.0], [1.5, 1.5, 2.0]));
+        assert!(!s.segment_clear([0.5, 0.5, 1.0], [0.5, 0.5, -1.0]));
+        // A target on the surface is visible from above: its own triangle is not in the way.
+        assert!(s.line_of_sight([1.0, 1.0, 3.0], [0.25, 0.5, 0.0]));
+        // From below, the surface hides a point above it.
+        assert!(!s.line_of_sight([1.0, 1.0, -1.0], [1.2, 1.1, 1.0]));
+    }
+
+    #[test]
+    fn closest_point_projects_onto_the_plane() {
+        let s = plane();
+        let q = s.closest_point([0.7, 1.3, 4.0]);
+        assert!((q[0] - 0.7).abs() < 1e-12 && (q[1] - 1.3).abs() < 1e-12 && q[2].abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_meshes_are_errors() {
+        assert!(matches!(Surface::new(vec![[0.0; 3]], vec![]), Err(Error::Mesh(_))));
+        let tri = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(matches!(Surface::new(tri.clone(), vec![[0, 1, 3]]), Err(Error::Mesh(_))));
+        assert!(matches!(Surface::new(tri.clone(), vec![[0, 1, 1]]), Err(Error::Mesh(_))));
+        let mut bad = tri.clone();
+        bad[0][2] = f64::NAN;
+        assert!(matches!(Surface::new(bad, vec![[0, 1, 2]]), Err(Error::Mesh(_))));
+        assert!(matches!(Surface::from_grid(vec![0.0; 2], 1, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
+        assert!(matches!(Surface::from_grid(vec![0.0; 4], 2, 2, 0.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
+        assert!(matches!(Surface::from_grid(vec![f64::NAN; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::Mesh(_))));
+    }
+}

@@ -1,0 +1,299 @@
+//! The PyO3 binding, `uavcov._core`: converts numpy arrays, releases the GIL around heavy work
+//! and maps [`Error`] onto `uavcov.errors`. It holds no algorithm; users call the Python
+//! wrappers (`uavcov.Terrain`, `uavcov.Visibility`), which validate before calling here.
+
+use std::sync::Arc;
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+use crate::error::Error;
+use crate::mesh::{self, Point};
+use crate::sampling;
+use crate::threads;
+use crate::visibility;
+
+fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
+    let class = match err {
+        Error::InvalidInput(_) => "InvalidInputError",
+        Error::Mesh(_) => "MeshError",
+        Error::TooLarge(_) => "SurfaceTooLargeError",
+    };
+    let message = err.to_string();
+    match py.import("uavcov.errors").and_then(|m| m.getattr(class)) {
+        Ok(cls) => match cls.call1((message,)) {
+            Ok(instance) => PyErr::from_value(instance),
+            Err(e) => e,
+        },
+        Err(_) => PyValueError::new_err(message),
+    }
+}
+
+fn invalid(py: Python<'_>, message: String) -> PyErr {
+    to_py_err(py, Error::InvalidInput(message))
+}
+
+/// Copies an `(n, 3)` array into owned points, so the GIL can be released while Rust reads them.
+fn points(py: Python<'_>, array: &PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<Vec<Point>> {
+    let a = array.as_array();
+    if a.ncols() != 3 {
+        return Err(invalid(py, format!("{name} must have shape (n, 3), got {:?}", array.shape())));
+    }
+    let out: Vec<Point> = a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    if out.iter().any(|q| q.iter().any(|c| !c.is_finite())) {
+        return Err(invalid(py, format!("{name} contains NaN or infinite values")));
+    }
+    Ok(out)
+}
+
+fn points_to_py<'py>(py: Python<'py>, pts: Vec<Point>) -> Bound<'py, PyArray2<f64>> {
+    let n = pts.len();
+    let flat: Vec<f64> = pts.into_iter().flatten().collect();
+    Array2::from_shape_vec((n, 3), flat).expect("n x 3 values").into_pyarray(py)
+}
+
+/// Runs `f` over `items` in parallel without the GIL; output order follows `items`.
+fn parallel_map<T: Sync, R: Send>(py: Python<'_>, n_threads: usize, items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    py.detach(|| threads::run(n_threads, || items.par_iter().with_min_len(64).map(&f).collect()))
+}
+
+/// A triangle mesh with its BVH (see `uavcov.Terrain`).
+#[pyclass(module = "uavcov._core", frozen, name = "Surface")]
+pub struct PySurface {
+    inner: Arc<mesh::Surface>,
+}
+
+#[pymethods]
+impl PySurface {
+    #[new]
+    fn new(py: Python<'_>, vertices: PyReadonlyArray2<'_, f64>, faces: PyReadonlyArray2<'_, i64>) -> PyResult<Self> {
+        let vertices = vertices.as_array();
+        if vertices.ncols() != 3 {
+            return Err(to_py_err(py, Error::Mesh(format!("vertices must have shape (n, 3), got {:?}", vertices.shape()))));
+        }
+        let verts: Vec<Point> = vertices.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+        let f = faces.as_array();
+        if f.ncols() != 3 {
+            return Err(to_py_err(py, Error::Mesh(format!("faces must have shape (f, 3), got {:?}", f.shape()))));
+        }
+        let mut tris = Vec::with_capacity(f.nrows());
+        for (k, r) in f.rows().into_iter().enumerate() {
+            let mut t = [0u32; 3];
+            for c in 0..3 {
+                t[c] = u32::try_from(r[c]).map_err(|_| {
+                    to_py_err(py, Error::Mesh(format!("face {k} has index {} outside [0, {})", r[c], verts.len())))
+                })?;
+            }
+            tris.push(t);
+        }
+        let inner = py.detach(|| mesh::Surface::new(verts, tris)).map_err(|e| to_py_err(py, e))?;
+        Ok(Self { inner: Arc::new(inner) })
+    }
+
+    /// Triangulates an elevation grid `z` of shape `(ny, nx)`; NaN is nodata.
+    #[staticmethod]
+    fn from_grid(py: Python<'_>, z: PyReadonlyArray2<'_, f64>, dx: f64, dy: f64, x0: f64, y0: f64) -> PyResult<Self> {
+        let a = z.as_array();
+        let (ny, nx) = a.dim();
+        let heights: Vec<f64> = a.iter().copied().collect();
+        let inner = py.detach(|| mesh::Surface::from_grid(heights, ny, nx, dx, dy, x0, y0)).map_err(|e| to_py_err(py, e))?;
+        Ok(Self { inner: Arc::new(inner) })
+    }
+
+    #[getter]
+    fn n_vertices(&self) -> usize {
+        self.inner.n_vertices()
+    }
+
+    #[getter]
+    fn n_faces(&self) -> usize {
+        self.inner.n_triangles()
+    }
+
+    #[getter]
+    fn area(&self) -> f64 {
+        self.inner.area()
+    }
+
+    fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        points_to_py(py, self.inner.vertices().collect())
+    }
+
+    fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let f = self.inner.faces();
+        let flat: Vec<i64> = f.iter().flat_map(|t| t.map(i64::from)).collect();
+        Array2::from_shape_vec((f.len(), 3), flat).expect("f x 3 indices").into_pyarray(py)
+    }
+
+    fn face_areas<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.areas().to_vec().into_pyarray(py)
+    }
+
+    fn bounds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let (lo, hi) = self.inner.bounds();
+        points_to_py(py, vec![lo, hi])
+    }
+
+    /// The vertices with a third of the area around each: `(points (V, 3), weights (V,))`.
+    fn vertex_targets<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
+        let (pts, w) = sampling::vertex_targets(&self.inner);
+        (points_to_py(py, pts), w.into_pyarray(py))
+    }
+
+    /// `density` evenly spread points per m^2: `(points (T, 3), weights (T,))`.
+    fn area_targets<'py>(
+        &self,
+        py: Python<'py>,
+        density: f64,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let s = self.inner.clone();
+        let (pts, w) = py.detach(|| sampling::area_targets(&s, density)).map_err(|e| to_py_err(py, e))?;
+        Ok((points_to_py(py, pts), w.into_pyarray(py)))
+    }
+
+    /// Highest surface height under each `(x, y)`; NaN where there is none.
+    #[pyo3(signature = (xy, n_threads=0))]
+    fn ground_height<'py>(&self, py: Python<'py>, xy: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let a = xy.as_array();
+        if a.ncols() != 2 {
+            return Err(invalid(py, format!("xy must have shape (n, 2), got {:?}", xy.shape())));
+        }
+        let pts: Vec<[f64; 2]> = a.rows().into_iter().map(|r| [r[0], r[1]]).collect();
+        if pts.iter().any(|q| !q[0].is_finite() || !q[1].is_finite()) {
+            return Err(invalid(py, "xy contains NaN or infinite values".into()));
+        }
+        let s = &self.inner;
+        let out = parallel_map(py, n_threads, &pts, |q| s.ground_height(q[0], q[1]).unwrap_or(f64::NAN));
+        Ok(out.into_pyarray(py))
+    }
+
+    /// Distance straight down from each point to the surface; inf where nothing is below.
+    #[pyo3(signature = (points, n_threads=0))]
+    fn clearance<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let pts = self::points(py, &points, "points")?;
+        let s = &self.inner;
+        Ok(parallel_map(py, n_threads, &pts, |&q| s.clearance(q)).into_pyarray(py))
+    }
+
+    /// The closest surface point to each point.
+    #[pyo3(signature = (points, n_threads=0))]
+    fn closest_point<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let pts = self::points(py, &points, "points")?;
+        let s = &self.inner;
+        Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))))
+    }
+
+    /// Whether each closed segment `a[k] -> b[k]` crosses no triangle.
+    #[pyo3(signature = (a, b, n_threads=0))]
+    fn segments_clear<'py>(
+        &self,
+        py: Python<'py>,
+        a: PyReadonlyArray2<'_, f64>,
+        b: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let a = points(py, &a, "a")?;
+        let b = points(py, &b, "b")?;
+        if a.len() != b.len() {
+            return Err(invalid(py, format!("a has {} points but b has {}", a.len(), b.len())));
+        }
+        let pairs: Vec<(Point, Point)> = a.into_iter().zip(b).collect();
+        let s = &self.inner;
+        Ok(parallel_map(py, n_threads, &pairs, |&(p, q)| s.segment_clear(p, q)).into_pyarray(py))
+    }
+}
+
+/// The coverage objective for one surface, target set and sensing range (see
+/// `uavcov.Visibility`).
+#[pyclass(module = "uavcov._core", frozen, name = "Visibility")]
+pub struct PyVisibility {
+    inner: visibility::Visibility,
+}
+
+#[pymethods]
+impl PyVisibility {
+    #[new]
+    #[pyo3(signature = (surface, targets, weights, d_max))]
+    fn new(
+        py: Python<'_>,
+        surface: &PySurface,
+        targets: PyReadonlyArray2<'_, f64>,
+        weights: PyReadonlyArray1<'_, f64>,
+        d_max: f64,
+    ) -> PyResult<Self> {
+        let pts = points(py, &targets, "targets")?;
+        let w = weights.as_array().to_vec();
+        let t = visibility::Targets::new(pts, Some(w)).map_err(|e| to_py_err(py, e))?;
+        let inner = visibility::Visibility::new(surface.inner.clone(), t, d_max).map_err(|e| to_py_err(py, e))?;
+        Ok(Self { inner })
+    }
+
+    #[getter]
+    fn n_targets(&self) -> usize {
+        self.inner.targets().len()
+    }
+
+    #[getter]
+    fn d_max(&self) -> f64 {
+        self.inner.d_max()
+    }
+
+    /// `(T,)` bool: whether at least one UAV sees each target.
+    #[pyo3(signature = (uavs, n_threads=0))]
+    fn seen<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let u = points(py, &uavs, "uavs")?;
+        let mask = py.detach(|| self.inner.seen(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
+        Ok(mask.into_pyarray(py))
+    }
+
+    /// Weighted share of targets seen, in [0, 1].
+    #[pyo3(signature = (uavs, n_threads=0))]
+    fn coverage(&self, py: Python<'_>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<f64> {
+        let u = points(py, &uavs, "uavs")?;
+        py.detach(|| self.inner.coverage(&u, n_threads)).map_err(|e| to_py_err(py, e))
+    }
+
+    /// `(seen, exclusive, seen_weight, exclusive_weight, total_weight)` per UAV.
+    #[pyo3(signature = (uavs, n_threads=0))]
+    #[allow(clippy::type_complexity)]
+    fn per_uav<'py>(
+        &self,
+        py: Python<'py>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        f64,
+    )> {
+        let u = points(py, &uavs, "uavs")?;
+        let c = py.detach(|| self.inner.per_uav(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
+        Ok((
+            c.seen.into_pyarray(py),
+            c.exclusive.into_pyarray(py),
+            c.seen_weight.into_pyarray(py),
+            c.exclusive_weight.into_pyarray(py),
+            c.total_weight,
+        ))
+    }
+}
+
+/// Number of cores the Rust side uses when `n_threads` is 0.
+#[pyfunction]
+fn available_threads() -> usize {
+    threads::available()
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PySurface>()?;
+    m.add_class::<PyVisibility>()?;
+    m.add_function(wrap_pyfunction!(available_threads, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

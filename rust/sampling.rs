@@ -1,0 +1,173 @@
+//! Points on a surface: coverage targets with the area each stands for, and random samples
+//! uniform by area (the CVT's input).
+//!
+//! ```
+//! use uavcov::mesh::Surface;
+//! use uavcov::sampling::default_targets;
+//! let s = Surface::from_grid(vec![0.0; 9], 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
+//! let (points, weights) = default_targets(&s, 1.0).unwrap();
+//! assert_eq!(points.len(), 9); // a grid's targets are its nodes
+//! assert!((weights.iter().sum::<f64>() - 4.0).abs() < 1e-12);
+//! ```
+
+use rand::RngExt;
+
+use crate::error::{ensure, Error, Result};
+use crate::mesh::{p, Point, Surface};
+
+/// Targets of a surface with the area (m^2) each stands for; weights sum to the surface area.
+///
+/// A grid surface gives its nodes, each standing for a third of the triangles around it. A general
+/// mesh gives `density` points per m^2 spread evenly: each triangle is cut into `m^2` congruent
+/// sub-triangles (`m = ceil(sqrt(area density))`) and gets a point at each one's centroid. The
+/// points are deterministic and never lie on an edge, where visibility is ill-defined.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when `density` is not finite and positive (meshes only), or when the
+/// mesh would get more than 100 million targets.
+pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
+    if surface.grid().is_some() {
+        return Ok(vertex_targets(surface));
+    }
+    area_targets(surface, density)
+}
+
+/// `density` points per m^2 spread evenly over any surface (the mesh rule of [`default_targets`]).
+///
+/// # Errors
+/// As [`default_targets`].
+pub fn area_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
+    ensure!(density.is_finite() && density > 0.0, "target density must be finite and > 0 points per m^2, got {density}");
+    let per_triangle: Vec<usize> =
+        surface.areas().iter().map(|&a| ((a * density).sqrt().ceil() as usize).max(1)).collect();
+    let total: usize = per_triangle.iter().map(|m| m * m).sum();
+    ensure!(total <= 100_000_000, "density {density} per m^2 gives {total} targets; lower it");
+    let mut points = Vec::with_capacity(total);
+    let mut weights = Vec::with_capacity(total);
+    for (f, &m) in per_triangle.iter().enumerate() {
+        let [a, b, c] = surface.triangle(f);
+        let (ab, ac) = (b - a, c - a);
+        let w = surface.areas()[f] / (m * m) as f64;
+        let inv = 1.0 / m as f64;
+        let mut push = |u: f64, v: f64| {
+            points.push(p(a + ab * (u * inv) + ac * (v * inv)));
+            weights.push(w);
+        };
+        for i in 0..m {
+            for j in 0..m - i {
+                push(i as f64 + 1.0 / 3.0, j as f64 + 1.0 / 3.0); // upward sub-triangle
+                if i + j + 2 <= m {
+                    push(i as f64 + 2.0 / 3.0, j as f64 + 2.0 / 3.0); // downward sub-triangle
+                }
+            }
+        }
+    }
+    Ok((points, weights))
+}
+
+/// The vertices of a surface, each weighted by a third of the area of the triangles around it.
+pub fn vertex_targets(surface: &Surface) -> (Vec<Point>, Vec<f64>) {
+    let mut weights = vec![0.0; surface.n_vertices()];
+    for (t, &area) in surface.faces().iter().zip(surface.areas()) {
+        for &k in t {
+            weights[k as usize] += area / 3.0;
+        }
+    }
+    (surface.vertices().collect(), weights)
+}
+
+/// Draws points uniformly by area on a surface, optionally weighted by a density per triangle.
+pub struct AreaSampler<'a> {
+    surface: &'a Surface,
+    cumulative: Vec<f64>,
+}
+
+impl<'a> AreaSampler<'a> {
+    /// A sampler over `surface`. With `density`, triangle `f` is drawn with probability
+    /// proportional to `area[f] * density[f]`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when `density` has the wrong length, a negative or non-finite
+    /// value, or is zero everywhere.
+    pub fn new(surface: &'a Surface, density: Option<&[f64]>) -> Result<Self> {
+        let areas = surface.areas();
+        if let Some(d) = density {
+            ensure!(d.len() == areas.len(), "density has {} values for {} triangles", d.len(), areas.len());
+            ensure!(d.iter().all(|x| x.is_finite() && *x >= 0.0), "density must be finite and >= 0 everywhere");
+        }
+        let mut cumulative = Vec::with_capacity(areas.len());
+        let mut sum = 0.0;
+        for (f, &a) in areas.iter().enumerate() {
+            sum += a * density.map_or(1.0, |d| d[f]);
+            cumulative.push(sum);
+        }
+        if !(sum > 0.0) {
+            return Err(Error::InvalidInput("the sampling density is zero over the whole surface".into()));
+        }
+        Ok(Self { surface, cumulative })
+    }
+
+    /// One point, uniform by (weighted) area.
+    pub fn sample<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> Point {
+        let total = *self.cumulative.last().expect("a surface has triangles");
+        let x = rng.random::<f64>() * total;
+        let f = self.cumulative.partition_point(|&c| c <= x).min(self.cumulative.len() - 1);
+        let [a, b, c] = self.surface.triangle(f);
+        let (mut u, mut v) = (rng.random::<f64>(), rng.random::<f64>());
+        if u + v > 1.0 {
+            // Reflect into the lower half of the unit square: uniform on the triangle.
+            (u, v) = (1.0 - u, 1.0 - v);
+        }
+        p(a + (b - a) * u + (c - a) * v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    fn square_mesh() -> Surface {
+        Surface::new(
+            vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn mesh_targets_cover_the_area_evenly() {
+        let s = square_mesh();
+        let (pts, w) = default_targets(&s, 4.0).unwrap();
+        // area 8 per triangle, density 4 -> m = ceil(sqrt(32)) = 6 -> 36 points per triangle.
+        assert_eq!(pts.len(), 72);
+        assert!((w.iter().sum::<f64>() - 16.0).abs() < 1e-12);
+        assert!(pts.iter().all(|q| q[0] > 0.0 && q[0] < 4.0 && q[1] > 0.0 && q[1] < 4.0 && q[2] == 0.0));
+        // No two targets coincide.
+        for i in 0..pts.len() {
+            for j in 0..i {
+                assert!(pts[i] != pts[j]);
+            }
+        }
+    }
+
+    #[test]
+    fn area_sampler_is_uniform() {
+        let s = square_mesh();
+        let sampler = AreaSampler::new(&s, None).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let n = 40_000;
+        let left = (0..n).filter(|_| sampler.sample(&mut rng)[0] < 1.0).count();
+        let share = left as f64 / n as f64;
+        assert!((share - 0.25).abs() < 0.01, "{share}");
+    }
+
+    #[test]
+    fn bad_density_is_an_error() {
+        let s = square_mesh();
+        assert!(AreaSampler::new(&s, Some(&[0.0, 0.0])).is_err());
+        assert!(AreaSampler::new(&s, Some(&[1.0, -1.0])).is_err());
+        assert!(AreaSampler::new(&s, Some(&[1.0])).is_err());
+        assert!(default_targets(&s, 0.0).is_err());
+    }
+}
