@@ -1,0 +1,781 @@
+"""Cognitive-based adaptive optimisation (CAO): the paper's on-line optimiser (section IV-B).
+
+CAO maximises a function it can only *measure*: it never sees the surface, only the value of
+``measure`` at the positions the team actually visits, and, through ``feasible``, whether a
+candidate configuration is admissible. Each iteration it
+
+1. measures the objective once, at the current configuration ``x_k`` (optionally with simulated
+   Gaussian noise);
+2. fits a surrogate ``theta^T phi(u)`` by ridge-regularised least squares on the last
+   ``L + T_h`` measurements, where ``u = (x - x_k) / s_k`` are coordinates normalised around the
+   current state and ``phi`` holds ``L`` regressors: a constant, every linear term, and random
+   2nd- and 3rd-order monomials of ``u``;
+3. draws ``M`` candidates ``x_k + alpha_k zeta`` (``zeta`` zero-mean, unit-variance; candidate 0
+   is the unperturbed state), drops the infeasible ones, and moves to the candidate the
+   surrogate rates best (the team stays when none is feasible);
+4. keeps the nonlinear monomials that contributed most to the fit and redraws the others.
+
+The step ``alpha_k = alpha_0 ((1 + A) / (k + 1 + A)) ** decay`` satisfies the stochastic
+approximation conditions (``alpha_k -> 0``, ``sum alpha_k = inf``, ``sum alpha_k^2 < inf``) for
+``0.5 < decay <= 1``. Coverage can fall between iterations (there is no acceptance test), so the
+trace records the best configuration measured, not only the last one.
+
+Two optimisers share one interface (:class:`Optimizer`): :func:`cao`, centralised over the joint
+``3N`` state, and :func:`per_robot_cao`, where every UAV fits its own estimator on its own three
+coordinates from its marginal contribution to the coverage.
+
+Choices the paper leaves open, and what is done here:
+
+* Normalisation scale ``s_k``: ``max(alpha_k, r_k)`` with ``r_k`` the root-mean-square per-
+  coordinate distance of the fitting window from ``x_k``. The window points then have
+  coordinates of order one, so 3rd-order monomials do not explode on old, far samples, and the
+  candidates sit inside the fitted region.
+* Before the window fills (fewer samples than regressors) the ridge fit is under-determined;
+  it is used as is. Its linear part is then a shrunk gradient estimate in the span of the moves
+  made so far, which is informative, not the near-zero minimum-norm fit of an unregularised
+  pseudo-inverse. (Fitting only the linear terms until the window fills was tried: on concave
+  quadratics it was no better at the end and slower over the first 50 iterations.)
+* Ties: when the surrogate rates several feasible candidates equally (at iteration 0 it is a
+  constant, and on a coverage plateau every measurement is equal), one of them is chosen at
+  random. Taking the first one would pick "stay" and freeze the team for ever.
+* Regressor strength (which monomials survive a redraw): ``|theta_j|`` times the root-mean-square
+  of the monomial over the window, i.e. what the term contributes to the fit.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import time
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Any, Callable, Mapping, Protocol
+
+import numpy as np
+
+from ._validate import (
+    as_non_negative_float,
+    as_non_negative_int,
+    as_points,
+    as_positive_float,
+    as_positive_int,
+)
+from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
+
+__all__ = [
+    "CAOSettings",
+    "OptimizerTrace",
+    "Optimizer",
+    "cao",
+    "per_robot_cao",
+    "OPTIMIZERS",
+    "MARGINAL_OPTIMIZERS",
+]
+
+FeasibleFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+_PERTURBATIONS = ("gaussian", "uniform")
+
+
+# --------------------------------------------------------------------------------------------
+# Settings and results
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CAOSettings:
+    """Constants of CAO. The paper publishes none; the defaults follow ``paper-setup.md``.
+
+    Parameters
+    ----------
+    n_regressors : int or None, default None
+        ``L``, regressors of the centralised surrogate: 1 constant + ``3N`` linear terms + the rest
+        random 2nd/3rd-order monomials. ``None`` means ``1 + 3N + max(10, N)``. Must be at least
+        ``1 + 3N``.
+    history : int, default 10
+        ``T_h``: the fit uses the last ``L + T_h`` measurements.
+    n_candidates : int, default 200
+        ``M``: candidate configurations per iteration, the unperturbed state included.
+    alpha0 : float, default 1.5
+        Initial perturbation size ``alpha_0`` in metres (standard deviation per coordinate).
+    stability : float, default 50.0
+        ``A`` in ``alpha_k = alpha_0 ((1 + A) / (k + 1 + A)) ** decay``; larger keeps steps large
+        for longer.
+    decay : float, default 0.602
+        Exponent of the step decay. ``0.5 < decay <= 1`` satisfies the paper's conditions; 0 gives
+        a constant step.
+    ridge : float, default 1e-3
+        Ridge penalty on every coefficient but the constant, relative to the mean squared
+        residual: the fit minimises ``mean(residual^2) + ridge * |theta[1:]|^2``.
+    measurement_noise : float, default 0.0
+        Standard deviation of Gaussian noise added to each measurement (coverage units), to
+        exercise CAO's filtering. The trace keeps the noise-free values too.
+    keep_fraction : float, default 0.5
+        Share of the nonlinear monomials kept (the strongest) when the others are redrawn, in
+        ``[0, 1]``.
+    perturbation : {"gaussian", "uniform"}, default "gaussian"
+        Law of ``zeta``: standard normal, or uniform on ``[-sqrt(3), sqrt(3)]`` (also unit
+        variance, bounded steps).
+    robot_regressors : int or None, default None
+        Regressors of each per-robot estimator (:func:`per_robot_cao`), on 3 coordinates:
+        ``None`` means ``1 + 3 + 6 = 10``; at most ``1 + 3 + 16 = 20`` (every distinct 2nd- and
+        3rd-order monomial of three variables).
+    """
+
+    n_regressors: int | None = None
+    history: int = 10
+    n_candidates: int = 200
+    alpha0: float = 1.5
+    stability: float = 50.0
+    decay: float = 0.602
+    ridge: float = 1e-3
+    measurement_noise: float = 0.0
+    keep_fraction: float = 0.5
+    perturbation: str = "gaussian"
+    robot_regressors: int | None = None
+
+    def __post_init__(self) -> None:
+        def put(name: str, value: Any) -> None:
+            object.__setattr__(self, name, value)
+
+        if self.n_regressors is not None:
+            put("n_regressors", as_positive_int(self.n_regressors, "n_regressors"))
+        if self.robot_regressors is not None:
+            value = as_positive_int(self.robot_regressors, "robot_regressors")
+            if not 4 <= value <= 4 + _n_distinct_monomials(3):
+                raise InvalidInputError(
+                    f"robot_regressors must be in [4, {4 + _n_distinct_monomials(3)}] "
+                    f"(constant, 3 linear terms, up to 16 distinct monomials), got {value}"
+                )
+            put("robot_regressors", value)
+        put("history", as_non_negative_int(self.history, "history"))
+        put("n_candidates", as_positive_int(self.n_candidates, "n_candidates"))
+        put("alpha0", as_positive_float(self.alpha0, "alpha0"))
+        put("stability", as_non_negative_float(self.stability, "stability"))
+        put("decay", as_non_negative_float(self.decay, "decay"))
+        put("ridge", as_positive_float(self.ridge, "ridge"))
+        put("measurement_noise", as_non_negative_float(self.measurement_noise, "measurement_noise"))
+        keep = as_non_negative_float(self.keep_fraction, "keep_fraction")
+        if keep > 1.0:
+            raise InvalidInputError(f"keep_fraction must be in [0, 1], got {keep}")
+        put("keep_fraction", keep)
+        if not isinstance(self.perturbation, str):
+            raise InvalidTypeError(f"perturbation must be a string, got {type(self.perturbation).__name__}")
+        if self.perturbation not in _PERTURBATIONS:
+            raise InvalidInputError(f"perturbation must be one of {_PERTURBATIONS}, got {self.perturbation!r}")
+
+    def regressors_for(self, n_uavs: int) -> int:
+        """Return ``L`` for a team of ``n_uavs``, checking it against ``1 + 3N`` and the monomial count."""
+        n_uavs = as_positive_int(n_uavs, "number of UAVs")
+        dim = 3 * n_uavs
+        value = 1 + dim + max(10, n_uavs) if self.n_regressors is None else self.n_regressors
+        if value < 1 + dim:
+            raise InvalidInputError(
+                f"n_regressors must be at least 1 + 3N = {1 + dim} for N = {n_uavs} "
+                f"(the constant and every linear term), got {value}"
+            )
+        if value - 1 - dim > _n_distinct_monomials(dim):
+            raise InvalidInputError(
+                f"n_regressors = {value} asks for more distinct 2nd/3rd-order monomials than "
+                f"{dim} coordinates have ({_n_distinct_monomials(dim)})"
+            )
+        return value
+
+    def robot_regressors_value(self) -> int:
+        """Return the regressor count of each per-robot estimator."""
+        return 10 if self.robot_regressors is None else self.robot_regressors
+
+    def step_size(self, k: int | np.ndarray) -> float | np.ndarray:
+        """``alpha_k`` in metres for iteration ``k`` (0-based; ``alpha_0`` at ``k = 0``)."""
+        ratio = (1.0 + self.stability) / (np.asarray(k, dtype=np.float64) + 1.0 + self.stability)
+        result = self.alpha0 * ratio**self.decay
+        return float(result) if np.ndim(result) == 0 else result
+
+    def resolved(self, n_uavs: int) -> "CAOSettings":
+        """These settings with every ``None`` replaced by the value used for ``n_uavs`` UAVs."""
+        return replace(
+            self,
+            n_regressors=self.regressors_for(n_uavs),
+            robot_regressors=self.robot_regressors_value(),
+        )
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class OptimizerTrace:
+    """What one optimiser run did, iteration by iteration. Picklable.
+
+    ``K`` is the number of iterations (moves); the run measured ``K + 1`` configurations.
+
+    Attributes
+    ----------
+    kind : str
+        ``"cao"`` or ``"per_robot"``.
+    trajectory : ndarray, shape (K + 1, N, 3)
+        Positions in metres; ``trajectory[0]`` is the start.
+    values : ndarray, shape (K + 1,)
+        Objective at each configuration, noise-free (what ``measure`` returned).
+    measured : ndarray, shape (K + 1,)
+        What the optimiser saw: ``values`` plus the simulated measurement noise.
+    step_sizes : ndarray, shape (K,)
+        ``alpha_k`` used at each iteration, metres.
+    n_feasible : ndarray, shape (K,), int64
+        Feasible candidates at each iteration (0 means the team stayed because none was).
+    best_positions : ndarray, shape (N, 3)
+        The configuration with the highest noise-free value (the first one on ties).
+    best_value : float
+    best_iteration : int
+    evaluations : int
+        Calls of ``measure`` (``K + 1``).
+    settings : CAOSettings
+        The settings used, with ``None`` resolved.
+    time_measure, time_feasibility, time_own : float
+        Seconds spent in ``measure``, in ``feasible``, and in the optimiser's own work.
+    """
+
+    kind: str
+    trajectory: np.ndarray
+    values: np.ndarray
+    measured: np.ndarray
+    step_sizes: np.ndarray
+    n_feasible: np.ndarray
+    best_positions: np.ndarray
+    best_value: float
+    best_iteration: int
+    evaluations: int
+    settings: CAOSettings
+    time_measure: float = field(default=0.0)
+    time_feasibility: float = field(default=0.0)
+    time_own: float = field(default=0.0)
+
+    @property
+    def n_iterations(self) -> int:
+        """``K``, the number of moves."""
+        return int(self.trajectory.shape[0] - 1)
+
+    @property
+    def final_positions(self) -> np.ndarray:
+        """``(N, 3)`` positions after the last iteration."""
+        return self.trajectory[-1]
+
+    def best_so_far(self) -> np.ndarray:
+        """``(K + 1,)`` running maximum of :attr:`values`."""
+        return np.maximum.accumulate(self.values)
+
+
+class Optimizer(Protocol):
+    """The interface every optimiser of uavcov follows (see :func:`cao` for the arguments)."""
+
+    def __call__(
+        self,
+        measure: Callable[[np.ndarray], Any],
+        x0: Any,
+        *,
+        feasible: FeasibleFn | None,
+        iterations: int,
+        settings: CAOSettings = ...,
+        rng: Any = None,
+    ) -> OptimizerTrace: ...
+
+
+# --------------------------------------------------------------------------------------------
+# Regressors: monomials of normalised coordinates
+# --------------------------------------------------------------------------------------------
+#
+# A nonlinear term is three indices into the coordinates augmented with a column of ones (index
+# ``dim``), so u_i * u_j is (i, j, dim) and u_i * u_j * u_l is (i, j, l); every term is a
+# product of three gathered columns, which vectorises over candidates and robots alike.
+
+
+def _n_distinct_monomials(dim: int) -> int:
+    """Distinct monomials of degree 2 and 3 in ``dim`` variables."""
+    return math.comb(dim + 1, 2) + math.comb(dim + 2, 3)
+
+
+def _all_monomials(dim: int) -> np.ndarray:
+    """Every distinct degree-2 and degree-3 monomial, as sorted index triples."""
+    rows = []
+    for i in range(dim):
+        for j in range(i, dim):
+            rows.append((i, j, dim))
+            for l in range(j, dim):
+                rows.append((i, j, l))
+    return np.array(rows, dtype=np.int64).reshape(-1, 3)
+
+
+def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Draw ``count`` random monomials distinct from each other and from ``existing`` rows.
+
+    Degree 2 or 3 with equal probability, variables uniform with replacement (so squares and
+    cubes occur). Falls back to sampling without replacement from the full list when rejection
+    would be slow (few variables).
+    """
+    if count == 0:
+        return np.empty((0, 3), dtype=np.int64)
+    taken = {tuple(row) for row in existing.tolist()}
+    total = _n_distinct_monomials(dim)
+    if total - len(taken) < count:  # guarded by regressors_for; kept as an internal check
+        raise InvalidInputError(f"cannot draw {count} new monomials of {dim} variables")
+    if 4 * (len(taken) + count) > total:
+        pool = [row for row in _all_monomials(dim).tolist() if tuple(row) not in taken]
+        chosen = rng.choice(len(pool), size=count, replace=False)
+        return np.array([pool[c] for c in chosen], dtype=np.int64)
+    out: list[tuple[int, ...]] = []
+    while len(out) < count:
+        need = count - len(out)
+        idx = rng.integers(0, dim, size=(2 * need + 4, 3))
+        quadratic = rng.random(2 * need + 4) < 0.5
+        idx[quadratic, 2] = dim
+        idx.sort(axis=1)
+        for row in map(tuple, idx.tolist()):
+            if row not in taken:
+                taken.add(row)
+                out.append(row)
+                if len(out) == count:
+                    break
+    return np.array(out, dtype=np.int64)
+
+
+def _design(u: np.ndarray, terms: np.ndarray) -> np.ndarray:
+    """Regressor matrix ``(..., n, 1 + dim + n_terms)`` of points ``u`` of shape ``(..., n, dim)``.
+
+    ``terms`` is ``(n_terms, 3)`` for a single estimator or ``(..., n_terms, 3)`` with the same
+    leading axes as ``u`` (one term set per robot).
+    """
+    shape = u.shape[:-1]
+    ones = np.ones(shape + (1,))
+    if terms.shape[-2] == 0:
+        return np.concatenate([ones, u], axis=-1)
+    augmented = np.concatenate([u, ones], axis=-1)
+    if terms.ndim == 2:
+        mono = augmented[..., terms[:, 0]] * augmented[..., terms[:, 1]] * augmented[..., terms[:, 2]]
+    else:
+        # one term set per leading index: gather along the last axis with broadcast indices
+        n = u.shape[-2]
+        lead = terms.shape[:-2]
+        cols = []
+        for t in range(3):
+            index = np.broadcast_to(terms[..., None, :, t], lead + (n, terms.shape[-2]))
+            cols.append(np.take_along_axis(augmented, index, axis=-1))
+        mono = cols[0] * cols[1] * cols[2]
+    return np.concatenate([ones, u, mono], axis=-1)
+
+
+def _ridge(phi: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
+    """Coefficients minimising ``mean((phi theta - y)^2) + ridge |theta[1:]|^2``.
+
+    ``phi`` is ``(..., W, L)`` and ``y`` ``(..., W)``; column 0 is the constant, left unpenalised.
+    ``y`` is centred first so the solve only carries the variations (better conditioned).
+    """
+    n_samples = phi.shape[-2]
+    mean = y.mean(axis=-1, keepdims=True)
+    yc = y - mean
+    gram = np.swapaxes(phi, -1, -2) @ phi
+    rhs = np.swapaxes(phi, -1, -2) @ yc[..., None]
+    penalty = np.full(phi.shape[-1], ridge * n_samples)
+    penalty[0] = 0.0
+    gram = gram + np.diag(penalty)
+    # The constant column is never degenerate (it is all ones) and every other column is
+    # penalised, so the system is positive definite; lstsq is only a guard against round-off.
+    try:
+        theta = np.linalg.solve(gram, rhs)[..., 0]
+    except np.linalg.LinAlgError:
+        theta = np.stack([np.linalg.lstsq(g, r, rcond=None)[0][:, 0] for g, r in zip(
+            gram.reshape(-1, *gram.shape[-2:]), rhs.reshape(-1, *rhs.shape[-2:]))]).reshape(
+            phi.shape[:-2] + (phi.shape[-1],))
+    theta[..., 0] += mean[..., 0]
+    return theta
+
+
+def _strength(phi: np.ndarray, theta: np.ndarray, first: int) -> np.ndarray:
+    """Contribution of nonlinear regressors ``first:``: ``|theta_j| * rms(phi[:, j])``."""
+    rms = np.sqrt(np.mean(phi[..., first:] ** 2, axis=-2))
+    return np.abs(theta[..., first:]) * rms
+
+
+def _refresh_terms(
+    terms: np.ndarray, strength: np.ndarray, keep_fraction: float, dim: int, rng: np.random.Generator
+) -> np.ndarray:
+    """Keep the strongest monomials (ties by position) and redraw the others."""
+    n_terms = terms.shape[0]
+    n_keep = int(math.ceil(keep_fraction * n_terms))
+    if n_keep >= n_terms:
+        return terms
+    order = np.argsort(-strength, kind="stable")
+    kept = terms[np.sort(order[:n_keep])]
+    fresh = _draw_monomials(n_terms - n_keep, dim, kept, rng)
+    return np.concatenate([kept, fresh], axis=0)
+
+
+def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
+    """Normalisation scale(s) ``max(alpha, rms distance per coordinate)`` over the window.
+
+    ``window`` is ``(W, ..., d)`` and ``centre`` ``(..., d)``; one scale per leading estimator.
+    """
+    spread = np.sqrt(np.mean((window - centre) ** 2, axis=(0, -1)))
+    return np.maximum(alpha, spread)
+
+
+# --------------------------------------------------------------------------------------------
+# Shared plumbing
+# --------------------------------------------------------------------------------------------
+
+
+def _check_common(x0: Any, feasible: Any, iterations: Any, settings: Any) -> tuple[np.ndarray, int]:
+    if not isinstance(settings, CAOSettings):
+        raise InvalidTypeError(f"settings must be a CAOSettings, got {type(settings).__name__}")
+    x0 = as_points(x0, "x0")
+    iterations = as_non_negative_int(iterations, "iterations")
+    if feasible is not None and not callable(feasible):
+        raise InvalidTypeError(f"feasible must be callable or None, got {type(feasible).__name__}")
+    return x0, iterations
+
+
+def _draw_zeta(settings: CAOSettings, shape: tuple[int, ...], rng: np.random.Generator) -> np.ndarray:
+    if settings.perturbation == "gaussian":
+        return rng.standard_normal(shape)
+    bound = math.sqrt(3.0)
+    return rng.uniform(-bound, bound, size=shape)
+
+
+def _as_value(raw: Any, what: str, k: int) -> float:
+    if isinstance(raw, bool) or not isinstance(raw, (numbers.Real, np.floating, np.integer)):
+        if isinstance(raw, np.ndarray) and raw.ndim == 0:
+            raw = raw.item()
+        else:
+            raise InvalidTypeError(f"{what} must return a real number, got {type(raw).__name__} at iteration {k}")
+    value = float(raw)
+    if not math.isfinite(value):
+        raise InvalidInputError(f"{what} returned {value} at iteration {k}")
+    return value
+
+
+class _Feasibility:
+    """Calls the user's feasibility test, checks what it returns and times it."""
+
+    def __init__(self, feasible: FeasibleFn | None) -> None:
+        self.feasible = feasible
+        self.seconds = 0.0
+
+    def __call__(self, current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+        if self.feasible is None:
+            return np.ones(candidates.shape[0], dtype=bool)
+        start = time.perf_counter()
+        mask = self.feasible(current.copy(), candidates.copy())
+        self.seconds += time.perf_counter() - start
+        mask = np.asarray(mask)
+        if mask.shape != (candidates.shape[0],) or mask.dtype != np.bool_:
+            raise InvalidInputError(
+                f"feasible must return a ({candidates.shape[0]},) bool array, got "
+                f"shape {mask.shape} dtype {mask.dtype}"
+            )
+        return mask
+
+
+def _check_start(check: _Feasibility, x0: np.ndarray) -> None:
+    if not check(x0, x0[None])[0]:
+        raise InfeasibleError(
+            "the start configuration is infeasible; move it first with "
+            "uavcov.constraints.closest_admissible"
+        )
+
+
+def _pick_best(score: np.ndarray, allowed: np.ndarray, rng: np.random.Generator) -> int:
+    """Index of the best allowed score; near-ties (1e-12 relative) are broken at random."""
+    idx = np.flatnonzero(allowed)
+    top = score[idx].max()
+    tol = 1e-12 * max(1.0, abs(top))
+    ties = idx[score[idx] >= top - tol]
+    return int(ties[0] if ties.size == 1 else ties[rng.integers(ties.size)])
+
+
+def _finish(
+    kind: str,
+    traj: np.ndarray,
+    values: np.ndarray,
+    measured: np.ndarray,
+    steps: np.ndarray,
+    n_feasible: np.ndarray,
+    settings: CAOSettings,
+    t_measure: float,
+    t_feasible: float,
+    t_total: float,
+) -> OptimizerTrace:
+    best = int(np.argmax(values))
+    return OptimizerTrace(
+        kind=kind,
+        trajectory=_frozen(traj),
+        values=_frozen(values),
+        measured=_frozen(measured),
+        step_sizes=_frozen(steps),
+        n_feasible=_frozen(n_feasible),
+        best_positions=_frozen(traj[best].copy()),
+        best_value=float(values[best]),
+        best_iteration=best,
+        evaluations=int(values.shape[0]),
+        settings=settings,
+        time_measure=t_measure,
+        time_feasibility=t_feasible,
+        time_own=max(0.0, t_total - t_measure - t_feasible),
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Centralised CAO
+# --------------------------------------------------------------------------------------------
+
+
+def cao(
+    measure: Callable[[np.ndarray], float],
+    x0: Any,
+    *,
+    feasible: FeasibleFn | None,
+    iterations: int,
+    settings: CAOSettings = CAOSettings(),
+    rng: Any = None,
+) -> OptimizerTrace:
+    """Maximise ``measure`` over the joint ``3N`` positions with centralised CAO.
+
+    Parameters
+    ----------
+    measure : callable
+        ``measure(x)`` with ``x`` of shape ``(N, 3)`` (metres) returns the objective (a finite
+        float, e.g. the coverage share). Called exactly once per visited configuration.
+    x0 : array_like, shape (N, 3)
+        Start, metres. Must be feasible (see :func:`uavcov.constraints.closest_admissible`).
+    feasible : callable or None
+        ``feasible(current, candidates)`` with ``current`` ``(N, 3)`` and ``candidates``
+        ``(M, N, 3)`` returns an ``(M,)`` bool mask of admissible candidates (see
+        :func:`uavcov.constraints.feasibility`). ``None`` means unconstrained.
+    iterations : int
+        ``K >= 0`` moves; the run measures ``K + 1`` configurations.
+    settings : CAOSettings
+    rng : None, int or numpy.random.Generator
+        Source of every random draw (candidates, monomials, noise, ties).
+
+    Returns
+    -------
+    OptimizerTrace
+
+    Raises
+    ------
+    InvalidInputError, InvalidTypeError
+        Bad shapes, non-finite values, wrong types, or a ``measure``/``feasible`` that returns
+        something else than documented.
+    InfeasibleError
+        The start is not feasible.
+    """
+    x0, n_iter = _check_common(x0, feasible, iterations, settings)
+    if not callable(measure):
+        raise InvalidTypeError(f"measure must be callable, got {type(measure).__name__}")
+    n_uavs = x0.shape[0]
+    dim = 3 * n_uavs
+    settings = settings.resolved(n_uavs)
+    n_reg = int(settings.n_regressors)  # type: ignore[arg-type]
+    n_terms = n_reg - 1 - dim
+    n_window = n_reg + settings.history
+    n_cand = settings.n_candidates
+    rng = np.random.default_rng(rng)
+    check = _Feasibility(feasible)
+    t_start = time.perf_counter()
+    _check_start(check, x0)
+
+    traj = np.empty((n_iter + 1, dim))
+    values = np.empty(n_iter + 1)
+    measured = np.empty(n_iter + 1)
+    steps = settings.step_size(np.arange(n_iter)) if n_iter else np.empty(0)
+    steps = np.asarray(steps, dtype=np.float64).reshape(n_iter)
+    n_feasible = np.zeros(n_iter, dtype=np.int64)
+    terms = _draw_monomials(n_terms, dim, np.empty((0, 3), dtype=np.int64), rng)
+    t_measure = 0.0
+
+    x = x0.reshape(dim).copy()
+    for k in range(n_iter + 1):
+        traj[k] = x
+        t0 = time.perf_counter()
+        value = _as_value(measure(x.reshape(n_uavs, 3).copy()), "measure", k)
+        t_measure += time.perf_counter() - t0
+        values[k] = value
+        measured[k] = value + settings.measurement_noise * rng.standard_normal() if settings.measurement_noise else value
+        if k == n_iter:
+            break
+
+        alpha = float(steps[k])
+        lo = max(0, k + 1 - n_window)
+        window = traj[lo : k + 1]
+        scale = float(_scale(window, x, alpha))
+        phi = _design((window - x) / scale, terms)
+        theta = _ridge(phi, measured[lo : k + 1], settings.ridge)
+
+        zeta = _draw_zeta(settings, (n_cand, dim), rng)
+        zeta[0] = 0.0
+        predicted = _design(zeta * (alpha / scale), terms) @ theta
+        candidates = x + alpha * zeta
+        mask = check(x.reshape(n_uavs, 3), candidates.reshape(n_cand, n_uavs, 3))
+        n_feasible[k] = int(mask.sum())
+        if n_feasible[k]:
+            x = candidates[_pick_best(predicted, mask, rng)].copy()
+        if n_terms:
+            terms = _refresh_terms(terms, _strength(phi, theta, 1 + dim), settings.keep_fraction, dim, rng)
+
+    t_total = time.perf_counter() - t_start
+    return _finish(
+        "cao",
+        traj.reshape(n_iter + 1, n_uavs, 3),
+        values,
+        measured,
+        steps,
+        n_feasible,
+        settings,
+        t_measure,
+        check.seconds,
+        t_total,
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Per-robot CAO
+# --------------------------------------------------------------------------------------------
+
+
+def _as_team_and_marginals(raw: Any, n_uavs: int, k: int) -> tuple[float, np.ndarray]:
+    if not isinstance(raw, tuple) or len(raw) != 2:
+        raise InvalidTypeError(
+            f"per-robot measure must return (team value, marginals of shape ({n_uavs},)), "
+            f"got {type(raw).__name__} at iteration {k}"
+        )
+    team = _as_value(raw[0], "measure (team value)", k)
+    marginals = np.asarray(raw[1], dtype=np.float64) if not isinstance(raw[1], (str, bytes)) else None
+    if marginals is None or marginals.shape != (n_uavs,) or not np.isfinite(marginals).all():
+        raise InvalidInputError(
+            f"per-robot measure must return finite marginals of shape ({n_uavs},) at iteration {k}"
+        )
+    return team, marginals
+
+
+def per_robot_cao(
+    measure: Callable[[np.ndarray], tuple[float, np.ndarray]],
+    x0: Any,
+    *,
+    feasible: FeasibleFn | None,
+    iterations: int,
+    settings: CAOSettings = CAOSettings(),
+    rng: Any = None,
+) -> OptimizerTrace:
+    """Per-robot CAO: every UAV fits its own estimator on its own 3 coordinates.
+
+    UAV ``i`` regresses its marginal contribution ``m_i`` (for coverage: what the team loses
+    without it) on its own normalised position. The gradient of ``m_i`` in ``x_i`` equals that of
+    the team objective, since the team without ``i`` does not depend on ``x_i``, so each UAV climbs
+    the team objective using only its own estimate. The others' moves act on ``m_i`` as noise.
+
+    Selection: each UAV ranks its ``M`` perturbations (the unperturbed one included) by its own
+    surrogate. Candidate ``r`` of the team puts every UAV on its rank-``r`` perturbation, and an
+    extra candidate keeps the whole team in place; the team moves to the best-ranked feasible one.
+    This keeps every UAV's own choice whenever the joint constraints (the safety distance couples
+    UAVs) allow it, with a single joint feasibility call per iteration.
+
+    Parameters
+    ----------
+    measure : callable
+        ``measure(x)`` with ``x`` of shape ``(N, 3)`` returns ``(team_value, marginals)``: the
+        team objective (float, recorded in the trace) and each UAV's marginal contribution
+        ``(N,)``. One call per visited configuration.
+    x0, feasible, iterations, settings, rng
+        As in :func:`cao`; ``settings.robot_regressors`` sets each estimator's size, and the
+        window is ``robot_regressors + history`` measurements.
+
+    Returns
+    -------
+    OptimizerTrace
+        ``values`` holds the team values.
+    """
+    x0, n_iter = _check_common(x0, feasible, iterations, settings)
+    if not callable(measure):
+        raise InvalidTypeError(f"measure must be callable, got {type(measure).__name__}")
+    n_uavs = x0.shape[0]
+    settings = settings.resolved(n_uavs)
+    n_reg = settings.robot_regressors_value()
+    n_terms = n_reg - 4
+    n_window = n_reg + settings.history
+    n_cand = settings.n_candidates
+    rng = np.random.default_rng(rng)
+    check = _Feasibility(feasible)
+    t_start = time.perf_counter()
+    _check_start(check, x0)
+
+    traj = np.empty((n_iter + 1, n_uavs, 3))
+    values = np.empty(n_iter + 1)
+    measured = np.empty(n_iter + 1)
+    marg = np.empty((n_iter + 1, n_uavs))
+    steps = np.asarray(settings.step_size(np.arange(n_iter)) if n_iter else np.empty(0), dtype=np.float64)
+    steps = steps.reshape(n_iter)
+    n_feasible = np.zeros(n_iter, dtype=np.int64)
+    empty = np.empty((0, 3), dtype=np.int64)
+    terms = np.stack([_draw_monomials(n_terms, 3, empty, rng) for _ in range(n_uavs)])
+    t_measure = 0.0
+    robots = np.arange(n_uavs)
+
+    x = x0.copy()
+    for k in range(n_iter + 1):
+        traj[k] = x
+        t0 = time.perf_counter()
+        team, marginals = _as_team_and_marginals(measure(x.copy()), n_uavs, k)
+        t_measure += time.perf_counter() - t0
+        values[k] = team
+        noise = settings.measurement_noise
+        measured[k] = team + noise * rng.standard_normal() if noise else team
+        marg[k] = marginals + noise * rng.standard_normal(n_uavs) if noise else marginals
+        if k == n_iter:
+            break
+
+        alpha = float(steps[k])
+        lo = max(0, k + 1 - n_window)
+        window = traj[lo : k + 1]  # (W, N, 3)
+        scale = _scale(window, x, alpha)  # (N,)
+        u = np.swapaxes(window - x, 0, 1) / scale[:, None, None]  # (N, W, 3)
+        phi = _design(u, terms)  # (N, W, L)
+        theta = _ridge(phi, marg[lo : k + 1].T, settings.ridge)  # (N, L)
+
+        zeta = _draw_zeta(settings, (n_cand, n_uavs, 3), rng)
+        zeta[0] = 0.0
+        uc = np.swapaxes(zeta, 0, 1) * (alpha / scale)[:, None, None]  # (N, M, 3)
+        score = np.einsum("nml,nl->nm", _design(uc, terms), theta)  # (N, M)
+        # rank each robot's perturbations, best first; exact ties (a flat estimator) at random
+        jitter = rng.random(score.shape)
+        order = np.lexsort((jitter, -_quantise(score)), axis=-1)  # (N, M)
+        team_cand = np.empty((n_cand + 1, n_uavs, 3))
+        team_cand[:n_cand] = x[None] + alpha * zeta[order.T, robots[None, :]]
+        team_cand[n_cand] = x
+        mask = check(x, team_cand)
+        n_feasible[k] = int(mask.sum())
+        if n_feasible[k]:
+            x = team_cand[int(np.flatnonzero(mask)[0])].copy()
+        if n_terms:
+            strength = _strength(phi, theta, 4)
+            terms = np.stack(
+                [_refresh_terms(terms[i], strength[i], settings.keep_fraction, 3, rng) for i in range(n_uavs)]
+            )
+
+    t_total = time.perf_counter() - t_start
+    return _finish(
+        "per_robot", traj, values, measured, steps, n_feasible, settings, t_measure, check.seconds, t_total
+    )
+
+
+def _quantise(score: np.ndarray) -> np.ndarray:
+    """Round scores to 12 significant digits per row so round-off does not break true ties."""
+    top = np.max(np.abs(score), axis=-1, keepdims=True)
+    unit = 1e-12 * np.maximum(top, 1e-300)
+    return np.round(score / unit) * unit
+
+
+OPTIMIZERS: Mapping[str, Optimizer] = MappingProxyType({"cao": cao, "per_robot": per_robot_cao})
+"""Optimisers by name, for the mission and the command line."""
+
+MARGINAL_OPTIMIZERS: frozenset[str] = frozenset({"per_robot"})
+"""Names in :data:`OPTIMIZERS` whose ``measure`` returns ``(team value, marginals)``."""

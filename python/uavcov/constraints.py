@@ -1,0 +1,353 @@
+"""The admissible UAV configurations of the paper (eq. 2), and how to reach one.
+
+A configuration ``x`` of shape ``(N, 3)`` is admissible when every UAV
+
+* lies inside the region's x-y bounds (closed),
+* has at least ``h_min`` of clearance straight down to the real surface (and a surface below it
+  at all: a UAV under a heightfield or over a nodata hole has none, and is refused),
+* flies at most at the absolute altitude ``z_max``,
+* stays at least ``d_safe`` away from every other UAV,
+
+and, when ``check_moves`` is set (scenes with buildings), the straight move from the current
+position to the new one crosses no surface. The checks read the world only through what a UAV
+team could sense or has been told: :class:`World` (``clearance``, ``segments_clear``,
+``ground_height``, ``bounds``), which :class:`uavcov.surface.Terrain` provides.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Protocol
+
+import numpy as np
+
+from ._validate import as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_int
+from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
+
+__all__ = [
+    "World",
+    "Constraints",
+    "feasible_mask",
+    "feasibility",
+    "trajectory_feasible",
+    "closest_admissible",
+]
+
+# closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
+# (which use the true h_min and d_safe) never fail on round-off. Metres.
+_MARGIN = 1e-6
+
+
+class World(Protocol):
+    """What the constraints need to know about the real surface (``Terrain`` provides it)."""
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """``(2, 3)``: ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` of the surface."""
+        ...
+
+    def ground_height(self, xy: np.ndarray) -> np.ndarray:
+        """``(n, 2) -> (n,)`` highest surface z above each point, NaN where none."""
+        ...
+
+    def clearance(self, points: np.ndarray) -> np.ndarray:
+        """``(n, 3) -> (n,)`` distance straight down to the surface, inf where none."""
+        ...
+
+    def segments_clear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``(n, 3), (n, 3) -> (n,)`` bool: the closed segment crosses no surface."""
+        ...
+
+
+def _as_bounds(value: Any) -> tuple[float, float, float, float]:
+    if isinstance(value, (str, bytes)):
+        raise InvalidTypeError("bounds must be (xmin, ymin, xmax, ymax), got a string")
+    array = as_float_array(value, "bounds")
+    if array.ndim == 2 and array.shape[0] == 2 and array.shape[1] >= 2:
+        array = np.array([array[0, 0], array[0, 1], array[1, 0], array[1, 1]])
+    if array.shape != (4,):
+        raise InvalidInputError(
+            f"bounds must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], "
+            f"got shape {array.shape}"
+        )
+    xmin, ymin, xmax, ymax = (float(v) for v in array)
+    if not (xmin < xmax and ymin < ymax):
+        raise InvalidInputError(f"bounds need xmin < xmax and ymin < ymax, got {tuple(array)}")
+    return xmin, ymin, xmax, ymax
+
+
+@dataclass(frozen=True)
+class Constraints:
+    """The constraint set of the paper's eq. 2. Defaults follow ``paper-setup.md``.
+
+    Parameters
+    ----------
+    bounds : (xmin, ymin, xmax, ymax)
+        Closed x-y region the UAVs must stay in, metres. A ``(2, k)`` array
+        ``[[xmin, ymin, ...], [xmax, ymax, ...]]`` (such as ``Terrain.bounds``) is accepted.
+    h_min : float, default 2.0
+        Least clearance straight down to the real surface, metres (>= 0).
+    z_max : float, default 50.0
+        Highest absolute altitude, metres, in the surface's frame. ``h_min > z_max`` is refused:
+        uavcov surfaces stand on z >= 0, so it would leave no room anywhere.
+    d_safe : float, default 2.0
+        Least distance between two UAVs, metres (>= 0).
+    check_moves : bool, default False
+        Also require the straight move from the current to the new position to cross no surface
+        (scenes with buildings: without it a candidate inside a closed building can pass the
+        clearance test, since the ground lies below it).
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or out-of-range values.
+    InfeasibleError
+        ``h_min > z_max``.
+    """
+
+    bounds: tuple[float, float, float, float]
+    h_min: float = 2.0
+    z_max: float = 50.0
+    d_safe: float = 2.0
+    check_moves: bool = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "bounds", _as_bounds(self.bounds))
+        object.__setattr__(self, "h_min", as_non_negative_float(self.h_min, "h_min"))
+        object.__setattr__(self, "z_max", as_finite_float(self.z_max, "z_max"))
+        object.__setattr__(self, "d_safe", as_non_negative_float(self.d_safe, "d_safe"))
+        if not isinstance(self.check_moves, (bool, np.bool_)):
+            raise InvalidTypeError(f"check_moves must be a bool, got {type(self.check_moves).__name__}")
+        object.__setattr__(self, "check_moves", bool(self.check_moves))
+        if self.h_min > self.z_max:
+            raise InfeasibleError(
+                f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m"
+            )
+
+    @classmethod
+    def for_world(cls, world: World, **kwargs: Any) -> "Constraints":
+        """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
+        return cls(bounds=np.asarray(world.bounds), **kwargs)
+
+    def check_team(self, n_uavs: int, world: World) -> None:
+        """Raise :class:`InfeasibleError` if ``n_uavs`` UAVs surely cannot all be admissible.
+
+        Two necessary conditions: some altitude satisfies ``h_min`` and ``z_max`` above the
+        lowest point of ``world``, and the balls of radius ``d_safe / 2`` around the UAVs fit,
+        by volume, in the flight box grown by that radius. Passing them does not prove a
+        packing exists; :func:`closest_admissible` reports when it finds none.
+        """
+        n_uavs = as_positive_int(n_uavs, "number of UAVs")
+        zmin = float(np.asarray(world.bounds, dtype=np.float64)[0, 2])
+        floor = zmin + self.h_min
+        if floor > self.z_max:
+            raise InfeasibleError(
+                f"the lowest surface point (z = {zmin} m) plus h_min = {self.h_min} m is above "
+                f"z_max = {self.z_max} m: no altitude is admissible"
+            )
+        if n_uavs == 1 or self.d_safe == 0.0:
+            return
+        r = self.d_safe / 2.0
+        xmin, ymin, xmax, ymax = self.bounds
+        box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (self.z_max - floor + 2 * r)
+        need = n_uavs * 4.0 / 3.0 * math.pi * r**3
+        if need > box:
+            raise InfeasibleError(
+                f"{n_uavs} UAVs kept d_safe = {self.d_safe} m apart cannot fit in the flight "
+                f"volume (their safety balls need {need:.4g} m^3, the region offers {box:.4g} m^3)"
+            )
+
+
+def _check_world(world: Any) -> None:
+    for name in ("bounds", "ground_height", "clearance", "segments_clear"):
+        if not hasattr(world, name):
+            raise InvalidTypeError(f"world must provide {name} (a Terrain does), got {type(world).__name__}")
+
+
+def _as_candidates(candidates: Any, n_uavs: int) -> np.ndarray:
+    array = as_float_array(candidates, "candidates")
+    if array.ndim == 2 and array.shape == (n_uavs, 3):
+        array = array[None]
+    if array.ndim != 3 or array.shape[1:] != (n_uavs, 3):
+        raise InvalidInputError(f"candidates must have shape (M, {n_uavs}, 3), got {array.shape}")
+    return array
+
+
+def _static_ok(constraints: Constraints, cand: np.ndarray) -> np.ndarray:
+    """Bounds, altitude and pairwise distance for ``(M, N, 3)`` candidates: ``(M,)`` bool."""
+    xmin, ymin, xmax, ymax = constraints.bounds
+    x, y, z = cand[..., 0], cand[..., 1], cand[..., 2]
+    ok = ((x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= constraints.z_max)).all(axis=1)
+    n_uavs = cand.shape[1]
+    if n_uavs > 1 and constraints.d_safe > 0.0:
+        i, j = np.triu_indices(n_uavs, 1)
+        idx = np.flatnonzero(ok)
+        diff = cand[idx][:, i] - cand[idx][:, j]
+        far = (np.einsum("mpk,mpk->mp", diff, diff) >= constraints.d_safe**2).all(axis=1)
+        ok[idx] = far
+    return ok
+
+
+def feasible_mask(constraints: Constraints, world: World, current: Any, candidates: Any) -> np.ndarray:
+    """Which candidate configurations are admissible.
+
+    Parameters
+    ----------
+    constraints : Constraints
+    world : World
+        The real surface (a ``Terrain``); queried once for the clearance of all surviving
+        candidates' points, and once for their moves when ``check_moves`` is set.
+    current : (N, 3) array_like
+        Positions now, metres (the start of each move).
+    candidates : (M, N, 3) array_like
+        Candidate configurations, metres.
+
+    Returns
+    -------
+    (M,) bool ndarray
+    """
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    _check_world(world)
+    cur = as_points(current, "current")
+    cand = _as_candidates(candidates, cur.shape[0])
+    n_uavs = cur.shape[0]
+    # cheap checks first, so the surface is only queried for candidates still in the running
+    ok = _static_ok(constraints, cand)
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        clear = np.asarray(world.clearance(np.ascontiguousarray(cand[idx].reshape(-1, 3))), dtype=np.float64)
+        clear = clear.reshape(idx.size, n_uavs)
+        ok[idx] = (np.isfinite(clear) & (clear >= constraints.h_min)).all(axis=1)
+    if constraints.check_moves:
+        idx = np.flatnonzero(ok)
+        if idx.size:
+            ends = cand[idx]
+            moved = (ends != cur[None]).any(axis=2)  # a UAV that stays has nothing to cross
+            if moved.any():
+                starts = np.broadcast_to(cur[None], ends.shape)[moved]
+                clear_moves = np.asarray(
+                    world.segments_clear(np.ascontiguousarray(starts), np.ascontiguousarray(ends[moved])), dtype=bool
+                )
+                per_uav = np.ones(moved.shape, dtype=bool)
+                per_uav[moved] = clear_moves
+                ok[idx] = per_uav.all(axis=1)
+    return ok
+
+
+def feasibility(constraints: Constraints, world: World) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world``."""
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    _check_world(world)
+
+    def feasible(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+        return feasible_mask(constraints, world, current, candidates)
+
+    return feasible
+
+
+def trajectory_feasible(constraints: Constraints, world: World, trajectory: Any) -> np.ndarray:
+    """``(K + 1,)`` bool: configuration ``k`` is admissible, and so is the move into it.
+
+    ``trajectory`` is ``(K + 1, N, 3)``; entry 0 is judged as a configuration only.
+    """
+    traj = as_float_array(trajectory, "trajectory")
+    if traj.ndim != 3 or traj.shape[2] != 3 or traj.shape[0] == 0 or traj.shape[1] == 0:
+        raise InvalidInputError(f"trajectory must have shape (K + 1, N, 3), got {traj.shape}")
+    out = np.empty(traj.shape[0], dtype=bool)
+    out[0] = feasible_mask(constraints, world, traj[0], traj[:1])[0]
+    for k in range(1, traj.shape[0]):
+        out[k] = feasible_mask(constraints, world, traj[k - 1], traj[k : k + 1])[0]
+    return out
+
+
+def _separation_direction(i: int, j: int) -> np.ndarray:
+    """A fixed horizontal unit vector for two UAVs at the same point (deterministic)."""
+    angle = 2.399963229728653 * (i + 1) * (j + 2)  # golden angle: pairs get spread directions
+    return np.array([math.cos(angle), math.sin(angle), 0.0])
+
+
+def closest_admissible(
+    constraints: Constraints, world: World, x: Any, *, max_sweeps: int = 1000
+) -> np.ndarray:
+    """Move a start configuration to nearby admissible positions (deterministic).
+
+    Each sweep projects every UAV onto its own constraints exactly (clamp into the x-y bounds;
+    lift to ``ground + h_min`` when under the terrain, inside a building or too low; lower to
+    ``z_max``), then pushes every pair closer than ``d_safe`` apart symmetrically along the line
+    joining them (a fixed horizontal direction when they coincide). Sweeps repeat until nothing
+    moves. A UAV already admissible and far from the others is left exactly where it is.
+
+    Parameters
+    ----------
+    constraints : Constraints
+    world : World
+        The real surface (a ``Terrain``).
+    x : (N, 3) array_like
+        Start positions, metres.
+    max_sweeps : int, default 1000
+
+    Returns
+    -------
+    (N, 3) float64 ndarray
+        Admissible positions (``feasible_mask`` accepts them).
+
+    Raises
+    ------
+    InfeasibleError
+        The team cannot fit (:meth:`Constraints.check_team`), a UAV stands over no surface, or
+        no admissible configuration was reached.
+    """
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    _check_world(world)
+    pos = as_points(x, "x").copy()
+    max_sweeps = as_positive_int(max_sweeps, "max_sweeps")
+    n_uavs = pos.shape[0]
+    constraints.check_team(n_uavs, world)
+    xmin, ymin, xmax, ymax = constraints.bounds
+    target = constraints.d_safe + _MARGIN if constraints.d_safe > 0.0 else 0.0
+    pairs = np.triu_indices(n_uavs, 1)
+
+    for _ in range(max_sweeps):
+        before = pos.copy()
+        pos[:, 0] = np.clip(pos[:, 0], xmin, xmax)
+        pos[:, 1] = np.clip(pos[:, 1], ymin, ymax)
+        ground = np.asarray(world.ground_height(np.ascontiguousarray(pos[:, :2])), dtype=np.float64)
+        if np.isnan(ground).any():
+            bad = int(np.flatnonzero(np.isnan(ground))[0])
+            raise InfeasibleError(f"UAV {bad} at x-y {tuple(pos[bad, :2])} stands over no surface")
+        floor = ground + constraints.h_min
+        low = pos[:, 2] < floor
+        pos[low, 2] = floor[low] + _MARGIN
+        if (pos[:, 2] > constraints.z_max).any():
+            if (floor > constraints.z_max).any():
+                bad = int(np.flatnonzero(floor > constraints.z_max)[0])
+                raise InfeasibleError(
+                    f"UAV {bad}: ground at {ground[bad]:.3f} m plus h_min exceeds z_max = {constraints.z_max} m"
+                )
+            pos[:, 2] = np.minimum(pos[:, 2], constraints.z_max)
+        if target > 0.0 and n_uavs > 1:
+            i, j = pairs
+            diff = pos[i] - pos[j]
+            dist = np.sqrt(np.einsum("pk,pk->p", diff, diff))
+            close = np.flatnonzero(dist < constraints.d_safe)
+            if close.size:
+                push = np.zeros_like(pos)
+                for p in close:  # only the offending pairs; usually none or a few
+                    a, b = int(i[p]), int(j[p])
+                    unit = diff[p] / dist[p] if dist[p] > 0.0 else _separation_direction(a, b)
+                    step = 0.5 * (target - dist[p]) * unit
+                    push[a] += step
+                    push[b] -= step
+                pos += push
+        if np.array_equal(pos, before):
+            break
+    if not feasible_mask(constraints, world, pos, pos[None])[0]:
+        raise InfeasibleError(
+            f"no admissible configuration found near the start after {max_sweeps} sweeps "
+            "(the region may be too crowded for d_safe, or a UAV is over a hole in the surface)"
+        )
+    return pos
