@@ -101,7 +101,7 @@ impl<'a> AreaSampler<'a> {
             sum += a * density.map_or(1.0, |d| d[f]);
             cumulative.push(sum);
         }
-        if !(sum > 0.0) {
+        if sum.is_nan() || sum <= 0.0 {
             return Err(Error::InvalidInput("the sampling density is zero over the whole surface".into()));
         }
         Ok(Self { surface, cumulative })

@@ -1,69 +1,20 @@
-//! The PyO3 binding, `uavcov._core`: converts numpy arrays, releases the GIL around heavy work
-//! and maps [`Error`] onto `uavcov.errors`. It holds no algorithm; users call the Python
-//! wrappers (`uavcov.Terrain`, `uavcov.Visibility`), which validate before calling here.
+//! `uavcov._core.Surface`: the triangle mesh and its geometric queries.
 
 use std::sync::Arc;
 
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use rayon::prelude::*;
 
+use super::{invalid, parallel_map, points, points_to_py, to_py_err};
 use crate::error::Error;
 use crate::mesh::{self, Point};
 use crate::sampling;
-use crate::threads;
-use crate::visibility;
-
-fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
-    let class = match err {
-        Error::InvalidInput(_) => "InvalidInputError",
-        Error::Mesh(_) => "MeshError",
-        Error::TooLarge(_) => "SurfaceTooLargeError",
-    };
-    let message = err.to_string();
-    match py.import("uavcov.errors").and_then(|m| m.getattr(class)) {
-        Ok(cls) => match cls.call1((message,)) {
-            Ok(instance) => PyErr::from_value(instance),
-            Err(e) => e,
-        },
-        Err(_) => PyValueError::new_err(message),
-    }
-}
-
-fn invalid(py: Python<'_>, message: String) -> PyErr {
-    to_py_err(py, Error::InvalidInput(message))
-}
-
-/// Copies an `(n, 3)` array into owned points, so the GIL can be released while Rust reads them.
-fn points(py: Python<'_>, array: &PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<Vec<Point>> {
-    let a = array.as_array();
-    if a.ncols() != 3 {
-        return Err(invalid(py, format!("{name} must have shape (n, 3), got {:?}", array.shape())));
-    }
-    let out: Vec<Point> = a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
-    if out.iter().any(|q| q.iter().any(|c| !c.is_finite())) {
-        return Err(invalid(py, format!("{name} contains NaN or infinite values")));
-    }
-    Ok(out)
-}
-
-fn points_to_py<'py>(py: Python<'py>, pts: Vec<Point>) -> Bound<'py, PyArray2<f64>> {
-    let n = pts.len();
-    let flat: Vec<f64> = pts.into_iter().flatten().collect();
-    Array2::from_shape_vec((n, 3), flat).expect("n x 3 values").into_pyarray(py)
-}
-
-/// Runs `f` over `items` in parallel without the GIL; output order follows `items`.
-fn parallel_map<T: Sync, R: Send>(py: Python<'_>, n_threads: usize, items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    py.detach(|| threads::run(n_threads, || items.par_iter().with_min_len(64).map(&f).collect()))
-}
 
 /// A triangle mesh with its BVH (see `uavcov.Terrain`).
 #[pyclass(module = "uavcov._core", frozen, name = "Surface")]
 pub struct PySurface {
-    inner: Arc<mesh::Surface>,
+    pub(crate) inner: Arc<mesh::Surface>,
 }
 
 #[pymethods]
@@ -173,7 +124,7 @@ impl PySurface {
     /// Distance straight down from each point to the surface; inf where nothing is below.
     #[pyo3(signature = (points, n_threads=0))]
     fn clearance<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let pts = self::points(py, &points, "points")?;
+        let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
         Ok(parallel_map(py, n_threads, &pts, |&q| s.clearance(q)).into_pyarray(py))
     }
@@ -181,7 +132,7 @@ impl PySurface {
     /// The closest surface point to each point.
     #[pyo3(signature = (points, n_threads=0))]
     fn closest_point<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let pts = self::points(py, &points, "points")?;
+        let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
         Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))))
     }
@@ -206,94 +157,3 @@ impl PySurface {
     }
 }
 
-/// The coverage objective for one surface, target set and sensing range (see
-/// `uavcov.Visibility`).
-#[pyclass(module = "uavcov._core", frozen, name = "Visibility")]
-pub struct PyVisibility {
-    inner: visibility::Visibility,
-}
-
-#[pymethods]
-impl PyVisibility {
-    #[new]
-    #[pyo3(signature = (surface, targets, weights, d_max))]
-    fn new(
-        py: Python<'_>,
-        surface: &PySurface,
-        targets: PyReadonlyArray2<'_, f64>,
-        weights: PyReadonlyArray1<'_, f64>,
-        d_max: f64,
-    ) -> PyResult<Self> {
-        let pts = points(py, &targets, "targets")?;
-        let w = weights.as_array().to_vec();
-        let t = visibility::Targets::new(pts, Some(w)).map_err(|e| to_py_err(py, e))?;
-        let inner = visibility::Visibility::new(surface.inner.clone(), t, d_max).map_err(|e| to_py_err(py, e))?;
-        Ok(Self { inner })
-    }
-
-    #[getter]
-    fn n_targets(&self) -> usize {
-        self.inner.targets().len()
-    }
-
-    #[getter]
-    fn d_max(&self) -> f64 {
-        self.inner.d_max()
-    }
-
-    /// `(T,)` bool: whether at least one UAV sees each target.
-    #[pyo3(signature = (uavs, n_threads=0))]
-    fn seen<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let u = points(py, &uavs, "uavs")?;
-        let mask = py.detach(|| self.inner.seen(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
-        Ok(mask.into_pyarray(py))
-    }
-
-    /// Weighted share of targets seen, in [0, 1].
-    #[pyo3(signature = (uavs, n_threads=0))]
-    fn coverage(&self, py: Python<'_>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<f64> {
-        let u = points(py, &uavs, "uavs")?;
-        py.detach(|| self.inner.coverage(&u, n_threads)).map_err(|e| to_py_err(py, e))
-    }
-
-    /// `(seen, exclusive, seen_weight, exclusive_weight, total_weight)` per UAV.
-    #[pyo3(signature = (uavs, n_threads=0))]
-    #[allow(clippy::type_complexity)]
-    fn per_uav<'py>(
-        &self,
-        py: Python<'py>,
-        uavs: PyReadonlyArray2<'_, f64>,
-        n_threads: usize,
-    ) -> PyResult<(
-        Bound<'py, PyArray1<u64>>,
-        Bound<'py, PyArray1<u64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        f64,
-    )> {
-        let u = points(py, &uavs, "uavs")?;
-        let c = py.detach(|| self.inner.per_uav(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
-        Ok((
-            c.seen.into_pyarray(py),
-            c.exclusive.into_pyarray(py),
-            c.seen_weight.into_pyarray(py),
-            c.exclusive_weight.into_pyarray(py),
-            c.total_weight,
-        ))
-    }
-}
-
-/// Number of cores the Rust side uses when `n_threads` is 0.
-#[pyfunction]
-fn available_threads() -> usize {
-    threads::available()
-}
-
-#[pymodule]
-fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PySurface>()?;
-    m.add_class::<PyVisibility>()?;
-    m.add_function(wrap_pyfunction!(available_threads, m)?)?;
-    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    Ok(())
-}

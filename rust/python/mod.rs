@@ -1,0 +1,77 @@
+//! The PyO3 binding, `uavcov._core`: converts numpy arrays, releases the GIL around heavy work
+//! and maps [`Error`] onto `uavcov.errors`. It holds no algorithm; users call the Python
+//! wrappers (`uavcov.Terrain`, `uavcov.Visibility`), which validate before calling here.
+//!
+//! One file per Python class; this one holds the module and the conversions they share.
+
+mod surface;
+mod visibility;
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+use crate::error::Error;
+use crate::mesh::Point;
+use crate::threads;
+
+pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
+    let class = match err {
+        Error::InvalidInput(_) => "InvalidInputError",
+        Error::Mesh(_) => "MeshError",
+        Error::TooLarge(_) => "SurfaceTooLargeError",
+    };
+    let message = err.to_string();
+    match py.import("uavcov.errors").and_then(|m| m.getattr(class)) {
+        Ok(cls) => match cls.call1((message,)) {
+            Ok(instance) => PyErr::from_value(instance),
+            Err(e) => e,
+        },
+        Err(_) => PyValueError::new_err(message),
+    }
+}
+
+pub(crate) fn invalid(py: Python<'_>, message: String) -> PyErr {
+    to_py_err(py, Error::InvalidInput(message))
+}
+
+/// Copies an `(n, 3)` array into owned points, so the GIL can be released while Rust reads them.
+pub(crate) fn points(py: Python<'_>, array: &PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<Vec<Point>> {
+    let a = array.as_array();
+    if a.ncols() != 3 {
+        return Err(invalid(py, format!("{name} must have shape (n, 3), got {:?}", array.shape())));
+    }
+    let out: Vec<Point> = a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    if out.iter().any(|q| q.iter().any(|c| !c.is_finite())) {
+        return Err(invalid(py, format!("{name} contains NaN or infinite values")));
+    }
+    Ok(out)
+}
+
+pub(crate) fn points_to_py<'py>(py: Python<'py>, pts: Vec<Point>) -> Bound<'py, PyArray2<f64>> {
+    let n = pts.len();
+    let flat: Vec<f64> = pts.into_iter().flatten().collect();
+    Array2::from_shape_vec((n, 3), flat).expect("n x 3 values").into_pyarray(py)
+}
+
+/// Runs `f` over `items` in parallel without the GIL; output order follows `items`.
+pub(crate) fn parallel_map<T: Sync, R: Send>(py: Python<'_>, n_threads: usize, items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    py.detach(|| threads::run(n_threads, || items.par_iter().with_min_len(64).map(&f).collect()))
+}
+
+/// Number of cores the Rust side uses when `n_threads` is 0.
+#[pyfunction]
+fn available_threads() -> usize {
+    threads::available()
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<surface::PySurface>()?;
+    m.add_class::<visibility::PyVisibility>()?;
+    m.add_function(wrap_pyfunction!(available_threads, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

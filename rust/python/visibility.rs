@@ -1,0 +1,86 @@
+//! `uavcov._core.Visibility`: the coverage objective.
+
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+
+use super::surface::PySurface;
+use super::{points, to_py_err};
+use crate::visibility;
+
+/// The coverage objective for one surface, target set and sensing range (see
+/// `uavcov.Visibility`).
+#[pyclass(module = "uavcov._core", frozen, name = "Visibility")]
+pub struct PyVisibility {
+    inner: visibility::Visibility,
+}
+
+#[pymethods]
+impl PyVisibility {
+    #[new]
+    #[pyo3(signature = (surface, targets, weights, d_max))]
+    fn new(
+        py: Python<'_>,
+        surface: &PySurface,
+        targets: PyReadonlyArray2<'_, f64>,
+        weights: PyReadonlyArray1<'_, f64>,
+        d_max: f64,
+    ) -> PyResult<Self> {
+        let pts = points(py, &targets, "targets")?;
+        let w = weights.as_array().to_vec();
+        let t = visibility::Targets::new(pts, Some(w)).map_err(|e| to_py_err(py, e))?;
+        let inner = visibility::Visibility::new(surface.inner.clone(), t, d_max).map_err(|e| to_py_err(py, e))?;
+        Ok(Self { inner })
+    }
+
+    #[getter]
+    fn n_targets(&self) -> usize {
+        self.inner.targets().len()
+    }
+
+    #[getter]
+    fn d_max(&self) -> f64 {
+        self.inner.d_max()
+    }
+
+    /// `(T,)` bool: whether at least one UAV sees each target.
+    #[pyo3(signature = (uavs, n_threads=0))]
+    fn seen<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let u = points(py, &uavs, "uavs")?;
+        let mask = py.detach(|| self.inner.seen(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
+        Ok(mask.into_pyarray(py))
+    }
+
+    /// Weighted share of targets seen, in [0, 1].
+    #[pyo3(signature = (uavs, n_threads=0))]
+    fn coverage(&self, py: Python<'_>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<f64> {
+        let u = points(py, &uavs, "uavs")?;
+        py.detach(|| self.inner.coverage(&u, n_threads)).map_err(|e| to_py_err(py, e))
+    }
+
+    /// `(seen, exclusive, seen_weight, exclusive_weight, total_weight)` per UAV.
+    #[pyo3(signature = (uavs, n_threads=0))]
+    #[allow(clippy::type_complexity)]
+    fn per_uav<'py>(
+        &self,
+        py: Python<'py>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        f64,
+    )> {
+        let u = points(py, &uavs, "uavs")?;
+        let c = py.detach(|| self.inner.per_uav(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
+        Ok((
+            c.seen.into_pyarray(py),
+            c.exclusive.into_pyarray(py),
+            c.seen_weight.into_pyarray(py),
+            c.exclusive_weight.into_pyarray(py),
+            c.total_weight,
+        ))
+    }
+}
+
