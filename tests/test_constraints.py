@@ -448,3 +448,24 @@ def test_closest_admissible_and_masks_on_a_real_grid_terrain(hill_grid):
     np.testing.assert_array_equal(mask[decided], expected[decided])
     assert decided.sum() > 390
     assert 40 < mask.sum() < 360
+
+
+def test_on_a_real_buildings_scene():
+    _terrain_or_skip()
+    from uavcov.terrains import Building, buildings_terrain
+
+    scene = buildings_terrain([Building(8.0, 8.0, 14.0, 12.0, 6.0)], size=24.0, spacing=0.5)
+    c = Constraints.for_world(scene, h_min=1.0, z_max=20.0, d_safe=1.0, check_moves=True)
+    start = np.array([[10.0, 10.0, 3.0], [4.0, 10.0, -1.0], [20.0, 20.0, 4.0]])
+    out = closest_admissible(c, scene, start)
+    np.testing.assert_allclose(out, [[10.0, 10.0, 7.0], [4.0, 10.0, 1.0], [20.0, 20.0, 4.0]], atol=1e-5)
+    current = np.array([[6.0, 10.0, 3.0]])  # 2 m west of the west wall (x = 8)
+    cands = np.array([
+        [[7.0, 10.0, 3.0]],  # closer to the wall: fine
+        [[9.0, 10.0, 3.0]],  # inside the building
+        [[9.0, 10.0, 7.2]],  # over the roof, but the move hits the wall (z = 5.8 at x = 8)
+        [[6.0, 10.0, 8.0]],  # straight up: fine
+    ])
+    np.testing.assert_array_equal(feasible_mask(c, scene, current, cands), [True, False, False, True])
+    loose = Constraints.for_world(scene, h_min=1.0, z_max=20.0, d_safe=1.0)
+    np.testing.assert_array_equal(feasible_mask(loose, scene, current, cands), [True, False, True, True])

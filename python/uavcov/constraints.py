@@ -95,8 +95,9 @@ class Constraints:
         Least distance between two UAVs, metres (>= 0).
     check_moves : bool, default False
         Also require the straight move from the current to the new position to cross no surface
-        (scenes with buildings: without it a candidate inside a closed building can pass the
-        clearance test, since the ground lies below it).
+        (scenes with buildings: two admissible positions on either side of a wall or a roof edge
+        can be joined by a move through it, and in a mesh with ground under its buildings a
+        point inside one passes the clearance test).
 
     Raises
     ------
