@@ -450,7 +450,8 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
         for value in (b.xmin, b.ymin, b.xmax, b.ymax):
             if abs(value / spacing - round(value / spacing)) > 1e-6:
                 raise InvalidInputError(f"footprint corner {value} of {b} is not a multiple of spacing {spacing}")
-    if not _layout_ok(boxes, size, 0.0, 1e-12):
+    # Corners are on the spacing grid, so two footprints are either apart by >= spacing or touch.
+    if not _layout_ok(boxes, size, 0.0, 0.5 * spacing):
         raise InvalidInputError("buildings must lie inside the ground square and must not overlap or touch")
 
     pool = _VertexPool(quantum=spacing * 1e-6)
@@ -983,7 +984,8 @@ def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshR
     -------
     vertices : ndarray, shape (V', 3)
     faces : ndarray, shape (F', 3)
-        Only referenced vertices, renumbered; faces in their input order and orientation.
+        Only referenced vertices, in the order they first appear, renumbered; the kept faces in
+        their input order and orientation. A mesh without defects comes back unchanged.
     report : MeshReport
 
     Raises
@@ -1006,8 +1008,13 @@ def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshR
     if points.shape[0] == 0 or triangles.min() < 0 or triangles.max() >= points.shape[0]:
         raise MeshError(f"face indices must be in [0, {points.shape[0]}), got [{triangles.min()}, {triangles.max()}]")
 
-    unique_points, inverse = np.unique(points, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
+    sorted_points, first, inverse = np.unique(points, axis=0, return_index=True, return_inverse=True)
+    # Keep vertices in the order of their first appearance, so a clean mesh comes back as given.
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.shape[0])
+    unique_points = sorted_points[order]
+    inverse = rank[inverse.reshape(-1)]
     merged = points.shape[0] - unique_points.shape[0]
     triangles = inverse[triangles]
 
