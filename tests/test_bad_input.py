@@ -16,7 +16,7 @@ from reference import visibility_reference
 from uavcov.errors import InvalidInputError, InvalidTypeError, MeshError, UavcovError
 from uavcov.surface import Terrain
 from uavcov.targets import Targets
-from uavcov.visibility import Visibility
+from uavcov.visibility import Visibility, coverage
 
 TRI_V = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.5]])
 TRI_F = np.array([[0, 1, 2], [1, 3, 2]])
@@ -108,19 +108,36 @@ def test_face_index_negative():
 
 def test_all_triangles_degenerate():
     v = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0], [3.0, 0.0, 0.0]])
+    f = np.array([[0, 1, 2], [0, 0, 3]])  # collinear, and a repeated vertex
     with _raises_value(MeshError):
-        Terrain(v, np.array([[0, 1, 2], [0, 0, 3]]))  # collinear, and a repeated vertex
+        Terrain(v, f)
+    # Dropping them leaves no triangle: still an error, not an empty surface.
+    with _raises_value(MeshError):
+        Terrain(v, f, drop_degenerate=True)
 
 
-def test_some_triangles_degenerate_are_harmless():
-    # Degenerate triangles have no interior: they can only be grazed, so visibility must agree
-    # with the reference run on the mesh without them.
+def _soup_with_degenerate() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     vertices, faces = random_soup(20, n_triangles=150)
     extra_v = np.array([[5.0, 5.0, 2.0], [9.0, 9.0, 6.0], [13.0, 13.0, 10.0]])  # collinear
     k = vertices.shape[0]
     all_v = np.vstack([vertices, extra_v])
     all_f = np.vstack([faces, [[k, k + 1, k + 2], [0, 0, 1], [k, k, k]]])
-    terrain = Terrain(all_v, all_f)
+    return vertices, faces, all_v, all_f
+
+
+def test_some_triangles_degenerate_raise_by_default():
+    # The documented choice: any zero-area triangle is a MeshError unless drop_degenerate=True.
+    _, _, all_v, all_f = _soup_with_degenerate()
+    with _raises_value(MeshError):
+        Terrain(all_v, all_f)
+
+
+def test_some_triangles_degenerate_dropped_on_request():
+    # Degenerate triangles have no interior: they can only be grazed, so visibility must agree
+    # with the reference run on the mesh without them.
+    vertices, faces, all_v, all_f = _soup_with_degenerate()
+    terrain = Terrain(all_v, all_f, drop_degenerate=True)
+    assert terrain.n_faces == faces.shape[0]
     rng = np.random.default_rng(0)
     uavs = rng.uniform([0, 0, 0], [20, 20, 10], size=(4, 3))
     points = rng.uniform([0, 0, 0], [20, 20, 10], size=(300, 3))
@@ -128,6 +145,19 @@ def test_some_triangles_degenerate_are_harmless():
     ref = visibility_reference(vertices, faces, uavs, points, 10.0)
     decided = ~ref.seen_uncertain
     np.testing.assert_array_equal(seen[decided], ref.seen[decided])
+
+
+def test_from_mesh_degenerate_dropped_on_request():
+    vertices, faces, all_v, all_f = _soup_with_degenerate()
+
+    class Mesh:
+        pass
+
+    mesh = Mesh()
+    mesh.vertices, mesh.faces = all_v, all_f  # type: ignore[attr-defined]
+    with _raises_value(MeshError):
+        Terrain.from_mesh(mesh)
+    assert Terrain.from_mesh(mesh, drop_degenerate=True).n_faces == faces.shape[0]
 
 
 def test_from_mesh_without_faces():
@@ -169,7 +199,8 @@ def test_grid_all_nan():
 
 
 def test_grid_too_small_for_a_triangle():
-    with _raises_value(MeshError):
+    # A shape problem of the argument (InvalidInputError) or of the mesh (MeshError): either.
+    with _raises_value():
         Terrain.from_grid(np.zeros((1, 5)), 1.0)
 
 
@@ -227,6 +258,16 @@ def test_visibility_of_something_not_a_terrain():
 
 # --------------------------------------------------------------------------------------------
 # configurations
+
+
+def test_query_bad_n_threads(terrain):
+    with _raises_value():
+        terrain.closest_point(np.zeros((1, 3)), n_threads=0)
+
+
+def test_coverage_function_bad_d_max(terrain):
+    with _raises_value():
+        coverage(terrain, np.array([[0.0, 0.0, 1.0]]), -1.0)
 
 
 @pytest.mark.parametrize("method", ["coverage", "seen", "per_uav"])
@@ -319,8 +360,14 @@ def test_default_targets_bad_density(terrain):
 
 
 def test_ground_height_wrong_shape(terrain):
+    # (n, 2) and (n, 3) are documented as accepted; (n, 4) is not.
     with _raises_value():
-        terrain.ground_height(np.zeros((4, 3)))
+        terrain.ground_height(np.zeros((4, 4)))
+
+
+def test_ground_height_one_column(terrain):
+    with _raises_value():
+        terrain.ground_height(np.zeros((4, 1)))
 
 
 def test_ground_height_nan(terrain):

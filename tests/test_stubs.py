@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -23,18 +24,48 @@ def test_stub_file_and_marker_exist():
     assert (PYTHON_SOURCE / "uavcov" / "py.typed").is_file()
 
 
-def test_core_stub_matches_extension(tmp_path):
+def _stubtest(search_path: Path, cache: Path) -> subprocess.CompletedProcess[str]:
     if importlib.util.find_spec("mypy") is None:
         pytest.skip("mypy is not installed in this environment (it is in the 'test' extra)")
     env = dict(os.environ)
-    env["MYPYPATH"] = str(PYTHON_SOURCE)
-    env["MYPY_CACHE_DIR"] = str(tmp_path / "mypy_cache")  # keep the work tree clean
-    result = subprocess.run(
+    env["MYPYPATH"] = str(search_path)
+    env["PYTHONPATH"] = os.pathsep.join([str(search_path), env.get("PYTHONPATH", "")])
+    env["MYPY_CACHE_DIR"] = str(cache)  # keep the work tree clean
+    return subprocess.run(
         [sys.executable, "-m", "mypy.stubtest", "uavcov._core"],
         capture_output=True,
         text=True,
         env=env,
-        cwd=PYTHON_SOURCE.parent,
+        cwd=cache.parent,
         timeout=300,
     )
+
+
+@pytest.fixture(scope="module")
+def mypy_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    # One cache for both runs: mypy's analysis of numpy dominates the time and is shared.
+    return tmp_path_factory.mktemp("stubtest") / "mypy_cache"
+
+
+def test_core_stub_matches_extension(mypy_cache):
+    result = _stubtest(PYTHON_SOURCE, mypy_cache)
     assert result.returncode == 0, f"stubtest found drift:\n{result.stdout}\n{result.stderr}"
+
+
+def test_stubtest_detects_drift(tmp_path, mypy_cache):
+    # The check above must be able to fail: stubtest also exits 0 when it finds no stub at all,
+    # so run it on a copy of the package whose stub declares a function the extension lacks.
+    import uavcov._core
+
+    # A bare package (empty __init__, the compiled module, the stub) keeps this run short.
+    package = tmp_path / "pkg" / "uavcov"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    compiled = Path(uavcov._core.__file__)
+    shutil.copy2(compiled, package / compiled.name)
+    shutil.copy2(PYTHON_SOURCE / "uavcov" / "_core.pyi", package / "_core.pyi")
+    with open(package / "_core.pyi", "a") as stub:
+        stub.write("\ndef not_in_the_extension(x: int) -> int: ...\n")
+    result = _stubtest(package.parent, mypy_cache)
+    assert result.returncode != 0
+    assert "not_in_the_extension" in result.stdout

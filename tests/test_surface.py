@@ -159,6 +159,23 @@ def test_grid_default_targets_are_the_vertices(hill_grid: GridCase, hill_terrain
     assert targets.weights.sum() > plan * 1.01
 
 
+def test_grid_node_weight_is_a_third_of_incident_triangles(hill_grid: GridCase, hill_terrain: Terrain):
+    areas = triangle_areas(hill_grid.vertices, hill_grid.faces)
+    expected = np.zeros(hill_grid.vertices.shape[0])
+    for corner in range(3):
+        np.add.at(expected, hill_grid.faces[:, corner], areas / 3.0)
+    targets = hill_terrain.default_targets()
+    # Match nodes by position (the engine may order them differently).
+    got = targets.weights[np.lexsort(targets.points.T[::-1])]
+    ref = expected[np.lexsort(hill_grid.vertices.T[::-1])]
+    np.testing.assert_allclose(got, ref, rtol=1e-9)
+
+
+def test_face_areas(hill_grid: GridCase):
+    vertices, faces = random_soup(14, n_triangles=30)
+    np.testing.assert_allclose(Terrain(vertices, faces).face_areas, triangle_areas(vertices, faces), rtol=1e-12)
+
+
 def test_flat_grid_interior_vertices_stand_for_one_cell():
     case = flat_grid_case(3.0, 0.5)
     terrain = Terrain.from_grid(case.z, 0.5, origin=case.origin)
@@ -172,6 +189,25 @@ def _hills_as_mesh(hill_grid: GridCase) -> Terrain:
     return Terrain(hill_grid.vertices, hill_grid.faces)
 
 
+def _subdivision_centroids(vertices: np.ndarray, faces: np.ndarray, density: float):
+    """The documented rule, rebuilt here: each triangle cut into m^2 congruent pieces
+    (m = ceil(sqrt(area * density))) by the lattice of its edges divided in m, a target at each
+    piece's centroid weighing area / m^2. Returns (points (T, 3), weights (T,))."""
+    points, weights = [], []
+    for (a, b, c), area in zip(vertices[faces], triangle_areas(vertices, faces)):
+        m = int(np.ceil(np.sqrt(area * density)))
+        for i in range(m):
+            for j in range(m - i):
+                # upright piece with corners at lattice (i, j), (i+1, j), (i, j+1)
+                u, v = (i + 1.0 / 3.0) / m, (j + 1.0 / 3.0) / m
+                points.append(a + u * (b - a) + v * (c - a))
+                if i + j <= m - 2:  # inverted piece (i+1, j), (i, j+1), (i+1, j+1)
+                    u, v = (i + 2.0 / 3.0) / m, (j + 2.0 / 3.0) / m
+                    points.append(a + u * (b - a) + v * (c - a))
+        weights.extend([area / m**2] * (m * m))
+    return np.array(points), np.array(weights)
+
+
 @pytest.mark.parametrize("density", [0.5, 4.0])
 def test_mesh_default_targets_lie_on_surface_and_weigh_its_area(hill_grid: GridCase, density):
     terrain = _hills_as_mesh(hill_grid)
@@ -182,22 +218,45 @@ def test_mesh_default_targets_lie_on_surface_and_weigh_its_area(hill_grid: GridC
     assert targets.weights.sum() == pytest.approx(terrain.area, rel=1e-9)
     d, _ = closest_point_on_mesh(targets.points, hill_grid.vertices, hill_grid.faces)
     assert d.max() < 1e-9
-    # About `density` points per square metre (at least one per triangle is allowed).
-    expected = density * terrain.area
-    assert 0.5 * expected <= n <= 2.0 * expected + terrain.n_faces
+    assert n >= density * terrain.area
+
+
+@pytest.mark.parametrize("density", [0.5, 3.0])
+def test_mesh_default_targets_follow_the_documented_subdivision(density):
+    vertices, faces = random_soup(12, n_triangles=40)
+    targets = Terrain(vertices, faces).default_targets(density)
+    points, weights = _subdivision_centroids(vertices, faces, density)
+    assert targets.points.shape == points.shape
+    order_got = np.lexsort(targets.points.T[::-1])
+    order_ref = np.lexsort(points.T[::-1])
+    np.testing.assert_allclose(targets.points[order_got], points[order_ref], atol=1e-9)
+    np.testing.assert_allclose(targets.weights[order_got], weights[order_ref], rtol=1e-9)
+
+
+def test_mesh_default_density_is_one_per_square_metre():
+    vertices, faces = random_soup(13, n_triangles=40)
+    terrain = Terrain(vertices, faces)
+    points, _ = _subdivision_centroids(vertices, faces, 1.0)
+    assert terrain.default_targets().points.shape == points.shape
+
+
+def test_grid_with_density_is_subdivided_not_nodes(hill_grid: GridCase, hill_terrain: Terrain):
+    targets = hill_terrain.default_targets(5.0)
+    points, _ = _subdivision_centroids(hill_grid.vertices, hill_grid.faces, 5.0)
+    assert targets.points.shape == points.shape
+    assert targets.weights.sum() == pytest.approx(hill_terrain.area, rel=1e-9)
 
 
 def test_mesh_default_targets_are_area_weighted_per_region(hill_grid: GridCase):
-    # The weights of the targets in any region approximate the region's area: split the
-    # surface by the plane x = xm through cell boundaries, so no triangle straddles it.
+    # The weights of the targets in any union of triangles equal its area: split the surface
+    # by the plane x = xm through cell boundaries, so no triangle straddles it.
     terrain = _hills_as_mesh(hill_grid)
     targets = terrain.default_targets(4.0)
     xm = hill_grid.origin[0] + 8 * hill_grid.spacing[0]
     centroid_x = hill_grid.vertices[hill_grid.faces][:, :, 0].mean(axis=1)
     left_area = triangle_areas(hill_grid.vertices, hill_grid.faces)[centroid_x < xm].sum()
-    left_weight = targets.weights[targets.points[:, 0] < xm - 1e-9].sum()
-    on_line = np.abs(targets.points[:, 0] - xm) <= 1e-9
-    assert abs(left_weight - left_area) <= targets.weights[on_line].sum() + 0.02 * left_area
+    left_weight = targets.weights[targets.points[:, 0] < xm].sum()
+    assert left_weight == pytest.approx(left_area, rel=1e-9)
 
 
 def test_mesh_default_targets_are_deterministic(hill_grid: GridCase):
