@@ -1,1 +1,59 @@
-fn main(){}
+//! The reference case of `benches/README.md`: a 7-Gaussian terrain on 100 m x 100 m, all grid
+//! nodes as targets, 12 UAVs 5-30 m above the ground, d_max = 25 m; one full coverage
+//! evaluation at 1 m, 0.5 m and 0.25 m spacing, on 1 and 2 threads.
+//!
+//! `cargo bench --bench coverage`
+
+use std::sync::Arc;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use uavcov::mesh::Surface;
+use uavcov::visibility::{Targets, Visibility};
+
+/// Heights of a sum of 7 Gaussian hills (heights 5-25 m, sigma 10 m) on a `spacing` grid.
+fn hills(spacing: f64, seed: u64) -> (Vec<f64>, usize) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let hills: Vec<[f64; 3]> =
+        (0..7).map(|_| [rng.random::<f64>() * 100.0, rng.random::<f64>() * 100.0, 5.0 + 20.0 * rng.random::<f64>()]).collect();
+    let n = (100.0 / spacing).round() as usize + 1;
+    let mut z = Vec::with_capacity(n * n);
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (j as f64 * spacing, i as f64 * spacing);
+            z.push(hills.iter().map(|h| h[2] * (-((x - h[0]).powi(2) + (y - h[1]).powi(2)) / 200.0).exp()).sum());
+        }
+    }
+    (z, n)
+}
+
+fn reference_case(spacing: f64) -> (Visibility, Vec<[f64; 3]>) {
+    let (z, n) = hills(spacing, 0);
+    let surface = Arc::new(Surface::from_grid(z, n, n, spacing, spacing, 0.0, 0.0).unwrap());
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let uavs = (0..12)
+        .map(|_| {
+            let (x, y) = (rng.random::<f64>() * 100.0, rng.random::<f64>() * 100.0);
+            [x, y, surface.ground_height(x, y).unwrap() + 5.0 + 25.0 * rng.random::<f64>()]
+        })
+        .collect();
+    let targets = Targets::of_surface(&surface, 1.0).unwrap();
+    (Visibility::new(surface, targets, 25.0).unwrap(), uavs)
+}
+
+fn coverage(c: &mut Criterion) {
+    let mut group = c.benchmark_group("coverage");
+    group.sample_size(20);
+    for spacing in [1.0, 0.5, 0.25] {
+        let (vis, uavs) = reference_case(spacing);
+        for threads in [1, 2] {
+            let id = BenchmarkId::new(format!("spacing_{spacing}m"), format!("{threads}_threads"));
+            group.bench_with_input(id, &threads, |b, &t| b.iter(|| vis.coverage(&uavs, t).unwrap()));
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, coverage);
+criterion_main!(benches);

@@ -1,0 +1,121 @@
+"""One coverage evaluation of the reference case, uavcov against Open3D (Embree), side by side.
+
+The reference case: a 7-Gaussian terrain on 100 m x 100 m (heights 5-25 m, sigma 10 m), all grid
+nodes as targets, 12 UAVs at random 5-30 m above the ground, d_max = 25 m. Open3D gets exactly
+the segments uavcov tests (UAV to target, cut 0.1 % short, within range), built in numpy, and
+`RaycastingScene.test_occlusions` answers them; a target is covered when any of its segments is
+free. Both covered counts are printed, then the medians and their ratio.
+
+    pip install open3d-cpu   # bench-only dependency (Debian also needs libusb-1.0-0)
+    python benches/coverage_vs_open3d.py [--spacing 1 0.5 0.25] [--repeat 30]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+import uavcov
+
+
+def gaussian_hills_grid(spacing: float, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    n = int(round(100.0 / spacing)) + 1
+    x = np.linspace(0.0, 100.0, n)
+    xx, yy = np.meshgrid(x, x)
+    z = np.zeros_like(xx)
+    for _ in range(7):
+        cx, cy = rng.uniform(0.0, 100.0, 2)
+        z += rng.uniform(5.0, 25.0) * np.exp(-((xx - cx) ** 2 + (yy - cy) ** 2) / (2 * 10.0**2))
+    return z
+
+
+def reference_case(spacing: float) -> tuple[uavcov.Terrain, np.ndarray]:
+    terrain = uavcov.Terrain.from_grid(gaussian_hills_grid(spacing), spacing)
+    rng = np.random.default_rng(1)
+    xy = rng.uniform(0.0, 100.0, (12, 2))
+    uavs = np.c_[xy, terrain.ground_height(xy) + rng.uniform(5.0, 30.0, 12)]
+    return terrain, uavs
+
+
+def median_ms(fn, repeat: int) -> float:
+    fn()  # warm-up: thread pools, caches
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times)
+
+
+def open3d_case(terrain: uavcov.Terrain, targets: np.ndarray, uavs: np.ndarray, d_max: float):
+    import open3d as o3d
+
+    scene = o3d.t.geometry.RaycastingScene()
+    scene.add_triangles(
+        o3d.core.Tensor(terrain.vertices.astype(np.float32)), o3d.core.Tensor(terrain.faces.astype(np.uint32))
+    )
+
+    def segments() -> tuple[np.ndarray, np.ndarray]:
+        d = targets[None, :, :] - uavs[:, None, :]
+        in_range = (d**2).sum(axis=2) <= d_max**2
+        u, t = np.nonzero(in_range)
+        rays = np.empty((u.size, 6), dtype=np.float32)
+        rays[:, :3] = uavs[u]
+        rays[:, 3:] = 0.999 * d[u, t]
+        return rays, t
+
+    def query(rays: np.ndarray) -> np.ndarray:
+        return scene.test_occlusions(o3d.core.Tensor(rays), tfar=1.0).numpy()
+
+    def covered(rays: np.ndarray, t: np.ndarray) -> int:
+        free = ~query(rays)
+        mask = np.zeros(targets.shape[0], dtype=bool)
+        mask[t[free]] = True
+        return int(mask.sum())
+
+    return segments, query, covered
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--spacing", type=float, nargs="+", default=[1.0, 0.5, 0.25])
+    parser.add_argument("--repeat", type=int, default=30)
+    args = parser.parse_args()
+    try:
+        import open3d as o3d
+    except ImportError:
+        o3d = None
+        print("open3d is not installed: timing uavcov alone")
+    d_max = 25.0
+    print("| spacing | targets | segments | covered uavcov | covered Open3D | uavcov 1 thr | uavcov 2 thr "
+          "| Open3D full 2 thr | Open3D queries 2 thr | Open3D full / uavcov 2 thr |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for spacing in args.spacing:
+        terrain, uavs = reference_case(spacing)
+        targets = terrain.default_targets()
+        vis1 = uavcov.Visibility(terrain, d_max, targets, n_threads=1)
+        vis2 = uavcov.Visibility(terrain, d_max, targets, n_threads=2)
+        ours = int(vis2.seen(uavs).sum())
+        t1 = median_ms(lambda: vis1.coverage(uavs), args.repeat)
+        t2 = median_ms(lambda: vis2.coverage(uavs), args.repeat)
+        row = [f"{spacing} m", str(len(targets))]
+        if o3d is not None:
+            o3d.core.Device("CPU:0")
+            segments, query, covered = open3d_case(terrain, targets.points, uavs, d_max)
+            rays, t = segments()
+            theirs = covered(rays, t)
+            full = median_ms(lambda: covered(*segments()), args.repeat)
+            queries = median_ms(lambda: query(rays), args.repeat)
+            row += [str(rays.shape[0]), str(ours), str(theirs), f"{t1:.2f} ms", f"{t2:.2f} ms",
+                    f"{full:.2f} ms", f"{queries:.2f} ms", f"{full / t2:.2f}x"]
+        else:
+            row += ["-", str(ours), "-", f"{t1:.2f} ms", f"{t2:.2f} ms", "-", "-", "-"]
+        print("| " + " | ".join(row) + " |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

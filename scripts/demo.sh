@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Sets up a virtualenv (.venv, or $UAVCOV_VENV), builds and installs uavcov, then runs the main
+# job: `uavcov demo`. Extra arguments go to the demo, e.g. `bash scripts/demo.sh --out out/demo`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+venv="${UAVCOV_VENV:-.venv}"
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/python" -m pip install -q --upgrade pip
+"$venv/bin/python" -m pip install -q ".[plot]"
+"$venv/bin/python" -m uavcov demo "$@"
