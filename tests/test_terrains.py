@@ -499,6 +499,12 @@ def test_sample_dem_bad_input(kwargs):
 # GeoTIFF
 
 
+def north_up(west: float, north: float, dx: float, dy: float):
+    """The affine transform of a north-up raster (pixel corner at (west, north))."""
+    affine = pytest.importorskip("affine")
+    return affine.Affine(dx, 0.0, west, 0.0, -dy, north)
+
+
 def write_geotiff(path, z, transform, crs, nodata=None):
     rasterio = pytest.importorskip("rasterio")
     with rasterio.open(
@@ -509,14 +515,12 @@ def write_geotiff(path, z, transform, crs, nodata=None):
 
 
 def test_geotiff_projected_with_nodata(tmp_path):
-    rasterio = pytest.importorskip("rasterio")
-    from rasterio.transform import from_origin
-
+    pytest.importorskip("rasterio")
     z = np.random.default_rng(0).uniform(100.0, 120.0, size=(8, 10)).astype(np.float32)
     z[3, 4] = -32768.0
     west, north = 500_000.0, 4_100_000.0
     path = tmp_path / "utm.tif"
-    write_geotiff(path, z, from_origin(west, north, 2.0, 2.0), "EPSG:32617", nodata=-32768.0)
+    write_geotiff(path, z, north_up(west, north, 2.0, 2.0), "EPSG:32617", nodata=-32768.0)
     loaded = load_geotiff(path)
     assert not loaded.frame.geographic
     assert loaded.nodata_cells == 1
@@ -527,17 +531,14 @@ def test_geotiff_projected_with_nodata(tmp_path):
     expected = (z[::-1].astype(float) - valid.min())
     expected[expected < -1000] = np.nan
     np.testing.assert_allclose(loaded.terrain.grid.z, expected, rtol=0, atol=1e-4)
-    del rasterio
 
 
 def test_geotiff_geographic_gets_metric_cells(tmp_path):
     pytest.importorskip("rasterio")
-    from rasterio.transform import from_origin
-
     step = 1.0 / 1200.0  # 3 arc-seconds
     z = np.linspace(0, 50, 6 * 7).reshape(6, 7)
     path = tmp_path / "geo.tif"
-    write_geotiff(path, z, from_origin(5.0, 45.0 + 6 * step, step, step), "EPSG:4326")
+    write_geotiff(path, z, north_up(5.0, 45.0 + 6 * step, step, step), "EPSG:4326")
     loaded = load_geotiff(path)
     assert loaded.frame.geographic
     lon_m, lat_m = metres_per_degree(45.0 + 3.0 * step)  # centre of the 6 pixel-centre rows
@@ -545,6 +546,19 @@ def test_geotiff_geographic_gets_metric_cells(tmp_path):
     assert dx == pytest.approx(lon_m * step, rel=1e-9)
     assert dy == pytest.approx(lat_m * step, rel=1e-9)
     assert dx == pytest.approx(78846.8 * step, rel=1e-4)
+
+
+def test_geotiff_in_feet_is_converted_to_metres(tmp_path):
+    pytest.importorskip("rasterio")
+    z = np.arange(20.0).reshape(4, 5)
+    path = tmp_path / "feet.tif"
+    write_geotiff(path, z, north_up(2_000_000.0, 600_000.0, 10.0, 10.0), "EPSG:2264")  # US survey feet
+    loaded = load_geotiff(path)
+    foot = 1200.0 / 3937.0
+    assert loaded.terrain.grid.spacing == pytest.approx((10.0 * foot, 10.0 * foot), rel=1e-12)
+    world = loaded.frame.to_source(loaded.terrain.vertices)
+    assert world[:, 0].min() == pytest.approx(2_000_005.0)  # pixel centres, in the file's feet
+    assert world[:, 1].max() == pytest.approx(599_995.0)
 
 
 def test_geotiff_bad_files(tmp_path):
