@@ -393,3 +393,36 @@ def test_segments_clear_length_mismatch(terrain):
 def test_segments_clear_nan(terrain):
     with _raises_value():
         terrain.segments_clear(np.zeros((1, 3)), np.array([[np.nan, 0.0, 0.0]]))
+
+
+_MANY_THREADS_SCRIPT = r"""
+import resource, sys
+import numpy as np
+# Cap the address space so that starting thousands of threads fails quickly and harmlessly,
+# the way an absurd n_threads fails on any machine.
+resource.setrlimit(resource.RLIMIT_AS, (2 * 1024**3, 2 * 1024**3))
+from uavcov.errors import UavcovError
+from uavcov.surface import Terrain
+from uavcov.visibility import Visibility
+terrain = Terrain.from_grid(np.zeros((6, 6)), 1.0)
+try:
+    value = Visibility(terrain, 10.0, n_threads=2000).coverage([[2.5, 2.5, 3.0]])
+    print("value", value)
+except UavcovError as exc:
+    print("error", type(exc).__name__, exc)
+except BaseException as exc:
+    print("other", type(exc).__module__, type(exc).__name__, exc)
+"""
+
+
+def test_too_many_threads_is_an_error_not_a_panic():
+    # n_threads passes validation as a positive int; when the OS refuses that many threads the
+    # result must be a clear uavcov error (or a correct answer), never a Rust panic.
+    import subprocess
+    import sys
+
+    result = subprocess.run([sys.executable, "-c", _MANY_THREADS_SCRIPT], capture_output=True, text=True, timeout=120)
+    lines = result.stdout.strip().splitlines()
+    assert lines, result.stderr[-2000:]
+    outcome = lines[-1]
+    assert outcome.startswith(("value 1.0", "error")), outcome
