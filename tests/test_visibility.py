@@ -371,6 +371,22 @@ def test_results_identical_for_one_and_two_threads(fine_hills, config, d_max):
     np.testing.assert_array_equal(c1.exclusive, c2.exclusive)
 
 
+def test_coverage_function_equals_method(hill_grid, hill_terrain):
+    from uavcov.visibility import coverage
+
+    uavs = uavs_above(hill_grid, 4, np.random.default_rng(9))
+    expected = Visibility(hill_terrain, 9.0).coverage(uavs)
+    assert coverage(hill_terrain, uavs, 9.0) == expected
+    assert coverage(hill_terrain, uavs, 9.0, n_threads=1) == expected
+    assert 0.0 < expected < 1.0
+
+
+def test_coverage_of_nothing_is_plain_zero(hill_terrain):
+    # Nothing in range: 0.0, printed as "0.0" (not "-0.0").
+    cov = Visibility(hill_terrain, 5.0).coverage([[1e6, 1e6, 0.0]])
+    assert cov == 0.0 and math.copysign(1.0, cov) == 1.0
+
+
 def test_repeated_calls_are_identical(hill_grid, hill_terrain):
     uavs = uavs_above(hill_grid, 5, np.random.default_rng(3))
     vis = Visibility(hill_terrain, 9.0)
@@ -395,6 +411,11 @@ def test_per_uav_counts_match_reference_exactly(hill_grid: GridCase, hill_terrai
     np.testing.assert_array_equal(counts.seen, ref.per_uav_seen())
     np.testing.assert_array_equal(counts.exclusive, ref.exclusive())
     assert counts.exclusive.sum() > 0 and np.any(counts.exclusive < counts.seen)
+    # The shares weigh the same targets by their weights.
+    w = targets.weights
+    only = ref.visible & (ref.visible.sum(axis=0) == 1)[None, :]
+    np.testing.assert_allclose(counts.seen_share, (ref.visible * w).sum(axis=1) / w.sum(), rtol=1e-12)
+    np.testing.assert_allclose(counts.exclusive_share, (only * w).sum(axis=1) / w.sum(), rtol=1e-12)
 
 
 def test_per_uav_exclusive_of_identical_uavs_is_zero(hill_grid: GridCase, hill_terrain: Terrain):
