@@ -331,7 +331,8 @@ def random_buildings(
     n_buildings : int
         Number of buildings (the paper shows "several").
     footprint : (float, float)
-        Each footprint side is uniform in this range (m), then snapped to ``step``.
+        Each footprint side is uniform in this range (m), then snapped to ``step`` (at least
+        one ``step``).
     heights : (float, float)
         Heights are uniform in this range (m) (not snapped).
     gap : float
@@ -359,8 +360,6 @@ def random_buildings(
     margin = as_non_negative_float(margin, "margin")
     step = as_positive_float(step, "step")
     max_attempts = as_positive_int(max_attempts, "max_attempts")
-    if _snap(side_low, step) < step and side_high < step:
-        raise InvalidInputError(f"footprint sides ({side_low}, {side_high}) are smaller than step ({step})")
     if side_low > size - 2 * margin:
         raise InfeasibleError(f"a footprint of {side_low} m does not fit in {size} m with margin {margin} m")
     generator = _rng(rng)
@@ -857,15 +856,15 @@ def _grid_terrain(
             f"z has no grid cell with four valid corners ({nodata_cells} of {heights.size} samples are nodata)"
         )
 
+    reference_latitude: float | None = None
+    mx = my = unit_factor
     if geographic:
         lat_low, lat_high = float(corner[1]), float(corner[1] + (ny - 1) * dy)
         if lat_low < -90.0 or lat_high > 90.0:
             raise InvalidInputError(f"latitudes {lat_low}..{lat_high} are outside [-90, 90] degrees")
-        reference_latitude: float | None = 0.5 * (lat_low + lat_high)
-        mx, my = metres_per_degree(reference_latitude)
-    else:
-        reference_latitude = None
-        mx = my = unit_factor
+        centre_latitude = 0.5 * (lat_low + lat_high)
+        mx, my = metres_per_degree(centre_latitude)
+        reference_latitude = centre_latitude
     factors = np.array([mx, my, 1.0]) * scale
 
     if origin is None:
