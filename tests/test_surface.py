@@ -328,6 +328,25 @@ def test_clearance_is_height_above_ground(hill_grid: GridCase, hill_terrain: Ter
     np.testing.assert_allclose(got, above, atol=1e-9)
 
 
+def test_clearance_under_the_surface_is_inf(hill_grid: GridCase, hill_terrain: Terrain):
+    # Documented: inf where nothing lies below, including points under a single-layer surface.
+    rng = np.random.default_rng(7)
+    ox, oy = hill_grid.origin
+    xmax, ymax = hill_grid.xy_max
+    xy = rng.uniform([ox, oy], [xmax, ymax], size=(50, 2))
+    ground = grid_height(xy, hill_grid.z, hill_grid.spacing, hill_grid.origin)
+    assert np.isposinf(hill_terrain.clearance(np.column_stack([xy, ground - 0.5]))).all()
+
+
+def test_ground_height_accepts_points_and_ignores_z(hill_grid: GridCase, hill_terrain: Terrain):
+    rng = np.random.default_rng(8)
+    ox, oy = hill_grid.origin
+    xmax, ymax = hill_grid.xy_max
+    xy = rng.uniform([ox, oy], [xmax, ymax], size=(50, 2))
+    points = np.column_stack([xy, rng.uniform(-100.0, 100.0, 50)])
+    np.testing.assert_array_equal(hill_terrain.ground_height(points), hill_terrain.ground_height(xy))
+
+
 def test_ground_height_on_soup_is_highest_surface():
     vertices, faces = random_soup(5, n_triangles=200)
     terrain = Terrain(vertices, faces)
