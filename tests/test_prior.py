@@ -326,3 +326,47 @@ def test_buildings_prior_bad_arguments():
         buildings_prior([(1, 2, 3, 4, 5)], size=14.0)
     with pytest.raises(InvalidInputError):
         buildings_prior(BOXES, size=14.0, spacing=-1.0)
+
+
+def test_prior_of_a_buildings_scene_reads_roofs_and_ground():
+    truth = buildings_terrain(BOXES, size=14.0, spacing=0.5)
+    prior = sample_prior(truth, n=300, rng=2)
+    np.testing.assert_array_equal(prior.points[-4:, 2], 0.0)  # the ground corners
+    expected = np.zeros(prior.n_points)
+    for box in BOXES:
+        inside = (
+            (prior.points[:, 0] > box.xmin) & (prior.points[:, 0] < box.xmax)
+            & (prior.points[:, 1] > box.ymin) & (prior.points[:, 1] < box.ymax)
+        )
+        expected[inside] = box.height
+    np.testing.assert_allclose(prior.points[:, 2], expected, atol=1e-9)
+    assert (prior.points[:, 2] > 0).sum() > 30  # some samples do land on roofs
+
+
+hypothesis = pytest.importorskip("hypothesis")
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    cells=st.lists(st.tuples(st.integers(0, 6), st.integers(0, 6)), min_size=3, max_size=25, unique=True),
+    seed=st.integers(0, 2**31 - 1),
+)
+def test_surface_equals_scipy_on_lattice_points(cells, seed):
+    """Lattice points are full of cocircular quadruples and collinear triples: S' must still be
+    scipy's interpolant wherever that is defined, and refuse only truly collinear sets."""
+    xy = np.array(cells, dtype=float)
+    rng = np.random.default_rng(seed)
+    points = np.column_stack([xy, rng.uniform(-3.0, 3.0, size=len(xy))])
+    centred = xy - xy.mean(axis=0)
+    if np.linalg.matrix_rank(centred) < 2:
+        with pytest.raises(InvalidInputError):
+            approximate_surface(points)
+        return
+    surface = approximate_surface(points)
+    query = interior_points(points, 200, rng)
+    if len(query) == 0:
+        return
+    expected = LinearNDInterpolator(points[:, :2], points[:, 2])(query)
+    np.testing.assert_allclose(surface.ground_height(query), expected, rtol=1e-9, atol=1e-9)

@@ -276,7 +276,8 @@ def approximate_surface(samples: Any) -> Terrain:
     if not np.isfinite(points).all():
         bad = np.flatnonzero(~np.isfinite(points).all(axis=1))
         raise InvalidInputError(
-            f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), first at index {int(bad[0])}"
+            f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), "
+            f"first at index {int(bad[0])}"
         )
     if points.shape[0] < 3:
         raise InvalidInputError(f"S' needs at least 3 samples, got {points.shape[0]}")

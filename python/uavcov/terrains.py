@@ -303,7 +303,8 @@ def _snap(value: float, step: float) -> float:
 def _layout_ok(buildings: Sequence[Building], size: float, margin: float, gap: float) -> bool:
     tol = 1e-9 * size
     for index, b in enumerate(buildings):
-        if b.xmin < margin - tol or b.ymin < margin - tol or b.xmax > size - margin + tol or b.ymax > size - margin + tol:
+        low, high = margin - tol, size - margin + tol
+        if b.xmin < low or b.ymin < low or b.xmax > high or b.ymax > high:
             return False
         for other in buildings[:index]:
             if b.gap_to(other) < gap - tol:
@@ -483,18 +484,15 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
             for c in range(columns):
                 for r in range(rows):
                     z0, z1 = levels[r], levels[r + 1]
-                    _quad(
-                        pool,
-                        faces,
-                        [(xs[c], ys[c], z0), (xs[c + 1], ys[c + 1], z0), (xs[c + 1], ys[c + 1], z1), (xs[c], ys[c], z1)],
-                    )
+                    p, q = (xs[c], ys[c]), (xs[c + 1], ys[c + 1])
+                    _quad(pool, faces, [(*p, z0), (*q, z0), (*q, z1), (*p, z1)])
         # Roof.
         xs = np.linspace(b.xmin, b.xmax, int(round((b.xmax - b.xmin) / spacing)) + 1)
         ys = np.linspace(b.ymin, b.ymax, int(round((b.ymax - b.ymin) / spacing)) + 1)
         for i in range(len(ys) - 1):
             for j in range(len(xs) - 1):
-                h = b.height
-                _quad(pool, faces, [(xs[j], ys[i], h), (xs[j + 1], ys[i], h), (xs[j + 1], ys[i + 1], h), (xs[j], ys[i + 1], h)])
+                x0, x1, y0, y1, h = xs[j], xs[j + 1], ys[i], ys[i + 1], b.height
+                _quad(pool, faces, [(x0, y0, h), (x1, y0, h), (x1, y1, h), (x0, y1, h)])
 
     vertices = np.array(pool.points, dtype=np.float64)
     return Terrain(vertices, np.array(faces, dtype=np.int64))
@@ -1020,7 +1018,8 @@ def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshR
     a, b, c = (unique_points[triangles[:, k]] for k in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     diagonal = float(np.linalg.norm(unique_points.max(axis=0) - unique_points.min(axis=0)))
-    repeated = (triangles[:, 0] == triangles[:, 1]) | (triangles[:, 1] == triangles[:, 2]) | (triangles[:, 0] == triangles[:, 2])
+    t0, t1, t2 = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    repeated = (t0 == t1) | (t1 == t2) | (t0 == t2)
     # The zero-area rule of Terrain (relative to the bounding-box diagonal), so that nothing
     # this keeps is refused there.
     degenerate = repeated | (area <= 1e-13 * diagonal * diagonal)
@@ -1142,7 +1141,9 @@ def load_mesh(
     try:
         import trimesh
     except ImportError as exc:
-        raise ImportError("reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)") from exc
+        raise ImportError(
+            "reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)"
+        ) from exc
     path_text = _existing_path(path, "mesh", MeshError)
     try:
         # process=False: we weld and clean ourselves, with a report, rather than silently.
@@ -1217,13 +1218,16 @@ def sample_dem(window: Any = None, stride: int = 1, scale: float = 1.0) -> Loade
     else:
         bounds = tuple(window)
         if len(bounds) != 4 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in bounds):
-            raise InvalidInputError(f"window must be four integers (row_start, row_stop, col_start, col_stop), got {window!r}")
+            raise InvalidInputError(
+                f"window must be four integers (row_start, row_stop, col_start, col_stop), got {window!r}"
+            )
         rows, cols = slice(int(bounds[0]), int(bounds[1])), slice(int(bounds[2]), int(bounds[3]))
     row_index = np.arange(ny)[rows][::stride]
     col_index = np.arange(nx)[cols][::stride]
     if row_index.size < 2 or col_index.size < 2:
         raise InvalidInputError(
-            f"window {window!r} with stride {stride} keeps {row_index.size} x {col_index.size} samples; at least 2 x 2 needed"
+            f"window {window!r} with stride {stride} keeps {row_index.size} x {col_index.size} samples; "
+            "at least 2 x 2 are needed"
         )
     heights = elevation[np.ix_(row_index, col_index)]
     # Grid points are cell centres: half a cell in from the file's edges.
