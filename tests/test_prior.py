@@ -7,6 +7,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from reference import grid_height
 from scipy.interpolate import LinearNDInterpolator
 from scipy.spatial import ConvexHull, Delaunay
@@ -341,11 +343,6 @@ def test_prior_of_a_buildings_scene_reads_roofs_and_ground():
         expected[inside] = box.height
     np.testing.assert_allclose(prior.points[:, 2], expected, atol=1e-9)
     assert (prior.points[:, 2] > 0).sum() > 30  # some samples do land on roofs
-
-
-hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
 
 
 @settings(max_examples=40, deadline=None)
