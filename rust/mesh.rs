@@ -54,6 +54,9 @@ pub struct Grid {
 #[derive(Clone)]
 pub struct Surface {
     mesh: TriMesh,
+    /// The corners of each triangle, stored flat: the ray test reads them without the index
+    /// indirection, which is most of its memory traffic.
+    corners: Vec<[Vector; 3]>,
     areas: Vec<f64>,
     total_area: f64,
     grid: Option<Grid>,
@@ -119,9 +122,11 @@ impl Surface {
         }
         let points: Vec<Vector> = vertices.into_iter().map(v).collect();
         let scale = bounding_diagonal(&points).max(1e-300);
+        let corners: Vec<[Vector; 3]> =
+            faces.iter().map(|t| [points[t[0] as usize], points[t[1] as usize], points[t[2] as usize]]).collect();
         let mut areas = Vec::with_capacity(faces.len());
-        for (f, t) in faces.iter().enumerate() {
-            let area = triangle_area(points[t[0] as usize], points[t[1] as usize], points[t[2] as usize]);
+        for (f, (t, &[a, b, c])) in faces.iter().zip(&corners).enumerate() {
+            let area = triangle_area(a, b, c);
             // Relative to the mesh size, so the test means the same in millimetres or kilometres.
             if area <= 1e-14 * scale * scale {
                 return Err(Error::Mesh(format!(
@@ -133,7 +138,7 @@ impl Surface {
         let total_area = areas.iter().sum();
         let mesh = TriMesh::with_flags(points, faces, TriMeshFlags::empty())
             .map_err(|e| Error::Mesh(format!("cannot build the triangle mesh: {e}")))?;
-        Ok(Self { mesh, areas, total_area, grid })
+        Ok(Self { mesh, corners, areas, total_area, grid })
     }
 
     /// Builds the surface of an elevation grid.
@@ -228,10 +233,9 @@ impl Surface {
     }
 
     /// The corners of triangle `f`.
+    #[inline]
     pub fn triangle(&self, f: usize) -> [Vector; 3] {
-        let t = self.mesh.indices()[f];
-        let vs = self.mesh.vertices();
-        [vs[t[0] as usize], vs[t[1] as usize], vs[t[2] as usize]]
+        self.corners[f]
     }
 
     /// Area of each triangle, m^2.

@@ -158,12 +158,15 @@ impl Visibility {
         Ok(())
     }
 
-    /// The UAVs within range of any point of a chunk's bounding box.
+    /// The UAVs within range of any point of a chunk's bounding box, nearest first: the nearest
+    /// UAV is the likeliest to see a target, and a target stops at the first UAV that does.
     fn in_range_of(&self, chunk: usize, uavs: &[Point], into: &mut Vec<Point>) {
         into.clear();
         let d2 = self.d_max * self.d_max;
         let b = self.targets.chunk_bounds[chunk];
         into.extend(uavs.iter().copied().filter(|&u| squared_distance_to_box(u, b) <= d2));
+        let centre = [0, 1, 2].map(|k| 0.5 * (b.0[k] + b.1[k]));
+        into.sort_by(|&u, &w| squared_distance(u, centre).total_cmp(&squared_distance(w, centre)));
     }
 
     fn sees(&self, uav: Point, target: Point) -> bool {
