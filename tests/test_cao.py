@@ -204,7 +204,10 @@ def test_trace_shapes_bookkeeping_and_pickling():
     assert tr.best_value == tr.values.max() and tr.best_iteration == int(np.argmax(tr.values))
     np.testing.assert_array_equal(tr.best_positions, tr.trajectory[tr.best_iteration])
     np.testing.assert_array_equal(tr.final_positions, tr.trajectory[-1])
-    np.testing.assert_array_equal(tr.n_feasible, np.full(40, 200))
+    # iteration 0: one sample, a flat surrogate, all 200 candidates tie and all are checked;
+    # afterwards the first batch of 16 settles it (nothing is infeasible)
+    assert tr.n_checked[0] == 200 and np.all(tr.n_checked[1:] == 16)
+    np.testing.assert_array_equal(tr.n_feasible, tr.n_checked)
     assert tr.settings.n_regressors == 1 + 6 + 10
     assert min(tr.time_measure, tr.time_feasibility, tr.time_own) >= 0.0
     with pytest.raises(ValueError):
@@ -304,7 +307,8 @@ def test_infeasible_candidates_are_never_chosen(optimizer):
     measure = quadratic(target) if optimizer is cao else marginal_quadratic(target)
     feasible = RecordingHalfSpace(limit=5.0)
     x0 = np.array([[0.0, 0.0, 0.0], [1.0, -2.0, 0.0]])
-    tr = optimizer(measure, x0, feasible=feasible, iterations=200, rng=2)
+    # every candidate checked in one call per iteration, so each call is one iteration
+    tr = optimizer(measure, x0, feasible=feasible, iterations=200, settings=CAOSettings(check_batch=None), rng=2)
     assert np.all(tr.trajectory[..., 0] + tr.trajectory[..., 1] <= 5.0)
     moves = feasible.calls[1:]  # call 0 checks the start
     assert len(moves) == 200
@@ -313,9 +317,31 @@ def test_infeasible_candidates_are_never_chosen(optimizer):
         nxt = tr.trajectory[k + 1]
         chosen = np.flatnonzero(np.all(candidates == nxt, axis=(1, 2)))
         assert chosen.size >= 1 and mask[chosen].all()
-        assert tr.n_feasible[k] == mask.sum()
+        assert tr.n_feasible[k] == mask.sum() and tr.n_checked[k] == len(candidates)
+    assert tr.n_feasible.min() < len(moves[0][1]) // 2  # the constraint did bind
     # and it gets close to the constrained optimum (UAV 0 to the line x + y = 5)
     assert tr.best_positions[0, 0] + tr.best_positions[0, 1] > 4.0
+
+
+@pytest.mark.parametrize("optimizer", [cao, per_robot_cao])
+def test_lazy_feasibility_checks_choose_exactly_as_checking_everything(optimizer):
+    target = np.array([[6.0, 6.0, 1.0], [8.0, 2.0, 0.0], [0.0, 9.0, 2.0]])
+    measure = quadratic(target) if optimizer is cao else marginal_quadratic(target)
+    x0 = np.array([[0.0, 0.0, 0.0], [1.0, -2.0, 0.0], [-3.0, 3.0, 0.0]])
+    runs = {}
+    for batch in (None, 1, 16, 150):
+        feasible = RecordingHalfSpace(limit=5.0)
+        tr = optimizer(measure, x0, feasible=feasible, iterations=150, settings=CAOSettings(check_batch=batch), rng=4)
+        runs[batch] = (tr, sum(len(c[1]) for c in feasible.calls[1:]))
+    full, full_checked = runs[None]
+    for batch in (1, 16, 150):
+        tr, checked = runs[batch]
+        np.testing.assert_array_equal(tr.trajectory, full.trajectory)
+        assert checked == tr.n_checked.sum() <= full_checked
+        assert np.all(tr.n_feasible <= full.n_feasible)
+    # even with the optimum outside the feasible set (the best-rated candidates are often
+    # infeasible), the lazy default checks fewer candidates
+    assert runs[16][1] < full_checked
 
 
 @pytest.mark.parametrize("optimizer", [cao, per_robot_cao])
@@ -329,9 +355,10 @@ def test_when_nothing_is_feasible_the_team_stays_and_the_run_ends(optimizer):
     measure = (lambda x: 1.0) if optimizer is cao else (lambda x: (1.0, np.ones(len(x))))
     x0 = np.arange(6, dtype=float).reshape(2, 3)
     tr = optimizer(measure, x0, feasible=only_the_start, iterations=25, rng=0)
-    assert len(answers) == 26  # one call per iteration: never redrawn
+    assert sum(answers[1:]) == sum(tr.n_checked)  # each candidate checked once: never redrawn
     np.testing.assert_array_equal(tr.trajectory, np.broadcast_to(x0, (26, 2, 3)))
     np.testing.assert_array_equal(tr.n_feasible, np.zeros(25))
+    assert np.all((tr.n_checked >= 200) & (tr.n_checked <= 201))  # all M (+ "stay") tried, once
 
 
 def test_infeasible_start_raises_before_measuring():
