@@ -9,10 +9,12 @@
 //! - [`sampling`]: coverage targets and area-uniform samples on a surface.
 //! - [`visibility`]: the coverage objective, parallel over targets.
 //! - [`threads`]: cached thread pools so results never depend on their size.
+//! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
 //! plain Rust, so `cargo test` and `cargo bench` need no Python.
 
+pub mod cvt;
 pub mod error;
 pub mod mesh;
 pub mod sampling;

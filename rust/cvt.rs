@@ -1,0 +1,585 @@
+//! Constrained centroidal Voronoi tessellation (CVT) of a surface by the probabilistic MacQueen
+//! method of Ju, Du and Gunzburger (paper section IV-A).
+//!
+//! Each iteration draws `q` points on the surface, uniform by (density-weighted) area, gives each
+//! to its nearest generator (3D distance), and moves every generator `z` that received samples
+//! towards their mean `y*` by the paper's rule
+//!
+//! ```text
+//! z <- ((a1 j + b1) z + (a2 j + b2) y*) / (j + 1),   j <- j + 1,
+//! ```
+//!
+//! then projects it onto the surface (closest point): the constrained centroid of a region is
+//! the surface point closest to its ordinary centroid. A generator with no sample neither moves
+//! nor counts the iteration in its `j`. Weights `a1 + a2 = b1 + b2 = 1`, `a2, b2 > 0` (the
+//! paper's constraints); uavcov also asks `a1, b1 >= 0`, so a generator never overshoots the
+//! sample mean. The weight on the sample mean is `w_j = (a2 j + b2) / (j + 1)`: it starts at
+//! `(a2 + b2) / 2` and tends to `a2`, so `a` sets the long-run step and `b` the first steps.
+//!
+//! ## Stopping
+//!
+//! The mean per-iteration move is dominated by sampling noise once the generators are near a
+//! CVT: on a 100 m square with the default `q = max(2000, 200 N)` and `a = b = (0.5, 0.5)` it
+//! levels off at 0.3-0.5 m, whatever the tolerance. The stopping rule therefore measures the
+//! *net* move over a window of `W` iterations, where jitter cancels and drift adds up: after
+//! iteration `k >= W`, `drift_k = mean_i |z_i(k) - z_i(k - W)| / W` (metres per iteration), and
+//! the run stops at the first `k` with `drift_k < tolerance`, or after `max_iterations`.
+//!
+//! ## Determinism
+//!
+//! Iteration `k` draws its samples in fixed chunks of [`CHUNK`]; chunk `c` has its own ChaCha8
+//! stream keyed by `(seed, k, c)`, and per-chunk sums are combined in chunk order. The result is
+//! bit-identical for any number of threads.
+//!
+//! ```
+//! use uavcov::cvt::{constrained_cvt, Settings};
+//! use uavcov::mesh::Surface;
+//! // A 200 m x 100 m flat rectangle: the CVT of 2 generators is the two squares' centres.
+//! let s = Surface::new(
+//!     vec![[0.0, 0.0, 0.0], [200.0, 0.0, 0.0], [200.0, 100.0, 0.0], [0.0, 100.0, 0.0]],
+//!     vec![[0, 1, 2], [0, 2, 3]],
+//! ).unwrap();
+//! let mut settings = Settings::for_generators(2);
+//! settings.tolerance = 0.02;
+//! let cvt = constrained_cvt(&s, 2, &settings, None, None, 7, 1).unwrap();
+//! let mut x: Vec<f64> = cvt.generators.iter().map(|g| g[0]).collect();
+//! x.sort_by(f64::total_cmp);
+//! assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0);
+//! ```
+
+use std::collections::VecDeque;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+use crate::error::{ensure, Error, Result};
+use crate::mesh::{Point, Surface};
+use crate::sampling::AreaSampler;
+use crate::threads;
+
+/// Samples per chunk of work: each chunk has its own random stream, so results do not depend on
+/// how chunks are spread over threads; 1024 keeps rayon's per-task cost (~1 us) negligible.
+pub const CHUNK: usize = 1024;
+
+/// Random-stream purposes, part of each stream's key so no two uses share a stream.
+const STREAM_INITIAL: u64 = 1;
+const STREAM_ITERATION: u64 = 2;
+
+/// The `(alpha, beta)` weights of the update rule (`[a1, a2]`, `[b1, b2]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Weights {
+    /// `[a1, a2]`: the long-run weights of the current generator and the sample mean.
+    pub alpha: [f64; 2],
+    /// `[b1, b2]`: the weights of the first updates.
+    pub beta: [f64; 2],
+}
+
+impl Weights {
+    /// `a = b = (0.5, 0.5)`: `j` drops out and every update is a damped sampled Lloyd step,
+    /// `z <- (z + y*) / 2` (the starting point of `paper-setup.md`; the default).
+    pub const DAMPED: Self = Self { alpha: [0.5, 0.5], beta: [0.5, 0.5] };
+
+    /// `a = b = (0, 1)`: `z <- y*`, the sampled ("random") Lloyd iteration. Converges in about
+    /// half the iterations of [`Weights::DAMPED`], with twice the jitter variance.
+    pub const LLOYD: Self = Self { alpha: [0.0, 1.0], beta: [0.0, 1.0] };
+
+    /// `a = (0.9, 0.1)`, `b = (0, 1)`: MacQueen-like annealing. The step
+    /// `w_j = (0.1 j + 1) / (j + 1)` starts near 1/2, falls like `1 / j` and levels off at 0.1,
+    /// which averages sampling noise over about 20 iterations (jitter variance about a sixth of
+    /// [`Weights::DAMPED`]'s). Because its steps shrink by schedule, a move-based stop fires
+    /// before the far-from-converged modes have settled: use it to refine a converged CVT
+    /// (start from its generators), or with a smaller tolerance.
+    pub const ANNEALED: Self = Self { alpha: [0.9, 0.1], beta: [0.0, 1.0] };
+
+    /// Weights checked against the paper's constraints.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] unless every value is finite, `a1 + a2 = b1 + b2 = 1` (to 1e-9),
+    /// `a2, b2 > 0` and `a1, b1 >= 0`.
+    pub fn new(alpha: [f64; 2], beta: [f64; 2]) -> Result<Self> {
+        for (name, [w1, w2]) in [("alpha", alpha), ("beta", beta)] {
+            ensure!(w1.is_finite() && w2.is_finite(), "{name} must be finite, got ({w1}, {w2})");
+            ensure!((w1 + w2 - 1.0).abs() <= 1e-9, "{name}: {name}1 + {name}2 must be 1, got {w1} + {w2} = {}", w1 + w2);
+            ensure!(w2 > 0.0, "{name}2 must be > 0 (the paper's constraint), got {w2}");
+            ensure!(w1 >= 0.0, "{name}1 must be >= 0 so the update never overshoots the sample mean, got {w1}");
+        }
+        Ok(Self { alpha, beta })
+    }
+
+    /// The coefficients `((a1 j + b1) / (j + 1), (a2 j + b2) / (j + 1))` of the current generator
+    /// and of the sample mean at a generator's `j`-th update.
+    #[inline]
+    pub fn coefficients(&self, j: u64) -> (f64, f64) {
+        let jf = j as f64;
+        let keep = (self.alpha[0] * jf + self.beta[0]) / (jf + 1.0);
+        let toward = (self.alpha[1] * jf + self.beta[1]) / (jf + 1.0);
+        (keep, toward)
+    }
+}
+
+/// How a CVT run samples, moves and stops.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// `q`, samples drawn per iteration.
+    pub samples_per_iteration: usize,
+    /// The update rule's weights.
+    pub weights: Weights,
+    /// Stop once the net move per iteration over the window is below this, metres (>= 0; 0 runs
+    /// to `max_iterations`).
+    pub tolerance: f64,
+    /// `W`, the iterations over which the net move is measured (>= 1).
+    pub window: usize,
+    /// Most iterations (>= 1).
+    pub max_iterations: usize,
+}
+
+impl Settings {
+    /// The starting values of `paper-setup.md` for `n` generators: `q = max(2000, 200 n)`,
+    /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations.
+    pub fn for_generators(n: usize) -> Self {
+        Self {
+            samples_per_iteration: default_samples(n),
+            weights: Weights::DAMPED,
+            tolerance: 0.1,
+            window: 5,
+            max_iterations: 300,
+        }
+    }
+
+    fn check(&self, n: usize) -> Result<()> {
+        ensure!(n >= 1, "the number of generators must be >= 1, got {n}");
+        let q = self.samples_per_iteration;
+        ensure!(q >= 1, "samples_per_iteration must be >= 1, got {q}");
+        ensure!(
+            n <= q,
+            "{n} generators need at least as many samples per iteration, got samples_per_iteration = {q}"
+        );
+        Weights::new(self.weights.alpha, self.weights.beta)?;
+        ensure!(self.tolerance.is_finite() && self.tolerance >= 0.0, "tolerance must be finite and >= 0 m, got {}", self.tolerance);
+        ensure!(self.window >= 1, "window must be >= 1 iteration, got {}", self.window);
+        ensure!(self.max_iterations >= 1, "max_iterations must be >= 1, got {}", self.max_iterations);
+        Ok(())
+    }
+}
+
+/// The default samples per iteration for `n` generators: `max(2000, 200 n)`.
+pub fn default_samples(n: usize) -> usize {
+    n.saturating_mul(200).max(2000)
+}
+
+/// The result of a CVT run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tessellation {
+    /// The generators, on the surface, metres.
+    pub generators: Vec<Point>,
+    /// Per iteration, the mean over generators of the distance each moved, metres.
+    pub moves: Vec<f64>,
+    /// Per iteration `k` (1-based), the net move per iteration over the last `W` iterations,
+    /// `mean_i |z_i(k) - z_i(k - W)| / W`, metres; NaN while `k < W`. The stopping statistic.
+    pub drift: Vec<f64>,
+    /// Per iteration, a Monte-Carlo estimate of the CVT energy per unit (density-weighted) area
+    /// of the generators at the start of the iteration: the mean squared distance, m^2, from
+    /// that iteration's samples to their nearest generator. Times the (weighted) area it
+    /// estimates the integral of `rho |y - z|^2`.
+    pub energy: Vec<f64>,
+    /// Iterations run.
+    pub iterations: usize,
+    /// Whether the run stopped on the tolerance (not on `max_iterations`).
+    pub converged: bool,
+}
+
+/// Per-chunk sums of the samples given to each generator.
+struct Partial {
+    sums: Vec<[f64; 3]>,
+    counts: Vec<u64>,
+    squared_distance: f64,
+}
+
+/// The random stream of one use: keyed by all four values, so streams never overlap.
+fn stream(seed: u64, purpose: u64, iteration: u64, chunk: u64) -> ChaCha8Rng {
+    let mut key = [0u8; 32];
+    for (k, word) in [seed, purpose, iteration, chunk].into_iter().enumerate() {
+        key[8 * k..8 * k + 8].copy_from_slice(&word.to_le_bytes());
+    }
+    ChaCha8Rng::from_seed(key)
+}
+
+/// Index of the generator nearest to `y` and the squared distance; ties go to the lower index.
+#[inline]
+fn nearest(generators: &[Point], y: Point) -> (usize, f64) {
+    let mut best = 0;
+    let mut best_d = f64::INFINITY;
+    for (i, g) in generators.iter().enumerate() {
+        let (dx, dy, dz) = (g[0] - y[0], g[1] - y[1], g[2] - y[2]);
+        let d = dx * dx + dy * dy + dz * dz;
+        if d < best_d {
+            best_d = d;
+            best = i;
+        }
+    }
+    (best, best_d)
+}
+
+fn distance(a: Point, b: Point) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Runs the constrained CVT of `n` generators on `surface`.
+///
+/// * `density`: optional per-triangle density (finite, >= 0, not all zero); samples and random
+///   initial generators are drawn with probability proportional to `area * density`.
+/// * `initial`: optional `n` starting generators, projected onto the surface first; by default
+///   `n` random points drawn like the samples.
+/// * `seed`: the whole run is a function of it (and not of `n_threads`; `0` means all cores).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for `n = 0`, `n > q`, `q = 0`, weights outside the constraints (see
+/// [`Weights::new`]), a negative or non-finite tolerance, `window = 0`, `max_iterations = 0`, a
+/// density of the wrong length, negative, non-finite or zero everywhere, or initial generators
+/// that are not `n` finite points; [`Error::Mesh`] for a surface without area.
+pub fn constrained_cvt(
+    surface: &Surface,
+    n: usize,
+    settings: &Settings,
+    density: Option<&[f64]>,
+    initial: Option<&[Point]>,
+    seed: u64,
+    n_threads: usize,
+) -> Result<Tessellation> {
+    settings.check(n)?;
+    if surface.n_triangles() == 0 || !(surface.area().is_finite() && surface.area() > 0.0) {
+        return Err(Error::Mesh("the surface has no area to tessellate".into()));
+    }
+    let sampler = AreaSampler::new(surface, density)?;
+    let mut generators: Vec<Point> = match initial {
+        Some(points) => {
+            ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
+            ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "initial generators must be finite");
+            points.iter().map(|&q| surface.closest_point(q)).collect()
+        }
+        None => {
+            let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
+            (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng))).collect()
+        }
+    };
+    let q = settings.samples_per_iteration;
+    let n_chunks = q.div_ceil(CHUNK);
+    let window = settings.window;
+    let mut updates = vec![1u64; n]; // the paper's j_i, starting at 1
+    let mut history: VecDeque<Vec<Point>> = VecDeque::with_capacity(window + 1);
+    history.push_back(generators.clone());
+    let (mut moves, mut drift, mut energy) = (Vec::new(), Vec::new(), Vec::new());
+    let mut converged = false;
+
+    threads::run(n_threads, || {
+        for k in 0..settings.max_iterations {
+            let current = &generators;
+            let partials: Vec<Partial> = (0..n_chunks)
+                .into_par_iter()
+                .map(|c| {
+                    let mut rng = stream(seed, STREAM_ITERATION, k as u64, c as u64);
+                    let count = CHUNK.min(q - c * CHUNK);
+                    let mut part = Partial { sums: vec![[0.0; 3]; n], counts: vec![0; n], squared_distance: 0.0 };
+                    for _ in 0..count {
+                        let y = sampler.sample(&mut rng);
+                        let (i, d) = nearest(current, y);
+                        let s = &mut part.sums[i];
+                        s[0] += y[0];
+                        s[1] += y[1];
+                        s[2] += y[2];
+                        part.counts[i] += 1;
+                        part.squared_distance += d;
+                    }
+                    part
+                })
+                .collect();
+            let mut sums = vec![[0.0; 3]; n];
+            let mut counts = vec![0u64; n];
+            let mut squared_distance = 0.0;
+            for part in &partials {
+                for i in 0..n {
+                    for a in 0..3 {
+                        sums[i][a] += part.sums[i][a];
+                    }
+                    counts[i] += part.counts[i];
+                }
+                squared_distance += part.squared_distance;
+            }
+            energy.push(squared_distance / q as f64);
+
+            let mut moved = 0.0;
+            for i in 0..n {
+                if counts[i] == 0 {
+                    continue;
+                }
+                let inv = 1.0 / counts[i] as f64;
+                let mean = [sums[i][0] * inv, sums[i][1] * inv, sums[i][2] * inv];
+                let (keep, toward) = settings.weights.coefficients(updates[i]);
+                let z = generators[i];
+                let free = [keep * z[0] + toward * mean[0], keep * z[1] + toward * mean[1], keep * z[2] + toward * mean[2]];
+                let projected = surface.closest_point(free);
+                moved += distance(z, projected);
+                generators[i] = projected;
+                updates[i] += 1;
+            }
+            moves.push(moved / n as f64);
+
+            if history.len() == window + 1 {
+                history.pop_front();
+            }
+            history.push_back(generators.clone());
+            if history.len() == window + 1 {
+                let old = &history[0];
+                let net: f64 = generators.iter().zip(old).map(|(&a, &b)| distance(a, b)).sum();
+                let d = net / (n * window) as f64;
+                drift.push(d);
+                if d < settings.tolerance {
+                    converged = true;
+                    break;
+                }
+            } else {
+                drift.push(f64::NAN);
+            }
+        }
+    });
+    Ok(Tessellation { iterations: moves.len(), generators, moves, drift, energy, converged })
+}
+
+/// For each point, the index of its nearest generator (3D distance; ties to the lower index):
+/// the Voronoi region it belongs to.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when there is no generator or a coordinate is not finite.
+pub fn nearest_generator(generators: &[Point], points: &[Point], n_threads: usize) -> Result<Vec<usize>> {
+    ensure!(!generators.is_empty(), "there must be at least one generator");
+    ensure!(generators.iter().all(|q| q.iter().all(|c| c.is_finite())), "generator coordinates must be finite");
+    ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "point coordinates must be finite");
+    Ok(threads::run(n_threads, || points.par_iter().with_min_len(CHUNK).map(|&y| nearest(generators, y).0).collect()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rectangle(width: f64, height: f64) -> Surface {
+        Surface::new(
+            vec![[0.0, 0.0, 0.0], [width, 0.0, 0.0], [width, height, 0.0], [0.0, height, 0.0]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap()
+    }
+
+    /// A hilly 100 m square: a 21 x 21 grid of two Gaussian bumps.
+    fn hills() -> Surface {
+        let (nx, ny, step) = (21, 21, 5.0);
+        let z: Vec<f64> = (0..nx * ny)
+            .map(|k| {
+                let (x, y) = ((k % nx) as f64 * step, (k / nx) as f64 * step);
+                let bump = |cx: f64, cy: f64, h: f64, s: f64| h * (-((x - cx).powi(2) + (y - cy).powi(2)) / (2.0 * s * s)).exp();
+                bump(30.0, 40.0, 20.0, 12.0) + bump(70.0, 65.0, 12.0, 15.0)
+            })
+            .collect();
+        Surface::from_grid(z, ny, nx, step, step, 0.0, 0.0).unwrap()
+    }
+
+    fn sorted_x(t: &Tessellation) -> Vec<f64> {
+        let mut x: Vec<f64> = t.generators.iter().map(|g| g[0]).collect();
+        x.sort_by(f64::total_cmp);
+        x
+    }
+
+    #[test]
+    fn coefficients_follow_the_paper() {
+        let w = Weights::new([0.3, 0.7], [0.8, 0.2]).unwrap();
+        let (keep, toward) = w.coefficients(4);
+        assert!((keep - (0.3 * 4.0 + 0.8) / 5.0).abs() < 1e-15);
+        assert!((toward - (0.7 * 4.0 + 0.2) / 5.0).abs() < 1e-15);
+        // The coefficients always sum to 1: the update is an affine combination.
+        for j in 1..50 {
+            let (a, b) = Weights::ANNEALED.coefficients(j);
+            assert!((a + b - 1.0).abs() < 1e-14);
+        }
+        assert_eq!(Weights::DAMPED.coefficients(1), (0.5, 0.5));
+        assert_eq!(Weights::DAMPED.coefficients(1000), (0.5, 0.5));
+        assert_eq!(Weights::LLOYD.coefficients(9), (0.0, 1.0));
+        let (_, late) = Weights::ANNEALED.coefficients(1_000_000);
+        assert!((late - 0.1).abs() < 1e-5);
+    }
+
+    #[test]
+    fn one_generator_goes_to_the_centroid() {
+        // The CVT of one generator is the centroid; a non-square rectangle so x and y differ.
+        let s = rectangle(80.0, 30.0);
+        let mut settings = Settings::for_generators(1);
+        settings.weights = Weights::ANNEALED; // its averaging makes the final point precise
+        settings.tolerance = 0.0;
+        settings.max_iterations = 200;
+        let t = constrained_cvt(&s, 1, &settings, None, None, 3, 1).unwrap();
+        let g = t.generators[0];
+        assert!((g[0] - 40.0).abs() < 0.3 && (g[1] - 15.0).abs() < 0.2 && g[2] == 0.0, "{g:?}");
+        // Energy per unit area of a w x h rectangle about its centre: (w^2 + h^2) / 12.
+        let exact = (80.0f64.powi(2) + 30.0f64.powi(2)) / 12.0;
+        let late: f64 = t.energy[100..].iter().sum::<f64>() / 100.0;
+        assert!((late / exact - 1.0).abs() < 0.01, "{late} vs {exact}");
+        assert_eq!(t.iterations, 200);
+        assert!(!t.converged);
+    }
+
+    #[test]
+    fn two_generators_split_a_rectangle_into_squares() {
+        let s = rectangle(200.0, 100.0);
+        for seed in 0..4 {
+            let t = constrained_cvt(&s, 2, &Settings::for_generators(2), None, None, seed, 1).unwrap();
+            assert!(t.converged, "seed {seed}: {} iterations", t.iterations);
+            let x = sorted_x(&t);
+            assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0, "seed {seed}: {x:?}");
+            for g in &t.generators {
+                assert!((g[1] - 50.0).abs() < 2.0, "seed {seed}: {g:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn history_is_consistent() {
+        let s = hills();
+        let settings = Settings::for_generators(6);
+        let t = constrained_cvt(&s, 6, &settings, None, None, 11, 1).unwrap();
+        assert_eq!(t.moves.len(), t.iterations);
+        assert_eq!(t.energy.len(), t.iterations);
+        assert_eq!(t.drift.len(), t.iterations);
+        assert!(t.drift[..settings.window - 1].iter().all(|d| d.is_nan()));
+        let last = *t.drift.last().unwrap();
+        assert_eq!(t.converged, last < settings.tolerance);
+        assert!(t.converged, "{} iterations, last drift {last}", t.iterations);
+        // The net move over a window is at most the sum of the moves in it (triangle inequality).
+        for k in settings.window - 1..t.iterations {
+            let sum: f64 = t.moves[k + 1 - settings.window..=k].iter().sum();
+            assert!(t.drift[k] * settings.window as f64 <= sum + 1e-9);
+        }
+        // The energy falls from a random start.
+        assert!(t.energy.last().unwrap() < &(0.8 * t.energy[0]));
+    }
+
+    #[test]
+    fn generators_stay_on_a_hilly_surface() {
+        let s = hills();
+        let t = constrained_cvt(&s, 9, &Settings::for_generators(9), None, None, 5, 2).unwrap();
+        for &g in &t.generators {
+            let c = s.closest_point(g);
+            assert!(distance(c, g) < 1e-9, "{g:?} vs {c:?}");
+        }
+    }
+
+    #[test]
+    fn identical_for_any_thread_count() {
+        let s = hills();
+        let mut settings = Settings::for_generators(7);
+        settings.samples_per_iteration = 5 * CHUNK + 17; // a ragged last chunk
+        let one = constrained_cvt(&s, 7, &settings, None, None, 42, 1).unwrap();
+        let two = constrained_cvt(&s, 7, &settings, None, None, 42, 2).unwrap();
+        let three = constrained_cvt(&s, 7, &settings, None, None, 42, 3).unwrap();
+        assert_eq!(one, two);
+        assert_eq!(one, three);
+        let other = constrained_cvt(&s, 7, &settings, None, None, 43, 1).unwrap();
+        assert_ne!(one.generators, other.generators);
+    }
+
+    #[test]
+    fn density_pulls_generators() {
+        // All the density on the left half: every generator ends there.
+        let s = rectangle(200.0, 100.0);
+        let centroid_x = |f: usize| {
+            let [a, b, c] = s.triangle(f);
+            (a.x + b.x + c.x) / 3.0
+        };
+        // Triangle 0 = (0,0),(200,0),(200,100): centroid x = 133; triangle 1: centroid x = 67.
+        assert!(centroid_x(0) > 100.0 && centroid_x(1) < 100.0);
+        let t = constrained_cvt(&s, 3, &Settings::for_generators(3), Some(&[0.0, 1.0]), None, 1, 1).unwrap();
+        for g in &t.generators {
+            // Inside triangle 1: below the diagonal y = x / 2 is triangle 0.
+            assert!(g[1] >= g[0] / 2.0 - 1e-9, "{g:?}");
+        }
+    }
+
+    #[test]
+    fn starved_generators_keep_still() {
+        // A 100 m square plus a far triangle of zero density: every sample lands on the square,
+        // nearer to the generator there, so the far generator gets none and must not move.
+        let s = Surface::new(
+            vec![
+                [0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0], [0.0, 100.0, 0.0],
+                [1000.0, 0.0, 0.0], [1010.0, 0.0, 0.0], [1000.0, 10.0, 0.0],
+            ],
+            vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]],
+        )
+        .unwrap();
+        let mut settings = Settings::for_generators(2);
+        settings.max_iterations = 8;
+        settings.tolerance = 0.0;
+        let initial = [[10.0, 10.0, 0.0], [1002.0, 3.0, 0.0]];
+        let t = constrained_cvt(&s, 2, &settings, Some(&[1.0, 1.0, 0.0]), Some(&initial), 9, 1).unwrap();
+        assert_eq!(t.generators[1], initial[1]);
+        assert!(distance(t.generators[0], [50.0, 50.0, 0.0]) < 3.0, "{:?}", t.generators[0]);
+        // The first damped step takes the square's generator half way from (10, 10) to about
+        // (50, 50), some 28 m; the still one counts as a zero move in the mean.
+        assert!(t.moves[0] > 12.0 && t.moves[0] < 16.5, "{}", t.moves[0]);
+    }
+
+    #[test]
+    fn nearest_matches_brute_force() {
+        let generators = [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 5.0]];
+        let points: Vec<Point> = (0..3000).map(|k| [(k % 17) as f64 - 3.0, (k % 13) as f64, (k % 7) as f64 - 2.0]).collect();
+        let labels = nearest_generator(&generators, &points, 2).unwrap();
+        for (p, &l) in points.iter().zip(&labels) {
+            let d: Vec<f64> = generators.iter().map(|&g| distance(g, *p)).collect();
+            let best = d.iter().cloned().fold(f64::INFINITY, f64::min);
+            assert_eq!(d[l], best);
+            assert_eq!(l, d.iter().position(|&x| x == best).unwrap()); // ties to the lower index
+        }
+        assert!(nearest_generator(&[], &points, 1).is_err());
+        assert!(nearest_generator(&generators, &[[f64::NAN, 0.0, 0.0]], 1).is_err());
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let s = rectangle(10.0, 10.0);
+        let ok = Settings::for_generators(3);
+        let run = |n: usize, settings: &Settings| constrained_cvt(&s, n, settings, None, None, 0, 1);
+        assert!(matches!(run(0, &ok), Err(Error::InvalidInput(_))));
+        let mut few = ok.clone();
+        few.samples_per_iteration = 2;
+        assert!(matches!(run(3, &few), Err(Error::InvalidInput(_))));
+        few.samples_per_iteration = 0;
+        assert!(matches!(run(3, &few), Err(Error::InvalidInput(_))));
+        for (alpha, beta) in [
+            ([0.5, 0.6], [0.5, 0.5]),
+            ([1.0, 0.0], [0.5, 0.5]),
+            ([0.5, 0.5], [1.0, 0.0]),
+            ([-0.5, 1.5], [0.5, 0.5]),
+            ([f64::NAN, 0.5], [0.5, 0.5]),
+        ] {
+            let mut bad = ok.clone();
+            bad.weights = Weights { alpha, beta };
+            assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))), "{alpha:?} {beta:?}");
+            assert!(Weights::new(alpha, beta).is_err());
+        }
+        for edit in [
+            |s: &mut Settings| s.tolerance = -1.0,
+            |s: &mut Settings| s.tolerance = f64::NAN,
+            |s: &mut Settings| s.window = 0,
+            |s: &mut Settings| s.max_iterations = 0,
+        ] {
+            let mut bad = ok.clone();
+            edit(&mut bad);
+            assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))));
+        }
+        for density in [vec![0.0, 0.0], vec![1.0, -1.0], vec![1.0, f64::NAN], vec![1.0]] {
+            assert!(matches!(constrained_cvt(&s, 3, &ok, Some(&density), None, 0, 1), Err(Error::InvalidInput(_))));
+        }
+        let two = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0]];
+        assert!(constrained_cvt(&s, 3, &ok, None, Some(&two), 0, 1).is_err());
+        let nan = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [f64::NAN, 0.0, 0.0]];
+        assert!(constrained_cvt(&s, 3, &ok, None, Some(&nan), 0, 1).is_err());
+    }
+}
