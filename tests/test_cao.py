@@ -18,6 +18,7 @@ from uavcov.cao import (
     _draw_monomials,
     _n_distinct_monomials,
     _ridge,
+    _robot_design,
     cao,
     per_robot_cao,
 )
@@ -148,12 +149,29 @@ def test_design_matrix_matches_explicit_products():
     phi = _design(u, terms)
     expected = np.column_stack([np.ones(7), u, u[:, 0] * u[:, 1], u[:, 2] ** 3, u[:, 1] * u[:, 3] ** 2, u[:, 0] ** 2])
     np.testing.assert_allclose(phi, expected)
-    # one term set per robot: the batched path agrees with the single one
+    # one term set per robot, as masks over the 16 monomials of 3 variables: the active
+    # columns are those of the single-estimator path, the others are zero
     u3 = rng.normal(size=(2, 5, 3))
-    t3 = np.stack([_draw_monomials(4, 3, np.empty((0, 3), int), rng) for _ in range(2)])
-    batched = _design(u3, t3)
+    selected = np.zeros((2, 16), dtype=bool)
+    selected[0, [0, 5, 15, 7]] = True
+    selected[1, [3, 2, 9, 11]] = True
+    batched = _robot_design(u3, selected)
     for i in range(2):
-        np.testing.assert_allclose(batched[i], _design(u3[i], t3[i]))
+        full = _design(u3[i], _all_monomials(3))
+        np.testing.assert_allclose(batched[i][:, :4], full[:, :4])
+        np.testing.assert_allclose(batched[i][:, 4:][:, selected[i]], full[:, 4:][:, selected[i]])
+        assert np.all(batched[i][:, 4:][:, ~selected[i]] == 0.0)
+
+
+def test_zero_columns_do_not_change_a_ridge_fit():
+    rng = np.random.default_rng(5)
+    phi = np.column_stack([np.ones(12), rng.normal(size=(12, 4))])
+    y = rng.normal(size=12)
+    padded = np.column_stack([phi[:, :3], np.zeros(12), phi[:, 3:], np.zeros((12, 2))])
+    a = _ridge(phi, y, 1e-2)
+    b = _ridge(padded, y, 1e-2)
+    np.testing.assert_allclose(b[[0, 1, 2, 4, 5]], a, rtol=1e-12, atol=1e-14)
+    assert np.all(b[[3, 6, 7]] == 0.0)
 
 
 def test_ridge_fit_matches_an_augmented_least_squares_solve():

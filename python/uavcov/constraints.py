@@ -129,7 +129,7 @@ class Constraints:
     @classmethod
     def for_world(cls, world: World, **kwargs: Any) -> "Constraints":
         """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
-        return cls(bounds=np.asarray(world.bounds), **kwargs)
+        return cls(bounds=_as_bounds(world.bounds), **kwargs)
 
     def check_team(self, n_uavs: int, world: World) -> None:
         """Raise :class:`InfeasibleError` if ``n_uavs`` UAVs surely cannot all be admissible.
@@ -179,7 +179,8 @@ def _static_ok(constraints: Constraints, cand: np.ndarray) -> np.ndarray:
     """Bounds, altitude and pairwise distance for ``(M, N, 3)`` candidates: ``(M,)`` bool."""
     xmin, ymin, xmax, ymax = constraints.bounds
     x, y, z = cand[..., 0], cand[..., 1], cand[..., 2]
-    ok = ((x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= constraints.z_max)).all(axis=1)
+    inside = (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= constraints.z_max)
+    ok: np.ndarray = np.asarray(inside.all(axis=1), dtype=bool)
     n_uavs = cand.shape[1]
     if n_uavs > 1 and constraints.d_safe > 0.0:
         i, j = np.triu_indices(n_uavs, 1)
