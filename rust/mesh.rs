@@ -127,6 +127,9 @@ impl Surface {
         let mut areas = Vec::with_capacity(faces.len());
         for (f, (t, &[a, b, c])) in faces.iter().zip(&corners).enumerate() {
             let area = triangle_area(a, b, c);
+            if !area.is_finite() {
+                return Err(Error::Mesh(format!("face {f} {t:?} has an area too large to represent")));
+            }
             // Relative to the mesh size, so the test means the same in millimetres or kilometres.
             if area <= 1e-14 * scale * scale {
                 return Err(Error::Mesh(format!(

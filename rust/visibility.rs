@@ -198,7 +198,8 @@ impl Visibility {
 
     /// The weighted share of the targets flagged in `mask`.
     pub fn share(&self, mask: &[bool]) -> f64 {
-        let covered: f64 = mask.iter().zip(&self.targets.weights).filter(|(s, _)| **s).map(|(_, w)| w).sum();
+        // A fold from +0.0, not `sum()`, whose empty sum is -0.0.
+        let covered = mask.iter().zip(&self.targets.weights).filter(|(s, _)| **s).fold(0.0, |acc, (_, w)| acc + w);
         (covered / self.targets.total_weight).min(1.0)
     }
 

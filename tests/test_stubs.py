@@ -47,23 +47,31 @@ def mypy_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return tmp_path_factory.mktemp("stubtest") / "mypy_cache"
 
 
-def test_core_stub_matches_extension(mypy_cache):
-    result = _stubtest(PYTHON_SOURCE, mypy_cache)
-    assert result.returncode == 0, f"stubtest found drift:\n{result.stdout}\n{result.stderr}"
-
-
-def test_stubtest_detects_drift(tmp_path, mypy_cache):
-    # The check above must be able to fail: stubtest also exits 0 when it finds no stub at all,
-    # so run it on a copy of the package whose stub declares a function the extension lacks.
+def _bare_package(root: Path) -> Path:
+    """A copy of the package with an empty ``__init__``, the compiled module in use and the
+    source tree's stub: it checks the stub under review against the extension actually built,
+    whether that was installed as a wheel (CI) or in place (``maturin develop``)."""
     import uavcov._core
 
-    # A bare package (empty __init__, the compiled module, the stub) keeps this run short.
-    package = tmp_path / "pkg" / "uavcov"
+    package = root / "pkg" / "uavcov"
     package.mkdir(parents=True)
     (package / "__init__.py").write_text("")
     compiled = Path(uavcov._core.__file__)
     shutil.copy2(compiled, package / compiled.name)
     shutil.copy2(PYTHON_SOURCE / "uavcov" / "_core.pyi", package / "_core.pyi")
+    return package
+
+
+def test_core_stub_matches_extension(tmp_path, mypy_cache):
+    package = _bare_package(tmp_path)
+    result = _stubtest(package.parent, mypy_cache)
+    assert result.returncode == 0, f"stubtest found drift:\n{result.stdout}\n{result.stderr}"
+
+
+def test_stubtest_detects_drift(tmp_path, mypy_cache):
+    # The check above must be able to fail: stubtest also exits 0 when it finds no stub at all,
+    # so run it on a copy whose stub declares a function the extension lacks.
+    package = _bare_package(tmp_path)
     with open(package / "_core.pyi", "a") as stub:
         stub.write("\ndef not_in_the_extension(x: int) -> int: ...\n")
     result = _stubtest(package.parent, mypy_cache)
