@@ -552,3 +552,61 @@ def test_flat_plane_per_robot_variant(flat_plane_case):
     from uavcov.constraints import trajectory_feasible
 
     assert trajectory_feasible(constraints, terrain, tr.trajectory).all()
+
+
+# ---------------------------------------------------------------------------------------------
+# With the engine and the real constraints: every constraint at every iteration
+# ---------------------------------------------------------------------------------------------
+
+
+def _independent_constraint_check(terrain, constraints, traj):
+    """Each rule of eq. 2 evaluated straight on the terrain, one iteration at a time."""
+    xmin, ymin, xmax, ymax = constraints.bounds
+    n = traj.shape[1]
+    i, j = np.triu_indices(n, 1)
+    for k in range(traj.shape[0]):
+        x = traj[k]
+        assert np.all((x[:, 0] >= xmin) & (x[:, 0] <= xmax) & (x[:, 1] >= ymin) & (x[:, 1] <= ymax)), k
+        assert np.all(x[:, 2] <= constraints.z_max), k
+        clearance = terrain.clearance(x)
+        assert np.all(np.isfinite(clearance) & (clearance >= constraints.h_min)), k
+        assert np.all(np.linalg.norm(x[i] - x[j], axis=1) >= constraints.d_safe), k
+        if constraints.check_moves and k > 0:
+            moved = np.any(traj[k - 1] != x, axis=1)
+            if moved.any():
+                assert terrain.segments_clear(traj[k - 1][moved], x[moved]).all(), k
+
+
+@pytest.mark.parametrize("optimizer", ["cao", "per_robot"])
+def test_constraints_hold_at_every_iteration_on_real_scenes(optimizer):
+    try:
+        from uavcov.terrains import buildings_scene, gaussian_hills
+        from uavcov.visibility import Visibility
+    except ImportError as exc:
+        pytest.skip(f"uavcov engine not available: {exc}")
+    from uavcov.constraints import Constraints, closest_admissible, feasibility
+
+    hills = gaussian_hills(size=50.0, spacing=2.0, sigma=6.0, rng=1001)
+    town = buildings_scene(size=24.0, spacing=1.0, rng=1002)
+    cases = [
+        # hills: UAVs start low in one corner, tight altitude band, safety distance that binds
+        (hills, Constraints.for_world(hills, h_min=2.0, z_max=30.0, d_safe=3.0), 15.0, 5, [2.0, 2.0, 0.0]),
+        # buildings: moves checked against walls and roofs
+        (town, Constraints.for_world(town, h_min=1.0, z_max=16.0, d_safe=2.0, check_moves=True), 8.0, 4, [1.0, 1.0, 0.0]),
+    ]
+    for seed, (terrain, constraints, d_max, n, corner) in enumerate(cases):
+        vis = Visibility(terrain, d_max)
+        lattice = np.array([[a * 2.5, b * 2.5, 0.0] for a in range(3) for b in range(2)])[:n] + corner
+        start = closest_admissible(constraints, terrain, lattice)
+        if optimizer == "cao":
+            measure = vis.coverage
+        else:
+
+            def measure(x, vis=vis):
+                return vis.coverage(x), vis.per_uav(x).exclusive_share
+
+        run = OPTIMIZERS[optimizer]
+        tr = run(measure, start, feasible=feasibility(constraints, terrain), iterations=150, rng=seed)
+        _independent_constraint_check(terrain, constraints, tr.trajectory)
+        assert tr.best_value > tr.values[0]  # and it did improve the coverage
+        assert np.any(tr.n_feasible < tr.n_checked)  # some candidates were refused along the way

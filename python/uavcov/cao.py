@@ -823,7 +823,8 @@ def per_robot_cao(
         ``(N,)``. One call per visited configuration.
     x0, feasible, iterations, settings, rng
         As in :func:`cao`; ``settings.robot_regressors`` sets each estimator's size, and the
-        window is ``robot_regressors + history`` measurements.
+        window is ``robot_regressors + history`` measurements. ``settings.measurement_noise``
+        is added, independently, to the team value and to each marginal.
 
     Returns
     -------
