@@ -1,4 +1,5 @@
-//! The surface to cover: a triangle mesh (Z up, metres) with parry's BVH over its triangles.
+//! The surface to cover: a triangle mesh (Z up, metres) with parry's BVH over its triangles, or
+//! an elevation grid answered exactly by [`crate::heightfield`] without storing its triangles.
 //!
 //! A [`Surface`] answers the geometric questions the rest of the crate asks: does a segment cross
 //! the surface, how high is the ground below a point, which surface point is closest.
@@ -14,13 +15,17 @@
 //! assert!(!s.segment_clear([5.0, 5.0, 1.0], [5.0, 5.0, -1.0]));
 //! ```
 
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::TraversalAction;
 use parry3d_f64::query::details::local_ray_intersection_with_triangle;
 use parry3d_f64::query::{PointQuery, Ray};
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
+use std::sync::OnceLock;
+
 use crate::error::{Error, Result};
+use crate::heightfield::HeightField;
 
 /// A point or vector in metres.
 pub type Point = [f64; 3];
@@ -50,16 +55,29 @@ pub struct Grid {
     pub vertex_of_node: Vec<u32>,
 }
 
-/// A triangle mesh with an acceleration structure for ray and point queries.
+/// A triangle mesh with parry's BVH: the general path, and the mesh path of a grid on demand.
 #[derive(Clone)]
-pub struct Surface {
+pub struct TriangleMesh {
     mesh: TriMesh,
     /// The corners of each triangle, stored flat: the ray test reads them without the index
     /// indirection, which is most of its memory traffic.
     corners: Vec<[Vector; 3]>,
     areas: Vec<f64>,
     total_area: f64,
-    grid: Option<Grid>,
+}
+
+/// A surface to cover: a general triangle mesh, or an elevation grid answered by its
+/// [`HeightField`] without storing the triangles (the mesh of a grid is built only when asked
+/// for, see [`Surface::triangle_mesh`]).
+#[derive(Clone)]
+pub struct Surface {
+    body: Body,
+}
+
+#[derive(Clone)]
+enum Body {
+    Mesh(TriangleMesh),
+    Grid(Box<HeightField>, OnceLock<Result<TriangleMesh>>),
 }
 
 impl std::fmt::Debug for Surface {
@@ -67,8 +85,8 @@ impl std::fmt::Debug for Surface {
         f.debug_struct("Surface")
             .field("vertices", &self.n_vertices())
             .field("triangles", &self.n_triangles())
-            .field("area", &self.total_area)
-            .field("grid", &self.grid.as_ref().map(|g| (g.ny, g.nx)))
+            .field("area", &self.area())
+            .field("grid", &self.grid().map(|g| (g.ny, g.nx)))
             .finish()
     }
 }
@@ -94,54 +112,10 @@ impl Surface {
     /// # Errors
     /// [`Error::Mesh`] when there is no triangle, an index is out of range, a coordinate is not
     /// finite, or a triangle has zero area (drop those first: a zero-area triangle hides nothing,
-    /// but it usually means the mesh was not what the caller thinks).
+    /// but it usually means the mesh was not what the caller thinks); [`Error::TooLarge`] beyond
+    /// [`MAX_TRIANGLES`].
     pub fn new(vertices: Vec<Point>, faces: Vec<[u32; 3]>) -> Result<Self> {
-        Self::build(vertices, faces, None)
-    }
-
-    fn build(vertices: Vec<Point>, faces: Vec<[u32; 3]>, grid: Option<Grid>) -> Result<Self> {
-        if faces.is_empty() {
-            return Err(Error::Mesh("the surface has no triangle".into()));
-        }
-        if faces.len() > MAX_TRIANGLES {
-            return Err(Error::TooLarge(format!(
-                "{} triangles exceed the general mesh path's limit of {MAX_TRIANGLES} \
-                 (about 300 bytes each); build elevation data with the grid path instead",
-                faces.len()
-            )));
-        }
-        if let Some(i) = vertices.iter().position(|q| q.iter().any(|c| !c.is_finite())) {
-            return Err(Error::Mesh(format!("vertex {i} has a non-finite coordinate")));
-        }
-        let n = vertices.len() as u64;
-        if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| k as u64 >= n)) {
-            return Err(Error::Mesh(format!(
-                "face {f} refers to vertex {:?} but there are only {n} vertices",
-                faces[f]
-            )));
-        }
-        let points: Vec<Vector> = vertices.into_iter().map(v).collect();
-        let scale = bounding_diagonal(&points).max(1e-300);
-        let corners: Vec<[Vector; 3]> =
-            faces.iter().map(|t| [points[t[0] as usize], points[t[1] as usize], points[t[2] as usize]]).collect();
-        let mut areas = Vec::with_capacity(faces.len());
-        for (f, (t, &[a, b, c])) in faces.iter().zip(&corners).enumerate() {
-            let area = triangle_area(a, b, c);
-            if !area.is_finite() {
-                return Err(Error::Mesh(format!("face {f} {t:?} has an area too large to represent")));
-            }
-            // Relative to the mesh size, so the test means the same in millimetres or kilometres.
-            if area <= 1e-14 * scale * scale {
-                return Err(Error::Mesh(format!(
-                    "face {f} {t:?} is degenerate (zero area); drop degenerate faces first"
-                )));
-            }
-            areas.push(area);
-        }
-        let total_area = areas.iter().sum();
-        let mesh = TriMesh::with_flags(points, faces, TriMeshFlags::empty())
-            .map_err(|e| Error::Mesh(format!("cannot build the triangle mesh: {e}")))?;
-        Ok(Self { mesh, corners, areas, total_area, grid })
+        Ok(Self { body: Body::Mesh(TriangleMesh::build(vertices, faces, true)?) })
     }
 
     /// Builds the surface of an elevation grid.
@@ -150,160 +124,146 @@ impl Surface {
     /// is split along its diagonal from `(i, j)` to `(i + 1, j + 1)`. NaN heights are nodata: a
     /// triangle with a NaN corner is left out, and so is every node no triangle uses.
     ///
+    /// The surface keeps the heights and a tile pyramid (about 9 bytes per node), not the
+    /// triangles: queries go through the exact grid path of [`HeightField`].
+    ///
     /// # Errors
     /// [`Error::InvalidInput`] for fewer than 2 rows or columns, a wrong-sized `z`, spacing that is
     /// not finite and positive, infinite heights; [`Error::Mesh`] when nodata leaves no triangle.
     pub fn from_grid(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
-        crate::error::ensure!(ny >= 2 && nx >= 2, "an elevation grid needs at least 2 rows and 2 columns, got {ny} x {nx}");
-        crate::error::ensure!(z.len() == ny * nx, "z has {} values, expected {ny} x {nx}", z.len());
-        crate::error::ensure!(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0, "grid spacing must be finite and > 0, got ({dx}, {dy})");
-        crate::error::ensure!(x0.is_finite() && y0.is_finite(), "grid origin must be finite, got ({x0}, {y0})");
-        crate::error::ensure!(z.iter().all(|h| !h.is_infinite()), "heights must be finite or NaN (nodata), found an infinite value");
-        let node = |i: usize, j: usize| i * nx + j;
-        let mut faces_by_node: Vec<[usize; 3]> = Vec::with_capacity(2 * (ny - 1) * (nx - 1));
-        for i in 0..ny - 1 {
-            for j in 0..nx - 1 {
-                let (a, b, c, d) = (node(i, j), node(i, j + 1), node(i + 1, j + 1), node(i + 1, j));
-                for t in [[a, b, c], [a, c, d]] {
-                    if t.iter().all(|&k| !z[k].is_nan()) {
-                        faces_by_node.push(t);
-                    }
-                }
-            }
-        }
-        if faces_by_node.is_empty() {
-            return Err(Error::Mesh("the elevation grid has no triangle without nodata".into()));
-        }
-        let mut vertex_of_node = vec![u32::MAX; ny * nx];
-        let mut vertices = Vec::new();
-        for t in &faces_by_node {
-            for &k in t {
-                if vertex_of_node[k] == u32::MAX {
-                    vertex_of_node[k] = vertices.len() as u32;
-                    let (i, j) = (k / nx, k % nx);
-                    vertices.push([x0 + j as f64 * dx, y0 + i as f64 * dy, z[k]]);
-                }
-            }
-        }
-        // Renumber so vertex order follows the grid's row-major order: targets then come out in
-        // the same order as the grid, whatever the nodata pattern.
-        let mut order: Vec<usize> = (0..ny * nx).filter(|&k| vertex_of_node[k] != u32::MAX).collect();
-        order.sort_unstable();
-        let mut renum = vec![u32::MAX; ny * nx];
-        let mut sorted_vertices = Vec::with_capacity(vertices.len());
-        for (new, &k) in order.iter().enumerate() {
-            renum[k] = new as u32;
-            sorted_vertices.push(vertices[vertex_of_node[k] as usize]);
-        }
-        let faces = faces_by_node.iter().map(|t| [renum[t[0]], renum[t[1]], renum[t[2]]]).collect();
-        let grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: renum };
-        Self::build(sorted_vertices, faces, Some(grid))
+        let field = HeightField::new(z, ny, nx, dx, dy, x0, y0)?;
+        Ok(Self { body: Body::Grid(Box::new(field), OnceLock::new()) })
     }
 
-    /// The parry triangle mesh.
-    pub fn trimesh(&self) -> &TriMesh {
-        &self.mesh
+    /// The triangle mesh with its BVH: the surface itself for a general mesh; for a grid, built
+    /// on first call (the mesh path of a grid, for comparisons and tests).
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when a grid has more than [`MAX_TRIANGLES`] triangles.
+    pub fn triangle_mesh(&self) -> Result<&TriangleMesh> {
+        match &self.body {
+            Body::Mesh(m) => Ok(m),
+            Body::Grid(field, mesh) => mesh
+                .get_or_init(|| {
+                    if field.n_triangles() > MAX_TRIANGLES {
+                        return Err(too_large(field.n_triangles()));
+                    }
+                    let vertices = (0..field.n_vertices()).map(|i| field.vertex(i)).collect();
+                    // Grid triangles are never degenerate (their footprint is half a cell).
+                    TriangleMesh::build(vertices, field.faces().to_vec(), false)
+                })
+                .as_ref()
+                .map_err(Clone::clone),
+        }
+    }
+
+    /// The parry triangle mesh (built on first call for a grid, see [`Surface::triangle_mesh`]).
+    ///
+    /// # Errors
+    /// As [`Surface::triangle_mesh`].
+    pub fn trimesh(&self) -> Result<&TriMesh> {
+        Ok(&self.triangle_mesh()?.mesh)
     }
 
     /// The elevation grid this surface was built from, if any.
     pub fn grid(&self) -> Option<&Grid> {
-        self.grid.as_ref()
+        self.heightfield().map(HeightField::grid)
+    }
+
+    /// The height field of a grid surface, if any.
+    pub fn heightfield(&self) -> Option<&HeightField> {
+        match &self.body {
+            Body::Mesh(_) => None,
+            Body::Grid(field, _) => Some(field),
+        }
     }
 
     /// Number of vertices.
     pub fn n_vertices(&self) -> usize {
-        self.mesh.vertices().len()
+        match &self.body {
+            Body::Mesh(m) => m.mesh.vertices().len(),
+            Body::Grid(field, _) => field.n_vertices(),
+        }
     }
 
     /// Number of triangles.
     pub fn n_triangles(&self) -> usize {
-        self.mesh.indices().len()
+        match &self.body {
+            Body::Mesh(m) => m.mesh.indices().len(),
+            Body::Grid(field, _) => field.n_triangles(),
+        }
     }
 
     /// Vertex `i`.
     pub fn vertex(&self, i: usize) -> Point {
-        p(self.mesh.vertices()[i])
+        match &self.body {
+            Body::Mesh(m) => p(m.mesh.vertices()[i]),
+            Body::Grid(field, _) => field.vertex(i),
+        }
     }
 
     /// The vertices.
     pub fn vertices(&self) -> impl ExactSizeIterator<Item = Point> + '_ {
-        self.mesh.vertices().iter().map(|&q| p(q))
+        (0..self.n_vertices()).map(|i| self.vertex(i))
     }
 
-    /// The triangles, as vertex indices.
+    /// The triangles, as vertex indices (built on first call for a grid: 12 bytes a triangle).
     pub fn faces(&self) -> &[[u32; 3]] {
-        self.mesh.indices()
+        match &self.body {
+            Body::Mesh(m) => m.mesh.indices(),
+            Body::Grid(field, _) => field.faces(),
+        }
     }
 
     /// The corners of triangle `f`.
     #[inline]
     pub fn triangle(&self, f: usize) -> [Vector; 3] {
-        self.corners[f]
+        match &self.body {
+            Body::Mesh(m) => m.corners[f],
+            Body::Grid(field, _) => field.triangle(f),
+        }
     }
 
-    /// Area of each triangle, m^2.
+    /// Area of each triangle, m^2 (built on first call for a grid: 8 bytes a triangle).
     pub fn areas(&self) -> &[f64] {
-        &self.areas
+        match &self.body {
+            Body::Mesh(m) => &m.areas,
+            Body::Grid(field, _) => field.areas(),
+        }
     }
 
     /// Total area, m^2.
     pub fn area(&self) -> f64 {
-        self.total_area
+        match &self.body {
+            Body::Mesh(m) => m.total_area,
+            Body::Grid(field, _) => field.area(),
+        }
     }
 
     /// `(mins, maxs)` of the vertices.
     pub fn bounds(&self) -> (Point, Point) {
-        let aabb = self.mesh.local_aabb();
-        (p(aabb.mins), p(aabb.maxs))
+        match &self.body {
+            Body::Mesh(m) => m.bounds(),
+            Body::Grid(field, _) => field.bounds(),
+        }
     }
 
     /// Whether the ray `origin + t dir`, `0 <= t <= t_max`, crosses a triangle.
     ///
-    /// Any-hit: the traversal stops at the first triangle found, since visibility needs no more.
+    /// Any-hit: the search stops at the first triangle found, since visibility needs no more.
     pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
-        let ray = Ray::new(v(origin), v(dir));
-        let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
-        let mut hit = false;
-        self.mesh.bvh().traverse(|node| {
-            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, t_max) {
-                return TraversalAction::Prune;
-            }
-            if let Some(f) = node.leaf_data() {
-                let [a, b, c] = self.triangle(f as usize);
-                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
-                    if inter.time_of_impact <= t_max {
-                        hit = true;
-                        return TraversalAction::EarlyExit;
-                    }
-                }
-            }
-            TraversalAction::Continue
-        });
-        hit
+        match &self.body {
+            Body::Mesh(m) => m.ray_hits(origin, dir, t_max),
+            Body::Grid(field, _) => field.ray_hits(origin, dir, t_max),
+        }
     }
 
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
     pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
-        let ray = Ray::new(v(origin), v(dir));
-        let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
-        let mut best = t_max;
-        let mut found = false;
-        self.mesh.bvh().traverse(|node| {
-            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, best) {
-                return TraversalAction::Prune;
-            }
-            if let Some(f) = node.leaf_data() {
-                let [a, b, c] = self.triangle(f as usize);
-                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
-                    if inter.time_of_impact <= best {
-                        best = inter.time_of_impact;
-                        found = true;
-                    }
-                }
-            }
-            TraversalAction::Continue
-        });
-        found.then_some(best)
+        match &self.body {
+            Body::Mesh(m) => m.first_hit(origin, dir, t_max),
+            Body::Grid(field, _) => field.first_hit(origin, dir, t_max),
+        }
     }
 
     /// Whether the closed segment from `a` to `b` crosses no triangle.
@@ -342,6 +302,128 @@ impl Surface {
             return f64::INFINITY;
         }
         self.first_hit(point, [0.0, 0.0, -1.0], depth).unwrap_or(f64::INFINITY)
+    }
+
+    /// The surface point closest to `point`.
+    pub fn closest_point(&self, point: Point) -> Point {
+        match &self.body {
+            Body::Mesh(m) => m.closest_point(point),
+            Body::Grid(field, _) => field.closest_point(point),
+        }
+    }
+}
+
+fn too_large(n: usize) -> Error {
+    Error::TooLarge(format!(
+        "{n} triangles exceed the general mesh path's limit of {MAX_TRIANGLES} \
+         (about 300 bytes each); build elevation data with the grid path instead"
+    ))
+}
+
+impl TriangleMesh {
+    fn build(vertices: Vec<Point>, faces: Vec<[u32; 3]>, check_degenerate: bool) -> Result<Self> {
+        if faces.is_empty() {
+            return Err(Error::Mesh("the surface has no triangle".into()));
+        }
+        if faces.len() > MAX_TRIANGLES {
+            return Err(too_large(faces.len()));
+        }
+        if let Some(i) = vertices.iter().position(|q| q.iter().any(|c| !c.is_finite())) {
+            return Err(Error::Mesh(format!("vertex {i} has a non-finite coordinate")));
+        }
+        let n = vertices.len() as u64;
+        if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| k as u64 >= n)) {
+            return Err(Error::Mesh(format!(
+                "face {f} refers to vertex {:?} but there are only {n} vertices",
+                faces[f]
+            )));
+        }
+        let points: Vec<Vector> = vertices.into_iter().map(v).collect();
+        let scale = bounding_diagonal(&points).max(1e-300);
+        let corners: Vec<[Vector; 3]> =
+            faces.iter().map(|t| [points[t[0] as usize], points[t[1] as usize], points[t[2] as usize]]).collect();
+        let mut areas = Vec::with_capacity(faces.len());
+        for (f, (t, &[a, b, c])) in faces.iter().zip(&corners).enumerate() {
+            let area = triangle_area(a, b, c);
+            // Relative to the mesh size, so the test means the same in millimetres or kilometres.
+            if check_degenerate && area <= 1e-14 * scale * scale {
+                return Err(Error::Mesh(format!(
+                    "face {f} {t:?} is degenerate (zero area); drop degenerate faces first"
+                )));
+            }
+            areas.push(area);
+        }
+        let total_area = areas.iter().sum();
+        let mesh = TriMesh::with_flags(points, faces, TriMeshFlags::empty())
+            .map_err(|e| Error::Mesh(format!("cannot build the triangle mesh: {e}")))?;
+        Ok(Self { mesh, corners, areas, total_area })
+    }
+
+    /// The parry triangle mesh.
+    pub fn trimesh(&self) -> &TriMesh {
+        &self.mesh
+    }
+
+    /// `(mins, maxs)` of the vertices.
+    pub fn bounds(&self) -> (Point, Point) {
+        let aabb = self.mesh.local_aabb();
+        (p(aabb.mins), p(aabb.maxs))
+    }
+
+    /// Whether the ray `origin + t dir`, `0 <= t <= t_max`, crosses a triangle.
+    ///
+    /// Any-hit: the traversal stops at the first triangle found, since visibility needs no more.
+    pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        let ray = Ray::new(v(origin), v(dir));
+        let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
+        let mut hit = false;
+        self.mesh.bvh().traverse(|node| {
+            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, t_max) {
+                return TraversalAction::Prune;
+            }
+            if let Some(f) = node.leaf_data() {
+                let [a, b, c] = self.corners[f as usize];
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
+                    if inter.time_of_impact <= t_max {
+                        hit = true;
+                        return TraversalAction::EarlyExit;
+                    }
+                }
+            }
+            TraversalAction::Continue
+        });
+        hit
+    }
+
+    /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
+    pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
+        let ray = Ray::new(v(origin), v(dir));
+        let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
+        let mut best = t_max;
+        let mut found = false;
+        self.mesh.bvh().traverse(|node| {
+            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, best) {
+                return TraversalAction::Prune;
+            }
+            if let Some(f) = node.leaf_data() {
+                let [a, b, c] = self.corners[f as usize];
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
+                    if inter.time_of_impact <= best {
+                        best = inter.time_of_impact;
+                        found = true;
+                    }
+                }
+            }
+            TraversalAction::Continue
+        });
+        found.then_some(best)
+    }
+
+    /// Whether a UAV at `uav` sees `target` (see [`Surface::line_of_sight`]).
+    #[inline]
+    pub fn line_of_sight(&self, uav: Point, target: Point) -> bool {
+        let d = [target[0] - uav[0], target[1] - uav[1], target[2] - uav[2]];
+        !self.ray_hits(uav, d, SIGHT_FRACTION)
     }
 
     /// The surface point closest to `point`.
@@ -424,6 +506,20 @@ mod tests {
         assert!((s.clearance([0.3, 1.2, 5.0]) - 2.3).abs() < 1e-12);
         assert_eq!(s.ground_height(-0.1, 0.5), None);
         assert_eq!(s.clearance([0.3, 1.2, 1.0]), f64::INFINITY);
+    }
+
+    #[test]
+    fn ground_height_on_the_border_edge_of_a_mesh() {
+        // A thin triangle whose long edge lies on x = 0: the vertical ray there grazes the edge.
+        let s = Surface::new(
+            vec![[0.149, 97.346, 4.94], [0.0, 100.0, 4.37], [0.0, 0.0, 1e-5]],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let h = s.ground_height(0.0, 50.0).expect("a point on the edge has a ground height");
+        let expected = 1e-5 + (4.37 - 1e-5) * 0.5;
+        assert!((h - expected).abs() < 1e-6, "{h} vs {expected}");
+        assert_eq!(s.ground_height(-0.001, 50.0), None);
     }
 
     #[test]
