@@ -8,8 +8,37 @@ from __future__ import annotations
 
 from . import errors
 from ._core import __version__
+from .prior import (
+    ApproximationError,
+    Prior,
+    approximate_surface,
+    approximation_error,
+    building_corner_prior,
+    buildings_prior,
+    sample_prior,
+)
 from .surface import GridInfo, Terrain
 from .targets import Targets
+from .terrains import (
+    Building,
+    GaussianMixture,
+    LoadedTerrain,
+    LocalFrame,
+    MeshReport,
+    buildings_scene,
+    buildings_terrain,
+    clean_mesh,
+    gaussian_hills,
+    load_dem,
+    load_geotiff,
+    load_mesh,
+    mesh_terrain,
+    metres_per_degree,
+    perturb_buildings,
+    random_buildings,
+    random_gaussian_mixture,
+    sample_dem,
+)
 from .visibility import UavCounts, Visibility, coverage
 
 __all__ = [
@@ -21,4 +50,31 @@ __all__ = [
     "UavCounts",
     "Visibility",
     "coverage",
+    # surfaces
+    "Building",
+    "GaussianMixture",
+    "LoadedTerrain",
+    "LocalFrame",
+    "MeshReport",
+    "buildings_scene",
+    "buildings_terrain",
+    "clean_mesh",
+    "gaussian_hills",
+    "load_dem",
+    "load_geotiff",
+    "load_mesh",
+    "mesh_terrain",
+    "metres_per_degree",
+    "perturb_buildings",
+    "random_buildings",
+    "random_gaussian_mixture",
+    "sample_dem",
+    # partial knowledge
+    "ApproximationError",
+    "Prior",
+    "approximate_surface",
+    "approximation_error",
+    "building_corner_prior",
+    "buildings_prior",
+    "sample_prior",
 ]
