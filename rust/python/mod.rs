@@ -4,6 +4,7 @@
 //!
 //! One file per Python class; this one holds the module and the conversions they share.
 
+mod cvt;
 mod surface;
 mod visibility;
 
@@ -71,6 +72,7 @@ fn available_threads() -> usize {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<surface::PySurface>()?;
     m.add_class::<visibility::PyVisibility>()?;
+    m.add_class::<cvt::PyCvt>()?;
     m.add_function(wrap_pyfunction!(available_threads, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
