@@ -432,14 +432,12 @@ def _ridge(phi: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
     penalty = np.full(phi.shape[-1], ridge * n_samples)
     penalty[0] = 0.0
     gram = gram + np.diag(penalty)
-    # The constant column is never degenerate (it is all ones) and every other column is
-    # penalised, so the system is positive definite; lstsq is only a guard against round-off.
+    # The constant column is all ones and every other column is penalised, so the system is
+    # positive definite; the pseudo-inverse only guards against round-off on extreme inputs.
     try:
         theta = np.linalg.solve(gram, rhs)[..., 0]
     except np.linalg.LinAlgError:
-        theta = np.stack([np.linalg.lstsq(g, r, rcond=None)[0][:, 0] for g, r in zip(
-            gram.reshape(-1, *gram.shape[-2:]), rhs.reshape(-1, *rhs.shape[-2:]))]).reshape(
-            phi.shape[:-2] + (phi.shape[-1],))
+        theta = (np.linalg.pinv(gram) @ rhs)[..., 0]
     theta[..., 0] += mean[..., 0]
     return theta
 
