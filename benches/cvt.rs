@@ -1,0 +1,178 @@
+//! Constrained CVT on the paper's approximating surface: N = 20 generators on S' built from 34
+//! known points (30 random interior points plus the 4 corners of a 100 m square), with the
+//! default settings (q = 4000, a = b = (0.5, 0.5), 0.1 m over 5 iterations, cap 300).
+//!
+//! S' is the piecewise-linear interpolant on the Delaunay triangulation of the 34 points' (x, y),
+//! built here by a small Bowyer-Watson triangulation (O(n^2), plenty for 34 points) so the bench
+//! needs neither Python nor scipy. Heights come from a fixed mixture of 7 Gaussian hills
+//! (heights 5-25 m, sigma 10 m, as in paper-setup.md).
+//!
+//! Run with `cargo bench --bench cvt`; the figures are recorded in benches/README.md.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::hint::black_box;
+use uavcov::cvt::{constrained_cvt, Settings};
+use uavcov::mesh::Surface;
+
+const SIZE: f64 = 100.0;
+
+/// Seven Gaussian hills over the 100 m square (fixed, so every run sees the same terrain).
+fn height(x: f64, y: f64) -> f64 {
+    const HILLS: [(f64, f64, f64); 7] =
+        [(20.0, 30.0, 18.0), (75.0, 20.0, 9.0), (50.0, 55.0, 25.0), (85.0, 80.0, 14.0), (15.0, 85.0, 6.0), (60.0, 90.0, 11.0), (35.0, 10.0, 21.0)];
+    HILLS.iter().map(|&(cx, cy, h)| h * (-((x - cx).powi(2) + (y - cy).powi(2)) / (2.0 * 10.0 * 10.0)).exp()).sum()
+}
+
+/// Circumcircle test: whether `p` lies strictly inside the circle through `a`, `b`, `c`.
+fn in_circumcircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], p: [f64; 2]) -> bool {
+    let (ax, ay) = (a[0] - p[0], a[1] - p[1]);
+    let (bx, by) = (b[0] - p[0], b[1] - p[1]);
+    let (cx, cy) = (c[0] - p[0], c[1] - p[1]);
+    let det = (ax * ax + ay * ay) * (bx * cy - cx * by) - (bx * bx + by * by) * (ax * cy - cx * ay)
+        + (cx * cx + cy * cy) * (ax * by - bx * ay);
+    let orientation = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if orientation > 0.0 { det > 0.0 } else { det < 0.0 }
+}
+
+/// Delaunay triangulation of `points` by Bowyer-Watson insertion into a large super-triangle.
+fn delaunay(points: &[[f64; 2]]) -> Vec<[u32; 3]> {
+    let n = points.len();
+    let mut all = points.to_vec();
+    let big = 100.0 * SIZE;
+    all.extend([[-big, -big], [big, -big], [0.0, big]]);
+    let mut triangles: Vec<[usize; 3]> = vec![[n, n + 1, n + 2]];
+    for (i, &p) in points.iter().enumerate() {
+        let (bad, good): (Vec<[usize; 3]>, Vec<[usize; 3]>) =
+            triangles.into_iter().partition(|t| in_circumcircle(all[t[0]], all[t[1]], all[t[2]], p));
+        // The hole's boundary: edges of the removed triangles that no other removed one shares.
+        let mut edges: Vec<[usize; 2]> = Vec::new();
+        for t in &bad {
+            for e in [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]] {
+                let twin = edges.iter().position(|f| (f[0] == e[1] && f[1] == e[0]) || *f == e);
+                match twin {
+                    Some(k) => {
+                        edges.swap_remove(k);
+                    }
+                    None => edges.push(e),
+                }
+            }
+        }
+        triangles = good;
+        triangles.extend(edges.into_iter().map(|[a, b]| [a, b, i]));
+    }
+    triangles.into_iter().filter(|t| t.iter().all(|&k| k < n)).map(|t| t.map(|k| k as u32)).collect()
+}
+
+/// S' from 30 random interior points (seeded) and the 4 corners.
+fn approximating_surface(seed: u64) -> Surface {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut xy = vec![[0.0, 0.0], [SIZE, 0.0], [SIZE, SIZE], [0.0, SIZE]];
+    xy.extend((0..30).map(|_| [SIZE * rng.random::<f64>(), SIZE * rng.random::<f64>()]));
+    let faces = delaunay(&xy);
+    let vertices = xy.iter().map(|&[x, y]| [x, y, height(x, y)]).collect();
+    Surface::new(vertices, faces).expect("a valid triangulation")
+}
+
+fn bench(c: &mut Criterion) {
+    let surface = approximating_surface(2019);
+    // The triangulation must tile the square: its xy area is exactly 100 m x 100 m.
+    let xy_area: f64 = (0..surface.n_triangles())
+        .map(|f| {
+            let [a, b, c] = surface.triangle(f);
+            0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)).abs()
+        })
+        .sum();
+    assert!((xy_area - SIZE * SIZE).abs() < 1e-6, "the triangulation covers {xy_area} m^2");
+    let n = 20;
+    let settings = Settings::for_generators(n);
+    let seeds = 32u64;
+    let runs: Vec<_> = (0..seeds).map(|s| constrained_cvt(&surface, n, &settings, None, None, s, 1).unwrap()).collect();
+    let mut iterations: Vec<usize> = runs.iter().map(|t| t.iterations).collect();
+    iterations.sort_unstable();
+    let converged = runs.iter().filter(|t| t.converged).count();
+    eprintln!(
+        "S': {} triangles, {:.0} m^2; N = {n}, q = {}: over {seeds} seeds {converged} converged, iterations min {} median {} max {}",
+        surface.n_triangles(),
+        surface.area(),
+        settings.samples_per_iteration,
+        iterations[0],
+        iterations[iterations.len() / 2],
+        iterations[iterations.len() - 1],
+    );
+
+    let mut group = c.benchmark_group("cvt");
+    // Cycle through the seeds, so the figure is the mean over their different run lengths.
+    for threads in [1usize, 2] {
+        let mut seed = 0u64;
+        group.bench_function(format!("N20_34pt_S'_converge_{threads}thread"), |b| {
+            b.iter(|| {
+                seed = (seed + 1) % seeds;
+                black_box(constrained_cvt(&surface, n, &settings, None, None, seed, threads).unwrap())
+            })
+        });
+    }
+    // The cost of one iteration: 50 iterations without the stopping test.
+    let mut fixed = settings.clone();
+    fixed.tolerance = 0.0;
+    fixed.max_iterations = 50;
+    group.bench_function("N20_34pt_S'_50_iterations_1thread", |b| {
+        b.iter(|| black_box(constrained_cvt(&surface, n, &fixed, None, None, 1, 1).unwrap()))
+    });
+    // TEMP component timings
+    {
+        use uavcov::sampling::AreaSampler;
+        let sampler = AreaSampler::new(&surface, None).unwrap();
+        let gens: Vec<[f64; 3]> = runs[0].generators.clone();
+        group.bench_function("TEMP_sample_4000", |b| {
+            b.iter(|| {
+                let mut rng = ChaCha8Rng::seed_from_u64(1);
+                let mut acc = 0.0;
+                for _ in 0..4000 { acc += sampler.sample(&mut rng)[0]; }
+                black_box(acc)
+            })
+        });
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let pts: Vec<[f64; 3]> = (0..4000).map(|_| sampler.sample(&mut rng)).collect();
+        group.bench_function("TEMP_nearest_4000x20", |b| {
+            b.iter(|| black_box(uavcov::cvt::nearest_generator(&gens, &pts, 1).unwrap()))
+        });
+        fn branchy(generators: &[[f64; 3]], y: [f64; 3]) -> usize {
+            let mut best = 0; let mut best_d = f64::INFINITY;
+            for (i, g) in generators.iter().enumerate() {
+                let (dx, dy, dz) = (g[0] - y[0], g[1] - y[1], g[2] - y[2]);
+                let d = dx * dx + dy * dy + dz * dz;
+                if d < best_d { best_d = d; best = i; }
+            }
+            best
+        }
+        fn soa(xs: &[f64], ys: &[f64], zs: &[f64], y: [f64; 3]) -> usize {
+            let mut d = [0.0f64; 64];
+            let n = xs.len();
+            for i in 0..n { let (a, b, c) = (xs[i] - y[0], ys[i] - y[1], zs[i] - y[2]); d[i] = a * a + b * b + c * c; }
+            let mut best = 0; let mut best_d = f64::INFINITY;
+            for i in 0..n { let closer = d[i] < best_d; best_d = if closer { d[i] } else { best_d }; best = if closer { i } else { best }; }
+            best
+        }
+        group.bench_function("TEMP_nearest_branchy", |b| {
+            b.iter(|| black_box(pts.iter().map(|&p| branchy(&gens, p)).sum::<usize>()))
+        });
+        let xs: Vec<f64> = gens.iter().map(|g| g[0]).collect();
+        let ys: Vec<f64> = gens.iter().map(|g| g[1]).collect();
+        let zs: Vec<f64> = gens.iter().map(|g| g[2]).collect();
+        group.bench_function("TEMP_nearest_soa", |b| {
+            b.iter(|| black_box(pts.iter().map(|&p| soa(&xs, &ys, &zs, p)).sum::<usize>()))
+        });
+        group.bench_function("TEMP_rng_12000_f64", |b| {
+            b.iter(|| { let mut rng = ChaCha8Rng::seed_from_u64(1); let mut acc = 0.0; for _ in 0..12000 { acc += rng.random::<f64>(); } black_box(acc) })
+        });
+        group.bench_function("TEMP_closest_20", |b| {
+            b.iter(|| { let mut acc = 0.0; for g in &gens { acc += surface.closest_point([g[0] + 0.3, g[1] - 0.2, g[2] + 1.0])[2]; } black_box(acc) })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
