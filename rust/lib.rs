@@ -6,6 +6,7 @@
 //!
 //! - [`mesh`]: the surface, a triangle mesh with parry's BVH: segment, vertical and
 //!   closest-point queries.
+//! - [`heightfield`]: the exact fast path for elevation grids, without a triangle list.
 //! - [`sampling`]: coverage targets and area-uniform samples on a surface.
 //! - [`visibility`]: the coverage objective, parallel over targets.
 //! - [`threads`]: cached thread pools so results never depend on their size.
@@ -16,6 +17,7 @@
 
 pub mod cvt;
 pub mod error;
+pub mod heightfield;
 pub mod mesh;
 pub mod sampling;
 pub mod threads;

@@ -15,7 +15,6 @@
 //! assert!(!s.segment_clear([5.0, 5.0, 1.0], [5.0, 5.0, -1.0]));
 //! ```
 
-use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::TraversalAction;
 use parry3d_f64::query::details::local_ray_intersection_with_triangle;
@@ -291,7 +290,46 @@ impl Surface {
         }
         let top = maxs[2] + 1.0 + (maxs[2] - mins[2]);
         let depth = top - mins[2] + 1.0;
-        self.first_hit([x, y, top], [0.0, 0.0, -1.0], depth).map(|t| top - t)
+        self.first_hit([x, y, top], [0.0, 0.0, -1.0], depth).map(|t| top - t).or_else(|| self.edge_height(x, y))
+    }
+
+    /// The height where a vertical ray grazes an edge and slips past it by rounding (a point on
+    /// the border of the surface): the highest triangle whose footprint holds `(x, y)` within a
+    /// relative 1e-9, interpolated from its corners.
+    fn edge_height(&self, x: f64, y: f64) -> Option<f64> {
+        let (mins, maxs) = self.bounds();
+        let tol = 1e-9 * ((maxs[0] - mins[0]).abs() + (maxs[1] - mins[1]).abs()).max(1e-300);
+        let mut best: Option<f64> = None;
+        let mut consider = |[a, b, c]: [Vector; 3]| {
+            if let Some(h) = footprint_height(a, b, c, x, y, tol) {
+                best = Some(best.map_or(h, |b: f64| b.max(h)));
+            }
+        };
+        match &self.body {
+            Body::Mesh(m) => m.mesh.bvh().traverse(|node| {
+                let (lo, hi) = (node.mins(), node.maxs());
+                if x < lo.x - tol || x > hi.x + tol || y < lo.y - tol || y > hi.y + tol {
+                    return TraversalAction::Prune;
+                }
+                if let Some(f) = node.leaf_data() {
+                    consider(m.corners[f as usize]);
+                }
+                TraversalAction::Continue
+            }),
+            Body::Grid(field, _) => {
+                let g = field.grid();
+                let near = |q: f64, start: f64, step: f64, cells: usize| {
+                    let k = ((q - start) / step).floor().clamp(0.0, (cells - 1) as f64) as usize;
+                    k.saturating_sub(1)..(k + 2).min(cells)
+                };
+                for i in near(y, g.y0, g.dy, g.ny - 1) {
+                    for j in near(x, g.x0, g.dx, g.nx - 1) {
+                        g.cell_triangles(i, j).into_iter().flatten().for_each(&mut consider);
+                    }
+                }
+            }
+        }
+        best
     }
 
     /// Distance from `point` straight down to the surface; infinite when nothing is below.
@@ -345,6 +383,9 @@ impl TriangleMesh {
         let mut areas = Vec::with_capacity(faces.len());
         for (f, (t, &[a, b, c])) in faces.iter().zip(&corners).enumerate() {
             let area = triangle_area(a, b, c);
+            if !area.is_finite() {
+                return Err(Error::Mesh(format!("face {f} {t:?} has an area too large to represent")));
+            }
             // Relative to the mesh size, so the test means the same in millimetres or kilometres.
             if check_degenerate && area <= 1e-14 * scale * scale {
                 return Err(Error::Mesh(format!(
@@ -444,6 +485,27 @@ fn bounding_diagonal(points: &[Vector]) -> f64 {
         hi = hi.max(q);
     }
     (hi - lo).length()
+}
+
+/// Height at `(x, y)` of the plane of triangle `abc` when `(x, y)` lies in its footprint, within
+/// `tol` metres; `None` for a vertical triangle or a point outside.
+fn footprint_height(a: Vector, b: Vector, c: Vector, x: f64, y: f64, tol: f64) -> Option<f64> {
+    let cross = |p: Vector, q: Vector, r: Vector| (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
+    let q = Vector::new(x, y, 0.0);
+    let d = cross(a, b, c);
+    if d.abs() <= f64::EPSILON * ((b - a).length() * (c - a).length()) {
+        return None;
+    }
+    // Barycentric weights; an edge's weight is its signed distance over the edge length.
+    let w = [cross(q, b, c) / d, cross(a, q, c) / d, cross(a, b, q) / d];
+    let edges = [(c - b).length(), (c - a).length(), (b - a).length()];
+    let height = 2.0 * d.abs();
+    if w.iter().zip(edges).any(|(&wi, e)| wi * height / e.max(1e-300) < -tol) {
+        return None;
+    }
+    let w = w.map(|wi| wi.max(0.0));
+    let sum = w[0] + w[1] + w[2];
+    Some((w[0] * a.z + w[1] * b.z + w[2] * c.z) / sum)
 }
 
 /// Slab test of the ray `o + t d` (`inv = 1 / d`) against a box, for `t` in `[0, t_max]`.

@@ -1,0 +1,666 @@
+//! The exact fast path for surfaces built from an elevation grid.
+//!
+//! A [`HeightField`] answers the same questions as the triangle mesh of the grid (see
+//! [`Surface::from_grid`](crate::mesh::Surface::from_grid)) without ever storing that mesh: the
+//! triangles are rebuilt from the heights when a query reaches them, with the very same corner
+//! coordinates, so memory is the heights, one `u32` per node and a small pyramid of tiles.
+//!
+//! # Why the answers are identical to the mesh path
+//!
+//! The mesh path walks parry's BVH: a triangle counts for a ray when the ray passes the slab test
+//! of the triangle's bounding box and then `local_ray_intersection_with_triangle`. Here the
+//! bounding volume hierarchy is a quadtree of grid tiles instead: each tile's box spans exactly
+//! the node coordinates it covers and the lowest and highest node heights in it, so it contains
+//! the bounding box of every triangle of its cells, bit for bit. The slab test is monotone under
+//! box inclusion, also in floating point (every step is a rounded subtraction or product with a
+//! fixed sign), so a tile that fails it holds no triangle that could pass it. The leaves run the
+//! same slab test on the same triangle boxes and the same triangle test on the same corners, in
+//! the same order `[a, b, c]`, with the same ray and limit. Hence the same any-hit answer for
+//! every segment; first hits (ground height, clearance) agree to the last bit except in exact
+//! ties between triangles, where traversal order may pick the other of two equal distances.
+//!
+//! The max-height skipping comes for free: a segment that passes above a tile fails the z part of
+//! the tile's slab test.
+//!
+//! ```
+//! use uavcov::heightfield::HeightField;
+//! // A 3 x 3 grid, flat at z = 0 except a 5 m spike at the centre node.
+//! let mut z = vec![0.0; 9];
+//! z[4] = 5.0;
+//! let hf = HeightField::new(z, 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
+//! assert!(!hf.line_of_sight([0.0, 1.0, 1.0], [2.0, 1.0, 0.0])); // the spike is in the way
+//! assert!(hf.line_of_sight([0.0, 1.0, 9.0], [2.0, 1.0, 0.0])); // high enough to look over it
+//! ```
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+use std::sync::OnceLock;
+
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::details::local_ray_intersection_with_triangle;
+use parry3d_f64::query::{PointQuery, Ray};
+use parry3d_f64::shape::Triangle;
+
+use crate::error::{ensure, Error, Result};
+use crate::mesh::{p, triangle_area, v, Grid, Point, SIGHT_FRACTION};
+
+/// The smallest stored tiles are `2^FIRST_SHIFT` cells on a side; below them, cell boxes are
+/// computed from the four corner heights, which the triangle test reads anyway.
+const FIRST_SHIFT: u32 = 2;
+
+/// Cells per side of a leaf tile.
+const LEAF: usize = 1 << FIRST_SHIFT;
+
+/// One level of the tile pyramid.
+#[derive(Debug, Clone)]
+struct Level {
+    /// Tiles are `2^shift` cells on a side.
+    shift: u32,
+    rows: usize,
+    cols: usize,
+    /// `[lowest, highest]` non-NaN node height per tile, row-major; `[inf, -inf]` when empty.
+    z: Vec<[f64; 2]>,
+}
+
+/// An elevation grid with the structure for exact segment, vertical and closest-point queries.
+#[derive(Debug, Clone)]
+pub struct HeightField {
+    grid: Grid,
+    /// Finest first; the last level has a single tile.
+    levels: Vec<Level>,
+    n_vertices: usize,
+    n_triangles: usize,
+    area: f64,
+    bounds: (Point, Point),
+    /// No nodata at all: vertex `k` is node `k` and triangle `f` is half `f % 2` of cell `f / 2`.
+    complete: bool,
+    faces: OnceLock<Vec<[u32; 3]>>,
+    areas: OnceLock<Vec<f64>>,
+    /// `2 * cell + half` of each triangle, built on first use when there is nodata.
+    cell_of_face: OnceLock<Vec<u64>>,
+    /// Node of each vertex, built on first use when there is nodata.
+    node_of_vertex: OnceLock<Vec<u32>>,
+}
+
+/// A ray prepared the way the mesh path prepares it.
+struct Cast {
+    ray: Ray,
+    inv: [f64; 3],
+}
+
+/// The `[near, far]` parameter interval of one axis of the slab test, exactly as
+/// `mesh::slab_test` computes it (an axis the ray does not move along is a position test).
+#[inline(always)]
+fn axis(lo: f64, hi: f64, origin: f64, inv: f64) -> (f64, f64) {
+    if inv.is_infinite() {
+        if origin < lo || origin > hi {
+            (f64::INFINITY, f64::NEG_INFINITY)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        }
+    } else {
+        let (a, b) = ((lo - origin) * inv, (hi - origin) * inv);
+        if a < b {
+            (a, b)
+        } else {
+            (b, a)
+        }
+    }
+}
+
+/// `f64` ordered for the closest-point heap (distances are never NaN).
+#[derive(PartialEq)]
+struct Near(f64, u8, u32, u32);
+
+impl Eq for Near {}
+
+impl PartialOrd for Near {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Near {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Reversed: BinaryHeap pops the largest, we want the nearest.
+        other.0.total_cmp(&self.0)
+    }
+}
+
+impl HeightField {
+    /// Builds the height field of a grid: node `(i, j)` at `x = x0 + j dx`, `y = y0 + i dy`,
+    /// height `z[i * nx + j]`, each cell split along its diagonal `(i, j)-(i+1, j+1)` into the
+    /// triangles `[(i,j), (i,j+1), (i+1,j+1)]` and `[(i,j), (i+1,j+1), (i+1,j)]`. NaN is nodata:
+    /// a triangle with a NaN corner is left out, and so is every node no triangle uses.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for fewer than 2 rows or columns, a wrong-sized `z`, spacing or
+    /// origin that is not finite (spacing also > 0), infinite heights; [`Error::Mesh`] when nodata
+    /// leaves no triangle; [`Error::TooLarge`] for 2^32 nodes or more.
+    pub fn new(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
+        ensure!(ny >= 2 && nx >= 2, "an elevation grid needs at least 2 rows and 2 columns, got {ny} x {nx}");
+        let n_nodes = ny.checked_mul(nx).ok_or_else(|| Error::TooLarge(format!("a {ny} x {nx} grid is too large")))?;
+        ensure!(z.len() == n_nodes, "z has {} values, expected {ny} x {nx}", z.len());
+        if n_nodes >= u32::MAX as usize {
+            return Err(Error::TooLarge(format!("a {ny} x {nx} grid has 2^32 nodes or more; split it into tiles")));
+        }
+        ensure!(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0, "grid spacing must be finite and > 0, got ({dx}, {dy})");
+        ensure!(x0.is_finite() && y0.is_finite(), "grid origin must be finite, got ({x0}, {y0})");
+        ensure!(z.iter().all(|h| !h.is_infinite()), "heights must be finite or NaN (nodata), found an infinite value");
+        let mut grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: Vec::new() };
+
+        // Triangles, area and used nodes, in the mesh path's face order so the area sums alike.
+        const USED: u32 = 0;
+        let mut vertex_of_node = vec![u32::MAX; n_nodes];
+        let mut n_triangles = 0usize;
+        let mut area = -0.0; // `Iterator::sum` of f64 starts here too
+        for i in 0..ny - 1 {
+            for j in 0..nx - 1 {
+                let [t0, t1] = grid.cell_triangles(i, j);
+                let [a, b, c, d] = grid.cell_nodes(i, j);
+                if let Some([pa, pb, pc]) = t0 {
+                    n_triangles += 1;
+                    area += triangle_area(pa, pb, pc);
+                    for k in [a, b, c] {
+                        vertex_of_node[k] = USED;
+                    }
+                }
+                if let Some([pa, pc, pd]) = t1 {
+                    n_triangles += 1;
+                    area += triangle_area(pa, pc, pd);
+                    for k in [a, c, d] {
+                        vertex_of_node[k] = USED;
+                    }
+                }
+            }
+        }
+        if n_triangles == 0 {
+            return Err(Error::Mesh("the elevation grid has no triangle without nodata".into()));
+        }
+        let mut n_vertices = 0u32;
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for (k, slot) in vertex_of_node.iter_mut().enumerate() {
+            if *slot == USED {
+                *slot = n_vertices;
+                n_vertices += 1;
+                let q = grid.node_point(k);
+                for a in 0..3 {
+                    lo[a] = lo[a].min(q[a]);
+                    hi[a] = hi[a].max(q[a]);
+                }
+            }
+        }
+        let complete = grid.z.iter().all(|h| !h.is_nan());
+        grid.vertex_of_node = vertex_of_node;
+        let levels = build_levels(&grid);
+        Ok(Self {
+            grid,
+            levels,
+            n_vertices: n_vertices as usize,
+            n_triangles,
+            area,
+            bounds: (lo, hi),
+            complete,
+            faces: OnceLock::new(),
+            areas: OnceLock::new(),
+            cell_of_face: OnceLock::new(),
+            node_of_vertex: OnceLock::new(),
+        })
+    }
+
+    /// The grid: shape, spacing, origin, heights and node-to-vertex numbering.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// Number of vertices (nodes used by at least one triangle).
+    pub fn n_vertices(&self) -> usize {
+        self.n_vertices
+    }
+
+    /// Number of triangles.
+    pub fn n_triangles(&self) -> usize {
+        self.n_triangles
+    }
+
+    /// Total area, m^2 (summed in face order, as the mesh path does).
+    pub fn area(&self) -> f64 {
+        self.area
+    }
+
+    /// `(mins, maxs)` of the vertices.
+    pub fn bounds(&self) -> (Point, Point) {
+        self.bounds
+    }
+
+    /// Vertex `i` (vertices are the used nodes in row-major order).
+    pub fn vertex(&self, i: usize) -> Point {
+        if self.complete {
+            return self.grid.node_point(i);
+        }
+        let table = self.node_of_vertex.get_or_init(|| {
+            (0..self.grid.vertex_of_node.len() as u32).filter(|&k| self.grid.vertex_of_node[k as usize] != u32::MAX).collect()
+        });
+        self.grid.node_point(table[i] as usize)
+    }
+
+    /// The triangles as vertex indices, in the mesh path's order (built on first call).
+    pub fn faces(&self) -> &[[u32; 3]] {
+        self.faces.get_or_init(|| {
+            let vof = &self.grid.vertex_of_node;
+            let mut out = Vec::with_capacity(self.n_triangles);
+            self.for_each_face(|nodes, _| out.push(nodes.map(|k| vof[k])));
+            out
+        })
+    }
+
+    /// The area of each triangle, m^2 (built on first call).
+    pub fn areas(&self) -> &[f64] {
+        self.areas.get_or_init(|| {
+            let mut out = Vec::with_capacity(self.n_triangles);
+            self.for_each_face(|_, [a, b, c]| out.push(triangle_area(a, b, c)));
+            out
+        })
+    }
+
+    /// The corners of triangle `f`.
+    pub fn triangle(&self, f: usize) -> [Vector; 3] {
+        let code = if self.complete {
+            f as u64
+        } else {
+            self.cell_of_face.get_or_init(|| {
+                let mut out = Vec::with_capacity(self.n_triangles);
+                for cell in 0..(self.grid.ny - 1) * (self.grid.nx - 1) {
+                    let [t0, t1] = self.grid.cell_triangles(cell / (self.grid.nx - 1), cell % (self.grid.nx - 1));
+                    if t0.is_some() {
+                        out.push(2 * cell as u64);
+                    }
+                    if t1.is_some() {
+                        out.push(2 * cell as u64 + 1);
+                    }
+                }
+                out
+            })[f]
+        };
+        let cell = (code / 2) as usize;
+        let halves = self.grid.cell_triangles(cell / (self.grid.nx - 1), cell % (self.grid.nx - 1));
+        halves[(code % 2) as usize].expect("a face index names a valid triangle")
+    }
+
+    /// Each vertex weighted by a third of the area of the triangles around it; the sums run in
+    /// face order, so the weights equal the mesh path's to the last bit.
+    pub fn vertex_weights(&self) -> Vec<f64> {
+        let vof = &self.grid.vertex_of_node;
+        let mut w = vec![0.0; self.n_vertices];
+        self.for_each_face(|nodes, [a, b, c]| {
+            let third = triangle_area(a, b, c) / 3.0;
+            for k in nodes {
+                w[vof[k] as usize] += third;
+            }
+        });
+        w
+    }
+
+    fn for_each_face(&self, mut f: impl FnMut([usize; 3], [Vector; 3])) {
+        let g = &self.grid;
+        for i in 0..g.ny - 1 {
+            for j in 0..g.nx - 1 {
+                let [a, b, c, d] = g.cell_nodes(i, j);
+                let [t0, t1] = g.cell_triangles(i, j);
+                if let Some(t) = t0 {
+                    f([a, b, c], t);
+                }
+                if let Some(t) = t1 {
+                    f([a, c, d], t);
+                }
+            }
+        }
+    }
+
+    /// Whether the ray `origin + t dir`, `0 <= t <= t_max`, crosses a triangle.
+    pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        self.cast::<true>(origin, dir, t_max).is_some()
+    }
+
+    /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
+    pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
+        self.cast::<false>(origin, dir, t_max)
+    }
+
+    /// Whether a UAV at `uav` sees the point `target`: the segment from `uav` towards `target`,
+    /// stopped 0.1 % of its length short of it, crosses no triangle (as the mesh path).
+    #[inline]
+    pub fn line_of_sight(&self, uav: Point, target: Point) -> bool {
+        let d = [target[0] - uav[0], target[1] - uav[1], target[2] - uav[2]];
+        !self.ray_hits(uav, d, SIGHT_FRACTION)
+    }
+
+    #[inline(always)]
+    fn x(&self, j: usize) -> f64 {
+        self.grid.x0 + j as f64 * self.grid.dx
+    }
+
+    #[inline(always)]
+    fn y(&self, i: usize) -> f64 {
+        self.grid.y0 + i as f64 * self.grid.dy
+    }
+
+    /// Node rows `[i0, i1]` and columns `[j0, j1]` of tile `(ti, tj)` at `level`.
+    #[inline(always)]
+    fn tile_nodes(&self, level: &Level, ti: usize, tj: usize) -> (usize, usize, usize, usize) {
+        let s = level.shift;
+        let i0 = ti << s;
+        let j0 = tj << s;
+        (i0, ((ti + 1) << s).min(self.grid.ny - 1), j0, ((tj + 1) << s).min(self.grid.nx - 1))
+    }
+
+    /// The cell range `[lo, hi]` along one axis that a coordinate range can touch, widened by one
+    /// cell plus far more than any rounding of the slab test; `None` when it misses the grid.
+    fn cell_span(lo: f64, hi: f64, start: f64, step: f64, n_cells: usize) -> Option<(usize, usize)> {
+        let scale = lo.abs().max(hi.abs()).max(start.abs()) + n_cells as f64 * step;
+        let slack = 1.0 + 1e-9 * scale / step;
+        let a = ((lo - start) / step - slack).floor();
+        let b = ((hi - start) / step + slack).floor();
+        let last = (n_cells - 1) as f64;
+        if !(a <= last && b >= 0.0) {
+            return None; // also catches NaN from absurd inputs
+        }
+        Some((a.max(0.0) as usize, b.min(last) as usize))
+    }
+
+    /// The ray cast shared by the any-hit (`ANY`) and first-hit queries.
+    fn cast<const ANY: bool>(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
+        let g = &self.grid;
+        let end = [origin[0] + dir[0] * t_max, origin[1] + dir[1] * t_max];
+        let (cj0, cj1) = Self::cell_span(origin[0].min(end[0]), origin[0].max(end[0]), g.x0, g.dx, g.nx - 1)?;
+        let (ci0, ci1) = Self::cell_span(origin[1].min(end[1]), origin[1].max(end[1]), g.y0, g.dy, g.ny - 1)?;
+        let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
+        // Start at the finest level whose tiles hold the span in at most 2 x 2 of them.
+        let start = self
+            .levels
+            .iter()
+            .position(|l| (cj1 >> l.shift) - (cj0 >> l.shift) <= 1 && (ci1 >> l.shift) - (ci0 >> l.shift) <= 1)
+            .unwrap_or(self.levels.len() - 1);
+        let mut best = t_max;
+        let mut found = false;
+        // Depth-first over (level, tile row, tile column); each pop pushes at most 4.
+        let mut stack: [(u32, u32, u32); 160] = [(0, 0, 0); 160];
+        let mut top = 0usize;
+        let l = &self.levels[start];
+        for ti in ci0 >> l.shift..=ci1 >> l.shift {
+            for tj in cj0 >> l.shift..=cj1 >> l.shift {
+                if self.tile_passes(start, ti, tj, &cast, best).is_some() {
+                    stack[top] = (start as u32, ti as u32, tj as u32);
+                    top += 1;
+                }
+            }
+        }
+        while top > 0 {
+            top -= 1;
+            let (lv, ti, tj) = stack[top];
+            let (lv, ti, tj) = (lv as usize, ti as usize, tj as usize);
+            if !ANY && lv < start && self.tile_passes(lv, ti, tj, &cast, best).is_none() {
+                continue; // the first hit so far has moved closer than this tile
+            }
+            if lv == 0 {
+                if self.leaf_tile::<ANY>(ti, tj, &cast, &mut best, &mut found) && ANY {
+                    return Some(best);
+                }
+                continue;
+            }
+            let child = &self.levels[lv - 1];
+            let mut kids: [(f64, u32, u32); 4] = [(0.0, 0, 0); 4];
+            let mut n = 0;
+            for ci in 2 * ti..(2 * ti + 2).min(child.rows) {
+                for cj in 2 * tj..(2 * tj + 2).min(child.cols) {
+                    if let Some(enter) = self.tile_passes(lv - 1, ci, cj, &cast, best) {
+                        kids[n] = (enter, ci as u32, cj as u32);
+                        n += 1;
+                    }
+                }
+            }
+            if !ANY {
+                // Nearest child on top of the stack, so the first hit shrinks the limit early.
+                kids[..n].sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+            }
+            for &(_, ci, cj) in &kids[..n] {
+                stack[top] = ((lv - 1) as u32, ci, cj);
+                top += 1;
+            }
+        }
+        found.then_some(best)
+    }
+
+    /// The slab test of a stored tile's box; `Some(entry parameter)` when the ray passes it.
+    #[inline(always)]
+    fn tile_passes(&self, lv: usize, ti: usize, tj: usize, cast: &Cast, t_lim: f64) -> Option<f64> {
+        let level = &self.levels[lv];
+        let [zlo, zhi] = level.z[ti * level.cols + tj];
+        if zlo > zhi {
+            return None; // all nodata
+        }
+        let (i0, i1, j0, j1) = self.tile_nodes(level, ti, tj);
+        let o = cast.ray.origin;
+        let (nx, fx) = axis(self.x(j0), self.x(j1), o.x, cast.inv[0]);
+        let (ny, fy) = axis(self.y(i0), self.y(i1), o.y, cast.inv[1]);
+        let (nz, fz) = axis(zlo, zhi, o.z, cast.inv[2]);
+        let enter = 0.0f64.max(nx).max(ny).max(nz);
+        let exit = t_lim.min(fx).min(fy).min(fz);
+        (enter <= exit).then_some(enter)
+    }
+
+    /// Tests the triangles of one leaf tile; true when an any-hit search can stop.
+    #[inline(always)]
+    fn leaf_tile<const ANY: bool>(&self, ti: usize, tj: usize, cast: &Cast, best: &mut f64, found: &mut bool) -> bool {
+        let g = &self.grid;
+        let (i0, i1, j0, j1) = self.tile_nodes(&self.levels[0], ti, tj);
+        let o = cast.ray.origin;
+        // Parameter intervals of each cell column and row, shared by the cells of the tile.
+        let mut cols = [(0.0, 0.0); LEAF];
+        let mut rows = [(0.0, 0.0); LEAF];
+        for (c, span) in cols.iter_mut().enumerate().take(j1 - j0) {
+            *span = axis(self.x(j0 + c), self.x(j0 + c + 1), o.x, cast.inv[0]);
+        }
+        for (r, span) in rows.iter_mut().enumerate().take(i1 - i0) {
+            *span = axis(self.y(i0 + r), self.y(i0 + r + 1), o.y, cast.inv[1]);
+        }
+        for (r, &(ny, fy)) in rows.iter().enumerate().take(i1 - i0) {
+            let i = i0 + r;
+            for (c, &(nx, fx)) in cols.iter().enumerate().take(j1 - j0) {
+                let enter_xy = 0.0f64.max(nx).max(ny);
+                if enter_xy > best.min(fx).min(fy) {
+                    continue; // both triangles span the cell's whole footprint
+                }
+                let j = j0 + c;
+                let row = i * g.nx + j;
+                let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+                // The cell's box first: it holds both triangle boxes.
+                let (cell_lo, cell_hi) = (za.min(zb).min(zc).min(zd), za.max(zb).max(zc).max(zd));
+                let (nz, fz) = axis(cell_lo, cell_hi, o.z, cast.inv[2]);
+                if enter_xy.max(nz) > best.min(fx).min(fy).min(fz) {
+                    continue;
+                }
+                let (xa, xb) = (self.x(j), self.x(j + 1));
+                let (ya, yc) = (self.y(i), self.y(i + 1));
+                let a = Vector::new(xa, ya, za);
+                let c3 = Vector::new(xb, yc, zc);
+                // Corners in the mesh's order: [a, b, c], then [a, c, d].
+                let halves = [
+                    (za, zb, zc, a, Vector::new(xb, ya, zb), c3),
+                    (za, zc, zd, a, c3, Vector::new(xa, yc, zd)),
+                ];
+                for (h0, h1, h2, p0, p1, p2) in halves {
+                    if h0.is_nan() || h1.is_nan() || h2.is_nan() {
+                        continue;
+                    }
+                    let (nz, fz) = axis(h0.min(h1).min(h2), h0.max(h1).max(h2), o.z, cast.inv[2]);
+                    if enter_xy.max(nz) > best.min(fx).min(fy).min(fz) {
+                        continue;
+                    }
+                    if let Some((inter, _)) = local_ray_intersection_with_triangle(p0, p1, p2, &cast.ray) {
+                        if inter.time_of_impact <= *best {
+                            *best = inter.time_of_impact;
+                            *found = true;
+                            if ANY {
+                                return true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// The surface point closest to `point`: best-first over the tiles by box distance, then
+    /// parry's projection onto each triangle of the nearest cells.
+    pub fn closest_point(&self, point: Point) -> Point {
+        let q = v(point);
+        let top = self.levels.len() - 1;
+        let mut heap = BinaryHeap::new();
+        let l = &self.levels[top];
+        for ti in 0..l.rows {
+            for tj in 0..l.cols {
+                if let Some(d2) = self.tile_distance(top, ti, tj, q) {
+                    heap.push(Near(d2, top as u8, ti as u32, tj as u32));
+                }
+            }
+        }
+        let mut best = f64::INFINITY;
+        let mut best_point = q;
+        while let Some(Near(d2, lv, ti, tj)) = heap.pop() {
+            if d2 >= best {
+                break;
+            }
+            let (lv, ti, tj) = (lv as usize, ti as usize, tj as usize);
+            if lv == 0 {
+                let (i0, i1, j0, j1) = self.tile_nodes(&self.levels[0], ti, tj);
+                for i in i0..i1 {
+                    for j in j0..j1 {
+                        let [t0, t1] = self.grid.cell_triangles(i, j);
+                        for [a, b, c] in [t0, t1].into_iter().flatten() {
+                            let lo = a.min(b).min(c);
+                            let hi = a.max(b).max(c);
+                            if (q.max(lo).min(hi) - q).length_squared() >= best {
+                                continue;
+                            }
+                            let proj = Triangle::new(a, b, c).project_local_point(q, false).point;
+                            let d = (proj - q).length_squared();
+                            if d < best {
+                                best = d;
+                                best_point = proj;
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
+            let child = &self.levels[lv - 1];
+            for ci in 2 * ti..(2 * ti + 2).min(child.rows) {
+                for cj in 2 * tj..(2 * tj + 2).min(child.cols) {
+                    if let Some(d2) = self.tile_distance(lv - 1, ci, cj, q) {
+                        if d2 < best {
+                            heap.push(Near(d2, (lv - 1) as u8, ci as u32, cj as u32));
+                        }
+                    }
+                }
+            }
+        }
+        p(best_point)
+    }
+
+    fn tile_distance(&self, lv: usize, ti: usize, tj: usize, q: Vector) -> Option<f64> {
+        let level = &self.levels[lv];
+        let [zlo, zhi] = level.z[ti * level.cols + tj];
+        if zlo > zhi {
+            return None;
+        }
+        let (i0, i1, j0, j1) = self.tile_nodes(level, ti, tj);
+        let lo = Vector::new(self.x(j0), self.y(i0), zlo);
+        let hi = Vector::new(self.x(j1), self.y(i1), zhi);
+        Some((q.max(lo).min(hi) - q).length_squared())
+    }
+
+    /// Bytes held, roughly: heights, node numbering, tile pyramid and any lazily built tables.
+    pub fn memory_bytes(&self) -> usize {
+        let levels: usize = self.levels.iter().map(|l| l.z.len() * 16).sum();
+        self.grid.z.len() * 8
+            + self.grid.vertex_of_node.len() * 4
+            + levels
+            + self.faces.get().map_or(0, |f| f.len() * 12)
+            + self.areas.get().map_or(0, |a| a.len() * 8)
+            + self.cell_of_face.get().map_or(0, |c| c.len() * 8)
+            + self.node_of_vertex.get().map_or(0, |n| n.len() * 4)
+    }
+}
+
+impl Grid {
+    /// The position of node `k` (row-major), as the mesh path computes it.
+    #[inline(always)]
+    pub fn node_point(&self, k: usize) -> Point {
+        let (i, j) = (k / self.nx, k % self.nx);
+        [self.x0 + j as f64 * self.dx, self.y0 + i as f64 * self.dy, self.z[k]]
+    }
+
+    /// Nodes `[a, b, c, d] = [(i, j), (i, j+1), (i+1, j+1), (i+1, j)]` of cell `(i, j)`.
+    #[inline(always)]
+    pub fn cell_nodes(&self, i: usize, j: usize) -> [usize; 4] {
+        let a = i * self.nx + j;
+        [a, a + 1, a + self.nx + 1, a + self.nx]
+    }
+
+    /// The corners of the two triangles of cell `(i, j)`, `[a, b, c]` and `[a, c, d]`, or `None`
+    /// for a triangle with a nodata corner.
+    #[inline(always)]
+    pub fn cell_triangles(&self, i: usize, j: usize) -> [Option<[Vector; 3]>; 2] {
+        let [a, b, c, d] = self.cell_nodes(i, j).map(|k| v(self.node_point(k)));
+        let ok = |q: Vector| !q.z.is_nan();
+        [
+            (ok(a) && ok(b) && ok(c)).then_some([a, b, c]),
+            (ok(a) && ok(c) && ok(d)).then_some([a, c, d]),
+        ]
+    }
+}
+
+/// The tile pyramid: leaf tiles of `2^FIRST_SHIFT` cells, then 2 x 2 merges up to one tile.
+fn build_levels(g: &Grid) -> Vec<Level> {
+    let (cells_y, cells_x) = (g.ny - 1, g.nx - 1);
+    let rows = cells_y.div_ceil(LEAF);
+    let cols = cells_x.div_ceil(LEAF);
+    let mut z = vec![[f64::INFINITY, f64::NEG_INFINITY]; rows * cols];
+    for ti in 0..rows {
+        let (i0, i1) = (ti * LEAF, ((ti + 1) * LEAF).min(cells_y));
+        for tj in 0..cols {
+            let (j0, j1) = (tj * LEAF, ((tj + 1) * LEAF).min(cells_x));
+            let slot = &mut z[ti * cols + tj];
+            for i in i0..=i1 {
+                for &h in &g.z[i * g.nx + j0..=i * g.nx + j1] {
+                    if !h.is_nan() {
+                        slot[0] = slot[0].min(h);
+                        slot[1] = slot[1].max(h);
+                    }
+                }
+            }
+        }
+    }
+    let mut levels = vec![Level { shift: FIRST_SHIFT, rows, cols, z }];
+    while let Some(last) = levels.last().filter(|l| l.rows > 1 || l.cols > 1) {
+        let (rows, cols) = (last.rows.div_ceil(2), last.cols.div_ceil(2));
+        let mut z = vec![[f64::INFINITY, f64::NEG_INFINITY]; rows * cols];
+        for ti in 0..rows {
+            for tj in 0..cols {
+                let slot = &mut z[ti * cols + tj];
+                for ci in 2 * ti..(2 * ti + 2).min(last.rows) {
+                    for cj in 2 * tj..(2 * tj + 2).min(last.cols) {
+                        let [lo, hi] = last.z[ci * last.cols + cj];
+                        slot[0] = slot[0].min(lo);
+                        slot[1] = slot[1].max(hi);
+                    }
+                }
+            }
+        }
+        levels.push(Level { shift: last.shift + 1, rows, cols, z });
+    }
+    levels
+}
