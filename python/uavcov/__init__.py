@@ -8,6 +8,12 @@ from __future__ import annotations
 
 from . import errors
 from ._core import __version__
+from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
+from .constraints import Constraints, closest_admissible, feasibility, feasible_mask, trajectory_feasible
+from .cvt import CVTResult, cvt
+from .mission import MissionResult, MissionSettings, run_mission
+from .records import load_mission, save_mission
+from .starts import initial_positions
 from .prior import (
     ApproximationError,
     Prior,
@@ -77,4 +83,24 @@ __all__ = [
     "building_corner_prior",
     "buildings_prior",
     "sample_prior",
+    # the constrained CVT and the starts
+    "CVTResult",
+    "cvt",
+    "initial_positions",
+    # on-line optimisation
+    "CAOSettings",
+    "OptimizerTrace",
+    "cao",
+    "per_robot_cao",
+    "Constraints",
+    "closest_admissible",
+    "feasibility",
+    "feasible_mask",
+    "trajectory_feasible",
+    # the mission and its records
+    "MissionResult",
+    "MissionSettings",
+    "run_mission",
+    "load_mission",
+    "save_mission",
 ]
