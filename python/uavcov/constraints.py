@@ -134,9 +134,10 @@ class Constraints:
     def check_team(self, n_uavs: int, world: World) -> None:
         """Raise :class:`InfeasibleError` if ``n_uavs`` UAVs surely cannot all be admissible.
 
-        Two necessary conditions: some altitude satisfies ``h_min`` and ``z_max`` above the
-        lowest point of ``world``, and the balls of radius ``d_safe / 2`` around the UAVs fit,
-        by volume, in the flight box grown by that radius. Passing them does not prove a
+        Three necessary conditions: some altitude satisfies ``h_min`` and ``z_max`` above the
+        lowest point of ``world``, two UAVs can be ``d_safe`` apart inside the flight box, and the
+        balls of radius ``d_safe / 2`` around the UAVs fit, by volume, in the flight box grown by
+        that radius. Passing them does not prove a
         packing exists; :func:`closest_admissible` reports when it finds none.
         """
         n_uavs = as_positive_int(n_uavs, "number of UAVs")
@@ -151,6 +152,12 @@ class Constraints:
             return
         r = self.d_safe / 2.0
         xmin, ymin, xmax, ymax = self.bounds
+        diagonal = math.hypot(xmax - xmin, ymax - ymin, self.z_max - floor)
+        if self.d_safe > diagonal:
+            raise InfeasibleError(
+                f"d_safe = {self.d_safe} m exceeds the flight box's diagonal ({diagonal:.4g} m): "
+                f"no two UAVs can be that far apart"
+            )
         box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (self.z_max - floor + 2 * r)
         need = n_uavs * 4.0 / 3.0 * math.pi * r**3
         if need > box:

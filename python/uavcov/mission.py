@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import as_non_negative_float, as_non_negative_int, as_positive_float, as_positive_int
+from ._validate import as_non_negative_float, as_non_negative_int, as_points, as_positive_float, as_positive_int
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility
 from .cvt import CVTResult, cvt
@@ -46,8 +46,8 @@ class MissionSettings:
         Team size ``N``.
     d_max : float
         Sensing range, metres.
-    start : {"cvt", "random", "corner"}
-        How the team starts.
+    start : {"cvt", "random", "corner", "given"}
+        How the team starts ("given": positions passed by the caller).
     optimizer : {"cao", "per_robot"}
         Centralised CAO or one estimator per UAV.
     iterations : int
@@ -189,7 +189,7 @@ def run_mission(
     d_max: float,
     prior: Any = "random",
     n_prior: int = 30,
-    start: str = "cvt",
+    start: Any = "cvt",
     optimizer: str = "cao",
     iterations: int = 500,
     settings: CAOSettings | None = None,
@@ -220,9 +220,10 @@ def run_mission(
         points, or an approximating surface S' given directly (e.g. a buildings map).
     n_prior : int, default 30
         Random known points for ``prior="random"``.
-    start : {"cvt", "random", "corner"}, default "cvt"
-        The start: constrained CVT on S', uniform over the region, or a compact lattice in one
-        corner.
+    start : {"cvt", "random", "corner"} or (N, 3) array_like, default "cvt"
+        The start: constrained CVT on S', uniform over the region, a compact lattice in one
+        corner, or positions of your own (metres, used as given: no ``start_altitude`` lift).
+        Every start is moved to the closest admissible positions before the optimiser begins.
     optimizer : {"cao", "per_robot"}, default "cao"
     iterations : int, default 500
     settings : CAOSettings, optional
@@ -257,8 +258,14 @@ def run_mission(
     iterations = as_non_negative_int(iterations, "iterations")
     n_prior = as_non_negative_int(n_prior, "n_prior")
     start_altitude = as_non_negative_float(start_altitude, "start_altitude")
-    if start not in START_KINDS:
-        raise InvalidInputError(f"start must be one of {START_KINDS}, got {start!r}")
+    given_start = None
+    if not isinstance(start, str):
+        given_start = as_points(start, "start")
+        if given_start.shape[0] != n_uavs:
+            raise InvalidInputError(f"start has {given_start.shape[0]} positions for {n_uavs} UAVs")
+        start = "given"
+    elif start not in START_KINDS:
+        raise InvalidInputError(f"start must be one of {START_KINDS} or an (N, 3) array, got {start!r}")
     if optimizer not in OPTIMIZERS:
         raise InvalidInputError(f"optimizer must be one of {OPTIMIZERS}, got {optimizer!r}")
     settings = CAOSettings() if settings is None else settings
@@ -274,16 +281,19 @@ def run_mission(
     prior_rng, start_rng, optimizer_rng = generator.spawn(3)
     approximation, prior_points, prior_kind = _approximation(terrain, prior, n_prior, prior_rng)
     cvt_result: CVTResult | None = None
-    if start == "cvt":
+    if given_start is not None:
+        start_positions = given_start
+    elif start == "cvt":
         # Called directly rather than through initial_positions, to keep the whole CVT run.
         cvt_result = cvt(approximation, n_uavs, rng=start_rng, n_threads=n_threads, **dict(cvt_options or {}))
         start_positions = np.array(cvt_result.generators)
     else:
         start_positions = initial_positions(start, approximation, n_uavs, rng=start_rng, n_threads=n_threads)
     flying = start_positions.copy()
-    ground = terrain.ground_height(flying[:, :2])
-    # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.
-    flying[:, 2] = np.where(np.isnan(ground), flying[:, 2], ground) + start_altitude
+    if given_start is None:
+        ground = terrain.ground_height(flying[:, :2])
+        # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.
+        flying[:, 2] = np.where(np.isnan(ground), flying[:, 2], ground) + start_altitude
     x0 = closest_admissible(constraints, terrain, flying)
 
     feasible = feasibility(constraints, terrain)
