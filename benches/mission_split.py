@@ -1,0 +1,44 @@
+"""Where one 500-iteration mission spends its time: coverage measurements against the optimiser.
+
+The case of issue 5: 12 UAVs, a paper terrain (7 Gaussians, 100 m x 100 m) with 1 m targets,
+d_max = 25 m, CVT start, 500 CAO iterations. Prints the median over a few seeds of the wall time
+and of its parts, as recorded by the optimiser's trace: coverage measurements, feasibility
+(constraint queries on the real surface) and the optimiser's own work (regression, candidates).
+
+    python benches/mission_split.py [--seeds 3] [--n-threads 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+
+import uavcov
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--n-threads", type=int, default=1)
+    parser.add_argument("--optimizer", default="cao", choices=["cao", "per_robot"])
+    args = parser.parse_args()
+    rows = []
+    for seed in range(1000, 1000 + args.seeds):
+        terrain = uavcov.gaussian_hills(spacing=1.0, rng=seed)
+        r = uavcov.run_mission(
+            terrain, n_uavs=12, d_max=25.0, iterations=500, optimizer=args.optimizer, rng=seed, n_threads=args.n_threads
+        )
+        t = r.trace
+        rows.append((r.wall_time_s, t.time_measure, t.time_feasibility, t.time_own))
+    med = [statistics.median(col) for col in zip(*rows)]
+    total = med[0]
+    print(f"optimizer {args.optimizer}, n_threads {args.n_threads}, median of {args.seeds} runs (seeds 1000-{999 + args.seeds})")
+    print("| part | seconds | share of the run |")
+    print("|---|---|---|")
+    for name, value in zip(("whole mission", "coverage measurements", "feasibility queries", "optimiser's own work"), med):
+        print(f"| {name} | {value:.2f} | {value / total:.0%} |")
+    print(f"| rest (prior, S', CVT, start) | {total - sum(med[1:]):.2f} | {(total - sum(med[1:])) / total:.0%} |")
+
+
+if __name__ == "__main__":
+    main()
