@@ -1,0 +1,482 @@
+"""The settings of every experiment of the paper, and the numbers it published.
+
+The paper (Renzaglia et al., arXiv:1901.10272, section V) gives the team sizes, the sensing
+ranges, the number of prior samples and of iterations, and leaves open the terrain's heights and
+variance, the flying altitudes, the safety distance, the corner start and every CAO and CVT
+constant. This module fixes all of them, as frozen dataclasses, so that one object says exactly
+what an experiment runs; ``docs/calibration.md`` says how each open value was chosen (on
+development seeds 1000-1039 only) and ``docs/reproduction.md`` what it gives on seeds 0-39.
+
+:func:`run_paper_mission` runs one mission of an experiment (one terrain seed, one team size,
+one start); the sweep machinery (:mod:`uavcov.experiments`) calls it for every cell.
+
+Seeds
+-----
+Seed ``s`` draws the terrain with ``rng=s`` and runs the mission (prior samples, start,
+optimiser) with ``rng=s`` too: the two use independent streams (the mission spawns child
+generators), and every team size and start on one terrain sees the same prior points.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Any, Mapping
+
+import numpy as np
+
+from ._validate import as_non_negative_float, as_positive_float, as_positive_int
+from .cao import CAOSettings
+from .errors import InvalidInputError, InvalidTypeError
+from .mission import MissionResult, run_mission
+from .prior import buildings_prior
+from .starts import CORNERS, initial_positions
+from .surface import Terrain
+from .terrains import buildings_terrain, gaussian_hills, random_buildings
+
+__all__ = [
+    "HillsTerrain",
+    "BuildingsTerrain",
+    "Flight",
+    "CVTSettings",
+    "PaperExperiment",
+    "PublishedValue",
+    "TABLE1",
+    "PYRAMID",
+    "COMPARISON",
+    "EXAMPLE",
+    "BUILDINGS",
+    "EXPERIMENTS",
+    "PUBLISHED_TABLE1",
+    "PUBLISHED_PYRAMID",
+    "PUBLISHED_FIG6_MAX",
+    "TABLE1_COLUMNS",
+    "DEV_SEEDS",
+    "HELD_OUT_SEEDS",
+    "run_paper_mission",
+    "start_positions",
+]
+
+DEV_SEEDS: tuple[int, ...] = tuple(range(1000, 1040))
+"""Terrain seeds the open parameters were calibrated on (never the published ones)."""
+
+HELD_OUT_SEEDS: tuple[int, ...] = tuple(range(40))
+"""Terrain seeds of the published table (the paper's 40 scenarios), run once."""
+
+
+# ---------------------------------------------------------------------------------------------
+# The parts of an experiment
+
+
+@dataclass(frozen=True)
+class HillsTerrain:
+    """The paper's random terrain: ``n_hills`` Gaussians on a ``size`` square (metres).
+
+    ``heights`` is the range peak heights are drawn uniformly from, ``sigma`` the common
+    standard deviation; ``spacing`` is the grid step, which is also the coverage discretisation
+    (one target per grid node, weighted by the area it stands for).
+    """
+
+    size: float = 100.0
+    spacing: float = 1.0
+    n_hills: int = 7
+    heights: tuple[float, float] = (5.0, 25.0)
+    sigma: float = 10.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "size", as_positive_float(self.size, "size"))
+        object.__setattr__(self, "spacing", as_positive_float(self.spacing, "spacing"))
+        object.__setattr__(self, "n_hills", as_positive_int(self.n_hills, "n_hills"))
+        low, high = (as_non_negative_float(h, "heights") for h in self.heights)
+        if low > high:
+            raise InvalidInputError(f"heights must be (low, high) with low <= high, got {self.heights}")
+        object.__setattr__(self, "heights", (low, high))
+        object.__setattr__(self, "sigma", as_positive_float(self.sigma, "sigma"))
+
+    def make(self, seed: int) -> Terrain:
+        """The terrain of scenario ``seed``."""
+        return gaussian_hills(
+            size=self.size, spacing=self.spacing, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=seed
+        )
+
+
+@dataclass(frozen=True)
+class BuildingsTerrain:
+    """The paper's realistic scene: ``n_buildings`` boxes on a ``size`` square of flat ground.
+
+    The true scene is meshed every ``spacing`` metres; the simplified map the CVT runs on is
+    :func:`uavcov.prior.buildings_prior` (boxes with position, size and height errors, meshed
+    every ``map_spacing`` metres).
+    """
+
+    size: float = 24.0
+    spacing: float = 0.5
+    n_buildings: int = 5
+    footprint: tuple[float, float] = (3.0, 7.0)
+    heights: tuple[float, float] = (3.0, 10.0)
+    gap: float = 2.0
+    map_spacing: float = 1.0
+    position_error: float = 0.5
+    size_error: float = 0.5
+    height_error: float = 1.0
+
+    def boxes(self, seed: int) -> tuple[Any, ...]:
+        """The buildings of scenario ``seed``."""
+        return random_buildings(
+            size=self.size,
+            n_buildings=self.n_buildings,
+            footprint=self.footprint,
+            heights=self.heights,
+            gap=self.gap,
+            step=self.spacing,
+            rng=seed,
+        )
+
+    def make(self, seed: int) -> Terrain:
+        """The true scene of scenario ``seed``."""
+        return buildings_terrain(self.boxes(seed), size=self.size, spacing=self.spacing)
+
+    def simplified_map(self, seed: int) -> Terrain:
+        """The coarse, erroneous map of scenario ``seed`` (the surface the CVT runs on)."""
+        return buildings_prior(
+            self.boxes(seed),
+            size=self.size,
+            kind="boxes",
+            spacing=self.map_spacing,
+            position_error=self.position_error,
+            size_error=self.size_error,
+            height_error=self.height_error,
+            rng=np.random.default_rng([seed, 1]),
+        )
+
+
+@dataclass(frozen=True)
+class Flight:
+    """Altitudes, safety distance and the baseline starts (metres).
+
+    Attributes
+    ----------
+    start_altitude : float
+        Every start flies this high above the real ground before it is moved to the closest
+        admissible positions.
+    h_min, z_max, d_safe : float
+        Least clearance above the real surface, highest absolute altitude, least UAV-UAV
+        distance (the constraints of eq. 2).
+    corner : {"sw", "se", "ne", "nw"}
+        The corner the "corner" start fills.
+    corner_spacing : float
+        Distance between neighbouring UAVs of the corner lattice.
+    """
+
+    start_altitude: float = 5.0
+    h_min: float = 2.0
+    z_max: float = 50.0
+    d_safe: float = 2.0
+    corner: str = "sw"
+    corner_spacing: float = 3.0
+
+    def __post_init__(self) -> None:
+        for name in ("start_altitude", "h_min", "d_safe"):
+            object.__setattr__(self, name, as_non_negative_float(getattr(self, name), name))
+        object.__setattr__(self, "z_max", as_positive_float(self.z_max, "z_max"))
+        object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
+        if self.corner not in CORNERS:
+            raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
+        if self.h_min > self.z_max:
+            raise InvalidInputError(f"h_min = {self.h_min} m is above z_max = {self.z_max} m")
+
+
+@dataclass(frozen=True)
+class CVTSettings:
+    """Constants of the constrained CVT (see :func:`uavcov.cvt.cvt`)."""
+
+    preset: str = "damped"
+    samples_per_iteration: int | None = None
+    tol: float = 0.1
+    window: int = 5
+    max_iterations: int = 300
+
+    def options(self) -> dict[str, Any]:
+        """Keyword arguments for :func:`uavcov.cvt.cvt` (``cvt_options`` of the mission)."""
+        return {
+            "preset": self.preset,
+            "samples_per_iteration": self.samples_per_iteration,
+            "tol": self.tol,
+            "window": self.window,
+            "max_iterations": self.max_iterations,
+        }
+
+
+# ---------------------------------------------------------------------------------------------
+# An experiment
+
+
+@dataclass(frozen=True)
+class PaperExperiment:
+    """Everything one experiment of the paper runs, every open parameter chosen.
+
+    Attributes
+    ----------
+    name : str
+        "table1", "pyramid", "example", "comparison" or "buildings".
+    terrain : HillsTerrain or BuildingsTerrain
+    team_sizes : tuple of int
+        The team sizes ``N`` the experiment sweeps.
+    starts : tuple of str
+        The starts it compares: "cvt", "random", "corner", or "pairs" (buildings: two pairs of
+        UAVs on opposite sides).
+    d_max : float
+        Sensing range, metres.
+    prior : str
+        "random" (``n_prior`` random points plus the 4 corners), "pyramid" (4 corners and the
+        centre) or "map" (the buildings scene's simplified map).
+    n_prior : int
+    iterations : int
+        CAO iterations.
+    flight : Flight
+    cao : CAOSettings
+    cvt : CVTSettings
+    seeds : tuple of int
+        The scenarios (terrain seeds) of the published result.
+    """
+
+    name: str
+    terrain: HillsTerrain | BuildingsTerrain
+    team_sizes: tuple[int, ...]
+    starts: tuple[str, ...]
+    d_max: float
+    prior: str = "random"
+    n_prior: int = 30
+    iterations: int = 500
+    flight: Flight = field(default_factory=Flight)
+    cao: CAOSettings = field(default_factory=CAOSettings)
+    cvt: CVTSettings = field(default_factory=CVTSettings)
+    seeds: tuple[int, ...] = HELD_OUT_SEEDS
+
+    def with_changes(self, **changes: Any) -> "PaperExperiment":
+        """A copy with some fields replaced; nested fields as ``"flight.h_min"`` or ``"cao.alpha0"``."""
+        top: dict[str, Any] = {}
+        nested: dict[str, dict[str, Any]] = {}
+        for key, value in changes.items():
+            head, _, rest = key.replace("__", ".").partition(".")
+            if rest:
+                nested.setdefault(head, {})[rest] = value
+            else:
+                top[key] = value
+        for head, fields in nested.items():
+            if head not in ("terrain", "flight", "cao", "cvt"):
+                raise InvalidInputError(f"unknown group {head!r}; nested settings are terrain., flight., cao., cvt.")
+            top[head] = replace(top.get(head, getattr(self, head)), **fields)
+        return replace(self, **top)
+
+    def cells(self) -> list[tuple[int, str]]:
+        """Every ``(n_uavs, start)`` pair the experiment runs for each seed."""
+        return [(n, s) for n in self.team_sizes for s in self.starts]
+
+
+# ---------------------------------------------------------------------------------------------
+# The chosen values (see docs/calibration.md for how each was chosen)
+
+_HILLS = HillsTerrain()
+_FLIGHT = Flight()
+_CAO = CAOSettings()
+_CVT = CVTSettings()
+
+TABLE1 = PaperExperiment(
+    name="table1",
+    terrain=_HILLS,
+    team_sizes=(5, 8, 12, 20),
+    starts=("cvt", "random", "corner"),
+    d_max=25.0,
+    prior="random",
+    n_prior=30,
+    iterations=500,
+    flight=_FLIGHT,
+    cao=_CAO,
+    cvt=_CVT,
+)
+"""Table 1: 40 terrains x N in {5, 8, 12, 20} x starts {cvt, random, corner}, d_max = 25 m."""
+
+PYRAMID = replace(TABLE1, name="pyramid", team_sizes=(12,), starts=("cvt",), prior="pyramid", n_prior=0)
+"""Section V-D: N = 12, the approximating surface from the 4 corners and the centre only."""
+
+EXAMPLE = replace(TABLE1, name="example", team_sizes=(9,), starts=("cvt",), d_max=35.0, seeds=(0,))
+"""Fig. 5: 9 UAVs, d_max = 35 m, 30 prior samples, one terrain."""
+
+COMPARISON = replace(TABLE1, name="comparison", team_sizes=(10,), starts=("corner", "random", "cvt"), seeds=(0,))
+"""Fig. 6: 10 UAVs, the three starts on one terrain, coverage per iteration (d_max = 25 m)."""
+
+BUILDINGS = PaperExperiment(
+    name="buildings",
+    terrain=BuildingsTerrain(),
+    team_sizes=(4,),
+    starts=("cvt", "pairs"),
+    d_max=8.0,
+    prior="map",
+    n_prior=0,
+    iterations=500,
+    flight=Flight(start_altitude=2.0, h_min=1.0, z_max=20.0, d_safe=1.0),
+    cao=replace(_CAO, alpha0=0.5),
+    cvt=_CVT,
+    seeds=(0,),
+)
+"""Figs. 7-8: 4 UAVs, d_max = 8 m, 24 m x 24 m with buildings; CVT from a simplified map
+against two pairs of UAVs started on opposite sides."""
+
+EXPERIMENTS: Mapping[str, PaperExperiment] = MappingProxyType(
+    {e.name: e for e in (TABLE1, PYRAMID, EXAMPLE, COMPARISON, BUILDINGS)}
+)
+"""Every experiment by name."""
+
+
+# ---------------------------------------------------------------------------------------------
+# The published numbers
+
+
+@dataclass(frozen=True)
+class PublishedValue:
+    """A mean and standard deviation as printed in the paper."""
+
+    mean: float
+    sigma: float
+
+
+TABLE1_COLUMNS: tuple[tuple[str, str], ...] = (
+    ("cvt", "initial"),
+    ("cvt", "max"),
+    ("random", "initial"),
+    ("random", "max"),
+    ("corner", "max"),
+)
+"""The columns of Table 1 as ``(start, "initial" | "max")``; the corner start has no initial."""
+
+_P = PublishedValue
+PUBLISHED_TABLE1: Mapping[tuple[int, str, str], PublishedValue] = MappingProxyType(
+    {
+        (5, "cvt", "initial"): _P(0.59, 0.06), (5, "cvt", "max"): _P(0.65, 0.04),
+        (5, "random", "initial"): _P(0.37, 0.07), (5, "random", "max"): _P(0.61, 0.05),
+        (5, "corner", "max"): _P(0.57, 0.09),
+        (8, "cvt", "initial"): _P(0.74, 0.04), (8, "cvt", "max"): _P(0.84, 0.03),
+        (8, "random", "initial"): _P(0.52, 0.08), (8, "random", "max"): _P(0.75, 0.04),
+        (8, "corner", "max"): _P(0.62, 0.09),
+        (12, "cvt", "initial"): _P(0.84, 0.02), (12, "cvt", "max"): _P(0.92, 0.02),
+        (12, "random", "initial"): _P(0.63, 0.07), (12, "random", "max"): _P(0.86, 0.03),
+        (12, "corner", "max"): _P(0.69, 0.08),
+        (20, "cvt", "initial"): _P(0.90, 0.02), (20, "cvt", "max"): _P(0.98, 0.01),
+        (20, "random", "initial"): _P(0.73, 0.05), (20, "random", "max"): _P(0.93, 0.02),
+        (20, "corner", "max"): _P(0.76, 0.08),
+    }
+)  # fmt: skip
+"""Table 1 of the paper: ``(N, start, "initial" | "max") -> mean (sigma)`` over 40 terrains."""
+
+PUBLISHED_PYRAMID: Mapping[str, PublishedValue] = MappingProxyType({"initial": _P(0.78, 0.03), "max": _P(0.91, 0.02)})
+"""Section V-D, N = 12 with the pyramid prior: initial and max coverage, mean (sigma)."""
+
+PUBLISHED_FIG6_MAX: Mapping[str, float] = MappingProxyType({"corner": 0.56, "random": 0.84, "cvt": 0.93})
+"""Fig. 6 (10 UAVs, one terrain): the maximum coverage of each start."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Running one mission of an experiment
+
+
+def start_positions(experiment: PaperExperiment, terrain: Terrain, n_uavs: int, start: str) -> np.ndarray | None:
+    """The start the mission should take as given positions, or ``None`` to let it compute one.
+
+    The corner lattice (at the experiment's spacing and corner) and the buildings scene's
+    "pairs" are built here, at ``start_altitude`` above the real ground; "cvt" and "random" are
+    left to :func:`uavcov.mission.run_mission`.
+    """
+    flight = experiment.flight
+    if start in ("cvt", "random"):
+        return None
+    if start == "corner":
+        xy = initial_positions("corner", terrain, n_uavs, corner=flight.corner, spacing=flight.corner_spacing)[:, :2]
+    elif start == "pairs":
+        xy = _opposite_pairs(terrain, n_uavs, flight.corner_spacing)
+    else:
+        raise InvalidInputError(f"start must be one of {experiment.starts}, got {start!r}")
+    ground = terrain.ground_height(xy)
+    return np.column_stack([xy, ground + flight.start_altitude])
+
+
+def _opposite_pairs(terrain: Terrain, n_uavs: int, spacing: float) -> np.ndarray:
+    """Half the team side by side at the middle of the west edge, half at the east edge."""
+    b = np.asarray(terrain.bounds)
+    xmin, ymin, xmax, ymax = b[0, 0], b[0, 1], b[1, 0], b[1, 1]
+    west = math.ceil(n_uavs / 2)
+    y_mid = 0.5 * (ymin + ymax)
+    rows = []
+    for k in range(n_uavs):
+        side, index = (0, k) if k < west else (1, k - west)
+        count = west if side == 0 else n_uavs - west
+        y = y_mid + (index - (count - 1) / 2) * spacing
+        x = xmin + spacing / 2 if side == 0 else xmax - spacing / 2
+        rows.append((x, y))
+    return np.array(rows, dtype=np.float64)
+
+
+def run_paper_mission(
+    experiment: PaperExperiment,
+    *,
+    seed: int,
+    n_uavs: int,
+    start: str,
+    iterations: int | None = None,
+    n_threads: int | None = 1,
+) -> MissionResult:
+    """Run one mission of ``experiment``: terrain ``seed``, ``n_uavs`` UAVs, one start.
+
+    Parameters
+    ----------
+    experiment : PaperExperiment
+    seed : int
+        The scenario: the terrain and the mission's randomness (see the module docstring).
+    n_uavs : int
+    start : str
+        One of ``experiment.starts``.
+    iterations : int, optional
+        CAO iterations; ``experiment.iterations`` by default (0 gives the start's coverage only).
+    n_threads : int, optional
+        Threads for each coverage measurement; 1 by default, for sweeps that run one mission
+        per core.
+
+    Returns
+    -------
+    MissionResult
+        Its ``settings.start`` is ``"given"`` for the starts built here (corner, pairs).
+    """
+    if not isinstance(experiment, PaperExperiment):
+        raise InvalidTypeError(f"experiment must be a PaperExperiment, got {type(experiment).__name__}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise InvalidTypeError(f"seed must be an int, got {type(seed).__name__}")
+    seed = int(seed)
+    if start not in experiment.starts:
+        raise InvalidInputError(f"start must be one of {experiment.starts} for {experiment.name}, got {start!r}")
+    terrain = experiment.terrain.make(seed)
+    prior: Any
+    if experiment.prior == "map":
+        assert isinstance(experiment.terrain, BuildingsTerrain)
+        prior = experiment.terrain.simplified_map(seed)
+    else:
+        prior = experiment.prior
+    given = start_positions(experiment, terrain, n_uavs, start)
+    flight = experiment.flight
+    return run_mission(
+        terrain,
+        n_uavs=n_uavs,
+        d_max=experiment.d_max,
+        prior=prior,
+        n_prior=experiment.n_prior,
+        start=start if given is None else given,
+        iterations=experiment.iterations if iterations is None else iterations,
+        settings=experiment.cao,
+        start_altitude=flight.start_altitude,
+        h_min=flight.h_min,
+        z_max=flight.z_max,
+        d_safe=flight.d_safe,
+        cvt_options=experiment.cvt.options() if start == "cvt" else None,
+        n_threads=n_threads,
+        rng=seed,
+    )
