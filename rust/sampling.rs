@@ -67,6 +67,10 @@ pub fn area_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<
 
 /// The vertices of a surface, each weighted by a third of the area of the triangles around it.
 pub fn vertex_targets(surface: &Surface) -> (Vec<Point>, Vec<f64>) {
+    if let Some(field) = surface.heightfield() {
+        // Same weights to the last bit, without building the grid's face and area tables.
+        return (surface.vertices().collect(), field.vertex_weights());
+    }
     let mut weights = vec![0.0; surface.n_vertices()];
     for (t, &area) in surface.faces().iter().zip(surface.areas()) {
         for &k in t {

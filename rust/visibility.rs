@@ -8,6 +8,11 @@
 //! chunk first drops the UAVs out of range of its bounding box, and a target stops at the first
 //! UAV that sees it. Chunks are combined in order, so results are identical for any thread count.
 //!
+//! Each segment is tested on one of two paths ([`Path`]): the triangle mesh with parry's BVH, or,
+//! for a surface built from an elevation grid, the [`HeightField`] walk, which gives the same
+//! answer for every segment (see [`crate::heightfield`]) at a fraction of the cost and memory.
+//! The grid path is chosen automatically; the mesh path of a grid stays available for comparison.
+//!
 //! ```
 //! use uavcov::mesh::Surface;
 //! use uavcov::visibility::{Targets, Visibility};
@@ -22,8 +27,9 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::error::{ensure, Result};
-use crate::mesh::{Point, Surface};
+use crate::error::{ensure, Error, Result};
+use crate::heightfield::HeightField;
+use crate::mesh::{Point, Surface, TriangleMesh};
 use crate::sampling::default_targets;
 use crate::threads;
 
@@ -34,11 +40,21 @@ const CHUNK: usize = 256;
 /// Points to see and the area (m^2) each stands for.
 #[derive(Debug, Clone)]
 pub struct Targets {
-    points: Vec<Point>,
+    points: Points,
+    len: usize,
     weights: Vec<f64>,
     total_weight: f64,
     /// Bounding box `(mins, maxs)` of each chunk of `CHUNK` consecutive targets.
     chunk_bounds: Vec<(Point, Point)>,
+}
+
+#[derive(Debug, Clone)]
+enum Points {
+    /// Stored points.
+    Given(Vec<Point>),
+    /// The vertices of a grid surface, generated when needed: for chunk `c`, the first node of
+    /// the chunk (the rest follow in row-major order, skipping unused nodes).
+    GridNodes { surface: Arc<Surface>, chunk_start: Vec<usize> },
 }
 
 impl Targets {
@@ -52,11 +68,15 @@ impl Targets {
         ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "target coordinates must be finite");
         let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
         ensure!(weights.len() == points.len(), "{} weights for {} targets", weights.len(), points.len());
+        let chunk_bounds = points.chunks(CHUNK).map(bounds).collect();
+        Self::finish(Points::Given(points), weights, chunk_bounds)
+    }
+
+    fn finish(points: Points, weights: Vec<f64>, chunk_bounds: Vec<(Point, Point)>) -> Result<Self> {
         ensure!(weights.iter().all(|w| w.is_finite() && *w >= 0.0), "target weights must be finite and >= 0");
         let total_weight: f64 = weights.iter().sum();
         ensure!(total_weight > 0.0, "target weights are all zero");
-        let chunk_bounds = points.chunks(CHUNK).map(bounds).collect();
-        Ok(Self { points, weights, total_weight, chunk_bounds })
+        Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds })
     }
 
     /// The surface's default targets (see [`default_targets`]).
@@ -65,9 +85,77 @@ impl Targets {
         Self::new(points, Some(weights))
     }
 
-    /// The target points.
-    pub fn points(&self) -> &[Point] {
-        &self.points
+    /// The vertices of a grid surface, each weighted by a third of the triangles around it: the
+    /// same targets, order and weights as [`Targets::of_surface`], without storing the points
+    /// (8 bytes a target instead of 32), which is what lets a map of many millions of nodes fit.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when the surface was not built from a grid.
+    pub fn grid_nodes(surface: Arc<Surface>) -> Result<Self> {
+        let field = surface
+            .heightfield()
+            .ok_or_else(|| Error::InvalidInput("grid-node targets need a surface built from an elevation grid".into()))?;
+        let g = field.grid();
+        let weights = field.vertex_weights();
+        let mut chunk_start = Vec::with_capacity(weights.len().div_ceil(CHUNK));
+        let mut chunk_bounds = Vec::with_capacity(chunk_start.capacity());
+        let mut chunk = Vec::with_capacity(CHUNK);
+        for (k, &vertex) in g.vertex_of_node.iter().enumerate() {
+            if vertex == u32::MAX {
+                continue;
+            }
+            if chunk.is_empty() {
+                chunk_start.push(k);
+            }
+            chunk.push(g.node_point(k));
+            if chunk.len() == CHUNK {
+                chunk_bounds.push(bounds(&chunk));
+                chunk.clear();
+            }
+        }
+        if !chunk.is_empty() {
+            chunk_bounds.push(bounds(&chunk));
+        }
+        drop(chunk);
+        Self::finish(Points::GridNodes { surface, chunk_start }, weights, chunk_bounds)
+    }
+
+    /// Whether the points are generated from a grid surface rather than stored.
+    pub fn is_grid_nodes(&self) -> bool {
+        matches!(self.points, Points::GridNodes { .. })
+    }
+
+    /// The target points (generated for grid-node targets).
+    pub fn points(&self) -> std::borrow::Cow<'_, [Point]> {
+        match &self.points {
+            Points::Given(p) => std::borrow::Cow::Borrowed(p),
+            Points::GridNodes { .. } => {
+                let mut out = Vec::with_capacity(self.len);
+                for c in 0..self.chunk_bounds.len() {
+                    self.chunk_points(c, &mut out);
+                }
+                std::borrow::Cow::Owned(out)
+            }
+        }
+    }
+
+    /// Appends the points of chunk `c` to `out`.
+    fn chunk_points(&self, c: usize, out: &mut Vec<Point>) {
+        match &self.points {
+            Points::Given(p) => out.extend_from_slice(&p[c * CHUNK..((c + 1) * CHUNK).min(p.len())]),
+            Points::GridNodes { surface, chunk_start } => {
+                let g = surface.grid().expect("grid-node targets hold a grid surface");
+                let n = self.chunk_len(c);
+                let mut k = chunk_start[c];
+                let stop = out.len() + n;
+                while out.len() < stop {
+                    if g.vertex_of_node[k] != u32::MAX {
+                        out.push(g.node_point(k));
+                    }
+                    k += 1;
+                }
+            }
+        }
     }
 
     /// The weight of each target.
@@ -77,12 +165,20 @@ impl Targets {
 
     /// Number of targets.
     pub fn len(&self) -> usize {
-        self.points.len()
+        self.len
     }
 
     /// Always false: a target set is never empty.
     pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
+        self.len == 0
+    }
+
+    fn chunk_len(&self, c: usize) -> usize {
+        CHUNK.min(self.len - c * CHUNK)
+    }
+
+    fn n_chunks(&self) -> usize {
+        self.chunk_bounds.len()
     }
 }
 
@@ -122,19 +218,69 @@ pub struct UavCounts {
     pub total_weight: f64,
 }
 
+/// Which geometry answers the line-of-sight tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Path {
+    /// The grid path for a surface built from a grid, the mesh path otherwise.
+    Auto,
+    /// The triangle mesh and parry's BVH (built on demand for a grid surface).
+    Mesh,
+    /// The height field of a grid surface.
+    Grid,
+}
+
+impl std::str::FromStr for Path {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "auto" => Ok(Path::Auto),
+            "mesh" => Ok(Path::Mesh),
+            "grid" => Ok(Path::Grid),
+            _ => Err(Error::InvalidInput(format!("method must be 'auto', 'mesh' or 'grid', got {s:?}"))),
+        }
+    }
+}
+
 /// The coverage objective for one surface, one target set and one sensing range.
 pub struct Visibility {
     surface: Arc<Surface>,
     targets: Targets,
     d_max: f64,
+    grid_path: bool,
 }
 
 impl Visibility {
+    /// The objective on the automatically chosen path ([`Path::Auto`]).
+    ///
     /// # Errors
-    /// When `d_max` is not finite and positive.
+    /// When `d_max` is not finite and positive, or grid-node targets belong to another surface.
     pub fn new(surface: Arc<Surface>, targets: Targets, d_max: f64) -> Result<Self> {
+        Self::with_path(surface, targets, d_max, Path::Auto)
+    }
+
+    /// The objective on a chosen path; every path gives the same answer.
+    ///
+    /// # Errors
+    /// As [`Visibility::new`]; [`Error::InvalidInput`] for [`Path::Grid`] on a surface that is not
+    /// a grid; [`Error::TooLarge`] for [`Path::Mesh`] on a grid too large for the mesh path.
+    pub fn with_path(surface: Arc<Surface>, targets: Targets, d_max: f64, path: Path) -> Result<Self> {
         ensure!(d_max.is_finite() && d_max > 0.0, "d_max must be finite and > 0, got {d_max}");
-        Ok(Self { surface, targets, d_max })
+        if let Points::GridNodes { surface: own, .. } = &targets.points {
+            ensure!(Arc::ptr_eq(own, &surface), "grid-node targets belong to another surface");
+        }
+        let grid_path = match path {
+            Path::Auto => surface.heightfield().is_some(),
+            Path::Grid => {
+                ensure!(surface.heightfield().is_some(), "the grid path needs a surface built from an elevation grid");
+                true
+            }
+            Path::Mesh => {
+                surface.triangle_mesh()?;
+                false
+            }
+        };
+        Ok(Self { surface, targets, d_max, grid_path })
     }
 
     /// The surface.
@@ -150,6 +296,15 @@ impl Visibility {
     /// The sensing range, m.
     pub fn d_max(&self) -> f64 {
         self.d_max
+    }
+
+    /// The path the line-of-sight tests take ([`Path::Grid`] or [`Path::Mesh`]).
+    pub fn path(&self) -> Path {
+        if self.grid_path {
+            Path::Grid
+        } else {
+            Path::Mesh
+        }
     }
 
     fn check_uavs(uavs: &[Point]) -> Result<()> {
@@ -169,22 +324,50 @@ impl Visibility {
         into.sort_by(|&u, &w| squared_distance(u, centre).total_cmp(&squared_distance(w, centre)));
     }
 
-    fn sees(&self, uav: Point, target: Point) -> bool {
-        squared_distance(uav, target) <= self.d_max * self.d_max && self.surface.line_of_sight(uav, target)
+    /// The engine the tests run on, resolved once per call.
+    fn engine(&self) -> Engine<'_> {
+        match (self.grid_path, self.surface.heightfield()) {
+            (true, Some(field)) => Engine::Grid(field),
+            _ => Engine::Mesh(self.surface.triangle_mesh().expect("checked when the objective was built")),
+        }
     }
 
     /// For each target, whether at least one UAV sees it.
     pub fn seen(&self, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
+        let engine = self.engine();
+        let d2 = self.d_max * self.d_max;
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
-            self.targets
-                .points
-                .par_chunks(CHUNK)
-                .enumerate()
-                .map_init(Vec::new, |near, (c, chunk)| {
-                    self.in_range_of(c, uavs, near);
-                    chunk.iter().map(|&q| near.iter().any(|&u| self.sees(u, q))).collect()
-                })
+            (0..self.targets.n_chunks())
+                .into_par_iter()
+                .map_init(
+                    || (Vec::new(), Vec::with_capacity(CHUNK)),
+                    |(near, points), c| {
+                        self.in_range_of(c, uavs, near);
+                        if near.is_empty() {
+                            return vec![false; self.targets.chunk_len(c)];
+                        }
+                        points.clear();
+                        self.targets.chunk_points(c, points);
+                        // Neighbouring targets are mostly seen by the same UAV: try the last
+                        // one that saw a target first (the answer does not depend on the order).
+                        let mut last = 0;
+                        points
+                            .iter()
+                            .map(|&q| {
+                                let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
+                                for k in order {
+                                    let u = near[k];
+                                    if squared_distance(u, q) <= d2 && engine.line_of_sight(u, q) {
+                                        last = k;
+                                        return true;
+                                    }
+                                }
+                                false
+                            })
+                            .collect()
+                    },
+                )
                 .collect()
         });
         Ok(chunks.concat())
@@ -208,22 +391,28 @@ impl Visibility {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
         let d2 = self.d_max * self.d_max;
+        let engine = self.engine();
         let partials: Vec<UavCounts> = threads::run(n_threads, || {
-            self.targets
-                .points
-                .par_chunks(CHUNK)
-                .enumerate()
+            (0..self.targets.n_chunks())
+                .into_par_iter()
                 .map_init(
-                    || Vec::with_capacity(n),
-                    |seers, (c, chunk)| {
+                    || (Vec::with_capacity(n), Vec::with_capacity(CHUNK)),
+                    |(seers, points), c| {
                         let mut out = UavCounts::zeros(n, 0.0);
                         let b = self.targets.chunk_bounds[c];
                         let near: Vec<usize> =
                             (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
-                        for (k, &q) in chunk.iter().enumerate() {
+                        if near.is_empty() {
+                            return out;
+                        }
+                        points.clear();
+                        self.targets.chunk_points(c, points);
+                        for (k, &q) in points.iter().enumerate() {
                             let w = self.targets.weights[c * CHUNK + k];
                             seers.clear();
-                            seers.extend(near.iter().copied().filter(|&i| self.sees(uavs[i], q)));
+                            seers.extend(near.iter().copied().filter(|&i| {
+                                squared_distance(uavs[i], q) <= d2 && engine.line_of_sight(uavs[i], q)
+                            }));
                             for &i in seers.iter() {
                                 out.seen[i] += 1;
                                 out.seen_weight[i] += w;
@@ -248,6 +437,23 @@ impl Visibility {
             }
         }
         Ok(total)
+    }
+}
+
+/// The geometry one evaluation runs on.
+#[derive(Clone, Copy)]
+enum Engine<'a> {
+    Mesh(&'a TriangleMesh),
+    Grid(&'a HeightField),
+}
+
+impl Engine<'_> {
+    #[inline]
+    fn line_of_sight(self, uav: Point, target: Point) -> bool {
+        match self {
+            Engine::Mesh(mesh) => mesh.line_of_sight(uav, target),
+            Engine::Grid(field) => field.line_of_sight(uav, target),
+        }
     }
 }
 
@@ -313,6 +519,73 @@ mod tests {
         assert_eq!(vis.coverage(&uavs, 1).unwrap(), vis.coverage(&uavs, 3).unwrap());
         assert_eq!(vis.per_uav(&uavs, 1).unwrap(), vis.per_uav(&uavs, 2).unwrap());
         assert!(one.iter().any(|&v| v) && one.iter().any(|&v| !v));
+    }
+
+    /// Rugged hills with a few nodata holes and terraces, on a grid with an odd origin.
+    fn rugged(n: usize) -> Arc<Surface> {
+        let z: Vec<f64> = (0..n * n)
+            .map(|k| {
+                let (i, j) = ((k / n) as f64, (k % n) as f64);
+                if (k * 7919) % 97 == 3 {
+                    return f64::NAN;
+                }
+                let h = 6.0 * (0.7 * i).sin() * (0.5 * j).cos() + 3.0 * (1.3 * j + 0.2 * i).sin();
+                if i > 30.0 { (h / 2.0).round() * 2.0 } else { h }
+            })
+            .collect();
+        Arc::new(Surface::from_grid(z, n, n, 0.5, 0.5, 101.25, -7.5).unwrap())
+    }
+
+    #[test]
+    fn grid_and_mesh_paths_give_identical_answers() {
+        let s = rugged(50);
+        let targets = Targets::of_surface(&s, 1.0).unwrap();
+        let grid = Visibility::with_path(s.clone(), targets.clone(), 9.0, Path::Auto).unwrap();
+        let mesh = Visibility::with_path(s.clone(), targets, 9.0, Path::Mesh).unwrap();
+        assert_eq!((grid.path(), mesh.path()), (Path::Grid, Path::Mesh));
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 9.0).unwrap();
+        assert!(nodes.targets().is_grid_nodes());
+        assert_eq!(nodes.targets().points().as_ref(), grid.targets().points().as_ref());
+        assert_eq!(nodes.targets().weights(), grid.targets().weights());
+        let uavs: Vec<Point> = (0..6).map(|k| [103.0 + 4.0 * k as f64, -5.0 + 3.5 * k as f64, 4.0 + k as f64]).collect();
+        for n in 1..=uavs.len() {
+            let u = &uavs[..n];
+            let seen = mesh.seen(u, 1).unwrap();
+            assert_eq!(grid.seen(u, 2).unwrap(), seen);
+            assert_eq!(nodes.seen(u, 2).unwrap(), seen);
+            assert_eq!(grid.coverage(u, 1).unwrap(), mesh.coverage(u, 2).unwrap());
+            assert_eq!(nodes.coverage(u, 1).unwrap(), mesh.coverage(u, 1).unwrap());
+            assert_eq!(grid.per_uav(u, 2).unwrap(), mesh.per_uav(u, 1).unwrap());
+            assert_eq!(nodes.per_uav(u, 1).unwrap(), mesh.per_uav(u, 2).unwrap());
+            let count = seen.iter().filter(|&&v| v).count();
+            assert!(count > 0 && count < seen.len());
+        }
+    }
+
+    #[test]
+    fn paths_are_checked() {
+        let s = flat(5);
+        let t = || Targets::of_surface(&s, 1.0).unwrap();
+        assert_eq!("grid".parse::<Path>().unwrap(), Path::Grid);
+        assert!("bvh".parse::<Path>().is_err());
+        let mesh = Arc::new(Surface::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]).unwrap());
+        assert!(Visibility::with_path(mesh.clone(), t(), 5.0, Path::Grid).is_err());
+        assert!(Targets::grid_nodes(mesh.clone()).is_err());
+        assert_eq!(Visibility::new(mesh, t(), 5.0).unwrap().path(), Path::Mesh);
+        // Grid-node targets of one surface cannot be used on another.
+        assert!(Visibility::new(flat(5), Targets::grid_nodes(s.clone()).unwrap(), 5.0).is_err());
+    }
+
+    #[test]
+    fn the_mesh_path_refuses_a_grid_too_large_for_it() {
+        // 2300 x 2300 nodes: 10.6 million triangles, over MAX_TRIANGLES; the grid path is fine.
+        let n = 2300;
+        let s = Arc::new(Surface::from_grid(vec![0.0; n * n], n, n, 1.0, 1.0, 0.0, 0.0).unwrap());
+        let targets = Targets::new(vec![[10.0, 10.0, 0.0]], None).unwrap();
+        let err = Visibility::with_path(s.clone(), targets.clone(), 5.0, Path::Mesh).err().unwrap();
+        assert!(matches!(err, crate::error::Error::TooLarge(_)), "{err:?}");
+        let vis = Visibility::new(s, targets, 5.0).unwrap();
+        assert_eq!(vis.seen(&[[10.0, 12.0, 3.0]], 1).unwrap(), vec![true]);
     }
 
     #[test]
