@@ -1,56 +1,359 @@
-"""The ``uavcov`` command line: parses arguments, then calls one library function."""
+"""The ``uavcov`` command line (also ``python -m uavcov``): parses arguments, calls the library.
+
+Commands
+--------
+``uavcov demo``
+    The paper's illustrative example end to end (9 UAVs, d_max = 35 m, 30 prior samples, CVT
+    start, then CAO): prints a summary, writes runs.csv, the run and its figures to ``--out``.
+``uavcov reproduce table1|pyramid|example|comparison|buildings``
+    One of the paper's experiments; writes runs.csv, the runs, config.json and ``<name>.md``.
+``uavcov sweep CONFIG.toml``
+    Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
+``uavcov plot DIR``
+    Redraws every figure from the runs stored in DIR (needs ``uavcov[plot]``).
+
+Exit codes: 0 done; 1 done, but some runs failed (their errors are in runs.csv); 2 bad input
+(nothing already in ``--out`` was changed); 130 interrupted (every finished run is in runs.csv;
+rerun with ``--resume``).
+"""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import dataclasses
 import sys
 import time
-from typing import Sequence
-
-import numpy as np
+from pathlib import Path
+from typing import Any, Iterator, Sequence
 
 __all__ = ["main"]
 
+EXIT_OK = 0
+EXIT_RUNS_FAILED = 1
+EXIT_BAD_INPUT = 2
+EXIT_INTERRUPTED = 130
+
+
+def _say(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def _int_list(text: str) -> tuple[int, ...]:
+    try:
+        values = tuple(int(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected integers separated by commas, got {text!r}") from None
+    if not values:
+        raise argparse.ArgumentTypeError("expected at least one integer")
+    return values
+
+
+def _str_list(text: str) -> tuple[str, ...]:
+    values = tuple(v.strip() for v in text.split(",") if v.strip())
+    if not values:
+        raise argparse.ArgumentTypeError("expected at least one name")
+    return values
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {value}")
+    return value
+
+
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text}")
+    return value
+
+
+# ---------------------------------------------------------------------------------------------
+# Execution options shared by reproduce and sweep
+
+
+def _add_execution(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("execution")
+    group.add_argument("--workers", type=_positive_int, help="runs at once on a local process pool (default: every core)")
+    group.add_argument("--threads", type=_positive_int, help="Rust threads per run (default: cores // workers)")
+    where = group.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster of this scheduler (uavcov[distributed])")
+    where.add_argument("--dask-workers", type=_positive_int, metavar="N", help="run on a local Dask cluster of N worker processes")
+    group.add_argument("--scheduler-timeout", type=_positive_float, default=10.0, metavar="SECONDS", help="give up on an unreachable scheduler after this long (default 10)")
+    group.add_argument("--resume", action="store_true", help="continue the sweep in --out: skip finished runs")
+    group.add_argument("--retry-failed", action="store_true", help="with --resume: run again the runs that failed")
+    group.add_argument("--no-save-runs", action="store_true", help="write only runs.csv, not one .npz per run")
+    bar = group.add_mutually_exclusive_group()
+    bar.add_argument("--progress", dest="progress", action="store_true", default=None, help="always show the progress bar")
+    bar.add_argument("--no-progress", dest="progress", action="store_false", help="never show the progress bar")
+
+
+@contextlib.contextmanager
+def _execution(args: argparse.Namespace) -> Iterator[dict[str, Any]]:
+    """Keyword arguments for run_specs (executor, workers, threads, ...) and what to record."""
+    from .experiments import available_cores, dask_executor, plan_execution
+
+    options: dict[str, Any] = {
+        "resume": bool(args.resume or args.retry_failed),
+        "rerun": "failed" if args.retry_failed else "none",
+        "save_runs": not args.no_save_runs,
+        "progress": args.progress,
+    }
+    cores = available_cores()
+    if args.scheduler is None and args.dask_workers is None:
+        plan = plan_execution(args.workers, args.threads)
+        options.update(workers=plan.workers, n_threads=plan.n_threads)
+        record = {"executor": "process pool (spawn)" if plan.workers > 1 else "this process", "workers": plan.workers, "threads_per_run": plan.n_threads, "cores": cores}
+        yield {**options, "execution": record}
+        return
+    if args.workers is not None:
+        from .errors import ConfigError
+
+        raise ConfigError("--workers is for the local process pool; with Dask the cluster decides (use --dask-workers)")
+    if args.dask_workers is not None:
+        plan = plan_execution(args.dask_workers, args.threads)
+        threads = plan.n_threads
+    else:
+        threads = args.threads or 1  # a remote worker's cores are unknown here: one thread per run
+    with dask_executor(args.scheduler, args.dask_workers, timeout=args.scheduler_timeout) as (executor, slots):
+        record = {
+            "executor": f"dask ({args.scheduler or 'local cluster'})",
+            "workers": slots,
+            "threads_per_run": threads,
+            "cores": cores,
+        }
+        yield {**options, "executor": executor, "workers": slots, "n_threads": threads, "execution": record}
+
+
+def _finish(rows: list[dict[str, Any]], out: Path, started: float, wrote: Sequence[str]) -> int:
+    failed = [r for r in rows if r.get("error")]
+    seconds = time.perf_counter() - started
+    _say(f"{len(rows)} run(s) in {seconds:.1f} s; results in {out}/: " + ", ".join(wrote))
+    if failed:
+        _say(f"{len(failed)} run(s) failed; their errors are in the error column of {out / 'runs.csv'}, e.g.")
+        _say(f"  {failed[0]['run_id']}: {failed[0]['error']}")
+        return EXIT_RUNS_FAILED
+    return EXIT_OK
+
+
+# ---------------------------------------------------------------------------------------------
+# Commands
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from .experiments import reproduce
+
+    out = Path(args.out or f"out/{args.experiment}")
+    started = time.perf_counter()
+    with _execution(args) as options:
+        execution = options.pop("execution")
+        rows = reproduce(
+            args.experiment,
+            out,
+            seeds=args.seeds,
+            team_sizes=args.team_sizes,
+            starts=args.starts,
+            iterations=args.iterations,
+            execution=execution,
+            **options,
+        )
+    table = out / f"{args.experiment}.md"
+    if table.exists():
+        print(table.read_text(encoding="utf-8"))
+    return _finish(rows, out, started, ["runs.csv", "config.json", table.name] + ([] if args.no_save_runs else ["runs/"]))
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from .sweep_config import load_sweep_config, run_sweep
+
+    config = load_sweep_config(args.config)
+    out = Path(args.out or f"out/{Path(args.config).stem}")
+    started = time.perf_counter()
+    with _execution(args) as options:
+        execution = options.pop("execution")
+        rows = run_sweep(config, out, source_text=Path(args.config).read_text(encoding="utf-8"), execution=execution, **options)
+    print((out / "summary.md").read_text(encoding="utf-8"))
+    return _finish(rows, out, started, ["runs.csv", "config.json", "sweep.toml", "summary.md"] + ([] if args.no_save_runs else ["runs/"]))
+
+
+def _plot_directory(out: Path) -> list[Path] | None:
+    """Draw every figure of ``out`` when plotting is available; None when it is not."""
+    try:
+        from .plotting import plot_directory
+    except ImportError as exc:
+        _say(f"(no figures: plotting needs matplotlib, pip install 'uavcov[plot]': {exc})")
+        return None
+    return list(plot_directory(out) or [])
+
 
 def _demo(args: argparse.Namespace) -> int:
-    from .terrains import gaussian_hills
-    from .visibility import Visibility
+    from . import paper
+    from .errors import ConfigError
+    from .experiments import (
+        available_cores,
+        example_markdown,
+        experiment_specs,
+        prepare_out_dir,
+        read_runs,
+        run_specs,
+        write_config,
+    )
 
-    t0 = time.perf_counter()
-    terrain = gaussian_hills(spacing=args.spacing, rng=args.seed)
-    built = time.perf_counter() - t0
-    rng = np.random.default_rng(args.seed)
-    xy = rng.uniform(0.0, 100.0, (args.uavs, 2))
-    uavs = np.c_[xy, terrain.ground_height(xy) + rng.uniform(5.0, 30.0, args.uavs)]
-    vis = Visibility(terrain, d_max=args.d_max)
-    vis.coverage(uavs)  # warm the thread pool
-    times = []
-    for _ in range(20):
-        t0 = time.perf_counter()
-        value = vis.coverage(uavs)
-        times.append(time.perf_counter() - t0)
-    print(f"terrain: {terrain!r} (built in {1e3 * built:.0f} ms)")
-    print(f"{args.uavs} UAVs at random 5-30 m above ground, d_max = {args.d_max} m, {len(vis.targets)} targets")
-    print(f"coverage: {value:.4f}   one evaluation: median {1e3 * float(np.median(times)):.2f} ms over 20")
-    return 0
+    out = Path(args.out)
+    threads = args.threads or available_cores()
+    experiment = paper.EXAMPLE.with_changes(iterations=args.iterations)
+    specs = experiment_specs(experiment, seeds=[args.seed])
+    out_path = prepare_out_dir(out)
+    runs_csv = out_path / "runs.csv"
+    if runs_csv.exists():
+        others = [r["run_id"] for r in read_runs(runs_csv) if r["run_id"] not in {s.run_id for s in specs}]
+        if others:
+            raise ConfigError(f"{runs_csv} holds other results ({others[0]}, ...); choose another --out for the demo")
+    terrain = experiment.terrain
+    print("uavcov demo: the paper's illustrative example (Fig. 5)")
+    print(
+        f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {terrain.n_hills} Gaussian hills (seed {args.seed}), "
+        f"coverage on a {terrain.spacing:g} m grid"
+    )
+    print(f"  prior    {experiment.n_prior} random samples + the 4 corners -> approximating surface S'")
+    print(
+        f"  team     {specs[0].n_uavs} UAVs, d_max = {experiment.d_max:g} m, CVT start on S', "
+        f"then {experiment.iterations} CAO iterations on the real terrain ({threads} thread(s))",
+        flush=True,
+    )
+    write_config(
+        out_path,
+        {
+            "command": "demo",
+            "settings": {"example": {k: v for k, v in dataclasses.asdict(experiment).items() if k != "seeds"}},
+            "runs": {"seeds": [args.seed]},
+            "execution": {"executor": "this process", "threads_per_run": threads},
+        },
+        resume=False,
+    )
+    started = time.perf_counter()
+    rows = run_specs(specs, out=out_path, workers=1, n_threads=threads, resume=True, rerun="all", progress=False)
+    (out_path / "example.md").write_text(example_markdown(rows), encoding="utf-8")
+    row = rows[0]
+    if row["error"]:
+        _say(f"the demo run failed: {row['error']}")
+        return EXIT_RUNS_FAILED
+    print()
+    print("  | coverage of the real terrain | share |")
+    print("  |---|---|")
+    print(f"  | at the start (CVT on S', lifted to flying height) | {row['initial_coverage']:.3f} |")
+    print(f"  | best reached by CAO (the paper: close to 1) | {row['max_coverage']:.3f} |")
+    print(f"  | after the last iteration | {row['final_coverage']:.3f} |")
+    print(
+        f"\n  95 % of the best reached at iteration {row['iterations_to_95']}; best at iteration {row['best_iteration']}"
+    )
+    print(
+        f"  time: {row['wall_time_s']:.1f} s for the mission ({row['time_measure_s']:.1f} s in coverage measurements, "
+        f"{row['time_optimizer_s']:.1f} s in the optimiser)"
+    )
+    wrote = ["runs.csv", f"runs/{row['run_id']}.npz", "example.md", "config.json"]
+    if not args.no_plots:
+        figures = _plot_directory(out_path)
+        if figures:
+            wrote += [str(Path(f).relative_to(out_path)) if Path(f).is_relative_to(out_path) else str(f) for f in figures]
+    print(f"\n  wrote to {out_path}/: " + ", ".join(wrote))
+    print(f"  total {time.perf_counter() - started:.1f} s")
+    return EXIT_OK
+
+
+def _plot(args: argparse.Namespace) -> int:
+    from .errors import ConfigError
+
+    directory = Path(args.directory)
+    if not directory.is_dir():
+        raise ConfigError(f"{directory} is not a directory of results")
+    try:
+        from .plotting import plot_directory
+    except ImportError as exc:
+        raise ConfigError(f"plotting is not available: pip install 'uavcov[plot]' (needs matplotlib; {exc})") from exc
+    figures = list(plot_directory(directory) or [])
+    for figure in figures:
+        print(figure)
+    _say(f"{len(figures)} figure(s) written from {directory}")
+    return EXIT_OK
+
+
+# ---------------------------------------------------------------------------------------------
+# Parser
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="uavcov", description="Multi-UAV visual coverage of 3D surfaces.")
-    commands = parser.add_subparsers(dest="command", required=True)
-    demo = commands.add_parser("demo", help="the main example: a terrain, a team, its coverage")
-    demo.add_argument("--spacing", type=float, default=0.5, help="terrain grid spacing, m (default 0.5)")
-    demo.add_argument("--uavs", type=int, default=12, help="team size (default 12)")
-    demo.add_argument("--d-max", type=float, default=25.0, help="sensing range, m (default 25)")
-    demo.add_argument("--seed", type=int, default=0, help="terrain and team seed (default 0)")
+    parser = argparse.ArgumentParser(
+        prog="uavcov",
+        description="Multi-UAV visual coverage of partially known 3D surfaces (Renzaglia et al.): "
+        "the paper's experiments, sweeps and figures.",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    demo = commands.add_parser("demo", help="the paper's illustrative example end to end, in seconds")
+    demo.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
+    demo.add_argument("--iterations", type=_non_negative_int, default=150, help="CAO iterations (default 150)")
+    demo.add_argument("--seed", type=_non_negative_int, default=0, help="the scenario: terrain, prior, start, optimiser (default 0)")
+    demo.add_argument("--threads", type=_positive_int, help="Rust threads (default: every core)")
+    demo.add_argument("--no-plots", action="store_true", help="skip the figures")
     demo.set_defaults(run=_demo)
+
+    reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
+    reproduce.add_argument("experiment", choices=("table1", "pyramid", "example", "comparison", "buildings"))
+    reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT)")
+    reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
+    reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")
+    reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")
+    reproduce.add_argument("--iterations", type=_non_negative_int, help="CAO iterations instead of the experiment's")
+    _add_execution(reproduce)
+    reproduce.set_defaults(run=_reproduce)
+
+    sweep = commands.add_parser("sweep", help="a grid of settings from a TOML file (see examples/sweep.toml)")
+    sweep.add_argument("config", metavar="CONFIG.toml")
+    sweep.add_argument("--out", help="output directory (default out/<config name>)")
+    _add_execution(sweep)
+    sweep.set_defaults(run=_sweep)
+
+    plot = commands.add_parser("plot", help="redraw every figure from the runs stored in a directory")
+    plot.add_argument("directory", metavar="DIR")
+    plot.add_argument("--out", help=argparse.SUPPRESS)  # figures go beside the results
+    plot.set_defaults(run=_plot)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line; returns the exit code (see the module docstring)."""
+    from .errors import UavcovError
+
     args = _parser().parse_args(argv)
-    return int(args.run(args))
+    try:
+        return int(args.run(args))
+    except UavcovError as exc:
+        _say(f"uavcov {args.command}: error: {exc}")
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        out = getattr(args, "out", None)
+        where = f" in {out}/runs.csv" if out else ""
+        _say(f"\ninterrupted: every finished run is saved{where}; rerun with --resume to continue")
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -1,0 +1,485 @@
+"""Sweep configuration files (TOML): parsing, validation, and the runs they describe.
+
+A sweep starts from one of the paper's experiments (``base``, Table 1 by default), changes any of
+its settings, and runs every combination of the lists under ``[sweep]`` for every seed, team size
+and start. See ``examples/sweep.toml``::
+
+    name = "alpha-sweep"          # the experiment column of runs.csv, and part of every run id
+    base = "table1"               # table1, pyramid, example, comparison or buildings
+    seeds = "1000-1009"           # or a list of ints
+    team_sizes = [5, 12]
+    starts = ["cvt", "random"]    # cvt, random, corner, pairs
+    d_max = 25.0
+    prior = "random"              # random, pyramid, or map (buildings terrain only)
+    n_prior = 30
+    iterations = 200
+
+    [terrain]                     # kind = "hills" or "buildings", then that kind's fields
+    spacing = 1.0
+
+    [flight]                      # start_altitude, h_min, z_max, d_safe, corner, corner_spacing
+    [cao]                         # any field of uavcov.cao.CAOSettings
+    [cvt]                         # preset, samples_per_iteration, tol, window, max_iterations
+
+    [sweep]                       # every combination of these lists
+    "cao.alpha0" = [1.0, 1.5]
+    d_max = [20.0, 25.0]
+
+A setting whose default is "none" (for example ``cao.n_regressors``) takes the string
+``"none"`` for that default. Every error is a :class:`~uavcov.errors.ConfigError` naming the file
+and the key; an unknown key comes with the closest valid one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import itertools
+import math
+import os
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from . import paper
+from .cao import CAOSettings
+from .cvt import PRESETS
+from .errors import ConfigError, InvalidInputError, InvalidTypeError
+from .experiments import (
+    RunSpec,
+    _atomic_write,
+    _check_resume_target,
+    _finished,
+    _format,
+    _version,
+    experiment_specs,
+    paper_experiments,
+    parse_seeds,
+    prepare_out_dir,
+    run_specs,
+    settings_hash,
+    summarise,
+    write_config,
+)
+from .paper import BuildingsTerrain, CVTSettings, Flight, HillsTerrain, PaperExperiment
+
+__all__ = ["SweepConfig", "load_sweep_config", "parse_sweep_config", "run_sweep", "sweep_markdown", "STARTS", "PRIORS"]
+
+STARTS: tuple[str, ...] = ("cvt", "random", "corner", "pairs")
+"""Starts a sweep may compare ("pairs": half the team on each of two opposite sides)."""
+
+PRIORS: tuple[str, ...] = ("random", "pyramid", "map")
+"""Priors: random samples plus the corners, the pyramid (corners and centre), a buildings map."""
+
+_TOP_SCALARS = ("d_max", "prior", "n_prior", "iterations")
+_TOP_KEYS = ("name", "base", "description", "seeds", "team_sizes", "starts") + _TOP_SCALARS + (
+    "terrain",
+    "flight",
+    "cao",
+    "cvt",
+    "sweep",
+)
+_GROUPS: Mapping[str, type] = {"flight": Flight, "cao": CAOSettings, "cvt": CVTSettings}
+_TERRAINS: Mapping[str, type] = {"hills": HillsTerrain, "buildings": BuildingsTerrain}
+_MAX_ITERATIONS = 1_000_000
+_MAX_RUNS = 10_000_000
+
+
+def _suggest(key: str, valid: Sequence[str]) -> str:
+    close = difflib.get_close_matches(key, list(valid), n=1, cutoff=0.5)
+    return f"; did you mean {close[0]!r}?" if close else f"; valid keys: {', '.join(sorted(valid))}"
+
+
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(cls))
+
+
+def _defaults(cls: type) -> dict[str, Any]:
+    instance = cls()
+    return {name: getattr(instance, name) for name in _field_names(cls)}
+
+
+class _Source:
+    """Where a key came from, for error messages."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def error(self, key: str, message: str) -> ConfigError:
+        return ConfigError(f"{self.name}: {key}: {message}")
+
+
+def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:
+    """``value`` converted to the type of the field's ``default`` (TOML gives ints, floats, lists)."""
+    if isinstance(value, str) and value.lower() == "none" and default is None:
+        return None
+    if isinstance(value, dict):
+        raise source.error(key, "expected a value, got a table")
+    if isinstance(default, bool):
+        if not isinstance(value, bool):
+            raise source.error(key, f"expected true or false, got {value!r}")
+        return value
+    if isinstance(default, int) or (default is None and key.split(".")[-1] in _INT_OR_NONE):
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise source.error(key, f"expected an integer, got {value!r}")
+        return value
+    if isinstance(default, float):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise source.error(key, f"expected a number, got {value!r}")
+        if not math.isfinite(value):
+            raise source.error(key, f"expected a finite number, got {value!r}")
+        return float(value)
+    if isinstance(default, tuple):
+        if not isinstance(value, list) or len(value) != len(default):
+            raise source.error(key, f"expected a list of {len(default)} numbers, got {value!r}")
+        return tuple(_coerce(v, d, key, source) for v, d in zip(value, default))
+    if isinstance(default, str):
+        if not isinstance(value, str):
+            raise source.error(key, f"expected a string, got {value!r}")
+        return value
+    return value
+
+
+# Fields whose default is None but which take an integer otherwise.
+_INT_OR_NONE = frozenset({"n_regressors", "robot_regressors", "check_batch", "samples_per_iteration"})
+
+
+def _check_range(experiment: PaperExperiment, source: _Source) -> None:
+    """Ranges the settings objects do not check themselves."""
+    if not (math.isfinite(experiment.d_max) and experiment.d_max > 0):
+        raise source.error("d_max", f"must be > 0 metres, got {experiment.d_max}")
+    if experiment.n_prior < 0:
+        raise source.error("n_prior", f"must be >= 0, got {experiment.n_prior}")
+    if not 0 <= experiment.iterations <= _MAX_ITERATIONS:
+        raise source.error("iterations", f"must be in [0, {_MAX_ITERATIONS}], got {experiment.iterations}")
+    if experiment.prior not in PRIORS:
+        raise source.error("prior", f"must be one of {', '.join(PRIORS)}, got {experiment.prior!r}{_suggest(experiment.prior, PRIORS)}")
+    if experiment.prior == "map" and not isinstance(experiment.terrain, BuildingsTerrain):
+        raise source.error("prior", "'map' needs a buildings terrain (terrain.kind = \"buildings\")")
+    terrain = experiment.terrain
+    if isinstance(terrain, HillsTerrain):
+        cells = terrain.size / terrain.spacing
+        if abs(cells - round(cells)) > 1e-9 * max(1.0, cells):
+            raise source.error("terrain.spacing", f"{terrain.size} m must be a whole number of {terrain.spacing} m cells")
+        if cells > 4000:
+            raise source.error("terrain.spacing", f"{cells:.0f} x {cells:.0f} cells is beyond what a sweep can afford")
+    else:
+        for name in ("size", "spacing", "map_spacing"):
+            if not getattr(terrain, name) > 0:
+                raise source.error(f"terrain.{name}", f"must be > 0, got {getattr(terrain, name)}")
+        if terrain.n_buildings < 0:
+            raise source.error("terrain.n_buildings", f"must be >= 0, got {terrain.n_buildings}")
+        for name in ("gap", "position_error", "size_error", "height_error"):
+            if getattr(terrain, name) < 0:
+                raise source.error(f"terrain.{name}", f"must be >= 0, got {getattr(terrain, name)}")
+        for name in ("footprint", "heights"):
+            low, high = getattr(terrain, name)
+            if not 0 < low <= high:
+                raise source.error(f"terrain.{name}", f"must be (low, high) with 0 < low <= high, got {(low, high)}")
+    cvt = experiment.cvt
+    if cvt.preset not in PRESETS:
+        raise source.error("cvt.preset", f"must be one of {', '.join(PRESETS)}, got {cvt.preset!r}{_suggest(cvt.preset, tuple(PRESETS))}")
+    if cvt.samples_per_iteration is not None and cvt.samples_per_iteration < 1:
+        raise source.error("cvt.samples_per_iteration", f"must be >= 1, got {cvt.samples_per_iteration}")
+    if cvt.tol < 0:
+        raise source.error("cvt.tol", f"must be >= 0, got {cvt.tol}")
+    for name in ("window", "max_iterations"):
+        if getattr(cvt, name) < 1:
+            raise source.error(f"cvt.{name}", f"must be >= 1, got {getattr(cvt, name)}")
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    """A parsed, validated sweep.
+
+    Attributes
+    ----------
+    name : str
+        Label of every run (the ``experiment`` column).
+    base : str
+        The paper experiment the settings start from.
+    variants : tuple of (PaperExperiment, tuple of (key, value))
+        One experiment per combination of the ``[sweep]`` lists, with the swept values.
+    seeds, team_sizes, starts : tuple
+    axes : tuple of str
+        The swept keys, in file order.
+    description : str
+    """
+
+    name: str
+    base: str
+    variants: tuple[tuple[PaperExperiment, tuple[tuple[str, Any], ...]], ...]
+    seeds: tuple[int, ...]
+    team_sizes: tuple[int, ...]
+    starts: tuple[str, ...]
+    axes: tuple[str, ...] = ()
+    description: str = ""
+
+    def specs(self) -> list[RunSpec]:
+        """Every run: variants x seeds x team sizes x starts."""
+        specs: list[RunSpec] = []
+        for experiment, extra in self.variants:
+            specs.extend(
+                experiment_specs(
+                    experiment, seeds=self.seeds, team_sizes=self.team_sizes, starts=self.starts, label=self.name, extra=extra
+                )
+            )
+        return specs
+
+    def resolved(self) -> dict[str, Any]:
+        """The resolved configuration (every setting of every variant), ready for JSON."""
+        variants = {}
+        for experiment, extra in self.variants:
+            settings = dataclasses.asdict(experiment)
+            for key in ("name", "seeds", "team_sizes", "starts"):  # grid axes may grow under --resume
+                settings.pop(key, None)
+            settings["terrain_kind"] = "buildings" if isinstance(experiment.terrain, BuildingsTerrain) else "hills"
+            variants[settings_hash(experiment)] = {"swept": dict(extra), "settings": settings}
+        return {
+            "command": "sweep",
+            "name": self.name,
+            "base": self.base,
+            "description": self.description,
+            "axes": list(self.axes),
+            "settings": variants,
+            "runs": {
+                "seeds": list(self.seeds),
+                "team_sizes": list(self.team_sizes),
+                "starts": list(self.starts),
+                "count": len(self.variants) * len(self.seeds) * len(self.team_sizes) * len(self.starts),
+            },
+            "uavcov_version": _version(),
+        }
+
+
+def load_sweep_config(path: str | os.PathLike[str]) -> SweepConfig:
+    """Read and validate a TOML sweep file.
+
+    Raises
+    ------
+    ConfigError
+        The file is missing or unreadable, is not valid TOML (with the line), has an unknown key
+        (with the closest valid one), a value of the wrong type or out of range.
+    """
+    path = Path(path)
+    try:
+        text = path.read_bytes()
+    except OSError as exc:
+        raise ConfigError(f"cannot read the sweep file {path}: {exc.strerror or exc}") from exc
+    try:
+        data = tomllib.loads(text.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path} is not UTF-8 text: {exc}") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path} is not valid TOML: {exc}") from exc
+    return parse_sweep_config(data, source=str(path), default_name=path.stem)
+
+
+def _group_changes(group: str, table: Any, cls: type, source: _Source) -> dict[str, Any]:
+    if not isinstance(table, dict):
+        raise source.error(group, f"expected a table [{group}], got {table!r}")
+    defaults = _defaults(cls)
+    changes = {}
+    for key, value in table.items():
+        if key not in defaults:
+            raise source.error(f"{group}.{key}", f"unknown key{_suggest(key, tuple(defaults))}")
+        changes[f"{group}.{key}"] = _coerce(value, defaults[key], f"{group}.{key}", source)
+    return changes
+
+
+def _build(base: PaperExperiment, changes: Mapping[str, Any], source: _Source) -> PaperExperiment:
+    try:
+        experiment = base.with_changes(**changes)
+    except (InvalidInputError, InvalidTypeError, TypeError, ValueError) as exc:
+        keys = ", ".join(changes) or "the settings"
+        raise ConfigError(f"{source.name}: {keys}: {exc}") from exc
+    _check_range(experiment, source)
+    return experiment
+
+
+def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", default_name: str = "sweep") -> SweepConfig:
+    """Validate a sweep given as a mapping (the parsed TOML); see the module docstring."""
+    src = _Source(source)
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"{source}: a sweep is a table of settings, got {type(data).__name__}")
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise src.error(key, f"unknown key{_suggest(key, _TOP_KEYS)}")
+
+    name = data.get("name", default_name)
+    if not isinstance(name, str) or not name.strip():
+        raise src.error("name", f"expected a non-empty string, got {name!r}")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise src.error("description", f"expected a string, got {description!r}")
+    experiments = paper_experiments()
+    base_name = data.get("base", "table1")
+    if base_name not in experiments:
+        raise src.error("base", f"must be one of {', '.join(experiments)}, got {base_name!r}{_suggest(str(base_name), tuple(experiments))}")
+    base = experiments[base_name]
+
+    # The terrain kind decides which fields [terrain] takes; switching kind starts from its defaults.
+    terrain_table = data.get("terrain", {})
+    if not isinstance(terrain_table, dict):
+        raise src.error("terrain", f"expected a table [terrain], got {terrain_table!r}")
+    terrain_table = dict(terrain_table)
+    kind = terrain_table.pop("kind", "buildings" if isinstance(base.terrain, BuildingsTerrain) else "hills")
+    if kind not in _TERRAINS:
+        raise src.error("terrain.kind", f"must be 'hills' or 'buildings', got {kind!r}{_suggest(str(kind), tuple(_TERRAINS))}")
+    terrain_cls = _TERRAINS[kind]
+    if not isinstance(base.terrain, terrain_cls):
+        base = dataclasses.replace(base, terrain=terrain_cls())
+    changes = _group_changes("terrain", terrain_table, terrain_cls, src)
+    for group, cls in _GROUPS.items():
+        if group in data:
+            changes.update(_group_changes(group, data[group], cls, src))
+    top_defaults = {k: getattr(base, k) for k in _TOP_SCALARS}
+    for key in _TOP_SCALARS:
+        if key in data:
+            changes[key] = _coerce(data[key], top_defaults[key], key, src)
+
+    starts_default = tuple(s for s in base.starts if s in STARTS)
+    starts = _string_list(data.get("starts", list(starts_default)), "starts", STARTS, src)
+    team_sizes = _int_list(data.get("team_sizes", list(base.team_sizes)), "team_sizes", src)
+    try:
+        seeds = parse_seeds(data["seeds"] if "seeds" in data else base.seeds)
+    except ConfigError as exc:
+        raise src.error("seeds", str(exc)) from None
+    changes["starts"] = starts
+    changes["team_sizes"] = team_sizes
+    common = _build(base, changes, src)
+
+    sweep = data.get("sweep", {})
+    if not isinstance(sweep, dict):
+        raise src.error("sweep", f"expected a table [sweep], got {sweep!r}")
+    valid_axes = list(_TOP_SCALARS) + [f"terrain.{k}" for k in _field_names(terrain_cls)]
+    valid_axes += [f"{g}.{k}" for g, cls in _GROUPS.items() for k in _field_names(cls)]
+    axes: list[str] = []
+    values: list[list[Any]] = []
+    for key, options in sweep.items():
+        if key in ("seeds", "team_sizes", "starts"):
+            raise src.error(f"sweep.{key}", f"{key} is already a grid axis: set it at the top level")
+        if key not in valid_axes:
+            raise src.error(f"sweep.{key}", f"unknown setting{_suggest(key, valid_axes)}")
+        if not isinstance(options, list) or not options:
+            raise src.error(f"sweep.{key}", f"expected a non-empty list of values, got {options!r}")
+        group, _, field_name = key.rpartition(".")
+        if group == "terrain":
+            default = _defaults(terrain_cls)[field_name]
+        elif group:
+            default = _defaults(_GROUPS[group])[field_name]
+        else:
+            default = top_defaults[key]
+        coerced = [_coerce(v, default, f"sweep.{key}", src) for v in options]
+        if len(set(map(repr, coerced))) != len(coerced):
+            raise src.error(f"sweep.{key}", "a value is listed twice")
+        axes.append(key)
+        values.append(coerced)
+
+    variants = []
+    for combination in itertools.product(*values):
+        extra = tuple(zip(axes, combination))
+        variants.append((_build(common, dict(extra), src) if extra else common, extra))
+    total = len(variants) * len(seeds) * len(team_sizes) * len(starts)
+    if total > _MAX_RUNS:
+        raise ConfigError(f"{source}: the sweep has {total} runs, more than {_MAX_RUNS}; split it")
+    return SweepConfig(
+        name=name.strip(),
+        base=base_name,
+        variants=tuple(variants),
+        seeds=seeds,
+        team_sizes=team_sizes,
+        starts=starts,
+        axes=tuple(axes),
+        description=description,
+    )
+
+
+def _string_list(value: Any, key: str, allowed: Sequence[str], source: _Source) -> tuple[str, ...]:
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, list) or not value:
+        raise source.error(key, f"expected a non-empty list, got {value!r}")
+    for item in value:
+        if not isinstance(item, str) or item not in allowed:
+            raise source.error(key, f"{item!r} is not one of {', '.join(allowed)}{_suggest(str(item), allowed)}")
+    if len(set(value)) != len(value):
+        raise source.error(key, "a value is listed twice")
+    return tuple(value)
+
+
+def _int_list(value: Any, key: str, source: _Source) -> tuple[int, ...]:
+    if isinstance(value, int) and not isinstance(value, bool):
+        value = [value]
+    if not isinstance(value, list) or not value:
+        raise source.error(key, f"expected a non-empty list of integers, got {value!r}")
+    for item in value:
+        if isinstance(item, bool) or not isinstance(item, int) or item < 1:
+            raise source.error(key, f"expected integers >= 1, got {item!r}")
+    if len(set(value)) != len(value):
+        raise source.error(key, "a value is listed twice")
+    return tuple(value)
+
+
+def _cell_text(value: Any) -> str:
+    return value if isinstance(value, str) else _format(value)
+
+
+def sweep_markdown(config: SweepConfig, rows: Sequence[Mapping[str, Any]]) -> str:
+    """Mean (sigma) of the coverage per swept value, team size and start."""
+    by = tuple(config.axes) + ("n_uavs", "init")
+    # Swept values read back from runs.csv are strings; compare them as written.
+    normalised = [{**r, **{a: _cell_text(r.get(a)) for a in config.axes}} for r in rows]
+    summary = summarise(normalised, by=by)
+    header = list(config.axes) + ["N", "start", "runs", "initial", "max", "final", "iterations to 95 %"]
+    lines = [
+        f"# Sweep {config.name}",
+        "",
+        config.description or f"Based on {config.base}; {len(config.seeds)} seed(s). Mean (sigma) over the seeds.",
+        "",
+        "| " + " | ".join(header) + " |",
+        "|" + "---|" * len(header),
+    ]
+    for key, entry in summary.items():
+        cells = [str(k) for k in key] + [str(entry["count"])]
+        for metric in ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"):
+            mean, sigma = entry[metric]
+            cells.append(f"{mean:.3f}" if math.isnan(sigma) else f"{mean:.3f} ({sigma:.3f})")
+        lines.append("| " + " | ".join(cells) + " |")
+    failed = [r for r in rows if r.get("error")]
+    if failed:
+        lines += ["", f"{len(failed)} run(s) failed (see the `error` column of runs.csv)."]
+    return "\n".join(lines) + "\n"
+
+
+def run_sweep(
+    config: SweepConfig,
+    out: str | os.PathLike[str],
+    *,
+    source_text: str | None = None,
+    execution: Mapping[str, Any] | None = None,
+    **run_options: Any,
+) -> list[dict[str, Any]]:
+    """Run a sweep into ``out``: ``runs.csv``, ``runs/``, ``config.json``, ``summary.md``.
+
+    ``source_text`` (the TOML as written) is kept as ``out/sweep.toml``. ``run_options`` go to
+    :func:`uavcov.experiments.run_specs` (``executor``, ``workers``, ``n_threads``, ``resume``,
+    ``rerun``, ``save_runs``, ``progress``).
+    """
+    specs = config.specs()
+    out_path = prepare_out_dir(out)
+    resume = bool(run_options.get("resume", False))
+    _check_resume_target(out_path, resume)
+    resolved = config.resolved()
+    resolved["execution"] = dict(execution or {})
+    write_config(out_path, resolved, resume=resume)
+    if source_text is not None:
+        _atomic_write(out_path / "sweep.toml", source_text)
+    rows = run_specs(specs, out=out_path, **run_options)
+    _atomic_write(out_path / "summary.md", sweep_markdown(config, rows))
+    return rows
+
+
+# Keep the finished-row filter importable from here for scripts that summarise sweeps.
+finished_rows = _finished
