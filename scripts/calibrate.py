@@ -1,0 +1,216 @@
+#!/usr/bin/env python
+"""Calibration driver: run a paper experiment with some settings changed, on development seeds.
+
+Examples
+--------
+The "initial" columns (CAO plays no part, so ``--iterations 0``) with taller, narrower hills::
+
+    python scripts/calibrate.py --iterations 0 --seeds 1000-1039 \\
+        --set terrain.heights="(10, 40)" --set terrain.sigma=8
+
+The "max" columns for N = 12 on 10 seeds with another CAO step::
+
+    python scripts/calibrate.py --sizes 12 --seeds 1000-1009 --set cao.alpha0=3.0
+
+Every run is appended to ``--csv`` (with the settings changed), and a summary of mean (sigma)
+per cell is printed beside the paper's Table 1. Seeds 0-39 are refused unless
+``--held-out`` is given: they are the published, held-out scenarios.
+
+Runs go to a ``ProcessPoolExecutor`` (spawn) of ``--workers`` processes, one coverage thread
+each.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import concurrent.futures as cf
+import csv
+import multiprocessing
+import os
+import sys
+import time
+from collections import defaultdict
+from typing import Any
+
+import numpy as np
+
+from uavcov import paper
+
+
+def _seeds(text: str) -> list[int]:
+    out: list[int] = []
+    for part in text.split(","):
+        if "-" in part:
+            a, b = part.split("-")
+            out.extend(range(int(a), int(b) + 1))
+        else:
+            out.append(int(part))
+    return out
+
+
+def _value(text: str) -> Any:
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        return text
+
+
+def run_one(experiment: paper.PaperExperiment, seed: int, n: int, start: str, iterations: int) -> dict[str, Any]:
+    """One mission; a plain dict of what the summary needs (runs in a worker process)."""
+    t0 = time.perf_counter()
+    try:
+        r = paper.run_paper_mission(experiment, seed=seed, n_uavs=n, start=start, iterations=iterations, n_threads=1)
+    except Exception as exc:  # recorded, so one bad run does not hide the others
+        return {"seed": seed, "n": n, "start": start, "error": f"{type(exc).__name__}: {exc}"}
+    x0 = r.initial_positions
+    clearance = x0[:, 2] - r.terrain.ground_height(x0[:, :2])
+    return {
+        "seed": seed,
+        "n": n,
+        "start": start,
+        "initial": r.initial_coverage,
+        "max": r.best_coverage,
+        "final": r.final_coverage,
+        "best_iteration": r.best_iteration,
+        "start_clearance": float(np.mean(clearance)),
+        "wall_time_s": time.perf_counter() - t0,
+        "measure_s": r.time_measure_s,
+        "error": "",
+    }
+
+
+def summarise(rows: list[dict[str, Any]], iterations: int) -> str:
+    cells: dict[tuple[int, str, str], list[float]] = defaultdict(list)
+    for row in rows:
+        cells[(row["n"], row["start"], "initial")].append(row["initial"])
+        if iterations > 0:
+            cells[(row["n"], row["start"], "max")].append(row["max"])
+    lines = ["| N | start | column | ours mean (sd) | paper mean (sd) | diff | sd ratio | runs |", "|---|---|---|---|---|---|---|---|"]
+    for key in sorted(cells):
+        values = np.array(cells[key])
+        mean, sd = float(values.mean()), float(values.std(ddof=1)) if values.size > 1 else float("nan")
+        pub = paper.PUBLISHED_TABLE1.get(key)
+        if pub is None and key[1] == "cvt":
+            pub = None
+        p = f"{pub.mean:.2f} ({pub.sigma:.2f})" if pub else "-"
+        d = f"{mean - pub.mean:+.3f}" if pub else "-"
+        ratio = f"{sd / pub.sigma:.2f}" if pub else "-"
+        lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {mean:.3f} ({sd:.3f}) | {p} | {d} | {ratio} | {values.size} |")
+    return "\n".join(lines)
+
+
+def _score(rows: list[dict[str, Any]], column: str) -> tuple[float, dict[tuple[int, str], float]]:
+    """Root-mean-square distance of the cell means of ``column`` to the paper's, and the means."""
+    cells: dict[tuple[int, str], list[float]] = defaultdict(list)
+    for row in rows:
+        if not row["error"]:
+            cells[(row["n"], row["start"])].append(row[column])
+    means = {key: float(np.mean(v)) for key, v in cells.items()}
+    errors = [means[key] - paper.PUBLISHED_TABLE1[(key[0], key[1], column)].mean for key in means
+              if (key[0], key[1], column) in paper.PUBLISHED_TABLE1]
+    return float(np.sqrt(np.mean(np.square(errors)))), means
+
+
+SEARCH_SPACE = {
+    "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(20.0, 60.0)), 1)),
+    "terrain.sigma": lambda g: round(float(g.uniform(5.0, 15.0)), 1),
+    "flight.start_altitude": lambda g: round(float(g.uniform(2.5, 15.0)), 1),
+}
+"""The random search of the initial columns (``--search``): what is drawn, and from where."""
+
+
+def search_initial(count: int, seeds: list[int], sizes: list[int], workers: int, csv_path: str | None, search_seed: int) -> None:
+    """Random search of terrain and altitude against the "initial" columns (no CAO iterations)."""
+    generator = np.random.default_rng(search_seed)
+    base = paper.TABLE1.with_changes(**{"flight.z_max": 200.0})
+    context = multiprocessing.get_context("spawn")
+    results = []
+    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        for index in range(count):
+            changes = {key: draw(generator) for key, draw in SEARCH_SPACE.items()}
+            experiment = base.with_changes(**changes)
+            futures = [pool.submit(run_one, experiment, seed, n, start, 0)
+                       for n in sizes for start in ("cvt", "random") for seed in seeds]
+            rows = [f.result() for f in futures]
+            score, means = _score(rows, "initial")
+            results.append((score, changes, means))
+            cells = " ".join(f"{n}{s[0]}={m:.3f}" for (n, s), m in sorted(means.items()))
+            print(f"[{index}] rms {score:.4f} {changes} {cells}", flush=True)
+            if csv_path:
+                with open(csv_path, "a") as handle:
+                    handle.write(f"{score:.5f};{changes!r};{cells}\n")
+    print("best:")
+    for score, changes, _ in sorted(results, key=lambda r: r[0])[:8]:
+        print(f"  rms {score:.4f} {changes}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--experiment", default="table1", choices=sorted(paper.EXPERIMENTS))
+    parser.add_argument("--seeds", default="1000-1019", help="e.g. 1000-1039 or 1000,1003 (default 1000-1019)")
+    parser.add_argument("--sizes", default=None, help="team sizes, e.g. 5,12 (default: the experiment's)")
+    parser.add_argument("--starts", default=None, help="e.g. cvt,random (default: the experiment's)")
+    parser.add_argument("--iterations", type=int, default=None, help="CAO iterations (default: the experiment's)")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="e.g. flight.h_min=3 cao.alpha0=2")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--csv", default=None, help="append every run here")
+    parser.add_argument("--tag", default="", help="label written in the csv")
+    parser.add_argument("--held-out", action="store_true", help="allow seeds 0-39 (the published run only)")
+    parser.add_argument("--search", type=int, default=0, metavar="K",
+                        help="random search of K terrain/altitude settings against the initial columns")
+    parser.add_argument("--search-seed", type=int, default=0)
+    args = parser.parse_args(argv)
+
+    experiment = paper.EXPERIMENTS[args.experiment]
+    changes = {}
+    for item in args.set:
+        key, _, text = item.partition("=")
+        changes[key.strip()] = _value(text.strip())
+    if changes:
+        experiment = experiment.with_changes(**changes)
+    seeds = _seeds(args.seeds)
+    if not args.held_out and any(s in paper.HELD_OUT_SEEDS for s in seeds):
+        parser.error("seeds 0-39 are the held-out scenarios: calibrate on development seeds (e.g. 1000-1039)")
+    sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(experiment.team_sizes)
+    starts = args.starts.split(",") if args.starts else list(experiment.starts)
+    iterations = experiment.iterations if args.iterations is None else args.iterations
+    if args.search:
+        search_initial(args.search, seeds, sizes, args.workers, args.csv, args.search_seed)
+        return 0
+    tasks = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
+
+    t0 = time.perf_counter()
+    rows: list[dict[str, Any]] = []
+    context = multiprocessing.get_context("spawn")
+    with cf.ProcessPoolExecutor(max_workers=args.workers, mp_context=context) as pool:
+        futures = [pool.submit(run_one, experiment, seed, n, start, iterations) for seed, n, start in tasks]
+        for future in cf.as_completed(futures):
+            rows.append(future.result())
+    elapsed = time.perf_counter() - t0
+    failed = [r for r in rows if r["error"]]
+    for row in failed[:5]:
+        print(f"FAILED seed {row['seed']} N {row['n']} {row['start']}: {row['error']}")
+    if failed:
+        print(f"{len(failed)} of {len(rows)} runs failed; they are left out of the summary")
+    rows = [r for r in rows if not r["error"]]
+    if not rows:
+        return 1
+
+    if args.csv:
+        new = not os.path.exists(args.csv)
+        with open(args.csv, "a", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=["tag", "changes", "iterations", *rows[0].keys()])
+            if new:
+                writer.writeheader()
+            for row in sorted(rows, key=lambda r: (r["n"], r["start"], r["seed"])):
+                writer.writerow({"tag": args.tag, "changes": repr(changes), "iterations": iterations, **row})
+    print(f"changes: {changes}  iterations: {iterations}  runs: {len(rows)}  wall: {elapsed:.1f} s")
+    print(summarise(rows, iterations))
+    clear = np.array([r["start_clearance"] for r in rows])
+    print(f"mean start clearance {clear.mean():.2f} m; mean run {np.mean([r['wall_time_s'] for r in rows]):.2f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
