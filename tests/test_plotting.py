@@ -1,0 +1,505 @@
+"""Figures: each renders and is not blank, colours agree with the engine, bad input is refused.
+
+Everything runs on small terrains and short missions. Figures are rendered with Agg into
+arrays; the colour checks compare what is drawn with masks recomputed here from
+``Visibility.seen``, not with anything the plotting module computed.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import io
+import shutil
+import sys
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("matplotlib")
+
+import uavcov  # noqa: E402
+from uavcov import plotting  # noqa: E402
+from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError  # noqa: E402
+from uavcov.records import save_mission  # noqa: E402
+from uavcov.targets import Targets  # noqa: E402
+from uavcov.visibility import Visibility  # noqa: E402
+
+
+def _render(fig) -> np.ndarray:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return np.asarray(canvas.buffer_rgba())[:, :, :3].astype(np.float64)
+
+
+def _set_colours(coll) -> np.ndarray:
+    """The face colours as set, in polygon order (``get_facecolor`` of a 3D collection returns
+    them depth-sorted for the current view)."""
+    return np.asarray(coll._facecolor3d)[:, :3]
+
+
+def _assert_not_blank(image: np.ndarray) -> None:
+    assert image.std() > 20.0, f"image looks blank (std {image.std():.1f})"
+    non_white = (image < 245).any(axis=2).mean()
+    assert non_white > 0.03, f"only {non_white:.1%} of the pixels are drawn on"
+    colours = np.unique((image[::3, ::3] // 8).reshape(-1, 3), axis=0).shape[0]
+    assert colours > 30, f"only {colours} distinct colours"
+
+
+@pytest.fixture(scope="module")
+def hills():
+    return uavcov.gaussian_hills(size=40.0, spacing=2.0, rng=1)
+
+
+@pytest.fixture(scope="module")
+def hills_runs(hills):
+    """Three starts x two seeds on the same hills."""
+    return [
+        uavcov.run_mission(hills, n_uavs=4, d_max=15.0, iterations=12, start=start, rng=seed)
+        for start in ("cvt", "random", "corner")
+        for seed in (1, 2)
+    ]
+
+
+@pytest.fixture(scope="module")
+def hills_run(hills_runs):
+    return hills_runs[0]
+
+
+@pytest.fixture(scope="module")
+def scene_run():
+    scene = uavcov.buildings_scene(size=12.0, n_buildings=2, footprint=(2.0, 4.0), heights=(2.0, 5.0),
+                                   spacing=1.0, rng=0)
+    return uavcov.run_mission(scene, n_uavs=3, d_max=6.0, iterations=8, rng=1, z_max=12.0, h_min=1.0, d_safe=1.0)
+
+
+def _both_kinds(fraction: np.ndarray) -> None:
+    """A colour check means little unless the case has seen and unseen parts."""
+    assert (fraction > 0.99).any() and (fraction < 0.01).any()
+
+
+# ---------------------------------------------------------------------------------------------
+# Every figure renders and is not blank
+
+
+def test_approximation_renders(hills_run):
+    fig = plotting.plot_approximation(hills_run)
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "x (m)" and ax.get_ylabel() == "y (m)" and ax.get_zlabel().startswith("z (m")
+    assert ax.get_legend() is not None
+    _assert_not_blank(_render(fig))
+
+
+def test_approximation_of_a_terrain_needs_the_approximation(hills_run):
+    fig = plotting.plot_approximation(hills_run.terrain, approximation=hills_run.approximation,
+                                      prior_points=hills_run.prior_points)
+    _assert_not_blank(_render(fig))
+    with pytest.raises(InvalidInputError, match="approximation"):
+        plotting.plot_approximation(hills_run.terrain)
+
+
+def test_cvt_renders_and_colours_follow_the_regions(hills_run):
+    fig = plotting.plot_cvt(hills_run)
+    _assert_not_blank(_render(fig))
+    # Each polygon has the palette colour of the region (nearest generator, by the engine) of a
+    # point of the surface inside it; shading only scales a colour, so its direction tells.
+    fig = plotting.plot_cvt(hills_run.approximation, cvt=hills_run.cvt, max_polygons=3000)
+    coll = fig.axes[0].collections[0]
+    colours = _set_colours(coll)
+    probes = coll.uavcov_probes
+    surface = hills_run.approximation
+    np.testing.assert_allclose(surface.closest_point(probes), probes, atol=1e-7)
+    region = hills_run.cvt.regions(probes)
+    assert len(np.unique(region)) == hills_run.cvt.n_generators
+    palette = plotting._region_colours(hills_run.cvt.n_generators)
+    unit = colours / np.linalg.norm(colours, axis=1, keepdims=True)
+    expected = palette[region] / np.linalg.norm(palette[region], axis=1, keepdims=True)
+    np.testing.assert_allclose(unit, expected, atol=1e-9)
+
+
+def test_coverage_map_renders_grid_and_mesh(hills_run, scene_run):
+    for run in (hills_run, scene_run):
+        for view in ("3d", "top"):
+            fig = plotting.plot_coverage_map(run, view=view)
+            ax = fig.axes[0]
+            assert ax.get_xlabel() == "x (m)" and ax.get_ylabel() == "y (m)"
+            labels = [t.get_text() for t in ax.get_legend().get_texts()]
+            assert "seen by at least one UAV" in labels and "not seen" in labels
+            assert "start positions" in labels
+            _assert_not_blank(_render(fig))
+
+
+def test_coverage_curves_mean_and_band(hills_runs):
+    fig = plotting.plot_coverage_curves(hills_runs)
+    _assert_not_blank(_render(fig))
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert [label.split(" ")[0] for label in labels] == ["cvt", "random", "corner"]
+    # The thick line of each group is the mean of its runs' curves.
+    cvt_curves = np.array([r.coverage for r in hills_runs if r.settings.start == "cvt"])
+    thick = [line for line in ax.lines if line.get_linewidth() > 1.5]
+    assert len(thick) == 3
+    np.testing.assert_allclose(thick[0].get_ydata(), cvt_curves.mean(axis=0))
+    # The band spans one sigma either side.
+    band = ax.collections[0].get_paths()[0].vertices
+    sigma = cvt_curves.std(axis=0)
+    assert np.isclose(band[:, 1].max(), (cvt_curves.mean(axis=0) + sigma).max())
+    assert np.isclose(band[:, 1].min(), (cvt_curves.mean(axis=0) - sigma).min())
+
+
+def test_coverage_curves_running_max_and_mapping(hills_runs):
+    fig = plotting.plot_coverage_curves({"first": hills_runs[:2], "second": hills_runs[2]}, running_max=True)
+    ax = fig.axes[0]
+    thick = [line for line in ax.lines if line.get_linewidth() > 1.5]
+    np.testing.assert_allclose(thick[1].get_ydata(), np.maximum.accumulate(hills_runs[2].coverage))
+    assert np.all(np.diff(thick[0].get_ydata()) >= 0)
+
+
+def _rows(results, experiment="table1"):
+    return [
+        {"experiment": experiment, "init": r.settings.start, "n_uavs": str(r.settings.n_uavs), "seed": str(i),
+         "sensing_range": str(r.settings.d_max), "initial_coverage": repr(r.initial_coverage),
+         "max_coverage": repr(r.best_coverage), "final_coverage": repr(r.final_coverage),
+         "iterations_to_95": str(r.iterations_to_95), "wall_time_s": repr(r.wall_time_s)}
+        for i, r in enumerate(results)
+    ]
+
+
+def test_table1_bars_are_the_means_beside_the_paper():
+    rng = np.random.default_rng(0)
+    rows = []
+    for init in ("cvt", "random", "corner"):
+        for n in (5, 8):
+            for seed in range(4):
+                rows.append({"experiment": "table1", "init": init, "n_uavs": str(n), "seed": str(seed),
+                             "max_coverage": f"{rng.uniform(0.4, 0.9):.6f}", "initial_coverage": "0.5"})
+    rows.append({"experiment": "table1", "init": "cvt", "n_uavs": "5", "seed": "9", "max_coverage": "",
+                 "initial_coverage": ""})  # a failed run
+    fig = plotting.plot_table1(rows)
+    _assert_not_blank(_render(fig))
+    ax = fig.axes[0]
+    assert "1 failed" in ax.get_title()
+    heights = sorted(round(p.get_height(), 6) for p in ax.patches)
+    for init in ("cvt", "random", "corner"):
+        for n in (5, 8):
+            ours = [float(r["max_coverage"]) for r in rows
+                    if r["init"] == init and r["n_uavs"] == str(n) and r["max_coverage"]]
+            assert round(float(np.mean(ours)), 6) in heights
+            assert round(plotting.PAPER_TABLE1[("table1", "max_coverage", init, n)][0], 6) in heights
+    assert len(ax.patches) == 12  # 3 starts x 2 sizes x (ours, paper)
+
+
+def test_table1_from_real_rows_without_paper_values(hills_runs, tmp_path):
+    path = tmp_path / "runs.csv"
+    rows = _rows(hills_runs, experiment="sweep")
+    with path.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    fig = plotting.plot_table1(path)
+    assert len(fig.axes[0].patches) == 3  # no paper bars for an experiment the paper does not have
+    _assert_not_blank(_render(fig))
+
+
+def test_point_cloud_renders_and_is_the_union_of_seen_targets(hills_run, tmp_path):
+    ply = tmp_path / "seen.ply"
+    fig = plotting.plot_point_cloud(hills_run, ply=ply, max_configurations=1000)
+    _assert_not_blank(_render(fig))
+    vis = Visibility(hills_run.terrain, hills_run.settings.d_max)
+    union = np.zeros(len(vis.targets), dtype=bool)
+    for x in hills_run.trajectory:
+        union |= vis.seen(x)
+    expected = vis.targets.points[union]
+    np.testing.assert_array_equal(plotting.seen_points(hills_run, max_configurations=1000), expected)
+    trimesh = pytest.importorskip("trimesh")
+    cloud = trimesh.load(ply)
+    np.testing.assert_allclose(np.asarray(cloud.vertices), expected, atol=1e-6)
+
+
+def test_write_ply_with_colours_reads_back(tmp_path):
+    pts = np.array([[0.0, 1.5, -2.25], [3.0, 4.0, 5.0]])
+    path = plotting.write_ply(pts, tmp_path / "c.ply", colors=np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]))
+    lines = path.read_text().splitlines()
+    assert lines[0] == "ply" and "element vertex 2" in lines and lines.index("end_header") == len(lines) - 3
+    body = np.array([line.split() for line in lines[-2:]], dtype=float)
+    np.testing.assert_allclose(body[:, :3], pts)
+    np.testing.assert_array_equal(body[:, 3:], [[255, 0, 128], [0, 255, 0]])
+    empty = plotting.write_ply(np.empty((0, 3)), tmp_path / "e.ply")
+    assert "element vertex 0" in empty.read_text()
+    with pytest.raises(InvalidInputError):
+        plotting.write_ply(pts, tmp_path / "x.ply", colors=[[300, 0, 0], [0, 0, 0]])
+    with pytest.raises(InvalidInputError):
+        plotting.write_ply([[0.0, np.nan, 0.0]], tmp_path / "x.ply")
+
+
+def test_animation_gif(hills_run, tmp_path):
+    from PIL import Image
+
+    path = plotting.animate_mission(hills_run, tmp_path / "run.gif", max_frames=5, raster=40, dpi=50)
+    with Image.open(path) as im:
+        assert im.n_frames == 5
+        im.seek(2)
+        _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg is not on the PATH")
+def test_animation_mp4(hills_run, tmp_path):
+    path = plotting.animate_mission(hills_run, tmp_path / "run.mp4", max_frames=4, raster=40, dpi=50)
+    assert path.stat().st_size > 1000
+
+
+def test_animation_mp4_without_ffmpeg_is_refused(hills_run, tmp_path, monkeypatch):
+    monkeypatch.setattr(plotting.shutil, "which", lambda name: None)
+    with pytest.raises(InvalidInputError, match="ffmpeg"):
+        plotting.animate_mission(hills_run, tmp_path / "run.mp4")
+
+
+def test_into_given_axes(hills_run):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10, 4))
+    left = fig.add_subplot(1, 2, 1, projection="3d")
+    right = fig.add_subplot(1, 2, 2)
+    assert plotting.plot_coverage_map(hills_run, ax=left) is fig
+    assert plotting.plot_coverage_curves(hills_run, ax=right) is fig
+    _assert_not_blank(_render(fig))
+
+
+# ---------------------------------------------------------------------------------------------
+# Colours agree with the engine's mask
+
+
+def test_grid_coverage_colours_match_the_engine(hills_run):
+    terrain = hills_run.terrain
+    grid = terrain.grid
+    final = hills_run.trajectory[-1]
+    vis = Visibility(terrain, hills_run.settings.d_max)
+    np.testing.assert_array_equal(vis.targets.points, terrain.vertices)  # grid targets: the nodes, in order
+    nodes = vis.seen(final).reshape(grid.shape).astype(float)
+    fig = plotting.plot_coverage_map(hills_run, shade=False, max_polygons=10**6)
+    coll = fig.axes[0].collections[0]
+    colours = _set_colours(coll)
+    centres = coll.uavcov_probes
+    assert len(colours) == (grid.shape[0] - 1) * (grid.shape[1] - 1)
+    j = np.floor((centres[:, 0] - grid.origin[0]) / grid.spacing[0]).astype(int)
+    i = np.floor((centres[:, 1] - grid.origin[1]) / grid.spacing[1]).astype(int)
+    fraction = (nodes[i, j] + nodes[i + 1, j] + nodes[i, j + 1] + nodes[i + 1, j + 1]) / 4.0
+    _both_kinds(fraction)
+    expected = (1 - fraction)[:, None] * plotting.UNSEEN_COLOUR + fraction[:, None] * np.array(plotting.SEEN_COLOUR)
+    np.testing.assert_allclose(colours, expected, atol=1e-9)
+
+
+def test_grid_top_view_pixels_match_the_engine(hills_run):
+    terrain = hills_run.terrain
+    final = hills_run.trajectory[-1]
+    nodes = Visibility(terrain, hills_run.settings.d_max).seen(final).reshape(terrain.grid.shape)
+    fig = plotting.plot_coverage_map(hills_run, view="top", shade=False)
+    image = np.asarray(fig.axes[0].images[0].get_array())
+    assert image.shape[:2] == nodes.shape  # one pixel per node: no decimation on a small grid
+    _both_kinds(nodes.astype(float))
+    np.testing.assert_allclose(image[nodes][:, :3], np.broadcast_to(plotting.SEEN_COLOUR, (nodes.sum(), 3)))
+    np.testing.assert_allclose(image[~nodes][:, :3], np.broadcast_to(plotting.UNSEEN_COLOUR, ((~nodes).sum(), 3)))
+
+
+@pytest.mark.parametrize("cut", [False, True], ids=["one-polygon-per-face", "faces-subdivided"])
+def test_mesh_coverage_colours_match_the_engine(scene_run, cut):
+    terrain = scene_run.terrain
+    final = scene_run.trajectory[-1]
+    budget = 8 * terrain.n_faces if cut else terrain.n_faces
+    fig = plotting.plot_coverage_map(scene_run, shade=False, max_polygons=budget)
+    coll = fig.axes[0].collections[0]
+    colours = _set_colours(coll)
+    probes = coll.uavcov_probes
+    if cut:
+        assert terrain.n_faces < len(probes) <= budget
+        np.testing.assert_allclose(terrain.closest_point(probes), probes, atol=1e-9)
+    else:
+        centroids = terrain.vertices[terrain.faces].mean(axis=1)
+        order = lambda p: p[np.lexsort(np.round(p, 9).T)]  # noqa: E731
+        np.testing.assert_allclose(order(probes), order(centroids))  # one polygon per face, at its centre
+    seen = Visibility(terrain, scene_run.settings.d_max, Targets(probes)).seen(final)
+    _both_kinds(seen.astype(float))
+    expected = np.where(seen[:, None], plotting.SEEN_COLOUR, plotting.UNSEEN_COLOUR)
+    np.testing.assert_allclose(colours, expected, atol=1e-9)
+
+
+def test_decimated_grid_blocks_are_brute_force_means(hills):
+    rng = np.random.default_rng(3)
+    polys = plotting._surface_polygons(hills, 60)
+    assert len(polys) <= 60
+    values = rng.uniform(size=hills.grid.shape)
+    values[0, 5] = np.nan
+    means = plotting._block_means(values, polys.blocks)
+    for (r0, r1, c0, c1), mean in zip(polys.blocks, means):
+        assert np.isclose(mean, np.nanmean(values[r0:r1 + 1, c0:c1 + 1]))
+
+
+def test_decimated_mesh_stays_under_budget_and_on_the_surface(scene_run):
+    terrain = scene_run.terrain
+    polys = plotting._surface_polygons(terrain, 200)
+    assert 0 < len(polys) <= 200
+    np.testing.assert_allclose(terrain.closest_point(polys.probes), polys.probes, atol=1e-9)
+    fig = plotting.plot_coverage_map(scene_run, max_polygons=200)
+    _assert_not_blank(_render(fig))
+
+
+# ---------------------------------------------------------------------------------------------
+# Redrawing a results directory
+
+
+def test_plot_directory_redraws_everything(hills_runs, tmp_path):
+    (tmp_path / "runs").mkdir()
+    random_start = next(r for r in hills_runs if r.settings.start == "random")
+    save_mission(random_start, tmp_path / "runs" / "run0.npz")
+    save_mission(hills_runs[0], tmp_path / "runs" / "run1.npz")
+    rows = _rows(hills_runs)
+    with (tmp_path / "runs.csv").open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    written = plotting.plot_directory(tmp_path, max_runs=1, dpi=60)
+    names = {p.name for p in written}
+    assert names == {"table1_max_coverage.png", "table1_initial_coverage.png", "coverage_N4_d15.png",
+                     "run0_approximation.png", "run0_coverage_map.png", "run0_coverage_top.png",
+                     "run0_point_cloud.png", "run0_seen.ply", "run0_animation.gif"}  # no CVT: a random start
+    assert all(p.parent == tmp_path / "figures" and p.stat().st_size > 0 for p in written)
+    from PIL import Image
+
+    for p in written:
+        if p.suffix == ".png":
+            with Image.open(p) as im:
+                _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
+
+
+# ---------------------------------------------------------------------------------------------
+# Bad input: clear messages, never a traceback from inside matplotlib
+
+
+def test_empty_results_are_refused():
+    with pytest.raises(ResultsFormatError, match="empty"):
+        plotting.plot_coverage_curves([])
+    with pytest.raises(ResultsFormatError, match="empty"):
+        plotting.plot_table1([])
+    with pytest.raises(ResultsFormatError, match="no result"):
+        plotting.plot_coverage_map(None)
+
+
+def test_missing_fields_are_named(hills_run):
+    partial = types.SimpleNamespace(terrain=hills_run.terrain, settings=hills_run.settings)
+    with pytest.raises(ResultsFormatError, match="missing trajectory"):
+        plotting.plot_coverage_map(partial)
+    with pytest.raises(ResultsFormatError, match="approximation"):
+        plotting.plot_approximation(types.SimpleNamespace(terrain=hills_run.terrain, prior_points=np.zeros((0, 3))))
+    no_range = dataclasses.replace(hills_run, settings=types.SimpleNamespace(start="cvt"))
+    with pytest.raises(ResultsFormatError, match="d_max"):
+        plotting.plot_coverage_map(no_range)
+    with pytest.raises(ResultsFormatError, match="missing d_max"):
+        plotting.seen_points(no_range)
+    with pytest.raises(ResultsFormatError, match="start"):
+        plotting.plot_coverage_curves([hills_run, types.SimpleNamespace(coverage=np.ones(3), settings=None)])
+
+
+def test_empty_or_broken_arrays_are_refused(hills_run):
+    with pytest.raises(ResultsFormatError, match="empty"):
+        plotting.plot_coverage_map(dataclasses.replace(hills_run, trajectory=np.empty((0, 4, 3))))
+    bad = hills_run.trajectory.copy()
+    bad[3, 1, 2] = np.nan
+    with pytest.raises(ResultsFormatError, match="NaN"):
+        plotting.animate_mission(dataclasses.replace(hills_run, trajectory=bad), "x.gif")
+    with pytest.raises(ResultsFormatError, match="coverage curve"):
+        plotting.plot_coverage_curves(dataclasses.replace(hills_run, coverage=np.array([])))
+
+
+def test_run_without_cvt_is_refused(hills_runs):
+    random_start = next(r for r in hills_runs if r.settings.start == "random")
+    with pytest.raises(ResultsFormatError, match="no CVT.*random"):
+        plotting.plot_cvt(random_start)
+
+
+def test_older_or_broken_run_files_are_refused(hills_run, tmp_path):
+    path = save_mission(hills_run, tmp_path / "old.npz")
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["header"] = np.array(str(arrays["header"]).replace("uavcov.mission/1", "uavcov.mission/0"))
+    np.savez(tmp_path / "old.npz", **arrays)
+    with pytest.raises(ResultsFormatError, match="format"):
+        plotting.plot_coverage_map(tmp_path / "old.npz")
+    del arrays["coverage"]
+    arrays["header"] = np.array(str(arrays["header"]).replace("uavcov.mission/0", "uavcov.mission/1"))
+    np.savez(tmp_path / "partial.npz", **arrays)
+    with pytest.raises(ResultsFormatError, match="coverage"):
+        plotting.plot_coverage_curves([tmp_path / "partial.npz"])
+    (tmp_path / "runs").mkdir()
+    shutil.copy(tmp_path / "partial.npz", tmp_path / "runs" / "partial.npz")
+    with pytest.raises(ResultsFormatError, match="partial.npz is missing coverage"):
+        plotting.plot_directory(tmp_path)
+
+
+def test_bad_runs_csv_is_refused(tmp_path):
+    with pytest.raises(ResultsFormatError, match="no results directory"):
+        plotting.plot_directory(tmp_path / "nowhere")
+    with pytest.raises(ResultsFormatError, match="neither runs.csv nor"):
+        plotting.plot_directory(tmp_path)
+    (tmp_path / "runs.csv").write_text("experiment,init,seed\ntable1,cvt,0\n")
+    with pytest.raises(ResultsFormatError, match="n_uavs, max_coverage"):
+        plotting.plot_directory(tmp_path)
+    (tmp_path / "runs.csv").write_text("")
+    with pytest.raises(ResultsFormatError, match="empty"):
+        plotting.read_runs(tmp_path / "runs.csv")
+    rows = [{"experiment": "t", "init": "cvt", "n_uavs": "5", "max_coverage": "lots"}]
+    with pytest.raises(ResultsFormatError, match="'lots' is not a number"):
+        plotting.plot_table1(rows)
+    with pytest.raises(ResultsFormatError, match="'init'"):
+        plotting.plot_table1([{"experiment": "t", "n_uavs": "5", "max_coverage": "0.5"}])
+    with pytest.raises(ResultsFormatError, match="no run has a value"):
+        plotting.plot_table1([{"experiment": "t", "init": "cvt", "n_uavs": "5", "max_coverage": ""}])
+
+
+def test_bad_arguments_are_refused(hills_run, tmp_path):
+    from matplotlib.figure import Figure
+
+    flat = Figure().add_subplot()
+    with pytest.raises(InvalidInputError, match="3D"):
+        plotting.plot_coverage_map(hills_run, ax=flat)
+    with pytest.raises(InvalidTypeError, match="Axes"):
+        plotting.plot_coverage_map(hills_run, ax="axes")
+    with pytest.raises(InvalidInputError, match="configuration"):
+        plotting.plot_coverage_map(hills_run, configuration="middle")
+    with pytest.raises(InvalidInputError, match="outside"):
+        plotting.plot_coverage_map(hills_run, configuration=10**6)
+    with pytest.raises(InvalidInputError, match="view"):
+        plotting.plot_coverage_map(hills_run, view="side")
+    with pytest.raises(InvalidInputError, match="max_polygons"):
+        plotting.plot_coverage_map(hills_run, max_polygons=0)
+    with pytest.raises(InvalidInputError, match="d_max"):
+        plotting.plot_coverage_map(hills_run.terrain, hills_run.trajectory[-1], -1.0)
+    with pytest.raises(InvalidInputError, match="positions"):
+        plotting.plot_coverage_map(hills_run.terrain, [[1.0, 2.0]], 10.0)
+    with pytest.raises(InvalidInputError, match=".gif or .mp4"):
+        plotting.animate_mission(hills_run, tmp_path / "run.avi")
+    with pytest.raises(InvalidTypeError, match="CVTResult"):
+        plotting.plot_cvt(hills_run.approximation, cvt="generators")
+
+
+def test_missing_matplotlib_names_the_extra(hills_run, monkeypatch):
+    for name in [m for m in sys.modules if m == "matplotlib" or m.startswith("matplotlib.")]:
+        monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(ImportError, match=r"uavcov\[plot\]"):
+        plotting.plot_coverage_curves(hills_run)
+
+
+def test_saving_to_a_path(hills_run, tmp_path):
+    out = tmp_path / "sub" / "curve.png"
+    plotting.plot_coverage_curves(hills_run, out=out)
+    from PIL import Image
+
+    with Image.open(out) as im:
+        _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
+    buffer = io.BytesIO()
+    plotting.plot_coverage_curves(hills_run).savefig(buffer, format="png")
+    assert buffer.getvalue()[:8] == b"\x89PNG\r\n\x1a\n"
