@@ -161,7 +161,7 @@ def test_coverage_curves_running_max_and_mapping(hills_runs):
 
 def _rows(results, experiment="table1"):
     return [
-        {"experiment": experiment, "init": r.settings.start, "n_uavs": str(r.settings.n_uavs), "seed": str(i),
+        {"run_id": f"{experiment}-{i}", "experiment": experiment, "init": r.settings.start, "n_uavs": str(r.settings.n_uavs), "seed": str(i),
          "sensing_range": str(r.settings.d_max), "initial_coverage": repr(r.initial_coverage),
          "max_coverage": repr(r.best_coverage), "final_coverage": repr(r.final_coverage),
          "iterations_to_95": str(r.iterations_to_95), "wall_time_s": repr(r.wall_time_s)}
@@ -189,7 +189,7 @@ def test_table1_bars_are_the_means_beside_the_paper():
             ours = [float(r["max_coverage"]) for r in rows
                     if r["init"] == init and r["n_uavs"] == str(n) and r["max_coverage"]]
             assert round(float(np.mean(ours)), 6) in heights
-            assert round(plotting.PAPER_TABLE1[("table1", "max_coverage", init, n)][0], 6) in heights
+            assert round(uavcov.paper.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
     assert len(ax.patches) == 12  # 3 starts x 2 sizes x (ours, paper)
 
 
@@ -248,8 +248,15 @@ def test_animation_gif(hills_run, tmp_path):
 
 @pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg is not on the PATH")
 def test_animation_mp4(hills_run, tmp_path):
+    import subprocess
+
     path = plotting.animate_mission(hills_run, tmp_path / "run.mp4", max_frames=4, raster=40, dpi=50)
-    assert path.stat().st_size > 1000
+    # Decode it back: 4 frames of real pictures.
+    raw = subprocess.run(["ffmpeg", "-loglevel", "error", "-i", str(path), "-f", "rawvideo", "-pix_fmt", "rgb24",
+                          "-vf", "scale=100:50", "-"], capture_output=True, check=True).stdout
+    frames = np.frombuffer(raw, dtype=np.uint8).reshape(-1, 50, 100, 3)
+    assert frames.shape[0] == 4
+    _assert_not_blank(frames[-1].astype(float))
 
 
 def test_animation_mp4_without_ffmpeg_is_refused(hills_run, tmp_path, monkeypatch):
@@ -351,21 +358,36 @@ def test_decimated_mesh_stays_under_budget_and_on_the_surface(scene_run):
 # Redrawing a results directory
 
 
-def test_plot_directory_redraws_everything(hills_runs, tmp_path):
+def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
     (tmp_path / "runs").mkdir()
-    random_start = next(r for r in hills_runs if r.settings.start == "random")
-    save_mission(random_start, tmp_path / "runs" / "run0.npz")
-    save_mission(hills_runs[0], tmp_path / "runs" / "run1.npz")
     rows = _rows(hills_runs)
+    random_index = next(i for i, r in enumerate(hills_runs) if r.settings.start == "random")
+    corner_index = next(i for i, r in enumerate(hills_runs) if r.settings.start == "corner")
+    # A start built outside run_mission is recorded as "given" in the run; its row says what it was.
+    given = dataclasses.replace(hills_runs[corner_index],
+                                settings=dataclasses.replace(hills_runs[corner_index].settings, start="given"))
+    save_mission(hills_runs[random_index], tmp_path / "runs" / f"{rows[random_index]['run_id']}.npz")
+    save_mission(given, tmp_path / "runs" / f"{rows[corner_index]['run_id']}.npz")
     with (tmp_path / "runs.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
+    drawn_groups = []
+    original = plotting.plot_coverage_curves
+
+    def spy(results, **kwargs):
+        drawn_groups.append({k: [np.asarray(r.coverage) for r in v] for k, v in results.items()})
+        return original(results, **kwargs)
+
+    monkeypatch.setattr(plotting, "plot_coverage_curves", spy)
     written = plotting.plot_directory(tmp_path, max_runs=1, dpi=60)
     names = {p.name for p in written}
-    assert names == {"table1_max_coverage.png", "table1_initial_coverage.png", "coverage_N4_d15.png",
-                     "run0_approximation.png", "run0_coverage_map.png", "run0_coverage_top.png",
-                     "run0_point_cloud.png", "run0_seen.ply", "run0_animation.gif"}  # no CVT: a random start
+    first = rows[random_index]["run_id"]
+    assert names == {"table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png",
+                     f"{first}_approximation.png", f"{first}_coverage_map.png", f"{first}_coverage_top.png",
+                     f"{first}_point_cloud.png", f"{first}_seen.ply", f"{first}_animation.gif"}  # no CVT: random
+    assert len(drawn_groups) == 1 and set(drawn_groups[0]) == {"random", "corner"}
+    np.testing.assert_array_equal(drawn_groups[0]["corner"][0], hills_runs[corner_index].coverage)
     assert all(p.parent == tmp_path / "figures" and p.stat().st_size > 0 for p in written)
     from PIL import Image
 
@@ -373,6 +395,19 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path):
         if p.suffix == ".png":
             with Image.open(p) as im:
                 _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
+
+
+def test_plot_directory_of_single_runs_draws_no_bars(hills_run, tmp_path):
+    (tmp_path / "runs").mkdir()
+    rows = _rows([hills_run], experiment="example")
+    save_mission(hills_run, tmp_path / "runs" / f"{rows[0]['run_id']}.npz")
+    with (tmp_path / "runs.csv").open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    written = plotting.plot_directory(tmp_path, out=tmp_path / "elsewhere", max_runs=0, dpi=50)
+    assert [p.name for p in written] == ["example_coverage_N4_d15.png"]
+    assert written[0].parent == tmp_path / "elsewhere"
 
 
 # ---------------------------------------------------------------------------------------------

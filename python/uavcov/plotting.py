@@ -35,12 +35,12 @@ from .targets import Targets
 from .visibility import Visibility
 
 __all__ = [
-    "PAPER_TABLE1",
     "plot_approximation",
     "plot_cvt",
     "plot_coverage_map",
     "plot_coverage_curves",
     "plot_table1",
+    "published_values",
     "plot_point_cloud",
     "seen_points",
     "write_ply",
@@ -49,44 +49,16 @@ __all__ = [
     "plot_directory",
 ]
 
-PAPER_TABLE1: dict[tuple[str, str, str, int], tuple[float, float]] = {}
-"""The paper's published values: ``(experiment, metric, init, N) -> (mean, sigma)``.
-
-From Table 1 (experiment "table1", d_max = 25 m, 40 terrains) and the pyramid prior of section
-V-C (experiment "pyramid", N = 12). Metrics are the ``runs.csv`` column names.
-"""
-
-
-def _fill_paper_table() -> None:
-    sizes = (5, 8, 12, 20)
-    published = {
-        ("initial_coverage", "cvt"): ((0.59, 0.06), (0.74, 0.04), (0.84, 0.02), (0.90, 0.02)),
-        ("max_coverage", "cvt"): ((0.65, 0.04), (0.84, 0.03), (0.92, 0.02), (0.98, 0.01)),
-        ("initial_coverage", "random"): ((0.37, 0.07), (0.52, 0.08), (0.63, 0.07), (0.73, 0.05)),
-        ("max_coverage", "random"): ((0.61, 0.05), (0.75, 0.04), (0.86, 0.03), (0.93, 0.02)),
-        ("max_coverage", "corner"): ((0.57, 0.09), (0.62, 0.09), (0.69, 0.08), (0.76, 0.08)),
-    }
-    for (metric, init), values in published.items():
-        for n, value in zip(sizes, values):
-            PAPER_TABLE1[("table1", metric, init, n)] = value
-    PAPER_TABLE1[("pyramid", "initial_coverage", "cvt", 12)] = (0.78, 0.03)
-    PAPER_TABLE1[("pyramid", "max_coverage", "cvt", 12)] = (0.91, 0.02)
-
-
-_fill_paper_table()
-
 # The paper's colours where it has them: covered surface red, start black, end green.
 SEEN_COLOUR = (0.84, 0.15, 0.16)
 UNSEEN_COLOUR = (0.72, 0.77, 0.84)
 TRUE_SURFACE_COLOUR = (0.86, 0.33, 0.28)
 START_COLOUR = "black"
 END_COLOUR = (0.10, 0.65, 0.15)
-INIT_COLOURS = {"cvt": "#2ca02c", "random": "#1f77b4", "corner": "#d62728"}
+INIT_COLOURS = {"cvt": "#2ca02c", "random": "#1f77b4", "corner": "#d62728", "pairs": "#9467bd"}
 DEFAULT_MAX_POLYGONS = 20_000
 LIGHT = np.array([-1.0, 1.0, 1.4142135623730951]) / 2.0  # from the north-west, 45 degrees up
 
-_RUN_COLUMNS = ("experiment", "init", "n_uavs", "seed", "sensing_range", "initial_coverage",
-                "max_coverage", "final_coverage", "iterations_to_95", "wall_time_s")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -393,7 +365,7 @@ def _blend(fraction: np.ndarray, low: Sequence[float], high: Sequence[float]) ->
 
 def _draw_polygons(ax: Any, polys: np.ndarray, rgb: np.ndarray, *, shade: bool, alpha: float = 1.0,
                    zorder: float = 1.0) -> Any:
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
     colours = _shade(rgb, polys) if shade else np.asarray(rgb)[:, :3]
     rgba = np.concatenate([colours, np.full((colours.shape[0], 1), alpha)], axis=1)
@@ -515,7 +487,7 @@ def plot_approximation(
     _draw_polygons(ax, true_polys.polys, np.tile(TRUE_SURFACE_COLOUR, (len(true_polys), 1)), shade=True, zorder=1)
     # S' as its own triangles' edges: the piecewise-linear interpolant is what the eye should
     # compare with the red surface, and edges do not hide it.
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection  # type: ignore[import-untyped]
 
     faces = np.asarray(approximation.faces)
     edges = np.unique(np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1), axis=0)
@@ -545,9 +517,9 @@ def _region_colours(n: int) -> np.ndarray:
     from matplotlib import colormaps
 
     if n <= 10:
-        return np.asarray(colormaps["tab10"].colors)[:n]
+        return np.asarray(colormaps["tab10"](np.arange(n)))[:, :3]
     if n <= 20:
-        return np.asarray(colormaps["tab20"].colors)[:n]
+        return np.asarray(colormaps["tab20"](np.arange(n)))[:, :3]
     # Many regions: spread hues, alternating lightness so neighbours in index differ.
     hsv = colormaps["hsv"](np.linspace(0.0, 1.0, n, endpoint=False))[:, :3]
     return hsv * np.where(np.arange(n) % 2 == 0, 1.0, 0.7)[:, None]
@@ -642,6 +614,7 @@ def _coverage_fraction(terrain: Terrain, polys: _Polygons, positions: np.ndarray
     Grid: the polygon's grid targets (nodes), averaged. Mesh: the polygon's probe point.
     """
     if terrain.grid is not None:
+        assert polys.blocks is not None
         targets = terrain.default_targets()
         seen = Visibility(terrain, d_max, targets).seen(positions)
         return _block_means(_grid_node_mask(terrain, seen, targets.points), polys.blocks)
@@ -921,6 +894,7 @@ def plot_coverage_curves(
     group_by: str = "start",
     running_max: bool = False,
     show_runs: bool | None = None,
+    reference: Mapping[str, float] | None = None,
     ax: Any = None,
     out: Any = None,
     title: str | None = None,
@@ -941,6 +915,8 @@ def plot_coverage_curves(
         Plot the best coverage so far instead of the coverage at each iteration.
     show_runs : bool, optional
         Draw each run thinly under the mean; default when a group has at most 10 runs.
+    reference : mapping label -> float, optional
+        A published value per group (e.g. the paper's Fig. 6 maxima), drawn as a dashed line.
     ax : matplotlib Axes, optional
     out : path, optional
     title : str, optional
@@ -974,6 +950,10 @@ def plot_coverage_curves(
         handles.append(_line(f"{key} ({what}; max {best:.3f})", color=colour, linewidth=1.8))
         if (count < len(curves)).any():
             ax.axvline(int(np.argmax(count < len(curves))), color=colour, linewidth=0.6, linestyle=":")
+        if reference is not None and key in reference:
+            value = float(reference[key])
+            ax.axhline(value, color=colour, linewidth=1.0, linestyle="--")
+            handles.append(_line(f"{key}: the paper's max ({value:.2f})", color=colour, linewidth=1.0, linestyle="--"))
     ax.set_xlabel("iteration")
     ax.set_ylabel("best coverage so far" if running_max else "coverage (share of the surface seen)")
     ax.grid(True, linewidth=0.4, alpha=0.5)
@@ -1079,7 +1059,7 @@ def plot_table1(
     series = sorted({(e, i) for e, i, _ in values},
                     key=lambda s: (s[0], list(INIT_COLOURS).index(s[1]) if s[1] in INIT_COLOURS else 99, s[1]))
     sizes = sorted({n for _, _, n in values})
-    published = _paper_values() if paper else {}
+    published = published_values() if paper else {}
 
     fig, ax = _new_axes(ax, three_d=False, figsize=(max(6.0, 1.6 + 1.5 * len(sizes) * max(1, len(series)) / 3), 4.4))
     bars_per_series = 2 if any((e, metric, i, n) in published for e, i in series for n in sizes) else 1
@@ -1122,16 +1102,21 @@ def plot_table1(
     return _finish(fig, out, dpi)
 
 
-def _paper_values() -> dict[tuple[str, str, str, int], tuple[float, float]]:
-    """The paper's numbers, from ``uavcov.paper`` when it exists, else from :data:`PAPER_TABLE1`."""
-    try:
-        from . import paper  # type: ignore[attr-defined]
-    except ImportError:
-        return PAPER_TABLE1
-    table = getattr(paper, "PAPER_TABLE1", None) or getattr(paper, "TABLE1", None)
-    if isinstance(table, Mapping) and all(isinstance(k, tuple) and len(k) == 4 for k in table):
-        return dict(table)
-    return PAPER_TABLE1
+def published_values() -> dict[tuple[str, str, str, int], tuple[float, float]]:
+    """The paper's numbers the bars can stand beside: ``(experiment, metric, init, N) -> (mean, sigma)``.
+
+    From :mod:`uavcov.paper`: Table 1 (experiment "table1", d_max = 25 m, 40 terrains) and the
+    pyramid prior of section V-D (experiment "pyramid", N = 12, CVT start). ``metric`` is a
+    ``runs.csv`` column: "initial_coverage" or "max_coverage".
+    """
+    from . import paper
+
+    metrics = {"initial": "initial_coverage", "max": "max_coverage"}
+    values = {("table1", metrics[kind], init, int(n)): (v.mean, v.sigma)
+              for (n, init, kind), v in paper.PUBLISHED_TABLE1.items()}
+    for kind, v in paper.PUBLISHED_PYRAMID.items():
+        values[("pyramid", metrics[kind], "cvt", 12)] = (v.mean, v.sigma)
+    return values
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1439,14 +1424,17 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     """Redraw every figure of a results directory from what is stored, without rerunning anything.
 
     Reads ``DIR/runs.csv`` (one row per run) and ``DIR/runs/*.npz`` (runs saved by
-    :func:`uavcov.records.save_mission`) and writes, into ``out`` (default ``DIR/figures``):
+    :func:`uavcov.records.save_mission`, named ``<run_id>.npz``; the row with that ``run_id``
+    gives the run's experiment and start) and writes, into ``out`` (default ``DIR/figures``):
 
-    - ``<experiment>_max_coverage.png`` (and ``_initial_coverage.png`` where the rows have it):
-      the bars of :func:`plot_table1`, beside the paper where it has numbers;
-    - ``coverage_N<n>_d<d_max>.png``: :func:`plot_coverage_curves` of every stored run with that
-      team and range, grouped by start;
-    - for up to ``max_runs`` stored runs (the first of each start and team size, then in name
-      order): ``<run>_approximation.png``, ``<run>_cvt.png`` (CVT starts),
+    - ``<experiment>_max_coverage.png`` and ``<experiment>_initial_coverage.png``: the bars of
+      :func:`plot_table1`, beside the paper where it has numbers (only for experiments with
+      several runs per start and team size);
+    - ``<experiment>_coverage_N<n>_d<d_max>.png``: :func:`plot_coverage_curves` of every stored
+      run of that experiment, team size and range, one colour per start (the paper's Fig. 6
+      maxima drawn for the "comparison" experiment);
+    - for up to ``max_runs`` stored runs (the first of each experiment, start and team size,
+      then in name order): ``<run>_approximation.png``, ``<run>_cvt.png`` (CVT starts),
       ``<run>_coverage_map.png``, ``<run>_coverage_top.png``, ``<run>_point_cloud.png`` and
       ``<run>_seen.ply``;
     - ``<run>_animation.gif`` for the first of them when ``animation`` is true.
@@ -1461,8 +1449,10 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     Raises
     ------
     ResultsFormatError
-        No such directory, nothing to plot in it, or a stored run that cannot be read (the
-        message names the file and what is missing).
+        No such directory, nothing to plot in it, a ``runs.csv`` without a required column, or
+        a stored run that cannot be read (the message names the file and what is missing).
+    ImportError
+        matplotlib is not installed (the ``uavcov[plot]`` extra).
     """
     directory = Path(directory)
     if not directory.is_dir():
@@ -1473,44 +1463,57 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     run_files = sorted((directory / "runs").glob("*.npz")) if (directory / "runs").is_dir() else []
     if not runs_csv.is_file() and not run_files:
         raise ResultsFormatError(f"{directory} holds neither runs.csv nor runs/*.npz: nothing to plot")
+    _matplotlib()
+    from . import paper
+
     written: list[Path] = []
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        _matplotlib()
+    rows = read_runs(runs_csv) if runs_csv.is_file() else []
+    by_experiment: dict[str, list[dict[str, str]]] = {}
+    for row in rows:
+        by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
+    for experiment, group in sorted(by_experiment.items()):
+        cells: dict[tuple[str, str], int] = {}
+        for index, row in enumerate(group):
+            if _number(row, "max_coverage", index) is not None:
+                key = (str(row["init"]), str(row["n_uavs"]))
+                cells[key] = cells.get(key, 0) + 1
+        if not cells or max(cells.values()) < 2:
+            continue  # one run per bar is a number, not a distribution: the curves show it
+        for metric in ("max_coverage", "initial_coverage"):
+            if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
+                continue
+            path = target / f"{_safe(experiment)}_{metric}.png"
+            _close(plot_table1(group, metric=metric, out=path, dpi=dpi))
+            written.append(path)
 
-    if runs_csv.is_file():
-        rows = read_runs(runs_csv)
-        by_experiment: dict[str, list[dict[str, str]]] = {}
-        for row in rows:
-            by_experiment.setdefault(str(row.get("experiment", "")), []).append(row)
-        for experiment, group in sorted(by_experiment.items()):
-            for metric in ("max_coverage", "initial_coverage"):
-                if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
-                    continue
-                path = target / f"{_safe(experiment or 'runs')}_{metric}.png"
-                _close(plot_table1(group, metric=metric, out=path, dpi=dpi))
-                written.append(path)
-
-    results = [(f, load_mission(f)) for f in run_files]
-    groups: dict[tuple[int, float], list[Any]] = {}
-    for _, r in results:
-        groups.setdefault((int(r.settings.n_uavs), float(r.settings.d_max)), []).append(r)
-    for (n, d), group in sorted(groups.items()):
-        path = target / f"coverage_N{n}_d{d:g}.png"
-        _close(plot_coverage_curves(group, out=path, dpi=dpi,
-                                   title=f"Coverage during the optimisation: N = {n}, d_max = {d:g} m"))
+    # Curves of every stored run; whole results are kept only for the runs drawn one by one.
+    row_of = {str(r.get("run_id")): r for r in rows if r.get("run_id")}
+    curves: dict[tuple[str, int, float], dict[str, list[Any]]] = {}
+    chosen: list[tuple[Path, Any]] = []
+    kinds: set[tuple[str, str, int]] = set()
+    for f in run_files:
+        result = load_mission(f)
+        row = row_of.get(f.stem, {})
+        experiment = str(row.get("experiment") or "runs")
+        init = str(row.get("init") or result.settings.start)
+        n, d = int(result.settings.n_uavs), float(result.settings.d_max)
+        curves.setdefault((experiment, n, d), {}).setdefault(init, []).append(_Curve(result.coverage))
+        if (experiment, init, n) not in kinds and len(chosen) < limit:
+            kinds.add((experiment, init, n))
+            chosen.append((f, result))
+    for f in run_files:
+        if len(chosen) >= limit:
+            break
+        if all(f != c for c, _ in chosen):
+            chosen.append((f, load_mission(f)))
+    for (experiment, n, d), groups in sorted(curves.items()):
+        path = target / f"{_safe(experiment)}_coverage_N{n}_d{d:g}.png"
+        reference = dict(paper.PUBLISHED_FIG6_MAX) if experiment == "comparison" else None
+        _close(plot_coverage_curves(groups, reference=reference, out=path, dpi=dpi,
+                                    title=f"{experiment}: coverage during the optimisation, N = {n}, d_max = {d:g} m"))
         written.append(path)
 
-    chosen: list[tuple[Path, Any]] = []
-    seen_kinds: set[tuple[str, int]] = set()
-    for f, r in results:
-        kind = (str(r.settings.start), int(r.settings.n_uavs))
-        if kind not in seen_kinds:
-            seen_kinds.add(kind)
-            chosen.append((f, r))
-    chosen += [(f, r) for f, r in results if all(f != c for c, _ in chosen)]
-    for index, (f, r) in enumerate(chosen[:limit]):
+    for index, (f, r) in enumerate(chosen):
         stem = _safe(f.stem)
         for suffix, draw in (
             ("approximation", lambda p: plot_approximation(r, out=p, dpi=dpi)),
@@ -1530,6 +1533,13 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         if animation and index == 0:
             written.append(animate_mission(r, target / f"{stem}_animation.gif"))
     return written
+
+
+class _Curve:
+    """Just the coverage curve of a stored run (what the curves figure needs)."""
+
+    def __init__(self, coverage: np.ndarray) -> None:
+        self.coverage = np.asarray(coverage)
 
 
 def _close(fig: Any) -> None:
