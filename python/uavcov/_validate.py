@@ -25,6 +25,7 @@ __all__ = [
     "as_positive_int",
     "as_non_negative_int",
     "as_n_threads",
+    "as_generator",
 ]
 
 
@@ -135,3 +136,12 @@ def as_n_threads(value: Any) -> int:
     if value is None:
         return 0  # the Rust side reads 0 as "all cores"
     return as_positive_int(value, "n_threads")
+
+
+def as_generator(rng: Any) -> np.random.Generator:
+    """``numpy.random.default_rng(rng)`` (SPEC 7: None, an int, a SeedSequence or a Generator),
+    with a uavcov error for anything else."""
+    try:
+        return np.random.default_rng(rng)
+    except (TypeError, ValueError) as exc:
+        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc

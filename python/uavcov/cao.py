@@ -401,7 +401,6 @@ def _refresh_robot_terms(
 
     ``strength`` is ``(N, 16)`` (zero for inactive monomials).
     """
-    n_robots = selected.shape[0]
     n_terms = int(selected[0].sum())
     n_keep = int(math.ceil(keep_fraction * n_terms))
     if n_keep >= n_terms:

@@ -50,6 +50,7 @@ import numpy as np
 
 from . import _core
 from ._validate import (
+    as_generator,
     as_float_array,
     as_n_threads,
     as_non_negative_float,
@@ -82,11 +83,7 @@ def seed_from_rng(rng: Any) -> int:
     An int or ``None`` gives a fresh generator (so the same int always gives the same seed); a
     ``numpy.random.Generator`` is advanced by one draw.
     """
-    try:
-        generator = np.random.default_rng(rng)
-    except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc
-    return int(generator.integers(2**63))
+    return int(as_generator(rng).integers(2**63))
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:

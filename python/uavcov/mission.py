@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import as_non_negative_float, as_non_negative_int, as_points, as_positive_float, as_positive_int
+from ._validate import as_generator, as_non_negative_float, as_non_negative_int, as_points, as_positive_float, as_positive_int
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility
 from .cvt import CVTResult, cvt
@@ -277,7 +277,7 @@ def run_mission(
     constraints.check_team(n_uavs, terrain)
     vis = Visibility(terrain, d_max, targets, n_threads=n_threads)
 
-    generator = np.random.default_rng(rng)
+    generator = as_generator(rng)
     prior_rng, start_rng, optimizer_rng = generator.spawn(3)
     approximation, prior_points, prior_kind = _approximation(terrain, prior, n_prior, prior_rng)
     cvt_result: CVTResult | None = None

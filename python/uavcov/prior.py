@@ -26,6 +26,7 @@ import numpy as np
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ._validate import (
+    as_generator,
     as_float_array,
     as_non_negative_float,
     as_non_negative_int,
@@ -83,12 +84,6 @@ class Prior:
         """The approximating surface S' of these points (see :func:`approximate_surface`)."""
         return approximate_surface(self.points)
 
-
-def _rng(rng: Any) -> np.random.Generator:
-    try:
-        return np.random.default_rng(rng)
-    except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"rng must be None, an int or a numpy Generator, got {rng!r}") from exc
 
 
 def _check_terrain(terrain: Any) -> Terrain:
@@ -180,7 +175,7 @@ def sample_prior(
         raise InvalidInputError(f"kind must be one of {_KINDS}, got {kind!r}")
     if not isinstance(corners, (bool, np.bool_)):
         raise InvalidTypeError(f"corners must be a bool, got {type(corners).__name__}")
-    generator = _rng(rng)
+    generator = as_generator(rng)
 
     if kind == "pyramid":
         xmin, ymin, xmax, ymax = _rectangle(terrain)
@@ -417,7 +412,7 @@ def building_corner_prior(
     if fraction > 1.0:
         raise InvalidInputError(f"known_fraction must be in [0, 1], got {fraction}")
     sigma = as_non_negative_float(height_error, "height_error")
-    generator = _rng(rng)
+    generator = as_generator(rng)
     count = int(round(fraction * len(boxes)))
     chosen = np.sort(generator.choice(len(boxes), size=count, replace=False)) if count else np.zeros(0, dtype=int)
     ground = np.array([[0.0, 0.0, 0.0], [size, 0.0, 0.0], [size, size, 0.0], [0.0, size, 0.0]])
@@ -469,7 +464,7 @@ def buildings_prior(
     Terrain
     """
     boxes = _check_buildings(buildings)
-    generator = _rng(rng)
+    generator = as_generator(rng)
     if kind == "boxes":
         spacing = as_positive_float(spacing, "spacing")
         mapped = perturb_buildings(

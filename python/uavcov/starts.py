@@ -26,7 +26,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._validate import as_non_negative_float, as_positive_float, as_positive_int
+from ._validate import as_generator, as_non_negative_float, as_positive_float, as_positive_int
 from .cvt import cvt
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .surface import Terrain
@@ -43,12 +43,6 @@ CORNERS = ("sw", "se", "ne", "nw")
 # so only a surface covering almost none of its rectangle can exhaust them.
 _MAX_ROUNDS = 100
 
-
-def _generator(rng: Any) -> np.random.Generator:
-    try:
-        return np.random.default_rng(rng)
-    except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc
 
 
 def _rectangle(surface: Terrain) -> tuple[float, float, float, float]:
@@ -192,7 +186,7 @@ def initial_positions(
     if kind == "cvt":
         positions = cvt(surface, n, rng=rng, n_threads=n_threads, **options).generators
     elif kind == "random":
-        positions = _random(surface, n, _generator(rng), n_threads)
+        positions = _random(surface, n, as_generator(rng), n_threads)
     else:
         positions = _corner(surface, n, corner, step, n_threads)
 

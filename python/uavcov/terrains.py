@@ -39,6 +39,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ._validate import (
+    as_generator,
     as_finite_float,
     as_float_array,
     as_index_array,
@@ -71,12 +72,6 @@ __all__ = [
     "sample_dem",
 ]
 
-
-def _rng(rng: Any) -> np.random.Generator:
-    try:
-        return np.random.default_rng(rng)
-    except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"rng must be None, an int or a numpy Generator, got {rng!r}") from exc
 
 
 def _as_range(value: Any, name: str, *, positive: bool = False) -> tuple[float, float]:
@@ -220,7 +215,7 @@ def random_gaussian_mixture(
     n_hills = as_non_negative_int(n_hills, "n_hills")
     low, high = _as_range(heights, "heights")
     sigma = as_positive_float(sigma, "sigma")
-    generator = _rng(rng)
+    generator = as_generator(rng)
     centres = generator.uniform(0.0, size, size=(n_hills, 2))
     peak = generator.uniform(low, high, size=n_hills)
     return GaussianMixture(centres=centres, heights=peak, sigma=sigma)
@@ -363,7 +358,7 @@ def random_buildings(
     max_attempts = as_positive_int(max_attempts, "max_attempts")
     if side_low > size - 2 * margin:
         raise InfeasibleError(f"a footprint of {side_low} m does not fit in {size} m with margin {margin} m")
-    generator = _rng(rng)
+    generator = as_generator(rng)
     placed: list[Building] = []
     for _ in range(n_buildings):
         for _attempt in range(max_attempts):
@@ -557,7 +552,7 @@ def perturb_buildings(
     step = as_positive_float(step, "step")
     gap = as_non_negative_float(gap, "gap")
     max_attempts = as_positive_int(max_attempts, "max_attempts")
-    generator = _rng(rng)
+    generator = as_generator(rng)
     result: list[Building] = []
     for b in buildings:
         if not isinstance(b, Building):
