@@ -120,57 +120,6 @@ fn bench(c: &mut Criterion) {
     group.bench_function("N20_34pt_S'_50_iterations_1thread", |b| {
         b.iter(|| black_box(constrained_cvt(&surface, n, &fixed, None, None, 1, 1).unwrap()))
     });
-    // TEMP component timings
-    {
-        use uavcov::sampling::AreaSampler;
-        let sampler = AreaSampler::new(&surface, None).unwrap();
-        let gens: Vec<[f64; 3]> = runs[0].generators.clone();
-        group.bench_function("TEMP_sample_4000", |b| {
-            b.iter(|| {
-                let mut rng = ChaCha8Rng::seed_from_u64(1);
-                let mut acc = 0.0;
-                for _ in 0..4000 { acc += sampler.sample(&mut rng)[0]; }
-                black_box(acc)
-            })
-        });
-        let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let pts: Vec<[f64; 3]> = (0..4000).map(|_| sampler.sample(&mut rng)).collect();
-        group.bench_function("TEMP_nearest_4000x20", |b| {
-            b.iter(|| black_box(uavcov::cvt::nearest_generator(&gens, &pts, 1).unwrap()))
-        });
-        fn branchy(generators: &[[f64; 3]], y: [f64; 3]) -> usize {
-            let mut best = 0; let mut best_d = f64::INFINITY;
-            for (i, g) in generators.iter().enumerate() {
-                let (dx, dy, dz) = (g[0] - y[0], g[1] - y[1], g[2] - y[2]);
-                let d = dx * dx + dy * dy + dz * dz;
-                if d < best_d { best_d = d; best = i; }
-            }
-            best
-        }
-        fn soa(xs: &[f64], ys: &[f64], zs: &[f64], y: [f64; 3]) -> usize {
-            let mut d = [0.0f64; 64];
-            let n = xs.len();
-            for i in 0..n { let (a, b, c) = (xs[i] - y[0], ys[i] - y[1], zs[i] - y[2]); d[i] = a * a + b * b + c * c; }
-            let mut best = 0; let mut best_d = f64::INFINITY;
-            for i in 0..n { let closer = d[i] < best_d; best_d = if closer { d[i] } else { best_d }; best = if closer { i } else { best }; }
-            best
-        }
-        group.bench_function("TEMP_nearest_branchy", |b| {
-            b.iter(|| black_box(pts.iter().map(|&p| branchy(&gens, p)).sum::<usize>()))
-        });
-        let xs: Vec<f64> = gens.iter().map(|g| g[0]).collect();
-        let ys: Vec<f64> = gens.iter().map(|g| g[1]).collect();
-        let zs: Vec<f64> = gens.iter().map(|g| g[2]).collect();
-        group.bench_function("TEMP_nearest_soa", |b| {
-            b.iter(|| black_box(pts.iter().map(|&p| soa(&xs, &ys, &zs, p)).sum::<usize>()))
-        });
-        group.bench_function("TEMP_rng_12000_f64", |b| {
-            b.iter(|| { let mut rng = ChaCha8Rng::seed_from_u64(1); let mut acc = 0.0; for _ in 0..12000 { acc += rng.random::<f64>(); } black_box(acc) })
-        });
-        group.bench_function("TEMP_closest_20", |b| {
-            b.iter(|| { let mut acc = 0.0; for g in &gens { acc += surface.closest_point([g[0] + 0.3, g[1] - 0.2, g[2] + 1.0])[2]; } black_box(acc) })
-        });
-    }
     group.finish();
 }
 

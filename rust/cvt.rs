@@ -49,13 +49,12 @@
 
 use std::collections::VecDeque;
 
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::error::{ensure, Error, Result};
-use crate::mesh::{Point, Surface};
-use crate::sampling::AreaSampler;
+use crate::mesh::{p, Point, Surface};
 use crate::threads;
 
 /// Samples per chunk of work: each chunk has its own random stream, so results do not depend on
@@ -100,9 +99,10 @@ impl Weights {
     pub fn new(alpha: [f64; 2], beta: [f64; 2]) -> Result<Self> {
         for (name, [w1, w2]) in [("alpha", alpha), ("beta", beta)] {
             ensure!(w1.is_finite() && w2.is_finite(), "{name} must be finite, got ({w1}, {w2})");
-            ensure!((w1 + w2 - 1.0).abs() <= 1e-9, "{name}: {name}1 + {name}2 must be 1, got {w1} + {w2} = {}", w1 + w2);
-            ensure!(w2 > 0.0, "{name}2 must be > 0 (the paper's constraint), got {w2}");
-            ensure!(w1 >= 0.0, "{name}1 must be >= 0 so the update never overshoots the sample mean, got {w1}");
+            let (sums_to_one, positive, non_negative) = ((w1 + w2 - 1.0).abs() <= 1e-9, w2 > 0.0, w1 >= 0.0);
+            ensure!(sums_to_one, "{name}: {name}1 + {name}2 must be 1 (the paper's constraint), got {w1} + {w2} = {}", w1 + w2);
+            ensure!(positive, "{name}2 must be > 0 (the paper's constraint), got {w2}");
+            ensure!(non_negative, "{name}1 must be >= 0 so the update never overshoots the sample mean, got {w1}");
         }
         Ok(Self { alpha, beta })
     }
@@ -189,6 +189,128 @@ pub struct Tessellation {
     pub converged: bool,
 }
 
+/// Points uniform by (density-weighted) area, with the triangle each lies in.
+///
+/// Like [`crate::sampling::AreaSampler`], but it picks the triangle in O(1) with Walker's alias
+/// table (no binary search, whose mispredicted branches cost more than the rest of a draw), uses
+/// two 64-bit random words per point instead of three, and tells which triangle it drew, which
+/// the nearest-generator search uses.
+struct TriangleSampler {
+    /// `(a, b - a, c - a)` of each triangle.
+    frames: Vec<[Point; 3]>,
+    /// Slot `f` keeps triangle `f` when the draw's fraction is below `keep[f] / 2^64`...
+    keep: Vec<u64>,
+    /// ...and takes `alias[f]` otherwise.
+    alias: Vec<u32>,
+}
+
+impl TriangleSampler {
+    fn new(surface: &Surface, density: Option<&[f64]>) -> Result<Self> {
+        let areas = surface.areas();
+        let n = areas.len();
+        if let Some(d) = density {
+            ensure!(d.len() == n, "density has {} values for {n} triangles", d.len());
+            ensure!(d.iter().all(|x| x.is_finite() && *x >= 0.0), "density must be finite and >= 0 everywhere");
+        }
+        let weights: Vec<f64> = areas.iter().enumerate().map(|(f, &a)| a * density.map_or(1.0, |d| d[f])).collect();
+        let total: f64 = weights.iter().sum();
+        ensure!(total.is_finite() && total > 0.0, "the sampling density is zero over the whole surface");
+        ensure!(n <= u32::MAX as usize, "too many triangles for the CVT sampler: {n}");
+        // Vose's construction: scaled weights average 1; each slot below 1 is topped up from
+        // one above 1, which becomes its alias.
+        let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
+        let mut keep = vec![u64::MAX; n];
+        let mut alias: Vec<u32> = (0..n as u32).collect();
+        let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&f| scaled[f] < 1.0);
+        while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
+            small.pop();
+            keep[s] = (scaled[s] * 2f64.powi(64)) as u64; // saturating cast; scaled[s] < 1
+            alias[s] = l as u32;
+            scaled[l] -= 1.0 - scaled[s];
+            if scaled[l] < 1.0 {
+                large.pop();
+                small.push(l);
+            }
+        }
+        // Leftovers (in either list, by rounding) keep their own triangle always.
+        let frames = (0..n)
+            .map(|f| {
+                let [a, b, c] = surface.triangle(f);
+                [p(a), p(b - a), p(c - a)]
+            })
+            .collect();
+        Ok(Self { frames, keep, alias })
+    }
+
+    fn n_triangles(&self) -> usize {
+        self.frames.len()
+    }
+
+    #[inline]
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Point, usize) {
+        // The high word of r * F is a uniform slot, the low word an independent fraction.
+        let x = u128::from(rng.next_u64()) * self.frames.len() as u128;
+        let slot = (x >> 64) as usize;
+        let f = if (x as u64) < self.keep[slot] { slot } else { self.alias[slot] as usize };
+        let bits = rng.next_u64();
+        const SCALE: f64 = 1.0 / 4_294_967_296.0; // 2^-32: 32 bits per barycentric coordinate
+        let (mut u, mut v) = ((bits >> 32) as f64 * SCALE, (bits & 0xffff_ffff) as f64 * SCALE);
+        if u + v > 1.0 {
+            // Reflect into the lower half of the unit square: uniform on the triangle.
+            (u, v) = (1.0 - u, 1.0 - v);
+        }
+        let [a, ab, ac] = self.frames[f];
+        ([a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1], a[2] + u * ab[2] + v * ac[2]], f)
+    }
+}
+
+/// For each triangle, the generators that can be nearest to some point of it: those within
+/// `2 r` (plus rounding slack) of the nearest one to its centroid, `r` the triangle's radius
+/// about the centroid. A point `y` of the triangle has `|y - g| >= |c - g| - r` and
+/// `|y - h| <= |c - h| + r`, so a generator beyond that bound never wins, and the search over
+/// the candidates (in index order) gives exactly the brute-force answer, ties included.
+struct Candidates {
+    offsets: Vec<usize>,
+    list: Vec<u32>,
+}
+
+/// Centroid and radius of each triangle, for [`Candidates`].
+fn triangle_balls(surface: &Surface) -> Vec<(Point, f64)> {
+    (0..surface.n_triangles())
+        .map(|f| {
+            let [a, b, c] = surface.triangle(f);
+            let centre = (a + b + c) / 3.0;
+            let r = (a - centre).length().max((b - centre).length()).max((c - centre).length());
+            (p(centre), r)
+        })
+        .collect()
+}
+
+impl Candidates {
+    fn new(balls: &[(Point, f64)], generators: &[Point]) -> Self {
+        let mut offsets = Vec::with_capacity(balls.len() + 1);
+        let mut list = Vec::new();
+        let mut d = vec![0.0; generators.len()];
+        offsets.push(0);
+        for &(centre, r) in balls {
+            for (di, &g) in d.iter_mut().zip(generators) {
+                *di = distance(centre, g);
+            }
+            let nearest = d.iter().cloned().fold(f64::INFINITY, f64::min);
+            let bound = nearest + 2.0 * r;
+            let bound = bound + 1e-9 * bound + 1e-12;
+            list.extend(d.iter().enumerate().filter(|&(_, &x)| x <= bound).map(|(i, _)| i as u32));
+            offsets.push(list.len());
+        }
+        Self { offsets, list }
+    }
+
+    #[inline]
+    fn of(&self, f: usize) -> &[u32] {
+        &self.list[self.offsets[f]..self.offsets[f + 1]]
+    }
+}
+
 /// Per-chunk sums of the samples given to each generator.
 struct Partial {
     sums: Vec<[f64; 3]>,
@@ -216,6 +338,23 @@ fn nearest(generators: &[Point], y: Point) -> (usize, f64) {
         if d < best_d {
             best_d = d;
             best = i;
+        }
+    }
+    (best, best_d)
+}
+
+/// [`nearest`] over the generators `subset` (ascending indices) only.
+#[inline]
+fn nearest_in(generators: &[Point], subset: &[u32], y: Point) -> (usize, f64) {
+    let mut best = 0;
+    let mut best_d = f64::INFINITY;
+    for &i in subset {
+        let g = generators[i as usize];
+        let (dx, dy, dz) = (g[0] - y[0], g[1] - y[1], g[2] - y[2]);
+        let d = dx * dx + dy * dy + dz * dz;
+        if d < best_d {
+            best_d = d;
+            best = i as usize;
         }
     }
     (best, best_d)
@@ -251,7 +390,7 @@ pub fn constrained_cvt(
     if surface.n_triangles() == 0 || !(surface.area().is_finite() && surface.area() > 0.0) {
         return Err(Error::Mesh("the surface has no area to tessellate".into()));
     }
-    let sampler = AreaSampler::new(surface, density)?;
+    let sampler = TriangleSampler::new(surface, density)?;
     let mut generators: Vec<Point> = match initial {
         Some(points) => {
             ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
@@ -260,7 +399,7 @@ pub fn constrained_cvt(
         }
         None => {
             let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
-            (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng))).collect()
+            (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
         }
     };
     let q = settings.samples_per_iteration;
@@ -271,10 +410,14 @@ pub fn constrained_cvt(
     history.push_back(generators.clone());
     let (mut moves, mut drift, mut energy) = (Vec::new(), Vec::new(), Vec::new());
     let mut converged = false;
+    // Candidate lists cost N distances per triangle each iteration: worth it when triangles get
+    // a few samples each (the paper's S' has ~60), not on fine meshes (brute force there).
+    let balls = (sampler.n_triangles() * 4 <= q).then(|| triangle_balls(surface));
 
     threads::run(n_threads, || {
         for k in 0..settings.max_iterations {
             let current = &generators;
+            let candidates = balls.as_ref().map(|b| Candidates::new(b, current));
             let partials: Vec<Partial> = (0..n_chunks)
                 .into_par_iter()
                 .map(|c| {
@@ -282,8 +425,11 @@ pub fn constrained_cvt(
                     let count = CHUNK.min(q - c * CHUNK);
                     let mut part = Partial { sums: vec![[0.0; 3]; n], counts: vec![0; n], squared_distance: 0.0 };
                     for _ in 0..count {
-                        let y = sampler.sample(&mut rng);
-                        let (i, d) = nearest(current, y);
+                        let (y, f) = sampler.sample(&mut rng);
+                        let (i, d) = match &candidates {
+                            Some(c) => nearest_in(current, c.of(f), y),
+                            None => nearest(current, y),
+                        };
                         let s = &mut part.sums[i];
                         s[0] += y[0];
                         s[1] += y[1];
@@ -298,11 +444,13 @@ pub fn constrained_cvt(
             let mut counts = vec![0u64; n];
             let mut squared_distance = 0.0;
             for part in &partials {
-                for i in 0..n {
-                    for a in 0..3 {
-                        sums[i][a] += part.sums[i][a];
+                for (total, chunk) in sums.iter_mut().zip(&part.sums) {
+                    for (t, c) in total.iter_mut().zip(chunk) {
+                        *t += c;
                     }
-                    counts[i] += part.counts[i];
+                }
+                for (total, chunk) in counts.iter_mut().zip(&part.counts) {
+                    *total += chunk;
                 }
                 squared_distance += part.squared_distance;
             }
@@ -485,6 +633,11 @@ mod tests {
         assert_eq!(bits(&one), bits(&three));
         let other = constrained_cvt(&s, 7, &settings, None, None, 43, 1).unwrap();
         assert_ne!(one.generators, other.generators);
+        // The same on a coarse surface, where the search runs over per-triangle candidates.
+        let coarse = rectangle(120.0, 80.0);
+        let one = constrained_cvt(&coarse, 7, &settings, None, None, 42, 1).unwrap();
+        let two = constrained_cvt(&coarse, 7, &settings, None, None, 42, 2).unwrap();
+        assert_eq!(bits(&one), bits(&two));
     }
 
     #[test]
@@ -526,6 +679,69 @@ mod tests {
         // The first damped step takes the square's generator half way from (10, 10) to about
         // (50, 50), some 28 m; the still one counts as a zero move in the mean.
         assert!(t.moves[0] > 12.0 && t.moves[0] < 16.5, "{}", t.moves[0]);
+    }
+
+    #[test]
+    fn sampler_follows_area_times_density() {
+        // Four triangles of areas 1, 2, 3, 4 m^2 (fans on one base), with density 4, 0, 1, 2.
+        let mut vertices = Vec::new();
+        let mut faces = Vec::new();
+        for (k, height) in [1.0, 2.0, 3.0, 4.0].into_iter().enumerate() {
+            let x0 = 10.0 * k as f64;
+            let v = vertices.len() as u32;
+            vertices.extend([[x0, 0.0, 0.0], [x0 + 2.0, 0.0, 0.0], [x0, height, 1.0]]);
+            faces.push([v, v + 1, v + 2]);
+        }
+        let s = Surface::new(vertices, faces).unwrap();
+        let density = [4.0, 0.0, 1.0, 2.0];
+        let sampler = TriangleSampler::new(&s, Some(&density)).unwrap();
+        let mut rng = stream(5, 0, 0, 0);
+        let draws = 200_000;
+        let mut counts = [0usize; 4];
+        for _ in 0..draws {
+            let (y, f) = sampler.sample(&mut rng);
+            counts[f] += 1;
+            // The point lies in the triangle it names.
+            let [a, b, c] = s.triangle(f);
+            let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+            assert!((0..3).all(|i| y[i] >= lo[i] - 1e-12 && y[i] <= hi[i] + 1e-12));
+        }
+        let weights: Vec<f64> = s.areas().iter().zip(density).map(|(a, d)| a * d).collect();
+        let total: f64 = weights.iter().sum();
+        assert_eq!(counts[1], 0);
+        for f in 0..4 {
+            let p = weights[f] / total;
+            let sigma = (draws as f64 * p * (1.0 - p)).sqrt();
+            assert!((counts[f] as f64 - draws as f64 * p).abs() <= 5.0 * sigma + 1e-9, "{f}: {counts:?}");
+        }
+        // Uniform within a triangle: the share in the half nearer the base edge's first vertex.
+        let sampler = TriangleSampler::new(&s, Some(&[1.0, 0.0, 0.0, 0.0])).unwrap();
+        let left = (0..draws).filter(|_| sampler.sample(&mut rng).0[0] < 1.0).count() as f64 / draws as f64;
+        // Triangle (0,0),(2,0),(0,1) in x-y: the part with x < 1 holds 3/4 of its area.
+        assert!((left - 0.75).abs() < 0.005, "{left}");
+    }
+
+    #[test]
+    fn candidate_search_matches_brute_force() {
+        let s = hills();
+        let sampler = TriangleSampler::new(&s, None).unwrap();
+        let balls = triangle_balls(&s);
+        let mut rng = stream(8, 0, 0, 0);
+        for n in [1, 3, 17, 40] {
+            let generators: Vec<Point> = (0..n).map(|_| sampler.sample(&mut rng).0).collect();
+            let candidates = Candidates::new(&balls, &generators);
+            assert!(candidates.list.len() < n * s.n_triangles() || n < 3);
+            for _ in 0..20_000 {
+                let (y, f) = sampler.sample(&mut rng);
+                assert_eq!(nearest_in(&generators, candidates.of(f), y), nearest(&generators, y));
+            }
+        }
+        // Exact ties go to the lower index either way.
+        let twins = [[10.0, 10.0, s.closest_point([10.0, 10.0, 0.0])[2]]; 2];
+        let candidates = Candidates::new(&balls, &twins);
+        let y = s.closest_point([12.0, 11.0, 0.0]);
+        let f = (0..s.n_triangles()).find(|&f| candidates.of(f).len() == 2).unwrap();
+        assert_eq!(nearest_in(&twins, candidates.of(f), y).0, 0);
     }
 
     #[test]

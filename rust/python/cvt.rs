@@ -45,10 +45,7 @@ impl PyCvt {
         let weights = Weights::new([alpha.0, alpha.1], [beta.0, beta.1]).map_err(|e| to_py_err(py, e))?;
         let settings = Settings { samples_per_iteration, weights, tolerance, window, max_iterations };
         // Copies, so Rust reads nothing Python could change once the GIL is released.
-        let density: Option<Vec<f64>> = match density {
-            Some(d) => Some(d.as_slice().map(<[f64]>::to_vec).unwrap_or_else(|_| d.as_array().to_vec())),
-            None => None,
-        };
+        let density: Option<Vec<f64>> = density.map(|d| d.as_array().to_vec());
         let initial = match initial {
             Some(a) => Some(points(py, &a, "initial")?),
             None => None,
