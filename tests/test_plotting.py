@@ -102,6 +102,23 @@ def test_approximation_of_a_terrain_needs_the_approximation(hills_run):
         plotting.plot_approximation(hills_run.terrain)
 
 
+def test_outline_of_a_fine_surface_is_its_creases_and_border():
+    x = np.arange(31.0)
+    flat = uavcov.Terrain.from_grid(np.zeros((31, 31)), spacing=1.0)
+    flat_mesh = uavcov.Terrain(flat.vertices, flat.faces)
+    edges, which = plotting._outline_edges(flat_mesh)
+    assert which == "its creases and borders" and len(edges) == 4 * 30
+    ends = flat_mesh.vertices[edges]
+    on_border = lambda p: (np.isin(p[:, 0], (0, 30)) | np.isin(p[:, 1], (0, 30)))  # noqa: E731
+    assert on_border(ends[:, 0]).all() and on_border(ends[:, 1]).all()
+    # A roof ridge along x = 15 (slopes of 45 degrees either side) adds its 30 edges.
+    roof = uavcov.Terrain.from_grid(np.tile(15.0 - np.abs(x - 15.0), (31, 1)), spacing=1.0)
+    edges, _ = plotting._outline_edges(uavcov.Terrain(roof.vertices, roof.faces))
+    assert len(edges) == 4 * 30 + 30
+    coarse, which = plotting._outline_edges(uavcov.Terrain.from_grid(np.zeros((3, 3)), spacing=1.0))
+    assert which == "its triangles" and len(coarse) == 16
+
+
 def test_cvt_renders_and_colours_follow_the_regions(hills_run):
     fig = plotting.plot_cvt(hills_run)
     _assert_not_blank(_render(fig))

@@ -489,23 +489,43 @@ def plot_approximation(
     # compare with the red surface, and edges do not hide it.
     from mpl_toolkits.mplot3d.art3d import Line3DCollection  # type: ignore[import-untyped]
 
-    faces = np.asarray(approximation.faces)
-    edges = np.unique(np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1), axis=0)
-    if edges.shape[0] > 20_000:
-        edges = edges[:: math.ceil(edges.shape[0] / 20_000)]
+    edges, which = _outline_edges(approximation)
     segments = np.asarray(approximation.vertices)[edges]
     ax.add_collection3d(Line3DCollection(list(segments), colors="0.15", linewidths=0.6, alpha=0.8, zorder=2))
     handles = [
         _patch(TRUE_SURFACE_COLOUR, "true surface S"),
-        _line("approximating surface S' (its triangles)", color="0.15", linewidth=0.8),
+        _line(f"approximating surface S' ({which})", color="0.15", linewidth=0.8),
     ]
     if known.shape[0]:
         ax.scatter(known[:, 0], known[:, 1], known[:, 2], s=22, c="black", depthshade=False, zorder=3)
         handles.append(_marker(f"known points ({known.shape[0]})", marker="o", color="black", markersize=5))
+    source_text = f" from {known.shape[0]} known points" if known.shape[0] else ""
     _style_3d(ax, _scene_bounds(truth.bounds, approximation.bounds), elev=elev, azim=azim,
-              title="True surface and its approximation from the known points")
+              title=f"True surface S and its approximation S'{source_text}")
     _legend(ax, handles)
     return _finish(fig, out, dpi)
+
+
+def _outline_edges(surface: Terrain, max_all: int = 600) -> tuple[np.ndarray, str]:
+    """Edges that show a surface as lines: every edge of a coarse mesh (S' from a few points),
+    only creases (faces meeting at more than 20 degrees) and borders of a fine one (a map of
+    buildings), where every edge would be a grey smear."""
+    faces = np.asarray(surface.faces)
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    unique, inverse, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
+    if faces.shape[0] <= max_all:
+        return unique, "its triangles"
+    inverse = inverse.ravel()
+    owner = np.tile(np.arange(faces.shape[0]), 3)
+    order = np.argsort(inverse, kind="stable")
+    first = np.searchsorted(inverse[order], np.arange(unique.shape[0]))
+    normals = _normals(np.asarray(surface.vertices)[faces])
+    pair = counts == 2
+    a = owner[order[first[pair]]]
+    b = owner[order[first[pair] + 1]]
+    crease = np.zeros(unique.shape[0], dtype=bool)
+    crease[pair] = np.abs(np.einsum("ij,ij->i", normals[a], normals[b])) < math.cos(math.radians(20.0))
+    return unique[crease | (counts != 2)], "its creases and borders"
 
 
 # ---------------------------------------------------------------------------------------------
