@@ -229,12 +229,14 @@ class RunSpec:
 
         ``<label>-<start>-n<N>-s<seed>-<settings hash>``, e.g. ``table1-cvt-n05-s0003-1a2b3c4d``.
         """
-        label = "".join(c if c.isalnum() or c in "._" else "_" for c in self.label)
+        label = "".join(c if c.isalnum() or c in "._-" else "_" for c in self.label)
         return f"{label}-{self.start}-n{self.n_uavs:02d}-s{self.seed:04d}-{self.settings_hash}"
 
     def row_template(self) -> dict[str, Any]:
         """The row of this run with every result column empty."""
-        row: dict[str, Any] = {name: "" for name in RUN_COLUMNS}
+        # None where a result is missing, as read_runs gives back an empty cell.
+        row: dict[str, Any] = {name: None for name in RUN_COLUMNS}
+        row["error"] = ""
         row.update(
             run_id=self.run_id,
             experiment=self.label,
@@ -909,7 +911,7 @@ def table1_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     rows = list(rows)
     ok = _finished(rows)
     summary = summarise(ok, by=("n_uavs", "init"))
-    sizes = sorted({int(r["n_uavs"]) for r in rows} | {n for n, _, _ in paper.PUBLISHED_TABLE1})
+    sizes = sorted({int(r["n_uavs"]) for r in rows}) or sorted({n for n, _, _ in paper.PUBLISHED_TABLE1})
     columns = [("cvt", "initial"), ("cvt", "max"), ("random", "initial"), ("random", "max"), ("corner", "initial"), ("corner", "max")]
 
     def ours(n: int, start: str, metric: str) -> tuple[float, float] | None:
@@ -1080,18 +1082,16 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
         seeds: list[int] = []
         for part in text.replace(" ", "").split(","):
             if not part:
-                raise ConfigError(f"--seeds {text!r}: an empty item")
+                raise ConfigError(f"seeds {text!r}: an empty item")
             low, dash, high = part.partition("-")
             try:
-                if dash:
-                    a, b = int(low), int(high)
-                    if b < a:
-                        raise ConfigError(f"--seeds {text!r}: the range {part} runs backwards")
-                    seeds.extend(range(a, b + 1))
-                else:
-                    seeds.append(int(part))
+                a = int(low)
+                b = int(high) if dash else a
             except ValueError:
-                raise ConfigError(f"--seeds {text!r}: {part!r} is not a seed or a range like 0-39") from None
+                raise ConfigError(f"seeds {text!r}: {part!r} is not a seed or a range like 0-39") from None
+            if b < a:
+                raise ConfigError(f"seeds {text!r}: the range {part} runs backwards")
+            seeds.extend(range(a, b + 1))
     else:
         seeds = list(text)
         for s in seeds:

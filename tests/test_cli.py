@@ -1,0 +1,250 @@
+"""The command line: every command end to end on tiny settings, and every kind of bad input.
+
+Bad input must give a clear message, a non-zero exit code, and leave whatever is already in
+``--out`` as it was.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, main
+from uavcov.experiments import read_runs
+
+TINY_SWEEP = """
+name = "tiny"
+seeds = [0, 1]
+team_sizes = [2]
+starts = ["cvt", "corner"]
+d_max = 12.0
+n_prior = 8
+iterations = {iterations}
+
+[terrain]
+size = 40.0
+spacing = 4.0
+heights = [2.0, 8.0]
+sigma = 6.0
+
+[cao]
+n_candidates = 20
+
+[cvt]
+samples_per_iteration = 400
+max_iterations = 20
+
+[sweep]
+"cao.alpha0" = [1.0, 2.0]
+"""
+
+
+def write(path: Path, text: str) -> Path:
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def snapshot(directory: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(directory)): p.read_bytes() for p in sorted(directory.rglob("*")) if p.is_file()}
+
+
+def test_sweep_end_to_end(tmp_path, capsys):
+    config = write(tmp_path / "tiny.toml", TINY_SWEEP.format(iterations=4))
+    out = tmp_path / "out"
+    assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "--no-progress"]) == EXIT_OK
+    rows = read_runs(out / "runs.csv")
+    assert len(rows) == 2 * 2 * 1 * 2  # alpha0 values x seeds x team sizes x starts
+    assert sorted({r["cao.alpha0"] for r in rows}) == ["1.0", "2.0"]
+    assert all(r["experiment"] == "tiny" and r["error"] == "" for r in rows)
+    assert len(list((out / "runs").glob("*.npz"))) == len(rows)
+    resolved = json.loads((out / "config.json").read_text())
+    assert sorted(v["settings"]["cao"]["alpha0"] for v in resolved["settings"].values()) == [1.0, 2.0]
+    assert all(v["settings"]["terrain"]["spacing"] == 4.0 for v in resolved["settings"].values())
+    assert (out / "sweep.toml").read_text() == config.read_text()
+    summary = (out / "summary.md").read_text()
+    assert summary.count("| 1.0 | 2 |") == 2 and summary.count("| 2.0 | 2 |") == 2
+    capsys.readouterr()
+    # Rerunning into the same directory without --resume is refused and changes nothing.
+    before = snapshot(out)
+    assert main(["sweep", str(config), "--out", str(out), "--workers", "1"]) == EXIT_BAD_INPUT
+    assert "--resume" in capsys.readouterr().err
+    assert snapshot(out) == before
+    # --resume of a finished sweep runs nothing and keeps every row once.
+    assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "--resume"]) == EXIT_OK
+    assert len(read_runs(out / "runs.csv")) == len(rows)
+    # Other settings into the same directory, even with --resume, are refused.
+    other = write(tmp_path / "other.toml", TINY_SWEEP.format(iterations=5).replace('name = "tiny"', 'name = "tiny"'))
+    assert main(["sweep", str(other), "--out", str(out), "--resume"]) == EXIT_BAD_INPUT
+    assert "other settings" in capsys.readouterr().err
+    assert snapshot(out)["runs.csv"] == before["runs.csv"]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("name = \n", "not valid TOML"),
+        ("iteratoins = 5\n", "did you mean 'iterations'"),
+        ("[cao]\nalpha = 1.0\n", "did you mean 'alpha0'"),
+        ("[terrain]\nsigmaa = 3.0\n", "did you mean 'sigma'"),
+        ("[sweep]\n\"cao.alpah0\" = [1.0]\n", "did you mean 'cao.alpha0'"),
+        ("d_max = -5.0\n", "d_max"),
+        ("iterations = -1\n", "iterations"),
+        ("team_sizes = [0]\n", "team_sizes"),
+        ("starts = [\"cvtt\"]\n", "did you mean 'cvt'"),
+        ("seeds = \"5-1\"\n", "backwards"),
+        ("[cao]\nalpha0 = -1.0\n", "alpha0"),
+        ("[cao]\nn_candidates = 2.5\n", "integer"),
+        ("[terrain]\nspacing = 3.0\n", "whole number"),
+        ("[cvt]\npreset = \"lloid\"\n", "did you mean 'lloyd'"),
+        ("[flight]\nh_min = 60.0\n", "h_min"),
+        ("prior = \"map\"\n", "buildings"),
+        ("[sweep]\nd_max = []\n", "non-empty list"),
+        ("[sweep]\nseeds = [1, 2]\n", "top level"),
+    ],
+)
+def test_bad_config_files_are_refused_before_anything_runs(tmp_path, capsys, text, message):
+    config = write(tmp_path / "bad.toml", text)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "keep.txt").write_text("precious")
+    before = snapshot(out)
+    assert main(["sweep", str(config), "--out", str(out)]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert "error" in err and message in err
+    assert "Traceback" not in err
+    assert snapshot(out) == before
+
+
+def test_a_missing_config_file(tmp_path, capsys):
+    assert main(["sweep", str(tmp_path / "nope.toml")]) == EXIT_BAD_INPUT
+    assert "cannot read" in capsys.readouterr().err
+
+
+def test_an_out_that_cannot_be_written(tmp_path, capsys):
+    config = write(tmp_path / "tiny.toml", TINY_SWEEP.format(iterations=1))
+    blocker = write(tmp_path / "a-file", "keep me")
+    assert main(["sweep", str(config), "--out", str(blocker / "sub"), "--workers", "1"]) == EXIT_BAD_INPUT
+    assert "cannot write" in capsys.readouterr().err
+    assert main(["reproduce", "example", "--out", str(blocker), "--workers", "1"]) == EXIT_BAD_INPUT
+    assert "is a file" in capsys.readouterr().err
+    assert blocker.read_text() == "keep me"
+
+
+def test_a_scheduler_that_does_not_answer(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "runs.csv").write_text("precious")
+    started = time.perf_counter()
+    code = main(["reproduce", "example", "--out", str(out), "--scheduler", "tcp://127.0.0.1:9", "--scheduler-timeout", "1"])
+    assert code == EXIT_BAD_INPUT
+    assert time.perf_counter() - started < 10.0
+    assert "did not answer" in capsys.readouterr().err
+    assert (out / "runs.csv").read_text() == "precious"
+
+
+def test_oversubscribed_threads_are_refused(tmp_path, capsys):
+    from uavcov.experiments import available_cores
+
+    cores = available_cores()
+    code = main(["reproduce", "example", "--out", str(tmp_path / "o"), "--workers", str(cores), "--threads", "2"])
+    assert code == EXIT_BAD_INPUT
+    assert "exceeds" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_argument_errors_exit_2(capsys):
+    for argv in (["reproduce", "table2"], ["reproduce", "table1", "--iterations", "-3"], ["demo", "--seed", "x"], []):
+        with pytest.raises(SystemExit) as exit_info:
+            main(argv)
+        assert exit_info.value.code == 2
+    capsys.readouterr()
+
+
+def test_reproduce_records_failed_runs_and_exits_1(tmp_path, capsys):
+    config = write(
+        tmp_path / "fail.toml",
+        TINY_SWEEP.format(iterations=2).replace("team_sizes = [2]", "team_sizes = [2, 30]").replace("size = 40.0", "size = 12.0").replace("spacing = 4.0", "spacing = 2.0"),
+    )
+    out = tmp_path / "out"
+    assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "--no-save-runs"]) == EXIT_RUNS_FAILED
+    err = capsys.readouterr().err
+    assert "failed" in err
+    rows = read_runs(out / "runs.csv")
+    assert len(rows) == 2 * 2 * 2 * 2  # alpha0 values x seeds x team sizes x starts
+    assert {r["error"] != "" for r in rows} == {True, False}
+    assert not (out / "runs").exists() or not list((out / "runs").glob("*.npz"))
+
+
+def test_demo(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--iterations", "3", "--no-plots", "--threads", "1"]) == EXIT_OK
+    text = capsys.readouterr().out
+    assert "9 UAVs" in text and "d_max = 35 m" in text
+    rows = read_runs(out / "runs.csv")
+    assert len(rows) == 1 and rows[0]["n_uavs"] == 9 and rows[0]["sensing_range"] == 35.0
+    assert f"{rows[0]['initial_coverage']:.3f}" in text and f"{rows[0]['max_coverage']:.3f}" in text
+    assert (out / "runs" / f"{rows[0]['run_id']}.npz").is_file()
+    # The demo again into its own directory replaces its run instead of adding a second row.
+    assert main(["demo", "--out", str(out), "--iterations", "3", "--no-plots", "--threads", "1"]) == EXIT_OK
+    again = read_runs(out / "runs.csv")
+    assert len(again) == 1 and again[0]["max_coverage"] == rows[0]["max_coverage"]
+
+
+def test_plot_without_plotting_gives_a_clear_error(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "uavcov.plotting", None)  # import of it now raises ImportError
+    assert main(["plot", str(tmp_path)]) == EXIT_BAD_INPUT
+    assert "uavcov[plot]" in capsys.readouterr().err
+    assert main(["plot", str(tmp_path / "missing")]) == EXIT_BAD_INPUT
+
+
+def _env() -> dict[str, str]:
+    env = dict(os.environ)
+    env.pop("PYTHONPATH", None)
+    return env
+
+
+def test_python_dash_m_is_the_same_command(tmp_path):
+    done = subprocess.run(
+        [sys.executable, "-m", "uavcov", "reproduce", "--help"], capture_output=True, text=True, timeout=60, env=_env()
+    )
+    assert done.returncode == 0
+    assert "table1" in done.stdout and "--scheduler" in done.stdout and "--resume" in done.stdout
+
+
+def test_ctrl_c_leaves_a_clean_runs_file_and_resume_finishes_it(tmp_path):
+    # Runs of about 0.1 s each, so that the signal lands in the middle of the sweep.
+    text = TINY_SWEEP.format(iterations=400).replace("seeds = [0, 1]", 'seeds = "0-5"').replace("spacing = 4.0", "spacing = 2.0")
+    config = write(tmp_path / "long.toml", text)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "uavcov", "sweep", str(config), "--out", str(out), "--workers", "2", "--no-progress"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env())
+    runs = out / "runs.csv"
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        if runs.exists() and len(read_runs(runs)) >= 2:
+            break
+        if process.poll() is not None:
+            break
+        time.sleep(0.05)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    total = 2 * 6 * 2  # alpha0 values x seeds x starts
+    rows = read_runs(runs)
+    assert runs.read_bytes().endswith(b"\n")
+    assert len({r["run_id"] for r in rows}) == len(rows)
+    if process.returncode == EXIT_INTERRUPTED:
+        assert "--resume" in err and "Traceback" not in err
+        assert 2 <= len(rows) < total
+    else:  # the machine was fast enough to finish before the signal landed
+        assert process.returncode == EXIT_OK and len(rows) == total
+    done = subprocess.run(command + ["--resume"], capture_output=True, text=True, timeout=300, env=_env())
+    assert done.returncode == EXIT_OK, done.stderr
+    final = read_runs(runs)
+    assert len(final) == total and len({r["run_id"] for r in final}) == total
