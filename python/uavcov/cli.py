@@ -195,13 +195,14 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _plot_directory(out: Path) -> list[Path] | None:
-    """Draw every figure of ``out`` when plotting is available; None when it is not."""
+    """Draw the figures of ``out`` (not the animation, which takes longer) when plotting is available."""
     try:
         from .plotting import plot_directory
-    except ImportError as exc:
+
+        return list(plot_directory(out, animation=False) or [])
+    except ImportError as exc:  # plotting.py missing, or matplotlib when it draws
         _say(f"(no figures: plotting needs matplotlib, pip install 'uavcov[plot]': {exc})")
         return None
-    return list(plot_directory(out) or [])
 
 
 def _demo(args: argparse.Namespace) -> int:
@@ -275,6 +276,8 @@ def _demo(args: argparse.Namespace) -> int:
         if figures:
             wrote += [str(Path(f).relative_to(out_path)) if Path(f).is_relative_to(out_path) else str(f) for f in figures]
     print(f"\n  wrote to {out_path}/: " + ", ".join(wrote))
+    if not args.no_plots:
+        print(f"  `uavcov plot {out_path}` redraws them and adds an animation of the mission")
     print(f"  total {time.perf_counter() - started:.1f} s")
     return EXIT_OK
 
@@ -287,9 +290,10 @@ def _plot(args: argparse.Namespace) -> int:
         raise ConfigError(f"{directory} is not a directory of results")
     try:
         from .plotting import plot_directory
-    except ImportError as exc:
+
+        figures = list(plot_directory(directory, args.out) or [])
+    except ImportError as exc:  # plotting.py missing, or matplotlib when it draws
         raise ConfigError(f"plotting is not available: pip install 'uavcov[plot]' (needs matplotlib; {exc})") from exc
-    figures = list(plot_directory(directory) or [])
     for figure in figures:
         print(figure)
     _say(f"{len(figures)} figure(s) written from {directory}")
@@ -310,7 +314,7 @@ def _parser() -> argparse.ArgumentParser:
 
     demo = commands.add_parser("demo", help="the paper's illustrative example end to end, in seconds")
     demo.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
-    demo.add_argument("--iterations", type=_non_negative_int, default=150, help="CAO iterations (default 150)")
+    demo.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
     demo.add_argument("--seed", type=_non_negative_int, default=0, help="the scenario: terrain, prior, start, optimiser (default 0)")
     demo.add_argument("--threads", type=_positive_int, help="Rust threads (default: every core)")
     demo.add_argument("--no-plots", action="store_true", help="skip the figures")
@@ -334,7 +338,7 @@ def _parser() -> argparse.ArgumentParser:
 
     plot = commands.add_parser("plot", help="redraw every figure from the runs stored in a directory")
     plot.add_argument("directory", metavar="DIR")
-    plot.add_argument("--out", help=argparse.SUPPRESS)  # figures go beside the results
+    plot.add_argument("--out", help="where the figures go (default DIR/figures)")
     plot.set_defaults(run=_plot)
     return parser
 

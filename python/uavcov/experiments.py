@@ -109,10 +109,20 @@ RUN_COLUMNS: tuple[str, ...] = (
     "wall_time_s",
     "time_measure_s",
     "time_optimizer_s",
+    "time_feasibility_s",
     "settings_hash",
     "error",
 )
-"""Columns of ``runs.csv``, in order; a sweep adds one column per swept setting after these."""
+"""Columns of ``runs.csv``, in order; a sweep adds one column per swept setting after these.
+
+``run_id`` names the run (:attr:`RunSpec.run_id`); ``experiment`` is its label, ``init`` its
+start, ``sensing_range`` is d_max (m); ``initial_coverage``, ``max_coverage`` (the best reached),
+``final_coverage`` are shares of the surface; ``best_iteration`` and ``iterations_to_95`` (first
+iteration at 95 % of the best) count CAO iterations; ``wall_time_s`` is the whole mission and
+``time_measure_s``, ``time_optimizer_s``, ``time_feasibility_s`` its coverage measurements, the
+optimiser's own work and the constraint checks (the rest is prior, S', CVT and start);
+``settings_hash`` is :func:`settings_hash`; ``error`` is empty for a run that finished.
+"""
 
 _INT_COLUMNS = frozenset({"n_uavs", "seed", "iterations", "best_iteration", "iterations_to_95", "evaluations"})
 _FLOAT_COLUMNS = frozenset(
@@ -124,6 +134,7 @@ _FLOAT_COLUMNS = frozenset(
         "wall_time_s",
         "time_measure_s",
         "time_optimizer_s",
+        "time_feasibility_s",
     }
 )
 
@@ -321,6 +332,7 @@ def execute_run(spec: RunSpec, n_threads: int | None = 1, keep_result: bool = Tr
         wall_time_s=float(result.wall_time_s),
         time_measure_s=float(result.time_measure_s),
         time_optimizer_s=float(result.time_optimizer_s),
+        time_feasibility_s=float(result.trace.time_feasibility),
     )
     return row, (result if keep_result else None)
 
