@@ -80,7 +80,13 @@ def run_one(experiment: paper.PaperExperiment, seed: int, n: int, start: str, it
     }
 
 
-def summarise(rows: list[dict[str, Any]], iterations: int) -> str:
+def _published(name: str, key: tuple[int, str, str]) -> paper.PublishedValue | None:
+    if name == "pyramid":
+        return paper.PUBLISHED_PYRAMID.get(key[2])
+    return paper.PUBLISHED_TABLE1.get(key) if name == "table1" else None
+
+
+def summarise(rows: list[dict[str, Any]], iterations: int, name: str = "table1") -> str:
     cells: dict[tuple[int, str, str], list[float]] = defaultdict(list)
     for row in rows:
         cells[(row["n"], row["start"], "initial")].append(row["initial"])
@@ -90,9 +96,7 @@ def summarise(rows: list[dict[str, Any]], iterations: int) -> str:
     for key in sorted(cells):
         values = np.array(cells[key])
         mean, sd = float(values.mean()), float(values.std(ddof=1)) if values.size > 1 else float("nan")
-        pub = paper.PUBLISHED_TABLE1.get(key)
-        if pub is None and key[1] == "cvt":
-            pub = None
+        pub = _published(name, key)
         p = f"{pub.mean:.2f} ({pub.sigma:.2f})" if pub else "-"
         d = f"{mean - pub.mean:+.3f}" if pub else "-"
         ratio = f"{sd / pub.sigma:.2f}" if pub else "-"
@@ -112,15 +116,36 @@ def _score(rows: list[dict[str, Any]], column: str) -> tuple[float, dict[tuple[i
     return float(np.sqrt(np.mean(np.square(errors)))), means
 
 
-SEARCH_SPACE = {
-    "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(20.0, 60.0)), 1)),
-    "terrain.sigma": lambda g: round(float(g.uniform(5.0, 15.0)), 1),
-    "flight.start_altitude": lambda g: round(float(g.uniform(2.5, 15.0)), 1),
+SEARCH_SPACES: dict[str, dict[str, Any]] = {
+    # search 1: the start flies start_altitude above the real ground (run_mission's own rule)
+    "ground": {
+        "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(20.0, 60.0)), 1)),
+        "terrain.sigma": lambda g: round(float(g.uniform(5.0, 15.0)), 1),
+        "flight.start_altitude": lambda g: round(float(g.uniform(2.5, 15.0)), 1),
+    },
+    # search 2: the start flies start_altitude above S' (the paper's reading), gentler hills
+    "prior": {
+        "terrain.heights": lambda g: (round(float(g.uniform(0.0, 15.0)), 1), round(float(g.uniform(15.0, 45.0)), 1)),
+        "terrain.sigma": lambda g: round(float(g.uniform(6.0, 14.0)), 1),
+        "flight.start_altitude": lambda g: round(float(g.uniform(0.0, 6.0)), 1),
+        "flight.altitude_reference": lambda g: "prior",
+    },
+    # search 3: the start is on S' and climbs to h_min above the real ground where it is lower;
+    # a high h_min keeps the footprints small (the max columns need a ceiling near the paper's)
+    "hmin": {
+        "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(10.0, 50.0)), 1)),
+        "terrain.sigma": lambda g: round(float(g.uniform(4.0, 14.0)), 1),
+        "flight.h_min": lambda g: round(float(g.uniform(2.0, 18.0)), 1),
+        "flight.start_altitude": lambda g: 0.0,
+        "flight.altitude_reference": lambda g: "prior",
+    },
 }
-"""The random search of the initial columns (``--search``): what is drawn, and from where."""
+"""The random searches of the initial columns (``--search K --space NAME``): what is drawn, from where."""
 
 
-def search_initial(count: int, seeds: list[int], sizes: list[int], workers: int, csv_path: str | None, search_seed: int) -> None:
+def search_initial(
+    count: int, seeds: list[int], sizes: list[int], workers: int, csv_path: str | None, search_seed: int, space: str
+) -> None:
     """Random search of terrain and altitude against the "initial" columns (no CAO iterations)."""
     generator = np.random.default_rng(search_seed)
     base = paper.TABLE1.with_changes(**{"flight.z_max": 200.0})
@@ -128,12 +153,20 @@ def search_initial(count: int, seeds: list[int], sizes: list[int], workers: int,
     results = []
     with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         for index in range(count):
-            changes = {key: draw(generator) for key, draw in SEARCH_SPACE.items()}
+            changes = {key: draw(generator) for key, draw in SEARCH_SPACES[space].items()}
             experiment = base.with_changes(**changes)
             futures = [pool.submit(run_one, experiment, seed, n, start, 0)
                        for n in sizes for start in ("cvt", "random") for seed in seeds]
+            pyramid = paper.PYRAMID.with_changes(**{"flight.z_max": 200.0, **changes})
+            pyramid_futures = [pool.submit(run_one, pyramid, seed, 12, "cvt", 0) for seed in seeds]
             rows = [f.result() for f in futures]
-            score, means = _score(rows, "initial")
+            table_score, means = _score(rows, "initial")
+            pyramid_mean = float(np.mean([f.result()["initial"] for f in pyramid_futures]))
+            means[(12, "pyramid")] = pyramid_mean
+            # the pyramid cell counts as one more cell of the root mean square
+            n_cells = len(means) - 1
+            pyramid_error = pyramid_mean - paper.PUBLISHED_PYRAMID["initial"].mean
+            score = float(np.sqrt((table_score**2 * n_cells + pyramid_error**2) / (n_cells + 1)))
             results.append((score, changes, means))
             cells = " ".join(f"{n}{s[0]}={m:.3f}" for (n, s), m in sorted(means.items()))
             print(f"[{index}] rms {score:.4f} {changes} {cells}", flush=True)
@@ -160,6 +193,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--search", type=int, default=0, metavar="K",
                         help="random search of K terrain/altitude settings against the initial columns")
     parser.add_argument("--search-seed", type=int, default=0)
+    parser.add_argument("--space", default="ground", choices=sorted(SEARCH_SPACES), help="the search space of --search")
     args = parser.parse_args(argv)
 
     experiment = paper.EXPERIMENTS[args.experiment]
@@ -176,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
     starts = args.starts.split(",") if args.starts else list(experiment.starts)
     iterations = experiment.iterations if args.iterations is None else args.iterations
     if args.search:
-        search_initial(args.search, seeds, sizes, args.workers, args.csv, args.search_seed)
+        search_initial(args.search, seeds, sizes, args.workers, args.csv, args.search_seed, args.space)
         return 0
     tasks = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
 
@@ -206,7 +240,7 @@ def main(argv: list[str] | None = None) -> int:
             for row in sorted(rows, key=lambda r: (r["n"], r["start"], r["seed"])):
                 writer.writerow({"tag": args.tag, "changes": repr(changes), "iterations": iterations, **row})
     print(f"changes: {changes}  iterations: {iterations}  runs: {len(rows)}  wall: {elapsed:.1f} s")
-    print(summarise(rows, iterations))
+    print(summarise(rows, iterations, args.experiment))
     clear = np.array([r["start_clearance"] for r in rows])
     print(f"mean start clearance {clear.mean():.2f} m; mean run {np.mean([r['wall_time_s'] for r in rows]):.2f} s")
     return 0

@@ -30,7 +30,8 @@ from ._validate import as_non_negative_float, as_positive_float, as_positive_int
 from .cao import CAOSettings
 from .errors import InvalidInputError, InvalidTypeError
 from .mission import MissionResult, run_mission
-from .prior import buildings_prior
+from .cvt import cvt
+from .prior import approximate_surface, buildings_prior, sample_prior
 from .starts import CORNERS, initial_positions
 from .surface import Terrain
 from .terrains import buildings_terrain, gaussian_hills, random_buildings
@@ -167,6 +168,15 @@ class Flight:
         The corner the "corner" start fills.
     corner_spacing : float
         Distance between neighbouring UAVs of the corner lattice.
+    altitude_reference : {"ground", "prior"}
+        What ``start_altitude`` is measured from: the real ground under each UAV (what
+        :func:`uavcov.mission.run_mission` does), or the approximating surface S' the start was
+        computed on (the paper's reading: the CVT generators lie on S', and a UAV that ends up
+        under the real surface or closer than ``h_min`` to it climbs to the closest admissible
+        position).
+    random_altitude : (float, float) or None
+        When given, the "random" start draws each UAV's height above the reference uniformly
+        from this range (a start uniform over the flight volume rather than over the area).
     """
 
     start_altitude: float = 5.0
@@ -175,12 +185,21 @@ class Flight:
     d_safe: float = 2.0
     corner: str = "sw"
     corner_spacing: float = 3.0
+    altitude_reference: str = "ground"
+    random_altitude: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         for name in ("start_altitude", "h_min", "d_safe"):
             object.__setattr__(self, name, as_non_negative_float(getattr(self, name), name))
         object.__setattr__(self, "z_max", as_positive_float(self.z_max, "z_max"))
         object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
+        if self.random_altitude is not None:
+            low, high = (as_non_negative_float(v, "random_altitude") for v in self.random_altitude)
+            if low > high:
+                raise InvalidInputError(f"random_altitude must be (low, high) with low <= high, got {self.random_altitude}")
+            object.__setattr__(self, "random_altitude", (low, high))
+        if self.altitude_reference not in ("ground", "prior"):
+            raise InvalidInputError(f"altitude_reference must be 'ground' or 'prior', got {self.altitude_reference!r}")
         if self.corner not in CORNERS:
             raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
         if self.h_min > self.z_max:
@@ -381,24 +400,67 @@ PUBLISHED_FIG6_MAX: Mapping[str, float] = MappingProxyType({"corner": 0.56, "ran
 # Running one mission of an experiment
 
 
-def start_positions(experiment: PaperExperiment, terrain: Terrain, n_uavs: int, start: str) -> np.ndarray | None:
-    """The start the mission should take as given positions, or ``None`` to let it compute one.
+def _prior_and_start(
+    experiment: PaperExperiment, terrain: Terrain, n_uavs: int, start: str, seed: int
+) -> tuple[Any, np.ndarray | None]:
+    """What the mission is told it knows, and the start it should take as given (or ``None``).
 
-    The corner lattice (at the experiment's spacing and corner) and the buildings scene's
-    "pairs" are built here, at ``start_altitude`` above the real ground; "cvt" and "random" are
-    left to :func:`uavcov.mission.run_mission`.
+    ``None`` leaves the start to :func:`uavcov.mission.run_mission` ("cvt" and "random" with
+    ``altitude_reference="ground"``). Otherwise the start is built here at ``start_altitude``
+    above the real ground or above S'. The prior and start draws use the mission's own streams
+    (``default_rng(seed).spawn(3)``: prior, start, optimiser), so a start built here is the one
+    the mission would have built, at another height.
     """
     flight = experiment.flight
-    if start in ("cvt", "random"):
-        return None
-    if start == "corner":
-        xy = initial_positions("corner", terrain, n_uavs, corner=flight.corner, spacing=flight.corner_spacing)[:, :2]
-    elif start == "pairs":
-        xy = _opposite_pairs(terrain, n_uavs, flight.corner_spacing)
+    if experiment.prior == "map":
+        assert isinstance(experiment.terrain, BuildingsTerrain)
+        prior: Any = experiment.terrain.simplified_map(seed)
     else:
-        raise InvalidInputError(f"start must be one of {experiment.starts}, got {start!r}")
-    ground = terrain.ground_height(xy)
-    return np.column_stack([xy, ground + flight.start_altitude])
+        prior = experiment.prior
+    if start not in experiment.starts:
+        raise InvalidInputError(f"start must be one of {experiment.starts} for {experiment.name}, got {start!r}")
+    random_height = start == "random" and flight.random_altitude is not None
+    if start in ("cvt", "random") and flight.altitude_reference == "ground" and not random_height:
+        return prior, None
+    prior_rng, start_rng, _ = np.random.default_rng(seed).spawn(3)
+    if isinstance(prior, Terrain):
+        surface = prior
+    else:
+        prior = sample_prior(terrain, experiment.n_prior, kind=prior, rng=prior_rng)
+        surface = approximate_surface(prior.points)
+    if start == "cvt":
+        xyz = cvt(surface, n_uavs, rng=start_rng, n_threads=1, **experiment.cvt.options()).generators
+    elif start == "random":
+        xyz = initial_positions("random", surface, n_uavs, rng=start_rng, n_threads=1)
+    elif start == "corner":
+        xyz = initial_positions("corner", surface, n_uavs, corner=flight.corner, spacing=flight.corner_spacing)
+    else:  # "pairs"
+        xy = _opposite_pairs(surface, n_uavs, flight.corner_spacing)
+        xyz = np.column_stack([xy, surface.ground_height(xy)])
+    xyz = np.array(xyz, dtype=np.float64)
+    if flight.altitude_reference == "ground":
+        xyz[:, 2] = terrain.ground_height(xyz[:, :2])
+    if random_height:
+        assert flight.random_altitude is not None
+        xyz[:, 2] += start_rng.uniform(*flight.random_altitude, size=n_uavs)
+    else:
+        xyz[:, 2] += flight.start_altitude
+    return prior, xyz
+
+
+def start_positions(experiment: PaperExperiment, terrain: Terrain, n_uavs: int, start: str, seed: int) -> np.ndarray:
+    """The start of one mission of ``experiment`` before it is made admissible, ``(N, 3)`` metres.
+
+    At ``start_altitude`` above the real ground or above S' (``Flight.altitude_reference``);
+    :func:`run_paper_mission` then moves it to the closest admissible positions.
+    """
+    _, given = _prior_and_start(experiment, terrain, n_uavs, start, seed)
+    if given is None:  # built by the mission: rebuild it the same way, on S'
+        forced = replace(experiment, flight=replace(experiment.flight, altitude_reference="prior", start_altitude=0.0))
+        _, given = _prior_and_start(forced, terrain, n_uavs, start, seed)
+        assert given is not None
+        given[:, 2] = terrain.ground_height(given[:, :2]) + experiment.flight.start_altitude
+    return given
 
 
 def _opposite_pairs(terrain: Terrain, n_uavs: int, spacing: float) -> np.ndarray:
@@ -445,23 +507,16 @@ def run_paper_mission(
     Returns
     -------
     MissionResult
-        Its ``settings.start`` is ``"given"`` for the starts built here (corner, pairs).
+        Its ``settings.start`` is ``"given"`` for the starts built here (see
+        :func:`start_positions`), and then its ``cvt`` is None.
     """
     if not isinstance(experiment, PaperExperiment):
         raise InvalidTypeError(f"experiment must be a PaperExperiment, got {type(experiment).__name__}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise InvalidTypeError(f"seed must be an int, got {type(seed).__name__}")
     seed = int(seed)
-    if start not in experiment.starts:
-        raise InvalidInputError(f"start must be one of {experiment.starts} for {experiment.name}, got {start!r}")
     terrain = experiment.terrain.make(seed)
-    prior: Any
-    if experiment.prior == "map":
-        assert isinstance(experiment.terrain, BuildingsTerrain)
-        prior = experiment.terrain.simplified_map(seed)
-    else:
-        prior = experiment.prior
-    given = start_positions(experiment, terrain, n_uavs, start)
+    prior, given = _prior_and_start(experiment, terrain, n_uavs, start, seed)
     flight = experiment.flight
     return run_mission(
         terrain,
@@ -476,7 +531,7 @@ def run_paper_mission(
         h_min=flight.h_min,
         z_max=flight.z_max,
         d_safe=flight.d_safe,
-        cvt_options=experiment.cvt.options() if start == "cvt" else None,
+        cvt_options=experiment.cvt.options() if start == "cvt" and given is None else None,
         n_threads=n_threads,
         rng=seed,
     )
