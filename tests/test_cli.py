@@ -248,3 +248,16 @@ def test_ctrl_c_leaves_a_clean_runs_file_and_resume_finishes_it(tmp_path):
     assert done.returncode == EXIT_OK, done.stderr
     final = read_runs(runs)
     assert len(final) == total and len({r["run_id"] for r in final}) == total
+
+
+def test_plot_redraws_figures_from_a_results_directory(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    config = write(tmp_path / "tiny.toml", TINY_SWEEP.format(iterations=3).replace('"cao.alpha0" = [1.0, 2.0]', '"cao.alpha0" = [1.0]'))
+    out = tmp_path / "out"
+    assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "--no-progress"]) == EXIT_OK
+    capsys.readouterr()
+    figures = tmp_path / "figures"
+    assert main(["plot", str(out), "--out", str(figures), "--max-runs", "1", "--no-animation"]) == EXIT_OK
+    printed = capsys.readouterr().out.split()
+    assert printed and all(Path(p).is_file() and Path(p).parent == figures for p in printed)
+    assert any(p.endswith(".png") for p in printed)

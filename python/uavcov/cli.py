@@ -291,7 +291,7 @@ def _plot(args: argparse.Namespace) -> int:
     try:
         from .plotting import plot_directory
 
-        figures = list(plot_directory(directory, args.out) or [])
+        figures = list(plot_directory(directory, args.out, max_runs=args.max_runs, animation=not args.no_animation) or [])
     except ImportError as exc:  # plotting.py missing, or matplotlib when it draws
         raise ConfigError(f"plotting is not available: pip install 'uavcov[plot]' (needs matplotlib; {exc})") from exc
     for figure in figures:
@@ -339,6 +339,8 @@ def _parser() -> argparse.ArgumentParser:
     plot = commands.add_parser("plot", help="redraw every figure from the runs stored in a directory")
     plot.add_argument("directory", metavar="DIR")
     plot.add_argument("--out", help="where the figures go (default DIR/figures)")
+    plot.add_argument("--max-runs", type=_non_negative_int, default=6, help="runs drawn one by one (default 6)")
+    plot.add_argument("--no-animation", action="store_true", help="skip the animation of the first run")
     plot.set_defaults(run=_plot)
     return parser
 
