@@ -1,0 +1,127 @@
+"""The initial positions of the paper's comparison (uavcov.starts): CVT, random and corner."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from uavcov import errors
+from uavcov.cvt import cvt
+from uavcov.starts import CORNERS, START_KINDS, initial_positions
+from uavcov.surface import Terrain
+
+
+def _slope(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    return 0.1 * x + 0.05 * y + 3.0 * np.sin(x / 7.0)
+
+
+@pytest.fixture(scope="module")
+def terrain() -> Terrain:
+    """A 40 m x 30 m rolling surface on a 1 m grid, origin (10, -5)."""
+    xs, ys = np.arange(0.0, 40.5, 1.0), np.arange(0.0, 30.5, 1.0)
+    x, y = np.meshgrid(xs, ys)
+    return Terrain.from_grid(_slope(x + 10.0, y - 5.0), spacing=1.0, origin=(10.0, -5.0))
+
+
+def test_kinds_share_one_interface(terrain: Terrain) -> None:
+    for kind in START_KINDS:
+        positions = initial_positions(kind, terrain, 6, rng=1)
+        assert positions.shape == (6, 3) and positions.dtype == np.float64
+        # All on the surface: z is the ground height below.
+        np.testing.assert_allclose(positions[:, 2], terrain.ground_height(positions[:, :2]), atol=1e-9)
+
+
+def test_cvt_start_is_the_cvt(terrain: Terrain) -> None:
+    positions = initial_positions("cvt", terrain, 5, rng=3, altitude=5.0, cvt_options={"preset": "lloyd"})
+    expected = cvt(terrain, 5, rng=3, preset="lloyd").generators
+    np.testing.assert_array_equal(positions[:, :2], expected[:, :2])
+    np.testing.assert_allclose(positions[:, 2], expected[:, 2] + 5.0)
+
+
+def test_random_start_is_uniform_over_the_region(terrain: Terrain) -> None:
+    positions = initial_positions("random", terrain, 4000, rng=7)
+    lo, hi = terrain.bounds[0], terrain.bounds[1]
+    assert (positions[:, :2] >= lo[:2]).all() and (positions[:, :2] <= hi[:2]).all()
+    # Uniform in x-y: each quarter of the rectangle holds a quarter of the points (4 sigma).
+    centre = (lo[:2] + hi[:2]) / 2
+    quarter = (positions[:, 0] < centre[0]) & (positions[:, 1] < centre[1])
+    assert abs(quarter.mean() - 0.25) < 4 * np.sqrt(0.25 * 0.75 / 4000)
+    np.testing.assert_array_equal(positions, initial_positions("random", terrain, 4000, rng=7))
+    assert not np.array_equal(positions, initial_positions("random", terrain, 4000, rng=8))
+
+
+def test_random_start_avoids_nodata() -> None:
+    z = np.zeros((21, 21))
+    z[:, :10] = np.nan  # the western half has no surface
+    holey = Terrain.from_grid(z, spacing=1.0)
+    positions = initial_positions("random", holey, 500, rng=0)
+    assert (positions[:, 0] >= 10.0).all()
+    assert np.isfinite(positions).all()
+
+
+@pytest.mark.parametrize("corner", CORNERS)
+def test_corner_lattice(terrain: Terrain, corner: str) -> None:
+    n, spacing = 7, 3.0
+    positions = initial_positions("corner", terrain, n, corner=corner, spacing=spacing, altitude=2.0)
+    (xmin, ymin, _), (xmax, ymax, _) = terrain.bounds
+    x_edge = xmin if corner in ("sw", "nw") else xmax
+    y_edge = ymin if corner in ("sw", "se") else ymax
+    # 7 UAVs: 3 columns, 3 rows; every point a multiple of the spacing from the corner + s/2.
+    dx = np.abs(positions[:, 0] - x_edge) - spacing / 2
+    dy = np.abs(positions[:, 1] - y_edge) - spacing / 2
+    np.testing.assert_allclose(dx / spacing, np.round(dx / spacing), atol=1e-9)
+    np.testing.assert_allclose(dy / spacing, np.round(dy / spacing), atol=1e-9)
+    assert dx.max() == pytest.approx(2 * spacing) and dy.max() == pytest.approx(2 * spacing)
+    # Compact: nearest neighbours exactly one spacing apart in x-y, no duplicates.
+    d = np.linalg.norm(positions[:, None, :2] - positions[None, :, :2], axis=-1)
+    np.fill_diagonal(d, np.inf)
+    np.testing.assert_allclose(d.min(axis=1), spacing)
+    np.testing.assert_allclose(positions[:, 2], terrain.ground_height(positions[:, :2]) + 2.0)
+
+
+def test_corner_is_deterministic(terrain: Terrain) -> None:
+    a = initial_positions("corner", terrain, 9, rng=1)
+    b = initial_positions("corner", terrain, 9, rng=2)
+    np.testing.assert_array_equal(a, b)
+
+
+def test_corner_that_does_not_fit(terrain: Terrain) -> None:
+    with pytest.raises(errors.InfeasibleError):
+        initial_positions("corner", terrain, 200, spacing=3.0)  # 15 x 14 lattice: 45 m > 40 m
+    z = np.zeros((11, 11))
+    z[0, 0] = np.nan  # nodata at the south-west corner
+    with pytest.raises(errors.InfeasibleError):
+        initial_positions("corner", Terrain.from_grid(z, spacing=1.0), 1, spacing=1.0)
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, error",
+    [
+        (("grid",), {}, errors.InvalidInputError),
+        ((3,), {}, errors.InvalidTypeError),
+        (("random",), {"n": 0}, errors.InvalidInputError),
+        (("random",), {"n": 1.5}, errors.InvalidTypeError),
+        (("random",), {"altitude": -1.0}, errors.InvalidInputError),
+        (("random",), {"altitude": np.nan}, errors.InvalidInputError),
+        (("corner",), {"spacing": 0.0}, errors.InvalidInputError),
+        (("corner",), {"corner": "north"}, errors.InvalidInputError),
+        (("corner",), {"corner": 1}, errors.InvalidTypeError),
+        (("random",), {"rng": "seed"}, errors.InvalidTypeError),
+        (("random",), {"cvt_options": {"preset": "lloyd"}}, errors.InvalidInputError),
+        (("cvt",), {"cvt_options": {"speed": 2}}, errors.InvalidInputError),
+        (("cvt",), {"cvt_options": {"rng": 2}}, errors.InvalidInputError),
+        (("cvt",), {"cvt_options": [("preset", "lloyd")]}, errors.InvalidTypeError),
+        (("cvt",), {"cvt_options": {"preset": "fast"}}, errors.InvalidInputError),
+        (("cvt",), {"n_threads": 0}, errors.InvalidInputError),
+    ],
+)
+def test_bad_input_raises(terrain: Terrain, args: tuple, kwargs: dict, error: type) -> None:
+    arguments = {"n": 4, **kwargs}
+    n = arguments.pop("n")
+    with pytest.raises(error):
+        initial_positions(args[0], terrain, n, **arguments)
+
+
+def test_bad_surface_raises() -> None:
+    with pytest.raises(errors.InvalidTypeError):
+        initial_positions("random", np.zeros((4, 3)), 3)  # type: ignore[arg-type]
