@@ -163,9 +163,19 @@ def test_coverage_curves_mean_and_band(hills_runs):
     np.testing.assert_allclose(thick[0].get_ydata(), cvt_curves.mean(axis=0))
     # The band spans one sigma either side.
     band = ax.collections[0].get_paths()[0].vertices
-    sigma = cvt_curves.std(axis=0)
+    sigma = cvt_curves.std(axis=0, ddof=1)
     assert np.isclose(band[:, 1].max(), (cvt_curves.mean(axis=0) + sigma).max())
     assert np.isclose(band[:, 1].min(), (cvt_curves.mean(axis=0) - sigma).min())
+
+
+def test_curves_of_different_lengths_average_the_runs_that_reached_each_iteration():
+    curves = [np.array([0.1, 0.2, 0.3, 0.4]), np.array([0.3, 0.2]), np.array([0.5, 0.5, 0.6])]
+    mean, sigma, count = plotting._curve_stats(curves)
+    for k in range(4):
+        here = [c[k] for c in curves if k < len(c)]
+        assert count[k] == len(here)
+        assert np.isclose(mean[k], np.mean(here))
+        assert np.isclose(sigma[k], np.std(here, ddof=1) if len(here) > 1 else 0.0)
 
 
 def test_coverage_curves_running_max_and_mapping(hills_runs):
@@ -280,6 +290,19 @@ def test_animation_mp4_without_ffmpeg_is_refused(hills_run, tmp_path, monkeypatc
     monkeypatch.setattr(plotting.shutil, "which", lambda name: None)
     with pytest.raises(InvalidInputError, match="ffmpeg"):
         plotting.animate_mission(hills_run, tmp_path / "run.mp4")
+
+
+def test_paths_end_at_the_configuration_shown(hills_run):
+    best = hills_run.best_iteration
+    fig = plotting.plot_coverage_map(hills_run, configuration="best")
+    ax = fig.axes[0]
+    paths = [line for line in ax.lines if line.get_linestyle() == "-"]
+    assert len(paths) == hills_run.trajectory.shape[1]
+    for i, line in enumerate(paths):
+        x, y, z = line.get_data_3d()
+        np.testing.assert_allclose(np.column_stack([x, y, z]), hills_run.trajectory[: best + 1, i])
+    np.testing.assert_allclose(hills_run.trajectory[best], hills_run.best_positions)
+    assert f"best positions (iteration {best})" in [t.get_text() for t in ax.get_legend().get_texts()]
 
 
 def test_into_given_axes(hills_run):
@@ -521,6 +544,8 @@ def test_bad_arguments_are_refused(hills_run, tmp_path):
         plotting.plot_coverage_map(hills_run, ax="axes")
     with pytest.raises(InvalidInputError, match="configuration"):
         plotting.plot_coverage_map(hills_run, configuration="middle")
+    with pytest.raises(InvalidInputError, match="configuration"):
+        plotting.plot_coverage_map(hills_run, configuration=np.zeros(3))
     with pytest.raises(InvalidInputError, match="outside"):
         plotting.plot_coverage_map(hills_run, configuration=10**6)
     with pytest.raises(InvalidInputError, match="view"):

@@ -189,23 +189,27 @@ def _terrain(value: Any, name: str) -> Terrain:
     return value
 
 
-def _configuration(result: Any, configuration: Any) -> tuple[np.ndarray, str]:
-    """The positions to show and how to call them."""
+def _configuration(result: Any, configuration: Any) -> tuple[np.ndarray, str, int | None]:
+    """The positions to show, how to call them, and their iteration (None when unknown)."""
     traj = _trajectory(result.trajectory)
-    if configuration == "final":
-        return traj[-1], f"final positions (iteration {traj.shape[0] - 1})"
-    if configuration == "best":
-        best = _points(getattr(result, "best_positions", None), "best_positions", allow_empty=False)
-        it = getattr(result, "best_iteration", None)
-        return best, "best positions" + (f" (iteration {it})" if it is not None else "")
-    if configuration == "initial":
-        return traj[0], "start positions (iteration 0)"
     if isinstance(configuration, (int, np.integer)) and not isinstance(configuration, bool):
         k = int(configuration)
         if not -traj.shape[0] <= k < traj.shape[0]:
             raise InvalidInputError(f"configuration {k} is outside the trajectory (0..{traj.shape[0] - 1})")
         k %= traj.shape[0]
-        return traj[k], f"positions at iteration {k}"
+        return traj[k], f"positions at iteration {k}", k
+    if not isinstance(configuration, str):
+        raise InvalidInputError(f"configuration must be 'final', 'best', 'initial' or an iteration, got {configuration!r}")
+    if configuration == "final":
+        return traj[-1], f"final positions (iteration {traj.shape[0] - 1})", traj.shape[0] - 1
+    if configuration == "initial":
+        return traj[0], "start positions (iteration 0)", 0
+    if configuration == "best":
+        best = _points(getattr(result, "best_positions", None), "best_positions", allow_empty=False)
+        it = getattr(result, "best_iteration", None)
+        if isinstance(it, (int, np.integer)) and 0 <= int(it) < traj.shape[0]:
+            return best, f"best positions (iteration {int(it)})", int(it)
+        return best, "best positions", None
     raise InvalidInputError(f"configuration must be 'final', 'best', 'initial' or an iteration, got {configuration!r}")
 
 
@@ -389,6 +393,10 @@ def _style_3d(ax: Any, bounds: np.ndarray, *, elev: float, azim: float, title: s
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)" if exaggeration < 1.05 else f"z (m, vertical x{exaggeration:.1f})")
     ax.view_init(elev=elev, azim=azim)
+    from matplotlib.ticker import MaxNLocator
+
+    # The vertical axis is short on screen: few ticks keep its labels apart.
+    ax.zaxis.set_major_locator(MaxNLocator(nbins=4))
     ax.tick_params(labelsize=8, pad=1)
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.pane.set_facecolor((0.97, 0.97, 0.97, 1.0))
@@ -709,13 +717,13 @@ def plot_coverage_map(
     else:
         result = _as_result(source, ("terrain", "trajectory", "settings"))
         terrain = result.terrain
-        pts, label = _configuration(result, configuration)
+        pts, label, iteration = _configuration(result, configuration)
         if positions is not None:
             pts, label = _points(positions, "positions", allow_empty=False), "UAV positions"
         d_max = _d_max(result) if d_max is None else d_max
         path = _trajectory(result.trajectory if trajectory is None else trajectory)
-        if trajectory is None and isinstance(configuration, (int, np.integer)) and not isinstance(configuration, bool):
-            path = path[: int(configuration) % path.shape[0] + 1]
+        if trajectory is None and positions is None and iteration is not None:
+            path = path[: iteration + 1]  # the paths end where the configuration shown is
     d = float(d_max)
     if not (math.isfinite(d) and d > 0):
         raise InvalidInputError(f"d_max must be a positive number of metres, got {d_max!r}")
@@ -897,14 +905,16 @@ def _group_results(results: Any, group_by: str) -> dict[str, list[Any]]:
 
 
 def _curve_stats(curves: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Mean and sigma per iteration over the runs that reached it, and how many did."""
+    """Mean and sample sigma (``ddof=1``, as the tables) per iteration over the runs that
+    reached it, and how many did."""
     length = max(c.shape[0] for c in curves)
     stack = np.full((len(curves), length), np.nan)
     for i, c in enumerate(curves):
         stack[i, : c.shape[0]] = c
     count = np.isfinite(stack).sum(axis=0)
     mean = np.nanmean(stack, axis=0)
-    sigma = np.where(count > 1, np.nanstd(stack, axis=0), 0.0)
+    squares = np.nansum((stack - mean) ** 2, axis=0)
+    sigma = np.where(count > 1, np.sqrt(squares / np.maximum(count - 1, 1)), 0.0)
     return mean, sigma, count
 
 
