@@ -178,7 +178,13 @@ def _reproduce(args: argparse.Namespace) -> int:
     table = out / f"{args.experiment}.md"
     if table.exists():
         print(table.read_text(encoding="utf-8"))
-    return _finish(rows, out, started, ["runs.csv", "config.json", table.name] + ([] if args.no_save_runs else ["runs/"]))
+    wrote = ["runs.csv", "config.json", table.name] + ([] if args.no_save_runs else ["runs/"])
+    code = _finish(rows, out, started, wrote)
+    if not args.no_plots and not args.no_save_runs and any(not r.get("error") for r in rows):
+        figures = _plot_directory(out)
+        if figures:
+            _say(f"{len(figures)} figure(s) in {Path(figures[0]).parent}/ (`uavcov plot {out}` adds an animation)")
+    return code
 
 
 def _sweep(args: argparse.Namespace) -> int:
@@ -229,9 +235,10 @@ def _demo(args: argparse.Namespace) -> int:
         if others:
             raise ConfigError(f"{runs_csv} holds other results ({others[0]}, ...); choose another --out for the demo")
     terrain = experiment.terrain
+    hills = f"{terrain.n_hills} Gaussian hills" if isinstance(terrain, paper.HillsTerrain) else "buildings"
     print("uavcov demo: the paper's illustrative example (Fig. 5)")
     print(
-        f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {terrain.n_hills} Gaussian hills (seed {args.seed}), "
+        f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {hills} (seed {args.seed}), "
         f"coverage on a {terrain.spacing:g} m grid"
     )
     print(f"  prior    {experiment.n_prior} random samples + the 4 corners -> approximating surface S'")
@@ -327,6 +334,7 @@ def _parser() -> argparse.ArgumentParser:
     reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")
     reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")
     reproduce.add_argument("--iterations", type=_non_negative_int, help="CAO iterations instead of the experiment's")
+    reproduce.add_argument("--no-plots", action="store_true", help="skip the figures (drawn when uavcov[plot] is installed)")
     _add_execution(reproduce)
     reproduce.set_defaults(run=_reproduce)
 

@@ -670,7 +670,7 @@ def _progress_bar(total: int, enabled: bool | None) -> Any:
     if not enabled or total == 0:
         return None
     try:
-        from tqdm import tqdm
+        from tqdm import tqdm  # type: ignore[import-untyped]
     except ImportError:
         return None
     return tqdm(total=total, unit="run", dynamic_ncols=True, smoothing=0.05)
@@ -885,11 +885,11 @@ def summarise(
     return summary
 
 
-def _cell(value: tuple[float, float] | None) -> str:
+def _cell(value: tuple[float, float] | None, digits: int = 2) -> str:
     if value is None:
         return "-"
     mean, sigma = value
-    return f"{mean:.2f}" if math.isnan(sigma) else f"{mean:.2f} ({sigma:.2f})"
+    return f"{mean:.{digits}f}" if math.isnan(sigma) else f"{mean:.{digits}f} ({sigma:.{digits}f})"
 
 
 def _seed_text(rows: Sequence[Mapping[str, Any]]) -> str:
@@ -1023,7 +1023,7 @@ def comparison_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
         paper_max = paper.PUBLISHED_FIG6_MAX.get(start)
         lines.append(
             f"| {n} | {start} | {entry['count']} | {_cell(entry['initial_coverage'])} | {_cell(entry['max_coverage'])} | "
-            f"{'-' if paper_max is None else f'{paper_max:.2f}'} | {_cell(entry['iterations_to_95']).replace('.00', '')} |"
+            f"{'-' if paper_max is None else f'{paper_max:.2f}'} | {_cell(entry['iterations_to_95'], 0)} |"
         )
     return "\n".join(lines) + "\n" + _failures(rows)
 
@@ -1045,7 +1045,7 @@ def buildings_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     for (n, start), entry in summary.items():
         lines.append(
             f"| {n} | {start} | {entry['count']} | {_cell(entry['initial_coverage'])} | {_cell(entry['max_coverage'])} | "
-            f"{_cell(entry['final_coverage'])} | {_cell(entry['iterations_to_95'])} |"
+            f"{_cell(entry['final_coverage'])} | {_cell(entry['iterations_to_95'], 0)} |"
         )
     return "\n".join(lines) + "\n" + _failures(rows)
 
@@ -1202,23 +1202,24 @@ def reproduce(
             raise ConfigError(f"{name} compares the starts {', '.join(experiment.starts)}; got {', '.join(starts) or 'none'}")
     specs = experiment_specs(experiment, seeds=seed_list, team_sizes=team_sizes, starts=starts)
     out_path = prepare_out_dir(out)
+    # The "settings" entry must not change under a resume; seeds are allowed to grow.
+    resolved = {"settings_hash": settings_hash(experiment), **dataclasses.asdict(experiment)}
+    resolved.pop("seeds", None)
     config = {
         "command": f"reproduce {name}",
         "uavcov_version": _version(),
         "settings_source": "uavcov.paper",
-        "settings": {name: {"settings_hash": settings_hash(experiment), **dataclasses.asdict(experiment)}},
+        "settings": {name: resolved},
         "runs": {
             "seeds": list(seed_list),
             "team_sizes": list(team_sizes or experiment.team_sizes),
             "starts": list(starts or experiment.starts),
             "count": len(specs),
         },
-        "seeding": "terrain rng=seed; mission rng=seed (prior, start, optimiser: spawned children); "
-        "buildings map rng=default_rng([seed, 1]) (see uavcov.experiments)",
+        "seeding": "uavcov.paper.run_paper_mission(experiment, seed=..., n_uavs=..., start=...); "
+        "see the Seeds section of uavcov.paper and uavcov.experiments",
         "execution": dict(execution or {}),
     }
-    # The "settings" entry must not change under a resume; seeds are allowed to grow.
-    config["settings"][name].pop("seeds", None)
     _check_resume_target(out_path, resume)
     write_config(out_path, config, resume=resume)
     rows = run_specs(
