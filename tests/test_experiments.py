@@ -6,6 +6,7 @@ stays fast; the numbers are checked against the missions run directly, not again
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
@@ -317,3 +318,30 @@ def test_execute_run_catches_errors():
     small = TINY.with_changes(**{"terrain.size": 12.0, "d_max": 6.0, "n_prior": 4})
     row, result = execute_run(RunSpec(small, seed=0, n_uavs=25, start="corner"))
     assert result is None and row["error"].startswith("InfeasibleError") and row["wall_time_s"] >= 0
+
+
+def test_a_server_that_is_not_a_scheduler_fails_fast_with_a_clear_error():
+    import socket
+    import threading
+
+    server = socket.create_server(("127.0.0.1", 0))
+    port = server.getsockname()[1]
+
+    def answer_nonsense():
+        server.settimeout(10)
+        with contextlib.suppress(OSError):
+            while True:
+                connection, _ = server.accept()
+                connection.sendall(b"HTTP/1.1 400 Bad Request\r\n\r\n" * 4)
+                connection.close()
+
+    thread = threading.Thread(target=answer_nonsense, daemon=True)
+    thread.start()
+    started = time.perf_counter()
+    try:
+        with pytest.raises(ConfigError, match="Dask scheduler"):
+            with dask_executor(f"tcp://127.0.0.1:{port}", timeout=2.0):
+                pass
+    finally:
+        server.close()
+    assert time.perf_counter() - started < 8.0

@@ -636,8 +636,10 @@ def dask_executor(
         if scheduler is not None:
             try:
                 client = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
-            except (OSError, TimeoutError, ValueError) as exc:
+            except (OSError, TimeoutError) as exc:
                 raise ConfigError(f"the Dask scheduler at {scheduler} did not answer within {timeout:g} s: {exc}") from exc
+            except Exception as exc:  # a bad address, or something that is not a Dask scheduler answered
+                raise ConfigError(f"cannot use {scheduler!r} as a Dask scheduler: {type(exc).__name__}: {exc}") from exc
         else:
             workers = available_cores() if n_workers is None else n_workers
             if not _is_int(workers) or workers < 1:
