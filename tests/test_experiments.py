@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import time
 
 import numpy as np
@@ -345,3 +346,21 @@ def test_a_server_that_is_not_a_scheduler_fails_fast_with_a_clear_error():
     finally:
         server.close()
     assert time.perf_counter() - started < 8.0
+
+
+def test_two_sweeps_never_write_one_directory_at_once(tmp_path):
+    fcntl = pytest.importorskip("fcntl")
+    spec = tiny_specs(seeds=(0,), sizes=(2,), starts=("cvt",))[0]
+    run_specs([spec], out=tmp_path, workers=1)  # creates the lock file, and releases it
+    before = (tmp_path / "runs.csv").read_bytes()
+    other = os.open(tmp_path / ".uavcov.lock", os.O_RDWR)  # another open file: another "process"
+    try:
+        fcntl.flock(other, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(ConfigError, match="another uavcov process"):
+            run_specs([spec], out=tmp_path, workers=1, resume=True, rerun="all")
+        with pytest.raises(ConfigError, match="another uavcov process"):
+            reproduce("pyramid", tmp_path, seeds="0", iterations=1, workers=1, resume=True)
+    finally:
+        os.close(other)
+    assert (tmp_path / "runs.csv").read_bytes() == before
+    run_specs([spec], out=tmp_path, workers=1, resume=True)  # free again

@@ -218,6 +218,7 @@ def _demo(args: argparse.Namespace) -> int:
         available_cores,
         example_markdown,
         experiment_specs,
+        out_dir_lock,
         prepare_out_dir,
         read_runs,
         run_specs,
@@ -247,19 +248,20 @@ def _demo(args: argparse.Namespace) -> int:
         f"then {experiment.iterations} CAO iterations on the real terrain ({threads} thread(s))",
         flush=True,
     )
-    write_config(
-        out_path,
-        {
-            "command": "demo",
-            "settings": {"example": {k: v for k, v in dataclasses.asdict(experiment).items() if k != "seeds"}},
-            "runs": {"seeds": [args.seed]},
-            "execution": {"executor": "this process", "threads_per_run": threads},
-        },
-        resume=False,
-    )
     started = time.perf_counter()
-    rows = run_specs(specs, out=out_path, workers=1, n_threads=threads, resume=True, rerun="all", progress=False)
-    (out_path / "example.md").write_text(example_markdown(rows), encoding="utf-8")
+    with out_dir_lock(out_path):
+        write_config(
+            out_path,
+            {
+                "command": "demo",
+                "settings": {"example": {k: v for k, v in dataclasses.asdict(experiment).items() if k != "seeds"}},
+                "runs": {"seeds": [args.seed]},
+                "execution": {"executor": "this process", "threads_per_run": threads},
+            },
+            resume=False,
+        )
+        rows = run_specs(specs, out=out_path, workers=1, n_threads=threads, resume=True, rerun="all", progress=False)
+        (out_path / "example.md").write_text(example_markdown(rows), encoding="utf-8")
     row = rows[0]
     if row["error"]:
         _say(f"the demo run failed: {row['error']}")

@@ -88,6 +88,7 @@ __all__ = [
     "example_markdown",
     "parse_seeds",
     "prepare_out_dir",
+    "out_dir_lock",
     "write_config",
     "paper_experiments",
 ]
@@ -491,6 +492,54 @@ def prepare_out_dir(out: str | os.PathLike[str]) -> Path:
     return path
 
 
+_HELD_LOCKS: dict[Path, tuple[int, int]] = {}
+
+
+@contextlib.contextmanager
+def out_dir_lock(out: Path | None) -> Iterator[None]:
+    """Hold ``out/.uavcov.lock`` so that two sweeps never write one directory at once.
+
+    An advisory ``flock``: the system drops it when the process dies, so a crash leaves no stale
+    lock. Re-entrant within one process. Does nothing for ``out=None`` or where ``fcntl`` is
+    missing (Windows).
+
+    Raises
+    ------
+    ConfigError
+        Another process holds the lock.
+    """
+    if out is None:
+        yield
+        return
+    try:
+        import fcntl
+    except ImportError:  # no advisory locks here; the sweep runs unguarded
+        yield
+        return
+    key = out.resolve()
+    if key in _HELD_LOCKS:
+        fd, depth = _HELD_LOCKS[key]
+        _HELD_LOCKS[key] = (fd, depth + 1)
+        try:
+            yield
+        finally:
+            fd, depth = _HELD_LOCKS[key]
+            _HELD_LOCKS[key] = (fd, depth - 1)
+        return
+    fd = os.open(key / ".uavcov.lock", os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        raise ConfigError(f"another uavcov process is writing to {out}; wait for it or choose another --out") from None
+    _HELD_LOCKS[key] = (fd, 1)
+    try:
+        yield
+    finally:
+        del _HELD_LOCKS[key]
+        os.close(fd)  # closing the descriptor releases the lock
+
+
 def write_config(out: Path, config: Mapping[str, Any], *, resume: bool) -> Path:
     """Write the resolved configuration as ``out/config.json`` (atomically).
 
@@ -768,10 +817,27 @@ def run_specs(
             if key not in extra_columns and key not in RUN_COLUMNS:
                 extra_columns.append(key)
     columns = list(RUN_COLUMNS) + extra_columns
+    out_path = None if out is None else prepare_out_dir(out)
+    with out_dir_lock(out_path):
+        return _run_locked(specs, columns, plan, out_path, executor, resume, rerun, save_runs, progress, on_result)
 
+
+def _run_locked(
+    specs: list[RunSpec],
+    columns: list[str],
+    plan: ExecutionPlan,
+    out_path: Path | None,
+    executor: cf.Executor | None,
+    resume: bool,
+    rerun: str,
+    save_runs: bool,
+    progress: bool | None,
+    on_result: Callable[[RunSpec, dict[str, Any], MissionResult | None], None] | None,
+) -> list[dict[str, Any]]:
+    """The body of :func:`run_specs`, once its arguments are checked and ``out`` is locked."""
+    ids = [s.run_id for s in specs]
     done: dict[str, dict[str, Any]] = {}
     runs_file: _RunsFile | None = None
-    out_path = None if out is None else prepare_out_dir(out)
     if out_path is not None:
         csv_path = _runs_path(out_path)
         stored = read_runs(csv_path) if csv_path.exists() else []
@@ -1222,22 +1288,23 @@ def reproduce(
         "see the Seeds section of uavcov.paper and uavcov.experiments",
         "execution": dict(execution or {}),
     }
-    _check_resume_target(out_path, resume)
-    write_config(out_path, config, resume=resume)
-    rows = run_specs(
-        specs,
-        out=out_path,
-        executor=executor,
-        workers=workers,
-        n_threads=n_threads,
-        resume=resume,
-        rerun=rerun,
-        save_runs=save_runs,
-        progress=progress,
-    )
-    _atomic_write(out_path / f"{name}.md", _TABLES[name](rows))
-    if name in ("comparison", "buildings", "example") and save_runs:
-        _curves(out_path, rows)
+    with out_dir_lock(out_path):
+        _check_resume_target(out_path, resume)
+        write_config(out_path, config, resume=resume)
+        rows = run_specs(
+            specs,
+            out=out_path,
+            executor=executor,
+            workers=workers,
+            n_threads=n_threads,
+            resume=resume,
+            rerun=rerun,
+            save_runs=save_runs,
+            progress=progress,
+        )
+        _atomic_write(out_path / f"{name}.md", _TABLES[name](rows))
+        if name in ("comparison", "buildings", "example") and save_runs:
+            _curves(out_path, rows)
     return rows
 
 

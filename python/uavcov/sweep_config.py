@@ -54,6 +54,7 @@ from .experiments import (
     _format,
     _version,
     experiment_specs,
+    out_dir_lock,
     paper_experiments,
     parse_seeds,
     prepare_out_dir,
@@ -470,14 +471,15 @@ def run_sweep(
     specs = config.specs()
     out_path = prepare_out_dir(out)
     resume = bool(run_options.get("resume", False))
-    _check_resume_target(out_path, resume)
-    resolved = config.resolved()
-    resolved["execution"] = dict(execution or {})
-    write_config(out_path, resolved, resume=resume)
-    if source_text is not None:
-        _atomic_write(out_path / "sweep.toml", source_text)
-    rows = run_specs(specs, out=out_path, **run_options)
-    _atomic_write(out_path / "summary.md", sweep_markdown(config, rows))
+    with out_dir_lock(out_path):
+        _check_resume_target(out_path, resume)
+        resolved = config.resolved()
+        resolved["execution"] = dict(execution or {})
+        write_config(out_path, resolved, resume=resume)
+        if source_text is not None:
+            _atomic_write(out_path / "sweep.toml", source_text)
+        rows = run_specs(specs, out=out_path, **run_options)
+        _atomic_write(out_path / "summary.md", sweep_markdown(config, rows))
     return rows
 
 
