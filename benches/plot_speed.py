@@ -1,5 +1,5 @@
-"""How long the figures take on large surfaces: a 447 x 447 grid (about 200k targets) and a
-buildings mesh, drawn and saved to PNG.
+"""How long the figures take on large surfaces: a 447 x 447 grid (about 200k targets), the
+buildings mesh and a fine buildings mesh (more triangles than are drawn), drawn and saved to PNG.
 
 Run: ``/work/venv/bin/python benches/plot_speed.py`` (needs the ``plot`` extra). Prints one line
 per figure: seconds to build the figure and seconds to render and save it. The coverage map of
@@ -14,7 +14,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
 import uavcov
 from uavcov import plotting
 
@@ -55,6 +54,10 @@ def main() -> None:
             scene, scene_uavs, 8.0), out / "c.png")
         _timed("coverage map top view, buildings mesh", lambda: plotting.plot_coverage_map(
             scene, scene_uavs, 8.0, view="top"), out / "d.png")
+        fine = uavcov.buildings_scene(spacing=0.125, rng=0)
+        print(f"fine scene: {fine!r}")
+        _timed("coverage map 3D, fine mesh (clustered)", lambda: plotting.plot_coverage_map(
+            fine, scene_uavs, 8.0), out / "f.png")
         points = hills.default_targets().points
         _timed("point cloud, 200k points (30k drawn)", lambda: plotting.plot_point_cloud(points), out / "e.png")
 

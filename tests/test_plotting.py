@@ -13,19 +13,18 @@ import io
 import shutil
 import sys
 import types
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 pytest.importorskip("matplotlib")
 
-import uavcov  # noqa: E402
-from uavcov import plotting  # noqa: E402
-from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError  # noqa: E402
-from uavcov.records import save_mission  # noqa: E402
-from uavcov.targets import Targets  # noqa: E402
-from uavcov.visibility import Visibility  # noqa: E402
+import uavcov
+from uavcov import plotting
+from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError
+from uavcov.records import save_mission
+from uavcov.targets import Targets
+from uavcov.visibility import Visibility
 
 
 def _render(fig) -> np.ndarray:
@@ -109,7 +108,7 @@ def test_outline_of_a_fine_surface_is_its_creases_and_border():
     edges, which = plotting._outline_edges(flat_mesh)
     assert which == "its creases and borders" and len(edges) == 4 * 30
     ends = flat_mesh.vertices[edges]
-    on_border = lambda p: (np.isin(p[:, 0], (0, 30)) | np.isin(p[:, 1], (0, 30)))  # noqa: E731
+    on_border = lambda p: (np.isin(p[:, 0], (0, 30)) | np.isin(p[:, 1], (0, 30)))
     assert on_border(ends[:, 0]).all() and on_border(ends[:, 1]).all()
     # A roof ridge along x = 15 (slopes of 45 degrees either side) adds its 30 edges.
     roof = uavcov.Terrain.from_grid(np.tile(15.0 - np.abs(x - 15.0), (31, 1)), spacing=1.0)
@@ -218,6 +217,17 @@ def test_table1_bars_are_the_means_beside_the_paper():
             assert round(float(np.mean(ours)), 6) in heights
             assert round(uavcov.paper.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
     assert len(ax.patches) == 12  # 3 starts x 2 sizes x (ours, paper)
+
+
+def test_table1_takes_typed_rows_with_failed_runs_as_none():
+    rows = [{"experiment": "pyramid", "init": "cvt", "n_uavs": 12, "seed": s, "max_coverage": v, "error": ""}
+            for s, v in enumerate([0.9, 0.94, 0.91])]
+    rows.append({"experiment": "pyramid", "init": "cvt", "n_uavs": 12, "seed": 9, "max_coverage": None,
+                 "error": "InfeasibleError: ..."})
+    ax = plotting.plot_table1(rows).axes[0]
+    assert "1 failed" in ax.get_title()
+    heights = sorted(p.get_height() for p in ax.patches)
+    assert np.allclose(heights, sorted([np.mean([0.9, 0.94, 0.91]), uavcov.paper.PUBLISHED_PYRAMID["max"].mean]))
 
 
 def test_table1_from_real_rows_without_paper_values(hills_runs, tmp_path):
@@ -366,7 +376,7 @@ def test_mesh_coverage_colours_match_the_engine(scene_run, cut):
         np.testing.assert_allclose(terrain.closest_point(probes), probes, atol=1e-9)
     else:
         centroids = terrain.vertices[terrain.faces].mean(axis=1)
-        order = lambda p: p[np.lexsort(np.round(p, 9).T)]  # noqa: E731
+        order = lambda p: p[np.lexsort(np.round(p, 9).T)]
         np.testing.assert_allclose(order(probes), order(centroids))  # one polygon per face, at its centre
     seen = Visibility(terrain, scene_run.settings.d_max, Targets(probes)).seen(final)
     _both_kinds(seen.astype(float))
@@ -524,7 +534,7 @@ def test_bad_runs_csv_is_refused(tmp_path):
         plotting.plot_directory(tmp_path)
     (tmp_path / "runs.csv").write_text("")
     with pytest.raises(ResultsFormatError, match="empty"):
-        plotting.read_runs(tmp_path / "runs.csv")
+        plotting._read_runs(tmp_path / "runs.csv")
     rows = [{"experiment": "t", "init": "cvt", "n_uavs": "5", "max_coverage": "lots"}]
     with pytest.raises(ResultsFormatError, match="'lots' is not a number"):
         plotting.plot_table1(rows)

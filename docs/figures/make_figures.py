@@ -15,7 +15,6 @@ import time
 from pathlib import Path
 
 from PIL import Image
-
 from uavcov import paper, plotting
 
 HERE = Path(__file__).resolve().parent
@@ -51,12 +50,13 @@ def main() -> int:
     _save(plotting.plot_coverage_curves(example, title="Fig. 5d: coverage during the optimisation"),
           "example_coverage_curve.png")
     _save(plotting.plot_point_cloud(example), "example_point_cloud.png")
-    gif = plotting.animate_mission(example, HERE / "example_animation.gif", max_frames=30, raster=100, dpi=60)
-    print(f"{gif.name:<32} {gif.stat().st_size / 1e3:6.0f} kB", flush=True)
 
     # Fig. 6: the three starts on one terrain (10 UAVs, d_max = 25 m), the paper's maxima dashed.
     comparison = {start: [_run(paper.COMPARISON, 0, 10, start)] for start in ("cvt", "random", "corner")}
     _save(plotting.plot_coverage_map(comparison["corner"][0], configuration="best"), "comparison_corner_coverage_map.png")
+    gif = plotting.animate_mission(comparison["corner"][0], HERE / "comparison_corner_animation.gif", max_frames=40,
+                                   raster=100, dpi=70)
+    print(f"{gif.name:<32} {gif.stat().st_size / 1e3:6.0f} kB", flush=True)
     _save(plotting.plot_coverage_curves(comparison, reference=dict(paper.PUBLISHED_FIG6_MAX),
                                         title="Fig. 6: 10 UAVs, one terrain, three starts"), "comparison_curves.png")
     # The same over five terrains: mean and one sigma.

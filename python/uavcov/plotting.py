@@ -22,8 +22,9 @@ import csv
 import math
 import os
 import shutil
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -35,18 +36,17 @@ from .targets import Targets
 from .visibility import Visibility
 
 __all__ = [
+    "animate_mission",
     "plot_approximation",
-    "plot_cvt",
-    "plot_coverage_map",
     "plot_coverage_curves",
+    "plot_coverage_map",
+    "plot_cvt",
+    "plot_directory",
+    "plot_point_cloud",
     "plot_table1",
     "published_values",
-    "plot_point_cloud",
     "seen_points",
     "write_ply",
-    "animate_mission",
-    "read_runs",
-    "plot_directory",
 ]
 
 # The paper's colours where it has them: covered surface red, start black, end green.
@@ -412,7 +412,7 @@ def _scene_bounds(*parts: np.ndarray) -> np.ndarray:
 def _legend(ax: Any, handles: list[Any]) -> None:
     """Under a 3D axes, where it hides nothing of the scene."""
     ax.legend(handles=handles, fontsize=8, framealpha=0.9, loc="upper center", bbox_to_anchor=(0.5, -0.04),
-              ncol=2 if len(handles) > 2 else len(handles))
+              ncol=min(len(handles), 2))
 
 
 def _patch(colour: Any, label: str) -> Any:
@@ -781,8 +781,9 @@ def _coverage_3d(ax: Any, terrain: Terrain, pts: np.ndarray, d_max: float, path:
     coll.uavcov_seen_fraction = fraction
     coll.uavcov_probes = polys.probes
     if path is not None:
+        width = 0.9 if path.shape[0] <= 150 else 0.6  # long random-looking paths: lighter
         for i in range(path.shape[1]):
-            ax.plot(path[:, i, 0], path[:, i, 1], path[:, i, 2], color="0.1", linewidth=0.9, alpha=0.85, zorder=4)
+            ax.plot(path[:, i, 0], path[:, i, 1], path[:, i, 2], color="0.1", linewidth=width, alpha=0.8, zorder=4)
     # Dotted drops to the ground place each UAV over the map.
     ground = terrain.ground_height(pts[:, :2])
     for p, g in zip(pts, ground):
@@ -801,8 +802,8 @@ def _raster_points(terrain: Terrain, raster: int) -> tuple[np.ndarray, np.ndarra
     lo, hi = terrain.bounds[0], terrain.bounds[1]
     span = max(hi[0] - lo[0], hi[1] - lo[1])
     step = span / raster
-    w = max(2, int(round((hi[0] - lo[0]) / step)))
-    h = max(2, int(round((hi[1] - lo[1]) / step)))
+    w = max(2, round((hi[0] - lo[0]) / step))
+    h = max(2, round((hi[1] - lo[1]) / step))
     dx, dy = (hi[0] - lo[0]) / w, (hi[1] - lo[1]) / h
     xs = lo[0] + (np.arange(w) + 0.5) * dx
     ys = lo[1] + (np.arange(h) + 0.5) * dy
@@ -998,7 +999,7 @@ def plot_coverage_curves(
 # Table 1 beside the paper
 
 
-def read_runs(path: Any) -> list[dict[str, str]]:
+def _read_runs(path: Any) -> list[dict[str, str]]:
     """Rows of a ``runs.csv`` as dicts of strings (the ``csv`` module's), header checked.
 
     Raises
@@ -1063,7 +1064,7 @@ def plot_table1(
     matplotlib.figure.Figure
     """
     if isinstance(rows, (str, os.PathLike)):
-        rows = read_runs(rows)
+        rows = _read_runs(rows)
     if isinstance(rows, Mapping) or not isinstance(rows, Iterable):
         raise InvalidTypeError("rows must be an iterable of mappings (csv.DictReader rows) or a runs.csv path")
     rows = list(rows)
@@ -1126,7 +1127,9 @@ def plot_table1(
     ax.grid(True, axis="y", linewidth=0.4, alpha=0.5)
     note = f"; {failed} failed run(s) left out" if failed else ""
     ax.set_title(f"{', '.join(experiments)}: {metric.replace('_', ' ')} by start and team size{note}", fontsize=10)
-    ax.legend(handles=handles, fontsize=7, ncol=max(1, len(series)), loc="upper left", framealpha=0.9)
+    # Below the axes: bars may reach the top anywhere.
+    ax.legend(handles=handles, fontsize=7, ncol=max(1, min(len(handles), 6)), loc="upper center",
+              bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
     if fig.get_layout_engine() is None and len(fig.axes) == 1:
         fig.set_layout_engine("constrained")
     return _finish(fig, out, dpi)
@@ -1415,7 +1418,7 @@ def _write_gif(images: list[np.ndarray], out: Path, fps: float) -> None:
     # One palette for all frames keeps colours steady and the file small.
     first = Image.fromarray(images[0]).quantize(colors=128, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
     frames = [first] + [Image.fromarray(a).quantize(palette=first, dither=Image.Dither.NONE) for a in images[1:]]
-    duration = int(round(1000.0 / fps))
+    duration = round(1000.0 / fps)
     durations = [duration] * (len(frames) - 1) + [max(duration, 1500)]  # linger on the result
     frames[0].save(out, save_all=True, append_images=frames[1:], duration=durations, loop=0, optimize=True)
 
@@ -1497,7 +1500,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     from . import paper
 
     written: list[Path] = []
-    rows = read_runs(runs_csv) if runs_csv.is_file() else []
+    rows = _read_runs(runs_csv) if runs_csv.is_file() else []
     by_experiment: dict[str, list[dict[str, str]]] = {}
     for row in rows:
         by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
@@ -1545,16 +1548,13 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
 
     for index, (f, r) in enumerate(chosen):
         stem = _safe(f.stem)
-        for suffix, draw in (
-            ("approximation", lambda p: plot_approximation(r, out=p, dpi=dpi)),
-            ("cvt", (lambda p: plot_cvt(r, out=p, dpi=dpi)) if r.cvt is not None else None),
-            ("coverage_map", lambda p: plot_coverage_map(r, out=p, dpi=dpi)),
-            ("coverage_top", lambda p: plot_coverage_map(r, view="top", out=p, dpi=dpi)),
-        ):
-            if draw is None:
-                continue
+        figures: list[tuple[str, Any, dict[str, Any]]] = [("approximation", plot_approximation, {})]
+        if r.cvt is not None:
+            figures.append(("cvt", plot_cvt, {}))
+        figures += [("coverage_map", plot_coverage_map, {}), ("coverage_top", plot_coverage_map, {"view": "top"})]
+        for suffix, draw, options in figures:
             path = target / f"{stem}_{suffix}.png"
-            _close(draw(path))
+            _close(draw(r, out=path, dpi=dpi, **options))
             written.append(path)
         ply = target / f"{stem}_seen.ply"
         path = target / f"{stem}_point_cloud.png"
