@@ -1,6 +1,7 @@
 //! The reference case of `benches/README.md`: a 7-Gaussian terrain on 100 m x 100 m, all grid
 //! nodes as targets, 12 UAVs 5-30 m above the ground, d_max = 25 m; one full coverage
-//! evaluation at 1 m, 0.5 m and 0.25 m spacing, on 1 and 2 threads.
+//! evaluation at 1 m, 0.5 m and 0.25 m spacing, on 1 and 2 threads, on the grid path (the
+//! default for a grid surface) and on the mesh path of the same grid (parry's BVH).
 //!
 //! `cargo bench --bench coverage`
 
@@ -10,7 +11,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use uavcov::mesh::Surface;
-use uavcov::visibility::{Targets, Visibility};
+use uavcov::visibility::{Path, Targets, Visibility};
 
 /// Heights of a sum of 7 Gaussian hills (heights 5-25 m, sigma 10 m) on a `spacing` grid.
 fn hills(spacing: f64, seed: u64) -> (Vec<f64>, usize) {
@@ -28,7 +29,7 @@ fn hills(spacing: f64, seed: u64) -> (Vec<f64>, usize) {
     (z, n)
 }
 
-fn reference_case(spacing: f64) -> (Visibility, Vec<[f64; 3]>) {
+fn reference_case(spacing: f64, path: Path) -> (Visibility, Vec<[f64; 3]>) {
     let (z, n) = hills(spacing, 0);
     let surface = Arc::new(Surface::from_grid(z, n, n, spacing, spacing, 0.0, 0.0).unwrap());
     let mut rng = ChaCha8Rng::seed_from_u64(1);
@@ -38,18 +39,20 @@ fn reference_case(spacing: f64) -> (Visibility, Vec<[f64; 3]>) {
             [x, y, surface.ground_height(x, y).unwrap() + 5.0 + 25.0 * rng.random::<f64>()]
         })
         .collect();
-    let targets = Targets::of_surface(&surface, 1.0).unwrap();
-    (Visibility::new(surface, targets, 25.0).unwrap(), uavs)
+    let targets = Targets::grid_nodes(surface.clone()).unwrap();
+    (Visibility::with_path(surface, targets, 25.0, path).unwrap(), uavs)
 }
 
 fn coverage(c: &mut Criterion) {
     let mut group = c.benchmark_group("coverage");
     group.sample_size(20);
     for spacing in [1.0, 0.5, 0.25] {
-        let (vis, uavs) = reference_case(spacing);
-        for threads in [1, 2] {
-            let id = BenchmarkId::new(format!("spacing_{spacing}m"), format!("{threads}_threads"));
-            group.bench_with_input(id, &threads, |b, &t| b.iter(|| vis.coverage(&uavs, t).unwrap()));
+        for (name, path) in [("grid", Path::Auto), ("mesh", Path::Mesh)] {
+            let (vis, uavs) = reference_case(spacing, path);
+            for threads in [1, 2] {
+                let id = BenchmarkId::new(format!("{name}_{spacing}m"), format!("{threads}_threads"));
+                group.bench_with_input(id, &threads, |b, &t| b.iter(|| vis.coverage(&uavs, t).unwrap()));
+            }
         }
     }
     group.finish();

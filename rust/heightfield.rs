@@ -68,6 +68,8 @@ pub struct HeightField {
     grid: Grid,
     /// Finest first; the last level has a single tile.
     levels: Vec<Level>,
+    /// Highest node height of tiles of 2, 4, 8, ... cells a side, up to one tile, for the walk.
+    tops: Vec<TopLevel>,
     n_vertices: usize,
     n_triangles: usize,
     area: f64,
@@ -106,6 +108,34 @@ fn axis(lo: f64, hi: f64, origin: f64, inv: f64) -> (f64, f64) {
             (b, a)
         }
     }
+}
+
+/// `a.min(b)` for values that are never NaN: one instruction instead of a NaN-aware sequence.
+#[inline(always)]
+fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `a.max(b)` for values that are never NaN.
+#[inline(always)]
+fn max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `x as usize` for `x` already known to lie in `[0, usize::MAX)`, without the saturation checks.
+#[inline(always)]
+fn cell_index(x: f64) -> usize {
+    debug_assert!((0.0..(usize::MAX as f64)).contains(&x));
+    // SAFETY: callers clamp `x` into `[0, cells)` after ruling out NaN, so it is finite and in range.
+    unsafe { x.to_int_unchecked::<usize>() }
 }
 
 /// `f64` ordered for the closest-point heap (distances are never NaN).
@@ -194,8 +224,10 @@ impl HeightField {
         let complete = grid.z.iter().all(|h| !h.is_nan());
         grid.vertex_of_node = vertex_of_node;
         let levels = build_levels(&grid);
+        let tops = build_tops(&grid);
         Ok(Self {
             grid,
+            tops,
             levels,
             n_vertices: n_vertices as usize,
             n_triangles,
@@ -319,8 +351,177 @@ impl HeightField {
     }
 
     /// Whether the ray `origin + t dir`, `0 <= t <= t_max`, crosses a triangle.
+    ///
+    /// A walk along the segment: over the tiles its footprint crosses, skipping those it passes
+    /// above, then over the cells of the others, skipping the cells it passes above, then the
+    /// mesh path's own leaf test on each remaining triangle (see [`HeightField::walk_hits`]).
     pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        self.walk_hits(origin, dir, t_max)
+    }
+
+    /// The any-hit answer of the tile quadtree (the first-hit machinery); the same answer as
+    /// [`HeightField::ray_hits`], kept as a second, independent way to it for the tests.
+    pub fn ray_hits_quadtree(&self, origin: Point, dir: Point, t_max: f64) -> bool {
         self.cast::<true>(origin, dir, t_max).is_some()
+    }
+
+    /// The mesh path's leaf test on the triangles of cell `(i, j)`: the slab test of each
+    /// triangle's box, then parry's triangle test, corners in the mesh's order.
+    #[inline(always)]
+    fn cell_hit(&self, i: usize, j: usize, cast: &Cast, t_max: f64) -> bool {
+        let g = &self.grid;
+        let row = i * g.nx + j;
+        let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+        let (xa, xb) = (self.x(j), self.x(j + 1));
+        let (ya, yc) = (self.y(i), self.y(i + 1));
+        let o = cast.ray.origin;
+        let (nx, fx) = axis(xa, xb, o.x, cast.inv[0]);
+        let (ny, fy) = axis(ya, yc, o.y, cast.inv[1]);
+        let enter_xy = 0.0f64.max(nx).max(ny);
+        let exit_xy = t_max.min(fx).min(fy);
+        if enter_xy > exit_xy {
+            return false; // both triangles span the cell's whole footprint
+        }
+        let a = Vector::new(xa, ya, za);
+        let c = Vector::new(xb, yc, zc);
+        let halves = [(zb, Vector::new(xb, ya, zb), true), (zd, Vector::new(xa, yc, zd), false)];
+        for (zo, other, first) in halves {
+            if za.is_nan() || zc.is_nan() || zo.is_nan() {
+                continue;
+            }
+            let (nz, fz) = axis(za.min(zo).min(zc), za.max(zo).max(zc), o.z, cast.inv[2]);
+            if enter_xy.max(nz) > exit_xy.min(fz) {
+                continue;
+            }
+            // [a, b, c] and [a, c, d], as the mesh stores them.
+            let hit = if first {
+                local_ray_intersection_with_triangle(a, other, c, &cast.ray)
+            } else {
+                local_ray_intersection_with_triangle(a, c, other, &cast.ray)
+            };
+            if let Some((inter, _)) = hit {
+                if inter.time_of_impact <= t_max {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// [`HeightField::cell_hit`] unless the piece of segment, lowest at `zmin`, passes above
+    /// every corner of the cell.
+    #[inline(always)]
+    fn cell_hit_below(&self, i: usize, j: usize, zmin: f64, cast: &Cast, t_max: f64) -> bool {
+        // A cell of nodata only has NaN corners: not skipped here, its triangles are left out.
+        if zmin > self.cell_top(i, j) {
+            return false;
+        }
+        self.cell_hit(i, j, cast, t_max)
+    }
+
+    /// The highest corner of cell `(i, j)` (NaN corners ignored; NaN when all are).
+    #[inline(always)]
+    fn cell_top(&self, i: usize, j: usize) -> f64 {
+        let g = &self.grid;
+        let row = i * g.nx + j;
+        g.z[row].max(g.z[row + 1]).max(g.z[row + g.nx]).max(g.z[row + g.nx + 1])
+    }
+
+    /// Any-hit by bisecting the segment.
+    ///
+    /// A piece of the segment is clear when its lowest point is above the highest node of the
+    /// (at most 2 x 2) pyramid tiles that cover its footprint box; otherwise it is cut in two,
+    /// down to pieces whose footprint box spans at most 2 x 2 cells, whose triangles get the mesh
+    /// path's own leaf test (skipping a cell the piece passes above).
+    ///
+    /// Exactness: the mesh path counts a triangle only when the ray passes the slab test of the
+    /// triangle's box, which with rounding means some `t` in `[0, t_max]` puts the ray within a
+    /// few ulps of the box (about `1e-16` of the coordinates). Here every footprint box is widened
+    /// by `delta` (`1e-9` of the coordinates, millions of ulps) and every lowest point lowered by
+    /// `delta_z`, so no triangle the mesh path would count is ever skipped, and every triangle not
+    /// skipped gets the same leaf test: the answers are the same.
+    pub fn walk_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        let g = &self.grid;
+        let (cells_x, cells_y) = (g.nx - 1, g.ny - 1);
+        // The segment in cell units: u along columns (x), w along rows (y).
+        let (u0, du) = ((origin[0] - g.x0) / g.dx, dir[0] / g.dx);
+        let (w0, dw) = ((origin[1] - g.y0) / g.dy, dir[1] / g.dy);
+        let (z0, dz) = (origin[2], dir[2]);
+        let end = [origin[0] + dir[0] * t_max, origin[1] + dir[1] * t_max, z0 + dz * t_max];
+        let scale_xy = [origin[0], origin[1], end[0], end[1], g.x0, g.y0].iter().fold(0.0f64, |m, c| m.max(c.abs()))
+            + (cells_x as f64 * g.dx).max(cells_y as f64 * g.dy);
+        let delta = 1e-9 * (1.0 + scale_xy / g.dx.min(g.dy));
+        let (zlo, zhi) = (self.bounds.0[2], self.bounds.1[2]);
+        let delta_z = 1e-9 * (z0.abs() + end[2].abs() + zlo.abs() + zhi.abs() + (zhi - zlo) + 1e-300);
+        if z0.min(end[2]) - delta_z > zhi {
+            return false; // above everything
+        }
+        let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
+        let (nx_f, ny_f) = (cells_x as f64, cells_y as f64);
+        // Pieces `[ta, tb]` of the parameter range still to clear, depth first.
+        let mut stack = [(0.0f64, 0.0f64); 24];
+        stack[0] = (0.0, t_max);
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (ta, tb) = stack[top];
+            let (ua, ub) = (u0 + du * ta, u0 + du * tb);
+            let (wa, wb) = (w0 + dw * ta, w0 + dw * tb);
+            let (ulo, uhi) = (min(ua, ub) - delta, max(ua, ub) + delta);
+            let (wlo, whi) = (min(wa, wb) - delta, max(wa, wb) + delta);
+            if !(uhi >= 0.0 && ulo <= nx_f && whi >= 0.0 && wlo <= ny_f) {
+                continue; // off the grid (also for NaN from absurd inputs)
+            }
+            // Cells of the widened footprint box, clamped to the grid; the clamps keep every
+            // value in `[0, cells)` and the test above rules out NaN, so truncation is floor.
+            let j0 = cell_index(max(ulo, 0.0));
+            let j1 = cell_index(min(uhi, nx_f - 0.5));
+            let i0 = cell_index(max(wlo, 0.0));
+            let i1 = cell_index(min(whi, ny_f - 0.5));
+            let zmin = min(z0 + dz * ta, z0 + dz * tb) - delta_z;
+            if j1 - j0 <= 1 && i1 - i0 <= 1 {
+                for i in i0..=i1 {
+                    for j in j0..=j1 {
+                        if self.cell_hit_below(i, j, zmin, &cast, t_max) {
+                            return true;
+                        }
+                    }
+                }
+                continue;
+            }
+            // The finest pyramid level whose tiles cover the box with at most 2 x 2 of them:
+            // tiles of 2^(k+1) cells, where 2^(k+1) is at least the larger extent minus one.
+            let extent = (j1 - j0).max(i1 - i0); // >= 2
+            // Tiles of 2^s >= extent cells meet the extent + 1 cells in at most two; the top level
+            // is a single tile, which always does.
+            let k = ((usize::BITS - (extent - 1).leading_zeros()) as usize - 1).min(self.tops.len() - 1);
+            let level = &self.tops[k];
+            let s = level.shift;
+            let (ti0, ti1, tj0, tj1) = (i0 >> s, i1 >> s, j0 >> s, j1 >> s);
+            let row0 = &level.zmax[ti0 * level.cols..];
+            let row1 = &level.zmax[ti1 * level.cols..];
+            let high = max(max(row0[tj0], row0[tj1]), max(row1[tj0], row1[tj1]));
+            if zmin > high {
+                continue;
+            }
+            let tm = 0.5 * (ta + tb);
+            if top + 2 > stack.len() || !(ta < tm && tm < tb) {
+                // Too deep to split further (not reached with sane inputs): test every cell.
+                for i in i0..=i1 {
+                    for j in j0..=j1 {
+                        if self.cell_hit_below(i, j, zmin, &cast, t_max) {
+                            return true;
+                        }
+                    }
+                }
+                continue;
+            }
+            // The half nearer the end (the target, on the ground) on top: it decides most often.
+            stack[top] = (ta, tm);
+            stack[top + 1] = (tm, tb);
+            top += 2;
+        }
+        false
     }
 
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
@@ -584,7 +785,8 @@ impl HeightField {
 
     /// Bytes held, roughly: heights, node numbering, tile pyramid and any lazily built tables.
     pub fn memory_bytes(&self) -> usize {
-        let levels: usize = self.levels.iter().map(|l| l.z.len() * 16).sum();
+        let levels: usize = self.levels.iter().map(|l| l.z.len() * 16).sum::<usize>()
+            + self.tops.iter().map(|l| l.zmax.len() * 8).sum::<usize>();
         self.grid.z.len() * 8
             + self.grid.vertex_of_node.len() * 4
             + levels
@@ -621,6 +823,52 @@ impl Grid {
             (ok(a) && ok(c) && ok(d)).then_some([a, c, d]),
         ]
     }
+}
+
+/// Highest node heights of the segment walk's tiles.
+#[derive(Debug, Clone)]
+struct TopLevel {
+    shift: u32,
+    cols: usize,
+    /// Highest non-NaN node height per tile, row-major; `-inf` when there is none.
+    zmax: Vec<f64>,
+}
+
+/// Tiles of 2 x 2 cells from the heights, then 2 x 2 merges until one tile is left.
+fn build_tops(g: &Grid) -> Vec<TopLevel> {
+    let (cells_y, cells_x) = (g.ny - 1, g.nx - 1);
+    let (rows, cols) = (cells_y.div_ceil(2), cells_x.div_ceil(2));
+    let mut zmax = vec![f64::NEG_INFINITY; rows * cols];
+    for ti in 0..rows {
+        for i in 2 * ti..=(2 * ti + 2).min(cells_y) {
+            let heights = &g.z[i * g.nx..(i + 1) * g.nx];
+            for tj in 0..cols {
+                let slot = &mut zmax[ti * cols + tj];
+                for &h in &heights[2 * tj..=(2 * tj + 2).min(cells_x)] {
+                    *slot = slot.max(h); // max ignores NaN
+                }
+            }
+        }
+    }
+    let mut levels = vec![TopLevel { shift: 1, cols, zmax }];
+    let mut rows = rows;
+    while let Some(last) = levels.last().filter(|l| rows > 1 || l.cols > 1) {
+        let (r2, c2) = (rows.div_ceil(2), last.cols.div_ceil(2));
+        let mut zmax = vec![f64::NEG_INFINITY; r2 * c2];
+        for ti in 0..r2 {
+            for tj in 0..c2 {
+                let slot = &mut zmax[ti * c2 + tj];
+                for ci in 2 * ti..(2 * ti + 2).min(rows) {
+                    for cj in 2 * tj..(2 * tj + 2).min(last.cols) {
+                        *slot = slot.max(last.zmax[ci * last.cols + cj]);
+                    }
+                }
+            }
+        }
+        levels.push(TopLevel { shift: last.shift + 1, cols: c2, zmax });
+        rows = r2;
+    }
+    levels
 }
 
 /// The tile pyramid: leaf tiles of `2^FIRST_SHIFT` cells, then 2 x 2 merges up to one tile.
@@ -728,7 +976,7 @@ mod tests {
         let mut blocked = 0;
         let mut total = 0;
         for case in 0..48 {
-            let (ny, nx) = (rng.random_range(2..24), rng.random_range(2..24));
+            let (ny, nx) = if case % 8 == 7 { (rng.random_range(30..90), rng.random_range(30..90)) } else { (rng.random_range(2..24), rng.random_range(2..24)) };
             let (dx, dy) = if case % 3 == 0 { (1.0, 1.0) } else { (0.1 + rng.random::<f64>(), 0.1 + rng.random::<f64>()) };
             let (x0, y0) = if case % 4 == 0 { (0.0, 0.0) } else { (rng.random::<f64>() * 1e3 - 500.0, 12.25) };
             let z = heights(&mut rng, ny, nx, case % 4, case % 5 == 1);
@@ -746,6 +994,8 @@ mod tests {
                 for t_max in [SIGHT_FRACTION, 1.0] {
                     let expect = mesh.ray_hits(a, d, t_max);
                     assert_eq!(grid.ray_hits(a, d, t_max), expect, "case {case}: {a:?} -> {b:?} up to {t_max}");
+                    let field = grid.heightfield().unwrap();
+                    assert_eq!(field.ray_hits_quadtree(a, d, t_max), expect, "quadtree, case {case}");
                     blocked += expect as usize;
                     total += 1;
                 }
@@ -838,7 +1088,7 @@ mod tests {
     fn memory_scales_with_nodes() {
         let hf = HeightField::new(vec![0.0; 201 * 201], 201, 201, 0.5, 0.5, 0.0, 0.0).unwrap();
         let per_node = hf.memory_bytes() as f64 / (201.0 * 201.0);
-        assert!(per_node < 14.0, "{per_node} bytes per node");
+        assert!(per_node < 18.0, "{per_node} bytes per node");
         assert!(HeightField::new(vec![0.0; 4], 2, 2, 1.0, f64::NAN, 0.0, 0.0).is_err());
         assert!(matches!(HeightField::new(vec![f64::NAN; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::Mesh(_))));
         assert!(matches!(HeightField::new(vec![f64::INFINITY; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));

@@ -75,7 +75,7 @@ impl Targets {
     fn finish(points: Points, weights: Vec<f64>, chunk_bounds: Vec<(Point, Point)>) -> Result<Self> {
         ensure!(weights.iter().all(|w| w.is_finite() && *w >= 0.0), "target weights must be finite and >= 0");
         let total_weight: f64 = weights.iter().sum();
-        ensure!(total_weight > 0.0, "target weights are all zero");
+        ensure!(total_weight.is_finite() && total_weight > 0.0, "target weights are all zero or sum to infinity");
         Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds })
     }
 
