@@ -40,10 +40,13 @@ class Visibility:
     def __new__(
         cls,
         surface: Surface,
-        targets: npt.NDArray[np.float64],
-        weights: npt.NDArray[np.float64],
+        targets: npt.NDArray[np.float64] | None,
+        weights: npt.NDArray[np.float64] | None,
         d_max: float,
+        method: str = "auto",
     ) -> Visibility: ...
+    @property
+    def path(self) -> str: ...
     @property
     def n_targets(self) -> int: ...
     @property

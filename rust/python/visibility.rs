@@ -16,20 +16,44 @@ pub struct PyVisibility {
 
 #[pymethods]
 impl PyVisibility {
+    /// `targets` and `weights` both `None`: the grid surface's vertices, generated in Rust.
+    /// `method`: "auto" (the grid path for a grid surface), "mesh" or "grid".
     #[new]
-    #[pyo3(signature = (surface, targets, weights, d_max))]
+    #[pyo3(signature = (surface, targets, weights, d_max, method="auto"))]
     fn new(
         py: Python<'_>,
         surface: &PySurface,
-        targets: PyReadonlyArray2<'_, f64>,
-        weights: PyReadonlyArray1<'_, f64>,
+        targets: Option<PyReadonlyArray2<'_, f64>>,
+        weights: Option<PyReadonlyArray1<'_, f64>>,
         d_max: f64,
+        method: &str,
     ) -> PyResult<Self> {
-        let pts = points(py, &targets, "targets")?;
-        let w = weights.as_array().to_vec();
-        let t = visibility::Targets::new(pts, Some(w)).map_err(|e| to_py_err(py, e))?;
-        let inner = visibility::Visibility::new(surface.inner.clone(), t, d_max).map_err(|e| to_py_err(py, e))?;
+        let path: visibility::Path = method.parse().map_err(|e| to_py_err(py, e))?;
+        let t = match (targets, weights) {
+            (Some(targets), Some(weights)) => {
+                let pts = points(py, &targets, "targets")?;
+                let w = weights.as_array().to_vec();
+                visibility::Targets::new(pts, Some(w))
+            }
+            (None, None) => {
+                let s = surface.inner.clone();
+                py.detach(|| visibility::Targets::grid_nodes(s))
+            }
+            _ => Err(crate::error::Error::InvalidInput("give both targets and weights, or neither".into())),
+        }
+        .map_err(|e| to_py_err(py, e))?;
+        let s = surface.inner.clone();
+        let inner = py.detach(|| visibility::Visibility::with_path(s, t, d_max, path)).map_err(|e| to_py_err(py, e))?;
         Ok(Self { inner })
+    }
+
+    /// The path the line-of-sight tests take: "grid" or "mesh".
+    #[getter]
+    fn path(&self) -> &'static str {
+        match self.inner.path() {
+            visibility::Path::Grid => "grid",
+            _ => "mesh",
+        }
     }
 
     #[getter]
