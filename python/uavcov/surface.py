@@ -115,8 +115,10 @@ class Terrain:
     def _init(self, surface: Any, grid: GridInfo | None) -> None:
         self._surface = surface
         self._grid = grid
-        self._vertices = _read_only(surface.vertices())
-        self._faces = _read_only(surface.faces())
+        # A grid terrain keeps only its heights; vertices and faces are made on first access
+        # (32 and 24 bytes a node, more than the rest of a large map).
+        self._vertices: np.ndarray | None = None if grid is not None else _read_only(surface.vertices())
+        self._faces: np.ndarray | None = None if grid is not None else _read_only(surface.faces())
 
     @classmethod
     def from_mesh(cls, mesh: Any, *, drop_degenerate: bool = False) -> "Terrain":
@@ -162,7 +164,7 @@ class Terrain:
     def __reduce__(self) -> tuple[Any, ...]:
         if self._grid is not None:
             return (Terrain.from_grid, (self._grid.z, self._grid.spacing, self._grid.origin))
-        return (Terrain, (self._vertices, self._faces))
+        return (Terrain, (self.vertices, self.faces))
 
     def __repr__(self) -> str:
         kind = f"grid {self._grid.shape[0]}x{self._grid.shape[1]}" if self._grid else "mesh"
@@ -173,11 +175,15 @@ class Terrain:
     @property
     def vertices(self) -> np.ndarray:
         """``(V, 3)`` float64 vertex coordinates, metres (read-only)."""
+        if self._vertices is None:
+            self._vertices = _read_only(self._surface.vertices())
         return self._vertices
 
     @property
     def faces(self) -> np.ndarray:
         """``(F, 3)`` int64 vertex indices of each triangle (read-only)."""
+        if self._faces is None:
+            self._faces = _read_only(self._surface.faces())
         return self._faces
 
     @property

@@ -56,6 +56,12 @@ class Visibility:
         Defaults to ``terrain.default_targets()``.
     n_threads : int, optional
         Threads for each evaluation; all cores by default. Results do not depend on it.
+    method : {"auto", "grid", "mesh"}, default "auto"
+        How lines of sight are tested. "grid" walks the elevation grid of a terrain built with
+        :meth:`Terrain.from_grid`; "mesh" uses the triangle mesh and its BVH; "auto" takes "grid"
+        whenever the terrain is a grid. Both give the same answer for every target; the grid path
+        is faster and needs no triangle list (a grid of many millions of nodes fits), and with
+        the default targets of a grid terrain the targets are generated in Rust, not stored.
 
     Examples
     --------
@@ -66,24 +72,36 @@ class Visibility:
     1.0
     """
 
-    __slots__ = ("_terrain", "_targets", "_d_max", "_n_threads", "_core")
+    __slots__ = ("_terrain", "_targets", "_d_max", "_n_threads", "_method", "_core")
 
-    def __init__(self, terrain: Terrain, d_max: float, targets: Targets | None = None, *, n_threads: int | None = None) -> None:
+    def __init__(
+        self,
+        terrain: Terrain,
+        d_max: float,
+        targets: Targets | None = None,
+        *,
+        n_threads: int | None = None,
+        method: str = "auto",
+    ) -> None:
         if not isinstance(terrain, Terrain):
             raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
-        if targets is None:
-            targets = terrain.default_targets()
-        elif not isinstance(targets, Targets):
+        if targets is not None and not isinstance(targets, Targets):
             raise InvalidTypeError(f"targets must be a uavcov.Targets, got {type(targets).__name__}")
+        if not isinstance(method, str):
+            raise InvalidTypeError(f"method must be a string, got {type(method).__name__}")
+        if targets is None and terrain.grid is None:
+            targets = terrain.default_targets()
         self._terrain = terrain
-        self._targets = targets
+        self._targets = targets  # None: the grid's vertices, generated in Rust, made on request
         self._d_max = as_positive_float(d_max, "d_max")
         self._n_threads = as_n_threads(n_threads)
-        self._core = _core.Visibility(terrain.core, targets.points, targets.weights, self._d_max)
+        self._method = method
+        points, weights = (None, None) if targets is None else (targets.points, targets.weights)
+        self._core = _core.Visibility(terrain.core, points, weights, self._d_max, method)
 
     def __reduce__(self) -> tuple[Any, ...]:
         n_threads = self._n_threads or None
-        return (_rebuild, (self._terrain, self._d_max, self._targets, n_threads))
+        return (_rebuild, (self._terrain, self._d_max, self._targets, n_threads, self._method))
 
     @property
     def terrain(self) -> Terrain:
@@ -92,7 +110,9 @@ class Visibility:
 
     @property
     def targets(self) -> Targets:
-        """The targets."""
+        """The targets (for a grid terrain's default targets, built on first access)."""
+        if self._targets is None:
+            self._targets = self._terrain.default_targets()
         return self._targets
 
     @property
@@ -133,13 +153,23 @@ class Visibility:
         )
 
 
-def _rebuild(terrain: Terrain, d_max: float, targets: Targets, n_threads: int | None) -> Visibility:
-    return Visibility(terrain, d_max, targets, n_threads=n_threads)
+def _rebuild(
+    terrain: Terrain, d_max: float, targets: Targets | None, n_threads: int | None, method: str = "auto"
+) -> Visibility:
+    return Visibility(terrain, d_max, targets, n_threads=n_threads, method=method)
 
 
-def coverage(terrain: Terrain, uavs: Any, d_max: float, targets: Targets | None = None, *, n_threads: int | None = None) -> float:
+def coverage(
+    terrain: Terrain,
+    uavs: Any,
+    d_max: float,
+    targets: Targets | None = None,
+    *,
+    n_threads: int | None = None,
+    method: str = "auto",
+) -> float:
     """Coverage of one configuration: a one-off :meth:`Visibility.coverage`.
 
     Prefer a :class:`Visibility` object when evaluating many configurations.
     """
-    return Visibility(terrain, d_max, targets, n_threads=n_threads).coverage(uavs)
+    return Visibility(terrain, d_max, targets, n_threads=n_threads, method=method).coverage(uavs)
