@@ -263,42 +263,48 @@ impl TriangleSampler {
     }
 }
 
-/// For each triangle, the generators that can be nearest to some point of it: those within
-/// `2 r` (plus rounding slack) of the nearest one to its centroid, `r` the triangle's radius
-/// about the centroid. A point `y` of the triangle has `|y - g| >= |c - g| - r` and
-/// `|y - h| <= |c - h| + r`, so a generator beyond that bound never wins, and the search over
-/// the candidates (in index order) gives exactly the brute-force answer, ties included.
+/// For each triangle, the generators that can be nearest to some point of it.
+///
+/// Take `h`, the generator nearest to the triangle's centroid. Where `g` is at least as near as
+/// `h` is a closed half-space; it meets the triangle exactly when it holds one of the triangle's
+/// corners (the triangle is the convex hull of its corners). So a generator that is farther
+/// than `h` from all three corners is never nearest anywhere on the triangle, and searching the
+/// rest (in index order) gives exactly the brute-force answer, ties included. A relative slack
+/// of 1e-9 keeps rounding on the safe side (an extra candidate costs only time).
 struct Candidates {
     offsets: Vec<usize>,
     list: Vec<u32>,
 }
 
-/// Centroid and radius of each triangle, for [`Candidates`].
-fn triangle_balls(surface: &Surface) -> Vec<(Point, f64)> {
+/// Corners and centroid of each triangle, for [`Candidates`].
+fn triangle_corners(surface: &Surface) -> Vec<([Point; 3], Point)> {
     (0..surface.n_triangles())
         .map(|f| {
             let [a, b, c] = surface.triangle(f);
-            let centre = (a + b + c) / 3.0;
-            let r = (a - centre).length().max((b - centre).length()).max((c - centre).length());
-            (p(centre), r)
+            ([p(a), p(b), p(c)], p((a + b + c) / 3.0))
         })
         .collect()
 }
 
+fn squared_distance(a: Point, b: Point) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
+}
+
 impl Candidates {
-    fn new(balls: &[(Point, f64)], generators: &[Point]) -> Self {
-        let mut offsets = Vec::with_capacity(balls.len() + 1);
+    fn new(triangles: &[([Point; 3], Point)], generators: &[Point]) -> Self {
+        let mut offsets = Vec::with_capacity(triangles.len() + 1);
         let mut list = Vec::new();
-        let mut d = vec![0.0; generators.len()];
         offsets.push(0);
-        for &(centre, r) in balls {
-            for (di, &g) in d.iter_mut().zip(generators) {
-                *di = distance(centre, g);
+        for &(corners, centroid) in triangles {
+            let h = generators[nearest(generators, centroid).0];
+            let to_h = corners.map(|v| squared_distance(v, h));
+            for (i, &g) in generators.iter().enumerate() {
+                let wins_somewhere =
+                    corners.iter().zip(&to_h).any(|(&v, &dh)| squared_distance(v, g) <= dh * (1.0 + 1e-9) + 1e-300);
+                if wins_somewhere {
+                    list.push(i as u32);
+                }
             }
-            let nearest = d.iter().cloned().fold(f64::INFINITY, f64::min);
-            let bound = nearest + 2.0 * r;
-            let bound = bound + 1e-9 * bound + 1e-12;
-            list.extend(d.iter().enumerate().filter(|&(_, &x)| x <= bound).map(|(i, _)| i as u32));
             offsets.push(list.len());
         }
         Self { offsets, list }
@@ -409,14 +415,14 @@ pub fn constrained_cvt(
     history.push_back(generators.clone());
     let (mut moves, mut drift, mut energy) = (Vec::new(), Vec::new(), Vec::new());
     let mut converged = false;
-    // Candidate lists cost N distances per triangle each iteration: worth it when triangles get
+    // Candidate lists cost 3 N distances per triangle each iteration: worth it when triangles get
     // a few samples each (the paper's S' has ~60), not on fine meshes (brute force there).
-    let balls = (sampler.n_triangles() * 4 <= q).then(|| triangle_balls(surface));
+    let corners = (sampler.n_triangles() * 4 <= q).then(|| triangle_corners(surface));
 
     threads::run(n_threads, || {
         for k in 0..settings.max_iterations {
             let current = &generators;
-            let candidates = balls.as_ref().map(|b| Candidates::new(b, current));
+            let candidates = corners.as_ref().map(|t| Candidates::new(t, current));
             let partials: Vec<Partial> = (0..n_chunks)
                 .into_par_iter()
                 .map(|c| {
@@ -724,11 +730,11 @@ mod tests {
     fn candidate_search_matches_brute_force() {
         let s = hills();
         let sampler = TriangleSampler::new(&s, None).unwrap();
-        let balls = triangle_balls(&s);
+        let triangles = triangle_corners(&s);
         let mut rng = stream(8, 0, 0, 0);
         for n in [1, 3, 17, 40] {
             let generators: Vec<Point> = (0..n).map(|_| sampler.sample(&mut rng).0).collect();
-            let candidates = Candidates::new(&balls, &generators);
+            let candidates = Candidates::new(&triangles, &generators);
             assert!(candidates.list.len() < n * s.n_triangles() || n < 3);
             for _ in 0..20_000 {
                 let (y, f) = sampler.sample(&mut rng);
@@ -737,7 +743,7 @@ mod tests {
         }
         // Exact ties go to the lower index either way.
         let twins = [[10.0, 10.0, s.closest_point([10.0, 10.0, 0.0])[2]]; 2];
-        let candidates = Candidates::new(&balls, &twins);
+        let candidates = Candidates::new(&triangles, &twins);
         let y = s.closest_point([12.0, 11.0, 0.0]);
         let f = (0..s.n_triangles()).find(|&f| candidates.of(f).len() == 2).unwrap();
         assert_eq!(nearest_in(&twins, candidates.of(f), y).0, 0);
