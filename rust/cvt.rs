@@ -80,7 +80,7 @@ impl Weights {
     pub const DAMPED: Self = Self { alpha: [0.5, 0.5], beta: [0.5, 0.5] };
 
     /// `a = b = (0, 1)`: `z <- y*`, the sampled ("random") Lloyd iteration. Converges in about
-    /// half the iterations of [`Weights::DAMPED`], with twice the jitter variance.
+    /// half the iterations of [`Weights::DAMPED`], with three times the jitter variance.
     pub const LLOYD: Self = Self { alpha: [0.0, 1.0], beta: [0.0, 1.0] };
 
     /// `a = (0.9, 0.1)`, `b = (0, 1)`: MacQueen-like annealing. The step

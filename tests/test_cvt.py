@@ -115,7 +115,7 @@ def test_generators_lie_on_the_surface(hilly: Terrain) -> None:
 def test_regions_have_near_equal_area_on_hills(hilly: Terrain) -> None:
     """Region areas on a hilly surface: coefficient of variation under 0.2 (random: 0.2-1.3).
 
-    Measured for N = 8 over seeds 0-7: CVT 0.07-0.13, random generators on the surface
+    Measured for N = 8 over seeds 0-7: CVT 0.07-0.14, random generators on the surface
     0.20-1.06. A CVT of a bounded region is not exactly equal-area (border regions differ).
     """
     targets = hilly.default_targets(density=2.0)
