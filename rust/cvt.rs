@@ -291,21 +291,41 @@ fn squared_distance(a: Point, b: Point) -> f64 {
 }
 
 impl Candidates {
+    /// Triangles per parallel task when building the lists.
+    const TASK: usize = 256;
+
     fn new(triangles: &[([Point; 3], Point)], generators: &[Point]) -> Self {
-        let mut offsets = Vec::with_capacity(triangles.len() + 1);
-        let mut list = Vec::new();
-        offsets.push(0);
-        for &(corners, centroid) in triangles {
-            let h = generators[nearest(generators, centroid).0];
-            let to_h = corners.map(|v| squared_distance(v, h));
-            for (i, &g) in generators.iter().enumerate() {
-                let wins_somewhere =
-                    corners.iter().zip(&to_h).any(|(&v, &dh)| squared_distance(v, g) <= dh * (1.0 + 1e-9) + 1e-300);
-                if wins_somewhere {
-                    list.push(i as u32);
+        // Each task lists its triangles' candidates; the tasks are joined in order, so the lists
+        // do not depend on the thread count.
+        let parts: Vec<(Vec<usize>, Vec<u32>)> = triangles
+            .par_chunks(Self::TASK)
+            .map(|chunk| {
+                let mut ends = Vec::with_capacity(chunk.len());
+                let mut list = Vec::new();
+                for &(corners, centroid) in chunk {
+                    let h = generators[nearest(generators, centroid).0];
+                    let to_h = corners.map(|v| squared_distance(v, h));
+                    for (i, &g) in generators.iter().enumerate() {
+                        let wins_somewhere = corners
+                            .iter()
+                            .zip(&to_h)
+                            .any(|(&v, &dh)| squared_distance(v, g) <= dh * (1.0 + 1e-9) + 1e-300);
+                        if wins_somewhere {
+                            list.push(i as u32);
+                        }
+                    }
+                    ends.push(list.len());
                 }
-            }
-            offsets.push(list.len());
+                (ends, list)
+            })
+            .collect();
+        let mut offsets = Vec::with_capacity(triangles.len() + 1);
+        offsets.push(0);
+        let mut list = Vec::with_capacity(parts.iter().map(|(_, l)| l.len()).sum());
+        for (ends, part) in parts {
+            let base = list.len();
+            offsets.extend(ends.into_iter().map(|e| base + e));
+            list.extend(part);
         }
         Self { offsets, list }
     }
