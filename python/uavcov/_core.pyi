@@ -5,7 +5,7 @@ from typing import final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Surface", "Visibility", "available_threads", "__version__"]
+__all__ = ["Surface", "Visibility", "CVT", "available_threads", "__version__"]
 
 __version__: str
 
@@ -62,3 +62,32 @@ class Visibility:
         npt.NDArray[np.float64],
         float,
     ]: ...
+
+@final
+class CVT:
+    @staticmethod
+    def run(
+        surface: Surface,
+        n: int,
+        samples_per_iteration: int,
+        alpha: tuple[float, float],
+        beta: tuple[float, float],
+        tolerance: float,
+        window: int,
+        max_iterations: int,
+        seed: int,
+        density: npt.NDArray[np.float64] | None = None,
+        initial: npt.NDArray[np.float64] | None = None,
+        n_threads: int = 0,
+    ) -> tuple[
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        int,
+        bool,
+    ]: ...
+    @staticmethod
+    def regions(
+        generators: npt.NDArray[np.float64], points: npt.NDArray[np.float64], n_threads: int = 0
+    ) -> npt.NDArray[np.int64]: ...
