@@ -10,13 +10,17 @@ use rayon::{ThreadPool, ThreadPoolBuilder};
 ///
 /// Results never depend on the pool size: callers split work into fixed chunks and combine them
 /// in order. That is also why a refusal is harmless: when the OS will not start `n_threads`
-/// threads, the work runs on a single-thread pool (or, failing that, on the calling thread)
+/// threads, the work runs on a single-thread pool or, failing that, on the calling thread alone,
 /// and gives the same answer.
 pub fn run<R: Send>(n_threads: usize, work: impl FnOnce() -> R + Send) -> R {
     let n = if n_threads == 0 { available() } else { n_threads };
-    match pool(n).or_else(|| pool(1)) {
-        Some(p) => p.install(work),
-        None => work(),
+    if let Some(p) = pool(n).or_else(|| pool(1)) {
+        return p.install(work);
+    }
+    // A pool made of the calling thread starts no thread at all, so it cannot be refused.
+    match ThreadPoolBuilder::new().num_threads(1).use_current_thread().build() {
+        Ok(p) => p.install(work),
+        Err(_) => work(),
     }
 }
 

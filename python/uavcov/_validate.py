@@ -131,11 +131,18 @@ def as_non_negative_int(value: Any, name: str) -> int:
     return result
 
 
+MAX_THREADS = 1024
+"""Most threads one call may ask for: more is a mistake, and each costs a stack."""
+
+
 def as_n_threads(value: Any) -> int:
-    """Return the thread count for a Rust call: ``None`` means every core, else an int >= 1."""
+    """Return the thread count for a Rust call: ``None`` means every core, else 1..MAX_THREADS."""
     if value is None:
         return 0  # the Rust side reads 0 as "all cores"
-    return as_positive_int(value, "n_threads")
+    n = as_positive_int(value, "n_threads")
+    if n > MAX_THREADS:
+        raise InvalidInputError(f"n_threads must be at most {MAX_THREADS}, got {n}")
+    return n
 
 
 def as_generator(rng: Any) -> np.random.Generator:
