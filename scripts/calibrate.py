@@ -133,7 +133,7 @@ SEARCH_SPACES: dict[str, dict[str, Any]] = {
     # search 3: the start is on S' and climbs to h_min above the real ground where it is lower;
     # a high h_min keeps the footprints small (the max columns need a ceiling near the paper's)
     "hmin": {
-        "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(10.0, 50.0)), 1)),
+        "terrain.heights": lambda g: tuple(sorted((round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(10.0, 50.0)), 1)))),
         "terrain.sigma": lambda g: round(float(g.uniform(4.0, 14.0)), 1),
         "flight.h_min": lambda g: round(float(g.uniform(2.0, 18.0)), 1),
         "flight.start_altitude": lambda g: 0.0,

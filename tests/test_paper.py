@@ -153,3 +153,59 @@ def test_bad_arguments_raise_clear_errors():
         paper.run_paper_mission(_TINY, seed=1.5, n_uavs=5, start="cvt", iterations=0)  # type: ignore[arg-type]
     with pytest.raises(InvalidTypeError):
         paper.run_paper_mission("table1", seed=1, n_uavs=5, start="cvt", iterations=0)  # type: ignore[arg-type]
+
+
+# --- where the starts fly ---------------------------------------------------------------------
+
+
+def test_prior_referenced_start_flies_above_s_prime_or_climbs_over_the_real_ground():
+    """Against an independent S': scipy's linear interpolant of the same prior points."""
+    from scipy.interpolate import LinearNDInterpolator
+
+    e = _TINY.with_changes(**{"flight.altitude_reference": "prior", "flight.start_altitude": 2.0,
+                              "flight.h_min": 1.0, "flight.climb_margin": 1.0})
+    seed = 1002
+    r = paper.run_paper_mission(e, seed=seed, n_uavs=8, start="random", iterations=0)
+    terrain = e.terrain.make(seed)
+    given = paper.start_positions(e, terrain, 8, "random", seed)
+    s_prime = LinearNDInterpolator(r.prior_points[:, :2], r.prior_points[:, 2])
+    ground = terrain.ground_height(given[:, :2])
+    expected = s_prime(given[:, :2]) + 2.0
+    expected = np.where(expected < ground + 1.0, ground + 2.0, expected)
+    np.testing.assert_allclose(given[:, 2], expected, atol=1e-9)
+    assert r.prior_points.shape == (34, 3)  # 30 random points and the 4 corners
+    # the mission started from exactly these positions (all of them already admissible)
+    np.testing.assert_allclose(r.initial_positions, given, atol=1e-6)
+
+
+def test_ground_referenced_start_is_the_missions_own():
+    """start_positions rebuilds what run_mission builds itself for cvt and random starts."""
+    from uavcov.mission import run_mission
+    from uavcov.prior import Prior
+
+    e = _TINY.with_changes(**{"flight.altitude_reference": "ground", "flight.start_altitude": 5.0, "flight.h_min": 2.0})
+    seed = 1003
+    terrain = e.terrain.make(seed)
+    for start in ("cvt", "random"):
+        own = paper.run_paper_mission(e, seed=seed, n_uavs=6, start=start, iterations=3)
+        given = paper.start_positions(e, terrain, 6, start, seed)
+        ground = terrain.ground_height(given[:, :2])
+        np.testing.assert_allclose(given[:, 2] - ground, 5.0, atol=1e-9)
+        again = run_mission(terrain, n_uavs=6, d_max=25.0, prior=Prior(own.prior_points, kind="random"), start=given, iterations=3,
+                            settings=e.cao, h_min=2.0, z_max=e.flight.z_max, d_safe=e.flight.d_safe, rng=seed, n_threads=1)
+        np.testing.assert_allclose(again.trajectory, own.trajectory, atol=1e-9)
+
+
+def test_random_altitude_and_corner_altitude():
+    e = _TINY.with_changes(**{"flight.altitude_reference": "ground", "flight.random_altitude": (3.0, 9.0),
+                              "flight.corner_altitude": 7.0, "flight.climb_margin": 0.0, "flight.h_min": 1.0})
+    terrain = e.terrain.make(1004)
+    x = paper.start_positions(e, terrain, 20, "random", 1004)
+    height = x[:, 2] - terrain.ground_height(x[:, :2])
+    assert (height >= 3.0).all() and (height <= 9.0).all() and np.ptp(height) > 1.0
+    c = paper.start_positions(e, terrain, 5, "corner", 1004)
+    np.testing.assert_allclose(c[:, 2] - terrain.ground_height(c[:, :2]), 7.0)
+    with pytest.raises(InvalidInputError):
+        paper.Flight(random_altitude=(5.0, 1.0))
+    with pytest.raises(InvalidInputError):
+        paper.Flight(altitude_reference="sea")
