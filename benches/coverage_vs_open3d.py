@@ -1,10 +1,14 @@
 """One coverage evaluation of the reference case, uavcov against Open3D (Embree), side by side.
 
 The reference case: a 7-Gaussian terrain on 100 m x 100 m (heights 5-25 m, sigma 10 m), all grid
-nodes as targets, 12 UAVs at random 5-30 m above the ground, d_max = 25 m. Open3D gets exactly
-the segments uavcov tests (UAV to target, cut 0.1 % short, within range), built in numpy, and
-`RaycastingScene.test_occlusions` answers them; a target is covered when any of its segments is
-free. Both covered counts are printed, then the medians and their ratio.
+nodes as targets, 12 UAVs at random 5-30 m above the ground, d_max = 25 m. uavcov runs it on its
+elevation-grid path (the default for a grid terrain) and on its mesh path (parry's BVH over the
+same triangles). Open3D gets exactly the segments uavcov tests (UAV to target, cut 0.1 % short,
+within range), built in numpy, and `RaycastingScene.test_occlusions` answers them; a target is
+covered when any of its segments is free. The three covered counts are printed, then medians and
+ratios. The timed calls are interleaved round by round, so a burst of load on a shared machine
+hits all of them alike; the load average is printed before and after (figures are only
+meaningful when it is low).
 
     pip install open3d-cpu   # bench-only dependency (Debian also needs libusb-1.0-0)
     python benches/coverage_vs_open3d.py [--spacing 1 0.5 0.25] [--repeat 30]
@@ -12,6 +16,7 @@ free. Both covered counts are printed, then the medians and their ratio.
 
 from __future__ import annotations
 
+import os
 import argparse
 import statistics
 import time
@@ -42,13 +47,20 @@ def reference_case(spacing: float) -> tuple[uavcov.Terrain, np.ndarray]:
 
 
 def median_ms(fn, repeat: int) -> float:
-    fn()  # warm-up: thread pools, caches
-    times = []
+    return interleaved_medians({"f": fn}, repeat)["f"]
+
+
+def interleaved_medians(fns: dict, repeat: int) -> dict:
+    """Median milliseconds of each call, timing them in turn, one round after another."""
+    for fn in fns.values():
+        fn()  # warm-up: thread pools, caches
+    times: dict = {name: [] for name in fns}
     for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return 1e3 * statistics.median(times)
+        for name, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - t0)
+    return {name: 1e3 * statistics.median(t) for name, t in times.items()}
 
 
 def open3d_case(terrain: uavcov.Terrain, targets: np.ndarray, uavs: np.ndarray, d_max: float):
@@ -91,30 +103,38 @@ def main() -> None:
         o3d = None
         print("open3d is not installed: timing uavcov alone")
     d_max = 25.0
-    print("| spacing | targets | segments | covered uavcov | covered Open3D | uavcov 1 thr | uavcov 2 thr "
-          "| Open3D full 2 thr | Open3D queries 2 thr | Open3D full / uavcov 2 thr |")
+    print(f"load average before: {os.getloadavg()[0]:.2f}")
+    print("| spacing | targets | segments | covered grid / mesh / Open3D | grid 1 thr | grid 2 thr | mesh 2 thr "
+          "| Open3D full 2 thr | Open3D queries 2 thr | Open3D queries / grid 2 thr |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for spacing in args.spacing:
         terrain, uavs = reference_case(spacing)
-        targets = terrain.default_targets()
-        vis1 = uavcov.Visibility(terrain, d_max, targets, n_threads=1)
-        vis2 = uavcov.Visibility(terrain, d_max, targets, n_threads=2)
-        ours = int(vis2.seen(uavs).sum())
-        t1 = median_ms(lambda: vis1.coverage(uavs), args.repeat)
-        t2 = median_ms(lambda: vis2.coverage(uavs), args.repeat)
+        grid1 = uavcov.Visibility(terrain, d_max, n_threads=1)
+        grid2 = uavcov.Visibility(terrain, d_max, n_threads=2)
+        mesh2 = uavcov.Visibility(terrain, d_max, n_threads=2, method="mesh")
+        seen = grid2.seen(uavs)
+        assert np.array_equal(seen, mesh2.seen(uavs)), "the grid and mesh paths disagree"
+        ours = int(seen.sum())
+        calls = {"grid1": lambda: grid1.coverage(uavs), "grid2": lambda: grid2.coverage(uavs),
+                 "mesh2": lambda: mesh2.coverage(uavs)}
+        targets = terrain.default_targets().points
         row = [f"{spacing} m", str(len(targets))]
         if o3d is not None:
-            o3d.core.Device("CPU:0")
-            segments, query, covered = open3d_case(terrain, targets.points, uavs, d_max)
+            segments, query, covered = open3d_case(terrain, targets, uavs, d_max)
             rays, t = segments()
             theirs = covered(rays, t)
-            full = median_ms(lambda: covered(*segments()), args.repeat)
-            queries = median_ms(lambda: query(rays), args.repeat)
-            row += [str(rays.shape[0]), str(ours), str(theirs), f"{t1:.2f} ms", f"{t2:.2f} ms",
-                    f"{full:.2f} ms", f"{queries:.2f} ms", f"{full / t2:.2f}x"]
+            calls["o3d_full"] = lambda: covered(*segments())
+            calls["o3d_queries"] = lambda: query(rays)
+        ms = interleaved_medians(calls, args.repeat)
+        if o3d is not None:
+            row += [str(rays.shape[0]), f"{ours} / {ours} / {theirs}", f"{ms['grid1']:.2f} ms", f"{ms['grid2']:.2f} ms",
+                    f"{ms['mesh2']:.2f} ms", f"{ms['o3d_full']:.2f} ms", f"{ms['o3d_queries']:.2f} ms",
+                    f"{ms['o3d_queries'] / ms['grid2']:.2f}x"]
         else:
-            row += ["-", str(ours), "-", f"{t1:.2f} ms", f"{t2:.2f} ms", "-", "-", "-"]
+            row += ["-", f"{ours} / {ours} / -", f"{ms['grid1']:.2f} ms", f"{ms['grid2']:.2f} ms", f"{ms['mesh2']:.2f} ms",
+                    "-", "-", "-"]
         print("| " + " | ".join(row) + " |", flush=True)
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

@@ -70,6 +70,7 @@ pub struct HeightField {
     levels: Vec<Level>,
     /// Highest node height of tiles of 2, 4, 8, ... cells a side, up to one tile, for the walk.
     tops: Vec<TopLevel>,
+    scales: Scales,
     n_vertices: usize,
     n_triangles: usize,
     area: f64,
@@ -82,6 +83,19 @@ pub struct HeightField {
     cell_of_face: OnceLock<Vec<u64>>,
     /// Node of each vertex, built on first use when there is nodata.
     node_of_vertex: OnceLock<Vec<u32>>,
+}
+
+/// Constants of the walk, from the grid's size and position.
+#[derive(Debug, Clone)]
+struct Scales {
+    inv_dx: f64,
+    inv_dy: f64,
+    /// One over the smaller spacing.
+    inv_cell: f64,
+    /// Magnitude of the grid's x and y coordinates plus its extent, metres.
+    xy: f64,
+    /// Magnitude of its heights plus their range, metres.
+    z: f64,
 }
 
 /// A ray prepared the way the mesh path prepares it.
@@ -136,6 +150,66 @@ fn cell_index(x: f64) -> usize {
     debug_assert!((0.0..(usize::MAX as f64)).contains(&x));
     // SAFETY: callers clamp `x` into `[0, cells)` after ruling out NaN, so it is finite and in range.
     unsafe { x.to_int_unchecked::<usize>() }
+}
+
+/// What a UAV sees around it: for each angular sector and each distance, an upper bound on the
+/// elevation slope (rise over horizontal run, from the UAV) of every grid cell of that sector up
+/// to that distance. Built once per UAV and evaluation; it lets most sight lines skip the walk
+/// but for their last two cells (see [`HeightField::line_of_sight_from`]).
+#[derive(Debug, Clone)]
+pub struct Horizon {
+    uav: Point,
+    sectors: usize,
+    bins: usize,
+    /// Width of a distance bin, metres.
+    bin: f64,
+    /// Sectors per unit of pseudo-angle.
+    quarter: f64,
+    /// Running maximum of the slope bounds, `slope[bin * sectors + sector]`, rounded up to `f32`.
+    slope: Vec<f32>,
+    /// How far every cell box was widened, metres.
+    delta: f64,
+}
+
+impl Horizon {
+    /// The UAV position.
+    pub fn uav(&self) -> Point {
+        self.uav
+    }
+}
+
+/// A monotone stand-in for the angle of `(x, y)`, in `[0, 4)`: the diamond angle, which needs a
+/// division instead of an arctangent.
+#[inline(always)]
+fn pseudo_angle(x: f64, y: f64) -> f64 {
+    if y >= 0.0 {
+        if x >= 0.0 {
+            y / (x + y)
+        } else {
+            1.0 - x / (y - x)
+        }
+    } else if x < 0.0 {
+        2.0 - y / (-x - y)
+    } else {
+        3.0 + x / (x - y)
+    }
+}
+
+/// `x` as an `f32` no smaller than it.
+fn round_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f.is_nan() || f as f64 >= x {
+        return f;
+    }
+    // `x` rounded down: step to the next representable value above.
+    let bits = f.to_bits();
+    if f == 0.0 {
+        f32::from_bits(1)
+    } else if f > 0.0 {
+        f32::from_bits(bits + 1)
+    } else {
+        f32::from_bits(bits - 1)
+    }
 }
 
 /// `f64` ordered for the closest-point heap (distances are never NaN).
@@ -225,9 +299,18 @@ impl HeightField {
         grid.vertex_of_node = vertex_of_node;
         let levels = build_levels(&grid);
         let tops = build_tops(&grid);
+        let extent = ((nx - 1) as f64 * dx).max((ny - 1) as f64 * dy);
+        let scales = Scales {
+            inv_dx: 1.0 / dx,
+            inv_dy: 1.0 / dy,
+            inv_cell: 1.0 / dx.min(dy),
+            xy: x0.abs().max(y0.abs()).max((x0 + (nx - 1) as f64 * dx).abs()).max((y0 + (ny - 1) as f64 * dy).abs()) + extent,
+            z: lo[2].abs() + hi[2].abs() + (hi[2] - lo[2]),
+        };
         Ok(Self {
             grid,
             tops,
+            scales,
             levels,
             n_vertices: n_vertices as usize,
             n_triangles,
@@ -372,36 +455,42 @@ impl HeightField {
         let g = &self.grid;
         let row = i * g.nx + j;
         let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+        if za.is_nan() || zc.is_nan() {
+            return false; // both triangles use the diagonal a-c
+        }
         let (xa, xb) = (self.x(j), self.x(j + 1));
         let (ya, yc) = (self.y(i), self.y(i + 1));
         let o = cast.ray.origin;
+        // The slab test of each triangle's box, as `mesh::slab_test` (no value here is NaN, so
+        // the plain comparisons below give what its `f64::max`/`min` give).
         let (nx, fx) = axis(xa, xb, o.x, cast.inv[0]);
         let (ny, fy) = axis(ya, yc, o.y, cast.inv[1]);
-        let enter_xy = 0.0f64.max(nx).max(ny);
-        let exit_xy = t_max.min(fx).min(fy);
+        let enter_xy = max(max(0.0, nx), ny);
+        let exit_xy = min(min(t_max, fx), fy);
         if enter_xy > exit_xy {
             return false; // both triangles span the cell's whole footprint
         }
         let a = Vector::new(xa, ya, za);
         let c = Vector::new(xb, yc, zc);
-        let halves = [(zb, Vector::new(xb, ya, zb), true), (zd, Vector::new(xa, yc, zd), false)];
-        for (zo, other, first) in halves {
-            if za.is_nan() || zc.is_nan() || zo.is_nan() {
-                continue;
+        let (lo_ac, hi_ac) = (min(za, zc), max(za, zc));
+        // [a, b, c] and [a, c, d], as the mesh stores them.
+        if !zb.is_nan() {
+            let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), o.z, cast.inv[2]);
+            if max(enter_xy, nz) <= min(exit_xy, fz) {
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), c, &cast.ray) {
+                    if inter.time_of_impact <= t_max {
+                        return true;
+                    }
+                }
             }
-            let (nz, fz) = axis(za.min(zo).min(zc), za.max(zo).max(zc), o.z, cast.inv[2]);
-            if enter_xy.max(nz) > exit_xy.min(fz) {
-                continue;
-            }
-            // [a, b, c] and [a, c, d], as the mesh stores them.
-            let hit = if first {
-                local_ray_intersection_with_triangle(a, other, c, &cast.ray)
-            } else {
-                local_ray_intersection_with_triangle(a, c, other, &cast.ray)
-            };
-            if let Some((inter, _)) = hit {
-                if inter.time_of_impact <= t_max {
-                    return true;
+        }
+        if !zd.is_nan() {
+            let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), o.z, cast.inv[2]);
+            if max(enter_xy, nz) <= min(exit_xy, fz) {
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, c, Vector::new(xa, yc, zd), &cast.ray) {
+                    if inter.time_of_impact <= t_max {
+                        return true;
+                    }
                 }
             }
         }
@@ -441,26 +530,31 @@ impl HeightField {
     /// `delta_z`, so no triangle the mesh path would count is ever skipped, and every triangle not
     /// skipped gets the same leaf test: the answers are the same.
     pub fn walk_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        self.walk_hits_from(origin, dir, 0.0, t_max)
+    }
+
+    /// [`HeightField::walk_hits`] for the triangles the ray can reach at parameters in
+    /// `[t_from, t_max]` (the leaf test is the mesh path's, with the limit `t_max`).
+    fn walk_hits_from(&self, origin: Point, dir: Point, t_from: f64, t_max: f64) -> bool {
         let g = &self.grid;
+        let s = &self.scales;
         let (cells_x, cells_y) = (g.nx - 1, g.ny - 1);
         // The segment in cell units: u along columns (x), w along rows (y).
-        let (u0, du) = ((origin[0] - g.x0) / g.dx, dir[0] / g.dx);
-        let (w0, dw) = ((origin[1] - g.y0) / g.dy, dir[1] / g.dy);
+        let (u0, du) = ((origin[0] - g.x0) * s.inv_dx, dir[0] * s.inv_dx);
+        let (w0, dw) = ((origin[1] - g.y0) * s.inv_dy, dir[1] * s.inv_dy);
         let (z0, dz) = (origin[2], dir[2]);
         let end = [origin[0] + dir[0] * t_max, origin[1] + dir[1] * t_max, z0 + dz * t_max];
-        let scale_xy = [origin[0], origin[1], end[0], end[1], g.x0, g.y0].iter().fold(0.0f64, |m, c| m.max(c.abs()))
-            + (cells_x as f64 * g.dx).max(cells_y as f64 * g.dy);
-        let delta = 1e-9 * (1.0 + scale_xy / g.dx.min(g.dy));
-        let (zlo, zhi) = (self.bounds.0[2], self.bounds.1[2]);
-        let delta_z = 1e-9 * (z0.abs() + end[2].abs() + zlo.abs() + zhi.abs() + (zhi - zlo) + 1e-300);
-        if z0.min(end[2]) - delta_z > zhi {
+        let reach = max(max(origin[0].abs(), origin[1].abs()), max(end[0].abs(), end[1].abs()));
+        let delta = 1e-9 * (1.0 + (reach + s.xy) * s.inv_cell);
+        let delta_z = 1e-9 * (z0.abs() + end[2].abs() + s.z + 1e-300);
+        if min(z0, end[2]) - delta_z > self.bounds.1[2] {
             return false; // above everything
         }
         let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
         let (nx_f, ny_f) = (cells_x as f64, cells_y as f64);
         // Pieces `[ta, tb]` of the parameter range still to clear, depth first.
-        let mut stack = [(0.0f64, 0.0f64); 24];
-        stack[0] = (0.0, t_max);
+        let mut stack = [(0.0f64, 0.0f64); 16];
+        stack[0] = (t_from, t_max);
         let mut top = 1;
         while top > 0 {
             top -= 1;
@@ -527,6 +621,167 @@ impl HeightField {
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
     pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
         self.cast::<false>(origin, dir, t_max)
+    }
+
+    /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally.
+    pub fn horizon(&self, uav: Point, radius: f64) -> Horizon {
+        let g = &self.grid;
+        let w = g.dx.min(g.dy);
+        let radius = if radius.is_finite() { radius.max(0.0) } else { 0.0 };
+        let bins = ((radius / w).ceil() as usize).saturating_add(2).min(1 << 16);
+        // Sectors about a bin wide at the far edge, a power of two.
+        let sectors = ((2.0 * std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_power_of_two().min(4096);
+        let (px, py, pz) = (uav[0], uav[1], uav[2]);
+        let extent = ((g.nx - 1) as f64 * g.dx).max((g.ny - 1) as f64 * g.dy);
+        let delta = 1e-9 * (px.abs().max(py.abs()).max(g.x0.abs()).max(g.y0.abs()) + extent + radius);
+        let (zlo, zhi) = (self.bounds.0[2], self.bounds.1[2]);
+        let delta_z = 1e-9 * (pz.abs() + zlo.abs() + zhi.abs() + (zhi - zlo) + 1e-300);
+        let reach = bins as f64 * w; // every cell nearer than this is entered
+        let reach2 = reach * reach;
+        let diag = (g.dx * g.dx + g.dy * g.dy).sqrt() + 2.0 * delta;
+        let inv_w = 1.0 / w;
+        // slope[bin * sectors + sector]: bin-major, so a cell's sectors are one contiguous run.
+        let mut slope = vec![f32::NEG_INFINITY; sectors * bins];
+        let quarter = sectors as f64 / 4.0;
+        let eta = 1e-12;
+        let last_row = (g.ny - 2) as f64;
+        let last_col = (g.nx - 2) as f64;
+        let i_lo = ((py - reach - g.y0) / g.dy).floor() - 1.0;
+        let i_hi = ((py + reach - g.y0) / g.dy).floor() + 1.0;
+        if i_hi >= 0.0 && i_lo <= last_row {
+            for i in i_lo.max(0.0) as usize..=i_hi.min(last_row) as usize {
+                let (ylo, yhi) = (self.y(i) - delta - py, self.y(i + 1) + delta - py);
+                let ny = max(max(ylo, -yhi), 0.0);
+                if ny >= reach {
+                    continue;
+                }
+                // The columns this row can have within reach.
+                let half = (reach * reach - ny * ny).sqrt();
+                let j_lo = ((px - half - g.x0) / g.dx).floor() - 1.0;
+                let j_hi = ((px + half - g.x0) / g.dx).floor() + 1.0;
+                if !(j_hi >= 0.0 && j_lo <= last_col) {
+                    continue;
+                }
+                for j in j_lo.max(0.0) as usize..=j_hi.min(last_col) as usize {
+                    let top = self.cell_top(i, j);
+                    if top.is_nan() {
+                        continue; // nodata: no triangle
+                    }
+                    let (xlo, xhi) = (self.x(j) - delta - px, self.x(j + 1) + delta - px);
+                    // The nearest point of the widened cell from the UAV.
+                    let nx = max(max(xlo, -xhi), 0.0);
+                    let near2 = nx * nx + ny * ny;
+                    if near2 >= reach2 {
+                        continue;
+                    }
+                    let near = near2.sqrt();
+                    let rise = top + delta_z - pz;
+                    // Rise over run, largest over the cell: over the nearest distance when the
+                    // cell's top is above the UAV, else over the farthest, bounded by
+                    // nearest + diagonal.
+                    let s = if rise < 0.0 {
+                        rise / (near + diag)
+                    } else if near > 0.0 {
+                        rise / near
+                    } else {
+                        f64::INFINITY
+                    };
+                    let s = round_up(s + 1e-12 * s.abs() + 1e-300);
+                    let b = ((near * inv_w) as usize).min(bins - 1);
+                    let row = &mut slope[b * sectors..(b + 1) * sectors];
+                    let mut put = |k0: usize, k1: usize| {
+                        for slot in &mut row[k0..=k1] {
+                            if s > *slot {
+                                *slot = s;
+                            }
+                        }
+                    };
+                    let sector = |a: f64| ((a * quarter).max(0.0) as usize).min(sectors - 1);
+                    // The corners bounding the cell's angles, by where it lies from the UAV.
+                    let (right, left) = (xlo > 0.0, xhi < 0.0);
+                    let (above, below) = (ylo > 0.0, yhi < 0.0);
+                    let (first, last) = match (right, left, above, below) {
+                        (false, false, false, false) => {
+                            put(0, sectors - 1); // the UAV stands over this cell
+                            continue;
+                        }
+                        (true, _, false, false) => {
+                            // Across the +x axis, where the pseudo-angle wraps from 4 to 0.
+                            put(sector(pseudo_angle(xlo, ylo) - eta), sectors - 1);
+                            put(0, sector(pseudo_angle(xlo, yhi) + eta));
+                            continue;
+                        }
+                        (true, _, true, _) => ((xhi, ylo), (xlo, yhi)),
+                        (false, false, true, _) => ((xhi, ylo), (xlo, ylo)),
+                        (_, true, true, _) => ((xhi, yhi), (xlo, ylo)),
+                        (_, true, false, false) => ((xhi, yhi), (xhi, ylo)),
+                        (_, true, _, true) => ((xlo, yhi), (xhi, ylo)),
+                        (false, false, _, true) => ((xlo, yhi), (xhi, yhi)),
+                        (true, _, _, true) => ((xlo, ylo), (xhi, yhi)),
+                    };
+                    put(sector(pseudo_angle(first.0, first.1) - eta), sector(pseudo_angle(last.0, last.1) + eta));
+                }
+            }
+        }
+        // Running maximum outwards: slope[b][k] bounds every cell of sector k up to bin b.
+        for b in 1..bins {
+            let (done, rest) = slope.split_at_mut(b * sectors);
+            for (now, before) in rest[..sectors].iter_mut().zip(&done[(b - 1) * sectors..]) {
+                if *before > *now {
+                    *now = *before;
+                }
+            }
+        }
+        Horizon { uav, sectors, bins, bin: w, quarter, slope, delta }
+    }
+
+    /// [`HeightField::line_of_sight`] from the UAV of `horizon`, the same answer to the last bit.
+    ///
+    /// The horizon clears the sight line up to the first distance bin whose bound reaches the
+    /// line's slope (a binary search, the bounds being a running maximum); only the rest of the
+    /// line, usually its last cell or two, goes through [`HeightField::walk_hits`].
+    ///
+    /// Exactness: a triangle the mesh path counts is within a few ulps of the ray at some `t`.
+    /// If that `t` is past the cleared stretch, the walk of the rest finds the triangle.
+    /// Otherwise the triangle's cell, widened by `delta`, lies in the target's sector at a
+    /// distance below the cleared one, so its slope bound (its highest corner raised by
+    /// `delta_z`, over its nearest distance, or over its farthest when below the UAV; rounded up)
+    /// is at most the horizon value, which is below the sight line's slope: the ray passes above
+    /// the cell at that `t`, a contradiction.
+    pub fn line_of_sight_from(&self, horizon: &Horizon, target: Point) -> bool {
+        let p = horizon.uav;
+        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
+        let r = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let mut t_from = 0.0;
+        if r > 0.0 {
+            let k = ((pseudo_angle(d[0], d[1]) * horizon.quarter) as usize).min(horizon.sectors - 1);
+            let s = d[2] / r;
+            let clear = |b: usize| {
+                let bound = horizon.slope[b * horizon.sectors + k] as f64;
+                // (An empty stretch has -inf; an unbounded one +inf, which never clears.)
+                bound == f64::NEG_INFINITY || s > bound + 1e-9 * (bound.abs() + s.abs()) + 1e-300
+            };
+            // The first bin that does not clear (bins..: all do).
+            let (mut lo, mut hi) = (0usize, horizon.bins);
+            while lo < hi {
+                let mid = (lo + hi) / 2;
+                if clear(mid) {
+                    lo = mid + 1;
+                } else {
+                    hi = mid;
+                }
+            }
+            // Every cell nearer than `lo` bins is cleared; the ray at distance `cleared` from
+            // the UAV only reaches cells nearer than that (plus `delta`).
+            let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
+            if cleared >= r * SIGHT_FRACTION {
+                return true; // cleared all the way
+            }
+            if cleared > 0.0 {
+                t_from = (cleared / r).min(SIGHT_FRACTION);
+            }
+        }
+        !self.walk_hits_from(p, d, t_from, SIGHT_FRACTION)
     }
 
     /// Whether a UAV at `uav` sees the point `target`: the segment from `uav` towards `target`,
@@ -1015,6 +1270,37 @@ mod tests {
         }
         // Both outcomes are well represented, so agreement means something.
         assert!(blocked > total / 5 && blocked < 4 * total / 5, "{blocked} of {total}");
+    }
+
+    #[test]
+    fn horizons_give_the_mesh_paths_sight_lines() {
+        let mut rng = ChaCha8Rng::seed_from_u64(4);
+        let (mut seen, mut total) = (0, 0);
+        for case in 0..40 {
+            let (ny, nx) = if case % 4 == 3 { (rng.random_range(30..80), rng.random_range(30..80)) } else { (rng.random_range(2..24), rng.random_range(2..24)) };
+            let (dx, dy) = if case % 3 == 0 { (0.5, 0.5) } else { (0.2 + rng.random::<f64>(), 0.2 + rng.random::<f64>()) };
+            let (x0, y0) = if case % 5 == 0 { (0.0, 0.0) } else { (rng.random::<f64>() * 1e3 - 500.0, -3.75) };
+            let z = heights(&mut rng, ny, nx, case % 4, case % 6 == 1);
+            let Ok(grid) = Surface::from_grid(z.clone(), ny, nx, dx, dy, x0, y0) else { continue };
+            let mesh = both(z, ny, nx, dx, dy, x0, y0).1;
+            let field = grid.heightfield().unwrap();
+            let g = field.grid().clone();
+            let (lo, hi) = grid.bounds();
+            for _ in 0..12 {
+                let uav = point(&mut rng, &g, lo[2], hi[2]);
+                // Sometimes shorter than the farthest targets: those must fall back to the walk.
+                let radius = rng.random::<f64>() * 1.5 * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
+                let horizon = field.horizon(uav, radius);
+                for _ in 0..150 {
+                    let q = point(&mut rng, &g, lo[2], hi[2]);
+                    let expect = mesh.line_of_sight(uav, q);
+                    assert_eq!(field.line_of_sight_from(&horizon, q), expect, "case {case}: {uav:?} -> {q:?}, radius {radius}");
+                    seen += expect as usize;
+                    total += 1;
+                }
+            }
+        }
+        assert!(seen > total / 5 && seen < 4 * total / 5, "{seen} of {total}");
     }
 
     #[test]

@@ -28,7 +28,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use crate::error::{ensure, Error, Result};
-use crate::heightfield::HeightField;
+use crate::heightfield::{HeightField, Horizon};
 use crate::mesh::{Point, Surface, TriangleMesh};
 use crate::sampling::default_targets;
 use crate::threads;
@@ -313,31 +313,35 @@ impl Visibility {
         Ok(())
     }
 
-    /// The UAVs within range of any point of a chunk's bounding box, nearest first: the nearest
-    /// UAV is the likeliest to see a target, and a target stops at the first UAV that does.
-    fn in_range_of(&self, chunk: usize, uavs: &[Point], into: &mut Vec<Point>) {
+    /// The UAVs (indices) within range of any point of a chunk's bounding box, nearest first:
+    /// the nearest UAV is the likeliest to see a target, and a target stops at the first UAV that
+    /// does.
+    fn in_range_of(&self, chunk: usize, uavs: &[Point], into: &mut Vec<usize>) {
         into.clear();
         let d2 = self.d_max * self.d_max;
         let b = self.targets.chunk_bounds[chunk];
-        into.extend(uavs.iter().copied().filter(|&u| squared_distance_to_box(u, b) <= d2));
+        into.extend((0..uavs.len()).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2));
         let centre = [0, 1, 2].map(|k| 0.5 * (b.0[k] + b.1[k]));
-        into.sort_by(|&u, &w| squared_distance(u, centre).total_cmp(&squared_distance(w, centre)));
+        into.sort_by(|&u, &w| squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre)));
     }
 
-    /// The engine the tests run on, resolved once per call.
-    fn engine(&self) -> Engine<'_> {
+    /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
+    /// horizon here, in parallel).
+    fn engine(&self, uavs: &[Point]) -> Engine<'_> {
         match (self.grid_path, self.surface.heightfield()) {
-            (true, Some(field)) => Engine::Grid(field),
-            _ => Engine::Mesh(self.surface.triangle_mesh().expect("checked when the objective was built")),
+            (true, Some(field)) => {
+                Engine::Grid(field, uavs.par_iter().map(|&u| field.horizon(u, self.d_max)).collect())
+            }
+            _ => Engine::Mesh(self.surface.triangle_mesh().expect("checked when the objective was built"), uavs.to_vec()),
         }
     }
 
     /// For each target, whether at least one UAV sees it.
     pub fn seen(&self, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
-        let engine = self.engine();
         let d2 = self.d_max * self.d_max;
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
+            let engine = self.engine(uavs);
             (0..self.targets.n_chunks())
                 .into_par_iter()
                 .map_init(
@@ -358,7 +362,7 @@ impl Visibility {
                                 let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
                                 for k in order {
                                     let u = near[k];
-                                    if squared_distance(u, q) <= d2 && engine.line_of_sight(u, q) {
+                                    if squared_distance(uavs[u], q) <= d2 && engine.line_of_sight(u, q) {
                                         last = k;
                                         return true;
                                     }
@@ -391,8 +395,8 @@ impl Visibility {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
         let d2 = self.d_max * self.d_max;
-        let engine = self.engine();
         let partials: Vec<UavCounts> = threads::run(n_threads, || {
+            let engine = self.engine(uavs);
             (0..self.targets.n_chunks())
                 .into_par_iter()
                 .map_init(
@@ -411,7 +415,7 @@ impl Visibility {
                             let w = self.targets.weights[c * CHUNK + k];
                             seers.clear();
                             seers.extend(near.iter().copied().filter(|&i| {
-                                squared_distance(uavs[i], q) <= d2 && engine.line_of_sight(uavs[i], q)
+                                squared_distance(uavs[i], q) <= d2 && engine.line_of_sight(i, q)
                             }));
                             for &i in seers.iter() {
                                 out.seen[i] += 1;
@@ -440,19 +444,19 @@ impl Visibility {
     }
 }
 
-/// The geometry one evaluation runs on.
-#[derive(Clone, Copy)]
+/// The geometry one evaluation runs on, with what it knows of each UAV.
 enum Engine<'a> {
-    Mesh(&'a TriangleMesh),
-    Grid(&'a HeightField),
+    Mesh(&'a TriangleMesh, Vec<Point>),
+    Grid(&'a HeightField, Vec<Horizon>),
 }
 
 impl Engine<'_> {
+    /// Whether UAV `uav` (an index) sees `target`.
     #[inline]
-    fn line_of_sight(self, uav: Point, target: Point) -> bool {
+    fn line_of_sight(&self, uav: usize, target: Point) -> bool {
         match self {
-            Engine::Mesh(mesh) => mesh.line_of_sight(uav, target),
-            Engine::Grid(field) => field.line_of_sight(uav, target),
+            Engine::Mesh(mesh, uavs) => mesh.line_of_sight(uavs[uav], target),
+            Engine::Grid(field, horizons) => field.line_of_sight_from(&horizons[uav], target),
         }
     }
 }
