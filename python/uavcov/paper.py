@@ -319,7 +319,7 @@ _HILLS = HillsTerrain(size=100.0, spacing=1.0, n_hills=7, heights=(5.0, 35.0), s
 # Flight: starts 2 m above S' (the paper's CVT generators lie on S'; a UAV the real ground puts
 # under h_min climbs to h_min + 1 m), h_min = 1 m, z_max = 80 m (above the highest ground of any
 # scenario: 7 overlapping hills reach about 60 m), d_safe = 1 m, the corner lattice 5 m apart
-# launched 6 m above S' (a tighter, lower lattice leaves CAO no feasible joint candidate).
+# launched 8 m above S' (a tighter, lower lattice leaves CAO no feasible joint candidate).
 _FLIGHT = Flight(
     start_altitude=2.0,
     h_min=1.0,
@@ -329,7 +329,7 @@ _FLIGHT = Flight(
     corner_spacing=5.0,
     altitude_reference="prior",
     climb_margin=1.0,
-    corner_altitude=6.0,
+    corner_altitude=8.0,
 )
 
 # CAO: paper-setup.md's starting constants with a larger first step (alpha0 = 3 m, so a corner
