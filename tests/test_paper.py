@@ -209,3 +209,16 @@ def test_random_altitude_and_corner_altitude():
         paper.Flight(random_altitude=(5.0, 1.0))
     with pytest.raises(InvalidInputError):
         paper.Flight(altitude_reference="sea")
+
+
+def test_experiment_fields_are_checked():
+    with pytest.raises(InvalidInputError):
+        paper.TABLE1.with_changes(starts=("cvt", "spiral"))
+    with pytest.raises(InvalidInputError):
+        paper.TABLE1.with_changes(team_sizes=(5, 0))
+    with pytest.raises(InvalidInputError):
+        paper.TABLE1.with_changes(prior="map")
+    with pytest.raises(InvalidInputError):
+        paper.TABLE1.with_changes(d_max=-1.0)
+    with pytest.raises(InvalidTypeError):
+        paper.TABLE1.with_changes(cao={"alpha0": 1.0})

@@ -26,11 +26,11 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._validate import as_non_negative_float, as_positive_float, as_positive_int
+from ._validate import as_non_negative_float, as_non_negative_int, as_positive_float, as_positive_int
 from .cao import CAOSettings
 from .errors import InvalidInputError, InvalidTypeError
-from .mission import MissionResult, run_mission
 from .cvt import cvt
+from .mission import MissionResult, run_mission
 from .prior import approximate_surface, buildings_prior, sample_prior
 from .starts import CORNERS, initial_positions
 from .surface import Terrain
@@ -245,6 +245,9 @@ class CVTSettings:
 # ---------------------------------------------------------------------------------------------
 # An experiment
 
+_STARTS = ("cvt", "random", "corner", "pairs")
+_PRIORS = ("random", "pyramid", "map")
+
 
 @dataclass(frozen=True)
 class PaperExperiment:
@@ -287,6 +290,29 @@ class PaperExperiment:
     cao: CAOSettings = field(default_factory=CAOSettings)
     cvt: CVTSettings = field(default_factory=CVTSettings)
     seeds: tuple[int, ...] = HELD_OUT_SEEDS
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.terrain, (HillsTerrain, BuildingsTerrain)):
+            raise InvalidTypeError(f"terrain must be a HillsTerrain or BuildingsTerrain, got {type(self.terrain).__name__}")
+        for name, kind in (("flight", Flight), ("cao", CAOSettings), ("cvt", CVTSettings)):
+            if not isinstance(getattr(self, name), kind):
+                raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(getattr(self, name)).__name__}")
+        sizes = tuple(as_positive_int(n, "team_sizes") for n in self.team_sizes)
+        if not sizes:
+            raise InvalidInputError("team_sizes must not be empty")
+        unknown = [s for s in self.starts if s not in _STARTS]
+        if not self.starts or unknown:
+            raise InvalidInputError(f"starts must be some of {_STARTS}, got {self.starts}")
+        if self.prior not in _PRIORS:
+            raise InvalidInputError(f"prior must be one of {_PRIORS}, got {self.prior!r}")
+        if (self.prior == "map") != isinstance(self.terrain, BuildingsTerrain):
+            raise InvalidInputError("the 'map' prior goes with a BuildingsTerrain, and only with it")
+        object.__setattr__(self, "team_sizes", sizes)
+        object.__setattr__(self, "starts", tuple(self.starts))
+        object.__setattr__(self, "d_max", as_positive_float(self.d_max, "d_max"))
+        object.__setattr__(self, "n_prior", as_non_negative_int(self.n_prior, "n_prior"))
+        object.__setattr__(self, "iterations", as_non_negative_int(self.iterations, "iterations"))
+        object.__setattr__(self, "seeds", tuple(int(s) for s in self.seeds))
 
     def with_changes(self, **changes: Any) -> "PaperExperiment":
         """A copy with some fields replaced; nested fields as ``"flight.h_min"`` or ``"cao.alpha0"``."""
