@@ -29,7 +29,7 @@
 //! z[4] = 5.0;
 //! let hf = HeightField::new(z, 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
 //! assert!(!hf.line_of_sight([0.0, 1.0, 1.0], [2.0, 1.0, 0.0])); // the spike is in the way
-//! assert!(hf.line_of_sight([0.0, 1.0, 9.0], [2.0, 1.0, 0.0])); // high enough to look over it
+//! assert!(hf.line_of_sight([0.0, 1.0, 11.0], [2.0, 1.0, 0.0])); // high enough to look over it
 //! ```
 
 use std::cmp::Ordering;
@@ -165,7 +165,8 @@ pub struct Horizon {
     bin: f64,
     /// Sectors per unit of pseudo-angle.
     quarter: f64,
-    /// Running maximum of the slope bounds, `slope[bin * sectors + sector]`, rounded up to `f32`.
+    /// Running maximum along distance of the slope bounds, `slope[sector * bins + bin]`, each a
+    /// signed square (`s |s|`, which orders like `s`) rounded up to `f32`.
     slope: Vec<f32>,
     /// How far every cell box was widened, metres.
     delta: f64,
@@ -552,13 +553,20 @@ impl HeightField {
         }
         let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
         let (nx_f, ny_f) = (cells_x as f64, cells_y as f64);
-        // Pieces `[ta, tb]` of the parameter range still to clear, depth first.
+        // Pieces `[ta, tb]` of the parameter range still to clear, depth first: the piece in
+        // hand, and the pieces put aside (the far halves, nearer the UAV).
         let mut stack = [(0.0f64, 0.0f64); 16];
-        stack[0] = (t_from, t_max);
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let (ta, tb) = stack[top];
+        let mut top = 0;
+        let mut piece = Some((t_from, t_max));
+        loop {
+            let (ta, tb) = match piece.take() {
+                Some(p) => p,
+                None if top > 0 => {
+                    top -= 1;
+                    stack[top]
+                }
+                None => break,
+            };
             let (ua, ub) = (u0 + du * ta, u0 + du * tb);
             let (wa, wb) = (w0 + dw * ta, w0 + dw * tb);
             let (ulo, uhi) = (min(ua, ub) - delta, max(ua, ub) + delta);
@@ -599,7 +607,7 @@ impl HeightField {
                 continue;
             }
             let tm = 0.5 * (ta + tb);
-            if top + 2 > stack.len() || !(ta < tm && tm < tb) {
+            if top + 1 > stack.len() || !(ta < tm && tm < tb) {
                 // Too deep to split further (not reached with sane inputs): test every cell.
                 for i in i0..=i1 {
                     for j in j0..=j1 {
@@ -610,10 +618,11 @@ impl HeightField {
                 }
                 continue;
             }
-            // The half nearer the end (the target, on the ground) on top: it decides most often.
+            // Go on with the half nearer the end (the target, on the ground): it decides most
+            // often.
             stack[top] = (ta, tm);
-            stack[top + 1] = (tm, tb);
-            top += 2;
+            top += 1;
+            piece = Some((tm, tb));
         }
         false
     }
@@ -628,108 +637,137 @@ impl HeightField {
         let g = &self.grid;
         let w = g.dx.min(g.dy);
         let radius = if radius.is_finite() { radius.max(0.0) } else { 0.0 };
-        let bins = ((radius / w).ceil() as usize).saturating_add(2).min(1 << 16);
+        let bins = ((radius / w).ceil() as usize).saturating_add(2).min(1 << 12);
         // Sectors about a bin wide at the far edge, a power of two.
-        let sectors = ((2.0 * std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_power_of_two().min(4096);
+        let sectors = ((std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_power_of_two().min(4096);
         let (px, py, pz) = (uav[0], uav[1], uav[2]);
-        let extent = ((g.nx - 1) as f64 * g.dx).max((g.ny - 1) as f64 * g.dy);
-        let delta = 1e-9 * (px.abs().max(py.abs()).max(g.x0.abs()).max(g.y0.abs()) + extent + radius);
-        let (zlo, zhi) = (self.bounds.0[2], self.bounds.1[2]);
-        let delta_z = 1e-9 * (pz.abs() + zlo.abs() + zhi.abs() + (zhi - zlo) + 1e-300);
+        let delta = 1e-9 * (px.abs().max(py.abs()) + self.scales.xy + radius);
+        let delta_z = 1e-9 * (pz.abs() + self.scales.z + 1e-300);
         let reach = bins as f64 * w; // every cell nearer than this is entered
         let reach2 = reach * reach;
-        let diag = (g.dx * g.dx + g.dy * g.dy).sqrt() + 2.0 * delta;
-        let inv_w = 1.0 / w;
-        // slope[bin * sectors + sector]: bin-major, so a cell's sectors are one contiguous run.
-        let mut slope = vec![f32::NEG_INFINITY; sectors * bins];
+        let inv_w2 = 1.0 / (w * w);
+        // floor(sqrt(k)) for k < bins^2: the bin of a squared distance without a square root.
+        let root: Vec<u16> = (0..bins * bins).map(|k| ((k as f64).sqrt() as usize).min(bins - 1) as u16).collect();
+        // Bounds by bin then sector while cells are entered; a running maximum along distance,
+        // stored sector by sector for the queries, at the end.
+        let mut by_bin = vec![f32::NEG_INFINITY; sectors * bins];
         let quarter = sectors as f64 / 4.0;
-        let eta = 1e-12;
         let last_row = (g.ny - 2) as f64;
         let last_col = (g.nx - 2) as f64;
         let i_lo = ((py - reach - g.y0) / g.dy).floor() - 1.0;
         let i_hi = ((py + reach - g.y0) / g.dy).floor() + 1.0;
-        if i_hi >= 0.0 && i_lo <= last_row {
-            for i in i_lo.max(0.0) as usize..=i_hi.min(last_row) as usize {
-                let (ylo, yhi) = (self.y(i) - delta - py, self.y(i + 1) + delta - py);
+        let j_lo = ((px - reach - g.x0) / g.dx).floor() - 1.0;
+        let j_hi = ((px + reach - g.x0) / g.dx).floor() + 1.0;
+        if i_hi >= 0.0 && i_lo <= last_row && j_hi >= 0.0 && j_lo <= last_col {
+            let (i0, i1) = (i_lo.max(0.0) as usize, i_hi.min(last_row) as usize);
+            let (j0, j1) = (j_lo.max(0.0) as usize, j_hi.min(last_col) as usize);
+            // Node columns j0..=j1+1 relative to the UAV, and the pseudo-angles of the nodes of
+            // the current pair of node rows (shared by neighbouring cells).
+            let xs: Vec<f64> = (j0..=j1 + 1).map(|j| self.x(j) - px).collect();
+            let angles = |y: f64| -> Vec<f64> { xs.iter().map(|&x| if x == 0.0 && y == 0.0 { 0.0 } else { pseudo_angle(x, y) }).collect() };
+            let mut lower = angles(self.y(i0) - py);
+            let mut col_top = vec![0.0f64; xs.len()];
+            for i in i0..=i1 {
+                let (ylo, yhi) = (self.y(i) - py, self.y(i + 1) - py);
+                let upper = angles(yhi);
                 let ny = max(max(ylo, -yhi), 0.0);
-                if ny >= reach {
-                    continue;
+                let yfar = max(-ylo, yhi) + 2.0 * delta;
+                let (row0, row1) = (&g.z[i * g.nx..(i + 1) * g.nx], &g.z[(i + 1) * g.nx..(i + 2) * g.nx]);
+                for (k, top) in col_top.iter_mut().enumerate() {
+                    *top = row0[j0 + k].max(row1[j0 + k]); // NaN ignored unless both are
                 }
-                // The columns this row can have within reach.
-                let half = (reach * reach - ny * ny).sqrt();
-                let j_lo = ((px - half - g.x0) / g.dx).floor() - 1.0;
-                let j_hi = ((px + half - g.x0) / g.dx).floor() + 1.0;
-                if !(j_hi >= 0.0 && j_lo <= last_col) {
-                    continue;
-                }
-                for j in j_lo.max(0.0) as usize..=j_hi.min(last_col) as usize {
-                    let top = self.cell_top(i, j);
-                    if top.is_nan() {
-                        continue; // nodata: no triangle
-                    }
-                    let (xlo, xhi) = (self.x(j) - delta - px, self.x(j + 1) + delta - px);
-                    // The nearest point of the widened cell from the UAV.
-                    let nx = max(max(xlo, -xhi), 0.0);
-                    let near2 = nx * nx + ny * ny;
-                    if near2 >= reach2 {
-                        continue;
-                    }
-                    let near = near2.sqrt();
-                    let rise = top + delta_z - pz;
-                    // Rise over run, largest over the cell: over the nearest distance when the
-                    // cell's top is above the UAV, else over the farthest, bounded by
-                    // nearest + diagonal.
-                    let s = if rise < 0.0 {
-                        rise / (near + diag)
-                    } else if near > 0.0 {
-                        rise / near
-                    } else {
-                        f64::INFINITY
-                    };
-                    let s = round_up(s + 1e-12 * s.abs() + 1e-300);
-                    let b = ((near * inv_w) as usize).min(bins - 1);
-                    let row = &mut slope[b * sectors..(b + 1) * sectors];
-                    let mut put = |k0: usize, k1: usize| {
-                        for slot in &mut row[k0..=k1] {
-                            if s > *slot {
-                                *slot = s;
+                if ny < reach {
+                    for c in 0..=j1 - j0 {
+                        let top = col_top[c].max(col_top[c + 1]);
+                        if top.is_nan() {
+                            continue; // nodata: no triangle
+                        }
+                        let (xlo, xhi) = (xs[c], xs[c + 1]);
+                        let nx = max(max(xlo, -xhi), 0.0);
+                        let near2 = nx * nx + ny * ny;
+                        if near2 >= reach2 {
+                            continue;
+                        }
+                        // The bound on rise over run, kept as a signed square: the cell's top
+                        // (raised by delta_z) over its nearest distance (less 2 delta) when above
+                        // the UAV, else over its farthest (plus 2 delta); rounded up.
+                        let rise = top + delta_z - pz;
+                        let sigma = if rise < 0.0 {
+                            let xfar = max(-xlo, xhi) + 2.0 * delta;
+                            -(rise * rise) / (xfar * xfar + yfar * yfar)
+                        } else {
+                            let run = near2.sqrt() - 2.0 * delta;
+                            if run > 0.0 {
+                                rise * rise / (run * run)
+                            } else {
+                                f64::INFINITY
                             }
-                        }
-                    };
-                    let sector = |a: f64| ((a * quarter).max(0.0) as usize).min(sectors - 1);
-                    // The corners bounding the cell's angles, by where it lies from the UAV.
-                    let (right, left) = (xlo > 0.0, xhi < 0.0);
-                    let (above, below) = (ylo > 0.0, yhi < 0.0);
-                    let (first, last) = match (right, left, above, below) {
-                        (false, false, false, false) => {
-                            put(0, sectors - 1); // the UAV stands over this cell
-                            continue;
-                        }
-                        (true, _, false, false) => {
-                            // Across the +x axis, where the pseudo-angle wraps from 4 to 0.
-                            put(sector(pseudo_angle(xlo, ylo) - eta), sectors - 1);
-                            put(0, sector(pseudo_angle(xlo, yhi) + eta));
-                            continue;
-                        }
-                        (true, _, true, _) => ((xhi, ylo), (xlo, yhi)),
-                        (false, false, true, _) => ((xhi, ylo), (xlo, ylo)),
-                        (_, true, true, _) => ((xhi, yhi), (xlo, ylo)),
-                        (_, true, false, false) => ((xhi, yhi), (xhi, ylo)),
-                        (_, true, _, true) => ((xlo, yhi), (xhi, ylo)),
-                        (false, false, _, true) => ((xlo, yhi), (xhi, yhi)),
-                        (true, _, _, true) => ((xlo, ylo), (xhi, yhi)),
-                    };
-                    put(sector(pseudo_angle(first.0, first.1) - eta), sector(pseudo_angle(last.0, last.1) + eta));
+                        };
+                        let sigma = round_up(sigma + 1e-12 * sigma.abs() + 1e-300);
+                        let b = root[((near2 * inv_w2) as usize).min(bins * bins - 1)] as usize;
+                        let row = &mut by_bin[b * sectors..(b + 1) * sectors];
+                        let mut put = |k0: usize, k1: usize| {
+                            for slot in &mut row[k0..=k1] {
+                                if sigma > *slot {
+                                    *slot = sigma;
+                                }
+                            }
+                        };
+                        // Sectors of the cell's angles from the corners that bound them (by where
+                        // the cell lies from the UAV), one more on each side for rounding.
+                        let sector = |a: f64| ((a * quarter) as usize).min(sectors - 1); // a in [0, 4]
+                        let (lo_l, hi_l, lo_u, hi_u) = (lower[c], lower[c + 1], upper[c], upper[c + 1]);
+                        let (right, left) = (xlo > 0.0, xhi < 0.0);
+                        let (above, below) = (ylo > 0.0, yhi < 0.0);
+                        let (first, last) = match (right, left, above, below) {
+                            (false, false, false, false) => {
+                                put(0, sectors - 1); // the UAV stands over this cell
+                                continue;
+                            }
+                            (true, _, false, false) => {
+                                // Across the +x axis, where the pseudo-angle wraps from 4 to 0.
+                                put(sector(lo_l).saturating_sub(1), sectors - 1);
+                                put(0, (sector(lo_u) + 1).min(sectors - 1));
+                                continue;
+                            }
+                            (true, _, true, _) => (hi_l, lo_u),
+                            (false, false, true, _) => (hi_l, lo_l),
+                            (_, true, true, _) => (hi_u, lo_l),
+                            (_, true, false, false) => (hi_u, hi_l),
+                            (_, true, _, true) => (lo_u, hi_l),
+                            (false, false, _, true) => (lo_u, hi_u),
+                            (true, _, _, true) => (lo_l, hi_u),
+                        };
+                        let (k0, k1) = (sector(first), sector(last));
+                        // Next to the wrap, the spare sector is across it.
+                        let k0 = if k0 == 0 {
+                            put(sectors - 1, sectors - 1);
+                            0
+                        } else {
+                            k0 - 1
+                        };
+                        let k1 = if k1 + 1 >= sectors {
+                            put(0, 0);
+                            sectors - 1
+                        } else {
+                            k1 + 1
+                        };
+                        put(k0, k1);
+                    }
                 }
+                lower = upper;
             }
         }
-        // Running maximum outwards: slope[b][k] bounds every cell of sector k up to bin b.
-        for b in 1..bins {
-            let (done, rest) = slope.split_at_mut(b * sectors);
-            for (now, before) in rest[..sectors].iter_mut().zip(&done[(b - 1) * sectors..]) {
-                if *before > *now {
-                    *now = *before;
+        // Running maximum outwards, sector by sector: slope[k][b] bounds sector k up to bin b.
+        let mut slope = vec![f32::NEG_INFINITY; sectors * bins];
+        for (k, out) in slope.chunks_mut(bins).enumerate() {
+            let mut run = f32::NEG_INFINITY;
+            for (b, slot) in out.iter_mut().enumerate() {
+                let v = by_bin[b * sectors + k];
+                if v > run {
+                    run = v;
                 }
+                *slot = run;
             }
         }
         Horizon { uav, sectors, bins, bin: w, quarter, slope, delta }
@@ -743,42 +781,49 @@ impl HeightField {
     ///
     /// Exactness: a triangle the mesh path counts is within a few ulps of the ray at some `t`.
     /// If that `t` is past the cleared stretch, the walk of the rest finds the triangle.
-    /// Otherwise the triangle's cell, widened by `delta`, lies in the target's sector at a
-    /// distance below the cleared one, so its slope bound (its highest corner raised by
-    /// `delta_z`, over its nearest distance, or over its farthest when below the UAV; rounded up)
-    /// is at most the horizon value, which is below the sight line's slope: the ray passes above
-    /// the cell at that `t`, a contradiction.
+    /// Otherwise the ray there is at most the cleared distance from the UAV, so the triangle's
+    /// cell is nearer than the first uncleared bin (the stretch stops `2 delta` short of it); the
+    /// cell's angles hold the sight line's (to rounding, and one spare sector each side), so its
+    /// bound is at most the horizon value of the target's sector, which is below the sight line's
+    /// slope: the ray passes above the cell at that `t`, a contradiction. (The bound of a cell:
+    /// its highest corner raised by `delta_z`, over its nearest distance less `2 delta`, or over
+    /// its farthest plus `2 delta` when below the UAV; squared with its sign and rounded up.)
     pub fn line_of_sight_from(&self, horizon: &Horizon, target: Point) -> bool {
         let p = horizon.uav;
         let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
-        let r = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let r2 = d[0] * d[0] + d[1] * d[1];
         let mut t_from = 0.0;
-        if r > 0.0 {
+        if r2 > 0.0 {
             let k = ((pseudo_angle(d[0], d[1]) * horizon.quarter) as usize).min(horizon.sectors - 1);
-            let s = d[2] / r;
+            let sigma = d[2] * d[2].abs() / r2;
+            let row = &horizon.slope[k * horizon.bins..(k + 1) * horizon.bins];
+            let margin = 1e-9 * sigma.abs() + 1e-300;
+            // (An empty stretch has -inf; an unbounded one +inf, which never clears.)
             let clear = |b: usize| {
-                let bound = horizon.slope[b * horizon.sectors + k] as f64;
-                // (An empty stretch has -inf; an unbounded one +inf, which never clears.)
-                bound == f64::NEG_INFINITY || s > bound + 1e-9 * (bound.abs() + s.abs()) + 1e-300
+                let bound = row[b] as f64;
+                bound == f64::NEG_INFINITY || sigma > bound + 1e-9 * bound.abs() + margin
             };
-            // The first bin that does not clear (bins..: all do).
-            let (mut lo, mut hi) = (0usize, horizon.bins);
-            while lo < hi {
-                let mid = (lo + hi) / 2;
-                if clear(mid) {
-                    lo = mid + 1;
+            // The first bin that does not clear (bins: all do); branch-free halving.
+            let mut lo = 0usize;
+            let mut len = horizon.bins;
+            while len > 0 {
+                let half = len / 2;
+                if clear(lo + half) {
+                    lo += half + 1;
+                    len -= half + 1;
                 } else {
-                    hi = mid;
+                    len = half;
                 }
             }
             // Every cell nearer than `lo` bins is cleared; the ray at distance `cleared` from
-            // the UAV only reaches cells nearer than that (plus `delta`).
+            // the UAV only reaches cells nearer than that plus a few ulps.
             let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
+            let r = r2.sqrt();
             if cleared >= r * SIGHT_FRACTION {
                 return true; // cleared all the way
             }
             if cleared > 0.0 {
-                t_from = (cleared / r).min(SIGHT_FRACTION);
+                t_from = cleared / r;
             }
         }
         !self.walk_hits_from(p, d, t_from, SIGHT_FRACTION)
