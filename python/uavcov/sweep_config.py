@@ -293,7 +293,14 @@ def _build(base: PaperExperiment, changes: Mapping[str, Any], source: _Source) -
     try:
         experiment = base.with_changes(**changes)
     except (InvalidInputError, InvalidTypeError, TypeError, ValueError) as exc:
-        keys = ", ".join(changes) or "the settings"
+        # Name the key that fails on its own, when one does; else the ones changed together.
+        culprits = []
+        for key, value in changes.items():
+            try:
+                base.with_changes(**{key: value})
+            except (InvalidInputError, InvalidTypeError, TypeError, ValueError):
+                culprits.append(key)
+        keys = ", ".join(culprits or list(changes)) or "the settings"
         raise ConfigError(f"{source.name}: {keys}: {exc}") from exc
     _check_range(experiment, source)
     return experiment
