@@ -180,3 +180,16 @@ def test_bad_optimizer_constants_are_refused():
         uavcov.CAOSettings(alpha0=float("nan"))
     with pytest.raises(InvalidTypeError):
         run_mission("not a terrain", n_uavs=2, d_max=10.0)  # type: ignore[arg-type]
+
+
+def test_known_points_as_prior_and_a_start_exactly_at_h_min(hills):
+    xy = np.random.default_rng(5).uniform(0.0, 100.0, (12, 2))
+    known = np.c_[xy, hills.ground_height(xy)]
+    r = run_mission(hills, n_uavs=4, d_max=25.0, prior=known, iterations=3, rng=1)
+    assert r.settings.prior_kind == "points" and r.prior_points.shape[0] >= 12
+    # A start exactly on the h_min boundary is admissible after the closest-admissible step.
+    start = np.c_[xy[:4], hills.ground_height(xy[:4]) + 2.0]
+    on_boundary = run_mission(hills, n_uavs=4, d_max=25.0, start=start, h_min=2.0, iterations=2, rng=1)
+    assert (hills.clearance(on_boundary.trajectory[0]) >= 2.0).all()
+    lifted = run_mission(hills, n_uavs=4, d_max=25.0, start=start - [0, 0, 1.0], climb=1.0, iterations=2, rng=1)
+    np.testing.assert_allclose(lifted.trajectory[0][:, 2], hills.ground_height(xy[:4]) + 3.0)

@@ -279,7 +279,7 @@ def _separation_direction(i: int, j: int) -> np.ndarray:
 
 
 def closest_admissible(
-    constraints: Constraints, world: World, x: Any, *, max_sweeps: int = 1000
+    constraints: Constraints, world: World, x: Any, *, climb: float = 0.0, max_sweeps: int = 1000
 ) -> np.ndarray:
     """Move a start configuration to nearby admissible positions (deterministic).
 
@@ -296,6 +296,10 @@ def closest_admissible(
         The real surface (a ``Terrain``).
     x : (N, 3) array_like
         Start positions, metres.
+    climb : float, default 0.0
+        Metres above ``ground + h_min`` at which a UAV that had to be lifted is put. A team left
+        exactly on the ``h_min`` boundary has few feasible perturbations (each lifted UAV halves
+        them), which can freeze an optimiser; a climb of about a metre avoids it.
     max_sweeps : int, default 1000
 
     Returns
@@ -313,6 +317,7 @@ def closest_admissible(
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world)
     pos = as_points(x, "x").copy()
+    climb = as_non_negative_float(climb, "climb")
     max_sweeps = as_positive_int(max_sweeps, "max_sweeps")
     n_uavs = pos.shape[0]
     constraints.check_team(n_uavs, world)
@@ -329,8 +334,10 @@ def closest_admissible(
             bad = int(np.flatnonzero(np.isnan(ground))[0])
             raise InfeasibleError(f"UAV {bad} at x-y {tuple(pos[bad, :2])} stands over no surface")
         floor = ground + constraints.h_min
-        low = pos[:, 2] < floor
-        pos[low, 2] = floor[low] + _MARGIN
+        # Lifted with a margin, and judged with it: a UAV exactly at ground + h_min can measure a
+        # clearance a rounding below h_min and be refused by feasible_mask.
+        low = pos[:, 2] < floor + _MARGIN
+        pos[low, 2] = floor[low] + max(climb, _MARGIN)
         if (pos[:, 2] > constraints.z_max).any():
             if (floor > constraints.z_max).any():
                 bad = int(np.flatnonzero(floor > constraints.z_max)[0])

@@ -173,8 +173,8 @@ def _approximation(terrain: Terrain, prior: Any, n_prior: int, rng: np.random.Ge
         return prior, np.empty((0, 3)), "surface"
     if isinstance(prior, Prior):
         known = prior
-    elif prior in ("random", "pyramid"):
-        known = sample_prior(terrain, n_prior, kind=str(prior), rng=rng)
+    elif isinstance(prior, str) and prior in ("random", "pyramid"):
+        known = sample_prior(terrain, n_prior, kind=prior, rng=rng)
     elif isinstance(prior, str):
         raise InvalidInputError(f"prior must be 'random', 'pyramid', a Prior, points or a Terrain, got {prior!r}")
     else:
@@ -194,6 +194,7 @@ def run_mission(
     iterations: int = 500,
     settings: CAOSettings | None = None,
     start_altitude: float = 5.0,
+    climb: float = 0.0,
     h_min: float = 2.0,
     z_max: float = 50.0,
     d_safe: float = 2.0,
@@ -231,6 +232,9 @@ def run_mission(
     start_altitude : float, default 5.0
         The start flies this high above the real ground (metres) before it is moved to the
         closest admissible positions.
+    climb : float, default 0.0
+        Metres above ``h_min`` at which a start UAV that had to be lifted is put (see
+        :func:`uavcov.constraints.closest_admissible`).
     h_min, z_max, d_safe : float
         Least clearance above the real surface, highest altitude, least UAV-UAV distance, metres.
     check_moves : bool, optional
@@ -294,7 +298,7 @@ def run_mission(
         ground = terrain.ground_height(flying[:, :2])
         # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.
         flying[:, 2] = np.where(np.isnan(ground), flying[:, 2], ground) + start_altitude
-    x0 = closest_admissible(constraints, terrain, flying)
+    x0 = closest_admissible(constraints, terrain, flying, climb=climb)
 
     feasible = feasibility(constraints, terrain)
     if optimizer == "cao":
