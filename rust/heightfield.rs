@@ -48,6 +48,13 @@ use crate::mesh::{p, triangle_area, v, Grid, Point, SIGHT_FRACTION};
 /// computed from the four corner heights, which the triangle test reads anyway.
 const FIRST_SHIFT: u32 = 2;
 
+/// The horizon is built from tiles of `2^HORIZON_SHIFT` cells a side.
+const HORIZON_SHIFT: u32 = 2;
+
+/// Pieces of segment whose footprint box spans at most this many cells a side are tested cell
+/// by cell.
+const BOX: usize = 4;
+
 /// Cells per side of a leaf tile.
 const LEAF: usize = 1 << FIRST_SHIFT;
 
@@ -498,6 +505,76 @@ impl HeightField {
         false
     }
 
+    /// The mesh path's leaf test on every triangle of the cells `[i0, i1] x [j0, j1]` (at most
+    /// `BOX` a side): the slab test of each cell's box first (it holds both triangle boxes, so
+    /// failing it fails theirs), with the x and y intervals of each column and row computed once.
+    #[inline(always)]
+    fn box_hits(&self, i0: usize, i1: usize, j0: usize, j1: usize, cast: &Cast, t_max: f64) -> bool {
+        let g = &self.grid;
+        let o = cast.ray.origin;
+        let mut cols = [(0.0, 0.0); BOX];
+        let mut rows = [(0.0, 0.0); BOX];
+        for (c, span) in cols.iter_mut().enumerate().take(j1 - j0 + 1) {
+            *span = axis(self.x(j0 + c), self.x(j0 + c + 1), o.x, cast.inv[0]);
+        }
+        for (r, span) in rows.iter_mut().enumerate().take(i1 - i0 + 1) {
+            *span = axis(self.y(i0 + r), self.y(i0 + r + 1), o.y, cast.inv[1]);
+        }
+        for (r, &(ny, fy)) in rows.iter().enumerate().take(i1 - i0 + 1) {
+            let (ny, fy) = (max(0.0, ny), min(t_max, fy));
+            if ny > fy {
+                continue;
+            }
+            let i = i0 + r;
+            for (c, &(nx, fx)) in cols.iter().enumerate().take(j1 - j0 + 1) {
+                let enter_xy = max(ny, nx);
+                let exit_xy = min(fy, fx);
+                if enter_xy > exit_xy {
+                    continue;
+                }
+                let j = j0 + c;
+                let row = i * g.nx + j;
+                let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+                if za.is_nan() || zc.is_nan() {
+                    continue; // both triangles use the diagonal a-c
+                }
+                let (lo_ac, hi_ac) = (min(za, zc), max(za, zc));
+                // The cell box: NaN corners ignored (their triangle is left out below).
+                let (lo, hi) = (lo_ac.min(zb).min(zd), hi_ac.max(zb).max(zd));
+                let (nz, fz) = axis(lo, hi, o.z, cast.inv[2]);
+                if max(enter_xy, nz) > min(exit_xy, fz) {
+                    continue;
+                }
+                let (xa, xb) = (self.x(j), self.x(j + 1));
+                let (ya, yc) = (self.y(i), self.y(i + 1));
+                let a = Vector::new(xa, ya, za);
+                let cc = Vector::new(xb, yc, zc);
+                // [a, b, c] and [a, c, d], as the mesh stores them.
+                if !zb.is_nan() {
+                    let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), o.z, cast.inv[2]);
+                    if max(enter_xy, nz) <= min(exit_xy, fz) {
+                        if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), cc, &cast.ray) {
+                            if inter.time_of_impact <= t_max {
+                                return true;
+                            }
+                        }
+                    }
+                }
+                if !zd.is_nan() {
+                    let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), o.z, cast.inv[2]);
+                    if max(enter_xy, nz) <= min(exit_xy, fz) {
+                        if let Some((inter, _)) = local_ray_intersection_with_triangle(a, cc, Vector::new(xa, yc, zd), &cast.ray) {
+                            if inter.time_of_impact <= t_max {
+                                return true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
     /// [`HeightField::cell_hit`] unless the piece of segment, lowest at `zmin`, passes above
     /// every corner of the cell.
     #[inline(always)]
@@ -581,13 +658,9 @@ impl HeightField {
             let i0 = cell_index(max(wlo, 0.0));
             let i1 = cell_index(min(whi, ny_f - 0.5));
             let zmin = min(z0 + dz * ta, z0 + dz * tb) - delta_z;
-            if j1 - j0 <= 1 && i1 - i0 <= 1 {
-                for i in i0..=i1 {
-                    for j in j0..=j1 {
-                        if self.cell_hit_below(i, j, zmin, &cast, t_max) {
-                            return true;
-                        }
-                    }
+            if j1 - j0 < BOX && i1 - i0 < BOX {
+                if self.box_hits(i0, i1, j0, j1, &cast, t_max) {
+                    return true;
                 }
                 continue;
             }
@@ -661,26 +734,38 @@ impl HeightField {
         if i_hi >= 0.0 && i_lo <= last_row && j_hi >= 0.0 && j_lo <= last_col {
             let (i0, i1) = (i_lo.max(0.0) as usize, i_hi.min(last_row) as usize);
             let (j0, j1) = (j_lo.max(0.0) as usize, j_hi.min(last_col) as usize);
-            // Node columns j0..=j1+1 relative to the UAV, and the pseudo-angles of the nodes of
-            // the current pair of node rows (shared by neighbouring cells).
-            let xs: Vec<f64> = (j0..=j1 + 1).map(|j| self.x(j) - px).collect();
+            // Units of 2^s x 2^s cells (the pyramid's tiles), or single cells for s = 0.
+            let s = HORIZON_SHIFT.min(self.tops.len() as u32);
+            let (ui0, ui1, uj0, uj1) = (i0 >> s, i1 >> s, j0 >> s, j1 >> s);
+            // Unit edges relative to the UAV, and the pseudo-angles of the unit corners of the
+            // current pair of corner rows (shared by neighbouring units).
+            let xs: Vec<f64> = (uj0..=uj1 + 1).map(|u| self.x((u << s).min(g.nx - 1)) - px).collect();
+            let y_of = |u: usize| self.y((u << s).min(g.ny - 1)) - py;
             let angles = |y: f64| -> Vec<f64> { xs.iter().map(|&x| if x == 0.0 && y == 0.0 { 0.0 } else { pseudo_angle(x, y) }).collect() };
-            let mut lower = angles(self.y(i0) - py);
-            let mut col_top = vec![0.0f64; xs.len()];
-            for i in i0..=i1 {
-                let (ylo, yhi) = (self.y(i) - py, self.y(i + 1) - py);
+            let mut lower = angles(y_of(ui0));
+            let mut unit_top = vec![0.0f64; xs.len()];
+            for i in ui0..=ui1 {
+                let (ylo, yhi) = (y_of(i), y_of(i + 1));
                 let upper = angles(yhi);
                 let ny = max(max(ylo, -yhi), 0.0);
                 let yfar = max(-ylo, yhi) + 2.0 * delta;
-                let (row0, row1) = (&g.z[i * g.nx..(i + 1) * g.nx], &g.z[(i + 1) * g.nx..(i + 2) * g.nx]);
-                for (k, top) in col_top.iter_mut().enumerate() {
-                    *top = row0[j0 + k].max(row1[j0 + k]); // NaN ignored unless both are
+                if s == 0 {
+                    let (row0, row1) = (&g.z[i * g.nx..(i + 1) * g.nx], &g.z[(i + 1) * g.nx..(i + 2) * g.nx]);
+                    for (k, top) in unit_top.iter_mut().enumerate() {
+                        *top = row0[j0 + k].max(row1[j0 + k]); // NaN ignored unless both are
+                    }
+                    for k in 0..unit_top.len() - 1 {
+                        unit_top[k] = unit_top[k].max(unit_top[k + 1]);
+                    }
+                } else {
+                    let level = &self.tops[s as usize - 1];
+                    unit_top[..=uj1 - uj0].copy_from_slice(&level.zmax[i * level.cols + uj0..=i * level.cols + uj1]);
                 }
                 if ny < reach {
-                    for c in 0..=j1 - j0 {
-                        let top = col_top[c].max(col_top[c + 1]);
-                        if top.is_nan() {
-                            continue; // nodata: no triangle
+                    for c in 0..=uj1 - uj0 {
+                        let top = unit_top[c];
+                        if top.is_nan() || top == f64::NEG_INFINITY {
+                            continue; // nodata (NaN, or an empty tile's -inf): no triangle
                         }
                         let (xlo, xhi) = (xs[c], xs[c + 1]);
                         let nx = max(max(xlo, -xhi), 0.0);
