@@ -146,13 +146,22 @@ impl Targets {
             Points::GridNodes { surface, chunk_start } => {
                 let g = surface.grid().expect("grid-node targets hold a grid surface");
                 let n = self.chunk_len(c);
-                let mut k = chunk_start[c];
+                let k0 = chunk_start[c];
+                // Walk row by row instead of dividing each node index by the row length.
+                let (mut i, mut j) = (k0 / g.nx, k0 % g.nx);
+                let mut y = g.y0 + i as f64 * g.dy;
                 let stop = out.len() + n;
                 while out.len() < stop {
+                    let k = i * g.nx + j;
                     if g.vertex_of_node[k] != u32::MAX {
-                        out.push(g.node_point(k));
+                        out.push([g.x0 + j as f64 * g.dx, y, g.z[k]]);
                     }
-                    k += 1;
+                    j += 1;
+                    if j == g.nx {
+                        j = 0;
+                        i += 1;
+                        y = g.y0 + i as f64 * g.dy;
+                    }
                 }
             }
         }
