@@ -19,6 +19,8 @@ generators), and every team size and start on one terrain sees the same prior po
 
 from __future__ import annotations
 
+import dataclasses
+
 import math
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -501,15 +503,17 @@ def _prior_and_start(
         raise InvalidInputError(f"start must be one of {experiment.starts} for {experiment.name}, got {start!r}")
     random_height = start == "random" and flight.random_altitude is not None
     if start in ("cvt", "random") and flight.altitude_reference == "ground" and not random_height:
-        return prior, None
+        return prior, None, None
     prior_rng, start_rng, _ = np.random.default_rng(seed).spawn(3)
     if isinstance(prior, Terrain):
         surface = prior
     else:
         prior = sample_prior(terrain, experiment.n_prior, kind=prior, rng=prior_rng)
         surface = approximate_surface(prior.points)
+    tessellation = None
     if start == "cvt":
-        xyz = cvt(surface, n_uavs, rng=start_rng, n_threads=1, **experiment.cvt.options()).generators
+        tessellation = cvt(surface, n_uavs, rng=start_rng, n_threads=1, **experiment.cvt.options())
+        xyz = tessellation.generators
     elif start == "random":
         xyz = initial_positions("random", surface, n_uavs, rng=start_rng, n_threads=1)
     elif start == "corner":
@@ -532,7 +536,7 @@ def _prior_and_start(
         # only the UAVs that the sensed ground forces up; the others keep their height
         too_low = xyz[:, 2] < ground + flight.h_min
         xyz[too_low, 2] = ground[too_low] + flight.h_min + flight.climb_margin
-    return prior, xyz
+    return prior, xyz, tessellation
 
 
 def start_positions(experiment: PaperExperiment, terrain: Terrain, n_uavs: int, start: str, seed: int) -> np.ndarray:
@@ -541,10 +545,10 @@ def start_positions(experiment: PaperExperiment, terrain: Terrain, n_uavs: int, 
     At ``start_altitude`` above the real ground or above S' (``Flight.altitude_reference``);
     :func:`run_paper_mission` then moves it to the closest admissible positions.
     """
-    _, given = _prior_and_start(experiment, terrain, n_uavs, start, seed)
+    _, given, _ = _prior_and_start(experiment, terrain, n_uavs, start, seed)
     if given is None:  # built by the mission: rebuild it the same way, on S'
         forced = replace(experiment, flight=replace(experiment.flight, altitude_reference="prior", start_altitude=0.0))
-        _, given = _prior_and_start(forced, terrain, n_uavs, start, seed)
+        _, given, _ = _prior_and_start(forced, terrain, n_uavs, start, seed)
         assert given is not None
         given[:, 2] = terrain.ground_height(given[:, :2]) + experiment.flight.start_altitude
     return given
@@ -595,7 +599,7 @@ def run_paper_mission(
     -------
     MissionResult
         Its ``settings.start`` is ``"given"`` for the starts built here (see
-        :func:`start_positions`), and then its ``cvt`` is None.
+        :func:`start_positions`); a CVT start built here is kept as its ``cvt``.
     """
     if not isinstance(experiment, PaperExperiment):
         raise InvalidTypeError(f"experiment must be a PaperExperiment, got {type(experiment).__name__}")
@@ -603,9 +607,9 @@ def run_paper_mission(
         raise InvalidTypeError(f"seed must be an int, got {type(seed).__name__}")
     seed = int(seed)
     terrain = experiment.terrain.make(seed)
-    prior, given = _prior_and_start(experiment, terrain, n_uavs, start, seed)
+    prior, given, tessellation = _prior_and_start(experiment, terrain, n_uavs, start, seed)
     flight = experiment.flight
-    return run_mission(
+    result = run_mission(
         terrain,
         n_uavs=n_uavs,
         d_max=experiment.d_max,
@@ -622,3 +626,6 @@ def run_paper_mission(
         n_threads=n_threads,
         rng=seed,
     )
+    # A CVT start built here reaches the mission as positions; keep the tessellation on the
+    # result so its figure (paper Fig. 3 / 5b) can be drawn.
+    return result if tessellation is None else dataclasses.replace(result, cvt=tessellation)
