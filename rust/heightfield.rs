@@ -49,11 +49,11 @@ use crate::mesh::{p, triangle_area, v, Grid, Point, SIGHT_FRACTION};
 const FIRST_SHIFT: u32 = 2;
 
 /// The horizon is built from tiles of `2^HORIZON_SHIFT` cells a side.
-const HORIZON_SHIFT: u32 = 2;
+const HORIZON_SHIFT: u32 = 1;
 
 /// Pieces of segment whose footprint box spans at most this many cells a side are tested cell
 /// by cell.
-const BOX: usize = 4;
+const BOX: usize = 8;
 
 /// Cells per side of a leaf tile.
 const LEAF: usize = 1 << FIRST_SHIFT;
