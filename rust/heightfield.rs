@@ -514,12 +514,8 @@ impl HeightField {
         let o = cast.ray.origin;
         let mut cols = [(0.0, 0.0); BOX];
         let mut rows = [(0.0, 0.0); BOX];
-        for (c, span) in cols.iter_mut().enumerate().take(j1 - j0 + 1) {
-            *span = axis(self.x(j0 + c), self.x(j0 + c + 1), o.x, cast.inv[0]);
-        }
-        for (r, span) in rows.iter_mut().enumerate().take(i1 - i0 + 1) {
-            *span = axis(self.y(i0 + r), self.y(i0 + r + 1), o.y, cast.inv[1]);
-        }
+        self.spans(&mut cols[..=j1 - j0], |c| self.x(j0 + c), o.x, cast.inv[0]);
+        self.spans(&mut rows[..=i1 - i0], |r| self.y(i0 + r), o.y, cast.inv[1]);
         for (r, &(ny, fy)) in rows.iter().enumerate().take(i1 - i0 + 1) {
             let (ny, fy) = (max(0.0, ny), min(t_max, fy));
             if ny > fy {
@@ -573,6 +569,26 @@ impl HeightField {
             }
         }
         false
+    }
+
+    /// The slab intervals of consecutive cells along one axis, `out[c]` for the cell between the
+    /// boundaries `at(c)` and `at(c + 1)`: [`axis`] for each, the boundaries computed once each
+    /// and the interval's ends ordered by the sign of `inv` (which is what `axis`'s comparison
+    /// finds, since the products are monotone in the boundary).
+    #[inline(always)]
+    fn spans(&self, out: &mut [(f64, f64)], at: impl Fn(usize) -> f64, origin: f64, inv: f64) {
+        if inv.is_infinite() {
+            for (c, span) in out.iter_mut().enumerate() {
+                *span = axis(at(c), at(c + 1), origin, inv);
+            }
+            return;
+        }
+        let mut a = (at(0) - origin) * inv;
+        for (c, span) in out.iter_mut().enumerate() {
+            let b = (at(c + 1) - origin) * inv;
+            *span = if inv > 0.0 { (a, b) } else { (b, a) };
+            a = b;
+        }
     }
 
     /// [`HeightField::cell_hit`] unless the piece of segment, lowest at `zmin`, passes above
@@ -844,6 +860,8 @@ impl HeightField {
             }
         }
         // Running maximum outwards, sector by sector: slope[k][b] bounds sector k up to bin b.
+        // Each stored with the comparison margin added (1e-9 of it, rounded up), so a query
+        // compares once per bin.
         let mut slope = vec![f32::NEG_INFINITY; sectors * bins];
         for (k, out) in slope.chunks_mut(bins).enumerate() {
             let mut run = f32::NEG_INFINITY;
@@ -852,7 +870,7 @@ impl HeightField {
                 if v > run {
                     run = v;
                 }
-                *slot = run;
+                *slot = if run == f32::NEG_INFINITY { run } else { round_up(run as f64 + 1e-9 * (run as f64).abs()) };
             }
         }
         Horizon { uav, sectors, bins, bin: w, quarter, slope, delta }
@@ -882,24 +900,19 @@ impl HeightField {
             let k = ((pseudo_angle(d[0], d[1]) * horizon.quarter) as usize).min(horizon.sectors - 1);
             let sigma = d[2] * d[2].abs() / r2;
             let row = &horizon.slope[k * horizon.bins..(k + 1) * horizon.bins];
-            let margin = 1e-9 * sigma.abs() + 1e-300;
-            // (An empty stretch has -inf; an unbounded one +inf, which never clears.)
-            let clear = |b: usize| {
-                let bound = row[b] as f64;
-                bound == f64::NEG_INFINITY || sigma > bound + 1e-9 * bound.abs() + margin
-            };
-            // The first bin that does not clear (bins: all do); branch-free halving.
-            let mut lo = 0usize;
-            let mut len = horizon.bins;
-            while len > 0 {
-                let half = len / 2;
-                if clear(lo + half) {
-                    lo += half + 1;
-                    len -= half + 1;
-                } else {
-                    len = half;
-                }
+            // The line's slope less its own margin against the stored bounds (which hold theirs;
+            // an empty stretch has -inf, an unbounded one +inf, which never clears).
+            let s = sigma - 1e-9 * sigma.abs() - 1e-300;
+            // The first bin that does not clear (bins: all do), by a halving without branches:
+            // every bin before `base` clears, and the answer is in [base, base + n].
+            let mut base = 0usize;
+            let mut n = horizon.bins;
+            while n > 1 {
+                let half = n / 2;
+                base += half * usize::from(s > row[base + half] as f64);
+                n -= half;
             }
+            let lo = base + usize::from(s > row[base] as f64);
             // Every cell nearer than `lo` bins is cleared; the ray at distance `cleared` from
             // the UAV only reaches cells nearer than that plus a few ulps.
             let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
