@@ -115,20 +115,21 @@ def _as_int(value: Any, name: str) -> int:
     return int(value)
 
 
+def _int_at_least(value: Any, name: str, minimum: int) -> int:
+    result = _as_int(value, name)
+    if result < minimum:
+        raise InvalidInputError(f"{name} must be >= {minimum}, got {result}")
+    return result
+
+
 def as_positive_int(value: Any, name: str) -> int:
     """Return ``value`` as an int > 0."""
-    result = _as_int(value, name)
-    if result <= 0:
-        raise InvalidInputError(f"{name} must be > 0, got {result}")
-    return result
+    return _int_at_least(value, name, 1)
 
 
 def as_non_negative_int(value: Any, name: str) -> int:
     """Return ``value`` as an int >= 0."""
-    result = _as_int(value, name)
-    if result < 0:
-        raise InvalidInputError(f"{name} must be >= 0, got {result}")
-    return result
+    return _int_at_least(value, name, 0)
 
 
 MAX_THREADS = 1024
