@@ -20,6 +20,7 @@ pub mod error;
 pub mod heightfield;
 pub mod mesh;
 pub mod sampling;
+pub mod skyline;
 pub mod threads;
 pub mod visibility;
 
