@@ -20,8 +20,15 @@ const SIZE: f64 = 100.0;
 
 /// Seven Gaussian hills over the 100 m square (fixed, so every run sees the same terrain).
 fn height(x: f64, y: f64) -> f64 {
-    const HILLS: [(f64, f64, f64); 7] =
-        [(20.0, 30.0, 18.0), (75.0, 20.0, 9.0), (50.0, 55.0, 25.0), (85.0, 80.0, 14.0), (15.0, 85.0, 6.0), (60.0, 90.0, 11.0), (35.0, 10.0, 21.0)];
+    const HILLS: [(f64, f64, f64); 7] = [
+        (20.0, 30.0, 18.0),
+        (75.0, 20.0, 9.0),
+        (50.0, 55.0, 25.0),
+        (85.0, 80.0, 14.0),
+        (15.0, 85.0, 6.0),
+        (60.0, 90.0, 11.0),
+        (35.0, 10.0, 21.0),
+    ];
     HILLS.iter().map(|&(cx, cy, h)| h * (-((x - cx).powi(2) + (y - cy).powi(2)) / (2.0 * 10.0 * 10.0)).exp()).sum()
 }
 
@@ -30,10 +37,14 @@ fn in_circumcircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], p: [f64; 2]) -> bool {
     let (ax, ay) = (a[0] - p[0], a[1] - p[1]);
     let (bx, by) = (b[0] - p[0], b[1] - p[1]);
     let (cx, cy) = (c[0] - p[0], c[1] - p[1]);
-    let det = (ax * ax + ay * ay) * (bx * cy - cx * by) - (bx * bx + by * by) * (ax * cy - cx * ay)
-        + (cx * cx + cy * cy) * (ax * by - bx * ay);
+    let det =
+        (ax * ax + ay * ay) * (bx * cy - cx * by) - (bx * bx + by * by) * (ax * cy - cx * ay) + (cx * cx + cy * cy) * (ax * by - bx * ay);
     let orientation = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    if orientation > 0.0 { det > 0.0 } else { det < 0.0 }
+    if orientation > 0.0 {
+        det > 0.0
+    } else {
+        det < 0.0
+    }
 }
 
 /// Delaunay triangulation of `points` by Bowyer-Watson insertion into a large super-triangle.

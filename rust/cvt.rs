@@ -145,23 +145,14 @@ impl Settings {
     /// The starting values of `paper-setup.md` for `n` generators: `q = max(2000, 200 n)`,
     /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations.
     pub fn for_generators(n: usize) -> Self {
-        Self {
-            samples_per_iteration: default_samples(n),
-            weights: Weights::DAMPED,
-            tolerance: 0.1,
-            window: 5,
-            max_iterations: 300,
-        }
+        Self { samples_per_iteration: default_samples(n), weights: Weights::DAMPED, tolerance: 0.1, window: 5, max_iterations: 300 }
     }
 
     fn check(&self, n: usize) -> Result<()> {
         ensure!(n >= 1, "the number of generators must be >= 1, got {n}");
         let q = self.samples_per_iteration;
         ensure!(q >= 1, "samples_per_iteration must be >= 1, got {q}");
-        ensure!(
-            n <= q,
-            "{n} generators need at least as many samples per iteration, got samples_per_iteration = {q}"
-        );
+        ensure!(n <= q, "{n} generators need at least as many samples per iteration, got samples_per_iteration = {q}");
         Weights::new(self.weights.alpha, self.weights.beta)?;
         ensure!(self.tolerance.is_finite() && self.tolerance >= 0.0, "tolerance must be finite and >= 0 m, got {}", self.tolerance);
         ensure!(self.window >= 1, "window must be >= 1 iteration, got {}", self.window);
@@ -313,10 +304,8 @@ impl Candidates {
                     let h = generators[nearest(generators, centroid).0];
                     let to_h = corners.map(|v| squared_distance(v, h));
                     for (i, &g) in generators.iter().enumerate() {
-                        let wins_somewhere = corners
-                            .iter()
-                            .zip(&to_h)
-                            .any(|(&v, &dh)| squared_distance(v, g) <= dh * (1.0 + 1e-9) + 1e-300);
+                        let wins_somewhere =
+                            corners.iter().zip(&to_h).any(|(&v, &dh)| squared_distance(v, g) <= dh * (1.0 + 1e-9) + 1e-300);
                         if wins_somewhere {
                             list.push(i as u32);
                         }
@@ -544,11 +533,8 @@ mod tests {
     use super::*;
 
     fn rectangle(width: f64, height: f64) -> Surface {
-        Surface::new(
-            vec![[0.0, 0.0, 0.0], [width, 0.0, 0.0], [width, height, 0.0], [0.0, height, 0.0]],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap()
+        Surface::new(vec![[0.0, 0.0, 0.0], [width, 0.0, 0.0], [width, height, 0.0], [0.0, height, 0.0]], vec![[0, 1, 2], [0, 2, 3]])
+            .unwrap()
     }
 
     /// A hilly 100 m square: a 21 x 21 grid of two Gaussian bumps.
@@ -696,8 +682,13 @@ mod tests {
         // nearer to the generator there, so the far generator gets none and must not move.
         let s = Surface::new(
             vec![
-                [0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0], [0.0, 100.0, 0.0],
-                [1000.0, 0.0, 0.0], [1010.0, 0.0, 0.0], [1000.0, 10.0, 0.0],
+                [0.0, 0.0, 0.0],
+                [100.0, 0.0, 0.0],
+                [100.0, 100.0, 0.0],
+                [0.0, 100.0, 0.0],
+                [1000.0, 0.0, 0.0],
+                [1010.0, 0.0, 0.0],
+                [1000.0, 10.0, 0.0],
             ],
             vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]],
         )

@@ -250,54 +250,17 @@ impl HeightField {
     /// [`Error::InvalidInput`] for fewer than 2 rows or columns, a wrong-sized `z`, spacing or
     /// origin that is not finite (spacing also > 0), infinite heights; [`Error::Mesh`] when nodata
     /// leaves no triangle; [`Error::TooLarge`] for 2^32 nodes or more.
-    pub fn new(
-        z: Vec<f64>,
-        ny: usize,
-        nx: usize,
-        dx: f64,
-        dy: f64,
-        x0: f64,
-        y0: f64,
-    ) -> Result<Self> {
-        ensure!(
-            ny >= 2 && nx >= 2,
-            "an elevation grid needs at least 2 rows and 2 columns, got {ny} x {nx}"
-        );
-        let n_nodes = ny
-            .checked_mul(nx)
-            .ok_or_else(|| Error::TooLarge(format!("a {ny} x {nx} grid is too large")))?;
-        ensure!(
-            z.len() == n_nodes,
-            "z has {} values, expected {ny} x {nx}",
-            z.len()
-        );
+    pub fn new(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
+        ensure!(ny >= 2 && nx >= 2, "an elevation grid needs at least 2 rows and 2 columns, got {ny} x {nx}");
+        let n_nodes = ny.checked_mul(nx).ok_or_else(|| Error::TooLarge(format!("a {ny} x {nx} grid is too large")))?;
+        ensure!(z.len() == n_nodes, "z has {} values, expected {ny} x {nx}", z.len());
         if n_nodes >= u32::MAX as usize {
-            return Err(Error::TooLarge(format!(
-                "a {ny} x {nx} grid has 2^32 nodes or more; split it into tiles"
-            )));
+            return Err(Error::TooLarge(format!("a {ny} x {nx} grid has 2^32 nodes or more; split it into tiles")));
         }
-        ensure!(
-            dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0,
-            "grid spacing must be finite and > 0, got ({dx}, {dy})"
-        );
-        ensure!(
-            x0.is_finite() && y0.is_finite(),
-            "grid origin must be finite, got ({x0}, {y0})"
-        );
-        ensure!(
-            z.iter().all(|h| !h.is_infinite()),
-            "heights must be finite or NaN (nodata), found an infinite value"
-        );
-        let mut grid = Grid {
-            ny,
-            nx,
-            dx,
-            dy,
-            x0,
-            y0,
-            z,
-            vertex_of_node: Vec::new(),
-        };
+        ensure!(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0, "grid spacing must be finite and > 0, got ({dx}, {dy})");
+        ensure!(x0.is_finite() && y0.is_finite(), "grid origin must be finite, got ({x0}, {y0})");
+        ensure!(z.iter().all(|h| !h.is_infinite()), "heights must be finite or NaN (nodata), found an infinite value");
+        let mut grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: Vec::new() };
 
         // Triangles, area and used nodes, in the mesh path's face order so the area sums alike.
         const USED: u32 = 0;
@@ -325,9 +288,7 @@ impl HeightField {
             }
         }
         if n_triangles == 0 {
-            return Err(Error::Mesh(
-                "the elevation grid has no triangle without nodata".into(),
-            ));
+            return Err(Error::Mesh("the elevation grid has no triangle without nodata".into()));
         }
         let mut n_vertices = 0u32;
         let mut lo = [f64::INFINITY; 3];
@@ -352,12 +313,7 @@ impl HeightField {
             inv_dx: 1.0 / dx,
             inv_dy: 1.0 / dy,
             inv_cell: 1.0 / dx.min(dy),
-            xy: x0
-                .abs()
-                .max(y0.abs())
-                .max((x0 + (nx - 1) as f64 * dx).abs())
-                .max((y0 + (ny - 1) as f64 * dy).abs())
-                + extent,
+            xy: x0.abs().max(y0.abs()).max((x0 + (nx - 1) as f64 * dx).abs()).max((y0 + (ny - 1) as f64 * dy).abs()) + extent,
             z: lo[2].abs() + hi[2].abs() + (hi[2] - lo[2]),
         };
         Ok(Self {
@@ -408,9 +364,7 @@ impl HeightField {
             return self.grid.node_point(i);
         }
         let table = self.node_of_vertex.get_or_init(|| {
-            (0..self.grid.vertex_of_node.len() as u32)
-                .filter(|&k| self.grid.vertex_of_node[k as usize] != u32::MAX)
-                .collect()
+            (0..self.grid.vertex_of_node.len() as u32).filter(|&k| self.grid.vertex_of_node[k as usize] != u32::MAX).collect()
         });
         self.grid.node_point(table[i] as usize)
     }
@@ -442,9 +396,7 @@ impl HeightField {
             self.cell_of_face.get_or_init(|| {
                 let mut out = Vec::with_capacity(self.n_triangles);
                 for cell in 0..(self.grid.ny - 1) * (self.grid.nx - 1) {
-                    let [t0, t1] = self
-                        .grid
-                        .cell_triangles(cell / (self.grid.nx - 1), cell % (self.grid.nx - 1));
+                    let [t0, t1] = self.grid.cell_triangles(cell / (self.grid.nx - 1), cell % (self.grid.nx - 1));
                     if t0.is_some() {
                         out.push(2 * cell as u64);
                     }
@@ -456,9 +408,7 @@ impl HeightField {
             })[f]
         };
         let cell = (code / 2) as usize;
-        let halves = self
-            .grid
-            .cell_triangles(cell / (self.grid.nx - 1), cell % (self.grid.nx - 1));
+        let halves = self.grid.cell_triangles(cell / (self.grid.nx - 1), cell % (self.grid.nx - 1));
         halves[(code % 2) as usize].expect("a face index names a valid triangle")
     }
 
@@ -536,9 +486,7 @@ impl HeightField {
         if !zb.is_nan() {
             let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), o.z, cast.inv[2]);
             if max(enter_xy, nz) <= min(exit_xy, fz) {
-                if let Some((inter, _)) =
-                    local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), c, &cast.ray)
-                {
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), c, &cast.ray) {
                     if inter.time_of_impact <= t_max {
                         return true;
                     }
@@ -548,9 +496,7 @@ impl HeightField {
         if !zd.is_nan() {
             let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), o.z, cast.inv[2]);
             if max(enter_xy, nz) <= min(exit_xy, fz) {
-                if let Some((inter, _)) =
-                    local_ray_intersection_with_triangle(a, c, Vector::new(xa, yc, zd), &cast.ray)
-                {
+                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, c, Vector::new(xa, yc, zd), &cast.ray) {
                     if inter.time_of_impact <= t_max {
                         return true;
                     }
@@ -564,15 +510,7 @@ impl HeightField {
     /// `BOX` a side): the slab test of each cell's box first (it holds both triangle boxes, so
     /// failing it fails theirs), with the x and y intervals of each column and row computed once.
     #[inline(always)]
-    fn box_hits(
-        &self,
-        i0: usize,
-        i1: usize,
-        j0: usize,
-        j1: usize,
-        cast: &Cast,
-        t_max: f64,
-    ) -> bool {
+    fn box_hits(&self, i0: usize, i1: usize, j0: usize, j1: usize, cast: &Cast, t_max: f64) -> bool {
         let g = &self.grid;
         let o = cast.ray.origin;
         let mut cols = [(0.0, 0.0); BOX];
@@ -593,8 +531,7 @@ impl HeightField {
                 }
                 let j = j0 + c;
                 let row = i * g.nx + j;
-                let (za, zb, zc, zd) =
-                    (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+                let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
                 if za.is_nan() || zc.is_nan() {
                     continue; // both triangles use the diagonal a-c
                 }
@@ -613,12 +550,7 @@ impl HeightField {
                 if !zb.is_nan() {
                     let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), o.z, cast.inv[2]);
                     if max(enter_xy, nz) <= min(exit_xy, fz) {
-                        if let Some((inter, _)) = local_ray_intersection_with_triangle(
-                            a,
-                            Vector::new(xb, ya, zb),
-                            cc,
-                            &cast.ray,
-                        ) {
+                        if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), cc, &cast.ray) {
                             if inter.time_of_impact <= t_max {
                                 return true;
                             }
@@ -628,12 +560,7 @@ impl HeightField {
                 if !zd.is_nan() {
                     let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), o.z, cast.inv[2]);
                     if max(enter_xy, nz) <= min(exit_xy, fz) {
-                        if let Some((inter, _)) = local_ray_intersection_with_triangle(
-                            a,
-                            cc,
-                            Vector::new(xa, yc, zd),
-                            &cast.ray,
-                        ) {
+                        if let Some((inter, _)) = local_ray_intersection_with_triangle(a, cc, Vector::new(xa, yc, zd), &cast.ray) {
                             if inter.time_of_impact <= t_max {
                                 return true;
                             }
@@ -681,10 +608,7 @@ impl HeightField {
     fn cell_top(&self, i: usize, j: usize) -> f64 {
         let g = &self.grid;
         let row = i * g.nx + j;
-        g.z[row]
-            .max(g.z[row + 1])
-            .max(g.z[row + g.nx])
-            .max(g.z[row + g.nx + 1])
+        g.z[row].max(g.z[row + 1]).max(g.z[row + g.nx]).max(g.z[row + g.nx + 1])
     }
 
     /// Any-hit by bisecting the segment.
@@ -706,14 +630,7 @@ impl HeightField {
 
     /// [`HeightField::walk_hits`] for the triangles the ray can reach at parameters in
     /// `[t_from, t_to]` (the leaf test is the mesh path's, with the limit `t_max >= t_to`).
-    fn walk_hits_from(
-        &self,
-        origin: Point,
-        dir: Point,
-        t_from: f64,
-        t_to: f64,
-        t_max: f64,
-    ) -> bool {
+    fn walk_hits_from(&self, origin: Point, dir: Point, t_from: f64, t_to: f64, t_max: f64) -> bool {
         let g = &self.grid;
         let s = &self.scales;
         let (cells_x, cells_y) = (g.nx - 1, g.ny - 1);
@@ -721,24 +638,14 @@ impl HeightField {
         let (u0, du) = ((origin[0] - g.x0) * s.inv_dx, dir[0] * s.inv_dx);
         let (w0, dw) = ((origin[1] - g.y0) * s.inv_dy, dir[1] * s.inv_dy);
         let (z0, dz) = (origin[2], dir[2]);
-        let end = [
-            origin[0] + dir[0] * t_max,
-            origin[1] + dir[1] * t_max,
-            z0 + dz * t_max,
-        ];
-        let reach = max(
-            max(origin[0].abs(), origin[1].abs()),
-            max(end[0].abs(), end[1].abs()),
-        );
+        let end = [origin[0] + dir[0] * t_max, origin[1] + dir[1] * t_max, z0 + dz * t_max];
+        let reach = max(max(origin[0].abs(), origin[1].abs()), max(end[0].abs(), end[1].abs()));
         let delta = 1e-9 * (1.0 + (reach + s.xy) * s.inv_cell);
         let delta_z = 1e-9 * (z0.abs() + end[2].abs() + s.z + 1e-300);
         if min(z0, end[2]) - delta_z > self.bounds.1[2] {
             return false; // above everything
         }
-        let cast = Cast {
-            ray: Ray::new(v(origin), v(dir)),
-            inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]],
-        };
+        let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
         let (nx_f, ny_f) = (cells_x as f64, cells_y as f64);
         // Pieces `[ta, tb]` of the parameter range still to clear, depth first: the piece in
         // hand, and the pieces put aside (the far halves, nearer the UAV).
@@ -779,8 +686,7 @@ impl HeightField {
             let extent = (j1 - j0).max(i1 - i0); // >= 2
                                                  // Tiles of 2^s >= extent cells meet the extent + 1 cells in at most two; the top level
                                                  // is a single tile, which always does.
-            let k = ((usize::BITS - (extent - 1).leading_zeros()) as usize - 1)
-                .min(self.tops.len() - 1);
+            let k = ((usize::BITS - (extent - 1).leading_zeros()) as usize - 1).min(self.tops.len() - 1);
             let level = &self.tops[k];
             let s = level.shift;
             let (ti0, ti1, tj0, tj1) = (i0 >> s, i1 >> s, j0 >> s, j1 >> s);
@@ -820,18 +726,10 @@ impl HeightField {
     pub fn horizon(&self, uav: Point, radius: f64) -> Horizon {
         let g = &self.grid;
         let w = g.dx.min(g.dy);
-        let radius = if radius.is_finite() {
-            radius.max(0.0)
-        } else {
-            0.0
-        };
-        let bins = ((radius / w).ceil() as usize)
-            .saturating_add(2)
-            .min(1 << 12);
+        let radius = if radius.is_finite() { radius.max(0.0) } else { 0.0 };
+        let bins = ((radius / w).ceil() as usize).saturating_add(2).min(1 << 12);
         // Sectors about a bin wide at the far edge, a power of two.
-        let sectors = ((std::f64::consts::PI * radius / w).ceil().max(64.0) as usize)
-            .next_power_of_two()
-            .min(4096);
+        let sectors = ((std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_power_of_two().min(4096);
         let (px, py, pz) = (uav[0], uav[1], uav[2]);
         let delta = 1e-9 * (px.abs().max(py.abs()) + self.scales.xy + radius);
         let delta_z = 1e-9 * (pz.abs() + self.scales.z + 1e-300);
@@ -839,9 +737,7 @@ impl HeightField {
         let reach2 = reach * reach;
         let inv_w2 = 1.0 / (w * w);
         // floor(sqrt(k)) for k < bins^2: the bin of a squared distance without a square root.
-        let root: Vec<u16> = (0..bins * bins)
-            .map(|k| ((k as f64).sqrt() as usize).min(bins - 1) as u16)
-            .collect();
+        let root: Vec<u16> = (0..bins * bins).map(|k| ((k as f64).sqrt() as usize).min(bins - 1) as u16).collect();
         // Bounds by bin then sector while cells are entered; a running maximum along distance,
         // stored sector by sector for the queries, at the end.
         let mut by_bin = vec![f32::NEG_INFINITY; sectors * bins];
@@ -860,21 +756,9 @@ impl HeightField {
             let (ui0, ui1, uj0, uj1) = (i0 >> s, i1 >> s, j0 >> s, j1 >> s);
             // Unit edges relative to the UAV, and the pseudo-angles of the unit corners of the
             // current pair of corner rows (shared by neighbouring units).
-            let xs: Vec<f64> = (uj0..=uj1 + 1)
-                .map(|u| self.x((u << s).min(g.nx - 1)) - px)
-                .collect();
+            let xs: Vec<f64> = (uj0..=uj1 + 1).map(|u| self.x((u << s).min(g.nx - 1)) - px).collect();
             let y_of = |u: usize| self.y((u << s).min(g.ny - 1)) - py;
-            let angles = |y: f64| -> Vec<f64> {
-                xs.iter()
-                    .map(|&x| {
-                        if x == 0.0 && y == 0.0 {
-                            0.0
-                        } else {
-                            pseudo_angle(x, y)
-                        }
-                    })
-                    .collect()
-            };
+            let angles = |y: f64| -> Vec<f64> { xs.iter().map(|&x| if x == 0.0 && y == 0.0 { 0.0 } else { pseudo_angle(x, y) }).collect() };
             let mut lower = angles(y_of(ui0));
             let mut unit_top = vec![0.0f64; xs.len()];
             for i in ui0..=ui1 {
@@ -883,10 +767,7 @@ impl HeightField {
                 let ny = max(max(ylo, -yhi), 0.0);
                 let yfar = max(-ylo, yhi) + 2.0 * delta;
                 if s == 0 {
-                    let (row0, row1) = (
-                        &g.z[i * g.nx..(i + 1) * g.nx],
-                        &g.z[(i + 1) * g.nx..(i + 2) * g.nx],
-                    );
+                    let (row0, row1) = (&g.z[i * g.nx..(i + 1) * g.nx], &g.z[(i + 1) * g.nx..(i + 2) * g.nx]);
                     for (k, top) in unit_top.iter_mut().enumerate() {
                         *top = row0[j0 + k].max(row1[j0 + k]); // NaN ignored unless both are
                     }
@@ -895,8 +776,7 @@ impl HeightField {
                     }
                 } else {
                     let level = &self.tops[s as usize - 1];
-                    unit_top[..=uj1 - uj0]
-                        .copy_from_slice(&level.zmax[i * level.cols + uj0..=i * level.cols + uj1]);
+                    unit_top[..=uj1 - uj0].copy_from_slice(&level.zmax[i * level.cols + uj0..=i * level.cols + uj1]);
                 }
                 if ny < reach {
                     for c in 0..=uj1 - uj0 {
@@ -938,8 +818,7 @@ impl HeightField {
                         // Sectors of the cell's angles from the corners that bound them (by where
                         // the cell lies from the UAV), one more on each side for rounding.
                         let sector = |a: f64| ((a * quarter) as usize).min(sectors - 1); // a in [0, 4]
-                        let (lo_l, hi_l, lo_u, hi_u) =
-                            (lower[c], lower[c + 1], upper[c], upper[c + 1]);
+                        let (lo_l, hi_l, lo_u, hi_u) = (lower[c], lower[c + 1], upper[c], upper[c + 1]);
                         let (right, left) = (xlo > 0.0, xhi < 0.0);
                         let (above, below) = (ylo > 0.0, yhi < 0.0);
                         let (first, last) = match (right, left, above, below) {
@@ -992,22 +871,10 @@ impl HeightField {
                 if v > run {
                     run = v;
                 }
-                *slot = if run == f32::NEG_INFINITY {
-                    run
-                } else {
-                    round_up(run as f64 + 1e-9 * (run as f64).abs())
-                };
+                *slot = if run == f32::NEG_INFINITY { run } else { round_up(run as f64 + 1e-9 * (run as f64).abs()) };
             }
         }
-        Horizon {
-            uav,
-            sectors,
-            bins,
-            bin: w,
-            quarter,
-            slope,
-            delta,
-        }
+        Horizon { uav, sectors, bins, bin: w, quarter, slope, delta }
     }
 
     /// [`HeightField::line_of_sight`] from the UAV of `horizon`, the same answer to the last bit.
@@ -1031,8 +898,7 @@ impl HeightField {
         let r2 = d[0] * d[0] + d[1] * d[1];
         let mut t_from = 0.0;
         if r2 > 0.0 {
-            let k =
-                ((pseudo_angle(d[0], d[1]) * horizon.quarter) as usize).min(horizon.sectors - 1);
+            let k = ((pseudo_angle(d[0], d[1]) * horizon.quarter) as usize).min(horizon.sectors - 1);
             let sigma = d[2] * d[2].abs() / r2;
             let row = &horizon.slope[k * horizon.bins..(k + 1) * horizon.bins];
             // The line's slope less its own margin against the stored bounds (which hold theirs;
@@ -1072,12 +938,7 @@ impl HeightField {
     /// [`HeightField::line_of_sight_from`]) or the walk of that stretch decides.
     ///
     /// [`REACH`]: crate::skyline::REACH
-    pub fn line_of_sight_to_node(
-        &self,
-        horizon: &Horizon,
-        target: Point,
-        skyline: &Skyline,
-    ) -> bool {
+    pub fn line_of_sight_to_node(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
         let p = horizon.uav;
         let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
         let r2 = d[0] * d[0] + d[1] * d[1];
@@ -1092,9 +953,7 @@ impl HeightField {
         let line = -d[2] / r;
         let a = pseudo_angle(d[0], d[1]);
         let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
-        if !(rho_end > 1e3 * eps
-            && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs()))
-        {
+        if !(rho_end > 1e3 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
             return self.line_of_sight_from(horizon, target);
         }
         // The ray is clear within `reach` of the target; the horizon must clear it up to `far`
@@ -1162,23 +1021,12 @@ impl HeightField {
         let s = level.shift;
         let i0 = ti << s;
         let j0 = tj << s;
-        (
-            i0,
-            ((ti + 1) << s).min(self.grid.ny - 1),
-            j0,
-            ((tj + 1) << s).min(self.grid.nx - 1),
-        )
+        (i0, ((ti + 1) << s).min(self.grid.ny - 1), j0, ((tj + 1) << s).min(self.grid.nx - 1))
     }
 
     /// The cell range `[lo, hi]` along one axis that a coordinate range can touch, widened by one
     /// cell plus far more than any rounding of the slab test; `None` when it misses the grid.
-    fn cell_span(
-        lo: f64,
-        hi: f64,
-        start: f64,
-        step: f64,
-        n_cells: usize,
-    ) -> Option<(usize, usize)> {
+    fn cell_span(lo: f64, hi: f64, start: f64, step: f64, n_cells: usize) -> Option<(usize, usize)> {
         let scale = lo.abs().max(hi.abs()).max(start.abs()) + n_cells as f64 * step;
         let slack = 1.0 + 1e-9 * scale / step;
         let a = ((lo - start) / step - slack).floor();
@@ -1194,31 +1042,14 @@ impl HeightField {
     fn cast<const ANY: bool>(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
         let g = &self.grid;
         let end = [origin[0] + dir[0] * t_max, origin[1] + dir[1] * t_max];
-        let (cj0, cj1) = Self::cell_span(
-            origin[0].min(end[0]),
-            origin[0].max(end[0]),
-            g.x0,
-            g.dx,
-            g.nx - 1,
-        )?;
-        let (ci0, ci1) = Self::cell_span(
-            origin[1].min(end[1]),
-            origin[1].max(end[1]),
-            g.y0,
-            g.dy,
-            g.ny - 1,
-        )?;
-        let cast = Cast {
-            ray: Ray::new(v(origin), v(dir)),
-            inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]],
-        };
+        let (cj0, cj1) = Self::cell_span(origin[0].min(end[0]), origin[0].max(end[0]), g.x0, g.dx, g.nx - 1)?;
+        let (ci0, ci1) = Self::cell_span(origin[1].min(end[1]), origin[1].max(end[1]), g.y0, g.dy, g.ny - 1)?;
+        let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
         // Start at the finest level whose tiles hold the span in at most 2 x 2 of them.
         let start = self
             .levels
             .iter()
-            .position(|l| {
-                (cj1 >> l.shift) - (cj0 >> l.shift) <= 1 && (ci1 >> l.shift) - (ci0 >> l.shift) <= 1
-            })
+            .position(|l| (cj1 >> l.shift) - (cj0 >> l.shift) <= 1 && (ci1 >> l.shift) - (ci0 >> l.shift) <= 1)
             .unwrap_or(self.levels.len() - 1);
         let mut best = t_max;
         let mut found = false;
@@ -1290,14 +1121,7 @@ impl HeightField {
 
     /// Tests the triangles of one leaf tile; true when an any-hit search can stop.
     #[inline(always)]
-    fn leaf_tile<const ANY: bool>(
-        &self,
-        ti: usize,
-        tj: usize,
-        cast: &Cast,
-        best: &mut f64,
-        found: &mut bool,
-    ) -> bool {
+    fn leaf_tile<const ANY: bool>(&self, ti: usize, tj: usize, cast: &Cast, best: &mut f64, found: &mut bool) -> bool {
         let g = &self.grid;
         let (i0, i1, j0, j1) = self.tile_nodes(&self.levels[0], ti, tj);
         let o = cast.ray.origin;
@@ -1319,8 +1143,7 @@ impl HeightField {
                 }
                 let j = j0 + c;
                 let row = i * g.nx + j;
-                let (za, zb, zc, zd) =
-                    (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+                let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
                 // The cell's box first: it holds both triangle boxes.
                 let (cell_lo, cell_hi) = (za.min(zb).min(zc).min(zd), za.max(zb).max(zc).max(zd));
                 let (nz, fz) = axis(cell_lo, cell_hi, o.z, cast.inv[2]);
@@ -1332,10 +1155,7 @@ impl HeightField {
                 let a = Vector::new(xa, ya, za);
                 let c3 = Vector::new(xb, yc, zc);
                 // Corners in the mesh's order: [a, b, c], then [a, c, d].
-                let halves = [
-                    (za, zb, zc, a, Vector::new(xb, ya, zb), c3),
-                    (za, zc, zd, a, c3, Vector::new(xa, yc, zd)),
-                ];
+                let halves = [(za, zb, zc, a, Vector::new(xb, ya, zb), c3), (za, zc, zd, a, c3, Vector::new(xa, yc, zd))];
                 for (h0, h1, h2, p0, p1, p2) in halves {
                     if h0.is_nan() || h1.is_nan() || h2.is_nan() {
                         continue;
@@ -1344,9 +1164,7 @@ impl HeightField {
                     if enter_xy.max(nz) > best.min(fx).min(fy).min(fz) {
                         continue;
                     }
-                    if let Some((inter, _)) =
-                        local_ray_intersection_with_triangle(p0, p1, p2, &cast.ray)
-                    {
+                    if let Some((inter, _)) = local_ray_intersection_with_triangle(p0, p1, p2, &cast.ray) {
                         if inter.time_of_impact <= *best {
                             *best = inter.time_of_impact;
                             *found = true;
@@ -1432,8 +1250,8 @@ impl HeightField {
 
     /// Bytes held, roughly: heights, node numbering, tile pyramid and any lazily built tables.
     pub fn memory_bytes(&self) -> usize {
-        let levels: usize = self.levels.iter().map(|l| l.z.len() * 16).sum::<usize>()
-            + self.tops.iter().map(|l| l.zmax.len() * 8).sum::<usize>();
+        let levels: usize =
+            self.levels.iter().map(|l| l.z.len() * 16).sum::<usize>() + self.tops.iter().map(|l| l.zmax.len() * 8).sum::<usize>();
         self.grid.z.len() * 8
             + self.grid.vertex_of_node.len() * 4
             + levels
@@ -1449,11 +1267,7 @@ impl Grid {
     #[inline(always)]
     pub fn node_point(&self, k: usize) -> Point {
         let (i, j) = (k / self.nx, k % self.nx);
-        [
-            self.x0 + j as f64 * self.dx,
-            self.y0 + i as f64 * self.dy,
-            self.z[k],
-        ]
+        [self.x0 + j as f64 * self.dx, self.y0 + i as f64 * self.dy, self.z[k]]
     }
 
     /// Nodes `[a, b, c, d] = [(i, j), (i, j+1), (i+1, j+1), (i+1, j)]` of cell `(i, j)`.
@@ -1469,10 +1283,7 @@ impl Grid {
     pub fn cell_triangles(&self, i: usize, j: usize) -> [Option<[Vector; 3]>; 2] {
         let [a, b, c, d] = self.cell_nodes(i, j).map(|k| v(self.node_point(k)));
         let ok = |q: Vector| !q.z.is_nan();
-        [
-            (ok(a) && ok(b) && ok(c)).then_some([a, b, c]),
-            (ok(a) && ok(c) && ok(d)).then_some([a, c, d]),
-        ]
+        [(ok(a) && ok(b) && ok(c)).then_some([a, b, c]), (ok(a) && ok(c) && ok(d)).then_some([a, c, d])]
     }
 }
 
@@ -1501,11 +1312,7 @@ fn build_tops(g: &Grid) -> Vec<TopLevel> {
             }
         }
     }
-    let mut levels = vec![TopLevel {
-        shift: 1,
-        cols,
-        zmax,
-    }];
+    let mut levels = vec![TopLevel { shift: 1, cols, zmax }];
     let mut rows = rows;
     while let Some(last) = levels.last().filter(|l| rows > 1 || l.cols > 1) {
         let (r2, c2) = (rows.div_ceil(2), last.cols.div_ceil(2));
@@ -1520,11 +1327,7 @@ fn build_tops(g: &Grid) -> Vec<TopLevel> {
                 }
             }
         }
-        levels.push(TopLevel {
-            shift: last.shift + 1,
-            cols: c2,
-            zmax,
-        });
+        levels.push(TopLevel { shift: last.shift + 1, cols: c2, zmax });
         rows = r2;
     }
     levels
@@ -1551,12 +1354,7 @@ fn build_levels(g: &Grid) -> Vec<Level> {
             }
         }
     }
-    let mut levels = vec![Level {
-        shift: FIRST_SHIFT,
-        rows,
-        cols,
-        z,
-    }];
+    let mut levels = vec![Level { shift: FIRST_SHIFT, rows, cols, z }];
     while let Some(last) = levels.last().filter(|l| l.rows > 1 || l.cols > 1) {
         let (rows, cols) = (last.rows.div_ceil(2), last.cols.div_ceil(2));
         let mut z = vec![[f64::INFINITY, f64::NEG_INFINITY]; rows * cols];
@@ -1572,12 +1370,7 @@ fn build_levels(g: &Grid) -> Vec<Level> {
                 }
             }
         }
-        levels.push(Level {
-            shift: last.shift + 1,
-            rows,
-            cols,
-            z,
-        });
+        levels.push(Level { shift: last.shift + 1, rows, cols, z });
     }
     levels
 }
@@ -1590,15 +1383,7 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     /// A grid surface and the mesh path of the same grid.
-    fn both(
-        z: Vec<f64>,
-        ny: usize,
-        nx: usize,
-        dx: f64,
-        dy: f64,
-        x0: f64,
-        y0: f64,
-    ) -> (Surface, Surface) {
+    fn both(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> (Surface, Surface) {
         let grid = Surface::from_grid(z, ny, nx, dx, dy, x0, y0).unwrap();
         let mesh_of_grid = grid.triangle_mesh().unwrap();
         let faces = mesh_of_grid.trimesh().indices().to_vec();
@@ -1668,21 +1453,10 @@ mod tests {
             } else {
                 (rng.random_range(2..24), rng.random_range(2..24))
             };
-            let (dx, dy) = if case % 3 == 0 {
-                (1.0, 1.0)
-            } else {
-                (0.1 + rng.random::<f64>(), 0.1 + rng.random::<f64>())
-            };
-            let (x0, y0) = if case % 4 == 0 {
-                (0.0, 0.0)
-            } else {
-                (rng.random::<f64>() * 1e3 - 500.0, 12.25)
-            };
+            let (dx, dy) = if case % 3 == 0 { (1.0, 1.0) } else { (0.1 + rng.random::<f64>(), 0.1 + rng.random::<f64>()) };
+            let (x0, y0) = if case % 4 == 0 { (0.0, 0.0) } else { (rng.random::<f64>() * 1e3 - 500.0, 12.25) };
             let z = heights(&mut rng, ny, nx, case % 4, case % 5 == 1);
-            if z.chunks(nx)
-                .zip(z.chunks(nx).skip(1))
-                .all(|(a, b)| a.iter().chain(b).any(|h| h.is_nan()))
-            {
+            if z.chunks(nx).zip(z.chunks(nx).skip(1)).all(|(a, b)| a.iter().chain(b).any(|h| h.is_nan())) {
                 continue; // every cell touches nodata: no triangle at all
             }
             let Ok(grid) = Surface::from_grid(z.clone(), ny, nx, dx, dy, x0, y0) else {
@@ -1697,17 +1471,9 @@ mod tests {
                 let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
                 for t_max in [SIGHT_FRACTION, 1.0] {
                     let expect = mesh.ray_hits(a, d, t_max);
-                    assert_eq!(
-                        grid.ray_hits(a, d, t_max),
-                        expect,
-                        "case {case}: {a:?} -> {b:?} up to {t_max}"
-                    );
+                    assert_eq!(grid.ray_hits(a, d, t_max), expect, "case {case}: {a:?} -> {b:?} up to {t_max}");
                     let field = grid.heightfield().unwrap();
-                    assert_eq!(
-                        field.ray_hits_quadtree(a, d, t_max),
-                        expect,
-                        "quadtree, case {case}"
-                    );
+                    assert_eq!(field.ray_hits_quadtree(a, d, t_max), expect, "quadtree, case {case}");
                     blocked += expect as usize;
                     total += 1;
                 }
@@ -1720,19 +1486,13 @@ mod tests {
                 }
                 let (fg, fm) = (grid.first_hit(a, d, 1.0), mesh.first_hit(a, d, 1.0));
                 match (fg, fm) {
-                    (Some(x), Some(y)) => assert!(
-                        (x - y).abs() <= 1e-12,
-                        "case {case} {a:?} {b:?}: {x} vs {y}"
-                    ),
+                    (Some(x), Some(y)) => assert!((x - y).abs() <= 1e-12, "case {case} {a:?} {b:?}: {x} vs {y}"),
                     _ => assert_eq!(fg, fm, "case {case} {a:?} {b:?}"),
                 }
             }
         }
         // Both outcomes are well represented, so agreement means something.
-        assert!(
-            blocked > total / 5 && blocked < 4 * total / 5,
-            "{blocked} of {total}"
-        );
+        assert!(blocked > total / 5 && blocked < 4 * total / 5, "{blocked} of {total}");
     }
 
     #[test]
@@ -1745,16 +1505,8 @@ mod tests {
             } else {
                 (rng.random_range(2..24), rng.random_range(2..24))
             };
-            let (dx, dy) = if case % 3 == 0 {
-                (0.5, 0.5)
-            } else {
-                (0.2 + rng.random::<f64>(), 0.2 + rng.random::<f64>())
-            };
-            let (x0, y0) = if case % 5 == 0 {
-                (0.0, 0.0)
-            } else {
-                (rng.random::<f64>() * 1e3 - 500.0, -3.75)
-            };
+            let (dx, dy) = if case % 3 == 0 { (0.5, 0.5) } else { (0.2 + rng.random::<f64>(), 0.2 + rng.random::<f64>()) };
+            let (x0, y0) = if case % 5 == 0 { (0.0, 0.0) } else { (rng.random::<f64>() * 1e3 - 500.0, -3.75) };
             let z = heights(&mut rng, ny, nx, case % 4, case % 6 == 1);
             let Ok(grid) = Surface::from_grid(z.clone(), ny, nx, dx, dy, x0, y0) else {
                 continue;
@@ -1766,27 +1518,18 @@ mod tests {
             for _ in 0..12 {
                 let uav = point(&mut rng, &g, lo[2], hi[2]);
                 // Sometimes shorter than the farthest targets: those must fall back to the walk.
-                let radius = rng.random::<f64>()
-                    * 1.5
-                    * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
+                let radius = rng.random::<f64>() * 1.5 * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
                 let horizon = field.horizon(uav, radius);
                 for _ in 0..150 {
                     let q = point(&mut rng, &g, lo[2], hi[2]);
                     let expect = mesh.line_of_sight(uav, q);
-                    assert_eq!(
-                        field.line_of_sight_from(&horizon, q),
-                        expect,
-                        "case {case}: {uav:?} -> {q:?}, radius {radius}"
-                    );
+                    assert_eq!(field.line_of_sight_from(&horizon, q), expect, "case {case}: {uav:?} -> {q:?}, radius {radius}");
                     seen += expect as usize;
                     total += 1;
                 }
             }
         }
-        assert!(
-            seen > total / 5 && seen < 4 * total / 5,
-            "{seen} of {total}"
-        );
+        assert!(seen > total / 5 && seen < 4 * total / 5, "{seen} of {total}");
     }
 
     #[test]
@@ -1799,16 +1542,8 @@ mod tests {
             } else {
                 (rng.random_range(2..24), rng.random_range(2..24))
             };
-            let (dx, dy) = if case % 3 == 0 {
-                (0.5, 0.5)
-            } else {
-                (0.2 + rng.random::<f64>(), 0.2 + rng.random::<f64>())
-            };
-            let (x0, y0) = if case % 5 == 0 {
-                (0.0, 0.0)
-            } else {
-                (rng.random::<f64>() * 1e3 - 500.0, -3.75)
-            };
+            let (dx, dy) = if case % 3 == 0 { (0.5, 0.5) } else { (0.2 + rng.random::<f64>(), 0.2 + rng.random::<f64>()) };
+            let (x0, y0) = if case % 5 == 0 { (0.0, 0.0) } else { (rng.random::<f64>() * 1e3 - 500.0, -3.75) };
             let z = heights(&mut rng, ny, nx, case % 4, case % 6 == 1);
             let Ok(grid) = Surface::from_grid(z.clone(), ny, nx, dx, dy, x0, y0) else {
                 continue;
@@ -1817,32 +1552,21 @@ mod tests {
             let field = grid.heightfield().unwrap();
             let g = field.grid().clone();
             let (lo, hi) = grid.bounds();
-            let nodes: Vec<usize> = (0..ny * nx)
-                .filter(|&k| g.vertex_of_node[k] != u32::MAX)
-                .collect();
+            let nodes: Vec<usize> = (0..ny * nx).filter(|&k| g.vertex_of_node[k] != u32::MAX).collect();
             for _ in 0..12 {
                 let uav = point(&mut rng, &g, lo[2], hi[2]);
-                let radius = rng.random::<f64>()
-                    * 1.5
-                    * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
+                let radius = rng.random::<f64>() * 1.5 * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
                 let horizon = field.horizon(uav, radius);
                 for _ in 0..150 {
                     let k = nodes[rng.random_range(0..nodes.len())];
                     let q = g.node_point(k);
                     let sky = Skyline::of_node(&g, k / nx, k % nx);
                     let expect = mesh.line_of_sight(uav, q);
-                    assert_eq!(
-                        field.line_of_sight_to_node(&horizon, q, &sky),
-                        expect,
-                        "case {case}: {uav:?} -> {q:?}, radius {radius}"
-                    );
+                    assert_eq!(field.line_of_sight_to_node(&horizon, q, &sky), expect, "case {case}: {uav:?} -> {q:?}, radius {radius}");
                     // How often the skyline settles the last cells (the line arrives more steeply).
                     let (ex, ey) = (uav[0] - q[0], uav[1] - q[1]);
                     let r = (ex * ex + ey * ey).sqrt();
-                    if r > 0.0
-                        && (uav[2] - q[2]) / r
-                            > sky.slope(crate::skyline::sector_of(pseudo_angle(ex, ey)))
-                    {
+                    if r > 0.0 && (uav[2] - q[2]) / r > sky.slope(crate::skyline::sector_of(pseudo_angle(ex, ey))) {
                         steep += 1;
                     }
                     seen += expect as usize;
@@ -1850,14 +1574,8 @@ mod tests {
                 }
             }
         }
-        assert!(
-            seen > total / 5 && seen < 4 * total / 5,
-            "{seen} of {total}"
-        );
-        assert!(
-            steep > total / 5,
-            "the skylines decided too rarely to be tested: {steep} of {total}"
-        );
+        assert!(seen > total / 5 && seen < 4 * total / 5, "{seen} of {total}");
+        assert!(steep > total / 5, "the skylines decided too rarely to be tested: {steep} of {total}");
     }
 
     #[test]
@@ -1876,10 +1594,7 @@ mod tests {
             let (lo, hi) = grid.bounds();
             for _ in 0..300 {
                 let q = point(&mut rng, &g, lo[2], hi[2]);
-                let (hg, hm) = (
-                    grid.ground_height(q[0], q[1]),
-                    mesh.ground_height(q[0], q[1]),
-                );
+                let (hg, hm) = (grid.ground_height(q[0], q[1]), mesh.ground_height(q[0], q[1]));
                 match (hg, hm) {
                     (Some(x), Some(y)) => assert!((x - y).abs() <= 1e-12, "{q:?}: {x} vs {y}"),
                     _ => assert_eq!(hg, hm, "{q:?}"),
@@ -1887,13 +1602,8 @@ mod tests {
                 let (cg, cm) = (grid.clearance(q), mesh.clearance(q));
                 assert!(cg == cm || (cg - cm).abs() <= 1e-12, "{q:?}: {cg} vs {cm}");
                 let (pg, pm) = (grid.closest_point(q), mesh.closest_point(q));
-                let dist = |r: Point| {
-                    ((r[0] - q[0]).powi(2) + (r[1] - q[1]).powi(2) + (r[2] - q[2]).powi(2)).sqrt()
-                };
-                assert!(
-                    (dist(pg) - dist(pm)).abs() <= 1e-9,
-                    "{q:?}: {pg:?} vs {pm:?}"
-                );
+                let dist = |r: Point| ((r[0] - q[0]).powi(2) + (r[1] - q[1]).powi(2) + (r[2] - q[2]).powi(2)).sqrt();
+                assert!((dist(pg) - dist(pm)).abs() <= 1e-9, "{q:?}: {pg:?} vs {pm:?}");
             }
         }
     }
@@ -1924,9 +1634,7 @@ mod tests {
     #[test]
     fn a_ridge_hides_what_is_behind_it_and_grazing_it_from_above_does_not() {
         // A 1 m ridge along column 5 of a flat 11 x 11 grid.
-        let z: Vec<f64> = (0..121)
-            .map(|k| if k % 11 == 5 { 1.0 } else { 0.0 })
-            .collect();
+        let z: Vec<f64> = (0..121).map(|k| if k % 11 == 5 { 1.0 } else { 0.0 }).collect();
         let hf = HeightField::new(z, 11, 11, 1.0, 1.0, 0.0, 0.0).unwrap();
         assert!(!hf.line_of_sight([2.0, 5.0, 0.5], [8.0, 5.0, 0.0]));
         assert!(hf.line_of_sight([2.0, 5.0, 3.0], [8.0, 5.0, 0.0]));
@@ -1945,13 +1653,7 @@ mod tests {
         let per_node = hf.memory_bytes() as f64 / (201.0 * 201.0);
         assert!(per_node < 18.0, "{per_node} bytes per node");
         assert!(HeightField::new(vec![0.0; 4], 2, 2, 1.0, f64::NAN, 0.0, 0.0).is_err());
-        assert!(matches!(
-            HeightField::new(vec![f64::NAN; 4], 2, 2, 1.0, 1.0, 0.0, 0.0),
-            Err(Error::Mesh(_))
-        ));
-        assert!(matches!(
-            HeightField::new(vec![f64::INFINITY; 4], 2, 2, 1.0, 1.0, 0.0, 0.0),
-            Err(Error::InvalidInput(_))
-        ));
+        assert!(matches!(HeightField::new(vec![f64::NAN; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::Mesh(_))));
+        assert!(matches!(HeightField::new(vec![f64::INFINITY; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
     }
 }

@@ -371,10 +371,7 @@ impl TriangleMesh {
         }
         let n = vertices.len() as u64;
         if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| k as u64 >= n)) {
-            return Err(Error::Mesh(format!(
-                "face {f} refers to vertex {:?} but there are only {n} vertices",
-                faces[f]
-            )));
+            return Err(Error::Mesh(format!("face {f} refers to vertex {:?} but there are only {n} vertices", faces[f])));
         }
         let points: Vec<Vector> = vertices.into_iter().map(v).collect();
         let scale = bounding_diagonal(&points).max(1e-300);
@@ -388,9 +385,7 @@ impl TriangleMesh {
             }
             // Relative to the mesh size, so the test means the same in millimetres or kilometres.
             if check_degenerate && area <= 1e-14 * scale * scale {
-                return Err(Error::Mesh(format!(
-                    "face {f} {t:?} is degenerate (zero area); drop degenerate faces first"
-                )));
+                return Err(Error::Mesh(format!("face {f} {t:?} is degenerate (zero area); drop degenerate faces first")));
             }
             areas.push(area);
         }
@@ -573,11 +568,7 @@ mod tests {
     #[test]
     fn ground_height_on_the_border_edge_of_a_mesh() {
         // A thin triangle whose long edge lies on x = 0: the vertical ray there grazes the edge.
-        let s = Surface::new(
-            vec![[0.149, 97.346, 4.94], [0.0, 100.0, 4.37], [0.0, 0.0, 1e-5]],
-            vec![[0, 1, 2]],
-        )
-        .unwrap();
+        let s = Surface::new(vec![[0.149, 97.346, 4.94], [0.0, 100.0, 4.37], [0.0, 0.0, 1e-5]], vec![[0, 1, 2]]).unwrap();
         let h = s.ground_height(0.0, 50.0).expect("a point on the edge has a ground height");
         let expected = 1e-5 + (4.37 - 1e-5) * 0.5;
         assert!((h - expected).abs() < 1e-6, "{h} vs {expected}");

@@ -38,8 +38,7 @@ pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, V
 /// As [`default_targets`].
 pub fn area_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
     ensure!(density.is_finite() && density > 0.0, "target density must be finite and > 0 points per m^2, got {density}");
-    let per_triangle: Vec<usize> =
-        surface.areas().iter().map(|&a| ((a * density).sqrt().ceil() as usize).max(1)).collect();
+    let per_triangle: Vec<usize> = surface.areas().iter().map(|&a| ((a * density).sqrt().ceil() as usize).max(1)).collect();
     let total: usize = per_triangle.iter().map(|m| m * m).sum();
     ensure!(total <= 100_000_000, "density {density} per m^2 gives {total} targets; lower it");
     let mut points = Vec::with_capacity(total);
@@ -132,11 +131,7 @@ mod tests {
     use rand::SeedableRng;
 
     fn square_mesh() -> Surface {
-        Surface::new(
-            vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap()
+        Surface::new(vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]], vec![[0, 1, 2], [0, 2, 3]]).unwrap()
     }
 
     #[test]

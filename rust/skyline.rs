@@ -87,20 +87,9 @@ impl Skyline {
                     continue; // both triangles use the diagonal a-c
                 }
                 // Corners relative to the node, metres: a, b, c, d as in the mesh.
-                let (x0, x1) = (
-                    (cj as f64 - j as f64) * dx,
-                    (cj as f64 + 1.0 - j as f64) * dx,
-                );
-                let (y0, y1) = (
-                    (ci as f64 - i as f64) * dy,
-                    (ci as f64 + 1.0 - i as f64) * dy,
-                );
-                let (a, b, c, d) = (
-                    [x0, y0, za - zt],
-                    [x1, y0, zb - zt],
-                    [x1, y1, zc - zt],
-                    [x0, y1, zd - zt],
-                );
+                let (x0, x1) = ((cj as f64 - j as f64) * dx, (cj as f64 + 1.0 - j as f64) * dx);
+                let (y0, y1) = ((ci as f64 - i as f64) * dy, (ci as f64 + 1.0 - i as f64) * dy);
+                let (a, b, c, d) = ([x0, y0, za - zt], [x1, y0, zb - zt], [x1, y1, zc - zt], [x0, y1, zd - zt]);
                 let away = x0 > 0.0 || x1 < 0.0 || y0 > 0.0 || y1 < 0.0;
                 // The nearest distance of the cell, for a cell away from the node.
                 let (gap_x, gap_y) = (x0.max(-x1).max(0.0), y0.max(-y1).max(0.0));
@@ -128,14 +117,8 @@ impl Skyline {
         // every pseudo-angle, then every bound is rounded up to a level (with a margin of 1e-9).
         let mut codes = [0u8; SECTORS];
         for (k, code) in codes.iter_mut().enumerate() {
-            let wide = bound[(k + SECTORS - 1) % SECTORS]
-                .max(bound[k])
-                .max(bound[(k + 1) % SECTORS]);
-            *code = if wide == f64::NEG_INFINITY {
-                0
-            } else {
-                level_above(wide + 1e-9 * (1.0 + wide.abs()))
-            };
+            let wide = bound[(k + SECTORS - 1) % SECTORS].max(bound[k]).max(bound[(k + 1) % SECTORS]);
+            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(wide + 1e-9 * (1.0 + wide.abs())) };
         }
         Skyline(codes)
     }
@@ -209,18 +192,12 @@ fn wedge(bound: &mut [f64; SECTORS], p: [f64; 3], q: [f64; 3]) {
 /// in [`wedge`], over the sectors of the corners' directions.
 fn away_from(bound: &mut [f64; SECTORS], tri: [[f64; 3]; 3], near: f64) {
     let [p, q, r] = tri;
-    let (e1, e2) = (
-        [q[0] - p[0], q[1] - p[1], q[2] - p[2]],
-        [r[0] - p[0], r[1] - p[1], r[2] - p[2]],
-    );
+    let (e1, e2) = ([q[0] - p[0], q[1] - p[1], q[2] - p[2]], [r[0] - p[0], r[1] - p[1], r[2] - p[2]]);
     let det = e1[0] * e2[1] - e2[0] * e1[1];
     let gx = (e1[2] * e2[1] - e2[2] * e1[1]) / det;
     let gy = (e1[0] * e2[2] - e2[0] * e1[2]) / det;
     let h0 = p[2] - gx * p[0] - gy * p[1];
-    let far = tri
-        .iter()
-        .map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt())
-        .fold(0.0, f64::max);
+    let far = tri.iter().map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt()).fold(0.0, f64::max);
     let lift = if h0 > 0.0 { h0 / near } else { h0 / far };
     let g_sector = gradient_sector(gx, gy);
     // The triangle lies in a half-plane through the node; one below the x axis has its
@@ -233,8 +210,9 @@ fn away_from(bound: &mut [f64; SECTORS], tri: [[f64; 3]; 3], near: f64) {
         lo = lo.min(a);
         hi = hi.max(a);
     }
-    for k in sector_of(lo)..=sector_of(hi) {
-        bound[k] = bound[k].max(lift + steepest_in(k, gx, gy, g_sector));
+    let first = sector_of(lo);
+    for (k, b) in bound.iter_mut().enumerate().take(sector_of(hi) + 1).skip(first) {
+        *b = b.max(lift + steepest_in(k, gx, gy, g_sector));
     }
 }
 
@@ -262,9 +240,7 @@ mod tests {
 
     #[test]
     fn levels_round_up_and_are_tight() {
-        for &s in &[
-            -1e9, -81.0, -3.0, -0.5, -1e-12, 0.0, 1e-12, 0.3, 1.0, 7.5, 80.0, 1e9,
-        ] {
+        for &s in &[-1e9, -81.0, -3.0, -0.5, -1e-12, 0.0, 1e-12, 0.3, 1.0, 7.5, 80.0, 1e9] {
             let q = level_above(s) as usize;
             assert!(LEVELS[q] >= s, "{s}");
             assert!(q == 0 || LEVELS[q - 1] < s, "{s}");
@@ -290,19 +266,9 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         for case in 0..40 {
             let (ny, nx) = (9, 10);
-            let (dx, dy) = if case % 3 == 0 {
-                (0.5, 0.8)
-            } else {
-                (1.0, 1.0)
-            };
+            let (dx, dy) = if case % 3 == 0 { (0.5, 0.8) } else { (1.0, 1.0) };
             let z: Vec<f64> = (0..ny * nx)
-                .map(|_| {
-                    if case % 5 == 4 && rng.random::<f64>() < 0.1 {
-                        f64::NAN
-                    } else {
-                        rng.random_range(-2.0..2.0)
-                    }
-                })
+                .map(|_| if case % 5 == 4 && rng.random::<f64>() < 0.1 { f64::NAN } else { rng.random_range(-2.0..2.0) })
                 .collect();
             let hf = HeightField::new(z.clone(), ny, nx, dx, dy, 0.0, 0.0);
             let Ok(hf) = hf else { continue };
@@ -331,11 +297,7 @@ mod tests {
                                     }
                                     let k = sector_of(pseudo_angle(px, py));
                                     let slope = (p.z - zt) / rho;
-                                    assert!(
-                                        slope <= sky.slope(k) + 1e-9,
-                                        "case {case} node ({i}, {j}) slope {slope} > {}",
-                                        sky.slope(k)
-                                    );
+                                    assert!(slope <= sky.slope(k) + 1e-9, "case {case} node ({i}, {j}) slope {slope} > {}", sky.slope(k));
                                 }
                             }
                         }

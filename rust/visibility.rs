@@ -56,10 +56,7 @@ enum Points {
     Given(Vec<Point>),
     /// The vertices of a grid surface, generated when needed: for chunk `c`, the first node of
     /// the chunk (the rest follow in row-major order, skipping unused nodes).
-    GridNodes {
-        surface: Arc<Surface>,
-        chunk_start: Vec<usize>,
-    },
+    GridNodes { surface: Arc<Surface>, chunk_start: Vec<usize> },
 }
 
 impl Targets {
@@ -70,42 +67,18 @@ impl Targets {
     /// value, or all weights are zero.
     pub fn new(points: Vec<Point>, weights: Option<Vec<f64>>) -> Result<Self> {
         ensure!(!points.is_empty(), "there must be at least one target");
-        ensure!(
-            points.iter().all(|q| q.iter().all(|c| c.is_finite())),
-            "target coordinates must be finite"
-        );
+        ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "target coordinates must be finite");
         let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
-        ensure!(
-            weights.len() == points.len(),
-            "{} weights for {} targets",
-            weights.len(),
-            points.len()
-        );
+        ensure!(weights.len() == points.len(), "{} weights for {} targets", weights.len(), points.len());
         let chunk_bounds = points.chunks(CHUNK).map(bounds).collect();
         Self::finish(Points::Given(points), weights, chunk_bounds)
     }
 
-    fn finish(
-        points: Points,
-        weights: Vec<f64>,
-        chunk_bounds: Vec<(Point, Point)>,
-    ) -> Result<Self> {
-        ensure!(
-            weights.iter().all(|w| w.is_finite() && *w >= 0.0),
-            "target weights must be finite and >= 0"
-        );
+    fn finish(points: Points, weights: Vec<f64>, chunk_bounds: Vec<(Point, Point)>) -> Result<Self> {
+        ensure!(weights.iter().all(|w| w.is_finite() && *w >= 0.0), "target weights must be finite and >= 0");
         let total_weight: f64 = weights.iter().sum();
-        ensure!(
-            total_weight.is_finite() && total_weight > 0.0,
-            "target weights are all zero or sum to infinity"
-        );
-        Ok(Self {
-            points,
-            len: weights.len(),
-            weights,
-            total_weight,
-            chunk_bounds,
-        })
+        ensure!(total_weight.is_finite() && total_weight > 0.0, "target weights are all zero or sum to infinity");
+        Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds })
     }
 
     /// The surface's default targets (see [`default_targets`]).
@@ -121,11 +94,9 @@ impl Targets {
     /// # Errors
     /// [`Error::InvalidInput`] when the surface was not built from a grid.
     pub fn grid_nodes(surface: Arc<Surface>) -> Result<Self> {
-        let field = surface.heightfield().ok_or_else(|| {
-            Error::InvalidInput(
-                "grid-node targets need a surface built from an elevation grid".into(),
-            )
-        })?;
+        let field = surface
+            .heightfield()
+            .ok_or_else(|| Error::InvalidInput("grid-node targets need a surface built from an elevation grid".into()))?;
         let g = field.grid();
         let weights = field.vertex_weights();
         let mut chunk_start = Vec::with_capacity(weights.len().div_ceil(CHUNK));
@@ -148,14 +119,7 @@ impl Targets {
             chunk_bounds.push(bounds(&chunk));
         }
         drop(chunk);
-        Self::finish(
-            Points::GridNodes {
-                surface,
-                chunk_start,
-            },
-            weights,
-            chunk_bounds,
-        )
+        Self::finish(Points::GridNodes { surface, chunk_start }, weights, chunk_bounds)
     }
 
     /// Whether the points are generated from a grid surface rather than stored.
@@ -180,16 +144,9 @@ impl Targets {
     /// Appends the points of chunk `c` to `out`.
     fn chunk_points(&self, c: usize, out: &mut Vec<Point>) {
         match &self.points {
-            Points::Given(p) => {
-                out.extend_from_slice(&p[c * CHUNK..((c + 1) * CHUNK).min(p.len())])
-            }
-            Points::GridNodes {
-                surface,
-                chunk_start,
-            } => {
-                let g = surface
-                    .grid()
-                    .expect("grid-node targets hold a grid surface");
+            Points::Given(p) => out.extend_from_slice(&p[c * CHUNK..((c + 1) * CHUNK).min(p.len())]),
+            Points::GridNodes { surface, chunk_start } => {
+                let g = surface.grid().expect("grid-node targets hold a grid surface");
                 let n = self.chunk_len(c);
                 let k0 = chunk_start[c];
                 // Walk row by row instead of dividing each node index by the row length.
@@ -214,16 +171,10 @@ impl Targets {
 
     /// The [`Skyline`] of each target of chunk `c`, for grid-node targets (`None` otherwise).
     fn chunk_skylines(&self, c: usize) -> Option<Box<[Skyline]>> {
-        let Points::GridNodes {
-            surface,
-            chunk_start,
-        } = &self.points
-        else {
+        let Points::GridNodes { surface, chunk_start } = &self.points else {
             return None;
         };
-        let g = surface
-            .grid()
-            .expect("grid-node targets hold a grid surface");
+        let g = surface.grid().expect("grid-node targets hold a grid surface");
         let n = self.chunk_len(c);
         let mut out = Vec::with_capacity(n);
         let (mut i, mut j) = (chunk_start[c] / g.nx, chunk_start[c] % g.nx);
@@ -277,9 +228,7 @@ fn bounds(points: &[Point]) -> (Point, Point) {
 }
 
 fn squared_distance_to_box(q: Point, (lo, hi): (Point, Point)) -> f64 {
-    (0..3)
-        .map(|k| (lo[k] - q[k]).max(0.0).max(q[k] - hi[k]).powi(2))
-        .sum()
+    (0..3).map(|k| (lo[k] - q[k]).max(0.0).max(q[k] - hi[k]).powi(2)).sum()
 }
 
 #[inline]
@@ -321,9 +270,7 @@ impl std::str::FromStr for Path {
             "auto" => Ok(Path::Auto),
             "mesh" => Ok(Path::Mesh),
             "grid" => Ok(Path::Grid),
-            _ => Err(Error::InvalidInput(format!(
-                "method must be 'auto', 'mesh' or 'grid', got {s:?}"
-            ))),
+            _ => Err(Error::InvalidInput(format!("method must be 'auto', 'mesh' or 'grid', got {s:?}"))),
         }
     }
 }
@@ -361,29 +308,15 @@ impl Visibility {
     /// # Errors
     /// As [`Visibility::new`]; [`Error::InvalidInput`] for [`Path::Grid`] on a surface that is not
     /// a grid; [`Error::TooLarge`] for [`Path::Mesh`] on a grid too large for the mesh path.
-    pub fn with_path(
-        surface: Arc<Surface>,
-        targets: Targets,
-        d_max: f64,
-        path: Path,
-    ) -> Result<Self> {
-        ensure!(
-            d_max.is_finite() && d_max > 0.0,
-            "d_max must be finite and > 0, got {d_max}"
-        );
+    pub fn with_path(surface: Arc<Surface>, targets: Targets, d_max: f64, path: Path) -> Result<Self> {
+        ensure!(d_max.is_finite() && d_max > 0.0, "d_max must be finite and > 0, got {d_max}");
         if let Points::GridNodes { surface: own, .. } = &targets.points {
-            ensure!(
-                Arc::ptr_eq(own, &surface),
-                "grid-node targets belong to another surface"
-            );
+            ensure!(Arc::ptr_eq(own, &surface), "grid-node targets belong to another surface");
         }
         let grid_path = match path {
             Path::Auto => surface.heightfield().is_some(),
             Path::Grid => {
-                ensure!(
-                    surface.heightfield().is_some(),
-                    "the grid path needs a surface built from an elevation grid"
-                );
+                ensure!(surface.heightfield().is_some(), "the grid path needs a surface built from an elevation grid");
                 true
             }
             Path::Mesh => {
@@ -392,18 +325,10 @@ impl Visibility {
             }
         };
         let skylines = (grid_path && targets.is_grid_nodes()).then(|| SkylineCache {
-            touched: (0..targets.n_chunks())
-                .map(|_| AtomicBool::new(false))
-                .collect(),
+            touched: (0..targets.n_chunks()).map(|_| AtomicBool::new(false)).collect(),
             built: (0..targets.n_chunks()).map(|_| OnceLock::new()).collect(),
         });
-        Ok(Self {
-            surface,
-            targets,
-            d_max,
-            grid_path,
-            skylines,
-        })
+        Ok(Self { surface, targets, d_max, grid_path, skylines })
     }
 
     /// The surface.
@@ -432,10 +357,7 @@ impl Visibility {
 
     fn check_uavs(uavs: &[Point]) -> Result<()> {
         ensure!(!uavs.is_empty(), "there must be at least one UAV");
-        ensure!(
-            uavs.iter().all(|q| q.iter().all(|c| c.is_finite())),
-            "UAV coordinates must be finite"
-        );
+        ensure!(uavs.iter().all(|q| q.iter().all(|c| c.is_finite())), "UAV coordinates must be finite");
         Ok(())
     }
 
@@ -448,9 +370,7 @@ impl Visibility {
         let b = self.targets.chunk_bounds[chunk];
         into.extend((0..uavs.len()).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2));
         let centre = [0, 1, 2].map(|k| 0.5 * (b.0[k] + b.1[k]));
-        into.sort_by(|&u, &w| {
-            squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre))
-        });
+        into.sort_by(|&u, &w| squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre)));
     }
 
     /// The skylines of chunk `c`'s targets, when it has them or is evaluated a second time.
@@ -462,28 +382,15 @@ impl Visibility {
         if !cache.touched[c].swap(true, Ordering::Relaxed) {
             return None; // first evaluation of this chunk
         }
-        Some(
-            cache.built[c]
-                .get_or_init(|| self.targets.chunk_skylines(c).expect("grid-node targets")),
-        )
+        Some(cache.built[c].get_or_init(|| self.targets.chunk_skylines(c).expect("grid-node targets")))
     }
 
     /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
     /// horizon here, in parallel).
     fn engine(&self, uavs: &[Point]) -> Engine<'_> {
         match (self.grid_path, self.surface.heightfield()) {
-            (true, Some(field)) => Engine::Grid(
-                field,
-                uavs.par_iter()
-                    .map(|&u| field.horizon(u, self.d_max))
-                    .collect(),
-            ),
-            _ => Engine::Mesh(
-                self.surface
-                    .triangle_mesh()
-                    .expect("checked when the objective was built"),
-                uavs.to_vec(),
-            ),
+            (true, Some(field)) => Engine::Grid(field, uavs.par_iter().map(|&u| field.horizon(u, self.d_max)).collect()),
+            _ => Engine::Mesh(self.surface.triangle_mesh().expect("checked when the objective was built"), uavs.to_vec()),
         }
     }
 
@@ -513,13 +420,10 @@ impl Visibility {
                             .enumerate()
                             .map(|(t, &q)| {
                                 let sky = skylines.map(|s| &s[t]);
-                                let order = std::iter::once(last)
-                                    .chain((0..near.len()).filter(|&k| k != last));
+                                let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
                                 for k in order {
                                     let u = near[k];
-                                    if squared_distance(uavs[u], q) <= d2
-                                        && engine.line_of_sight(u, q, sky)
-                                    {
+                                    if squared_distance(uavs[u], q) <= d2 && engine.line_of_sight(u, q, sky) {
                                         last = k;
                                         return true;
                                     }
@@ -543,11 +447,7 @@ impl Visibility {
     /// The weighted share of the targets flagged in `mask`.
     pub fn share(&self, mask: &[bool]) -> f64 {
         // A fold from +0.0, not `sum()`, whose empty sum is -0.0.
-        let covered = mask
-            .iter()
-            .zip(&self.targets.weights)
-            .filter(|(s, _)| **s)
-            .fold(0.0, |acc, (_, w)| acc + w);
+        let covered = mask.iter().zip(&self.targets.weights).filter(|(s, _)| **s).fold(0.0, |acc, (_, w)| acc + w);
         (covered / self.targets.total_weight).min(1.0)
     }
 
@@ -565,9 +465,7 @@ impl Visibility {
                     |(seers, points), c| {
                         let mut out = UavCounts::zeros(n, 0.0);
                         let b = self.targets.chunk_bounds[c];
-                        let near: Vec<usize> = (0..n)
-                            .filter(|&i| squared_distance_to_box(uavs[i], b) <= d2)
-                            .collect();
+                        let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
                         if near.is_empty() {
                             return out;
                         }
@@ -578,10 +476,9 @@ impl Visibility {
                             let w = self.targets.weights[c * CHUNK + k];
                             let sky = skylines.map(|s| &s[k]);
                             seers.clear();
-                            seers.extend(near.iter().copied().filter(|&i| {
-                                squared_distance(uavs[i], q) <= d2
-                                    && engine.line_of_sight(i, q, sky)
-                            }));
+                            seers.extend(
+                                near.iter().copied().filter(|&i| squared_distance(uavs[i], q) <= d2 && engine.line_of_sight(i, q, sky)),
+                            );
                             for &i in seers.iter() {
                                 out.seen[i] += 1;
                                 out.seen_weight[i] += w;
@@ -621,25 +518,15 @@ impl Engine<'_> {
     fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>) -> bool {
         match (self, skyline) {
             (Engine::Mesh(mesh, uavs), _) => mesh.line_of_sight(uavs[uav], target),
-            (Engine::Grid(field, horizons), Some(sky)) => {
-                field.line_of_sight_to_node(&horizons[uav], target, sky)
-            }
-            (Engine::Grid(field, horizons), None) => {
-                field.line_of_sight_from(&horizons[uav], target)
-            }
+            (Engine::Grid(field, horizons), Some(sky)) => field.line_of_sight_to_node(&horizons[uav], target, sky),
+            (Engine::Grid(field, horizons), None) => field.line_of_sight_from(&horizons[uav], target),
         }
     }
 }
 
 impl UavCounts {
     fn zeros(n: usize, total_weight: f64) -> Self {
-        Self {
-            seen: vec![0; n],
-            exclusive: vec![0; n],
-            seen_weight: vec![0.0; n],
-            exclusive_weight: vec![0.0; n],
-            total_weight,
-        }
+        Self { seen: vec![0; n], exclusive: vec![0; n], seen_weight: vec![0.0; n], exclusive_weight: vec![0.0; n], total_weight }
     }
 }
 
@@ -692,22 +579,14 @@ mod tests {
     #[test]
     fn thread_count_does_not_change_results() {
         let n = 60;
-        let z: Vec<f64> = (0..n * n)
-            .map(|k| ((k % n) as f64 * 0.3).sin() * 4.0 + ((k / n) as f64 * 0.2).cos() * 3.0)
-            .collect();
+        let z: Vec<f64> = (0..n * n).map(|k| ((k % n) as f64 * 0.3).sin() * 4.0 + ((k / n) as f64 * 0.2).cos() * 3.0).collect();
         let s = Arc::new(Surface::from_grid(z, n, n, 1.0, 1.0, 0.0, 0.0).unwrap());
         let vis = Visibility::new(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 20.0).unwrap();
         let uavs = [[10.0, 10.0, 9.0], [40.0, 30.0, 8.0], [50.0, 50.0, 12.0]];
         let one = vis.seen(&uavs, 1).unwrap();
         assert_eq!(one, vis.seen(&uavs, 2).unwrap());
-        assert_eq!(
-            vis.coverage(&uavs, 1).unwrap(),
-            vis.coverage(&uavs, 3).unwrap()
-        );
-        assert_eq!(
-            vis.per_uav(&uavs, 1).unwrap(),
-            vis.per_uav(&uavs, 2).unwrap()
-        );
+        assert_eq!(vis.coverage(&uavs, 1).unwrap(), vis.coverage(&uavs, 3).unwrap());
+        assert_eq!(vis.per_uav(&uavs, 1).unwrap(), vis.per_uav(&uavs, 2).unwrap());
         assert!(one.iter().any(|&v| v) && one.iter().any(|&v| !v));
     }
 
@@ -737,23 +616,11 @@ mod tests {
         let grid = Visibility::with_path(s.clone(), targets.clone(), 9.0, Path::Auto).unwrap();
         let mesh = Visibility::with_path(s.clone(), targets, 9.0, Path::Mesh).unwrap();
         assert_eq!((grid.path(), mesh.path()), (Path::Grid, Path::Mesh));
-        let nodes =
-            Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 9.0).unwrap();
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 9.0).unwrap();
         assert!(nodes.targets().is_grid_nodes());
-        assert_eq!(
-            nodes.targets().points().as_ref(),
-            grid.targets().points().as_ref()
-        );
+        assert_eq!(nodes.targets().points().as_ref(), grid.targets().points().as_ref());
         assert_eq!(nodes.targets().weights(), grid.targets().weights());
-        let uavs: Vec<Point> = (0..6)
-            .map(|k| {
-                [
-                    103.0 + 4.0 * k as f64,
-                    -5.0 + 3.5 * k as f64,
-                    4.0 + k as f64,
-                ]
-            })
-            .collect();
+        let uavs: Vec<Point> = (0..6).map(|k| [103.0 + 4.0 * k as f64, -5.0 + 3.5 * k as f64, 4.0 + k as f64]).collect();
         for n in 1..=uavs.len() {
             let u = &uavs[..n];
             let seen = mesh.seen(u, 1).unwrap();
@@ -774,13 +641,7 @@ mod tests {
         let t = || Targets::of_surface(&s, 1.0).unwrap();
         assert_eq!("grid".parse::<Path>().unwrap(), Path::Grid);
         assert!("bvh".parse::<Path>().is_err());
-        let mesh = Arc::new(
-            Surface::new(
-                vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
-                vec![[0, 1, 2]],
-            )
-            .unwrap(),
-        );
+        let mesh = Arc::new(Surface::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]).unwrap());
         assert!(Visibility::with_path(mesh.clone(), t(), 5.0, Path::Grid).is_err());
         assert!(Targets::grid_nodes(mesh.clone()).is_err());
         assert_eq!(Visibility::new(mesh, t(), 5.0).unwrap().path(), Path::Mesh);
@@ -794,9 +655,7 @@ mod tests {
         let n = 2300;
         let s = Arc::new(Surface::from_grid(vec![0.0; n * n], n, n, 1.0, 1.0, 0.0, 0.0).unwrap());
         let targets = Targets::new(vec![[10.0, 10.0, 0.0]], None).unwrap();
-        let err = Visibility::with_path(s.clone(), targets.clone(), 5.0, Path::Mesh)
-            .err()
-            .unwrap();
+        let err = Visibility::with_path(s.clone(), targets.clone(), 5.0, Path::Mesh).err().unwrap();
         assert!(matches!(err, crate::error::Error::TooLarge(_)), "{err:?}");
         let vis = Visibility::new(s, targets, 5.0).unwrap();
         assert_eq!(vis.seen(&[[10.0, 12.0, 3.0]], 1).unwrap(), vec![true]);

@@ -8,14 +8,8 @@ use super::{invalid, points, points_to_py, to_py_err};
 use crate::cvt::{self, Settings, Weights};
 
 /// `(generators (N, 3), moves (K,), drift (K,), energy (K,), iterations, converged)`.
-type RunOutput<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    usize,
-    bool,
-);
+type RunOutput<'py> =
+    (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, usize, bool);
 
 /// The probabilistic MacQueen CVT; static methods only (one class keeps the module's names few).
 #[pyclass(module = "uavcov._core", frozen, name = "CVT")]

@@ -34,9 +34,8 @@ impl PySurface {
         for (k, r) in f.rows().into_iter().enumerate() {
             let mut t = [0u32; 3];
             for c in 0..3 {
-                t[c] = u32::try_from(r[c]).map_err(|_| {
-                    to_py_err(py, Error::Mesh(format!("face {k} has index {} outside [0, {})", r[c], verts.len())))
-                })?;
+                t[c] = u32::try_from(r[c])
+                    .map_err(|_| to_py_err(py, Error::Mesh(format!("face {k} has index {} outside [0, {})", r[c], verts.len()))))?;
             }
             tris.push(t);
         }
@@ -95,11 +94,7 @@ impl PySurface {
     }
 
     /// `density` evenly spread points per m^2: `(points (T, 3), weights (T,))`.
-    fn area_targets<'py>(
-        &self,
-        py: Python<'py>,
-        density: f64,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+    fn area_targets<'py>(&self, py: Python<'py>, density: f64) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
         let s = self.inner.clone();
         let (pts, w) = py.detach(|| sampling::area_targets(&s, density)).map_err(|e| to_py_err(py, e))?;
         Ok((points_to_py(py, pts), w.into_pyarray(py)))
@@ -131,7 +126,12 @@ impl PySurface {
 
     /// The closest surface point to each point.
     #[pyo3(signature = (points, n_threads=0))]
-    fn closest_point<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn closest_point<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
         Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))))
@@ -156,4 +156,3 @@ impl PySurface {
         Ok(parallel_map(py, n_threads, &pairs, |&(p, q)| s.segment_clear(p, q)).into_pyarray(py))
     }
 }
-
