@@ -15,11 +15,11 @@
 //!
 //! ```
 //! use uavcov::heightfield::HeightField;
-//! use uavcov::skyline::{Skyline, SECTORS};
+//! use uavcov::skyline::{Stencil, SECTORS};
 //! // A plane rising 0.5 m per metre along +x.
 //! let z: Vec<f64> = (0..49).map(|k| 0.5 * (k % 7) as f64).collect();
 //! let hf = HeightField::new(z, 7, 7, 1.0, 1.0, 0.0, 0.0).unwrap();
-//! let sky = Skyline::of_node(hf.grid(), 3, 3);
+//! let sky = Stencil::of_grid(hf.grid()).skyline(hf.grid(), 3, 3);
 //! assert!(sky.slope(0) >= 0.5 && sky.slope(0) < 0.6); // towards +x: the plane's own slope
 //! assert!(sky.slope(SECTORS / 2) < 0.0); // towards -x the surface falls away
 //! ```
@@ -37,7 +37,7 @@ pub const SECTORS: usize = 32;
 
 /// How far a skyline reaches, in cells: every point within `REACH * min(dx, dy)` of the node
 /// horizontally is accounted for.
-pub const REACH: usize = 3;
+pub const REACH: usize = 4;
 
 /// Slope levels: `LEVELS[q]` is the slope that code `q` stands for, strictly increasing, evenly
 /// spaced in angle from straight down to straight up; the last is `+inf`.
@@ -68,152 +68,195 @@ impl Skyline {
     pub fn slope(&self, k: usize) -> f64 {
         LEVELS[self.0[k] as usize]
     }
+}
 
-    /// The skyline of node `(i, j)` (row, column) of `grid`, whose height must not be nodata.
-    pub fn of_node(grid: &Grid, i: usize, j: usize) -> Self {
+/// The geometry shared by the skylines of every node of a grid: for each cell within [`REACH`]
+/// of a node, where its two triangles lie from the node (distances and sectors), which depends
+/// on the spacing only. Built once per grid; a skyline then only reads heights.
+#[derive(Debug, Clone)]
+pub struct Stencil {
+    cells: Vec<Cell>,
+    /// Unit vectors along the sector boundaries: `edges[k]` at pseudo-angle `4k / SECTORS`.
+    edges: [(f64, f64); SECTORS + 1],
+    /// Cell size, metres.
+    dx: f64,
+    dy: f64,
+}
+
+/// A cell of the stencil: its offset from the node in cells (row, column) and its triangles
+/// `[a, b, c]` and `[a, c, d]`.
+#[derive(Debug, Clone)]
+struct Cell {
+    di: isize,
+    dj: isize,
+    tris: [Shape; 2],
+}
+
+/// Where a triangle lies from the node.
+#[derive(Debug, Clone, Copy)]
+enum Shape {
+    /// The node is one of its corners: its slope from the node is exactly `g . u`.
+    Through(Span),
+    /// Clear of the node, at horizontal distances in `[1 / inv_near, 1 / inv_far]`.
+    Away { inv_near: f64, inv_far: f64, span: Span },
+}
+
+/// Sectors `first..=last`, or across +x when `first > last` (`first..SECTORS`, then `0..=last`).
+#[derive(Debug, Clone, Copy)]
+struct Span {
+    first: usize,
+    last: usize,
+}
+
+impl Stencil {
+    /// The stencil of a grid with cells of `dx` by `dy` metres.
+    pub fn new(dx: f64, dy: f64) -> Self {
+        let reach = REACH as isize;
+        let mut cells = Vec::with_capacity(4 * REACH * REACH);
+        for di in -reach..reach {
+            for dj in -reach..reach {
+                // Corners relative to the node, metres: a, b, c, d as in the mesh.
+                let (x0, x1) = (dj as f64 * dx, (dj + 1) as f64 * dx);
+                let (y0, y1) = (di as f64 * dy, (di + 1) as f64 * dy);
+                let (a, b, c, d) = ((x0, y0), (x1, y0), (x1, y1), (x0, y1));
+                let away = x0 > 0.0 || x1 < 0.0 || y0 > 0.0 || y1 < 0.0;
+                let (gap_x, gap_y) = (x0.max(-x1).max(0.0), y0.max(-y1).max(0.0));
+                let cell_near = (gap_x * gap_x + gap_y * gap_y).sqrt();
+                let shape = |tri: [(f64, f64); 3]| {
+                    if !away {
+                        if let Some(at) = tri.iter().position(|p| *p == (0.0, 0.0)) {
+                            return Shape::Through(wedge_span(tri[(at + 1) % 3], tri[(at + 2) % 3]));
+                        }
+                    }
+                    let near = if away {
+                        cell_near
+                    } else {
+                        // The triangle across the diagonal a-c from the node: no nearer than
+                        // the line through a and c.
+                        let (ex, ey) = (c.0 - a.0, c.1 - a.1);
+                        (a.0 * ey - a.1 * ex).abs() / (ex * ex + ey * ey).sqrt()
+                    };
+                    let far = tri.iter().map(|p| (p.0 * p.0 + p.1 * p.1).sqrt()).fold(0.0, f64::max);
+                    Shape::Away { inv_near: 1.0 / near, inv_far: 1.0 / far, span: corner_span(&tri) }
+                };
+                cells.push(Cell { di, dj, tris: [shape([a, b, c]), shape([a, c, d])] });
+            }
+        }
+        let mut edges = [(0.0, 0.0); SECTORS + 1];
+        for (k, e) in edges.iter_mut().enumerate() {
+            *e = direction(4.0 * k as f64 / SECTORS as f64);
+        }
+        Self { cells, edges, dx, dy }
+    }
+
+    /// The stencil of `grid`.
+    pub fn of_grid(grid: &Grid) -> Self {
+        Self::new(grid.dx, grid.dy)
+    }
+
+    /// The skyline of node `(i, j)` (row, column) of `grid` (whose spacing is the stencil's),
+    /// whose height must not be nodata.
+    pub fn skyline(&self, grid: &Grid, i: usize, j: usize) -> Skyline {
+        debug_assert!(grid.dx == self.dx && grid.dy == self.dy);
         let nx = grid.nx;
         let z = &grid.z;
         let zt = z[i * nx + j];
         debug_assert!(zt.is_finite());
-        let (dx, dy) = (grid.dx, grid.dy);
+        let (inv_dx, inv_dy) = (1.0 / self.dx, 1.0 / self.dy);
+        let (rows, cols) = ((grid.ny - 1) as isize, (nx - 1) as isize);
         let mut bound = [f64::NEG_INFINITY; SECTORS];
-        let rows = i.saturating_sub(REACH)..(i + REACH).min(grid.ny - 1);
-        let cols = j.saturating_sub(REACH)..(j + REACH).min(nx - 1);
-        for ci in rows {
-            for cj in cols.clone() {
-                let row = ci * nx + cj;
-                let (za, zb, zc, zd) = (z[row], z[row + 1], z[row + nx + 1], z[row + nx]);
-                if za.is_nan() || zc.is_nan() {
-                    continue; // both triangles use the diagonal a-c
+        for cell in &self.cells {
+            let (ci, cj) = (i as isize + cell.di, j as isize + cell.dj);
+            if ci < 0 || cj < 0 || ci >= rows || cj >= cols {
+                continue; // off the grid: no surface
+            }
+            let row = ci as usize * nx + cj as usize;
+            let (za, zb, zc, zd) = (z[row], z[row + 1], z[row + nx + 1], z[row + nx]);
+            if za.is_nan() || zc.is_nan() {
+                continue; // both triangles use the diagonal a-c
+            }
+            // The gradients of the planes of [a, b, c] and [a, c, d].
+            let planes = [((zb - za) * inv_dx, (zc - zb) * inv_dy), ((zc - zd) * inv_dx, (zd - za) * inv_dy)];
+            for ((shape, (gx, gy)), present) in cell.tris.iter().zip(planes).zip([!zb.is_nan(), !zd.is_nan()]) {
+                if !present {
+                    continue; // left out of the mesh
                 }
-                // Corners relative to the node, metres: a, b, c, d as in the mesh.
-                let (x0, x1) = ((cj as f64 - j as f64) * dx, (cj as f64 + 1.0 - j as f64) * dx);
-                let (y0, y1) = ((ci as f64 - i as f64) * dy, (ci as f64 + 1.0 - i as f64) * dy);
-                let (a, b, c, d) = ([x0, y0, za - zt], [x1, y0, zb - zt], [x1, y1, zc - zt], [x0, y1, zd - zt]);
-                let away = x0 > 0.0 || x1 < 0.0 || y0 > 0.0 || y1 < 0.0;
-                // The nearest distance of the cell, for a cell away from the node.
-                let (gap_x, gap_y) = (x0.max(-x1).max(0.0), y0.max(-y1).max(0.0));
-                let cell_near = (gap_x * gap_x + gap_y * gap_y).sqrt();
-                for tri in [[a, b, c], [a, c, d]] {
-                    if tri[1][2].is_nan() {
-                        continue; // left out of the mesh
+                let (lift, span) = match *shape {
+                    Shape::Through(span) => (0.0, span),
+                    Shape::Away { inv_near, inv_far, span } => {
+                        // The plane's height over the node: slope h0 / rho + g . u from it.
+                        let h0 = za - zt - gx * (cell.dj as f64 * self.dx) - gy * (cell.di as f64 * self.dy);
+                        (if h0 > 0.0 { h0 * inv_near } else { h0 * inv_far }, span)
                     }
-                    let near = if away {
-                        cell_near
-                    } else if let Some(at) = tri.iter().position(|p| p[0] == 0.0 && p[1] == 0.0) {
-                        wedge(&mut bound, tri[(at + 1) % 3], tri[(at + 2) % 3]);
-                        continue;
-                    } else {
-                        // The triangle across the diagonal a-c from the node: no nearer than
-                        // the line through a and c.
-                        let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
-                        (a[0] * ey - a[1] * ex).abs() / (ex * ex + ey * ey).sqrt()
-                    };
-                    away_from(&mut bound, tri, near);
+                };
+                // The largest value of g . u over the unit vectors u of a sector: a sinusoid in
+                // the angle, so |g| when g points into the sector, else its value at an end.
+                let steepest = (gx * gx + gy * gy).sqrt();
+                let len = if span.first <= span.last { span.last - span.first + 1 } else { SECTORS - span.first + span.last + 1 };
+                let (ex, ey) = self.edges[span.first];
+                let (mut dot, mut right_of) = (gx * ex + gy * ey, ex * gy - ey * gx >= 0.0);
+                for t in 0..len {
+                    let k = (span.first + t) % SECTORS;
+                    let (fx, fy) = self.edges[k + 1];
+                    let (next_dot, next_right_of) = (gx * fx + gy * fy, fx * gy - fy * gx >= 0.0);
+                    let top = lift + if right_of && !next_right_of { steepest } else { dot.max(next_dot) };
+                    bound[k] = bound[k].max(top);
+                    (dot, right_of) = (next_dot, next_right_of);
                 }
             }
         }
         // Each sector also answers for its neighbours' directions, which absorbs the rounding of
         // every pseudo-angle, then every bound is rounded up to a level (with a margin of 1e-9).
+        let levels: &[f64; 256] = &LEVELS;
         let mut codes = [0u8; SECTORS];
         for (k, code) in codes.iter_mut().enumerate() {
             let wide = bound[(k + SECTORS - 1) % SECTORS].max(bound[k]).max(bound[(k + 1) % SECTORS]);
-            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(wide + 1e-9 * (1.0 + wide.abs())) };
+            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(levels, wide + 1e-9 * (1.0 + wide.abs())) };
         }
         Skyline(codes)
     }
 }
 
-/// The code of the smallest level at or above `slope` (NaN: the top level, `+inf`).
-fn level_above(slope: f64) -> u8 {
+/// The code of the smallest level at or above `slope` (NaN: the top level, `+inf`), by halving.
+fn level_above(levels: &[f64; 256], slope: f64) -> u8 {
     if slope.is_nan() {
         return 255;
     }
-    let step = std::f64::consts::PI / 256.0;
-    let guess = ((slope.atan() + std::f64::consts::FRAC_PI_2) / step).ceil() as isize - 1;
-    let mut q = guess.clamp(0, 255) as usize;
-    while q > 0 && LEVELS[q - 1] >= slope {
-        q -= 1;
+    let mut lo = 0usize; // levels[q] >= slope for the answer q in [lo, lo + n)
+    let mut n = 256usize;
+    while n > 1 {
+        let half = n / 2;
+        lo += half * usize::from(levels[lo + half - 1] < slope);
+        n -= half;
     }
-    while LEVELS[q] < slope {
-        q += 1; // LEVELS[255] is +inf: stops there
-    }
-    q as u8
+    lo as u8
 }
 
-/// Unit vectors along the sector boundaries: `EDGES[k]` at pseudo-angle `4k / SECTORS`.
-static EDGES: LazyLock<[(f64, f64); SECTORS + 1]> = LazyLock::new(|| {
-    let mut edges = [(0.0, 0.0); SECTORS + 1];
-    for (k, e) in edges.iter_mut().enumerate() {
-        *e = direction(4.0 * k as f64 / SECTORS as f64);
-    }
-    edges
-});
-
-/// The largest value of `gx ux + gy uy` over the unit vectors `u` of sector `k`: a sinusoid in
-/// the angle, so at an end of the sector, or `|g|` when `g` points into it.
-#[inline(always)]
-fn steepest_in(k: usize, gx: f64, gy: f64, g_sector: Option<usize>) -> f64 {
-    if g_sector == Some(k) {
-        return (gx * gx + gy * gy).sqrt();
-    }
-    let ((ax, ay), (bx, by)) = (EDGES[k], EDGES[k + 1]);
-    (gx * ax + gy * ay).max(gx * bx + gy * by)
-}
-
-/// The sector `g` points into, if any (a zero gradient points nowhere).
-fn gradient_sector(gx: f64, gy: f64) -> Option<usize> {
-    (gx != 0.0 || gy != 0.0).then(|| sector_of(pseudo_angle(gx, gy)))
-}
-
-/// Bounds for a triangle through the node; `p` and `q` are its other corners relative to the
-/// node (with heights). Its slope from the node in direction `u` is exactly `g . u`, `g` the
-/// gradient of its plane, over the sectors between its two edges.
-fn wedge(bound: &mut [f64; SECTORS], p: [f64; 3], q: [f64; 3]) {
-    let det = p[0] * q[1] - q[0] * p[1];
-    let gx = (p[2] * q[1] - q[2] * p[1]) / det;
-    let gy = (p[0] * q[2] - q[0] * p[2]) / det;
-    let g_sector = gradient_sector(gx, gy);
-    let (a, b) = (pseudo_angle(p[0], p[1]), pseudo_angle(q[0], q[1]));
+/// The sectors of the wedge between the directions of `p` and `q` (at most a right angle).
+fn wedge_span(p: (f64, f64), q: (f64, f64)) -> Span {
+    let (a, b) = (pseudo_angle(p.0, p.1), pseudo_angle(q.0, q.1));
     let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
-    let mut cover = |k: usize| bound[k] = bound[k].max(steepest_in(k, gx, gy, g_sector));
-    // The wedge is at most a right angle: a pseudo-angle range wider than 2 wraps across +x.
     if hi - lo <= 2.0 {
-        (sector_of(lo)..=sector_of(hi)).for_each(&mut cover);
+        Span { first: sector_of(lo), last: sector_of(hi) }
     } else {
-        (sector_of(hi)..SECTORS).for_each(&mut cover);
-        (0..=sector_of(lo)).for_each(&mut cover);
+        // Wider than 2 in pseudo-angle: the wedge crosses +x.
+        Span { first: sector_of(hi), last: sector_of(lo) }
     }
 }
 
-/// Bounds for a triangle clear of the node, no nearer than `near` (> 0) horizontally. On its
-/// plane `h(P) = h0 + g . (P - node)`, so its slope from the node is `h0 / rho + g . u`: the
-/// first term is bounded by the nearest (h0 > 0) or farthest (h0 <= 0) distance, the second as
-/// in [`wedge`], over the sectors of the corners' directions.
-fn away_from(bound: &mut [f64; SECTORS], tri: [[f64; 3]; 3], near: f64) {
-    let [p, q, r] = tri;
-    let (e1, e2) = ([q[0] - p[0], q[1] - p[1], q[2] - p[2]], [r[0] - p[0], r[1] - p[1], r[2] - p[2]]);
-    let det = e1[0] * e2[1] - e2[0] * e1[1];
-    let gx = (e1[2] * e2[1] - e2[2] * e1[1]) / det;
-    let gy = (e1[0] * e2[2] - e2[0] * e1[2]) / det;
-    let h0 = p[2] - gx * p[0] - gy * p[1];
-    let far = tri.iter().map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt()).fold(0.0, f64::max);
-    let lift = if h0 > 0.0 { h0 / near } else { h0 / far };
-    let g_sector = gradient_sector(gx, gy);
-    // The triangle lies in a half-plane through the node; one below the x axis has its
+/// The sectors of the directions of a polygon clear of the node, from its corners.
+fn corner_span(corners: &[(f64, f64)]) -> Span {
+    // The polygon lies in a half-plane through the node; one below the x axis has its
     // directions along +x at pseudo-angle 4, not 0, so that its range does not wrap.
-    let below = tri.iter().all(|c| c[1] <= 0.0);
+    let below = corners.iter().all(|p| p.1 <= 0.0);
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for c in &tri {
-        let a = pseudo_angle(c[0], c[1]);
+    for p in corners {
+        let a = pseudo_angle(p.0, p.1);
         let a = if below && a == 0.0 { 4.0 } else { a };
         lo = lo.min(a);
         hi = hi.max(a);
     }
-    let first = sector_of(lo);
-    for (k, b) in bound.iter_mut().enumerate().take(sector_of(hi) + 1).skip(first) {
-        *b = b.max(lift + steepest_in(k, gx, gy, g_sector));
-    }
+    Span { first: sector_of(lo), last: sector_of(hi) }
 }
 
 /// The unit vector at pseudo-angle `s` in `[0, 4]` (the inverse of [`pseudo_angle`]).
@@ -241,12 +284,13 @@ mod tests {
     #[test]
     fn levels_round_up_and_are_tight() {
         for &s in &[-1e9, -81.0, -3.0, -0.5, -1e-12, 0.0, 1e-12, 0.3, 1.0, 7.5, 80.0, 1e9] {
-            let q = level_above(s) as usize;
+            let q = level_above(&LEVELS, s) as usize;
             assert!(LEVELS[q] >= s, "{s}");
             assert!(q == 0 || LEVELS[q - 1] < s, "{s}");
         }
-        assert_eq!(level_above(f64::NAN), 255);
-        assert_eq!(level_above(f64::INFINITY), 255);
+        assert_eq!(level_above(&LEVELS, f64::NAN), 255);
+        assert_eq!(level_above(&LEVELS, f64::INFINITY), 255);
+        assert_eq!(level_above(&LEVELS, f64::NEG_INFINITY), 0);
     }
 
     #[test]
@@ -273,6 +317,7 @@ mod tests {
             let hf = HeightField::new(z.clone(), ny, nx, dx, dy, 0.0, 0.0);
             let Ok(hf) = hf else { continue };
             let g = hf.grid();
+            let stencil = Stencil::of_grid(g);
             let reach = REACH as f64 * dx.min(dy);
             for i in 0..ny {
                 for j in 0..nx {
@@ -280,7 +325,7 @@ mod tests {
                     if zt.is_nan() {
                         continue;
                     }
-                    let sky = Skyline::of_node(g, i, j);
+                    let sky = stencil.skyline(g, i, j);
                     for ci in 0..ny - 1 {
                         for cj in 0..nx - 1 {
                             for tri in g.cell_triangles(ci, cj).into_iter().flatten() {

@@ -32,7 +32,7 @@ use crate::error::{ensure, Error, Result};
 use crate::heightfield::{HeightField, Horizon};
 use crate::mesh::{Point, Surface, TriangleMesh};
 use crate::sampling::default_targets;
-use crate::skyline::Skyline;
+use crate::skyline::{Skyline, Stencil};
 use crate::threads;
 
 /// Targets per chunk: small enough to balance very unequal UAV footprints, large enough that
@@ -170,7 +170,7 @@ impl Targets {
     }
 
     /// The [`Skyline`] of each target of chunk `c`, for grid-node targets (`None` otherwise).
-    fn chunk_skylines(&self, c: usize) -> Option<Box<[Skyline]>> {
+    fn chunk_skylines(&self, c: usize, stencil: &Stencil) -> Option<Box<[Skyline]>> {
         let Points::GridNodes { surface, chunk_start } = &self.points else {
             return None;
         };
@@ -180,7 +180,7 @@ impl Targets {
         let (mut i, mut j) = (chunk_start[c] / g.nx, chunk_start[c] % g.nx);
         while out.len() < n {
             if g.vertex_of_node[i * g.nx + j] != u32::MAX {
-                out.push(Skyline::of_node(g, i, j));
+                out.push(stencil.skyline(g, i, j));
             }
             j += 1;
             if j == g.nx {
@@ -290,6 +290,7 @@ pub struct Visibility {
 /// its skylines, while one evaluated again most likely will be, many times over (an optimiser's
 /// loop). The answers are the same with or without them.
 struct SkylineCache {
+    stencil: Stencil,
     touched: Vec<AtomicBool>,
     built: Vec<OnceLock<Box<[Skyline]>>>,
 }
@@ -324,7 +325,9 @@ impl Visibility {
                 false
             }
         };
-        let skylines = (grid_path && targets.is_grid_nodes()).then(|| SkylineCache {
+        let grid = surface.grid().filter(|_| grid_path && targets.is_grid_nodes());
+        let skylines = grid.map(|g| SkylineCache {
+            stencil: Stencil::of_grid(g),
             touched: (0..targets.n_chunks()).map(|_| AtomicBool::new(false)).collect(),
             built: (0..targets.n_chunks()).map(|_| OnceLock::new()).collect(),
         });
@@ -382,7 +385,7 @@ impl Visibility {
         if !cache.touched[c].swap(true, Ordering::Relaxed) {
             return None; // first evaluation of this chunk
         }
-        Some(cache.built[c].get_or_init(|| self.targets.chunk_skylines(c).expect("grid-node targets")))
+        Some(cache.built[c].get_or_init(|| self.targets.chunk_skylines(c, &cache.stencil).expect("grid-node targets")))
     }
 
     /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
