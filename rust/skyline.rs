@@ -26,7 +26,7 @@
 //!
 //! [`HeightField::line_of_sight_to_node`]: crate::heightfield::HeightField::line_of_sight_to_node
 
-use std::sync::LazyLock;
+use std::sync::{LazyLock, Mutex, MutexGuard, PoisonError};
 
 use crate::heightfield::pseudo_angle;
 use crate::mesh::Grid;
@@ -214,6 +214,67 @@ impl Stencil {
             *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(levels, wide + 1e-9 * (1.0 + wide.abs())) };
         }
         Skyline(codes)
+    }
+}
+
+/// The skylines of a set of grid-node targets split into chunks, computed when a sight line to
+/// a target first needs one, from a chunk's second evaluation on: a chunk evaluated once (a
+/// one-off coverage, the edge of a large map) is not worth the cost, while one evaluated again
+/// most likely will be, many times over (an optimiser's loop). Answers never depend on it.
+#[derive(Debug)]
+pub struct Skylines {
+    stencil: Stencil,
+    chunks: Vec<Mutex<Slot>>,
+}
+
+#[derive(Debug)]
+enum Slot {
+    Untouched,
+    Touched,
+    /// One per target of the chunk, [`UNKNOWN`] until computed.
+    Kept(Box<[Skyline]>),
+}
+
+/// A skyline not computed yet (all bounds `+inf`, which clears nothing).
+const UNKNOWN: Skyline = Skyline([255; SECTORS]);
+
+/// The skylines of one chunk, held for one evaluation of it.
+pub struct ChunkSkylines<'a> {
+    slot: MutexGuard<'a, Slot>,
+    stencil: &'a Stencil,
+    grid: &'a Grid,
+}
+
+impl Skylines {
+    /// An empty store for the targets of `grid`, in `n_chunks` chunks.
+    pub fn new(grid: &Grid, n_chunks: usize) -> Self {
+        Self { stencil: Stencil::of_grid(grid), chunks: (0..n_chunks).map(|_| Mutex::new(Slot::Untouched)).collect() }
+    }
+
+    /// The skylines of chunk `c` (`len` targets of `grid`), or `None` on its first evaluation.
+    pub fn chunk<'a>(&'a self, c: usize, len: usize, grid: &'a Grid) -> Option<ChunkSkylines<'a>> {
+        // A panic elsewhere cannot leave a slot half-written: every write is a whole value.
+        let mut slot = self.chunks[c].lock().unwrap_or_else(PoisonError::into_inner);
+        match *slot {
+            Slot::Untouched => {
+                *slot = Slot::Touched;
+                return None;
+            }
+            Slot::Touched => *slot = Slot::Kept(vec![UNKNOWN; len].into_boxed_slice()),
+            Slot::Kept(_) => {}
+        }
+        Some(ChunkSkylines { slot, stencil: &self.stencil, grid })
+    }
+}
+
+impl ChunkSkylines<'_> {
+    /// The skyline of target `t` of the chunk, grid node `node` (row-major index).
+    pub fn get(&mut self, t: usize, node: usize) -> Skyline {
+        let Slot::Kept(kept) = &mut *self.slot else { unreachable!("a chunk is handed out only once kept") };
+        if kept[t] == UNKNOWN {
+            kept[t] = self.stencil.skyline(self.grid, node / self.grid.nx, node % self.grid.nx);
+        }
+        kept[t]
     }
 }
 

@@ -23,8 +23,7 @@
 //! assert_eq!(vis.coverage(&[[5.0, 5.0, 20.0]], 1).unwrap(), 1.0);
 //! ```
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
@@ -32,7 +31,7 @@ use crate::error::{ensure, Error, Result};
 use crate::heightfield::{HeightField, Horizon};
 use crate::mesh::{Point, Surface, TriangleMesh};
 use crate::sampling::default_targets;
-use crate::skyline::{Skyline, Stencil};
+use crate::skyline::{ChunkSkylines, Skyline, Skylines};
 use crate::threads;
 
 /// Targets per chunk: small enough to balance very unequal UAV footprints, large enough that
@@ -169,26 +168,15 @@ impl Targets {
         }
     }
 
-    /// The [`Skyline`] of each target of chunk `c`, for grid-node targets (`None` otherwise).
-    fn chunk_skylines(&self, c: usize, stencil: &Stencil) -> Option<Box<[Skyline]>> {
+    /// Appends the grid nodes (row-major indices) of chunk `c`'s targets to `out`, for grid-node
+    /// targets (nothing otherwise).
+    fn chunk_nodes(&self, c: usize, out: &mut Vec<usize>) {
         let Points::GridNodes { surface, chunk_start } = &self.points else {
-            return None;
+            return;
         };
         let g = surface.grid().expect("grid-node targets hold a grid surface");
-        let n = self.chunk_len(c);
-        let mut out = Vec::with_capacity(n);
-        let (mut i, mut j) = (chunk_start[c] / g.nx, chunk_start[c] % g.nx);
-        while out.len() < n {
-            if g.vertex_of_node[i * g.nx + j] != u32::MAX {
-                out.push(stencil.skyline(g, i, j));
-            }
-            j += 1;
-            if j == g.nx {
-                j = 0;
-                i += 1;
-            }
-        }
-        Some(out.into_boxed_slice())
+        let stop = out.len() + self.chunk_len(c);
+        out.extend((chunk_start[c]..).filter(|&k| g.vertex_of_node[k] != u32::MAX).take(stop - out.len()));
     }
 
     /// The weight of each target.
@@ -281,18 +269,8 @@ pub struct Visibility {
     targets: Targets,
     d_max: f64,
     grid_path: bool,
-    /// For grid-node targets on the grid path, one slot per chunk.
-    skylines: Option<SkylineCache>,
-}
-
-/// The [`Skyline`]s of grid-node targets, built for a chunk the second time it is evaluated:
-/// a chunk evaluated once (a one-off coverage, the edge of a large map) is not worth the cost of
-/// its skylines, while one evaluated again most likely will be, many times over (an optimiser's
-/// loop). The answers are the same with or without them.
-struct SkylineCache {
-    stencil: Stencil,
-    touched: Vec<AtomicBool>,
-    built: Vec<OnceLock<Box<[Skyline]>>>,
+    /// For grid-node targets on the grid path.
+    skylines: Option<Skylines>,
 }
 
 impl Visibility {
@@ -326,11 +304,7 @@ impl Visibility {
             }
         };
         let grid = surface.grid().filter(|_| grid_path && targets.is_grid_nodes());
-        let skylines = grid.map(|g| SkylineCache {
-            stencil: Stencil::of_grid(g),
-            touched: (0..targets.n_chunks()).map(|_| AtomicBool::new(false)).collect(),
-            built: (0..targets.n_chunks()).map(|_| OnceLock::new()).collect(),
-        });
+        let skylines = grid.map(|g| Skylines::new(g, targets.n_chunks()));
         Ok(Self { surface, targets, d_max, grid_path, skylines })
     }
 
@@ -376,16 +350,14 @@ impl Visibility {
         into.sort_by(|&u, &w| squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre)));
     }
 
-    /// The skylines of chunk `c`'s targets, when it has them or is evaluated a second time.
-    fn skylines_of(&self, c: usize) -> Option<&[Skyline]> {
-        let cache = self.skylines.as_ref()?;
-        if let Some(built) = cache.built[c].get() {
-            return Some(built);
-        }
-        if !cache.touched[c].swap(true, Ordering::Relaxed) {
-            return None; // first evaluation of this chunk
-        }
-        Some(cache.built[c].get_or_init(|| self.targets.chunk_skylines(c, &cache.stencil).expect("grid-node targets")))
+    /// The skylines of chunk `c`'s targets and their grid nodes (into `nodes`), from the chunk's
+    /// second evaluation on.
+    fn skylines_of(&self, c: usize, nodes: &mut Vec<usize>) -> Option<ChunkSkylines<'_>> {
+        let grid = self.surface.grid()?;
+        let view = self.skylines.as_ref()?.chunk(c, self.targets.chunk_len(c), grid)?;
+        nodes.clear();
+        self.targets.chunk_nodes(c, nodes);
+        Some(view)
     }
 
     /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
@@ -406,15 +378,15 @@ impl Visibility {
             (0..self.targets.n_chunks())
                 .into_par_iter()
                 .map_init(
-                    || (Vec::new(), Vec::with_capacity(CHUNK)),
-                    |(near, points), c| {
+                    || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                    |(near, points, nodes), c| {
                         self.in_range_of(c, uavs, near);
                         if near.is_empty() {
                             return vec![false; self.targets.chunk_len(c)];
                         }
                         points.clear();
                         self.targets.chunk_points(c, points);
-                        let skylines = self.skylines_of(c);
+                        let mut skylines = self.skylines_of(c, nodes);
                         // Neighbouring targets are mostly seen by the same UAV: try the last
                         // one that saw a target first (the answer does not depend on the order).
                         let mut last = 0;
@@ -422,11 +394,17 @@ impl Visibility {
                             .iter()
                             .enumerate()
                             .map(|(t, &q)| {
-                                let sky = skylines.map(|s| &s[t]);
+                                let mut sky = None;
                                 let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
                                 for k in order {
                                     let u = near[k];
-                                    if squared_distance(uavs[u], q) <= d2 && engine.line_of_sight(u, q, sky) {
+                                    if squared_distance(uavs[u], q) > d2 {
+                                        continue;
+                                    }
+                                    if sky.is_none() {
+                                        sky = skylines.as_mut().map(|s| s.get(t, nodes[t]));
+                                    }
+                                    if engine.line_of_sight(u, q, sky.as_ref()) {
                                         last = k;
                                         return true;
                                     }
@@ -464,8 +442,8 @@ impl Visibility {
             (0..self.targets.n_chunks())
                 .into_par_iter()
                 .map_init(
-                    || (Vec::with_capacity(n), Vec::with_capacity(CHUNK)),
-                    |(seers, points), c| {
+                    || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                    |(seers, points, nodes), c| {
                         let mut out = UavCounts::zeros(n, 0.0);
                         let b = self.targets.chunk_bounds[c];
                         let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
@@ -474,14 +452,16 @@ impl Visibility {
                         }
                         points.clear();
                         self.targets.chunk_points(c, points);
-                        let skylines = self.skylines_of(c);
+                        let mut skylines = self.skylines_of(c, nodes);
                         for (k, &q) in points.iter().enumerate() {
                             let w = self.targets.weights[c * CHUNK + k];
-                            let sky = skylines.map(|s| &s[k]);
+                            let in_range = |i: &usize| squared_distance(uavs[*i], q) <= d2;
+                            let sky = match &mut skylines {
+                                Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
+                                _ => None,
+                            };
                             seers.clear();
-                            seers.extend(
-                                near.iter().copied().filter(|&i| squared_distance(uavs[i], q) <= d2 && engine.line_of_sight(i, q, sky)),
-                            );
+                            seers.extend(near.iter().copied().filter(|i| in_range(i) && engine.line_of_sight(*i, q, sky.as_ref())));
                             for &i in seers.iter() {
                                 out.seen[i] += 1;
                                 out.seen_weight[i] += w;
