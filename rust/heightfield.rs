@@ -171,8 +171,9 @@ pub struct Horizon {
     uav: Point,
     sectors: usize,
     bins: usize,
-    /// Width of a distance bin, metres.
+    /// Width of a distance bin, metres, and its inverse.
     bin: f64,
+    inv_bin: f64,
     /// Sectors per unit of pseudo-angle.
     quarter: f64,
     /// Running maximum along distance of the slope bounds, `slope[bin * sectors + sector]`, each a
@@ -222,19 +223,14 @@ pub(crate) fn pseudo_angle(x: f64, y: f64) -> f64 {
 }
 
 /// `x` as an `f32` no smaller than it.
+#[inline(always)]
 fn round_up(x: f64) -> f32 {
     let f = x as f32;
-    if f.is_nan() || f as f64 >= x {
-        return f;
-    }
-    // `x` rounded down: step to the next representable value above.
-    let bits = f.to_bits();
-    if f == 0.0 {
-        f32::from_bits(1)
-    } else if f > 0.0 {
-        f32::from_bits(bits + 1)
+    // Rounded down (never for NaN, where the comparison fails): the next value up.
+    if (f as f64) < x {
+        f.next_up()
     } else {
-        f32::from_bits(bits - 1)
+        f
     }
 }
 
@@ -820,17 +816,15 @@ impl HeightField {
                                 f64::INFINITY
                             }
                         };
-                        // Rounded up with the queries' comparison margin (1e-9 of it) already
-                        // added, so that a query compares once per bin.
-                        let sigma = round_up(sigma + 1e-12 * sigma.abs() + 1e-300);
-                        let sigma = round_up(sigma as f64 + 1e-9 * (sigma as f64).abs());
+                        // Rounded up with a margin for its own rounding (1e-12 of it) and the
+                        // queries' comparison margin (1e-9) already added, so that a query
+                        // compares once per bin.
+                        let sigma = round_up(sigma + 1.001e-9 * sigma.abs() + 1e-300);
                         let b = ((near2 * inv_w2).sqrt() as usize).min(bins - 1);
                         let row = &mut by_bin[b * sectors..(b + 1) * sectors];
                         let mut put = |k0: usize, k1: usize| {
                             for slot in &mut row[k0..=k1] {
-                                if sigma > *slot {
-                                    *slot = sigma;
-                                }
+                                *slot = if sigma > *slot { sigma } else { *slot };
                             }
                         };
                         // Sectors of the cell's angles from the corners that bound them (by where
@@ -887,7 +881,7 @@ impl HeightField {
             }
         }
         let slope = by_bin;
-        Horizon { uav, sectors, bins, bin: w, quarter, slope, delta }
+        Horizon { uav, sectors, bins, bin: w, inv_bin: 1.0 / w, quarter, slope, delta }
     }
 
     /// [`HeightField::line_of_sight`] from the UAV of `horizon`, the same answer to the last bit.
@@ -959,11 +953,12 @@ impl HeightField {
             return self.line_of_sight_from(horizon, target);
         }
         let r = r2.sqrt();
+        let inv_r = 1.0 / r;
         let rho_end = (1.0 - SIGHT_FRACTION) * r;
         let eps = 4.0 * horizon.delta + 1e-9 * (p[2].abs() + target[2].abs() + self.scales.z);
         // Slope of the line from the target towards the UAV, and the skyline's bound that way
         // (the opposite pseudo-angle of the UAV-to-target direction).
-        let line = -d[2] / r;
+        let line = -d[2] * inv_r;
         let a = pseudo_angle(d[0], d[1]);
         let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
         if !(rho_end > 1e3 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
@@ -977,18 +972,20 @@ impl HeightField {
         if far <= 0.0 {
             return true;
         }
-        let need = ((far + 2.0 * horizon.delta) / horizon.bin).ceil();
+        let need = ((far + 2.0 * horizon.delta) * horizon.inv_bin).ceil();
         let k = ((a * horizon.quarter) as usize).min(horizon.sectors - 1);
         let row = Column { slope: &horizon.slope[k..], stride: horizon.sectors, len: horizon.bins };
-        let sigma = d[2] * d[2].abs() / r2;
+        // The horizon's signed squared slope, from the UAV (the line's, negated), less the margin
+        // of the comparison (the stored bounds hold theirs).
+        let sigma = -line * line.abs();
         let s = sigma - 1e-9 * sigma.abs() - 1e-300;
         if need < 1.0 || (need <= row.len as f64 && s > row.at(need as usize - 1)) {
             return true;
         }
         let lo = Self::first_unclear(row, s);
         let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
-        let t_from = if cleared > 0.0 { cleared / r } else { 0.0 };
-        let t_to = (far / r).min(SIGHT_FRACTION);
+        let t_from = if cleared > 0.0 { cleared * inv_r } else { 0.0 };
+        let t_to = (far * inv_r).min(SIGHT_FRACTION);
         if t_from >= t_to {
             return true;
         }

@@ -26,7 +26,7 @@
 //!
 //! [`HeightField::line_of_sight_to_node`]: crate::heightfield::HeightField::line_of_sight_to_node
 
-use std::sync::{LazyLock, Mutex, MutexGuard, PoisonError};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::heightfield::pseudo_angle;
 use crate::mesh::Grid;
@@ -39,16 +39,22 @@ pub const SECTORS: usize = 32;
 /// horizontally is accounted for.
 pub const REACH: usize = 4;
 
-/// Slope levels: `LEVELS[q]` is the slope that code `q` stands for, strictly increasing, evenly
-/// spaced in angle from straight down to straight up; the last is `+inf`.
-static LEVELS: LazyLock<[f64; 256]> = LazyLock::new(|| {
-    let step = std::f64::consts::PI / 256.0;
-    let mut levels = [f64::INFINITY; 256];
-    for (q, level) in levels.iter_mut().enumerate().take(255) {
-        *level = (-std::f64::consts::FRAC_PI_2 + (q + 1) as f64 * step).tan();
+/// Slope levels: `LEVELS[q]` is the slope that code `q` stands for, strictly increasing from
+/// about -64 to `+inf`: `2t / (1 - t^2)` (the tangent of twice the angle whose tangent is `t`)
+/// for `t = (q + 1) / 128 - 1`, about evenly spaced in angle, 0.016 apart near level ground.
+/// Computed at compile time, so a look-up is a plain load.
+static LEVELS: [f64; 256] = levels();
+
+const fn levels() -> [f64; 256] {
+    let mut out = [f64::INFINITY; 256];
+    let mut q = 0;
+    while q < 255 {
+        let t = (q + 1) as f64 / 128.0 - 1.0;
+        out[q] = 2.0 * t / (1.0 - t * t);
+        q += 1;
     }
-    levels
-});
+    out
+}
 
 /// Upper bounds on the slope from a grid node to the surface around it, per direction sector.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,7 +69,7 @@ pub fn sector_of(a: f64) -> usize {
 impl Skyline {
     /// The upper bound on the slope from the node towards sector `k`, for every point of the
     /// surface within [`REACH`] cells whose direction lies within one sector of `k`; `+inf` when
-    /// nothing is known, `LEVELS[0]` (about -81) where there is no surface.
+    /// nothing is known, `LEVELS[0]` (about -64) where there is no surface.
     #[inline(always)]
     pub fn slope(&self, k: usize) -> f64 {
         LEVELS[self.0[k] as usize]
@@ -207,11 +213,10 @@ impl Stencil {
         }
         // Each sector also answers for its neighbours' directions, which absorbs the rounding of
         // every pseudo-angle, then every bound is rounded up to a level (with a margin of 1e-9).
-        let levels: &[f64; 256] = &LEVELS;
         let mut codes = [0u8; SECTORS];
         for (k, code) in codes.iter_mut().enumerate() {
             let wide = bound[(k + SECTORS - 1) % SECTORS].max(bound[k]).max(bound[(k + 1) % SECTORS]);
-            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(levels, wide + 1e-9 * (1.0 + wide.abs())) };
+            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(&LEVELS, wide + 1e-9 * (1.0 + wide.abs())) };
         }
         Skyline(codes)
     }
@@ -344,6 +349,8 @@ mod tests {
 
     #[test]
     fn levels_round_up_and_are_tight() {
+        assert!(LEVELS.windows(2).all(|w| w[0] < w[1]));
+        assert!(LEVELS[0] < -60.0 && LEVELS[254] > 60.0 && LEVELS[255] == f64::INFINITY);
         for &s in &[-1e9, -81.0, -3.0, -0.5, -1e-12, 0.0, 1e-12, 0.3, 1.0, 7.5, 80.0, 1e9] {
             let q = level_above(&LEVELS, s) as usize;
             assert!(LEVELS[q] >= s, "{s}");
