@@ -50,16 +50,27 @@ def median_ms(fn, repeat: int) -> float:
     return interleaved_medians({"f": fn}, repeat)["f"]
 
 
-def interleaved_medians(fns: dict, repeat: int) -> dict:
-    """Median milliseconds of each call, timing them in turn, one round after another."""
+def interleaved_medians(fns: dict, repeat: int, block: int = 5) -> dict:
+    """Median milliseconds of each call, timed in turn: each round runs every call `block` times
+    in a row, untimed once first.
+
+    The first call after other work pays for waking its worker threads (on this machine a
+    2-thread uavcov evaluation right after a 5 ms pause takes about twice as long as in a loop,
+    and strictly alternating calls of two libraries measured each at close to one thread), so it
+    is left untimed and each call is timed as a loop of that library sees it, while the rounds
+    keep the load of the shared machine the same for all.
+    """
     for fn in fns.values():
-        fn()  # warm-up: thread pools, caches
+        fn()  # warm-up: thread pools, caches, lazily built structures
+        fn()
     times: dict = {name: [] for name in fns}
     for _ in range(repeat):
         for name, fn in fns.items():
-            t0 = time.perf_counter()
             fn()
-            times[name].append(time.perf_counter() - t0)
+            for _ in range(block):
+                t0 = time.perf_counter()
+                fn()
+                times[name].append(time.perf_counter() - t0)
     return {name: 1e3 * statistics.median(t) for name, t in times.items()}
 
 
@@ -95,7 +106,8 @@ def open3d_case(terrain: uavcov.Terrain, targets: np.ndarray, uavs: np.ndarray, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--spacing", type=float, nargs="+", default=[1.0, 0.5, 0.25])
-    parser.add_argument("--repeat", type=int, default=30)
+    parser.add_argument("--repeat", type=int, default=30, help="rounds")
+    parser.add_argument("--block", type=int, default=5, help="timed calls of each kind per round")
     args = parser.parse_args()
     try:
         import open3d as o3d
@@ -125,7 +137,7 @@ def main() -> None:
             theirs = covered(rays, t)
             calls["o3d_full"] = lambda: covered(*segments())
             calls["o3d_queries"] = lambda: query(rays)
-        ms = interleaved_medians(calls, args.repeat)
+        ms = interleaved_medians(calls, args.repeat, args.block)
         if o3d is not None:
             row += [str(rays.shape[0]), f"{ours} / {ours} / {theirs}", f"{ms['grid1']:.2f} ms", f"{ms['grid2']:.2f} ms",
                     f"{ms['mesh2']:.2f} ms", f"{ms['o3d_full']:.2f} ms", f"{ms['o3d_queries']:.2f} ms",

@@ -741,14 +741,14 @@ impl HeightField {
         let w = g.dx.min(g.dy);
         let radius = if radius.is_finite() { radius.max(0.0) } else { 0.0 };
         let bins = ((radius / w).ceil() as usize).saturating_add(2).min(1 << 12);
-        // Sectors about a bin wide at the far edge, a power of two.
-        let sectors = ((std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_power_of_two().min(4096);
+        // Sectors about a bin wide at the far edge (at least 64, a multiple of 4).
+        let sectors = ((std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_multiple_of(4).min(4096);
         let (px, py, pz) = (uav[0], uav[1], uav[2]);
         let delta = 1e-9 * (px.abs().max(py.abs()) + self.scales.xy + radius);
         let delta_z = 1e-9 * (pz.abs() + self.scales.z + 1e-300);
         let reach = bins as f64 * w; // every cell nearer than this is entered
         let reach2 = reach * reach;
-        let inv_w2 = 1.0 / (w * w);
+        let inv_w = 1.0 / w;
         // Bounds by bin then sector while cells are entered; a running maximum along distance,
         // stored sector by sector for the queries, at the end.
         let mut by_bin = vec![f32::NEG_INFINITY; sectors * bins];
@@ -805,11 +805,12 @@ impl HeightField {
                         // (raised by delta_z) over its nearest distance (less 2 delta) when above
                         // the UAV, else over its farthest (plus 2 delta); rounded up.
                         let rise = top + delta_z - pz;
+                        let near = near2.sqrt();
                         let sigma = if rise < 0.0 {
                             let xfar = max(-xlo, xhi) + 2.0 * delta;
                             -(rise * rise) / (xfar * xfar + yfar * yfar)
                         } else {
-                            let run = near2.sqrt() - 2.0 * delta;
+                            let run = near - 2.0 * delta;
                             if run > 0.0 {
                                 rise * rise / (run * run)
                             } else {
@@ -820,7 +821,7 @@ impl HeightField {
                         // queries' comparison margin (1e-9) already added, so that a query
                         // compares once per bin.
                         let sigma = round_up(sigma + 1.001e-9 * sigma.abs() + 1e-300);
-                        let b = ((near2 * inv_w2).sqrt() as usize).min(bins - 1);
+                        let b = ((near * inv_w) as usize).min(bins - 1);
                         let row = &mut by_bin[b * sectors..(b + 1) * sectors];
                         let mut put = |k0: usize, k1: usize| {
                             for slot in &mut row[k0..=k1] {
