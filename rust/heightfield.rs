@@ -938,10 +938,11 @@ impl HeightField {
     /// Exactness: a triangle the mesh path counts has a point `P` within `eps` (a few ulps, here
     /// `1e-9` of the coordinates) of the ray at some `t <= SIGHT_FRACTION`, where the ray is at
     /// least `rho_end = (1 - SIGHT_FRACTION) r` from the target horizontally. If `P` is within
-    /// [`REACH`] cells of the node, its direction is within a sector of the line's and
-    /// `z_P - z_T <= slope rho_P`, while the ray there is `line rho` above `z_T`: the ray is
-    /// `(line - slope) rho_end - eps (1 + |slope|)` above `P`, more than `eps` by the test below,
-    /// a contradiction. Otherwise the ray point is farther than the cleared reach from the
+    /// [`REACH`] cells of the node, its direction is within `eps / rho_end < 0.01` radians of
+    /// the line's (the test asks `rho_end > 100 eps`), so inside the sectors the bound covers
+    /// (the line's and its neighbours, 0.1 radians or more each), and `z_P - z_T <= slope rho_P`,
+    /// while the ray there is `line rho` above `z_T` (to `eps`): then
+    /// `(line - slope) rho <= eps (2 + |slope|)`, which the test below rules out. Otherwise the ray point is farther than the cleared reach from the
     /// target, i.e. nearer the UAV than `r - reach + 2 eps`, where the horizon (as in
     /// [`HeightField::line_of_sight_from`]) or the walk of that stretch decides.
     ///
@@ -962,7 +963,7 @@ impl HeightField {
         let line = -d[2] * inv_r;
         let a = pseudo_angle(d[0], d[1]);
         let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
-        if !(rho_end > 1e3 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
+        if !(rho_end > 100.0 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
             return self.line_of_sight_from(horizon, target);
         }
         // The ray is clear within `reach` of the target; the horizon must clear it up to `far`
