@@ -16,7 +16,7 @@ pub enum Error {
     TooLarge(String),
 }
 
-/// `Result` with [`Error`].
+/// `Result` with [`Error`](enum@Error).
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Returns `Err(Error::InvalidInput)` with the formatted message unless `cond` holds.

@@ -165,7 +165,8 @@ fn cell_index(x: f64) -> usize {
 /// What a UAV sees around it: for each angular sector and each distance, an upper bound on the
 /// elevation slope (rise over horizontal run, from the UAV) of every grid cell of that sector up
 /// to that distance. Built once per UAV and evaluation; it lets most sight lines skip the walk
-/// but for their last two cells (see [`HeightField::line_of_sight_from`]).
+/// but for their last few cells (see [`HeightField::line_of_sight_from`]), and, with the
+/// target's [`Skyline`], skip it altogether (see [`HeightField::line_of_sight_to_node`]).
 #[derive(Debug, Clone)]
 pub struct Horizon {
     uav: Point,

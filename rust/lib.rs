@@ -7,6 +7,8 @@
 //! - [`mesh`]: the surface, a triangle mesh with parry's BVH: segment, vertical and
 //!   closest-point queries.
 //! - [`heightfield`]: the exact fast path for elevation grids, without a triangle list.
+//! - [`skyline`]: how steeply the surface rises around a grid node, so sight lines to grid-node
+//!   targets settle their last cells with one comparison.
 //! - [`sampling`]: coverage targets and area-uniform samples on a surface.
 //! - [`visibility`]: the coverage objective, parallel over targets.
 //! - [`threads`]: cached thread pools so results never depend on their size.
