@@ -10,8 +10,11 @@
 //! horizon and the walk (see [`HeightField::line_of_sight_to_node`]).
 //!
 //! The bounds are exact where it matters: the triangles that touch the node are planes through
-//! it, bounded by their gradient over each sector; every other cell by its highest corner over
-//! its nearest distance. Each is rounded up to one of 256 levels, so a skyline is 32 bytes.
+//! it, bounded by their gradient over each sector; every other triangle by its plane, whose
+//! height over the node divided by the triangle's nearest (or farthest) distance adds to its
+//! gradient over the sector. Each bound is rounded up to one of 256 levels, so a skyline is 32
+//! bytes. The geometry shared by all nodes of a grid (which triangles, how far, which sectors)
+//! is computed once, in a [`Stencil`].
 //!
 //! ```
 //! use uavcov::heightfield::HeightField;
@@ -41,7 +44,7 @@ pub const REACH: usize = 4;
 
 /// Slope levels: `LEVELS[q]` is the slope that code `q` stands for, strictly increasing from
 /// about -64 to `+inf`: `2t / (1 - t^2)` (the tangent of twice the angle whose tangent is `t`)
-/// for `t = (q + 1) / 128 - 1`, about evenly spaced in angle, 0.016 apart near level ground.
+/// for `t = (q + 1) / 128 - 1`: angles 0.016 rad apart near level ground, 0.008 near vertical.
 /// Computed at compile time, so a look-up is a plain load.
 static LEVELS: [f64; 256] = levels();
 
