@@ -25,24 +25,28 @@ from .prior import (
 )
 from .surface import GridInfo, Terrain
 from .targets import Targets
-from .terrains import (
+from .buildings import (
     Building,
+    buildings_scene,
+    buildings_terrain,
+    perturb_buildings,
+    random_buildings,
+)
+from .hills import (
     GaussianMixture,
+    gaussian_hills,
+    random_gaussian_mixture,
+)
+from .loaders import (
     LoadedTerrain,
     LocalFrame,
     MeshReport,
-    buildings_scene,
-    buildings_terrain,
     clean_mesh,
-    gaussian_hills,
     load_dem,
     load_geotiff,
     load_mesh,
     mesh_terrain,
     metres_per_degree,
-    perturb_buildings,
-    random_buildings,
-    random_gaussian_mixture,
     sample_dem,
 )
 from .visibility import UavCounts, Visibility, coverage

@@ -153,3 +153,41 @@ def as_generator(rng: Any) -> np.random.Generator:
         return np.random.default_rng(rng)
     except (TypeError, ValueError) as exc:
         raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc
+
+
+def as_range(value: Any, name: str, *, positive: bool = False) -> tuple[float, float]:
+    """A ``(low, high)`` pair of finite floats with ``low <= high`` (a single number means both)."""
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        low = high = as_finite_float(value, name)
+    else:
+        pair = as_float_array(value, name, ndim=1)
+        if pair.shape != (2,):
+            raise InvalidInputError(f"{name} must be a number or a (low, high) pair, got shape {pair.shape}")
+        low, high = float(pair[0]), float(pair[1])
+    if low > high:
+        raise InvalidInputError(f"{name} must have low <= high, got ({low}, {high})")
+    if positive and low <= 0.0:
+        raise InvalidInputError(f"{name} must be > 0, got ({low}, {high})")
+    return low, high
+
+
+def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
+    """``spacing`` as ``(dx, dy)``, both finite and > 0."""
+    if isinstance(spacing, (int, float, np.integer, np.floating)) and not isinstance(spacing, bool):
+        value = as_positive_float(spacing, name)
+        return value, value
+    pair = as_float_array(spacing, name, ndim=1)
+    if pair.shape != (2,):
+        raise InvalidInputError(f"{name} must be a number or a (dx, dy) pair, got shape {pair.shape}")
+    if not (pair > 0.0).all():
+        raise InvalidInputError(f"{name} must be > 0, got {tuple(pair)}")
+    return float(pair[0]), float(pair[1])
+
+
+def as_cell_count(length: float, step: float, name: str) -> int:
+    """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
+    count = length / step
+    cells = int(round(count))
+    if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
+        raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")
+    return cells

@@ -36,7 +36,8 @@ from .mission import MissionResult, run_mission
 from .prior import approximate_surface, buildings_prior, sample_prior
 from .starts import CORNERS, initial_positions
 from .surface import Terrain
-from .terrains import buildings_terrain, gaussian_hills, random_buildings
+from .buildings import buildings_terrain, random_buildings
+from .hills import gaussian_hills
 
 __all__ = [
     "HillsTerrain",

@@ -34,7 +34,7 @@ from ._validate import (
 )
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .surface import Terrain
-from .terrains import Building, buildings_terrain, perturb_buildings
+from .buildings import Building, buildings_terrain, perturb_buildings
 
 __all__ = [
     "Prior",

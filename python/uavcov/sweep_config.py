@@ -42,7 +42,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from . import paper
 from .cao import CAOSettings
 from .cvt import PRESETS
 from .errors import ConfigError, InvalidInputError, InvalidTypeError
