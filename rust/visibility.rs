@@ -12,6 +12,8 @@
 //! for a surface built from an elevation grid, the [`HeightField`] walk, which gives the same
 //! answer for every segment (see [`crate::heightfield`]) at a fraction of the cost and memory.
 //! The grid path is chosen automatically; the mesh path of a grid stays available for comparison.
+//! On the grid path, grid-node targets also get their [`Skyline`] from their chunk's second
+//! evaluation on, which settles most sight lines with two look-ups (see [`crate::skyline`]).
 //!
 //! ```
 //! use uavcov::mesh::Surface;
