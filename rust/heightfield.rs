@@ -697,9 +697,9 @@ impl HeightField {
             }
             // The finest pyramid level whose tiles cover the box with at most 2 x 2 of them:
             // tiles of 2^(k+1) cells, where 2^(k+1) is at least the larger extent minus one.
-            let extent = (j1 - j0).max(i1 - i0); // >= 2
-                                                 // Tiles of 2^s >= extent cells meet the extent + 1 cells in at most two; the top level
-                                                 // is a single tile, which always does.
+            // The extent is at least 2. Tiles of 2^s >= extent cells meet the extent + 1 cells in
+            // at most two; the top level is a single tile, which always does.
+            let extent = (j1 - j0).max(i1 - i0);
             let k = ((usize::BITS - (extent - 1).leading_zeros()) as usize - 1).min(self.tops.len() - 1);
             let level = &self.tops[k];
             let s = level.shift;
@@ -928,7 +928,7 @@ impl HeightField {
         !self.walk_hits_from(p, d, t_from, SIGHT_FRACTION, SIGHT_FRACTION)
     }
 
-    /// [`HeightField::line_of_sight_from`] for a target that is grid node `(i, j)`, with its
+    /// [`HeightField::line_of_sight_from`] for a target at a grid node, with the node's
     /// [`Skyline`]: the same answer to the last bit, usually without walking at all.
     ///
     /// When the sight line arrives at the node more steeply than the skyline's bound for its
@@ -943,9 +943,10 @@ impl HeightField {
     /// the line's (the test asks `rho_end > 100 eps`), so inside the sectors the bound covers
     /// (the line's and its neighbours, 0.1 radians or more each), and `z_P - z_T <= slope rho_P`,
     /// while the ray there is `line rho` above `z_T` (to `eps`): then
-    /// `(line - slope) rho <= eps (2 + |slope|)`, which the test below rules out. Otherwise the ray point is farther than the cleared reach from the
-    /// target, i.e. nearer the UAV than `r - reach + 2 eps`, where the horizon (as in
-    /// [`HeightField::line_of_sight_from`]) or the walk of that stretch decides.
+    /// `(line - slope) rho <= eps (2 + |slope|)`, which the test below rules out. Otherwise the
+    /// ray point is farther than the cleared reach from the target, i.e. nearer the UAV than
+    /// `r - reach + 2 eps`, where the horizon (as in [`HeightField::line_of_sight_from`]) or the
+    /// walk of that stretch decides.
     ///
     /// [`REACH`]: crate::skyline::REACH
     pub fn line_of_sight_to_node(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
