@@ -30,7 +30,9 @@ pub fn run<R: Send>(n_threads: usize, work: impl FnOnce() -> R + Send) -> R {
 }
 
 thread_local! {
-    /// A one-thread pool made of the calling thread (`None` if rayon refused it).
+    /// A one-thread pool made of the calling thread (`None` if rayon refused it). Rayon never
+    /// frees such a pool's registry (a few kilobytes): one per thread that ever asks for a single
+    /// thread, which an optimiser's loop or a sweep worker does from one thread for its lifetime.
     static CALLER: Option<ThreadPool> = ThreadPoolBuilder::new().num_threads(1).use_current_thread().build().ok();
 }
 
