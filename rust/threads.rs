@@ -41,7 +41,9 @@ fn run_elsewhere<R: Send>(n: usize, work: impl FnOnce() -> R + Send) -> R {
     if let Some(p) = pool(n).or_else(|| pool(1)) {
         return p.install(work);
     }
-    // A pool made of the calling thread starts no thread at all, so it cannot be refused.
+    // A pool made of the calling thread starts no thread, so the OS cannot refuse it; rayon does
+    // when the thread already belongs to one (its own, from `CALLER`), and then `work` runs on
+    // this thread in that one-thread pool.
     match ThreadPoolBuilder::new().num_threads(1).use_current_thread().build() {
         Ok(p) => p.install(work),
         Err(_) => work(),
