@@ -239,6 +239,9 @@ pub struct UavCounts {
     pub exclusive_weight: Vec<f64>,
     /// Total weight of all targets (the denominator of a share).
     pub total_weight: f64,
+    /// The weighted share of targets seen by at least one UAV: what [`Visibility::coverage`]
+    /// returns for the same UAVs, to the last bit.
+    pub coverage: f64,
 }
 
 /// Which geometry answers the line-of-sight tests.
@@ -434,12 +437,13 @@ impl Visibility {
         (covered / self.targets.total_weight).min(1.0)
     }
 
-    /// Per-UAV counts: every UAV in range is tested for every target (no early stop).
+    /// Per-UAV counts, and the coverage: every UAV in range is tested for every target (no early
+    /// stop), so one call answers what a per-robot optimiser needs.
     pub fn per_uav(&self, uavs: &[Point], n_threads: usize) -> Result<UavCounts> {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
         let d2 = self.d_max * self.d_max;
-        let partials: Vec<UavCounts> = threads::run(n_threads, || {
+        let partials: Vec<(UavCounts, Vec<bool>)> = threads::run(n_threads, || {
             let engine = self.engine(uavs);
             (0..self.targets.n_chunks())
                 .into_par_iter()
@@ -447,10 +451,11 @@ impl Visibility {
                     || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
                     |(seers, points, nodes), c| {
                         let mut out = UavCounts::zeros(n, 0.0);
+                        let mut seen = vec![false; self.targets.chunk_len(c)];
                         let b = self.targets.chunk_bounds[c];
                         let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
                         if near.is_empty() {
-                            return out;
+                            return (out, seen);
                         }
                         points.clear();
                         self.targets.chunk_points(c, points);
@@ -472,21 +477,26 @@ impl Visibility {
                                 out.exclusive[only] += 1;
                                 out.exclusive_weight[only] += w;
                             }
+                            seen[k] = !seers.is_empty();
                         }
-                        out
+                        (out, seen)
                     },
                 )
                 .collect()
         });
         let mut total = UavCounts::zeros(n, self.targets.total_weight);
-        for part in partials {
+        let mut mask = Vec::with_capacity(self.targets.len());
+        for (part, seen) in partials {
             for i in 0..n {
                 total.seen[i] += part.seen[i];
                 total.exclusive[i] += part.exclusive[i];
                 total.seen_weight[i] += part.seen_weight[i];
                 total.exclusive_weight[i] += part.exclusive_weight[i];
             }
+            mask.extend(seen);
         }
+        // The same mask and the same sum as `coverage`, so the same value.
+        total.coverage = self.share(&mask);
         Ok(total)
     }
 }
@@ -511,7 +521,14 @@ impl Engine<'_> {
 
 impl UavCounts {
     fn zeros(n: usize, total_weight: f64) -> Self {
-        Self { seen: vec![0; n], exclusive: vec![0; n], seen_weight: vec![0.0; n], exclusive_weight: vec![0.0; n], total_weight }
+        Self {
+            seen: vec![0; n],
+            exclusive: vec![0; n],
+            seen_weight: vec![0.0; n],
+            exclusive_weight: vec![0.0; n],
+            total_weight,
+            coverage: 0.0,
+        }
     }
 }
 

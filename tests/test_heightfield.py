@@ -108,6 +108,7 @@ def assert_paths_agree(terrain: Terrain, uavs: np.ndarray, d_max: float, targets
         np.testing.assert_array_equal(auto.seen(uavs), seen)
         assert grid.coverage(uavs) == coverage
         a = grid.per_uav(uavs)
+        assert a.coverage == b.coverage == coverage
         np.testing.assert_array_equal(a.seen, b.seen)
         np.testing.assert_array_equal(a.exclusive, b.exclusive)
         np.testing.assert_allclose(a.seen_share, b.seen_share, rtol=1e-12, atol=0)

@@ -381,6 +381,23 @@ def test_coverage_function_equals_method(hill_grid, hill_terrain):
     assert 0.0 < expected < 1.0
 
 
+@pytest.mark.parametrize("method", ["grid", "mesh"])
+@pytest.mark.parametrize("n_threads", [1, 2])
+def test_per_uav_coverage_is_the_coverage_to_the_last_bit(hill_terrain, method, n_threads):
+    rng = np.random.default_rng(7)
+    vis = Visibility(hill_terrain, 12.0, method=method, n_threads=n_threads)
+    lo, hi = hill_terrain.bounds
+    values = []
+    for _ in range(4):  # repeated configurations: the grid path's later calls use the skylines
+        xy = rng.uniform(lo[:2], hi[:2], (5, 2))
+        uavs = np.column_stack([xy, hill_terrain.ground_height(xy) + rng.uniform(1.0, 8.0, 5)])
+        for _ in range(3):
+            counts = vis.per_uav(uavs)
+            assert counts.coverage == vis.coverage(uavs)
+            values.append(counts.coverage)
+    assert 0.0 < min(values) and max(values) < 1.0
+
+
 def test_coverage_of_nothing_is_plain_zero(hill_terrain):
     # Nothing in range: 0.0, printed as "0.0" (not "-0.0").
     cov = Visibility(hill_terrain, 5.0).coverage([[1e6, 1e6, 0.0]])

@@ -61,6 +61,7 @@ class Visibility:
         npt.NDArray[np.float64],
         npt.NDArray[np.float64],
         float,
+        float,
     ]: ...
 
 @final

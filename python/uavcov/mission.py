@@ -306,7 +306,8 @@ def run_mission(
     else:
 
         def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
-            return vis.coverage(x), vis.per_uav(x).exclusive_share
+            counts = vis.per_uav(x)  # the coverage and the marginals in one pass
+            return counts.coverage, counts.exclusive_share
 
         trace = per_robot_cao(measure, x0, feasible=feasible, iterations=iterations, settings=settings, rng=optimizer_rng)
 

@@ -33,12 +33,16 @@ class UavCounts:
         Number of targets only that UAV sees: its marginal contribution.
     seen_share, exclusive_share : (N,) float64
         The same as weighted shares of all targets, in [0, 1].
+    coverage : float
+        The weighted share of targets seen by at least one UAV: the value
+        :meth:`Visibility.coverage` returns for the same UAVs, to the last bit.
     """
 
     seen: np.ndarray
     exclusive: np.ndarray
     seen_share: np.ndarray
     exclusive_share: np.ndarray
+    coverage: float
 
 
 class Visibility:
@@ -143,13 +147,15 @@ class Visibility:
         return self._core.seen(self._uavs(uavs), self._n_threads)
 
     def per_uav(self, uavs: Any) -> UavCounts:
-        """How many targets each UAV sees and how many only it sees (see :class:`UavCounts`)."""
-        seen, exclusive, seen_w, exclusive_w, total = self._core.per_uav(self._uavs(uavs), self._n_threads)
+        """How many targets each UAV sees and how many only it sees, and the team's coverage, in
+        one pass (see :class:`UavCounts`)."""
+        seen, exclusive, seen_w, exclusive_w, total, coverage = self._core.per_uav(self._uavs(uavs), self._n_threads)
         return UavCounts(
             seen.astype(np.int64),
             exclusive.astype(np.int64),
             seen_w / total,
             exclusive_w / total,
+            float(coverage),
         )
 
 
