@@ -493,12 +493,26 @@ impl HeightField {
         if enter_xy > exit_xy {
             return false; // both triangles span the cell's whole footprint
         }
+        self.triangles_hit(i, j, [za, zb, zc, zd], (enter_xy, exit_xy), cast, t_max)
+    }
+
+    /// The second half of the mesh path's leaf test, for the triangles `[a, b, c]` and
+    /// `[a, c, d]` of cell `(i, j)` (corner heights `z`, `a` and `c` not NaN) on a ray that
+    /// passes the cell's footprint between `xy.0` and `xy.1`: the z part of each triangle's slab
+    /// test, then parry's triangle test, corners in the mesh's order.
+    #[inline(always)]
+    fn triangles_hit(&self, i: usize, j: usize, z: [f64; 4], xy: (f64, f64), cast: &Cast, t_max: f64) -> bool {
+        let [za, zb, zc, zd] = z;
+        let (enter_xy, exit_xy) = xy;
+        let oz = cast.ray.origin.z;
+        let (xa, xb) = (self.x(j), self.x(j + 1));
+        let (ya, yc) = (self.y(i), self.y(i + 1));
         let a = Vector::new(xa, ya, za);
         let c = Vector::new(xb, yc, zc);
         let (lo_ac, hi_ac) = (min(za, zc), max(za, zc));
         // [a, b, c] and [a, c, d], as the mesh stores them.
         if !zb.is_nan() {
-            let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), o.z, cast.inv[2]);
+            let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), oz, cast.inv[2]);
             if max(enter_xy, nz) <= min(exit_xy, fz) {
                 if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), c, &cast.ray) {
                     if inter.time_of_impact <= t_max {
@@ -508,7 +522,7 @@ impl HeightField {
             }
         }
         if !zd.is_nan() {
-            let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), o.z, cast.inv[2]);
+            let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), oz, cast.inv[2]);
             if max(enter_xy, nz) <= min(exit_xy, fz) {
                 if let Some((inter, _)) = local_ray_intersection_with_triangle(a, c, Vector::new(xa, yc, zd), &cast.ray) {
                     if inter.time_of_impact <= t_max {
@@ -556,30 +570,8 @@ impl HeightField {
                 if max(enter_xy, nz) > min(exit_xy, fz) {
                     continue;
                 }
-                let (xa, xb) = (self.x(j), self.x(j + 1));
-                let (ya, yc) = (self.y(i), self.y(i + 1));
-                let a = Vector::new(xa, ya, za);
-                let cc = Vector::new(xb, yc, zc);
-                // [a, b, c] and [a, c, d], as the mesh stores them.
-                if !zb.is_nan() {
-                    let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), o.z, cast.inv[2]);
-                    if max(enter_xy, nz) <= min(exit_xy, fz) {
-                        if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), cc, &cast.ray) {
-                            if inter.time_of_impact <= t_max {
-                                return true;
-                            }
-                        }
-                    }
-                }
-                if !zd.is_nan() {
-                    let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), o.z, cast.inv[2]);
-                    if max(enter_xy, nz) <= min(exit_xy, fz) {
-                        if let Some((inter, _)) = local_ray_intersection_with_triangle(a, cc, Vector::new(xa, yc, zd), &cast.ray) {
-                            if inter.time_of_impact <= t_max {
-                                return true;
-                            }
-                        }
-                    }
+                if self.triangles_hit(i, j, [za, zb, zc, zd], (enter_xy, exit_xy), cast, t_max) {
+                    return true;
                 }
             }
         }

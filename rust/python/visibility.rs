@@ -89,7 +89,8 @@ impl PyVisibility {
         py: Python<'py>,
         uavs: PyReadonlyArray2<'_, f64>,
         n_threads: usize,
-    ) -> PyResult<(Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, f64, f64)> {
+    ) -> PyResult<(Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, f64, f64)>
+    {
         let u = points(py, &uavs, "uavs")?;
         let c = py.detach(|| self.inner.per_uav(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
         Ok((
