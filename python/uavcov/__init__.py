@@ -10,10 +10,10 @@ from . import errors
 from ._core import __version__
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility, feasible_mask, trajectory_feasible
-from .cvt import CVTResult, cvt
-from .mission import MissionResult, MissionSettings, run_mission
+from .cvt import CVTResult, CVTSettings, cvt
+from .mission import MissionResult, MissionSpec, run_mission
 from .records import load_mission, save_mission
-from .starts import initial_positions
+from .starts import StartSpec, initial_positions, start_configuration
 from .prior import (
     ApproximationError,
     Prior,
@@ -89,8 +89,11 @@ __all__ = [
     "sample_prior",
     # the constrained CVT and the starts
     "CVTResult",
+    "CVTSettings",
     "cvt",
+    "StartSpec",
     "initial_positions",
+    "start_configuration",
     # on-line optimisation
     "CAOSettings",
     "OptimizerTrace",
@@ -103,8 +106,17 @@ __all__ = [
     "trajectory_feasible",
     # the mission and its records
     "MissionResult",
-    "MissionSettings",
+    "MissionSpec",
     "run_mission",
     "load_mission",
     "save_mission",
 ]
+
+
+def __getattr__(name: str) -> object:
+    if name == "MissionSettings":
+        import warnings
+
+        warnings.warn("uavcov.MissionSettings is deprecated; use uavcov.MissionSpec", DeprecationWarning, stacklevel=2)
+        return MissionSpec
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
 import sys
 import time
 from pathlib import Path
@@ -108,7 +107,7 @@ def _add_execution(parser: argparse.ArgumentParser) -> None:
 @contextlib.contextmanager
 def _execution(args: argparse.Namespace) -> Iterator[dict[str, Any]]:
     """Keyword arguments for run_specs (executor, workers, threads, ...) and what to record."""
-    from .experiments import available_cores, dask_executor, plan_execution
+    from .sweep import available_cores, dask_executor, plan_execution
 
     options: dict[str, Any] = {
         "resume": bool(args.resume or args.retry_failed),
@@ -158,7 +157,7 @@ def _finish(rows: list[dict[str, Any]], out: Path, started: float, wrote: Sequen
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .experiments import reproduce
+    from .jobs import reproduce
 
     out = Path(args.out or f"out/{args.experiment}")
     started = time.perf_counter()
@@ -187,7 +186,8 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from .sweep_config import load_sweep_config, run_sweep
+    from .jobs import run_sweep
+    from .sweep_config import load_sweep_config
 
     config = load_sweep_config(args.config)
     out = Path(args.out or f"out/{Path(args.config).stem}")
@@ -212,55 +212,39 @@ def _plot_directory(out: Path) -> list[Path] | None:
 
 def _demo(args: argparse.Namespace) -> int:
     from . import paper
-    from .errors import ConfigError
-    from .experiments import (
-        available_cores,
-        example_markdown,
-        experiment_specs,
-        out_dir_lock,
-        prepare_out_dir,
-        read_runs,
-        run_specs,
-        write_config,
-    )
+    from .jobs import reproduce
+    from .sweep import available_cores
 
     out = Path(args.out)
     threads = args.threads or available_cores()
-    experiment = paper.EXAMPLE.with_changes(iterations=args.iterations)
-    specs = experiment_specs(experiment, seeds=[args.seed])
-    out_path = prepare_out_dir(out)
-    runs_csv = out_path / "runs.csv"
-    if runs_csv.exists():
-        others = [r["run_id"] for r in read_runs(runs_csv) if r["run_id"] not in {s.run_id for s in specs}]
-        if others:
-            raise ConfigError(f"{runs_csv} holds other results ({others[0]}, ...); choose another --out for the demo")
+    experiment = paper.EXAMPLE
     terrain = experiment.terrain
     hills = f"{terrain.n_hills} Gaussian hills" if isinstance(terrain, paper.HillsTerrain) else "buildings"
     print("uavcov demo: the paper's illustrative example (Fig. 5)")
+    print(f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {hills} (seed {args.seed}), coverage on a {terrain.spacing:g} m grid")
+    print(f"  prior    {experiment.mission.n_prior} random samples + the 4 corners -> approximating surface S'")
     print(
-        f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {hills} (seed {args.seed}), "
-        f"coverage on a {terrain.spacing:g} m grid"
-    )
-    print(f"  prior    {experiment.n_prior} random samples + the 4 corners -> approximating surface S'")
-    print(
-        f"  team     {specs[0].n_uavs} UAVs, d_max = {experiment.d_max:g} m, CVT start on S', "
-        f"then {experiment.iterations} CAO iterations on the real terrain ({threads} thread(s))",
+        f"  team     {experiment.team_sizes[0]} UAVs, d_max = {experiment.d_max:g} m, CVT start on S', "
+        f"then {args.iterations} CAO iterations on the real terrain ({threads} thread(s))",
         flush=True,
     )
     started = time.perf_counter()
-    with out_dir_lock(out_path):
-        write_config(
-            out_path,
-            {
-                "command": "demo",
-                "settings": {"example": {k: v for k, v in dataclasses.asdict(experiment).items() if k != "seeds"}},
-                "runs": {"seeds": [args.seed]},
-                "execution": {"executor": "this process", "threads_per_run": threads},
-            },
-            resume=False,
-        )
-        rows = run_specs(specs, out=out_path, workers=1, n_threads=threads, resume=True, rerun="all", progress=False)
-        (out_path / "example.md").write_text(example_markdown(rows), encoding="utf-8")
+    # The demo's folder holds its own run only: a rerun with the same settings replaces it.
+    rows = reproduce(
+        "example",
+        out,
+        seeds=[args.seed],
+        iterations=args.iterations,
+        workers=1,
+        n_threads=threads,
+        resume=True,
+        rerun="all",
+        exclusive=True,
+        progress=False,
+        command="demo",
+        execution={"executor": "this process", "threads_per_run": threads},
+    )
+    out_path = out
     row = rows[0]
     if row["error"]:
         _say(f"the demo run failed: {row['error']}")
@@ -278,7 +262,7 @@ def _demo(args: argparse.Namespace) -> int:
         f"  time: {row['wall_time_s']:.1f} s for the mission ({row['time_measure_s']:.1f} s in coverage measurements, "
         f"{row['time_optimizer_s']:.1f} s in the optimiser)"
     )
-    wrote = ["runs.csv", f"runs/{row['run_id']}.npz", "example.md", "config.json"]
+    wrote = ["runs.csv", f"runs/{row['run_id']}.npz", "example.md", "coverage.csv", "config.json"]
     if not args.no_plots:
         figures = _plot_directory(out_path)
         if figures:

@@ -17,7 +17,7 @@ team could sense or has been told: :class:`World` (``clearance``, ``segments_cle
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Protocol
 
 import numpy as np
@@ -81,11 +81,16 @@ def _as_bounds(value: Any) -> tuple[float, float, float, float]:
 class Constraints:
     """The constraint set of the paper's eq. 2. Defaults follow ``paper-setup.md``.
 
+    One object holds every flight limit of a mission; :meth:`resolve` fills what depends on the
+    surface (its x-y bounds, and whether moves are checked), and every check here resolves the
+    constraints against the world it is given.
+
     Parameters
     ----------
-    bounds : (xmin, ymin, xmax, ymax)
+    bounds : (xmin, ymin, xmax, ymax), optional
         Closed x-y region the UAVs must stay in, metres. A ``(2, k)`` array
         ``[[xmin, ymin, ...], [xmax, ymax, ...]]`` (such as ``Terrain.bounds``) is accepted.
+        ``None``: the x-y bounds of the surface the constraints are applied to.
     h_min : float, default 2.0
         Least clearance straight down to the real surface, metres (>= 0).
     z_max : float, default 50.0
@@ -93,11 +98,13 @@ class Constraints:
         uavcov surfaces stand on z >= 0, so it would leave no room anywhere.
     d_safe : float, default 2.0
         Least distance between two UAVs, metres (>= 0).
-    check_moves : bool, default False
+    check_moves : bool or None, default False
         Also require the straight move from the current to the new position to cross no surface
         (scenes with buildings: two admissible positions on either side of a wall or a roof edge
         can be joined by a move through it, and in a mesh with ground under its buildings a
-        point inside one passes the clearance test).
+        point inside one passes the clearance test). ``None`` decides by the surface: on for
+        general meshes, off for elevation grids, where a move between two admissible positions a few metres apart
+        cannot cross the ground.
 
     Raises
     ------
@@ -107,20 +114,22 @@ class Constraints:
         ``h_min > z_max``.
     """
 
-    bounds: tuple[float, float, float, float]
+    bounds: tuple[float, float, float, float] | None = None
     h_min: float = 2.0
     z_max: float = 50.0
     d_safe: float = 2.0
-    check_moves: bool = False
+    check_moves: bool | None = False
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "bounds", _as_bounds(self.bounds))
+        if self.bounds is not None:
+            object.__setattr__(self, "bounds", _as_bounds(self.bounds))
         object.__setattr__(self, "h_min", as_non_negative_float(self.h_min, "h_min"))
         object.__setattr__(self, "z_max", as_finite_float(self.z_max, "z_max"))
         object.__setattr__(self, "d_safe", as_non_negative_float(self.d_safe, "d_safe"))
-        if not isinstance(self.check_moves, (bool, np.bool_)):
-            raise InvalidTypeError(f"check_moves must be a bool, got {type(self.check_moves).__name__}")
-        object.__setattr__(self, "check_moves", bool(self.check_moves))
+        if self.check_moves is not None:
+            if not isinstance(self.check_moves, (bool, np.bool_)):
+                raise InvalidTypeError(f"check_moves must be a bool or None, got {type(self.check_moves).__name__}")
+            object.__setattr__(self, "check_moves", bool(self.check_moves))
         if self.h_min > self.z_max:
             raise InfeasibleError(
                 f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m"
@@ -129,7 +138,26 @@ class Constraints:
     @classmethod
     def for_world(cls, world: World, **kwargs: Any) -> "Constraints":
         """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
-        return cls(bounds=_as_bounds(world.bounds), **kwargs)
+        return cls(bounds=_as_bounds(world.bounds), **kwargs).resolve(world)
+
+    def resolve(self, world: World) -> "Constraints":
+        """These constraints with ``bounds`` and ``check_moves`` decided for ``world``.
+
+        ``bounds=None`` becomes the x-y bounds of ``world``; ``check_moves=None`` becomes True
+        unless ``world`` is an elevation grid (``world.grid`` set).
+        """
+        if self.bounds is not None and self.check_moves is not None:
+            return self
+        bounds = _as_bounds(world.bounds) if self.bounds is None else self.bounds
+        check_moves = getattr(world, "grid", None) is None if self.check_moves is None else self.check_moves
+        return replace(self, bounds=bounds, check_moves=check_moves)
+
+    @property
+    def flight_box(self) -> tuple[float, float, float, float]:
+        """The x-y bounds; raises :class:`InvalidInputError` while they are unresolved."""
+        if self.bounds is None:
+            raise InvalidInputError("these constraints have no bounds yet: resolve them against a surface first")
+        return self.bounds
 
     def check_team(self, n_uavs: int, world: World) -> None:
         """Raise :class:`InfeasibleError` if ``n_uavs`` UAVs surely cannot all be admissible.
@@ -141,6 +169,7 @@ class Constraints:
         packing exists; :func:`closest_admissible` reports when it finds none.
         """
         n_uavs = as_positive_int(n_uavs, "number of UAVs")
+        resolved = self.resolve(world)
         zmin = float(np.asarray(world.bounds, dtype=np.float64)[0, 2])
         floor = zmin + self.h_min
         if floor > self.z_max:
@@ -151,7 +180,7 @@ class Constraints:
         if n_uavs == 1 or self.d_safe == 0.0:
             return
         r = self.d_safe / 2.0
-        xmin, ymin, xmax, ymax = self.bounds
+        xmin, ymin, xmax, ymax = resolved.flight_box
         diagonal = math.hypot(xmax - xmin, ymax - ymin, self.z_max - floor)
         if self.d_safe > diagonal:
             raise InfeasibleError(
@@ -184,7 +213,7 @@ def _as_candidates(candidates: Any, n_uavs: int) -> np.ndarray:
 
 def _static_ok(constraints: Constraints, cand: np.ndarray) -> np.ndarray:
     """Bounds, altitude and pairwise distance for ``(M, N, 3)`` candidates: ``(M,)`` bool."""
-    xmin, ymin, xmax, ymax = constraints.bounds
+    xmin, ymin, xmax, ymax = constraints.flight_box
     x, y, z = cand[..., 0], cand[..., 1], cand[..., 2]
     inside = (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= constraints.z_max)
     ok: np.ndarray = np.asarray(inside.all(axis=1), dtype=bool)
@@ -219,6 +248,7 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world)
+    constraints = constraints.resolve(world)
     cur = as_points(current, "current")
     cand = _as_candidates(candidates, cur.shape[0])
     n_uavs = cur.shape[0]
@@ -250,6 +280,7 @@ def feasibility(constraints: Constraints, world: World) -> Callable[[np.ndarray,
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world)
+    constraints = constraints.resolve(world)
 
     def feasible(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
         return feasible_mask(constraints, world, current, candidates)
@@ -316,12 +347,13 @@ def closest_admissible(
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world)
+    constraints = constraints.resolve(world)
     pos = as_points(x, "x").copy()
     climb = as_non_negative_float(climb, "climb")
     max_sweeps = as_positive_int(max_sweeps, "max_sweeps")
     n_uavs = pos.shape[0]
     constraints.check_team(n_uavs, world)
-    xmin, ymin, xmax, ymax = constraints.bounds
+    xmin, ymin, xmax, ymax = constraints.flight_box
     target = constraints.d_safe + _MARGIN if constraints.d_safe > 0.0 else 0.0
     pairs = np.triu_indices(n_uavs, 1)
 

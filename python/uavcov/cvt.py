@@ -42,7 +42,7 @@ over starts; at most 2.6 %), against at most 1.7 % after 300 iterations (``bench
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
 from typing import Any, Callable, Mapping
 
@@ -60,7 +60,7 @@ from ._validate import (
 from .errors import InvalidInputError, InvalidTypeError
 from .surface import Terrain
 
-__all__ = ["cvt", "CVTResult", "PRESETS", "default_samples_per_iteration", "seed_from_rng"]
+__all__ = ["cvt", "CVTSettings", "CVTResult", "PRESETS", "default_samples_per_iteration", "seed_from_rng"]
 
 PRESETS: Mapping[str, tuple[tuple[float, float], tuple[float, float]]] = MappingProxyType(
     {
@@ -207,30 +207,12 @@ def _density(density: Any, surface: Terrain) -> np.ndarray | None:
     return np.ascontiguousarray(array)
 
 
-def cvt(
-    surface: Terrain,
-    n: int,
-    *,
-    preset: str = "damped",
-    alpha: Any = None,
-    beta: Any = None,
-    samples_per_iteration: int | None = None,
-    tol: float = 0.1,
-    window: int = 5,
-    max_iterations: int = 300,
-    density: np.ndarray | Callable[[np.ndarray], np.ndarray] | None = None,
-    initial: Any = None,
-    rng: Any = None,
-    n_threads: int | None = None,
-) -> CVTResult:
-    """Constrained CVT of ``n`` generators on ``surface`` (probabilistic MacQueen, in Rust).
+@dataclass(frozen=True)
+class CVTSettings:
+    """The constants of :func:`cvt`: update weights, samples and the stopping rule.
 
-    Parameters
+    Attributes
     ----------
-    surface : Terrain
-        The surface to tessellate (in the paper, S' from :func:`uavcov.prior.approximate_surface`).
-    n : int
-        Number of generators, ``1 <= n <= samples_per_iteration``.
     preset : {"damped", "lloyd", "annealed"}, default "damped"
         Named ``(alpha, beta)`` weights (see the module docstring).
     alpha, beta : (float, float), optional
@@ -244,6 +226,73 @@ def cvt(
     window : int, default 5
         Iterations the net move is measured over.
     max_iterations : int, default 300
+
+    Raises
+    ------
+    InvalidInputError
+        Weights outside the paper's constraints, an unknown preset, ``q < 1``, negative ``tol``,
+        ``window < 1`` or ``max_iterations < 1``.
+
+    Examples
+    --------
+    >>> CVTSettings(preset="lloyd", tol=0.05).weights()
+    ((0.0, 1.0), (0.0, 1.0))
+    """
+
+    preset: str = "damped"
+    alpha: tuple[float, float] | None = None
+    beta: tuple[float, float] | None = None
+    samples_per_iteration: int | None = None
+    tol: float = 0.1
+    window: int = 5
+    max_iterations: int = 300
+
+    def __post_init__(self) -> None:
+        a, b = _weights(self.preset, self.alpha, self.beta)
+        if self.alpha is not None:
+            object.__setattr__(self, "alpha", a)
+        if self.beta is not None:
+            object.__setattr__(self, "beta", b)
+        if self.samples_per_iteration is not None:
+            object.__setattr__(self, "samples_per_iteration", as_positive_int(self.samples_per_iteration, "samples_per_iteration"))
+        object.__setattr__(self, "tol", as_non_negative_float(self.tol, "tol"))
+        object.__setattr__(self, "window", as_positive_int(self.window, "window"))
+        object.__setattr__(self, "max_iterations", as_positive_int(self.max_iterations, "max_iterations"))
+
+    def weights(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """``((a1, a2), (b1, b2))``: the preset's, or ``alpha`` and ``beta`` where given."""
+        return _weights(self.preset, self.alpha, self.beta)
+
+    def samples_for(self, n: int) -> int:
+        """``q`` for ``n`` generators."""
+        return default_samples_per_iteration(n) if self.samples_per_iteration is None else self.samples_per_iteration
+
+
+_SETTING_NAMES = frozenset(f.name for f in fields(CVTSettings))
+
+
+def cvt(
+    surface: Terrain,
+    n: int,
+    settings: CVTSettings | None = None,
+    *,
+    density: np.ndarray | Callable[[np.ndarray], np.ndarray] | None = None,
+    initial: Any = None,
+    rng: Any = None,
+    n_threads: int | None = None,
+    **options: Any,
+) -> CVTResult:
+    """Constrained CVT of ``n`` generators on ``surface`` (probabilistic MacQueen, in Rust).
+
+    Parameters
+    ----------
+    surface : Terrain
+        The surface to tessellate (in the paper, S' from :func:`uavcov.prior.approximate_surface`).
+    n : int
+        Number of generators, ``1 <= n <= samples_per_iteration``.
+    settings : CVTSettings, optional
+        The constants (weights, samples per iteration, stopping rule); ``CVTSettings()`` by
+        default.
     density : (F,) array_like or callable, optional
         A density ``>= 0`` (not zero everywhere) weighting the sampling, per triangle of
         ``surface``. A callable gets the ``(F, 3)`` triangle centroids and returns ``(F,)``: the
@@ -257,6 +306,9 @@ def cvt(
         that seed, not on ``n_threads``.
     n_threads : int, optional
         Threads for the Rust side; all cores by default.
+    **options
+        Fields of :class:`CVTSettings` (``preset="lloyd"``, ``tol=0.05``, ...) overriding
+        ``settings``'s.
 
     Returns
     -------
@@ -265,9 +317,8 @@ def cvt(
     Raises
     ------
     InvalidInputError
-        ``n < 1``, ``n > q``, ``q < 1``, weights outside the constraints, an unknown preset,
-        negative ``tol``, ``window < 1``, ``max_iterations < 1``, a density that is negative,
-        NaN or zero everywhere, or ``initial`` of the wrong shape.
+        ``n < 1``, ``n > q``, settings :class:`CVTSettings` refuses, an unknown option, a density
+        that is negative, NaN or zero everywhere, or ``initial`` of the wrong shape.
     InvalidTypeError
         ``surface`` is not a :class:`~uavcov.surface.Terrain`, or an argument of the wrong type.
 
@@ -283,13 +334,20 @@ def cvt(
     if not isinstance(surface, Terrain):
         raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
     n = as_positive_int(n, "n")
-    (a1, a2), (b1, b2) = _weights(preset, alpha, beta)
-    q = default_samples_per_iteration(n) if samples_per_iteration is None else as_positive_int(samples_per_iteration, "samples_per_iteration")
+    if settings is None:
+        settings = CVTSettings()
+    elif not isinstance(settings, CVTSettings):
+        raise InvalidTypeError(f"settings must be a CVTSettings, got {type(settings).__name__}")
+    unknown = sorted(set(options) - _SETTING_NAMES)
+    if unknown:
+        raise InvalidInputError(f"unknown CVT option(s) {unknown}; the options are the fields of CVTSettings: {sorted(_SETTING_NAMES)}")
+    if options:
+        settings = replace(settings, **options)
+    (a1, a2), (b1, b2) = settings.weights()
+    q = settings.samples_for(n)
     if n > q:
         raise InvalidInputError(f"{n} generators need at least as many samples per iteration, got samples_per_iteration = {q}")
-    tol = as_non_negative_float(tol, "tol")
-    window = as_positive_int(window, "window")
-    max_iterations = as_positive_int(max_iterations, "max_iterations")
+    tol, window, max_iterations = settings.tol, settings.window, settings.max_iterations
     weights = _density(density, surface)
     start = None
     if initial is not None:

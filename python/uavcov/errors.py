@@ -1,7 +1,8 @@
 """The exceptions uavcov raises for input a user can get wrong.
 
-Every error derives from :class:`UavcovError`, and also from ``ValueError`` or ``TypeError``
-where that is the natural category, so ``except ValueError`` keeps working in user code.
+Every error derives from :class:`UavcovError`, and also from the built-in class of what
+happened (``ValueError``, ``TypeError``, ``OSError``, ``ImportError``, ``TimeoutError``), so
+``except ValueError`` or ``except OSError`` keeps working in user code.
 """
 
 from __future__ import annotations
@@ -15,6 +16,10 @@ __all__ = [
     "ConfigError",
     "InfeasibleError",
     "ResultsFormatError",
+    "ResultsFolderError",
+    "ResultsInUseError",
+    "MissingExtraError",
+    "SchedulerTimeoutError",
 ]
 
 
@@ -48,3 +53,19 @@ class InfeasibleError(InvalidInputError):
 
 class ResultsFormatError(InvalidInputError):
     """Stored results are empty, from an unknown format, or miss fields a consumer needs."""
+
+
+class ResultsFolderError(UavcovError, OSError):
+    """A results folder cannot be created or written (a file in its place, no permission, ...)."""
+
+
+class ResultsInUseError(ConfigError):
+    """A results folder holds other results, or another process is writing to it."""
+
+
+class MissingExtraError(UavcovError, ImportError):
+    """An optional dependency is not installed; the message names the extra that provides it."""
+
+
+class SchedulerTimeoutError(UavcovError, TimeoutError):
+    """A Dask scheduler did not answer in time."""

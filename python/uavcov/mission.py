@@ -1,92 +1,202 @@
 """The paper's two-step mission: an off-line start from the prior, then on-line CAO.
 
-:func:`run_mission` takes the true surface, what is known of it beforehand (the prior), the team
-and its sensor, and runs
+A :class:`MissionSpec` says everything one mission runs (team, sensor, what is known
+beforehand, the start, the flight constraints, the CVT and the optimiser), frozen and
+picklable; :func:`run_mission` runs it on a true surface:
 
-1. the start: the constrained CVT of the approximating surface S' (or a random or corner start,
-   the paper's baselines), lifted to flying height and moved to the closest admissible positions
-   above the real surface (the UAVs sense the ground, paper section V-B);
-2. the optimiser (CAO, centralised or per robot) on the real surface, which it sees only through
+1. the prior: the known points (random samples plus the 4 corners, or the paper's pyramid), or
+   an approximating surface S' given directly, and S' from them (:mod:`uavcov.prior`);
+2. the start on S' (:func:`uavcov.starts.start_configuration`: the constrained CVT, or a random,
+   corner or pairs start), lifted to flying height and moved to the closest admissible
+   positions above the real surface (the UAVs sense the ground, paper section V-B);
+3. the optimiser (CAO, centralised or per robot) on the real surface, which it sees only through
    coverage measurements and the constraint checks.
 
 It returns a :class:`MissionResult`: a frozen, picklable record of everything that happened.
+
+Random streams
+--------------
+``rng`` is split into three independent children (``numpy`` ``Generator.spawn(3)``): the prior
+samples, the start, the optimiser. So two missions with the same ``rng`` see the same prior
+points whatever their team size or start, and a change of the optimiser's settings leaves the
+start as it was.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass, field
+import warnings
+from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from ._validate import as_generator, as_non_negative_float, as_non_negative_int, as_points, as_positive_float, as_positive_int
+from ._validate import as_generator, as_non_negative_int, as_points, as_positive_float, as_positive_int
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility
-from .cvt import CVTResult, cvt
+from .cvt import CVTResult, CVTSettings
 from .errors import InvalidInputError, InvalidTypeError
 from .prior import Prior, approximate_surface, sample_prior
-from .starts import START_KINDS, initial_positions
+from .starts import StartSpec, start_configuration
 from .surface import Terrain
 from .targets import Targets
 from .visibility import Visibility
 
-__all__ = ["MissionSettings", "MissionResult", "run_mission", "iterations_to_fraction"]
+__all__ = ["MissionSpec", "MissionResult", "run_mission", "iterations_to_fraction", "OPTIMIZERS", "PRIOR_KINDS"]
 
 OPTIMIZERS = ("cao", "per_robot")
+"""The optimisers :func:`run_mission` knows: centralised CAO, or one estimator per UAV."""
+
+PRIOR_KINDS = ("random", "pyramid")
+"""What :class:`MissionSpec` can sample as the prior (anything else is passed as ``known``)."""
+
+
+def _mission_constraints() -> Constraints:
+    # Bounds are the true surface's; moves are checked on meshes (buildings), not on grids.
+    return Constraints(check_moves=None)
 
 
 @dataclass(frozen=True)
-class MissionSettings:
-    """Every setting of one mission, resolved (what :func:`run_mission` actually used).
+class MissionSpec:
+    """Every setting of one mission. Frozen and picklable; compare and hash it as a value.
 
     Attributes
     ----------
     n_uavs : int
-        Team size ``N``.
+        Team size ``N`` (> 0).
     d_max : float
-        Sensing range, metres.
-    start : {"cvt", "random", "corner", "given"}
-        How the team starts ("given": positions passed by the caller).
-    optimizer : {"cao", "per_robot"}
-        Centralised CAO or one estimator per UAV.
-    iterations : int
-        Optimiser iterations (measurements minus one).
-    start_altitude : float
-        Height of the start above the real ground, metres, before the closest admissible
-        position is taken.
-    h_min, z_max, d_safe : float
-        The constraints of eq. 2, metres (see :class:`uavcov.constraints.Constraints`).
-    check_moves : bool
-        Whether moves must not cross the surface (scenes with buildings).
+        Sensing range, metres (> 0).
+    prior : {"random", "pyramid"}, default "random"
+        What is known beforehand when :func:`run_mission` is not given it (``known=``):
+        ``n_prior`` random points plus the 4 corners, or the 4 corners and the centre.
+    n_prior : int, default 30
+        Random known points for ``prior="random"``.
+    start : StartSpec
+        The start (kind, altitude rule, corner lattice); a CVT start by default.
+    constraints : Constraints
+        The flight constraints of eq. 2 (``h_min``, ``z_max``, ``d_safe``, ``check_moves``);
+        ``bounds=None`` stands for the true surface's x-y bounds and ``check_moves=None`` for
+        "on for general meshes, off for elevation grids".
+    cvt : CVTSettings
+        The constrained CVT's constants (``start.kind == "cvt"``).
     cao : CAOSettings
         The optimiser's constants.
-    prior_kind : str
-        How the prior was obtained ("random", "pyramid", "points", "surface", ...).
-    n_prior : int
-        Number of known points (0 when an approximating surface was given).
-    seed : int or None
-        The integer seed, when ``rng`` was one.
+    optimizer : {"cao", "per_robot"}, default "cao"
+        Centralised CAO or one estimator per UAV.
+    iterations : int, default 500
+        Optimiser iterations (measurements minus one); 0 measures the start only.
+
+    Examples
+    --------
+    >>> spec = MissionSpec(n_uavs=4, d_max=20.0, iterations=50)
+    >>> spec.with_changes(**{"start.kind": "random", "constraints.h_min": 1.0}).start.kind
+    'random'
     """
 
     n_uavs: int
     d_max: float
-    start: str
-    optimizer: str
-    iterations: int
-    start_altitude: float
-    h_min: float
-    z_max: float
-    d_safe: float
-    check_moves: bool
-    cao: CAOSettings
-    prior_kind: str
-    n_prior: int
-    seed: int | None = None
+    prior: str = "random"
+    n_prior: int = 30
+    start: StartSpec = field(default_factory=StartSpec)
+    constraints: Constraints = field(default_factory=_mission_constraints)
+    cvt: CVTSettings = field(default_factory=CVTSettings)
+    cao: CAOSettings = field(default_factory=CAOSettings)
+    optimizer: str = "cao"
+    iterations: int = 500
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "n_uavs", as_positive_int(self.n_uavs, "n_uavs"))
+        object.__setattr__(self, "d_max", as_positive_float(self.d_max, "d_max"))
+        object.__setattr__(self, "n_prior", as_non_negative_int(self.n_prior, "n_prior"))
+        object.__setattr__(self, "iterations", as_non_negative_int(self.iterations, "iterations"))
+        if self.prior not in PRIOR_KINDS:
+            raise InvalidInputError(f"prior must be one of {PRIOR_KINDS} (pass anything else as known=), got {self.prior!r}")
+        if self.optimizer not in OPTIMIZERS:
+            raise InvalidInputError(f"optimizer must be one of {OPTIMIZERS}, got {self.optimizer!r}")
+        for name, kind in (("start", StartSpec), ("constraints", Constraints), ("cvt", CVTSettings), ("cao", CAOSettings)):
+            value = getattr(self, name)
+            if not isinstance(value, kind):
+                raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+
+    def with_changes(self, **changes: Any) -> MissionSpec:
+        """A copy with some fields replaced; nested ones as ``"start.kind"`` or ``"cao.alpha0"``.
+
+        Raises
+        ------
+        InvalidInputError
+            A name that is not a field (the message lists the fields).
+        """
+        return nested_replace(self, changes)
 
     def as_dict(self) -> dict[str, Any]:
         """Plain ``dict`` (nested settings included), ready for JSON."""
         return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> MissionSpec:
+        """The inverse of :meth:`as_dict` (lists where tuples were are accepted).
+
+        Raises
+        ------
+        InvalidInputError
+            An unknown or missing field.
+        InvalidTypeError
+            Not a mapping.
+        """
+        if not isinstance(data, dict):
+            raise InvalidTypeError(f"a mission spec must be a mapping, got {type(data).__name__}")
+        return _build(cls, data, "mission")
+
+
+def _build(cls: type, data: dict[str, Any], where: str) -> Any:
+    nested = {"start": StartSpec, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings}
+    names = {f.name for f in fields(cls)}
+    unknown = sorted(set(data) - names)
+    if unknown:
+        raise InvalidInputError(f"{where}: unknown field(s) {unknown}; the fields are {sorted(names)}")
+    values: dict[str, Any] = {}
+    for key, value in data.items():
+        if cls is MissionSpec and key in nested:
+            if not isinstance(value, dict):
+                raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(value).__name__}")
+            value = _build(nested[key], value, f"{where}.{key}")
+        elif isinstance(value, list):
+            value = tuple(value)
+        values[key] = value
+    try:
+        return cls(**values)
+    except TypeError as exc:  # a required field is missing
+        raise InvalidInputError(f"{where}: {exc}") from None
+
+
+def nested_replace(obj: Any, changes: dict[str, Any]) -> Any:
+    """``dataclasses.replace`` that also reaches into nested dataclasses by dotted names.
+
+    ``nested_replace(spec, {"start.kind": "random", "iterations": 10})``. ``"__"`` may stand
+    for the dot (keyword-argument friendly).
+
+    Raises
+    ------
+    InvalidInputError
+        A name that is not a field of the object it names.
+    """
+    top: dict[str, Any] = {}
+    inner: dict[str, dict[str, Any]] = {}
+    names = {f.name for f in fields(obj)}
+    for key, value in changes.items():
+        head, _, rest = key.replace("__", ".").partition(".")
+        if head not in names:
+            raise InvalidInputError(f"{type(obj).__name__} has no field {head!r}; its fields are {sorted(names)}")
+        if rest:
+            inner.setdefault(head, {})[rest] = value
+        else:
+            top[head] = value
+    for head, sub in inner.items():
+        current = top.get(head, getattr(obj, head))
+        if not is_dataclass(current):
+            raise InvalidInputError(f"{type(obj).__name__}.{head} has no fields to set ({sorted(sub)})")
+        top[head] = nested_replace(current, sub)
+    return replace(obj, **top)
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,7 +205,13 @@ class MissionResult:
 
     Attributes
     ----------
-    settings : MissionSettings
+    spec : MissionSpec
+        What ran, with the constraints resolved against the true surface.
+    seed : int or None
+        The integer seed, when ``rng`` was one.
+    prior_kind : str
+        How the known points were obtained: "random", "pyramid", "points" (given), "surface"
+        (S' given directly), ...
     terrain : Terrain
         The true surface.
     prior_points : (n, 3) ndarray
@@ -103,7 +219,8 @@ class MissionResult:
     approximation : Terrain
         S', the surface the start was computed on.
     start_positions : (N, 3) ndarray
-        The start as computed on S' (CVT generators, random or corner lattice), metres.
+        The start before it was made admissible: lifted CVT generators, random or corner
+        positions, or the positions given.
     cvt : CVTResult or None
         The CVT run, for the "cvt" start.
     trajectory : (K + 1, N, 3) ndarray
@@ -126,7 +243,9 @@ class MissionResult:
         The optimiser's full record.
     """
 
-    settings: MissionSettings
+    spec: MissionSpec
+    seed: int | None
+    prior_kind: str
     terrain: Terrain
     prior_points: np.ndarray
     approximation: Terrain
@@ -145,6 +264,12 @@ class MissionResult:
     time_measure_s: float
     time_optimizer_s: float
     trace: OptimizerTrace = field(repr=False)
+
+    @property
+    def settings(self) -> MissionSpec:
+        """Deprecated: the :attr:`spec` (the flat ``MissionSettings`` record it replaced is gone)."""
+        warnings.warn("MissionResult.settings is deprecated; use MissionResult.spec", DeprecationWarning, stacklevel=2)
+        return self.spec
 
     @property
     def initial_positions(self) -> np.ndarray:
@@ -167,42 +292,29 @@ def _seed_of(rng: Any) -> int | None:
     return int(rng) if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool) else None
 
 
-def _approximation(terrain: Terrain, prior: Any, n_prior: int, rng: np.random.Generator) -> tuple[Terrain, np.ndarray, str]:
+def _approximation(terrain: Terrain, spec: MissionSpec, known: Any, rng: np.random.Generator) -> tuple[Terrain, np.ndarray, str]:
     """S', the known points behind it, and how they were chosen."""
-    if isinstance(prior, Terrain):
-        return prior, np.empty((0, 3)), "surface"
-    if isinstance(prior, Prior):
-        known = prior
-    elif isinstance(prior, str) and prior in ("random", "pyramid"):
-        known = sample_prior(terrain, n_prior, kind=prior, rng=rng)
-    elif isinstance(prior, str):
-        raise InvalidInputError(f"prior must be 'random', 'pyramid', a Prior, points or a Terrain, got {prior!r}")
+    if isinstance(known, Terrain):
+        return known, np.empty((0, 3)), "surface"
+    if known is None:
+        prior = sample_prior(terrain, spec.n_prior, kind=spec.prior, rng=rng)
+    elif isinstance(known, Prior):
+        prior = known
     else:
-        known = sample_prior(terrain, kind="points", points=prior, rng=rng)
-    return approximate_surface(known), np.array(known.points), known.kind
+        prior = sample_prior(terrain, kind="points", points=known, rng=rng)
+    return approximate_surface(prior), np.array(prior.points), prior.kind
 
 
 def run_mission(
     terrain: Terrain,
+    spec: MissionSpec | None = None,
     *,
-    n_uavs: int,
-    d_max: float,
-    prior: Any = "random",
-    n_prior: int = 30,
-    start: Any = "cvt",
-    optimizer: str = "cao",
-    iterations: int = 500,
-    settings: CAOSettings | None = None,
-    start_altitude: float = 5.0,
-    climb: float = 0.0,
-    h_min: float = 2.0,
-    z_max: float = 50.0,
-    d_safe: float = 2.0,
-    check_moves: bool | None = None,
+    known: Any = None,
+    start_positions: Any = None,
     targets: Targets | None = None,
-    cvt_options: dict[str, Any] | None = None,
     n_threads: int | None = None,
     rng: Any = None,
+    **legacy: Any,
 ) -> MissionResult:
     """Run the paper's two-step mission on a true surface.
 
@@ -211,130 +323,100 @@ def run_mission(
     terrain : Terrain
         The true surface S. The optimiser sees it only through coverage measurements and the
         constraint checks (clearance below each UAV, and moves crossing no surface).
-    n_uavs : int
-        Team size ``N`` (> 0).
-    d_max : float
-        Sensing range, metres (> 0).
-    prior : "random", "pyramid", Prior, (n, 2 or 3) array_like, or Terrain
-        What is known beforehand: ``n_prior`` random points plus the 4 corners, the paper's
-        pyramid (4 corners and the centre), a :class:`~uavcov.prior.Prior`, known positions or
-        points, or an approximating surface S' given directly (e.g. a buildings map).
-    n_prior : int, default 30
-        Random known points for ``prior="random"``.
-    start : {"cvt", "random", "corner"} or (N, 3) array_like, default "cvt"
-        The start: constrained CVT on S', uniform over the region, a compact lattice in one
-        corner, or positions of your own (metres, used as given: no ``start_altitude`` lift).
-        Every start is moved to the closest admissible positions before the optimiser begins.
-    optimizer : {"cao", "per_robot"}, default "cao"
-    iterations : int, default 500
-    settings : CAOSettings, optional
-        The optimiser's constants (defaults: :class:`~uavcov.cao.CAOSettings`).
-    start_altitude : float, default 5.0
-        The start flies this high above the real ground (metres) before it is moved to the
-        closest admissible positions.
-    climb : float, default 0.0
-        Metres above ``h_min`` at which a start UAV that had to be lifted is put (see
-        :func:`uavcov.constraints.closest_admissible`).
-    h_min, z_max, d_safe : float
-        Least clearance above the real surface, highest altitude, least UAV-UAV distance, metres.
-    check_moves : bool, optional
-        Refuse moves that cross the surface. Default: on for general meshes (buildings), off for
-        elevation grids, where an admissible-to-admissible move cannot cross the ground within
-        one step of a few metres.
+    spec : MissionSpec
+        Everything the mission runs.
+    known : Prior, (n, 2 or 3) array_like, or Terrain, optional
+        What is known beforehand, instead of what ``spec.prior`` samples: a
+        :class:`~uavcov.prior.Prior`, known positions or points, or an approximating surface S'
+        given directly (e.g. a buildings map).
+    start_positions : (N, 3) array_like, optional
+        Positions of your own to start from (metres, used as given: no lift), instead of
+        ``spec.start``'s; they are still moved to the closest admissible positions.
     targets : Targets, optional
         Coverage targets; the true terrain's default targets by default.
-    cvt_options : dict, optional
-        Keyword arguments for :func:`uavcov.cvt.cvt` (the "cvt" start), e.g. ``{"preset": "lloyd"}``.
     n_threads : int, optional
-        Threads for each coverage measurement; all cores by default.
+        Threads for each coverage measurement and for the start; rayon's default (every core, or
+        ``RAYON_NUM_THREADS``) when None. Results do not depend on it.
     rng : None, int or numpy.random.Generator
-        Source of every random draw (prior, start, optimiser); the same seed gives the same run.
+        Source of every random draw (see the module's random streams); the same seed gives the
+        same run.
+    **legacy
+        The keyword form of earlier releases (``n_uavs=``, ``d_max=``, ``prior=``, ``start=``,
+        ``h_min=``, ...), deprecated: it builds the ``MissionSpec`` for you.
 
     Returns
     -------
     MissionResult
+
+    Raises
+    ------
+    InvalidInputError, InvalidTypeError
+        A bad spec or argument.
+    InfeasibleError
+        The team cannot be placed admissibly.
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> hills = uavcov.gaussian_hills(size=40.0, spacing=2.0, n_hills=3, rng=1)
+    >>> result = run_mission(hills, MissionSpec(n_uavs=3, d_max=15.0, iterations=5), rng=0)
+    >>> result.coverage.shape, 0.0 < result.best_coverage <= 1.0
+    ((6,), True)
     """
     started = time.perf_counter()
     if not isinstance(terrain, Terrain):
         raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
-    n_uavs = as_positive_int(n_uavs, "n_uavs")
-    d_max = as_positive_float(d_max, "d_max")
-    iterations = as_non_negative_int(iterations, "iterations")
-    n_prior = as_non_negative_int(n_prior, "n_prior")
-    start_altitude = as_non_negative_float(start_altitude, "start_altitude")
-    given_start = None
-    if not isinstance(start, str):
-        given_start = as_points(start, "start")
-        if given_start.shape[0] != n_uavs:
-            raise InvalidInputError(f"start has {given_start.shape[0]} positions for {n_uavs} UAVs")
-        start = "given"
-    elif start not in START_KINDS:
-        raise InvalidInputError(f"start must be one of {START_KINDS} or an (N, 3) array, got {start!r}")
-    if optimizer not in OPTIMIZERS:
-        raise InvalidInputError(f"optimizer must be one of {OPTIMIZERS}, got {optimizer!r}")
-    settings = CAOSettings() if settings is None else settings
-    if not isinstance(settings, CAOSettings):
-        raise InvalidTypeError(f"settings must be a CAOSettings, got {type(settings).__name__}")
-    if check_moves is None:
-        check_moves = terrain.grid is None
-    constraints = Constraints.for_world(terrain, h_min=h_min, z_max=z_max, d_safe=d_safe, check_moves=check_moves)
-    constraints.check_team(n_uavs, terrain)
-    vis = Visibility(terrain, d_max, targets, n_threads=n_threads)
+    if legacy:
+        if spec is not None:
+            raise InvalidInputError(f"pass either a MissionSpec or the deprecated keywords {sorted(legacy)}, not both")
+        warnings.warn(
+            "run_mission(terrain, n_uavs=..., d_max=..., ...) is deprecated; pass a MissionSpec", DeprecationWarning, stacklevel=2
+        )
+        spec, known, start_positions = _spec_from_keywords(legacy, known, start_positions)
+    if not isinstance(spec, MissionSpec):
+        raise InvalidTypeError(f"spec must be a MissionSpec, got {type(spec).__name__}")
+    given = None
+    if start_positions is not None:
+        given = as_points(start_positions, "start_positions")
+        if given.shape[0] != spec.n_uavs:
+            raise InvalidInputError(f"start_positions has {given.shape[0]} positions for {spec.n_uavs} UAVs")
+    constraints = spec.constraints.resolve(terrain)
+    constraints.check_team(spec.n_uavs, terrain)
+    spec = replace(spec, constraints=constraints)
+    vis = Visibility(terrain, spec.d_max, targets, n_threads=n_threads)
 
-    generator = as_generator(rng)
-    prior_rng, start_rng, optimizer_rng = generator.spawn(3)
-    approximation, prior_points, prior_kind = _approximation(terrain, prior, n_prior, prior_rng)
-    cvt_result: CVTResult | None = None
-    if given_start is not None:
-        start_positions = given_start
-    elif start == "cvt":
-        # Called directly rather than through initial_positions, to keep the whole CVT run.
-        cvt_result = cvt(approximation, n_uavs, rng=start_rng, n_threads=n_threads, **dict(cvt_options or {}))
-        start_positions = np.array(cvt_result.generators)
+    prior_rng, start_rng, optimizer_rng = as_generator(rng).spawn(3)
+    approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
+    tessellation: CVTResult | None = None
+    if given is not None:
+        flying = given
     else:
-        start_positions = initial_positions(start, approximation, n_uavs, rng=start_rng, n_threads=n_threads)
-    flying = start_positions.copy()
-    if given_start is None:
-        ground = terrain.ground_height(flying[:, :2])
-        # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.
-        flying[:, 2] = np.where(np.isnan(ground), flying[:, 2], ground) + start_altitude
-    x0 = closest_admissible(constraints, terrain, flying, climb=climb)
+        flying, tessellation = start_configuration(
+            spec.start, approximation, terrain, spec.n_uavs, cvt_settings=spec.cvt, rng=start_rng, n_threads=n_threads
+        )
+    x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
 
     feasible = feasibility(constraints, terrain)
-    if optimizer == "cao":
-        trace = cao(vis.coverage, x0, feasible=feasible, iterations=iterations, settings=settings, rng=optimizer_rng)
+    if spec.optimizer == "cao":
+        trace = cao(vis.coverage, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
     else:
 
         def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
             counts = vis.per_uav(x)  # the coverage and the marginals in one pass
             return counts.coverage, counts.exclusive_share
 
-        trace = per_robot_cao(measure, x0, feasible=feasible, iterations=iterations, settings=settings, rng=optimizer_rng)
+        trace = per_robot_cao(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
 
     values = np.asarray(trace.values, dtype=float)
-    resolved = MissionSettings(
-        n_uavs=n_uavs,
-        d_max=d_max,
-        start=start,
-        optimizer=optimizer,
-        iterations=iterations,
-        start_altitude=start_altitude,
-        h_min=constraints.h_min,
-        z_max=constraints.z_max,
-        d_safe=constraints.d_safe,
-        check_moves=constraints.check_moves,
-        cao=trace.settings,
-        prior_kind=prior_kind,
-        n_prior=int(prior_points.shape[0]),
-        seed=_seed_of(rng),
-    )
     return MissionResult(
-        settings=resolved,
+        spec=replace(spec, cao=trace.settings),
+        seed=_seed_of(rng),
+        prior_kind=prior_kind,
         terrain=terrain,
         prior_points=prior_points,
         approximation=approximation,
-        start_positions=start_positions,
-        cvt=cvt_result,
+        start_positions=flying,
+        cvt=tessellation,
         trajectory=trace.trajectory,
         coverage=values,
         best_positions=trace.best_positions,
@@ -349,3 +431,56 @@ def run_mission(
         time_optimizer_s=float(trace.time_own),
         trace=trace,
     )
+
+
+_LEGACY_START = {"start_altitude": "altitude", "climb": "climb"}
+_LEGACY_CONSTRAINTS = ("h_min", "z_max", "d_safe", "check_moves")
+
+
+def _spec_from_keywords(legacy: dict[str, Any], known: Any, start_positions: Any) -> tuple[MissionSpec, Any, Any]:
+    """The MissionSpec (and ``known``, ``start_positions``) the deprecated keyword form means."""
+    options = dict(legacy)
+    for required in ("n_uavs", "d_max"):
+        if required not in options:
+            raise InvalidInputError(f"run_mission needs a MissionSpec (or the deprecated {required}=...)")
+    top: dict[str, Any] = {"n_uavs": options.pop("n_uavs"), "d_max": options.pop("d_max")}
+    for name in ("n_prior", "optimizer", "iterations"):
+        if name in options:
+            top[name] = options.pop(name)
+    prior = options.pop("prior", "random")
+    if isinstance(prior, str):
+        if prior not in PRIOR_KINDS:
+            raise InvalidInputError(f"prior must be 'random', 'pyramid', a Prior, points or a Terrain, got {prior!r}")
+        top["prior"] = prior
+    else:
+        known = prior
+    start = options.pop("start", "cvt")
+    start_changes = {new: options.pop(old) for old, new in _LEGACY_START.items() if old in options}
+    if isinstance(start, str):
+        start_changes["kind"] = start
+    else:
+        start_positions = start
+    top["start"] = StartSpec(**start_changes)
+    top["constraints"] = replace(_mission_constraints(), **{k: options.pop(k) for k in _LEGACY_CONSTRAINTS if k in options})
+    if "settings" in options:
+        top["cao"] = options.pop("settings")
+        if top["cao"] is None:
+            top["cao"] = CAOSettings()
+    cvt_options = options.pop("cvt_options", None)
+    if cvt_options is not None:
+        if not isinstance(cvt_options, dict):
+            raise InvalidTypeError(f"cvt_options must be a mapping, got {type(cvt_options).__name__}")
+        unknown = sorted(set(cvt_options) - {f.name for f in fields(CVTSettings)})
+        if unknown:
+            raise InvalidInputError(f"cvt_options: unknown option(s) {unknown}; the options are the fields of CVTSettings")
+        top["cvt"] = CVTSettings(**cvt_options)
+    if options:
+        raise InvalidInputError(f"run_mission got unknown keyword(s) {sorted(options)}")
+    return MissionSpec(**top), known, start_positions
+
+
+def __getattr__(name: str) -> Any:
+    if name == "MissionSettings":
+        warnings.warn("uavcov.mission.MissionSettings is deprecated; use MissionSpec", DeprecationWarning, stacklevel=2)
+        return MissionSpec
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

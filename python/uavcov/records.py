@@ -18,16 +18,19 @@ from typing import Any
 
 import numpy as np
 
-from .cao import CAOSettings, OptimizerTrace
+from .cao import OptimizerTrace
 from .cvt import CVTResult
-from .errors import ResultsFormatError
-from .mission import MissionResult, MissionSettings
+from .errors import ResultsFormatError, UavcovError
+from .mission import MissionResult, MissionSpec
+from .starts import START_KINDS
 from .surface import Terrain
 
 __all__ = ["FORMAT", "save_mission", "load_mission"]
 
-FORMAT = "uavcov.mission/1"
+FORMAT = "uavcov.mission/2"
 """Format tag written in every run file; bump on any incompatible change."""
+
+_FORMAT_1 = "uavcov.mission/1"  # a flat settings record instead of the MissionSpec; still read
 
 _TRACE_ARRAYS = ("trajectory", "values", "measured", "step_sizes", "n_checked", "n_feasible", "best_positions")
 _CVT_ARRAYS = ("generators", "moves", "drift", "energy")
@@ -71,7 +74,9 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     trace = result.trace
     header = {
         "format": FORMAT,
-        "settings": result.settings.as_dict(),
+        "spec": result.spec.as_dict(),
+        "seed": result.seed,
+        "prior_kind": result.prior_kind,
         "scalars": {
             "best_coverage": result.best_coverage,
             "initial_coverage": result.initial_coverage,
@@ -141,14 +146,17 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         header = json.loads(str(arrays["header"]))
     except json.JSONDecodeError as exc:
         raise ResultsFormatError(f"{path} has an unreadable header: {exc}") from exc
-    if header.get("format") != FORMAT:
+    if not isinstance(header, dict):
+        raise ResultsFormatError(f"{path} has a header that is not a JSON object")
+    if header.get("format") not in (FORMAT, _FORMAT_1):
         raise ResultsFormatError(f"{path} has format {header.get('format')!r}; this uavcov reads {FORMAT!r}")
-    _require(header, ("settings", "scalars", "trace"), path)
+    _require(header, ("settings" if header["format"] == _FORMAT_1 else "spec", "scalars", "trace"), path)
     _require(arrays, ("prior_points", "start_positions", "coverage") + tuple(f"trace_{n}" for n in _TRACE_ARRAYS), path)
     try:
-        raw = dict(header["settings"])
-        raw["cao"] = CAOSettings(**raw["cao"])
-        settings = MissionSettings(**raw)
+        if header["format"] == _FORMAT_1:
+            spec, seed, prior_kind = _spec_of_format_1(header)
+        else:
+            spec, seed, prior_kind = MissionSpec.from_dict(header["spec"]), header["seed"], str(header["prior_kind"])
         t = header["trace"]
         trace = OptimizerTrace(
             kind=t["kind"],
@@ -156,7 +164,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             best_value=t["best_value"],
             best_iteration=t["best_iteration"],
             evaluations=t["evaluations"],
-            settings=settings.cao,
+            settings=spec.cao,
             time_measure=t["time_measure"],
             time_feasibility=t["time_feasibility"],
             time_own=t["time_own"],
@@ -167,7 +175,9 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"])
         s = header["scalars"]
         return MissionResult(
-            settings=settings,
+            spec=spec,
+            seed=seed,
+            prior_kind=prior_kind,
             terrain=_surface("terrain", arrays, path),
             prior_points=arrays["prior_points"],
             approximation=_surface("approximation", arrays, path),
@@ -179,5 +189,29 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             trace=trace,
             **s,
         )
-    except (KeyError, TypeError) as exc:
+    except (KeyError, TypeError, AttributeError, UavcovError) as exc:
         raise ResultsFormatError(f"{path} is missing or has a malformed field: {exc}") from exc
+
+
+def _spec_of_format_1(header: dict[str, Any]) -> tuple[MissionSpec, int | None, str]:
+    """The MissionSpec a format-1 file's flat settings record describes.
+
+    Format 1 recorded a start built outside the mission as "given"; its kind is taken as "cvt"
+    when the file holds a CVT run, else "random" (the runs.csv row names the true start).
+    """
+    raw = dict(header["settings"])
+    kind = raw["start"] if raw["start"] in START_KINDS else ("cvt" if header.get("cvt") is not None else "random")
+    spec = MissionSpec.from_dict(
+        {
+            "n_uavs": raw["n_uavs"],
+            "d_max": raw["d_max"],
+            "prior": raw["prior_kind"] if raw["prior_kind"] in ("random", "pyramid") else "random",
+            "n_prior": raw["n_prior"],
+            "start": {"kind": kind, "altitude": raw["start_altitude"]},
+            "constraints": {"h_min": raw["h_min"], "z_max": raw["z_max"], "d_safe": raw["d_safe"], "check_moves": raw["check_moves"]},
+            "cao": raw["cao"],
+            "optimizer": raw["optimizer"],
+            "iterations": raw["iterations"],
+        }
+    )
+    return spec, raw.get("seed"), str(raw["prior_kind"])

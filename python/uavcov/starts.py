@@ -1,4 +1,4 @@
-"""The initial UAV positions the paper compares: CVT, random and corner, behind one interface.
+"""The initial UAV positions the paper compares: CVT, random, corner and pairs, behind one interface.
 
 :func:`initial_positions` returns ``N`` positions on (or a fixed height above) the given surface,
 in the paper the approximating surface S':
@@ -12,32 +12,40 @@ in the paper the approximating surface S':
     A compact square lattice in one corner of the bounding rectangle: ``ceil(sqrt(N))`` columns,
     ``spacing`` metres apart (about 3 m in ``paper-setup.md``), the first point ``spacing / 2``
     in from both edges, filled row by row away from the corner.
+``"pairs"``
+    The buildings scene's baseline (paper Fig. 8): half the team side by side at the middle of
+    the west edge, half at the east edge, ``spacing`` metres apart and ``spacing / 2`` in.
 
-Lifting to flying height above the *real* terrain and pushing to admissible positions is not
-done here: that is :func:`uavcov.constraints.closest_admissible`'s job. ``altitude`` only adds a
-fixed height to every position (0 by default: on the surface).
+:class:`StartSpec` says how a mission starts: the kind, and the height the start flies at
+(above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
+start, the one pipeline every mission and experiment goes through. Pushing it to admissible
+positions is :func:`uavcov.constraints.closest_admissible`'s job.
 """
 
 from __future__ import annotations
 
 import inspect
 import math
+from dataclasses import dataclass
 from typing import Any, Mapping
 
 import numpy as np
 
 from ._validate import as_generator, as_non_negative_float, as_positive_float, as_positive_int
-from .cvt import cvt
+from .cvt import CVTResult, CVTSettings, cvt
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .surface import Terrain
 
-__all__ = ["initial_positions", "START_KINDS", "CORNERS"]
+__all__ = ["initial_positions", "start_configuration", "StartSpec", "START_KINDS", "CORNERS", "ALTITUDE_REFERENCES"]
 
-START_KINDS = ("cvt", "random", "corner")
+START_KINDS = ("cvt", "random", "corner", "pairs")
 """The kinds :func:`initial_positions` knows."""
 
 CORNERS = ("sw", "se", "ne", "nw")
 """Corners of the bounding rectangle: south-west is ``(xmin, ymin)``, north is +y, east +x."""
+
+ALTITUDE_REFERENCES = ("ground", "prior")
+"""What a start's altitude is measured from: the real ground under each UAV, or S'."""
 
 # Rounds of redraws over nodata before "random" gives up: each round redraws every missing point,
 # so only a surface covering almost none of its rectangle can exhaust them.
@@ -93,6 +101,25 @@ def _corner(surface: Terrain, n: int, corner: str, spacing: float, threads: int 
     return np.column_stack([xy, z])
 
 
+def _pairs(surface: Terrain, n: int, spacing: float, threads: int | None) -> np.ndarray:
+    xmin, ymin, xmax, ymax = _rectangle(surface)
+    west = math.ceil(n / 2)
+    y_mid = 0.5 * (ymin + ymax)
+    rows = []
+    for k in range(n):
+        side, index = (0, k) if k < west else (1, k - west)
+        count = west if side == 0 else n - west
+        y = y_mid + (index - (count - 1) / 2) * spacing
+        x = xmin + spacing / 2 if side == 0 else xmax - spacing / 2
+        rows.append((x, y))
+    xy = np.array(rows, dtype=np.float64)
+    z = surface.ground_height(xy, n_threads=threads)
+    if not np.isfinite(z).all():
+        bad = int(np.flatnonzero(~np.isfinite(z))[0])
+        raise InfeasibleError(f"pairs start point {bad} at x-y {tuple(xy[bad])} stands over no surface (nodata)")
+    return np.column_stack([xy, z])
+
+
 def _cvt_options(kind: str, cvt_options: Any) -> dict[str, Any]:
     """The extra keyword arguments for :func:`uavcov.cvt.cvt`, checked by name."""
     if cvt_options is None:
@@ -102,8 +129,8 @@ def _cvt_options(kind: str, cvt_options: Any) -> dict[str, Any]:
     options = dict(cvt_options)
     if kind != "cvt" and options:
         raise InvalidInputError(f"cvt_options apply to kind='cvt' only, got kind={kind!r}")
-    own = {"surface", "n", "rng", "n_threads"}
-    known = set(inspect.signature(cvt).parameters) - own
+    own = {"surface", "n", "rng", "n_threads", "options"}
+    known = (set(inspect.signature(cvt).parameters) | set(CVTSettings.__dataclass_fields__)) - own
     unknown = sorted(set(options) - known)
     if unknown:
         raise InvalidInputError(
@@ -129,7 +156,7 @@ def initial_positions(
 
     Parameters
     ----------
-    kind : {"cvt", "random", "corner"}
+    kind : {"cvt", "random", "corner", "pairs"}
         The initialisation (see the module docstring).
     surface : Terrain
         The surface the starts are computed on (the approximating surface S' in the paper).
@@ -144,7 +171,8 @@ def initial_positions(
         Which corner of the bounding rectangle the "corner" lattice fills ("sw" is
         ``(xmin, ymin)``).
     spacing : float, default 3.0
-        Distance between neighbouring "corner" lattice points, metres (> 0).
+        Distance between neighbouring "corner" lattice points, or between the UAVs of a
+        "pairs" side, metres (> 0).
     cvt_options : mapping, optional
         Keyword arguments for :func:`uavcov.cvt.cvt` ("cvt" only), e.g. ``{"preset": "lloyd"}``.
     n_threads : int, optional
@@ -187,9 +215,140 @@ def initial_positions(
         positions = cvt(surface, n, rng=rng, n_threads=n_threads, **options).generators
     elif kind == "random":
         positions = _random(surface, n, as_generator(rng), n_threads)
-    else:
+    elif kind == "corner":
         positions = _corner(surface, n, corner, step, n_threads)
+    else:
+        positions = _pairs(surface, n, step, n_threads)
 
     out = np.array(positions, dtype=np.float64)
     out[:, 2] += lift
     return out
+
+
+@dataclass(frozen=True)
+class StartSpec:
+    """How a mission starts: where on S' the team is placed, and how high it flies.
+
+    Attributes
+    ----------
+    kind : {"cvt", "random", "corner", "pairs"}, default "cvt"
+        The initialisation (see the module docstring); computed on S'.
+    altitude : float, default 5.0
+        Metres above the reference at which the start flies (>= 0).
+    altitude_reference : {"ground", "prior"}, default "ground"
+        What ``altitude`` is measured from: the real ground under each UAV (what the UAVs sense
+        on take-off; S' where the real surface has a hole), or S' itself (the paper's reading:
+        the CVT generators lie on S').
+    climb : float, default 0.0
+        A UAV that the real ground forces up (under ``h_min`` of clearance) is put this many
+        metres above ``h_min`` (:func:`uavcov.constraints.closest_admissible`). Left exactly on
+        the ``h_min`` boundary, a UAV makes every candidate that lowers it infeasible; with ``k``
+        UAVs there, only ``2**-k`` of CAO's joint candidates are feasible.
+    corner : {"sw", "se", "ne", "nw"}, default "sw"
+        The corner the "corner" lattice fills.
+    corner_spacing : float, default 3.0
+        Distance between neighbouring UAVs of the "corner" lattice and of a "pairs" side, metres.
+    corner_altitude : float, optional
+        The height of the "corner" and "pairs" starts above the reference instead of
+        ``altitude``.
+    random_altitude : (float, float), optional
+        When given, the "random" start draws each UAV's height above the reference uniformly
+        from this range instead of flying at ``altitude``.
+    """
+
+    kind: str = "cvt"
+    altitude: float = 5.0
+    altitude_reference: str = "ground"
+    climb: float = 0.0
+    corner: str = "sw"
+    corner_spacing: float = 3.0
+    corner_altitude: float | None = None
+    random_altitude: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.kind, str) or self.kind not in START_KINDS:
+            raise InvalidInputError(f"kind must be one of {START_KINDS}, got {self.kind!r}")
+        object.__setattr__(self, "altitude", as_non_negative_float(self.altitude, "altitude"))
+        object.__setattr__(self, "climb", as_non_negative_float(self.climb, "climb"))
+        object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
+        if self.altitude_reference not in ALTITUDE_REFERENCES:
+            raise InvalidInputError(f"altitude_reference must be one of {ALTITUDE_REFERENCES}, got {self.altitude_reference!r}")
+        if self.corner not in CORNERS:
+            raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
+        if self.corner_altitude is not None:
+            object.__setattr__(self, "corner_altitude", as_non_negative_float(self.corner_altitude, "corner_altitude"))
+        if self.random_altitude is not None:
+            if isinstance(self.random_altitude, (str, bytes)) or len(self.random_altitude) != 2:
+                raise InvalidInputError(f"random_altitude must be (low, high), got {self.random_altitude!r}")
+            low, high = (as_non_negative_float(v, "random_altitude") for v in self.random_altitude)
+            if low > high:
+                raise InvalidInputError(f"random_altitude must be (low, high) with low <= high, got {self.random_altitude}")
+            object.__setattr__(self, "random_altitude", (low, high))
+
+    def height_above_reference(self, n: int, rng: np.random.Generator) -> np.ndarray | float:
+        """The height of each UAV above the reference, metres (draws from ``rng`` for a random height)."""
+        if self.kind == "random" and self.random_altitude is not None:
+            return rng.uniform(*self.random_altitude, size=n)
+        if self.kind in ("corner", "pairs") and self.corner_altitude is not None:
+            return self.corner_altitude
+        return self.altitude
+
+
+def start_configuration(
+    spec: StartSpec,
+    approximation: Terrain,
+    terrain: Terrain,
+    n: int,
+    *,
+    cvt_settings: CVTSettings | None = None,
+    rng: Any = None,
+    n_threads: int | None = None,
+) -> tuple[np.ndarray, CVTResult | None]:
+    """The start of a mission: placed on S', lifted to its flying height.
+
+    The positions are those of :func:`initial_positions` on ``approximation`` (the CVT is run
+    here, so that its record is kept); their height is then ``spec``'s above the reference:
+    the real ground under each UAV (``terrain``; S' over a hole of it) or S'. The result still
+    has to be made admissible (:func:`uavcov.constraints.closest_admissible` with
+    ``climb=spec.climb``).
+
+    Parameters
+    ----------
+    spec : StartSpec
+    approximation : Terrain
+        S', the surface the start is computed on.
+    terrain : Terrain
+        The real surface, whose ground the UAVs sense on take-off.
+    n : int
+        Team size.
+    cvt_settings : CVTSettings, optional
+        For ``kind="cvt"``.
+    rng : None, int or numpy.random.Generator
+        The start's randomness (CVT or random positions, random heights), drawn in that order.
+    n_threads : int, optional
+        Threads for the Rust side.
+
+    Returns
+    -------
+    positions : (n, 3) float64 ndarray
+        Metres.
+    tessellation : CVTResult or None
+        The CVT run, for ``kind="cvt"``.
+    """
+    if not isinstance(spec, StartSpec):
+        raise InvalidTypeError(f"spec must be a StartSpec, got {type(spec).__name__}")
+    generator = as_generator(rng)
+    tessellation = None
+    if spec.kind == "cvt":
+        tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
+        positions = np.array(tessellation.generators, dtype=np.float64)
+    else:
+        positions = initial_positions(
+            spec.kind, approximation, n, rng=generator, corner=spec.corner, spacing=spec.corner_spacing, n_threads=n_threads
+        )
+    if spec.altitude_reference == "ground":
+        ground = terrain.ground_height(positions[:, :2], n_threads=n_threads)
+        # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.
+        positions[:, 2] = np.where(np.isnan(ground), positions[:, 2], ground)
+    positions[:, 2] += spec.height_above_reference(n, generator)
+    return positions, tessellation

@@ -17,16 +17,18 @@ and start. See ``examples/sweep.toml``::
     [terrain]                     # kind = "hills" or "buildings", then that kind's fields
     spacing = 1.0
 
-    [flight]                      # start_altitude, h_min, z_max, d_safe, corner, corner_spacing
+    [start]                       # any field of uavcov.starts.StartSpec (altitude, climb, ...)
+    [constraints]                 # h_min, z_max, d_safe, check_moves (uavcov.constraints.Constraints)
     [cao]                         # any field of uavcov.cao.CAOSettings
-    [cvt]                         # preset, samples_per_iteration, tol, window, max_iterations
+    [cvt]                         # any field of uavcov.cvt.CVTSettings
 
     [sweep]                       # every combination of these lists
     "cao.alpha0" = [1.0, 1.5]
     d_max = [20.0, 25.0]
 
 A setting whose default is "none" (for example ``cao.n_regressors``) takes the string
-``"none"`` for that default. Every error is a :class:`~uavcov.errors.ConfigError` naming the file
+``"none"`` for that default. The ``[flight]`` table of earlier releases is still read (its keys
+map to ``[start]`` and ``[constraints]`` as :data:`uavcov.sweep.FLIGHT_KEYS` says). Every error is a :class:`~uavcov.errors.ConfigError` naming the file
 and the key; an unknown key comes with the closest valid one.
 """
 
@@ -43,30 +45,17 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 from .cao import CAOSettings
-from .cvt import PRESETS
+from .constraints import Constraints
+from .cvt import CVTSettings
 from .errors import ConfigError, InvalidInputError, InvalidTypeError
-from .experiments import (
-    RunSpec,
-    _atomic_write,
-    _check_resume_target,
-    _finished,
-    _format,
-    _version,
-    experiment_specs,
-    out_dir_lock,
-    paper_experiments,
-    parse_seeds,
-    prepare_out_dir,
-    run_specs,
-    settings_hash,
-    summarise,
-    write_config,
-)
-from .paper import BuildingsTerrain, CVTSettings, Flight, HillsTerrain, PaperExperiment
+from .mission import MissionSpec
+from .scenarios import BuildingsTerrain, HillsTerrain
+from .starts import START_KINDS, StartSpec
+from .sweep import FLIGHT_KEYS, Experiment, RunSpec, experiment_specs, parse_seeds
 
-__all__ = ["SweepConfig", "load_sweep_config", "parse_sweep_config", "run_sweep", "sweep_markdown", "STARTS", "PRIORS"]
+__all__ = ["SweepConfig", "load_sweep_config", "parse_sweep_config", "STARTS", "PRIORS"]
 
-STARTS: tuple[str, ...] = ("cvt", "random", "corner", "pairs")
+STARTS: tuple[str, ...] = START_KINDS
 """Starts a sweep may compare ("pairs": half the team on each of two opposite sides)."""
 
 PRIORS: tuple[str, ...] = ("random", "pyramid", "map")
@@ -76,11 +65,12 @@ _TOP_SCALARS = ("d_max", "prior", "n_prior", "iterations")
 _TOP_KEYS = ("name", "base", "description", "seeds", "team_sizes", "starts") + _TOP_SCALARS + (
     "terrain",
     "flight",
+    "start",
+    "constraints",
     "cao",
     "cvt",
     "sweep",
 )
-_GROUPS: Mapping[str, type] = {"flight": Flight, "cao": CAOSettings, "cvt": CVTSettings}
 _TERRAINS: Mapping[str, type] = {"hills": HillsTerrain, "buildings": BuildingsTerrain}
 _MAX_ITERATIONS = 1_000_000
 _MAX_RUNS = 10_000_000
@@ -99,6 +89,24 @@ def _defaults(cls: type) -> dict[str, Any]:
     instance = cls()
     return {name: getattr(instance, name) for name in _field_names(cls)}
 
+
+def _flight_defaults() -> dict[str, Any]:
+    mission = MissionSpec(n_uavs=1, d_max=1.0)
+    defaults = {}
+    for key, path in FLIGHT_KEYS.items():
+        group, _, name = path.partition(".")
+        defaults[key] = getattr(getattr(mission, group), name)
+    return defaults
+
+
+# The defaults of each table's keys (their types coerce the TOML values).
+_GROUPS: Mapping[str, dict[str, Any]] = {
+    "start": {k: v for k, v in _defaults(StartSpec).items() if k != "kind"},
+    "constraints": {k: v for k, v in _defaults(Constraints).items() if k != "bounds"},
+    "cao": _defaults(CAOSettings),
+    "cvt": _defaults(CVTSettings),
+    "flight": _flight_defaults(),
+}
 
 class _Source:
     """Where a key came from, for error messages."""
@@ -145,12 +153,10 @@ def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:
 _INT_OR_NONE = frozenset({"n_regressors", "robot_regressors", "check_batch", "samples_per_iteration"})
 
 
-def _check_range(experiment: PaperExperiment, source: _Source) -> None:
+def _check_range(experiment: Experiment, source: _Source) -> None:
     """Ranges the settings objects do not check themselves."""
     if not (math.isfinite(experiment.d_max) and experiment.d_max > 0):
         raise source.error("d_max", f"must be > 0 metres, got {experiment.d_max}")
-    if experiment.n_prior < 0:
-        raise source.error("n_prior", f"must be >= 0, got {experiment.n_prior}")
     if not 0 <= experiment.iterations <= _MAX_ITERATIONS:
         raise source.error("iterations", f"must be in [0, {_MAX_ITERATIONS}], got {experiment.iterations}")
     if experiment.prior not in PRIORS:
@@ -177,16 +183,6 @@ def _check_range(experiment: PaperExperiment, source: _Source) -> None:
             low, high = getattr(terrain, name)
             if not 0 < low <= high:
                 raise source.error(f"terrain.{name}", f"must be (low, high) with 0 < low <= high, got {(low, high)}")
-    cvt = experiment.cvt
-    if cvt.preset not in PRESETS:
-        raise source.error("cvt.preset", f"must be one of {', '.join(PRESETS)}, got {cvt.preset!r}{_suggest(cvt.preset, tuple(PRESETS))}")
-    if cvt.samples_per_iteration is not None and cvt.samples_per_iteration < 1:
-        raise source.error("cvt.samples_per_iteration", f"must be >= 1, got {cvt.samples_per_iteration}")
-    if cvt.tol < 0:
-        raise source.error("cvt.tol", f"must be >= 0, got {cvt.tol}")
-    for name in ("window", "max_iterations"):
-        if getattr(cvt, name) < 1:
-            raise source.error(f"cvt.{name}", f"must be >= 1, got {getattr(cvt, name)}")
 
 
 @dataclass(frozen=True)
@@ -199,7 +195,7 @@ class SweepConfig:
         Label of every run (the ``experiment`` column).
     base : str
         The paper experiment the settings start from.
-    variants : tuple of (PaperExperiment, tuple of (key, value))
+    variants : tuple of (Experiment, tuple of (key, value))
         One experiment per combination of the ``[sweep]`` lists, with the swept values.
     seeds, team_sizes, starts : tuple
     axes : tuple of str
@@ -209,7 +205,7 @@ class SweepConfig:
 
     name: str
     base: str
-    variants: tuple[tuple[PaperExperiment, tuple[tuple[str, Any], ...]], ...]
+    variants: tuple[tuple[Experiment, tuple[tuple[str, Any], ...]], ...]
     seeds: tuple[int, ...]
     team_sizes: tuple[int, ...]
     starts: tuple[str, ...]
@@ -226,31 +222,6 @@ class SweepConfig:
                 )
             )
         return specs
-
-    def resolved(self) -> dict[str, Any]:
-        """The resolved configuration (every setting of every variant), ready for JSON."""
-        variants = {}
-        for experiment, extra in self.variants:
-            settings = dataclasses.asdict(experiment)
-            for key in ("name", "seeds", "team_sizes", "starts"):  # grid axes may grow under --resume
-                settings.pop(key, None)
-            settings["terrain_kind"] = "buildings" if isinstance(experiment.terrain, BuildingsTerrain) else "hills"
-            variants[settings_hash(experiment)] = {"swept": dict(extra), "settings": settings}
-        return {
-            "command": "sweep",
-            "name": self.name,
-            "base": self.base,
-            "description": self.description,
-            "axes": list(self.axes),
-            "settings": variants,
-            "runs": {
-                "seeds": list(self.seeds),
-                "team_sizes": list(self.team_sizes),
-                "starts": list(self.starts),
-                "count": len(self.variants) * len(self.seeds) * len(self.team_sizes) * len(self.starts),
-            },
-            "uavcov_version": _version(),
-        }
 
 
 def load_sweep_config(path: str | os.PathLike[str]) -> SweepConfig:
@@ -276,10 +247,9 @@ def load_sweep_config(path: str | os.PathLike[str]) -> SweepConfig:
     return parse_sweep_config(data, source=str(path), default_name=path.stem)
 
 
-def _group_changes(group: str, table: Any, cls: type, source: _Source) -> dict[str, Any]:
+def _group_changes(group: str, table: Any, defaults: Mapping[str, Any], source: _Source) -> dict[str, Any]:
     if not isinstance(table, dict):
         raise source.error(group, f"expected a table [{group}], got {table!r}")
-    defaults = _defaults(cls)
     changes = {}
     for key, value in table.items():
         if key not in defaults:
@@ -288,7 +258,7 @@ def _group_changes(group: str, table: Any, cls: type, source: _Source) -> dict[s
     return changes
 
 
-def _build(base: PaperExperiment, changes: Mapping[str, Any], source: _Source) -> PaperExperiment:
+def _build(base: Experiment, changes: Mapping[str, Any], source: _Source) -> Experiment:
     try:
         experiment = base.with_changes(**changes)
     except (InvalidInputError, InvalidTypeError, TypeError, ValueError) as exc:
@@ -320,7 +290,9 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     description = data.get("description", "")
     if not isinstance(description, str):
         raise src.error("description", f"expected a string, got {description!r}")
-    experiments = paper_experiments()
+    from . import paper  # the base experiments are the paper's (data, imported when a sweep is parsed)
+
+    experiments = paper.EXPERIMENTS
     base_name = data.get("base", "table1")
     if base_name not in experiments:
         raise src.error("base", f"must be one of {', '.join(experiments)}, got {base_name!r}{_suggest(str(base_name), tuple(experiments))}")
@@ -337,11 +309,11 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     terrain_cls = _TERRAINS[kind]
     if not isinstance(base.terrain, terrain_cls):
         base = dataclasses.replace(base, terrain=terrain_cls())
-    changes = _group_changes("terrain", terrain_table, terrain_cls, src)
-    for group, cls in _GROUPS.items():
+    changes = _group_changes("terrain", terrain_table, _defaults(terrain_cls), src)
+    for group, defaults in _GROUPS.items():
         if group in data:
-            changes.update(_group_changes(group, data[group], cls, src))
-    top_defaults = {k: getattr(base, k) for k in _TOP_SCALARS}
+            changes.update(_group_changes(group, data[group], defaults, src))
+    top_defaults = {"d_max": base.mission.d_max, "prior": base.prior, "n_prior": base.mission.n_prior, "iterations": base.mission.iterations}
     for key in _TOP_SCALARS:
         if key in data:
             changes[key] = _coerce(data[key], top_defaults[key], key, src)
@@ -361,7 +333,7 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     if not isinstance(sweep, dict):
         raise src.error("sweep", f"expected a table [sweep], got {sweep!r}")
     valid_axes = list(_TOP_SCALARS) + [f"terrain.{k}" for k in _field_names(terrain_cls)]
-    valid_axes += [f"{g}.{k}" for g, cls in _GROUPS.items() for k in _field_names(cls)]
+    valid_axes += [f"{g}.{k}" for g, defaults in _GROUPS.items() for k in defaults]
     axes: list[str] = []
     values: list[list[Any]] = []
     for key, options in sweep.items():
@@ -375,7 +347,7 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
         if group == "terrain":
             default = _defaults(terrain_cls)[field_name]
         elif group:
-            default = _defaults(_GROUPS[group])[field_name]
+            default = _GROUPS[group][field_name]
         else:
             default = top_defaults[key]
         coerced = [_coerce(v, default, f"sweep.{key}", src) for v in options]
@@ -429,65 +401,14 @@ def _int_list(value: Any, key: str, source: _Source) -> tuple[int, ...]:
     return tuple(value)
 
 
-def _cell_text(value: Any) -> str:
-    return value if isinstance(value, str) else _format(value)
+def __getattr__(name: str) -> Any:
+    # run_sweep and sweep_markdown moved up to uavcov.jobs and uavcov.reports; kept importable here.
+    if name == "run_sweep":
+        from .jobs import run_sweep
 
+        return run_sweep
+    if name == "sweep_markdown":
+        from .reports import sweep_markdown
 
-def sweep_markdown(config: SweepConfig, rows: Sequence[Mapping[str, Any]]) -> str:
-    """Mean (sigma) of the coverage per swept value, team size and start."""
-    by = tuple(config.axes) + ("n_uavs", "init")
-    # Swept values read back from runs.csv are strings; compare them as written.
-    normalised = [{**r, **{a: _cell_text(r.get(a)) for a in config.axes}} for r in rows]
-    summary = summarise(normalised, by=by)
-    header = list(config.axes) + ["N", "start", "runs", "initial", "max", "final", "iterations to 95 %"]
-    lines = [
-        f"# Sweep {config.name}",
-        "",
-        config.description or f"Based on {config.base}; {len(config.seeds)} seed(s). Mean (sigma) over the seeds.",
-        "",
-        "| " + " | ".join(header) + " |",
-        "|" + "---|" * len(header),
-    ]
-    for key, entry in summary.items():
-        cells = [str(k) for k in key] + [str(entry["count"])]
-        for metric in ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"):
-            mean, sigma = entry[metric]
-            cells.append(f"{mean:.3f}" if math.isnan(sigma) else f"{mean:.3f} ({sigma:.3f})")
-        lines.append("| " + " | ".join(cells) + " |")
-    failed = [r for r in rows if r.get("error")]
-    if failed:
-        lines += ["", f"{len(failed)} run(s) failed (see the `error` column of runs.csv)."]
-    return "\n".join(lines) + "\n"
-
-
-def run_sweep(
-    config: SweepConfig,
-    out: str | os.PathLike[str],
-    *,
-    source_text: str | None = None,
-    execution: Mapping[str, Any] | None = None,
-    **run_options: Any,
-) -> list[dict[str, Any]]:
-    """Run a sweep into ``out``: ``runs.csv``, ``runs/``, ``config.json``, ``summary.md``.
-
-    ``source_text`` (the TOML as written) is kept as ``out/sweep.toml``. ``run_options`` go to
-    :func:`uavcov.experiments.run_specs` (``executor``, ``workers``, ``n_threads``, ``resume``,
-    ``rerun``, ``save_runs``, ``progress``).
-    """
-    specs = config.specs()
-    out_path = prepare_out_dir(out)
-    resume = bool(run_options.get("resume", False))
-    with out_dir_lock(out_path):
-        _check_resume_target(out_path, resume)
-        resolved = config.resolved()
-        resolved["execution"] = dict(execution or {})
-        write_config(out_path, resolved, resume=resume)
-        if source_text is not None:
-            _atomic_write(out_path / "sweep.toml", source_text)
-        rows = run_specs(specs, out=out_path, **run_options)
-        _atomic_write(out_path / "summary.md", sweep_markdown(config, rows))
-    return rows
-
-
-# Keep the finished-row filter importable from here for scripts that summarise sweeps.
-finished_rows = _finished
+        return sweep_markdown
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,147 @@
+"""End-to-end jobs: the paper's experiments and sweep files, run into a results folder, then reported.
+
+Each job builds its run specs, hands them to the one function that runs specs into a folder
+(:func:`uavcov.sweep.run_specs`), and writes its report from what the folder holds
+(:mod:`uavcov.reports`):
+
+* :func:`reproduce`: one of the paper's experiments (:data:`uavcov.paper.EXPERIMENTS`) ->
+  ``<name>.md`` beside the paper's numbers, and ``coverage.csv`` for the single-scenario ones;
+* :func:`run_sweep`: a sweep file (:mod:`uavcov.sweep_config`) -> ``sweep.toml`` (the file as
+  written) and ``summary.md``.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import os
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+from . import paper
+from .errors import ConfigError
+from .reports import REPORTS, coverage_curves_csv, sweep_markdown
+from .results import ResultsFolder
+from .sweep import experiment_specs, parse_seeds, run_specs
+from .sweep_config import SweepConfig
+
+__all__ = ["reproduce", "run_sweep", "REPRODUCIBLE"]
+
+REPRODUCIBLE: tuple[str, ...] = tuple(paper.EXPERIMENTS)
+"""The experiments :func:`reproduce` knows."""
+
+_CURVES = ("comparison", "buildings", "example")
+
+
+def reproduce(
+    name: str,
+    out: str | os.PathLike[str],
+    *,
+    seeds: Iterable[int] | str | None = None,
+    team_sizes: Iterable[int] | None = None,
+    starts: Iterable[str] | None = None,
+    iterations: int | None = None,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    n_threads: int | None = None,
+    resume: bool = False,
+    rerun: str = "none",
+    save_runs: bool = True,
+    exclusive: bool = False,
+    progress: bool | None = None,
+    command: str | None = None,
+    execution: Mapping[str, Any] | None = None,
+) -> list[dict[str, Any]]:
+    """Run one of the paper's experiments and write its results into the folder ``out``.
+
+    Writes ``runs.csv``, ``runs/<run_id>.npz``, ``config.json`` and ``<name>.md`` (the table
+    beside the paper's numbers); "comparison", "buildings" and "example" also write
+    ``coverage.csv`` (coverage per iteration of every run).
+
+    Parameters
+    ----------
+    name : {"table1", "pyramid", "example", "comparison", "buildings"}
+    out : path
+    seeds : "0-39", iterable of int, optional
+        Scenarios (the experiment's published seeds by default: 0-39 for Table 1).
+    team_sizes, starts : optional
+        Subsets of the experiment's (all by default).
+    iterations : int, optional
+        CAO iterations instead of the experiment's (a different setting: a different run id).
+    executor, workers, n_threads, resume, rerun, save_runs, exclusive, progress, execution
+        As in :func:`uavcov.sweep.run_specs`.
+    command : str, optional
+        What ``config.json`` records as the command (``"reproduce <name>"`` by default).
+
+    Returns
+    -------
+    list of dict
+        The rows.
+
+    Raises
+    ------
+    ConfigError
+        An unknown experiment, seeds, team sizes or starts it does not have, a bad iteration
+        count; and what :func:`uavcov.sweep.run_specs` raises.
+    """
+    if name not in paper.EXPERIMENTS:
+        raise ConfigError(f"unknown experiment {name!r}; choose one of {', '.join(REPRODUCIBLE)}")
+    experiment = paper.EXPERIMENTS[name]
+    if iterations is not None:
+        if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 0:
+            raise ConfigError(f"iterations must be an integer >= 0, got {iterations!r}")
+        experiment = experiment.with_changes(iterations=int(iterations))
+    seed_list = experiment.seeds if seeds is None else parse_seeds(seeds)
+    if team_sizes is not None:
+        team_sizes = tuple(team_sizes)
+        if not team_sizes or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in team_sizes):
+            raise ConfigError(f"team sizes must be integers >= 1, got {team_sizes}")
+    if starts is not None:
+        starts = tuple(starts)
+        unknown = [s for s in starts if s not in experiment.starts]
+        if unknown or not starts:
+            raise ConfigError(f"{name} compares the starts {', '.join(experiment.starts)}; got {', '.join(starts) or 'none'}")
+    specs = experiment_specs(experiment, seeds=seed_list, team_sizes=team_sizes, starts=starts)
+    folder = ResultsFolder(out)
+    with folder.lock():
+        rows = run_specs(
+            specs,
+            out=folder,
+            executor=executor,
+            workers=workers,
+            n_threads=n_threads,
+            resume=resume,
+            rerun=rerun,
+            save_runs=save_runs,
+            exclusive=exclusive,
+            progress=progress,
+            command=command or f"reproduce {name}",
+            execution=execution,
+        )
+        folder.write_text(f"{name}.md", REPORTS[name](rows))
+        if name in _CURVES and save_runs:
+            coverage_curves_csv(folder, rows)
+    return rows
+
+
+def run_sweep(
+    config: SweepConfig,
+    out: str | os.PathLike[str],
+    *,
+    source_text: str | None = None,
+    execution: Mapping[str, Any] | None = None,
+    **run_options: Any,
+) -> list[dict[str, Any]]:
+    """Run a sweep into the folder ``out``: ``runs.csv``, ``runs/``, ``config.json``, ``summary.md``.
+
+    ``source_text`` (the TOML as written) is kept as ``sweep.toml``. ``run_options`` go to
+    :func:`uavcov.sweep.run_specs` (``executor``, ``workers``, ``n_threads``, ``resume``,
+    ``rerun``, ``save_runs``, ``progress``).
+    """
+    folder = ResultsFolder(out)
+    about = {"name": config.name, "base": config.base, "description": config.description, "axes": list(config.axes)}
+    with folder.lock():
+        rows = run_specs(config.specs(), out=folder, command="sweep", execution=execution, about=about, **run_options)
+        if source_text is not None:
+            folder.write_text("sweep.toml", source_text)
+        folder.write_text("summary.md", sweep_markdown(config, rows))
+    return rows

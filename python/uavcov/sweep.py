@@ -1,0 +1,812 @@
+"""Experiments and sweeps: specs x seeds -> missions on an executor, into a results folder.
+
+An :class:`Experiment` is a family of missions: a scenario generator (one true surface per
+seed), a :class:`~uavcov.mission.MissionSpec`, and the team sizes, starts and seeds it runs.
+A :class:`RunSpec` is one of its missions: one seed, one team size, one start. :func:`run_specs`
+runs a list of them on a local process pool (spawn context), a Dask cluster
+(:func:`dask_executor`) or any ``concurrent.futures`` executor, and returns one row per run (a
+``dict`` with the columns of :data:`uavcov.results.RUN_COLUMNS`). With ``out=`` it writes a
+results folder (:class:`uavcov.results.ResultsFolder`): every command that runs missions (the
+paper's reproductions, sweep files, the demo) goes through it.
+
+Seeds: every run is a pure function of its settings and its seed
+-----------------------------------------------------------------
+Run ``(experiment, seed=s, n_uavs=N, start=k)`` draws the true surface with
+``experiment.terrain.make(s)`` (and the buildings scene's simplified map with
+``numpy.random.default_rng([s, 1])``), then runs :func:`uavcov.mission.run_mission` with
+``rng=s``, whose three child streams (prior, start, optimiser) make every team size and start
+on one terrain see the same prior points. Nothing depends on the executor, on the order runs
+finish in, or on the Rust thread count, so the same specs give the same numbers on a process
+pool, on Dask and in one process.
+
+Threads: a run uses ``n_threads`` Rust threads for its coverage measurements; :func:`run_specs`
+picks ``max(1, cores // workers)`` and refuses ``workers * n_threads`` beyond the cores (the
+local pool), since oversubscribed threads only slow every run down.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import contextlib
+import dataclasses
+import hashlib
+import json
+import multiprocessing
+import os
+import signal
+import sys
+import time
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import ConfigError, InvalidInputError, InvalidTypeError, MissingExtraError, ResultsInUseError, SchedulerTimeoutError
+from .mission import PRIOR_KINDS, MissionResult, MissionSpec, nested_replace, run_mission
+from .results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
+from .scenarios import BuildingsTerrain, HillsTerrain
+from .starts import START_KINDS
+from .surface import Terrain
+
+__all__ = [
+    "Experiment",
+    "RunSpec",
+    "ExecutionPlan",
+    "experiment_specs",
+    "settings_hash",
+    "execute_run",
+    "run_specs",
+    "available_cores",
+    "plan_execution",
+    "local_executor",
+    "dask_executor",
+    "parse_seeds",
+    "FLIGHT_KEYS",
+]
+
+FLIGHT_KEYS: Mapping[str, str] = {
+    "start_altitude": "start.altitude",
+    "altitude_reference": "start.altitude_reference",
+    "climb_margin": "start.climb",
+    "corner": "start.corner",
+    "corner_spacing": "start.corner_spacing",
+    "corner_altitude": "start.corner_altitude",
+    "random_altitude": "start.random_altitude",
+    "h_min": "constraints.h_min",
+    "z_max": "constraints.z_max",
+    "d_safe": "constraints.d_safe",
+}
+"""Where each key of the deprecated ``flight`` group now lives in the :class:`MissionSpec`."""
+
+# Settings of the mission that an experiment's changes may name without the "mission." prefix.
+_MISSION_SHORTCUTS = frozenset({"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"})
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+# ---------------------------------------------------------------------------------------------
+# Experiments and runs
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """A family of missions: a scenario generator, a mission, team sizes, starts and seeds.
+
+    Attributes
+    ----------
+    name : str
+        The label of its runs ("table1", "pyramid", a sweep's name, ...).
+    terrain : HillsTerrain or BuildingsTerrain
+        The scenario generator: seed -> true surface. With a buildings scene the team knows its
+        simplified map beforehand (the paper's Figs. 7-8); with hills, ``mission.prior``.
+    mission : MissionSpec
+        Every setting of a mission; ``n_uavs`` and ``start.kind`` are set per run from
+        ``team_sizes`` and ``starts``.
+    team_sizes : tuple of int
+        The team sizes ``N`` it sweeps.
+    starts : tuple of str
+        The starts it compares (kinds of :class:`uavcov.starts.StartSpec`).
+    seeds : tuple of int
+        The scenarios it runs by default.
+    """
+
+    name: str
+    terrain: HillsTerrain | BuildingsTerrain
+    mission: MissionSpec
+    team_sizes: tuple[int, ...]
+    starts: tuple[str, ...]
+    seeds: tuple[int, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.terrain, (HillsTerrain, BuildingsTerrain)):
+            raise InvalidTypeError(f"terrain must be a HillsTerrain or BuildingsTerrain, got {type(self.terrain).__name__}")
+        if not isinstance(self.mission, MissionSpec):
+            raise InvalidTypeError(f"mission must be a MissionSpec, got {type(self.mission).__name__}")
+        sizes = tuple(self.team_sizes)
+        if not sizes or not all(_is_int(n) and n >= 1 for n in sizes):
+            raise InvalidInputError(f"team_sizes must be integers >= 1, got {self.team_sizes}")
+        starts = tuple(self.starts)
+        unknown = [s for s in starts if s not in START_KINDS]
+        if not starts or unknown:
+            raise InvalidInputError(f"starts must be some of {START_KINDS}, got {self.starts}")
+        seeds = tuple(self.seeds)
+        if not all(_is_int(s) and s >= 0 for s in seeds):
+            raise InvalidInputError(f"seeds must be integers >= 0, got {self.seeds}")
+        object.__setattr__(self, "team_sizes", tuple(int(n) for n in sizes))
+        object.__setattr__(self, "starts", starts)
+        object.__setattr__(self, "seeds", tuple(int(s) for s in seeds))
+
+    @property
+    def prior(self) -> str:
+        """What is known beforehand: "map" (a buildings scene's simplified map), or ``mission.prior``."""
+        return "map" if isinstance(self.terrain, BuildingsTerrain) else self.mission.prior
+
+    @property
+    def d_max(self) -> float:
+        """The sensing range, metres (``mission.d_max``)."""
+        return self.mission.d_max
+
+    @property
+    def iterations(self) -> int:
+        """Optimiser iterations (``mission.iterations``)."""
+        return self.mission.iterations
+
+    def spec(self, n_uavs: int, start: str) -> MissionSpec:
+        """The mission of one run: team size ``n_uavs``, start ``start``."""
+        if start not in self.starts:
+            raise InvalidInputError(f"start must be one of {self.starts} for {self.name}, got {start!r}")
+        return self.mission.with_changes(n_uavs=n_uavs, **{"start.kind": start})
+
+    def known(self, seed: int) -> Terrain | None:
+        """What the team is told of scenario ``seed`` beforehand, when it is not ``mission.prior``'s sample."""
+        return self.terrain.simplified_map(seed) if isinstance(self.terrain, BuildingsTerrain) else None
+
+    def with_changes(self, **changes: Any) -> Experiment:
+        """A copy with some settings replaced, by dotted name.
+
+        ``"terrain.spacing"``, ``"mission.cao.alpha0"``; the mission's settings also without the
+        prefix (``"d_max"``, ``"iterations"``, ``"cao.alpha0"``, ``"start.altitude"``,
+        ``"constraints.h_min"``); ``"prior"`` takes "random", "pyramid" or, for a buildings
+        scene, "map"; the deprecated ``"flight.<key>"`` names map through :data:`FLIGHT_KEYS`.
+        ``"__"`` may stand for the dot.
+
+        Raises
+        ------
+        InvalidInputError
+            An unknown name, or a value its settings object refuses.
+        """
+        resolved: dict[str, Any] = {}
+        for key, value in changes.items():
+            dotted = key.replace("__", ".")
+            head, _, rest = dotted.partition(".")
+            if head == "flight":
+                if rest not in FLIGHT_KEYS:
+                    raise InvalidInputError(f"flight has no setting {rest!r}; its settings are {sorted(FLIGHT_KEYS)}")
+                dotted = "mission." + FLIGHT_KEYS[rest]
+            elif head == "prior" and not rest:
+                if value == "map":
+                    if not isinstance(changes.get("terrain", self.terrain), BuildingsTerrain) and "terrain.kind" not in changes:
+                        raise InvalidInputError("the 'map' prior goes with a BuildingsTerrain, and only with it")
+                    continue
+                if value not in PRIOR_KINDS:
+                    raise InvalidInputError(f"prior must be one of {(*PRIOR_KINDS, 'map')}, got {value!r}")
+                dotted = "mission.prior"
+            elif head in _MISSION_SHORTCUTS:
+                dotted = "mission." + dotted
+            resolved[dotted] = value
+        return nested_replace(self, resolved)
+
+    def cells(self) -> list[tuple[int, str]]:
+        """Every ``(n_uavs, start)`` pair the experiment runs for each seed."""
+        return [(n, s) for n in self.team_sizes for s in self.starts]
+
+
+def experiment_settings(experiment: Experiment) -> dict[str, Any]:
+    """The settings a run of ``experiment`` depends on, as plain data (JSON-ready).
+
+    The name, the seeds, the team sizes and the starts are left out (a run names its own seed,
+    team size and start), and so are the mission's ``n_uavs`` and ``start.kind`` they set.
+    """
+    if not isinstance(experiment, Experiment):
+        raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
+    settings = dataclasses.asdict(experiment)
+    for key in ("name", "seeds", "team_sizes", "starts"):
+        settings.pop(key)
+    settings["mission"].pop("n_uavs")
+    settings["mission"]["start"].pop("kind")
+    settings["terrain_kind"] = type(experiment.terrain).__name__
+    return settings
+
+
+def settings_hash(experiment: Experiment) -> str:
+    """Eight hex digits that change with any setting of ``experiment`` a run depends on.
+
+    See :func:`experiment_settings`: adding seeds or team sizes to an experiment keeps the
+    identity of the runs already made (a resume then runs only the new ones).
+    """
+    text = json.dumps(experiment_settings(experiment), sort_keys=True, default=json_default)
+    return hashlib.sha256(text.encode()).hexdigest()[:8]
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One mission of a sweep: an experiment's settings, a seed, a team size and a start.
+
+    Attributes
+    ----------
+    experiment : Experiment
+        Every setting of the run.
+    seed : int
+        The scenario (>= 0); see the module notes for what it seeds.
+    n_uavs : int
+        Team size (> 0).
+    start : str
+        One of ``experiment.starts``.
+    label : str
+        The ``experiment`` column of ``runs.csv``; ``experiment.name`` by default.
+    extra : tuple of (str, value)
+        Extra columns of the row (a sweep writes the values of its swept settings here).
+    """
+
+    experiment: Experiment
+    seed: int
+    n_uavs: int
+    start: str
+    label: str = ""
+    extra: tuple[tuple[str, Any], ...] = ()
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.experiment, Experiment):
+            raise InvalidTypeError(f"experiment must be an Experiment, got {type(self.experiment).__name__}")
+        if not _is_int(self.seed) or self.seed < 0:
+            raise InvalidInputError(f"seed must be an integer >= 0, got {self.seed!r}")
+        if not _is_int(self.n_uavs) or self.n_uavs < 1:
+            raise InvalidInputError(f"n_uavs must be an integer >= 1, got {self.n_uavs!r}")
+        if self.start not in self.experiment.starts:
+            raise InvalidInputError(f"start must be one of {self.experiment.starts} for {self.experiment.name}, got {self.start!r}")
+        object.__setattr__(self, "seed", int(self.seed))
+        object.__setattr__(self, "n_uavs", int(self.n_uavs))
+        object.__setattr__(self, "label", self.label or self.experiment.name)
+        object.__setattr__(self, "extra", tuple((str(k), v) for k, v in self.extra))
+
+    @property
+    def settings_hash(self) -> str:
+        """:func:`settings_hash` of the experiment."""
+        return settings_hash(self.experiment)
+
+    @property
+    def run_id(self) -> str:
+        """A name unique to the run's settings, seed, team size and start, safe as a file name.
+
+        ``<label>-<start>-n<N>-s<seed>-<settings hash>``, e.g. ``table1-cvt-n05-s0003-1a2b3c4d``.
+        """
+        label = "".join(c if c.isalnum() or c in "._-" else "_" for c in self.label)
+        return f"{label}-{self.start}-n{self.n_uavs:02d}-s{self.seed:04d}-{self.settings_hash}"
+
+    @property
+    def mission(self) -> MissionSpec:
+        """The mission this run runs."""
+        return self.experiment.spec(self.n_uavs, self.start)
+
+    def row_template(self) -> dict[str, Any]:
+        """The row of this run with every result column empty (None, as read_runs gives back)."""
+        row: dict[str, Any] = dict.fromkeys(RUN_COLUMNS)
+        row["error"] = ""
+        row.update(
+            run_id=self.run_id,
+            experiment=self.label,
+            init=self.start,
+            n_uavs=self.n_uavs,
+            seed=self.seed,
+            sensing_range=float(self.experiment.d_max),
+            iterations=int(self.experiment.iterations),
+            settings_hash=self.settings_hash,
+        )
+        row.update(dict(self.extra))
+        return row
+
+    def run(self, n_threads: int | None = 1) -> MissionResult:
+        """Run the mission: terrain ``seed``, then :func:`uavcov.mission.run_mission` with ``rng=seed``."""
+        terrain = self.experiment.terrain.make(self.seed)
+        return run_mission(terrain, self.mission, known=self.experiment.known(self.seed), n_threads=n_threads, rng=self.seed)
+
+
+def experiment_specs(
+    experiment: Experiment,
+    *,
+    seeds: Iterable[int] | None = None,
+    team_sizes: Iterable[int] | None = None,
+    starts: Iterable[str] | None = None,
+    label: str | None = None,
+    extra: Sequence[tuple[str, Any]] = (),
+) -> list[RunSpec]:
+    """Every run of ``experiment``: seeds x team sizes x starts (the experiment's own by default).
+
+    Runs are ordered seed-major, so an interrupted sweep has whole scenarios done.
+
+    Raises
+    ------
+    InvalidInputError
+        An empty list, or a start the experiment does not compare.
+    """
+    if not isinstance(experiment, Experiment):
+        raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
+    seeds = tuple(experiment.seeds if seeds is None else seeds)
+    team_sizes = tuple(experiment.team_sizes if team_sizes is None else team_sizes)
+    starts = tuple(experiment.starts if starts is None else starts)
+    for name, values in (("seeds", seeds), ("team_sizes", team_sizes), ("starts", starts)):
+        if not values:
+            raise InvalidInputError(f"{name} is empty: the sweep has no run")
+    unknown = [s for s in starts if s not in experiment.starts]
+    if unknown:
+        raise InvalidInputError(f"starts {unknown} are not starts of {experiment.name} {experiment.starts}")
+    return [
+        RunSpec(experiment, seed, n, start, label=label or experiment.name, extra=tuple(extra))
+        for seed in seeds
+        for n in team_sizes
+        for start in starts
+    ]
+
+
+_MAX_SEEDS = 10_000_000
+
+
+def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
+    """Seeds from ``"0-39"``, ``"0,3,7"``, ``"1000-1009,2000"`` or an iterable of ints.
+
+    Raises
+    ------
+    ConfigError
+        Anything else, a negative seed, an empty or reversed range, a repeated seed, or more
+        than ten million seeds.
+    """
+    if isinstance(text, str):
+        seeds: list[int] = []
+        for part in text.replace(" ", "").split(","):
+            if not part:
+                raise ConfigError(f"seeds {text!r}: an empty item")
+            low, dash, high = part.partition("-")
+            try:
+                a = int(low)
+                b = int(high) if dash else a
+            except ValueError:
+                raise ConfigError(f"seeds {text!r}: {part!r} is not a seed or a range like 0-39") from None
+            if b < a:
+                raise ConfigError(f"seeds {text!r}: the range {part} runs backwards")
+            if len(seeds) + (b - a + 1) > _MAX_SEEDS:
+                raise ConfigError(f"seeds {text!r}: more than {_MAX_SEEDS} seeds")
+            seeds.extend(range(a, b + 1))
+    else:
+        seeds = list(text)
+        for s in seeds:
+            if not _is_int(s):
+                raise ConfigError(f"seeds must be integers, got {s!r}")
+        seeds = [int(s) for s in seeds]
+    if not seeds:
+        raise ConfigError("no seeds given")
+    if min(seeds) < 0:
+        raise ConfigError(f"seeds must be >= 0, got {min(seeds)}")
+    if len(set(seeds)) != len(seeds):
+        raise ConfigError("a seed is listed twice")
+    return tuple(seeds)
+
+
+# ---------------------------------------------------------------------------------------------
+# One run
+
+
+def _one_line(text: str) -> str:
+    return " | ".join(part.strip() for part in str(text).splitlines() if part.strip())
+
+
+def execute_run(spec: RunSpec, n_threads: int | None = 1, keep_result: bool = True) -> tuple[dict[str, Any], MissionResult | None]:
+    """Run one spec and return its row (and the result, unless ``keep_result`` is False).
+
+    This is the function the executors run. It never raises for a failing mission: the row then
+    carries ``error = "<ExceptionType>: <message>"`` and the result is None.
+    """
+    row = spec.row_template()
+    started = time.perf_counter()
+    try:
+        result = spec.run(n_threads=n_threads)
+    except Exception as exc:  # a failing run is recorded; the sweep goes on
+        row["error"] = _one_line(f"{type(exc).__name__}: {exc}")
+        row["wall_time_s"] = time.perf_counter() - started
+        return row, None
+    row.update(
+        initial_coverage=float(result.initial_coverage),
+        max_coverage=float(result.best_coverage),
+        final_coverage=float(result.final_coverage),
+        best_iteration=int(result.best_iteration),
+        iterations_to_95=int(result.iterations_to_95),
+        evaluations=int(result.evaluations),
+        wall_time_s=float(result.wall_time_s),
+        time_measure_s=float(result.time_measure_s),
+        time_optimizer_s=float(result.time_optimizer_s),
+        time_feasibility_s=float(result.trace.time_feasibility),
+    )
+    return row, (result if keep_result else None)
+
+
+# ---------------------------------------------------------------------------------------------
+# Executors
+
+
+def available_cores() -> int:
+    """Cores this process may run on (the affinity mask, not the machine's count)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+@dataclass(frozen=True)
+class ExecutionPlan:
+    """How many runs go at once and how many Rust threads each gets.
+
+    ``workers * n_threads`` never exceeds the cores of the machine for local execution.
+    """
+
+    workers: int
+    n_threads: int
+
+
+def plan_execution(workers: int | None = None, n_threads: int | None = None, cores: int | None = None) -> ExecutionPlan:
+    """Resolve ``workers`` and ``n_threads`` for ``cores`` cores (this machine's by default).
+
+    ``workers`` defaults to every core (capped at 1 when ``n_threads`` fills the machine);
+    ``n_threads`` to ``max(1, cores // workers)``.
+
+    Raises
+    ------
+    ConfigError
+        Not positive integers, or ``workers * n_threads`` above the cores.
+    """
+    cores = available_cores() if cores is None else cores
+    for name, value in (("workers", workers), ("n_threads", n_threads)):
+        if value is not None and (not _is_int(value) or value < 1):
+            raise ConfigError(f"{name} must be an integer >= 1, got {value!r}")
+    if workers is None:
+        workers = max(1, cores // (n_threads or 1))
+    if n_threads is None:
+        n_threads = max(1, cores // workers)
+    if workers * n_threads > cores:
+        raise ConfigError(
+            f"{workers} workers x {n_threads} threads = {workers * n_threads} exceeds the {cores} cores: "
+            "oversubscribed threads slow every run down; use fewer workers or threads"
+        )
+    return ExecutionPlan(int(workers), int(n_threads))
+
+
+def _ignore_sigint() -> None:
+    # Ctrl-C is the parent's to handle: it stops the sweep, then ends the workers itself.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def local_executor(workers: int) -> cf.ProcessPoolExecutor:
+    """A process pool of ``workers`` processes started with the spawn context.
+
+    Spawn, not fork: a forked child would inherit the parent's Rust thread pools in a state it
+    cannot use, and spawn behaves the same on every platform.
+    """
+    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
+
+
+def _stop_pool(executor: cf.Executor) -> None:
+    """Shut a pool down now: cancel what has not started and end our own worker processes."""
+    executor.shutdown(wait=False, cancel_futures=True)
+    processes = getattr(executor, "_processes", None) or {}
+    for process in list(processes.values()):
+        with contextlib.suppress(Exception):
+            process.terminate()
+    for process in list(processes.values()):
+        with contextlib.suppress(Exception):
+            process.join(timeout=5)
+
+
+@contextlib.contextmanager
+def dask_executor(scheduler: str | None = None, n_workers: int | None = None, *, timeout: float = 10.0) -> Iterator[tuple[cf.Executor, int]]:
+    """A ``concurrent.futures`` executor on a Dask cluster (the ``uavcov[distributed]`` extra).
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of a running scheduler (``tcp://host:8786``).
+    n_workers : int, optional
+        Without ``scheduler``: start a local cluster of this many worker processes, one thread
+        each (every core by default).
+    timeout : float
+        Seconds to wait for the scheduler before giving up.
+
+    Yields
+    ------
+    (executor, slots)
+        The executor, and how many runs the cluster runs at once (its worker threads).
+
+    Raises
+    ------
+    MissingExtraError
+        Dask is not installed.
+    SchedulerTimeoutError
+        The scheduler does not answer within ``timeout``.
+    ConfigError
+        ``scheduler`` is not the address of a Dask scheduler, or a bad ``n_workers``.
+    """
+    try:
+        import logging
+
+        from distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise MissingExtraError(f"Dask is not installed: pip install 'uavcov[distributed]' ({exc})") from exc
+    cluster = None
+    try:
+        if scheduler is not None:
+            try:
+                client = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
+            except (OSError, TimeoutError) as exc:
+                raise SchedulerTimeoutError(f"the Dask scheduler at {scheduler} did not answer within {timeout:g} s: {exc}") from exc
+            except Exception as exc:  # a bad address, or something that is not a Dask scheduler answered
+                raise ConfigError(f"cannot use {scheduler!r} as a Dask scheduler: {type(exc).__name__}: {exc}") from exc
+        else:
+            workers = available_cores() if n_workers is None else n_workers
+            if not _is_int(workers) or workers < 1:
+                raise ConfigError(f"the number of Dask workers must be an integer >= 1, got {workers!r}")
+            cluster = LocalCluster(
+                n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
+            )
+            client = Client(cluster, set_as_default=False)
+        try:
+            slots = max(1, sum(client.nthreads().values()))
+            yield client.get_executor(), slots
+        finally:
+            client.close()
+    finally:
+        if cluster is not None:
+            cluster.close()
+
+
+# ---------------------------------------------------------------------------------------------
+# Running a list of specs
+
+
+def _progress_bar(total: int, enabled: bool | None) -> Any:
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    if not enabled or total == 0:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, unit="run", dynamic_ncols=True, smoothing=0.05)
+
+
+def _configuration(
+    specs: Sequence[RunSpec], command: str, execution: Mapping[str, Any] | None, about: Mapping[str, Any] | None
+) -> dict[str, Any]:
+    """The ``config.json`` of a folder these specs are run into."""
+    settings: dict[str, Any] = {}
+    for spec in specs:
+        key = spec.settings_hash
+        if key not in settings:
+            settings[key] = {"label": spec.label, "swept": dict(spec.extra), "experiment": experiment_settings(spec.experiment)}
+    runs = {
+        "seeds": sorted({s.seed for s in specs}),
+        "team_sizes": sorted({s.n_uavs for s in specs}),
+        "starts": list(dict.fromkeys(s.start for s in specs)),
+        "count": len(specs),
+    }
+    return config_document(command, settings, runs, execution=execution, about=about)
+
+
+def run_specs(
+    specs: Sequence[RunSpec],
+    *,
+    out: str | os.PathLike[str] | ResultsFolder | None = None,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    n_threads: int | None = None,
+    resume: bool = False,
+    rerun: str = "none",
+    save_runs: bool = True,
+    exclusive: bool = False,
+    progress: bool | None = None,
+    command: str = "run_specs",
+    execution: Mapping[str, Any] | None = None,
+    about: Mapping[str, Any] | None = None,
+    on_result: Callable[[RunSpec, dict[str, Any], MissionResult | None], None] | None = None,
+) -> list[dict[str, Any]]:
+    """Run every spec and return one row per spec, in the order of ``specs``.
+
+    Parameters
+    ----------
+    specs : sequence of RunSpec
+        The runs (run ids must be unique).
+    out : path or ResultsFolder, optional
+        The results folder: ``runs.csv``, ``runs/<run_id>.npz`` and ``config.json`` (see
+        :mod:`uavcov.results`); nothing is written without it.
+    executor : concurrent.futures.Executor, optional
+        Where the runs go (e.g. from :func:`dask_executor`); it is not shut down here. Without
+        it: one run at a time in this process when ``workers`` is 1, else a spawn process pool
+        of ``workers`` processes made (and ended) here.
+    workers, n_threads : int, optional
+        Runs at once and Rust threads per run (see :func:`plan_execution`). With an
+        ``executor``, ``n_threads`` defaults to 1.
+    resume : bool
+        Skip the specs whose run id is already in ``runs.csv`` (their stored rows are
+        returned). Without it, a folder whose ``runs.csv`` holds rows is refused.
+    rerun : {"none", "failed", "all"}
+        With ``resume``: run again the stored runs that failed, or every stored run of ``specs``
+        (their old rows are removed first, so no run is ever listed twice).
+    save_runs : bool
+        Save each result as ``runs/<run_id>.npz``.
+    exclusive : bool
+        Refuse a folder that holds rows of runs not in ``specs``.
+    progress : bool, optional
+        A progress bar with ETA on stderr (tqdm); by default only when stderr is a terminal.
+    command, execution, about
+        What ``config.json`` records (see :func:`uavcov.results.config_document`).
+    on_result : callable, optional
+        Called in this process as ``on_result(spec, row, result)`` after each finished run
+        (``result`` is None for a failed run).
+
+    Returns
+    -------
+    list of dict
+        One row per spec with the columns of :data:`~uavcov.results.RUN_COLUMNS` plus each
+        spec's ``extra``.
+
+    Raises
+    ------
+    ResultsInUseError
+        The folder holds rows without ``resume``, rows of other settings, or is being written
+        by another process.
+    ResultsFolderError
+        The folder cannot be written.
+    ConfigError
+        Duplicate run ids, or a bad ``workers`` / ``n_threads``.
+    KeyboardInterrupt
+        After Ctrl-C, once pending runs are cancelled and the workers ended; every finished run
+        is already in ``runs.csv``.
+
+    Examples
+    --------
+    >>> from uavcov import paper
+    >>> from uavcov.sweep import experiment_specs, run_specs
+    >>> small = paper.TABLE1.with_changes(**{"terrain.spacing": 4.0, "iterations": 5})
+    >>> rows = run_specs(experiment_specs(small, seeds=[0], team_sizes=[5], starts=["cvt"]), workers=1)
+    >>> rows[0]["init"], 0.0 < rows[0]["initial_coverage"] <= 1.0
+    ('cvt', True)
+    """
+    specs = list(specs)
+    for spec in specs:
+        if not isinstance(spec, RunSpec):
+            raise InvalidTypeError(f"specs must be RunSpec objects, got {type(spec).__name__}")
+    if rerun not in ("none", "failed", "all"):
+        raise InvalidInputError(f"rerun must be 'none', 'failed' or 'all', got {rerun!r}")
+    ids = [s.run_id for s in specs]
+    if len(set(ids)) != len(ids):
+        duplicates = sorted({i for i in ids if ids.count(i) > 1})
+        raise ConfigError(f"the sweep lists the same run more than once: {', '.join(duplicates[:5])}")
+    plan = plan_execution(workers, n_threads) if executor is None else ExecutionPlan(workers or 1, n_threads or 1)
+
+    extra_columns: list[str] = []
+    for spec in specs:
+        for key, _ in spec.extra:
+            if key not in extra_columns and key not in RUN_COLUMNS:
+                extra_columns.append(key)
+    columns = list(RUN_COLUMNS) + extra_columns
+    if out is None:
+        return _run(specs, plan, None, None, executor, progress, False, on_result, {})
+    folder = out if isinstance(out, ResultsFolder) else ResultsFolder(out)
+    with folder.lock():
+        done = _prepare(folder, specs, resume, rerun, exclusive)
+        folder.write_config(_configuration(specs, command, execution, about), resume=resume)
+        runs_file = folder.open_runs(columns)
+        try:
+            if save_runs:
+                (folder.path / "runs").mkdir(exist_ok=True)
+            return _run(specs, plan, folder if save_runs else None, runs_file, executor, progress, save_runs, on_result, done)
+        finally:
+            runs_file.close()
+
+
+def _prepare(folder: ResultsFolder, specs: Sequence[RunSpec], resume: bool, rerun: str, exclusive: bool) -> dict[str, dict[str, Any]]:
+    """Check what the folder holds against the specs; drop the rows to run again; the rows kept."""
+    stored = folder.read_runs()
+    if stored and not resume:
+        raise ResultsInUseError(
+            f"{folder.runs_csv} already holds {len(stored)} run(s): resume that sweep or write to another folder (nothing was changed)"
+        )
+    wanted = {s.run_id for s in specs}
+    if exclusive:
+        others = [r["run_id"] for r in stored if r["run_id"] not in wanted]
+        if others:
+            raise ResultsInUseError(f"{folder.runs_csv} holds other results ({others[0]}, ...); write to another folder")
+    hashes = {s.settings_hash for s in specs}
+    foreign = sorted({str(r["settings_hash"]) for r in stored if r["settings_hash"] not in hashes})
+    if foreign:
+        raise ResultsInUseError(
+            f"{folder.runs_csv} holds runs of other settings (settings hash {foreign[0]}); resume them with the same settings, "
+            "or write to another folder"
+        )
+    drop: set[str] = set()
+    if rerun == "all":
+        drop = {r["run_id"] for r in stored if r["run_id"] in wanted}
+    elif rerun == "failed":
+        drop = {r["run_id"] for r in stored if r["run_id"] in wanted and r["error"]}
+    if drop:
+        folder.drop_runs(drop)
+    return {r["run_id"]: r for r in stored if r["run_id"] in wanted and r["run_id"] not in drop}
+
+
+def _run(
+    specs: list[RunSpec],
+    plan: ExecutionPlan,
+    save_to: ResultsFolder | None,
+    runs_file: RunsFile | None,
+    executor: cf.Executor | None,
+    progress: bool | None,
+    save_runs: bool,
+    on_result: Callable[[RunSpec, dict[str, Any], MissionResult | None], None] | None,
+    done: dict[str, dict[str, Any]],
+) -> list[dict[str, Any]]:
+    """Run the specs not in ``done``, recording each as it finishes; rows in the order of ``specs``."""
+    rows: dict[str, dict[str, Any]] = dict(done)
+    todo = [s for s in specs if s.run_id not in done]
+    bar = _progress_bar(len(todo), progress)
+
+    def finish(spec: RunSpec, row: dict[str, Any], result: MissionResult | None) -> None:
+        if result is not None and save_to is not None:
+            from .records import save_mission  # records sits beside this module, not below it
+
+            try:
+                save_mission(result, save_to.run_file(spec.run_id))
+            except OSError as exc:
+                row["error"] = _one_line(f"saving the run failed: {exc}")
+        if runs_file is not None:
+            runs_file.append(row)
+        rows[spec.run_id] = row
+        if on_result is not None:
+            on_result(spec, row, result)
+        if bar is not None:
+            bar.update(1)
+            failed = sum(1 for r in rows.values() if r.get("error"))
+            if failed:
+                bar.set_postfix(failed=failed)
+
+    keep = save_runs or on_result is not None
+    own_pool: cf.Executor | None = None
+    try:
+        if executor is None and plan.workers == 1:
+            for spec in todo:
+                row, result = execute_run(spec, plan.n_threads, keep)
+                finish(spec, row, result)
+        else:
+            pool = executor
+            if pool is None:
+                own_pool = pool = local_executor(min(plan.workers, max(1, len(todo))))
+            futures = {pool.submit(execute_run, spec, plan.n_threads, keep): spec for spec in todo}
+            try:
+                for future in cf.as_completed(futures):
+                    spec = futures[future]
+                    try:
+                        row, result = future.result()
+                    except Exception as exc:  # the worker died or the cluster lost the task
+                        row, result = spec.row_template(), None
+                        row["error"] = _one_line(f"{type(exc).__name__}: {exc}")
+                    finish(spec, row, result)
+            except BaseException:
+                for future in futures:
+                    future.cancel()
+                raise
+    finally:
+        if own_pool is not None:
+            _stop_pool(own_pool)
+        if bar is not None:
+            bar.close()
+    return [rows[s.run_id] for s in specs]
+
