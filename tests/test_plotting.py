@@ -268,6 +268,7 @@ def test_write_ply_with_colours_reads_back(tmp_path):
     np.testing.assert_array_equal(body[:, 3:], [[255, 0, 128], [0, 255, 0]])
     empty = plotting.write_ply(np.empty((0, 3)), tmp_path / "e.ply")
     assert "element vertex 0" in empty.read_text()
+    assert "element vertex 0" in plotting.write_ply([], tmp_path / "none.ply").read_text()  # [] is no points too
     with pytest.raises(InvalidInputError):
         plotting.write_ply(pts, tmp_path / "x.ply", colors=[[300, 0, 0], [0, 0, 0]])
     with pytest.raises(InvalidInputError):
@@ -448,6 +449,49 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
                 _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
 
 
+def _parsed(rows):
+    """The rows as a reader that parses numbers gives them (uavcov.results.read_runs): ints,
+    floats, None for an empty cell, strings for the rest."""
+    ints = {"n_uavs", "seed", "iterations_to_95"}
+    floats = {"sensing_range", "initial_coverage", "max_coverage", "final_coverage", "wall_time_s"}
+
+    def cell(name, text):
+        if text == "":
+            return None
+        return int(text) if name in ints else float(text) if name in floats else text
+
+    return [{name: cell(name, text) for name, text in row.items()} for row in rows]
+
+
+def test_plot_directory_draws_the_same_from_parsed_rows(hills_runs, tmp_path, monkeypatch):
+    results = tmp_path / "results"
+    (results / "runs").mkdir(parents=True)
+    rows = _rows(hills_runs)
+    failed = {name: "" for name in rows[0]}
+    failed.update(run_id="table1-failed", experiment="table1", init="cvt", n_uavs="4", seed="9")
+    rows.append(failed)
+    save_mission(hills_runs[0], results / "runs" / f"{rows[0]['run_id']}.npz")
+    with (results / "runs.csv").open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    as_text = plotting.plot_directory(results, out=tmp_path / "text", max_runs=0, animation=False, dpi=40)
+    reader = _runs._read_runs
+    given = []
+
+    def parsing_reader(path):
+        given.append(_parsed(reader(path)))
+        return given[-1]
+
+    monkeypatch.setattr(_runs, "_read_runs", parsing_reader)
+    as_numbers = plotting.plot_directory(results, out=tmp_path / "numbers", max_runs=0, animation=False, dpi=40)
+    assert len(given) == 1 and isinstance(given[0][0]["n_uavs"], int) and given[0][-1]["max_coverage"] is None
+    assert [p.name for p in as_text] == [p.name for p in as_numbers] == [
+        "table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png"]
+    for text, numbers in zip(as_text, as_numbers):
+        assert text.read_bytes() == numbers.read_bytes(), text.name
+
+
 def test_plot_directory_of_single_runs_draws_no_bars(hills_run, tmp_path):
     (tmp_path / "runs").mkdir()
     rows = _rows([hills_run], experiment="example")
@@ -563,6 +607,10 @@ def test_bad_arguments_are_refused(hills_run, tmp_path):
         plotting.plot_coverage_map(hills_run, view="side")
     with pytest.raises(InvalidInputError, match="max_polygons"):
         plotting.plot_coverage_map(hills_run, max_polygons=0)
+    with pytest.raises(InvalidTypeError, match="max_polygons"):  # a count, not rounded
+        plotting.plot_coverage_map(hills_run, max_polygons=2.5)
+    with pytest.raises(InvalidInputError, match="fps"):
+        plotting.animate_mission(hills_run, tmp_path / "run.gif", fps=0)
     with pytest.raises(InvalidInputError, match="d_max"):
         plotting.plot_coverage_map(hills_run.terrain, hills_run.trajectory[-1], -1.0)
     with pytest.raises(InvalidInputError, match="positions"):

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_points
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..records import load_mission
 from ..surface import Terrain
@@ -79,19 +80,19 @@ def _d_max(result: Any) -> float:
 
 
 def _points(value: Any, name: str, *, allow_empty: bool = True) -> np.ndarray:
+    """``(n, 3)`` finite float64 points, metres: :func:`uavcov._validate.as_points`, except that
+    any empty input (``[]`` as well as ``np.empty((0, 3))``) is no points when ``allow_empty``.
+
+    ``as_points`` reads ``[]`` as shape ``(0,)`` and refuses it; here "nothing seen" and "no
+    known points" arrive that way, and they are valid.
+    """
     try:
-        pts = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInputError(f"{name} is not a numeric array: {exc}") from exc
-    if pts.size == 0 and allow_empty:
+        empty = np.size(value) == 0
+    except (TypeError, ValueError):
+        empty = False  # ragged and the like: as_points says what is wrong
+    if empty and allow_empty:
         return np.empty((0, 3))
-    if pts.ndim != 2 or pts.shape[1] != 3:
-        raise InvalidInputError(f"{name} must have shape (n, 3), got {pts.shape}")
-    if pts.shape[0] == 0 and not allow_empty:
-        raise InvalidInputError(f"{name} is empty")
-    if not np.isfinite(pts).all():
-        raise InvalidInputError(f"{name} holds NaN or infinite values")
-    return pts
+    return as_points(value, name, allow_empty=allow_empty)
 
 
 def _terrain(value: Any, name: str) -> Terrain:
@@ -116,15 +117,12 @@ def _configuration(result: Any, configuration: Any) -> tuple[np.ndarray, str, in
     if configuration == "initial":
         return traj[0], "start positions (iteration 0)", 0
     if configuration == "best":
-        best = _points(getattr(result, "best_positions", None), "best_positions", allow_empty=False)
+        raw = getattr(result, "best_positions", None)
+        if raw is None:
+            raise ResultsFormatError("the result has no best_positions to show (configuration='best')")
+        best = _points(raw, "best_positions", allow_empty=False)
         it = getattr(result, "best_iteration", None)
         if isinstance(it, (int, np.integer)) and 0 <= int(it) < traj.shape[0]:
             return best, f"best positions (iteration {int(it)})", int(it)
         return best, "best positions", None
     raise InvalidInputError(f"configuration must be 'final', 'best', 'initial' or an iteration, got {configuration!r}")
-
-
-def _as_positive_int(value: Any, name: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise InvalidInputError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)

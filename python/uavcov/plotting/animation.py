@@ -6,16 +6,16 @@ Frames are drawn on one Agg canvas and handed as RGB arrays to the GIF or MP4 wr
 
 from __future__ import annotations
 
-import math
 import shutil
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .._validate import as_positive_float, as_positive_int
 from ..errors import InvalidInputError
 from ._canvas import END_COLOUR, INIT_COLOURS, SEEN_COLOUR, START_COLOUR, UNSEEN_COLOUR, _marker, _matplotlib, _patch
-from ._inputs import _as_positive_int, _as_result, _curve, _d_max, _trajectory
+from ._inputs import _as_result, _curve, _d_max, _trajectory
 from .views import _TopView
 from .writers import _write_gif, _write_mp4
 
@@ -60,14 +60,13 @@ def animate_mission(
         raise InvalidInputError(f"the animation is written as .gif or .mp4, got {out.name!r}")
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise InvalidInputError("writing .mp4 needs ffmpeg on the PATH; write a .gif instead")
-    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise InvalidInputError(f"fps must be a positive number, got {fps!r}")
+    fps = as_positive_float(fps, "fps")
     traj = _trajectory(result.trajectory)
     curve = _curve(result.coverage)
     frames = np.unique(np.rint(np.linspace(0, traj.shape[0] - 1,
-                                           min(_as_positive_int(max_frames, "max_frames"), traj.shape[0]))).astype(int))
+                                           min(as_positive_int(max_frames, "max_frames"), traj.shape[0]))).astype(int))
     d = _d_max(result)
-    view = _TopView(result.terrain, d, _as_positive_int(raster, "raster"))
+    view = _TopView(result.terrain, d, as_positive_int(raster, "raster"))
 
     _matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg

@@ -13,8 +13,9 @@ import numpy as np
 
 from ..errors import ResultsFormatError
 from ..records import load_mission
+from . import _runs
 from ._canvas import _close, _matplotlib
-from ._runs import _number, _read_runs
+from ._runs import _number
 from .animation import animate_mission
 from .figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
 
@@ -71,15 +72,15 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     from .. import paper
 
     written: list[Path] = []
-    rows = _read_runs(runs_csv) if runs_csv.is_file() else []
-    by_experiment: dict[str, list[dict[str, str]]] = {}
+    rows = _runs._read_runs(runs_csv) if runs_csv.is_file() else []
+    by_experiment: dict[str, list[dict[str, Any]]] = {}
     for row in rows:
         by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
     for experiment, group in sorted(by_experiment.items()):
-        cells: dict[tuple[str, str], int] = {}
+        cells: dict[tuple[str, float | None], int] = {}
         for index, row in enumerate(group):
             if _number(row, "max_coverage", index) is not None:
-                key = (str(row["init"]), str(row["n_uavs"]))
+                key = (str(row["init"]), _number(row, "n_uavs", index))
                 cells[key] = cells.get(key, 0) + 1
         if not cells or max(cells.values()) < 2:
             continue  # one run per bar is a number, not a distribution: the curves show it

@@ -26,11 +26,13 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_positive_float, as_positive_int
 from ..cvt import CVTResult
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..surface import Terrain
 from ..targets import Targets
 from ..visibility import Visibility
+from . import _runs
 from ._canvas import (
     END_COLOUR,
     INIT_COLOURS,
@@ -45,8 +47,8 @@ from ._canvas import (
     _new_axes,
     _patch,
 )
-from ._inputs import _as_positive_int, _as_result, _configuration, _curve, _d_max, _points, _terrain, _trajectory
-from ._runs import _number, _read_runs
+from ._inputs import _as_result, _configuration, _curve, _d_max, _points, _terrain, _trajectory
+from ._runs import _number
 from .views import (
     DEFAULT_MAX_POLYGONS,
     _coverage_3d,
@@ -303,9 +305,7 @@ def plot_coverage_map(
         path = _trajectory(result.trajectory if trajectory is None else trajectory)
         if trajectory is None and positions is None and iteration is not None:
             path = path[: iteration + 1]  # the paths end where the configuration shown is
-    d = float(d_max)
-    if not (math.isfinite(d) and d > 0):
-        raise InvalidInputError(f"d_max must be a positive number of metres, got {d_max!r}")
+    d = as_positive_float(d_max, "d_max")
     if path is not None:
         start = path[0]
     coverage_value = Visibility(terrain, d).coverage(pts)
@@ -316,7 +316,7 @@ def plot_coverage_map(
                   title=f"Coverage {coverage_value:.3f} (d_max = {d:g} m)")
     elif view == "top":
         fig, ax = _new_axes(ax, three_d=False, figsize=(6.6, 6.0))
-        image, extent = _top_view(terrain, pts, d, _as_positive_int(raster, "raster"), shade=shade)
+        image, extent = _top_view(terrain, pts, d, as_positive_int(raster, "raster"), shade=shade)
         ax.imshow(image, extent=extent, origin="lower", interpolation="nearest")
         if path is not None:
             for i in range(path.shape[1]):
@@ -499,7 +499,7 @@ def plot_table1(
     matplotlib.figure.Figure
     """
     if isinstance(rows, (str, os.PathLike)):
-        rows = _read_runs(rows)
+        rows = _runs._read_runs(rows)
     if isinstance(rows, Mapping) or not isinstance(rows, Iterable):
         raise InvalidTypeError("rows must be an iterable of mappings (csv.DictReader rows) or a runs.csv path")
     rows = list(rows)
@@ -610,7 +610,7 @@ def seen_points(result: Any, *, max_configurations: int = 50, targets: Targets |
     """
     result = _as_result(result, ("terrain", "trajectory", "settings"))
     traj = _trajectory(result.trajectory)
-    count = _as_positive_int(max_configurations, "max_configurations")
+    count = as_positive_int(max_configurations, "max_configurations")
     picks = np.unique(np.rint(np.linspace(0, traj.shape[0] - 1, min(count, traj.shape[0]))).astype(np.int64))
     vis = Visibility(result.terrain, _d_max(result), targets)
     seen = np.zeros(len(vis.targets), dtype=bool)
@@ -667,7 +667,7 @@ def plot_point_cloud(
         write_ply(pts, ply)
     fig, ax = _new_axes(ax, three_d=True, figsize=(7.0, 5.6))
     ax.computed_zorder = False
-    limit = _as_positive_int(max_points, "max_points")
+    limit = as_positive_int(max_points, "max_points")
     shown = pts[:: math.ceil(pts.shape[0] / limit)] if pts.shape[0] > limit else pts
     handles = []
     if shown.shape[0]:

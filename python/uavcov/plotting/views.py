@@ -17,12 +17,12 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_positive_int
 from ..errors import InvalidInputError
 from ..surface import Terrain
 from ..targets import Targets
 from ..visibility import Visibility
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
-from ._inputs import _as_positive_int
 
 DEFAULT_MAX_POLYGONS = 20_000
 LIGHT = np.array([-1.0, 1.0, 1.4142135623730951]) / 2.0  # from the north-west, 45 degrees up
@@ -133,7 +133,7 @@ def _mesh_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
 
 
 def _surface_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
-    max_polygons = _as_positive_int(max_polygons, "max_polygons")
+    max_polygons = as_positive_int(max_polygons, "max_polygons")
     if terrain.grid is not None:
         return _grid_polygons(terrain, max_polygons)
     return _mesh_polygons(terrain, max_polygons)
