@@ -54,6 +54,7 @@ def _new_axes(ax: Any, *, three_d: bool, figsize: tuple[float, float]) -> tuple[
 
 
 def _finish(fig: Any, out: Any, dpi: float) -> Any:
+    """Save ``fig`` to ``out`` (parents made) when given, and return it: every figure's last step."""
     if out is not None:
         path = Path(out)
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -22,7 +22,11 @@ from ..surface import Terrain
 
 
 def _as_result(result: Any, needs: Sequence[str]) -> Any:
-    """A mission result with the fields ``needs``; a path is read with :func:`load_mission`."""
+    """A mission result with the fields ``needs``; a path is read with :func:`load_mission`.
+
+    Arrays the figure will use (trajectory, coverage curve) are checked here, so a broken
+    stored run is refused before anything is drawn.
+    """
     if isinstance(result, (str, os.PathLike)):
         result = load_mission(result)
     if result is None:
@@ -43,6 +47,7 @@ def _as_result(result: Any, needs: Sequence[str]) -> Any:
 
 
 def _trajectory(value: Any) -> np.ndarray:
+    """The positions of every UAV at every iteration: finite float64, ``(K + 1, N, 3)``, metres."""
     try:
         traj = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -57,6 +62,7 @@ def _trajectory(value: Any) -> np.ndarray:
 
 
 def _curve(value: Any) -> np.ndarray:
+    """A coverage curve, one share of the surface per iteration: finite float64, ``(K + 1,)``."""
     try:
         curve = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -69,6 +75,7 @@ def _curve(value: Any) -> np.ndarray:
 
 
 def _d_max(result: Any) -> float:
+    """The sensing range of a result's settings, metres (> 0)."""
     settings = getattr(result, "settings", None)
     value = getattr(settings, "d_max", None)
     if value is None:
@@ -96,6 +103,7 @@ def _points(value: Any, name: str, *, allow_empty: bool = True) -> np.ndarray:
 
 
 def _terrain(value: Any, name: str) -> Terrain:
+    """``value`` itself when it is a :class:`~uavcov.surface.Terrain`."""
     if not isinstance(value, Terrain):
         raise InvalidTypeError(f"{name} must be a uavcov.Terrain, got {type(value).__name__}")
     return value

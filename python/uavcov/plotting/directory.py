@@ -1,7 +1,10 @@
 """Every figure of a results directory, redrawn from what is stored, without rerunning anything.
 
-:func:`plot_directory` reads ``runs.csv`` (through :func:`uavcov.plotting._runs._read_runs`)
-and the runs saved in ``runs/*.npz``, and calls the figure functions and the animation.
+:func:`plot_directory` reads ``runs.csv`` through :func:`uavcov.plotting._runs._read_runs` (the
+bars of Table 1; the experiment and start of each stored run) and the runs saved in
+``runs/*.npz``, and calls the figure functions of :mod:`uavcov.plotting.figures` and
+:func:`~uavcov.plotting.animate_mission`. It reads cells with :func:`_runs._number`, so rows may
+hold strings or parsed numbers.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from .figures import plot_approximation, plot_coverage_curves, plot_coverage_map
 
 
 def _safe(text: str) -> str:
+    """``text`` usable in a file name: anything but letters, digits, ``-_.`` becomes ``_``."""
     return "".join(c if c.isalnum() or c in "-_." else "_" for c in text)
 
 

@@ -417,11 +417,16 @@ def plot_coverage_curves(
     show_runs : bool, optional
         Draw each run thinly under the mean; default when a group has at most 10 runs.
     reference : mapping label -> float, optional
-        A published value per group (e.g. the paper's Fig. 6 maxima), drawn as a dashed line.
+        A published value per group (e.g. the paper's Fig. 6 maxima), a share of the surface in
+        [0, 1], drawn as a dashed line.
     ax : matplotlib Axes, optional
+        Ordinary (2D) axes to draw in instead of a new figure.
     out : path, optional
+        Save the figure there (format from the suffix).
     title : str, optional
+        Replaces "Coverage during the optimisation".
     dpi : float
+        Resolution of the saved file.
 
     Returns
     -------
@@ -484,15 +489,15 @@ def plot_table1(
     ----------
     rows : iterable of mappings, or a path to runs.csv
         Rows with at least ``experiment``, ``init``, ``n_uavs`` and ``metric`` (strings as the
-        ``csv`` module gives them, or numbers). Rows whose value is empty or NaN (failed runs)
-        are left out and counted in the title.
+        ``csv`` module gives them, or numbers and None). Rows whose value is empty, None or NaN
+        (failed runs) are left out and counted in the title.
     metric : str
         Column to compare: "max_coverage" (paper Table 1's "Max.") or "initial_coverage".
     paper : bool
         Draw the paper's value (hatched) beside ours where it publishes one for the row's
         experiment ("table1", "pyramid"), start and N.
     ax, out, dpi
-        As elsewhere.
+        As for :func:`plot_coverage_curves`.
 
     Returns
     -------
@@ -576,8 +581,13 @@ def published_values() -> dict[tuple[str, str, str, int], tuple[float, float]]:
     From :mod:`uavcov.paper`: Table 1 (experiment "table1", d_max = 25 m, 40 terrains) and the
     pyramid prior of section V-D (experiment "pyramid", N = 12, CVT start). ``metric`` is a
     ``runs.csv`` column: "initial_coverage" or "max_coverage".
+
+    Returns
+    -------
+    dict
+        ``(experiment, metric, init, N) -> (mean, sigma)``, shares of the surface in [0, 1].
     """
-    from .. import paper
+    from .. import paper  # only here: the paper's tables are not needed to draw our own runs
 
     metrics = {"initial": "initial_coverage", "max": "max_coverage"}
     values = {("table1", metrics[kind], init, int(n)): (v.mean, v.sigma)
@@ -646,7 +656,7 @@ def plot_point_cloud(
     max_configurations : int
         See :func:`seen_points`.
     ax, out, elev, azim, dpi
-        As elsewhere.
+        As for :func:`plot_approximation`.
     ply : path, optional
         Also write every seen point there as ASCII PLY (see :func:`write_ply`).
 

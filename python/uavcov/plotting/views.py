@@ -25,7 +25,9 @@ from ..visibility import Visibility
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
 
 DEFAULT_MAX_POLYGONS = 20_000
+"""Most polygons a 3D view draws of one surface: enough for relief, few enough to render in seconds."""
 LIGHT = np.array([-1.0, 1.0, 1.4142135623730951]) / 2.0  # from the north-west, 45 degrees up
+"""Unit vector towards the light of the shading and the hillshade (x east, y north, z up)."""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -50,11 +52,14 @@ class _Polygons:
 
 
 def _node_index(n: int, stride: int) -> np.ndarray:
+    """Every ``stride``-th of ``n`` grid lines, and always the last, so the border is kept."""
     idx = np.arange(0, n, stride)
     return idx if idx[-1] == n - 1 else np.r_[idx, n - 1]
 
 
 def _grid_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
+    """A grid as at most ``max_polygons`` quads over every ``stride``-th node; quads touching a
+    nodata node are left out."""
     grid = terrain.grid
     assert grid is not None
     ny, nx = grid.shape
@@ -100,6 +105,8 @@ def _cluster(vertices: np.ndarray, faces: np.ndarray, cell: float) -> tuple[np.n
 
 
 def _mesh_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
+    """A mesh as at most ``max_polygons`` triangles: clustered when it has more, subdivided
+    when it has fewer (each large triangle cut into up to 64^2 pieces)."""
     vertices = np.asarray(terrain.vertices)
     faces = np.asarray(terrain.faces)
     if faces.shape[0] > max_polygons:
@@ -133,6 +140,7 @@ def _mesh_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
 
 
 def _surface_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
+    """The polygons that draw ``terrain``: :func:`_grid_polygons` or :func:`_mesh_polygons`."""
     max_polygons = as_positive_int(max_polygons, "max_polygons")
     if terrain.grid is not None:
         return _grid_polygons(terrain, max_polygons)
@@ -156,7 +164,12 @@ def _block_means(node_values: np.ndarray, blocks: np.ndarray) -> np.ndarray:
         return np.where(n > 0, box(sums) / np.maximum(n, 1), np.nan)
 
 
+# ---------------------------------------------------------------------------------------------
+# Shading and drawing polygons
+
+
 def _normals(polys: np.ndarray) -> np.ndarray:
+    """Unit normals ``(P, 3)`` of ``(P, 3 or 4, 3)`` polygons (zero for a degenerate one)."""
     if polys.shape[1] == 4:
         n = np.cross(polys[:, 2] - polys[:, 0], polys[:, 3] - polys[:, 1])
     else:
@@ -172,12 +185,14 @@ def _shade(rgb: np.ndarray, polys: np.ndarray) -> np.ndarray:
 
 
 def _blend(fraction: np.ndarray, low: Sequence[float], high: Sequence[float]) -> np.ndarray:
+    """``(P, 3)`` colours from ``low`` (fraction 0, and NaN) to ``high`` (fraction 1)."""
     f = np.clip(np.nan_to_num(fraction, nan=0.0), 0.0, 1.0)[:, None]
     return (1.0 - f) * np.asarray(low)[None, :] + f * np.asarray(high)[None, :]
 
 
 def _draw_polygons(ax: Any, polys: np.ndarray, rgb: np.ndarray, *, shade: bool, alpha: float = 1.0,
                    zorder: float = 1.0) -> Any:
+    """Add ``(P, k, 3)`` polygons in colours ``rgb`` ``(P, 3 or 4)`` to 3D axes; returns the collection."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
     colours = _shade(rgb, polys) if shade else np.asarray(rgb)[:, :3]
@@ -188,7 +203,15 @@ def _draw_polygons(ax: Any, polys: np.ndarray, rgb: np.ndarray, *, shade: bool, 
     return coll
 
 
+# ---------------------------------------------------------------------------------------------
+# 3D axes
+
+
 def _style_3d(ax: Any, bounds: np.ndarray, *, elev: float, azim: float, title: str | None) -> None:
+    """Limits from ``bounds`` ``(2, 3)`` (low, high corners, metres), labels, view and title.
+
+    A flat scene is stretched vertically (and the z label says by how much) so relief shows.
+    """
     lo, hi = np.asarray(bounds[0], dtype=float), np.asarray(bounds[1], dtype=float)
     span = np.maximum(hi - lo, 1e-6)
     pad = 0.02 * span
@@ -214,6 +237,7 @@ def _style_3d(ax: Any, bounds: np.ndarray, *, elev: float, azim: float, title: s
 
 
 def _scene_bounds(*parts: np.ndarray) -> np.ndarray:
+    """``(2, 3)`` low and high corners of every point of ``parts`` (any arrays of 3D points)."""
     stacked = np.concatenate([np.asarray(p, dtype=float).reshape(-1, 3) for p in parts if np.size(p)])
     return np.stack([stacked.min(axis=0), stacked.max(axis=0)])
 
@@ -222,6 +246,10 @@ def _legend(ax: Any, handles: list[Any]) -> None:
     """Under a 3D axes, where it hides nothing of the scene."""
     ax.legend(handles=handles, fontsize=8, framealpha=0.9, loc="upper center", bbox_to_anchor=(0.5, -0.04),
               ncol=min(len(handles), 2))
+
+
+# ---------------------------------------------------------------------------------------------
+# A surface as lines
 
 
 def _outline_edges(surface: Terrain, max_all: int = 600) -> tuple[np.ndarray, str]:
@@ -247,7 +275,7 @@ def _outline_edges(surface: Terrain, max_all: int = 600) -> tuple[np.ndarray, st
 
 
 # ---------------------------------------------------------------------------------------------
-# Coverage in 3D: the share of each polygon that is seen
+# Coverage in 3D: the share of each polygon that is seen, and the view that shows it
 
 
 def _grid_node_mask(terrain: Terrain, seen: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -278,6 +306,9 @@ def _coverage_fraction(terrain: Terrain, polys: _Polygons, positions: np.ndarray
 
 def _coverage_3d(ax: Any, terrain: Terrain, pts: np.ndarray, d_max: float, path: np.ndarray | None, *,
                  max_polygons: int, shade: bool) -> Any:
+    """Draw the coverage of positions ``pts`` ``(N, 3)`` on 3D axes: the surface blended from
+    not seen to seen, the paths ``(K + 1, N, 3)`` (metres) when given, a drop line under each
+    UAV. Returns the surface's collection."""
     ax.computed_zorder = False  # paths and UAVs stay in front of the surface
     polys = _surface_polygons(terrain, max_polygons)
     fraction = _coverage_fraction(terrain, polys, pts, d_max)
@@ -318,6 +349,7 @@ def _raster_points(terrain: Terrain, raster: int) -> tuple[np.ndarray, np.ndarra
 
 
 def _hillshade(z: np.ndarray, dx: float, dy: float) -> np.ndarray:
+    """Diffuse light in [0, 1] per cell of heights ``z`` ``(H, W)`` with cell size ``dx``, ``dy`` (m)."""
     filled = np.where(np.isfinite(z), z, np.nanmean(z) if np.isfinite(z).any() else 0.0)
     gy, gx = np.gradient(filled, dy, dx)
     n = np.stack([-gx, -gy, np.ones_like(gx)], axis=2)
@@ -362,6 +394,7 @@ class _TopView:
         self.visibility = Visibility(terrain, d_max, self.targets)
 
     def fraction(self, positions: np.ndarray) -> np.ndarray:
+        """``self.shape`` shares seen from ``positions`` ``(N, 3)``; NaN off the surface."""
         seen = self.visibility.seen(positions)
         if self.terrain.grid is not None:
             nodes = _grid_node_mask(self.terrain, seen, self.targets.points)
@@ -371,6 +404,7 @@ class _TopView:
         return out.reshape(self.shape)
 
     def image(self, positions: np.ndarray, *, shade: bool = True) -> np.ndarray:
+        """``(*self.shape, 4)`` RGBA, transparent off the surface, row 0 at the south (``origin="lower"``)."""
         f = self.fraction(positions)
         rgb = _blend(f.ravel(), UNSEEN_COLOUR, SEEN_COLOUR).reshape(*self.shape, 3)
         if shade:
@@ -381,5 +415,6 @@ class _TopView:
 
 
 def _top_view(terrain: Terrain, pts: np.ndarray, d_max: float, raster: int, *, shade: bool) -> tuple[np.ndarray, tuple[float, ...]]:
+    """An ``(H, W, 4)`` RGBA image of what positions ``pts`` see, and its ``imshow`` extent (m)."""
     view = _TopView(terrain, d_max, raster)
     return view.image(pts, shade=shade), view.extent

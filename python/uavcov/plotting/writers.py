@@ -63,6 +63,7 @@ def write_ply(points: Any, path: Any, colors: Any = None) -> Path:
 
 
 def _write_gif(images: list[np.ndarray], out: Path, fps: float) -> None:
+    """Write ``(H, W, 3)`` uint8 frames as a looping GIF, ``fps`` frames per second, with Pillow."""
     try:
         from PIL import Image
     except ImportError as exc:
@@ -76,6 +77,7 @@ def _write_gif(images: list[np.ndarray], out: Path, fps: float) -> None:
 
 
 def _write_mp4(images: list[np.ndarray], out: Path, fps: float) -> None:
+    """Write ``(H, W, 3)`` uint8 frames as H.264 MP4 by piping them to ``ffmpeg``."""
     import subprocess
 
     h, w = images[0].shape[:2]
