@@ -21,6 +21,7 @@ pytest.importorskip("matplotlib")
 
 import uavcov
 from uavcov import plotting
+from uavcov.plotting import _runs, directory, figures, views
 from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from uavcov.records import save_mission
 from uavcov.targets import Targets
@@ -105,16 +106,16 @@ def test_outline_of_a_fine_surface_is_its_creases_and_border():
     x = np.arange(31.0)
     flat = uavcov.Terrain.from_grid(np.zeros((31, 31)), spacing=1.0)
     flat_mesh = uavcov.Terrain(flat.vertices, flat.faces)
-    edges, which = plotting._outline_edges(flat_mesh)
+    edges, which = views._outline_edges(flat_mesh)
     assert which == "its creases and borders" and len(edges) == 4 * 30
     ends = flat_mesh.vertices[edges]
     on_border = lambda p: (np.isin(p[:, 0], (0, 30)) | np.isin(p[:, 1], (0, 30)))
     assert on_border(ends[:, 0]).all() and on_border(ends[:, 1]).all()
     # A roof ridge along x = 15 (slopes of 45 degrees either side) adds its 30 edges.
     roof = uavcov.Terrain.from_grid(np.tile(15.0 - np.abs(x - 15.0), (31, 1)), spacing=1.0)
-    edges, _ = plotting._outline_edges(uavcov.Terrain(roof.vertices, roof.faces))
+    edges, _ = views._outline_edges(uavcov.Terrain(roof.vertices, roof.faces))
     assert len(edges) == 4 * 30 + 30
-    coarse, which = plotting._outline_edges(uavcov.Terrain.from_grid(np.zeros((3, 3)), spacing=1.0))
+    coarse, which = views._outline_edges(uavcov.Terrain.from_grid(np.zeros((3, 3)), spacing=1.0))
     assert which == "its triangles" and len(coarse) == 16
 
 
@@ -131,7 +132,7 @@ def test_cvt_renders_and_colours_follow_the_regions(hills_run):
     np.testing.assert_allclose(surface.closest_point(probes), probes, atol=1e-7)
     region = hills_run.cvt.regions(probes)
     assert len(np.unique(region)) == hills_run.cvt.n_generators
-    palette = plotting._region_colours(hills_run.cvt.n_generators)
+    palette = figures._region_colours(hills_run.cvt.n_generators)
     unit = colours / np.linalg.norm(colours, axis=1, keepdims=True)
     expected = palette[region] / np.linalg.norm(palette[region], axis=1, keepdims=True)
     np.testing.assert_allclose(unit, expected, atol=1e-9)
@@ -169,7 +170,7 @@ def test_coverage_curves_mean_and_band(hills_runs):
 
 def test_curves_of_different_lengths_average_the_runs_that_reached_each_iteration():
     curves = [np.array([0.1, 0.2, 0.3, 0.4]), np.array([0.3, 0.2]), np.array([0.5, 0.5, 0.6])]
-    mean, sigma, count = plotting._curve_stats(curves)
+    mean, sigma, count = figures._curve_stats(curves)
     for k in range(4):
         here = [c[k] for c in curves if k < len(c)]
         assert count[k] == len(here)
@@ -267,6 +268,7 @@ def test_write_ply_with_colours_reads_back(tmp_path):
     np.testing.assert_array_equal(body[:, 3:], [[255, 0, 128], [0, 255, 0]])
     empty = plotting.write_ply(np.empty((0, 3)), tmp_path / "e.ply")
     assert "element vertex 0" in empty.read_text()
+    assert "element vertex 0" in plotting.write_ply([], tmp_path / "none.ply").read_text()  # [] is no points too
     with pytest.raises(InvalidInputError):
         plotting.write_ply(pts, tmp_path / "x.ply", colors=[[300, 0, 0], [0, 0, 0]])
     with pytest.raises(InvalidInputError):
@@ -297,7 +299,7 @@ def test_animation_mp4(hills_run, tmp_path):
 
 
 def test_animation_mp4_without_ffmpeg_is_refused(hills_run, tmp_path, monkeypatch):
-    monkeypatch.setattr(plotting.shutil, "which", lambda name: None)
+    monkeypatch.setattr(shutil, "which", lambda name: None)
     with pytest.raises(InvalidInputError, match="ffmpeg"):
         plotting.animate_mission(hills_run, tmp_path / "run.mp4")
 
@@ -386,18 +388,18 @@ def test_mesh_coverage_colours_match_the_engine(scene_run, cut):
 
 def test_decimated_grid_blocks_are_brute_force_means(hills):
     rng = np.random.default_rng(3)
-    polys = plotting._surface_polygons(hills, 60)
+    polys = views._surface_polygons(hills, 60)
     assert len(polys) <= 60
     values = rng.uniform(size=hills.grid.shape)
     values[0, 5] = np.nan
-    means = plotting._block_means(values, polys.blocks)
+    means = views._block_means(values, polys.blocks)
     for (r0, r1, c0, c1), mean in zip(polys.blocks, means):
         assert np.isclose(mean, np.nanmean(values[r0:r1 + 1, c0:c1 + 1]))
 
 
 def test_decimated_mesh_stays_under_budget_and_on_the_surface(scene_run):
     terrain = scene_run.terrain
-    polys = plotting._surface_polygons(terrain, 200)
+    polys = views._surface_polygons(terrain, 200)
     assert 0 < len(polys) <= 200
     np.testing.assert_allclose(terrain.closest_point(polys.probes), polys.probes, atol=1e-9)
     fig = plotting.plot_coverage_map(scene_run, max_polygons=200)
@@ -429,7 +431,7 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
         drawn_groups.append({k: [np.asarray(r.coverage) for r in v] for k, v in results.items()})
         return original(results, **kwargs)
 
-    monkeypatch.setattr(plotting, "plot_coverage_curves", spy)
+    monkeypatch.setattr(directory, "plot_coverage_curves", spy)  # where plot_directory looks it up
     written = plotting.plot_directory(tmp_path, max_runs=1, dpi=60)
     names = {p.name for p in written}
     first = rows[random_index]["run_id"]
@@ -445,6 +447,49 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
         if p.suffix == ".png":
             with Image.open(p) as im:
                 _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
+
+
+def _parsed(rows):
+    """The rows as a reader that parses numbers gives them (uavcov.results.read_runs): ints,
+    floats, None for an empty cell, strings for the rest."""
+    ints = {"n_uavs", "seed", "iterations_to_95"}
+    floats = {"sensing_range", "initial_coverage", "max_coverage", "final_coverage", "wall_time_s"}
+
+    def cell(name, text):
+        if text == "":
+            return None
+        return int(text) if name in ints else float(text) if name in floats else text
+
+    return [{name: cell(name, text) for name, text in row.items()} for row in rows]
+
+
+def test_plot_directory_draws_the_same_from_parsed_rows(hills_runs, tmp_path, monkeypatch):
+    results = tmp_path / "results"
+    (results / "runs").mkdir(parents=True)
+    rows = _rows(hills_runs)
+    failed = {name: "" for name in rows[0]}
+    failed.update(run_id="table1-failed", experiment="table1", init="cvt", n_uavs="4", seed="9")
+    rows.append(failed)
+    save_mission(hills_runs[0], results / "runs" / f"{rows[0]['run_id']}.npz")
+    with (results / "runs.csv").open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    as_text = plotting.plot_directory(results, out=tmp_path / "text", max_runs=0, animation=False, dpi=40)
+    reader = _runs._read_runs
+    given = []
+
+    def parsing_reader(path):
+        given.append(_parsed(reader(path)))
+        return given[-1]
+
+    monkeypatch.setattr(_runs, "_read_runs", parsing_reader)
+    as_numbers = plotting.plot_directory(results, out=tmp_path / "numbers", max_runs=0, animation=False, dpi=40)
+    assert len(given) == 1 and isinstance(given[0][0]["n_uavs"], int) and given[0][-1]["max_coverage"] is None
+    assert [p.name for p in as_text] == [p.name for p in as_numbers] == [
+        "table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png"]
+    for text, numbers in zip(as_text, as_numbers):
+        assert text.read_bytes() == numbers.read_bytes(), text.name
 
 
 def test_plot_directory_of_single_runs_draws_no_bars(hills_run, tmp_path):
@@ -534,7 +579,7 @@ def test_bad_runs_csv_is_refused(tmp_path):
         plotting.plot_directory(tmp_path)
     (tmp_path / "runs.csv").write_text("")
     with pytest.raises(ResultsFormatError, match="empty"):
-        plotting._read_runs(tmp_path / "runs.csv")
+        _runs._read_runs(tmp_path / "runs.csv")
     rows = [{"experiment": "t", "init": "cvt", "n_uavs": "5", "max_coverage": "lots"}]
     with pytest.raises(ResultsFormatError, match="'lots' is not a number"):
         plotting.plot_table1(rows)
@@ -562,6 +607,10 @@ def test_bad_arguments_are_refused(hills_run, tmp_path):
         plotting.plot_coverage_map(hills_run, view="side")
     with pytest.raises(InvalidInputError, match="max_polygons"):
         plotting.plot_coverage_map(hills_run, max_polygons=0)
+    with pytest.raises(InvalidTypeError, match="max_polygons"):  # a count, not rounded
+        plotting.plot_coverage_map(hills_run, max_polygons=2.5)
+    with pytest.raises(InvalidInputError, match="fps"):
+        plotting.animate_mission(hills_run, tmp_path / "run.gif", fps=0)
     with pytest.raises(InvalidInputError, match="d_max"):
         plotting.plot_coverage_map(hills_run.terrain, hills_run.trajectory[-1], -1.0)
     with pytest.raises(InvalidInputError, match="positions"):

@@ -1,0 +1,117 @@
+"""The animation of a mission: the top-view coverage map and the coverage curve, frame by frame.
+
+Frames are drawn on one Agg canvas and handed as RGB arrays to the GIF or MP4 writer of
+:mod:`uavcov.plotting.writers`.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_positive_float, as_positive_int
+from ..errors import InvalidInputError
+from ._canvas import END_COLOUR, INIT_COLOURS, SEEN_COLOUR, START_COLOUR, UNSEEN_COLOUR, _marker, _matplotlib, _patch
+from ._inputs import _as_result, _curve, _d_max, _trajectory
+from .views import _TopView
+from .writers import _write_gif, _write_mp4
+
+
+def animate_mission(
+    source: Any,
+    out: Any,
+    *,
+    fps: float = 8.0,
+    max_frames: int = 60,
+    raster: int = 160,
+    dpi: float = 80.0,
+) -> Path:
+    """An animation of a run: the top-view coverage map, the UAVs and their paths, the curve.
+
+    Left: the surface from above coloured by what the team sees at each shown iteration, the
+    UAVs (green) and their paths so far; right: coverage per iteration up to that point.
+
+    Parameters
+    ----------
+    source : MissionResult or path to a saved run
+    out : path
+        ``.gif`` (written with Pillow) or ``.mp4`` (needs ``ffmpeg`` on the PATH).
+    fps : float
+        Frames per second.
+    max_frames : int
+        Most frames: iterations are evenly spaced, first and last always shown.
+    raster : int
+        Pixels on the longer side of the map.
+    dpi : float
+        Resolution of each frame.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    result = _as_result(source, ("terrain", "trajectory", "coverage", "settings"))
+    out = Path(out)
+    suffix = out.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise InvalidInputError(f"the animation is written as .gif or .mp4, got {out.name!r}")
+    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+        raise InvalidInputError("writing .mp4 needs ffmpeg on the PATH; write a .gif instead")
+    fps = as_positive_float(fps, "fps")
+    traj = _trajectory(result.trajectory)
+    curve = _curve(result.coverage)
+    frames = np.unique(np.rint(np.linspace(0, traj.shape[0] - 1,
+                                           min(as_positive_int(max_frames, "max_frames"), traj.shape[0]))).astype(int))
+    d = _d_max(result)
+    view = _TopView(result.terrain, d, as_positive_int(raster, "raster"))
+
+    _matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.0, 4.6), dpi=dpi)
+    canvas = FigureCanvasAgg(fig)
+    grid = fig.add_gridspec(1, 2, width_ratios=(1.15, 1.0), left=0.07, right=0.98, bottom=0.24, top=0.9, wspace=0.28)
+    ax_map = fig.add_subplot(grid[0])
+    ax_curve = fig.add_subplot(grid[1])
+    picture = ax_map.imshow(view.image(traj[0]), extent=view.extent, origin="lower", interpolation="nearest")
+    ax_map.set_xlabel("x (m)")
+    ax_map.set_ylabel("y (m)")
+    ax_map.set_aspect("equal")
+    ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=14, c=START_COLOUR, zorder=3)
+    paths = [ax_map.plot([], [], color="0.1", linewidth=0.8)[0] for _ in range(traj.shape[1])]
+    uavs = ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=36, c=[END_COLOUR], edgecolors="black", linewidths=0.6, zorder=4)
+    ax_map.legend(handles=[_patch(SEEN_COLOUR, "seen"), _patch(UNSEEN_COLOUR, "not seen"),
+                           _marker("start", marker="o", color=START_COLOUR, markersize=4),
+                           _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6)],
+                  fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.17), ncol=4, framealpha=0.9)
+    ax_curve.set_xlim(0, max(1, curve.shape[0] - 1))
+    low = float(curve.min())
+    ax_curve.set_ylim(max(0.0, low - 0.05), min(1.0, float(curve.max()) + 0.03) + 1e-3)
+    ax_curve.set_xlabel("iteration")
+    ax_curve.set_ylabel("coverage")
+    ax_curve.grid(True, linewidth=0.4, alpha=0.5)
+    line = ax_curve.plot([], [], color=INIT_COLOURS.get(getattr(result.settings, "start", ""), "#1f77b4"), linewidth=1.5)[0]
+    dot = ax_curve.plot([], [], "o", color="black", markersize=4)[0]
+    title = fig.suptitle("", fontsize=10)
+
+    images = []
+    for k in frames:
+        picture.set_data(view.image(traj[k]))
+        for i, p in enumerate(paths):
+            p.set_data(traj[: k + 1, i, 0], traj[: k + 1, i, 1])
+        uavs.set_offsets(traj[k, :, :2])
+        line.set_data(np.arange(k + 1), curve[: k + 1])
+        dot.set_data([k], [curve[k]])
+        title.set_text(f"iteration {k} of {traj.shape[0] - 1}: coverage {curve[k]:.3f} (d_max = {d:g} m)")
+        canvas.draw()
+        images.append(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if suffix == ".gif":
+        _write_gif(images, out, fps)
+    else:
+        _write_mp4(images, out, fps)
+    return out

@@ -1,0 +1,148 @@
+"""Every figure of a results directory, redrawn from what is stored, without rerunning anything.
+
+:func:`plot_directory` reads ``runs.csv`` through :func:`uavcov.plotting._runs._read_runs` (the
+bars of Table 1; the experiment and start of each stored run) and the runs saved in
+``runs/*.npz``, and calls the figure functions of :mod:`uavcov.plotting.figures` and
+:func:`~uavcov.plotting.animate_mission`. It reads cells with :func:`_runs._number`, so rows may
+hold strings or parsed numbers.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ResultsFormatError
+from ..records import load_mission
+from . import _runs
+from ._canvas import _close, _matplotlib
+from ._runs import _number
+from .animation import animate_mission
+from .figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
+
+
+def _safe(text: str) -> str:
+    """``text`` usable in a file name: anything but letters, digits, ``-_.`` becomes ``_``."""
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in text)
+
+
+def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animation: bool = True,
+                   dpi: float = 110.0) -> list[Path]:
+    """Redraw every figure of a results directory from what is stored, without rerunning anything.
+
+    Reads ``DIR/runs.csv`` (one row per run) and ``DIR/runs/*.npz`` (runs saved by
+    :func:`uavcov.records.save_mission`, named ``<run_id>.npz``; the row with that ``run_id``
+    gives the run's experiment and start) and writes, into ``out`` (default ``DIR/figures``):
+
+    - ``<experiment>_max_coverage.png`` and ``<experiment>_initial_coverage.png``: the bars of
+      :func:`plot_table1`, beside the paper where it has numbers (only for experiments with
+      several runs per start and team size);
+    - ``<experiment>_coverage_N<n>_d<d_max>.png``: :func:`plot_coverage_curves` of every stored
+      run of that experiment, team size and range, one colour per start (the paper's Fig. 6
+      maxima drawn for the "comparison" experiment);
+    - for up to ``max_runs`` stored runs (the first of each experiment, start and team size,
+      then in name order): ``<run>_approximation.png``, ``<run>_cvt.png`` (CVT starts),
+      ``<run>_coverage_map.png``, ``<run>_coverage_top.png``, ``<run>_point_cloud.png`` and
+      ``<run>_seen.ply``;
+    - ``<run>_animation.gif`` for the first of them when ``animation`` is true.
+
+    ``dpi`` is the resolution of the PNG files.
+
+    Returns
+    -------
+    list of Path
+        The files written, in that order.
+
+    Raises
+    ------
+    ResultsFormatError
+        No such directory, nothing to plot in it, a ``runs.csv`` without a required column, or
+        a stored run that cannot be read (the message names the file and what is missing).
+    ImportError
+        matplotlib is not installed (the ``uavcov[plot]`` extra).
+    """
+    directory = Path(directory)
+    if not directory.is_dir():
+        raise ResultsFormatError(f"no results directory at {directory}")
+    limit = max(0, int(max_runs))
+    target = directory / "figures" if out is None else Path(out)
+    runs_csv = directory / "runs.csv"
+    run_files = sorted((directory / "runs").glob("*.npz")) if (directory / "runs").is_dir() else []
+    if not runs_csv.is_file() and not run_files:
+        raise ResultsFormatError(f"{directory} holds neither runs.csv nor runs/*.npz: nothing to plot")
+    _matplotlib()
+    from .. import paper
+
+    written: list[Path] = []
+    rows = _runs._read_runs(runs_csv) if runs_csv.is_file() else []
+    by_experiment: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
+    for experiment, group in sorted(by_experiment.items()):
+        cells: dict[tuple[str, float | None], int] = {}
+        for index, row in enumerate(group):
+            if _number(row, "max_coverage", index) is not None:
+                key = (str(row["init"]), _number(row, "n_uavs", index))
+                cells[key] = cells.get(key, 0) + 1
+        if not cells or max(cells.values()) < 2:
+            continue  # one run per bar is a number, not a distribution: the curves show it
+        for metric in ("max_coverage", "initial_coverage"):
+            if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
+                continue
+            path = target / f"{_safe(experiment)}_{metric}.png"
+            _close(plot_table1(group, metric=metric, out=path, dpi=dpi))
+            written.append(path)
+
+    # Curves of every stored run; whole results are kept only for the runs drawn one by one.
+    row_of = {str(r.get("run_id")): r for r in rows if r.get("run_id")}
+    curves: dict[tuple[str, int, float], dict[str, list[Any]]] = {}
+    chosen: list[tuple[Path, Any]] = []
+    kinds: set[tuple[str, str, int]] = set()
+    for f in run_files:
+        result = load_mission(f)
+        row = row_of.get(f.stem, {})
+        experiment = str(row.get("experiment") or "runs")
+        init = str(row.get("init") or result.settings.start)
+        n, d = int(result.settings.n_uavs), float(result.settings.d_max)
+        curves.setdefault((experiment, n, d), {}).setdefault(init, []).append(_Curve(result.coverage))
+        if (experiment, init, n) not in kinds and len(chosen) < limit:
+            kinds.add((experiment, init, n))
+            chosen.append((f, result))
+    for f in run_files:
+        if len(chosen) >= limit:
+            break
+        if all(f != c for c, _ in chosen):
+            chosen.append((f, load_mission(f)))
+    for (experiment, n, d), groups in sorted(curves.items()):
+        path = target / f"{_safe(experiment)}_coverage_N{n}_d{d:g}.png"
+        reference = dict(paper.PUBLISHED_FIG6_MAX) if experiment == "comparison" else None
+        _close(plot_coverage_curves(groups, reference=reference, out=path, dpi=dpi,
+                                    title=f"{experiment}: coverage during the optimisation, N = {n}, d_max = {d:g} m"))
+        written.append(path)
+
+    for index, (f, r) in enumerate(chosen):
+        stem = _safe(f.stem)
+        figures: list[tuple[str, Any, dict[str, Any]]] = [("approximation", plot_approximation, {})]
+        if r.cvt is not None:
+            figures.append(("cvt", plot_cvt, {}))
+        figures += [("coverage_map", plot_coverage_map, {}), ("coverage_top", plot_coverage_map, {"view": "top"})]
+        for suffix, draw, options in figures:
+            path = target / f"{stem}_{suffix}.png"
+            _close(draw(r, out=path, dpi=dpi, **options))
+            written.append(path)
+        ply = target / f"{stem}_seen.ply"
+        path = target / f"{stem}_point_cloud.png"
+        _close(plot_point_cloud(r, out=path, ply=ply, dpi=dpi))
+        written += [path, ply]
+        if animation and index == 0:
+            written.append(animate_mission(r, target / f"{stem}_animation.gif"))
+    return written
+
+
+class _Curve:
+    """Just the coverage curve of a stored run (what the curves figure needs)."""
+
+    def __init__(self, coverage: np.ndarray) -> None:
+        self.coverage = np.asarray(coverage)
