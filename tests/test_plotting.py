@@ -59,7 +59,7 @@ def hills():
 def hills_runs(hills):
     """Three starts x two seeds on the same hills."""
     return [
-        uavcov.run_mission(hills, n_uavs=4, d_max=15.0, iterations=12, start=start, rng=seed)
+        uavcov.run_mission(hills, uavcov.MissionSpec(n_uavs=4, d_max=15.0, iterations=12, start=uavcov.StartSpec(kind=start)), rng=seed)
         for start in ("cvt", "random", "corner")
         for seed in (1, 2)
     ]
@@ -74,7 +74,8 @@ def hills_run(hills_runs):
 def scene_run():
     scene = uavcov.buildings_scene(size=12.0, n_buildings=2, footprint=(2.0, 4.0), heights=(2.0, 5.0),
                                    spacing=1.0, rng=0)
-    return uavcov.run_mission(scene, n_uavs=3, d_max=6.0, iterations=8, rng=1, z_max=12.0, h_min=1.0, d_safe=1.0)
+    spec = uavcov.MissionSpec(n_uavs=3, d_max=6.0, iterations=8, constraints=uavcov.Constraints(h_min=1.0, z_max=12.0, d_safe=1.0, check_moves=None))
+    return uavcov.run_mission(scene, spec, rng=1)
 
 
 def _both_kinds(fraction: np.ndarray) -> None:
@@ -157,7 +158,7 @@ def test_coverage_curves_mean_and_band(hills_runs):
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert [label.split(" ")[0] for label in labels] == ["cvt", "random", "corner"]
     # The thick line of each group is the mean of its runs' curves.
-    cvt_curves = np.array([r.coverage for r in hills_runs if r.settings.start == "cvt"])
+    cvt_curves = np.array([r.coverage for r in hills_runs if r.spec.start.kind == "cvt"])
     thick = [line for line in ax.lines if line.get_linewidth() > 1.5]
     assert len(thick) == 3
     np.testing.assert_allclose(thick[0].get_ydata(), cvt_curves.mean(axis=0))
@@ -188,8 +189,8 @@ def test_coverage_curves_running_max_and_mapping(hills_runs):
 
 def _rows(results, experiment="table1"):
     return [
-        {"run_id": f"{experiment}-{i}", "experiment": experiment, "init": r.settings.start, "n_uavs": str(r.settings.n_uavs), "seed": str(i),
-         "sensing_range": str(r.settings.d_max), "initial_coverage": repr(r.initial_coverage),
+        {"run_id": f"{experiment}-{i}", "experiment": experiment, "init": r.spec.start.kind, "n_uavs": str(r.spec.n_uavs), "seed": str(i),
+         "sensing_range": str(r.spec.d_max), "initial_coverage": repr(r.initial_coverage),
          "max_coverage": repr(r.best_coverage), "final_coverage": repr(r.final_coverage),
          "iterations_to_95": str(r.iterations_to_95), "wall_time_s": repr(r.wall_time_s)}
         for i, r in enumerate(results)
@@ -247,7 +248,7 @@ def test_point_cloud_renders_and_is_the_union_of_seen_targets(hills_run, tmp_pat
     ply = tmp_path / "seen.ply"
     fig = plotting.plot_point_cloud(hills_run, ply=ply, max_configurations=1000)
     _assert_not_blank(_render(fig))
-    vis = Visibility(hills_run.terrain, hills_run.settings.d_max)
+    vis = Visibility(hills_run.terrain, hills_run.spec.d_max)
     union = np.zeros(len(vis.targets), dtype=bool)
     for x in hills_run.trajectory:
         union |= vis.seen(x)
@@ -336,7 +337,7 @@ def test_grid_coverage_colours_match_the_engine(hills_run):
     terrain = hills_run.terrain
     grid = terrain.grid
     final = hills_run.trajectory[-1]
-    vis = Visibility(terrain, hills_run.settings.d_max)
+    vis = Visibility(terrain, hills_run.spec.d_max)
     np.testing.assert_array_equal(vis.targets.points, terrain.vertices)  # grid targets: the nodes, in order
     nodes = vis.seen(final).reshape(grid.shape).astype(float)
     fig = plotting.plot_coverage_map(hills_run, shade=False, max_polygons=10**6)
@@ -355,7 +356,7 @@ def test_grid_coverage_colours_match_the_engine(hills_run):
 def test_grid_top_view_pixels_match_the_engine(hills_run):
     terrain = hills_run.terrain
     final = hills_run.trajectory[-1]
-    nodes = Visibility(terrain, hills_run.settings.d_max).seen(final).reshape(terrain.grid.shape)
+    nodes = Visibility(terrain, hills_run.spec.d_max).seen(final).reshape(terrain.grid.shape)
     fig = plotting.plot_coverage_map(hills_run, view="top", shade=False)
     image = np.asarray(fig.axes[0].images[0].get_array())
     assert image.shape[:2] == nodes.shape  # one pixel per node: no decimation on a small grid
@@ -380,7 +381,7 @@ def test_mesh_coverage_colours_match_the_engine(scene_run, cut):
         centroids = terrain.vertices[terrain.faces].mean(axis=1)
         order = lambda p: p[np.lexsort(np.round(p, 9).T)]
         np.testing.assert_allclose(order(probes), order(centroids))  # one polygon per face, at its centre
-    seen = Visibility(terrain, scene_run.settings.d_max, Targets(probes)).seen(final)
+    seen = Visibility(terrain, scene_run.spec.d_max, Targets(probes)).seen(final)
     _both_kinds(seen.astype(float))
     expected = np.where(seen[:, None], plotting.SEEN_COLOUR, plotting.UNSEEN_COLOUR)
     np.testing.assert_allclose(colours, expected, atol=1e-9)
@@ -413,11 +414,9 @@ def test_decimated_mesh_stays_under_budget_and_on_the_surface(scene_run):
 def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
     (tmp_path / "runs").mkdir()
     rows = _rows(hills_runs)
-    random_index = next(i for i, r in enumerate(hills_runs) if r.settings.start == "random")
-    corner_index = next(i for i, r in enumerate(hills_runs) if r.settings.start == "corner")
-    # A start built outside run_mission is recorded as "given" in the run; its row says what it was.
-    given = dataclasses.replace(hills_runs[corner_index],
-                                settings=dataclasses.replace(hills_runs[corner_index].settings, start="given"))
+    random_index = next(i for i, r in enumerate(hills_runs) if r.spec.start.kind == "random")
+    corner_index = next(i for i, r in enumerate(hills_runs) if r.spec.start.kind == "corner")
+    given = hills_runs[corner_index]
     save_mission(hills_runs[random_index], tmp_path / "runs" / f"{rows[random_index]['run_id']}.npz")
     save_mission(given, tmp_path / "runs" / f"{rows[corner_index]['run_id']}.npz")
     with (tmp_path / "runs.csv").open("w", newline="") as handle:
@@ -449,21 +448,9 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
                 _assert_not_blank(np.asarray(im.convert("RGB"), dtype=float))
 
 
-def _parsed(rows):
-    """The rows as a reader that parses numbers gives them (uavcov.results.read_runs): ints,
-    floats, None for an empty cell, strings for the rest."""
-    ints = {"n_uavs", "seed", "iterations_to_95"}
-    floats = {"sensing_range", "initial_coverage", "max_coverage", "final_coverage", "wall_time_s"}
-
-    def cell(name, text):
-        if text == "":
-            return None
-        return int(text) if name in ints else float(text) if name in floats else text
-
-    return [{name: cell(name, text) for name, text in row.items()} for row in rows]
-
-
-def test_plot_directory_draws_the_same_from_parsed_rows(hills_runs, tmp_path, monkeypatch):
+def test_plot_directory_draws_the_same_from_text_rows(hills_runs, tmp_path, monkeypatch):
+    """Rows with parsed cells (uavcov.results.read_runs) and rows of strings (the csv module's)
+    give the same files, byte for byte."""
     results = tmp_path / "results"
     (results / "runs").mkdir(parents=True)
     rows = _rows(hills_runs)
@@ -475,17 +462,16 @@ def test_plot_directory_draws_the_same_from_parsed_rows(hills_runs, tmp_path, mo
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
-    as_text = plotting.plot_directory(results, out=tmp_path / "text", max_runs=0, animation=False, dpi=40)
-    reader = _runs._read_runs
-    given = []
-
-    def parsing_reader(path):
-        given.append(_parsed(reader(path)))
-        return given[-1]
-
-    monkeypatch.setattr(_runs, "_read_runs", parsing_reader)
+    parsed = _runs._read_runs(results / "runs.csv")
+    assert isinstance(parsed[0]["n_uavs"], int) and parsed[-1]["max_coverage"] is None
     as_numbers = plotting.plot_directory(results, out=tmp_path / "numbers", max_runs=0, animation=False, dpi=40)
-    assert len(given) == 1 and isinstance(given[0][0]["n_uavs"], int) and given[0][-1]["max_coverage"] is None
+
+    def text_reader(path):
+        with open(path, newline="") as handle:
+            return list(csv.DictReader(handle))
+
+    monkeypatch.setattr(_runs, "_read_runs", text_reader)
+    as_text = plotting.plot_directory(results, out=tmp_path / "text", max_runs=0, animation=False, dpi=40)
     assert [p.name for p in as_text] == [p.name for p in as_numbers] == [
         "table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png"]
     for text, numbers in zip(as_text, as_numbers):
@@ -519,12 +505,12 @@ def test_empty_results_are_refused():
 
 
 def test_missing_fields_are_named(hills_run):
-    partial = types.SimpleNamespace(terrain=hills_run.terrain, settings=hills_run.settings)
+    partial = types.SimpleNamespace(terrain=hills_run.terrain, spec=hills_run.spec)
     with pytest.raises(ResultsFormatError, match="missing trajectory"):
         plotting.plot_coverage_map(partial)
     with pytest.raises(ResultsFormatError, match="approximation"):
         plotting.plot_approximation(types.SimpleNamespace(terrain=hills_run.terrain, prior_points=np.zeros((0, 3))))
-    no_range = dataclasses.replace(hills_run, settings=types.SimpleNamespace(start="cvt"))
+    no_range = dataclasses.replace(hills_run, spec=types.SimpleNamespace(start=types.SimpleNamespace(kind="cvt")))
     with pytest.raises(ResultsFormatError, match="d_max"):
         plotting.plot_coverage_map(no_range)
     with pytest.raises(ResultsFormatError, match="missing d_max"):
@@ -545,7 +531,7 @@ def test_empty_or_broken_arrays_are_refused(hills_run):
 
 
 def test_run_without_cvt_is_refused(hills_runs):
-    random_start = next(r for r in hills_runs if r.settings.start == "random")
+    random_start = next(r for r in hills_runs if r.spec.start.kind == "random")
     with pytest.raises(ResultsFormatError, match="no CVT.*random"):
         plotting.plot_cvt(random_start)
 
@@ -554,7 +540,7 @@ def test_older_or_broken_run_files_are_refused(hills_run, tmp_path):
     path = save_mission(hills_run, tmp_path / "old.npz")
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files}
-    arrays["header"] = np.array(str(arrays["header"]).replace("uavcov.mission/1", "uavcov.mission/0"))
+    arrays["header"] = np.array(str(arrays["header"]).replace("uavcov.mission/2", "uavcov.mission/0"))
     np.savez(tmp_path / "old.npz", **arrays)
     with pytest.raises(ResultsFormatError, match="format"):
         plotting.plot_coverage_map(tmp_path / "old.npz")

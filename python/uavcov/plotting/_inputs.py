@@ -74,12 +74,19 @@ def _curve(value: Any) -> np.ndarray:
     return curve
 
 
+def _setting(result: Any, name: str) -> Any:
+    """A setting of the mission a result ran (``result.spec``), or None; "start" is its kind."""
+    spec = getattr(result, "spec", None)
+    if name == "start":
+        return getattr(getattr(spec, "start", None), "kind", None)
+    return getattr(spec, name, None)
+
+
 def _d_max(result: Any) -> float:
-    """The sensing range of a result's settings, metres (> 0)."""
-    settings = getattr(result, "settings", None)
-    value = getattr(settings, "d_max", None)
+    """The sensing range of a result's mission, metres (> 0)."""
+    value = _setting(result, "d_max")
     if value is None:
-        raise ResultsFormatError("the result's settings are missing d_max (the sensing range)")
+        raise ResultsFormatError("the result's spec is missing d_max (the sensing range)")
     d = float(value)
     if not (math.isfinite(d) and d > 0):
         raise ResultsFormatError(f"the result's d_max must be a positive number, got {value!r}")

@@ -4,18 +4,17 @@
 (:func:`~uavcov.plotting.plot_table1` given a path, :func:`~uavcov.plotting.plot_directory`).
 Everything else takes rows as mappings whose cells are either strings, as the ``csv`` module
 gives them (``"0.93"``, ``""`` for a failed run), or values already parsed (``0.93``, ``12``,
-``None``), so the reader can be swapped for one that parses numbers without touching a figure.
+``None``).
 """
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 from ..errors import ResultsFormatError
+from ..results import read_runs
 
 RUNS_COLUMNS = ("experiment", "init", "n_uavs", "max_coverage")
 """Columns the figures need in a ``runs.csv``: the experiment, the start, the team size and the
@@ -23,27 +22,14 @@ best coverage (the bars of Table 1 and the grouping of the curves)."""
 
 
 def _read_runs(path: Any) -> list[dict[str, Any]]:
-    """The rows of the ``runs.csv`` at ``path``, one dict per run, header checked.
-
-    Cells are strings here (the ``csv`` module's); callers also accept parsed values, so this
-    body may become ``read_runs(path, required=RUNS_COLUMNS)`` of :mod:`uavcov.results`.
+    """The rows of the ``runs.csv`` at ``path`` (:func:`uavcov.results.read_runs`), header checked.
 
     Raises
     ------
     ResultsFormatError
-        No such file, no header, or a column of :data:`RUNS_COLUMNS` missing (named).
+        No such file, not a runs file, or a column of :data:`RUNS_COLUMNS` missing (named).
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ResultsFormatError(f"no runs file at {path}")
-    with path.open(newline="") as handle:
-        reader = csv.DictReader(handle)
-        if reader.fieldnames is None:
-            raise ResultsFormatError(f"{path} is empty (no header line)")
-        missing = [c for c in RUNS_COLUMNS if c not in reader.fieldnames]
-        if missing:
-            raise ResultsFormatError(f"{path} lacks the column(s) {', '.join(missing)}")
-        return list(reader)
+    return read_runs(path, required=RUNS_COLUMNS)
 
 
 def _number(row: Mapping[str, Any], column: str, index: int) -> float | None:

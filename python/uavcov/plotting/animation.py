@@ -15,7 +15,7 @@ import numpy as np
 from .._validate import as_positive_float, as_positive_int
 from ..errors import InvalidInputError
 from ._canvas import END_COLOUR, INIT_COLOURS, SEEN_COLOUR, START_COLOUR, UNSEEN_COLOUR, _marker, _matplotlib, _patch
-from ._inputs import _as_result, _curve, _d_max, _trajectory
+from ._inputs import _as_result, _curve, _d_max, _setting, _trajectory
 from .views import _TopView
 from .writers import _write_gif, _write_mp4
 
@@ -53,7 +53,7 @@ def animate_mission(
     Path
         The file written.
     """
-    result = _as_result(source, ("terrain", "trajectory", "coverage", "settings"))
+    result = _as_result(source, ("terrain", "trajectory", "coverage", "spec"))
     out = Path(out)
     suffix = out.suffix.lower()
     if suffix not in (".gif", ".mp4"):
@@ -94,7 +94,7 @@ def animate_mission(
     ax_curve.set_xlabel("iteration")
     ax_curve.set_ylabel("coverage")
     ax_curve.grid(True, linewidth=0.4, alpha=0.5)
-    line = ax_curve.plot([], [], color=INIT_COLOURS.get(getattr(result.settings, "start", ""), "#1f77b4"), linewidth=1.5)[0]
+    line = ax_curve.plot([], [], color=INIT_COLOURS.get(_setting(result, "start") or "", "#1f77b4"), linewidth=1.5)[0]
     dot = ax_curve.plot([], [], "o", color="black", markersize=4)[0]
     title = fig.suptitle("", fontsize=10)
 

@@ -77,6 +77,8 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
 
     written: list[Path] = []
     rows = _runs._read_runs(runs_csv) if runs_csv.is_file() else []
+    if not rows and not run_files:
+        raise ResultsFormatError(f"{directory} holds an empty runs.csv and no runs/*.npz: nothing to plot")
     by_experiment: dict[str, list[dict[str, Any]]] = {}
     for row in rows:
         by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
@@ -104,8 +106,8 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         result = load_mission(f)
         row = row_of.get(f.stem, {})
         experiment = str(row.get("experiment") or "runs")
-        init = str(row.get("init") or result.settings.start)
-        n, d = int(result.settings.n_uavs), float(result.settings.d_max)
+        init = str(row.get("init") or result.spec.start.kind)
+        n, d = int(result.spec.n_uavs), float(result.spec.d_max)
         curves.setdefault((experiment, n, d), {}).setdefault(init, []).append(_Curve(result.coverage))
         if (experiment, init, n) not in kinds and len(chosen) < limit:
             kinds.add((experiment, init, n))

@@ -47,7 +47,7 @@ from ._canvas import (
     _new_axes,
     _patch,
 )
-from ._inputs import _as_result, _configuration, _curve, _d_max, _points, _terrain, _trajectory
+from ._inputs import _as_result, _configuration, _curve, _d_max, _points, _setting, _terrain, _trajectory
 from ._runs import _number
 from .views import (
     DEFAULT_MAX_POLYGONS,
@@ -200,7 +200,7 @@ def plot_cvt(
         if cvt is None:
             cvt = result.cvt
             if cvt is None:
-                start = getattr(getattr(result, "settings", None), "start", "?")
+                start = _setting(result, "start") or "?"
                 raise ResultsFormatError(f"this run has no CVT (it started from {start!r}); nothing to draw")
     if not isinstance(cvt, CVTResult):
         raise InvalidTypeError(f"cvt must be a CVTResult, got {type(cvt).__name__}")
@@ -296,7 +296,7 @@ def plot_coverage_map(
         pts = _points(positions, "positions", allow_empty=False)
         path = None if trajectory is None else _trajectory(trajectory)
     else:
-        result = _as_result(source, ("terrain", "trajectory", "settings"))
+        result = _as_result(source, ("terrain", "trajectory", "spec"))
         terrain = result.terrain
         pts, label, iteration = _configuration(result, configuration)
         if positions is not None:
@@ -366,9 +366,9 @@ def _group_results(results: Any, group_by: str) -> dict[str, list[Any]]:
             if group_by == "none":
                 key = "runs"
             else:
-                key = str(getattr(getattr(r, "settings", None), group_by, None))
+                key = str(_setting(r, group_by))
                 if key == "None":
-                    raise ResultsFormatError(f"a result's settings have no {group_by!r} to group by")
+                    raise ResultsFormatError(f"a result's spec has no {group_by!r} to group by")
             groups.setdefault(key, []).append(r)
     if not groups or not any(groups.values()):
         raise ResultsFormatError("no results to plot (empty)")
@@ -618,7 +618,7 @@ def seen_points(result: Any, *, max_configurations: int = 50, targets: Targets |
     (n, 3) float64 ndarray
         The seen points, metres, in target order.
     """
-    result = _as_result(result, ("terrain", "trajectory", "settings"))
+    result = _as_result(result, ("terrain", "trajectory", "spec"))
     traj = _trajectory(result.trajectory)
     count = as_positive_int(max_configurations, "max_configurations")
     picks = np.unique(np.rint(np.linspace(0, traj.shape[0] - 1, min(count, traj.shape[0]))).astype(np.int64))
@@ -668,7 +668,7 @@ def plot_point_cloud(
     if isinstance(source, np.ndarray) or (isinstance(source, (list, tuple)) and not hasattr(source, "trajectory")):
         pts = _points(source, "points")
     else:
-        result = _as_result(source, ("terrain", "trajectory", "settings"))
+        result = _as_result(source, ("terrain", "trajectory", "spec"))
         pts = seen_points(result, max_configurations=max_configurations)
         total_targets = len(result.terrain.default_targets())
         if positions is None:
