@@ -545,7 +545,7 @@ def test_older_or_broken_run_files_are_refused(hills_run, tmp_path):
     with pytest.raises(ResultsFormatError, match="format"):
         plotting.plot_coverage_map(tmp_path / "old.npz")
     del arrays["coverage"]
-    arrays["header"] = np.array(str(arrays["header"]).replace("uavcov.mission/0", "uavcov.mission/1"))
+    arrays["header"] = np.array(str(arrays["header"]).replace("uavcov.mission/0", "uavcov.mission/2"))
     np.savez(tmp_path / "partial.npz", **arrays)
     with pytest.raises(ResultsFormatError, match="coverage"):
         plotting.plot_coverage_curves([tmp_path / "partial.npz"])
@@ -564,8 +564,11 @@ def test_bad_runs_csv_is_refused(tmp_path):
     with pytest.raises(ResultsFormatError, match="n_uavs, max_coverage"):
         plotting.plot_directory(tmp_path)
     (tmp_path / "runs.csv").write_text("")
-    with pytest.raises(ResultsFormatError, match="empty"):
-        _runs._read_runs(tmp_path / "runs.csv")
+    with pytest.raises(ResultsFormatError, match="empty runs.csv"):
+        plotting.plot_directory(tmp_path)
+    (tmp_path / "runs.csv").write_bytes(b"\x89PNG\r\n\x1a\n\x00\xff\n")
+    with pytest.raises(ResultsFormatError, match="not UTF-8"):
+        plotting.plot_directory(tmp_path)
     rows = [{"experiment": "t", "init": "cvt", "n_uavs": "5", "max_coverage": "lots"}]
     with pytest.raises(ResultsFormatError, match="'lots' is not a number"):
         plotting.plot_table1(rows)
