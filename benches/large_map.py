@@ -105,8 +105,8 @@ def main() -> None:
     r = json.loads(out.stdout)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
     print(f"| map | nodes | triangles | targets | UAVs, d_max | heights (numpy) | Terrain.from_grid "
-          f"| Visibility() | one evaluation, {args.threads} thr | again (builds skylines) | third | coverage | peak RSS | interpreter alone "
-          f"| mesh path |")
+          f"| Visibility() | one evaluation, {args.threads} thr | again (builds skylines) | third | coverage | peak RSS "
+          f"| interpreter alone | mesh path |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     print(f"| {args.size / 1000:g} km x {args.size / 1000:g} km at {args.spacing:g} m | {r['nodes']:,} | {r['triangles']:,} "
           f"| {r['targets']:,} | {args.uavs}, {args.d_max:g} m | {r['heights_s']:.1f} s | {r['terrain_s']:.2f} s "

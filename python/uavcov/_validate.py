@@ -187,7 +187,7 @@ def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
 def as_cell_count(length: float, step: float, name: str) -> int:
     """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
     count = length / step
-    cells = int(round(count))
+    cells = round(count)
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")
     return cells

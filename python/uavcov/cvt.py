@@ -42,16 +42,17 @@ over starts; at most 2.6 %), against at most 1.7 % after 300 iterations (``bench
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Callable, Mapping
+from typing import Any
 
 import numpy as np
 
 from . import _core
 from ._validate import (
-    as_generator,
     as_float_array,
+    as_generator,
     as_n_threads,
     as_non_negative_float,
     as_points,
@@ -284,7 +285,10 @@ def cvt(
         raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
     n = as_positive_int(n, "n")
     (a1, a2), (b1, b2) = _weights(preset, alpha, beta)
-    q = default_samples_per_iteration(n) if samples_per_iteration is None else as_positive_int(samples_per_iteration, "samples_per_iteration")
+    if samples_per_iteration is None:
+        q = default_samples_per_iteration(n)
+    else:
+        q = as_positive_int(samples_per_iteration, "samples_per_iteration")
     if n > q:
         raise InvalidInputError(f"{n} generators need at least as many samples per iteration, got samples_per_iteration = {q}")
     tol = as_non_negative_float(tol, "tol")

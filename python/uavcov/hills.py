@@ -72,7 +72,7 @@ class GaussianMixture:
     def _evaluate(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         z = np.zeros(np.broadcast(x, y).shape)
         scale = -0.5 / self.sigma**2
-        for (cx, cy), h in zip(self.centres, self.heights):
+        for (cx, cy), h in zip(self.centres, self.heights, strict=True):
             z += h * np.exp(scale * ((x - cx) ** 2 + (y - cy) ** 2))
         return z
 

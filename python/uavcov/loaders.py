@@ -110,19 +110,21 @@ class LocalFrame:
         object.__setattr__(self, "factors", factors)
 
     @classmethod
-    def identity(cls) -> "LocalFrame":
+    def identity(cls) -> LocalFrame:
         """The frame of data that is already local (generated scenes)."""
         return cls(np.zeros(3), np.ones(3))
 
     def to_local(self, points: Any) -> np.ndarray:
         """Source coordinates ``(n, 3)`` to local metres ``(n, 3)``."""
         array = _as_xyz(points, "points")
-        return (array - self.origin) * self.factors
+        local: np.ndarray = (array - self.origin) * self.factors
+        return local
 
     def to_source(self, points: Any) -> np.ndarray:
         """Local metres ``(n, 3)`` back to source coordinates ``(n, 3)``."""
         array = _as_xyz(points, "points")
-        return array / self.factors + self.origin
+        source: np.ndarray = array / self.factors + self.origin
+        return source
 
 
 def _as_xyz(points: Any, name: str) -> np.ndarray:
@@ -399,9 +401,11 @@ def load_geotiff(path: Any, *, band: int = 1, origin: Any = None, scale: float =
     geographic = bool(crs is not None and crs.is_geographic)
     unit_factor = 1.0
     if crs is not None and not geographic:
+        from rasterio.errors import CRSError
+
         try:
             unit_factor = float(crs.linear_units_factor[1])
-        except Exception:  # a CRS without a linear unit: keep metres
+        except CRSError:  # a CRS without a linear unit: keep metres
             unit_factor = 1.0
     if first_row == "north":
         heights = heights[::-1]

@@ -47,7 +47,7 @@ class GridInfo:
     @property
     def shape(self) -> tuple[int, int]:
         """``(ny, nx)``."""
-        return self.z.shape  # type: ignore[return-value]
+        return self.z.shape
 
     def node_xy(self) -> tuple[np.ndarray, np.ndarray]:
         """The x coordinates of the columns ``(nx,)`` and y coordinates of the rows ``(ny,)``."""
@@ -93,7 +93,7 @@ class Terrain:
     array([0.])
     """
 
-    __slots__ = ("_surface", "_grid", "_vertices", "_faces")
+    __slots__ = ("_faces", "_grid", "_surface", "_vertices")
 
     def __init__(self, vertices: Any, faces: Any, *, drop_degenerate: bool = False) -> None:
         v = as_float_array(vertices, "vertices", allow_nan=True)
@@ -112,7 +112,7 @@ class Terrain:
                 raise MeshError("every face of the mesh is degenerate (zero area)")
         self._init(_core.Surface(v, f), None)
 
-    def _init(self, surface: Any, grid: GridInfo | None) -> None:
+    def _init(self, surface: _core.Surface, grid: GridInfo | None) -> None:
         self._surface = surface
         self._grid = grid
         # A grid terrain keeps only its heights; vertices and faces are made on first access
@@ -121,7 +121,7 @@ class Terrain:
         self._faces: np.ndarray | None = None if grid is not None else _read_only(surface.faces())
 
     @classmethod
-    def from_mesh(cls, mesh: Any, *, drop_degenerate: bool = False) -> "Terrain":
+    def from_mesh(cls, mesh: Any, *, drop_degenerate: bool = False) -> Terrain:
         """Build from any object with ``.vertices`` ``(V, 3)`` and ``.faces`` ``(F, 3)``.
 
         A ``trimesh.Trimesh`` works without uavcov depending on trimesh.
@@ -133,7 +133,7 @@ class Terrain:
         return cls(np.asarray(mesh.vertices), np.asarray(mesh.faces), drop_degenerate=drop_degenerate)
 
     @classmethod
-    def from_grid(cls, z: Any, spacing: Any, origin: Any = (0.0, 0.0)) -> "Terrain":
+    def from_grid(cls, z: Any, spacing: Any, origin: Any = (0.0, 0.0)) -> Terrain:
         """Build from a regular elevation grid.
 
         Parameters
@@ -217,7 +217,7 @@ class Terrain:
         return self._grid
 
     @property
-    def core(self) -> Any:
+    def core(self) -> _core.Surface:
         """The Rust surface (``uavcov._core.Surface``), for library internals."""
         return self._surface
 
@@ -327,4 +327,5 @@ def _degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     diagonal = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))
     # A margin of 10 over the core's threshold, so rounding never lets one through to it.
-    return area <= 1e-13 * max(diagonal, 1e-300) ** 2
+    degenerate: np.ndarray = area <= 1e-13 * max(diagonal, 1e-300) ** 2
+    return degenerate

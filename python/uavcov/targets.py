@@ -54,7 +54,7 @@ class Targets:
         object.__setattr__(self, "weights", w)
 
     @classmethod
-    def from_points(cls, points: Any, weights: Any = None) -> "Targets":
+    def from_points(cls, points: Any, weights: Any = None) -> Targets:
         """Same as the constructor; reads better at call sites."""
         return cls(points, weights)
 

@@ -76,7 +76,7 @@ class Visibility:
     1.0
     """
 
-    __slots__ = ("_terrain", "_targets", "_d_max", "_n_threads", "_method", "_core")
+    __slots__ = ("_core", "_d_max", "_method", "_n_threads", "_targets", "_terrain")
 
     def __init__(
         self,
