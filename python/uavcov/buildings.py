@@ -287,6 +287,13 @@ def buildings_scene(
     (footprints snapped to ``spacing``) and :func:`buildings_terrain`. The defaults (24 m
     square, 5 buildings 3-7 m wide and 3-10 m tall, 2 m apart) are starting values: the paper
     gives only the 24 m x 24 m size and "several buildings".
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> boxes = uavcov.random_buildings(rng=0)
+    >>> len(boxes), uavcov.buildings_scene(rng=0).n_faces == uavcov.buildings_terrain(boxes).n_faces
+    (5, True)
     """
     boxes = random_buildings(
         size=size,

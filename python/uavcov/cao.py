@@ -206,7 +206,14 @@ class CAOSettings:
         return 10 if self.robot_regressors is None else self.robot_regressors
 
     def step_size(self, k: int | np.ndarray) -> float | np.ndarray:
-        """``alpha_k`` in metres for iteration ``k`` (0-based; ``alpha_0`` at ``k = 0``)."""
+        """``alpha_k`` in metres for iteration ``k`` (0-based; ``alpha_0`` at ``k = 0``).
+
+        Examples
+        --------
+        >>> s = CAOSettings()
+        >>> s.step_size(0), round(s.step_size(100), 3)
+        (1.5, 0.78)
+        """
         ratio = (1.0 + self.stability) / (np.asarray(k, dtype=np.float64) + 1.0 + self.stability)
         result = self.alpha0 * ratio**self.decay
         return float(result) if np.ndim(result) == 0 else result
@@ -732,6 +739,16 @@ def cao(
         something else than documented.
     InfeasibleError
         The start is not feasible.
+
+    Examples
+    --------
+    One UAV climbing a concave quadratic whose top is at (10, 20, 30), without constraints:
+
+    >>> import numpy as np
+    >>> top = np.array([[10.0, 20.0, 30.0]])
+    >>> trace = cao(lambda x: -float(np.sum((x - top) ** 2)), np.zeros((1, 3)), feasible=None, iterations=200, rng=0)
+    >>> trace.evaluations, np.round(trace.best_positions, 1).tolist()
+    (201, [[10.0, 20.0, 30.0]])
     """
     x0, n_iter = _check_common(x0, feasible, iterations, settings)
     if not callable(measure):

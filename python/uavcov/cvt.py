@@ -144,7 +144,8 @@ class CVTResult:
         points : (n, 3) array_like of float
             Points, metres; usually on the surface (e.g. ``terrain.default_targets().points``).
         n_threads : int, optional
-            Threads for the Rust side; all cores by default.
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
@@ -257,7 +258,8 @@ def cvt(
         Randomness; converted to a u64 seed by :func:`seed_from_rng`. The result depends only on
         that seed, not on ``n_threads``.
     n_threads : int, optional
-        Threads for the Rust side; all cores by default.
+        Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
     Returns
     -------

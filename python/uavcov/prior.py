@@ -170,6 +170,16 @@ def sample_prior(
     -------
     Prior
         Random points first, then the corners (and for the pyramid: corners, then centre).
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> hills = uavcov.gaussian_hills(rng=0)
+    >>> prior = uavcov.sample_prior(hills, 30, rng=0)  # 30 random points and the 4 corners
+    >>> prior.n_points, prior.kind
+    (34, 'random')
+    >>> uavcov.sample_prior(hills, kind="pyramid").points[:, :2].tolist()
+    [[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0], [50.0, 50.0]]
     """
     terrain = _check_terrain(terrain)
     if not isinstance(kind, str) or kind not in _KINDS:
@@ -264,6 +274,16 @@ def approximate_surface(samples: Any) -> Terrain:
         Fewer than 3 samples, NaN or infinite coordinates, all samples on a line, or two
         samples at the same (x, y) with different heights. Exact (or within 1e-9 of the
         extent) duplicates with the same height are merged silently.
+
+    Examples
+    --------
+    The pyramid of the paper: four corners on the ground and a summit, four triangles.
+
+    >>> import uavcov
+    >>> pyramid = [[0, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0], [5, 5, 4]]
+    >>> s = uavcov.approximate_surface(pyramid)
+    >>> s.n_faces, s.ground_height([[5.0, 5.0], [2.5, 5.0], [20.0, 5.0]]).tolist()
+    (4, [4.0, 2.0, nan])
     """
     raw = samples.points if isinstance(samples, Prior) else samples
     points = as_float_array(raw, "samples", allow_nan=True)

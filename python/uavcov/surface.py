@@ -256,11 +256,21 @@ class Terrain:
         ----------
         xy : (n, 2) array_like of float
             Horizontal positions, metres; ``(n, 3)`` points are accepted and their z ignored.
+        n_threads : int, optional
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
         (n,) float64 array
             Heights in metres; NaN where no surface lies below.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> ramp = uavcov.Terrain.from_grid([[0.0, 1.0], [0.0, 1.0]], spacing=10.0)  # z = x / 10
+        >>> ramp.ground_height([[2.5, 5.0], [20.0, 5.0]])  # the second point is off the grid
+        array([0.25,  nan])
         """
         array = as_float_array(xy, "xy")
         if array.ndim == 1 and array.shape[0] in (2, 3):
@@ -275,16 +285,37 @@ class Terrain:
         Parameters
         ----------
         points : (n, 3) array_like of float
+        n_threads : int, optional
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
         (n,) float64 array
             Metres; ``inf`` where nothing lies below (off the surface or under it).
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.clearance([[5.0, 5.0, 3.0], [5.0, 5.0, -1.0]])  # under the surface: nothing below
+        array([ 3., inf])
         """
         return self._surface.clearance(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
 
     def closest_point(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
-        """The surface point closest to each point: ``(n, 3)`` in, ``(n, 3)`` out, metres."""
+        """The surface point closest to each point: ``(n, 3)`` in, ``(n, 3)`` out, metres.
+
+        ``n_threads`` as in :meth:`ground_height`.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.closest_point([[5.0, 5.0, 3.0], [12.0, 5.0, 0.0]])
+        array([[ 5.,  5.,  0.],
+               [10.,  5.,  0.]])
+        """
         return self._surface.closest_point(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
 
     def segments_clear(self, a: Any, b: Any, *, n_threads: int | None = None) -> np.ndarray:
@@ -294,11 +325,21 @@ class Terrain:
         ----------
         a, b : (n, 3) array_like of float
             Segment ends, metres.
+        n_threads : int, optional
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
         (n,) bool array
             True where the segment touches no triangle, ends included.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.segments_clear([[2.0, 2.0, 1.0], [2.0, 2.0, 1.0]], [[8.0, 8.0, 5.0], [8.0, 8.0, -1.0]])
+        array([ True, False])
         """
         pa = as_points(a, "a", allow_empty=True)
         pb = as_points(b, "b", allow_empty=True)

@@ -29,6 +29,13 @@ class Targets:
     ------
     InvalidInputError
         Wrong shapes, non-finite values, negative weights or weights that are all zero.
+
+    Examples
+    --------
+    >>> from uavcov import Targets
+    >>> targets = Targets([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], weights=[1.0, 3.0])
+    >>> len(targets), targets.total_weight
+    (2, 4.0)
     """
 
     points: np.ndarray
