@@ -1,9 +1,9 @@
 """One coverage evaluation of the reference case, uavcov against Open3D (Embree), side by side.
 
 The reference case: a 7-Gaussian terrain on 100 m x 100 m (heights 5-25 m, sigma 10 m), all grid
-nodes as targets, 12 UAVs at random 5-30 m above the ground, d_max = 25 m. uavcov runs it on its
-elevation-grid path (the default for a grid terrain) and on its mesh path (parry's BVH over the
-same triangles). Open3D gets exactly the segments uavcov tests (UAV to target, cut 0.1 % short,
+nodes as targets, 12 UAVs at random 5-30 m above the ground, d_max = 25 m. uavcov runs it with
+its grid method (``method="grid"``, the default for a grid terrain) and with its mesh method
+(``method="mesh"``, parry's BVH over the same triangles). Open3D gets exactly the segments uavcov tests (UAV to target, cut 0.1 % short,
 within range), built in numpy, and `RaycastingScene.test_occlusions` answers them; a target is
 covered when any of its segments is free. The three covered counts are printed, then medians and
 ratios. The timed calls are interleaved round by round, so a burst of load on a shared machine
@@ -126,7 +126,7 @@ def main() -> None:
         grid2 = uavcov.Visibility(terrain, d_max, n_threads=2)
         mesh2 = uavcov.Visibility(terrain, d_max, n_threads=2, method="mesh")
         seen = grid2.seen(uavs)
-        assert np.array_equal(seen, mesh2.seen(uavs)), "the grid and mesh paths disagree"
+        assert np.array_equal(seen, mesh2.seen(uavs)), "the grid and mesh methods disagree"
         ours = int(seen.sum())
         # partial binds this spacing's objects; every call is timed within this iteration
         calls = {"grid1": functools.partial(grid1.coverage, uavs), "grid2": functools.partial(grid2.coverage, uavs),
