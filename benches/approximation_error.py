@@ -43,11 +43,8 @@ def main(argv: list[str] | None = None) -> int:
         truth = gaussian_hills(spacing=args.spacing, rng=seed)
         relief = float(np.std(truth.grid.z))  # the error of the flat surface at the mean height
         for r, (_, n) in enumerate(rows):
-            if n is None:
-                prior = sample_prior(truth, kind="pyramid")
-            else:
-                # Independent draws per (terrain, n): the prior stream is not the terrain's.
-                prior = sample_prior(truth, n=n, rng=np.random.default_rng([seed, n, 1]))
+            # Independent draws per (terrain, n): the prior stream is not the terrain's.
+            prior = sample_prior(truth, kind="pyramid") if n is None else sample_prior(truth, n=n, rng=np.random.default_rng([seed, n, 1]))
             result = approximation_error(truth, prior.surface())
             rms[r, t] = result.rms
             max_abs[r, t] = result.max_abs

@@ -1,4 +1,4 @@
-"""A large map on the elevation-grid path: load time, one evaluation and peak memory.
+"""A large map with the grid method (``method="grid"``): load time, one evaluation and peak memory.
 
 The map: 2 km x 2 km at 0.5 m (4001 x 4001 nodes, 16 million cells, 32 million triangles), rolling
 hills with steep small ones on top; 50 UAVs at random 5-30 m above the ground; d_max = 50 m; the
@@ -6,7 +6,7 @@ default targets (all 16 million nodes). Each measurement runs in a fresh Python 
 peak resident memory (``ru_maxrss``) is that of loading and evaluating this one map, heights
 included; the baseline of an interpreter that has imported numpy and uavcov is printed beside it.
 
-The mesh path is not run on this map: it refuses anything over ``MAX_TRIANGLES`` (10 million) with
+The mesh method (``method="mesh"``) is not run on this map: it refuses anything over ``MAX_TRIANGLES`` (10 million) with
 ``SurfaceTooLargeError`` instead of swapping, which the script checks too.
 
     python benches/large_map.py [--size 2000] [--spacing 0.5] [--uavs 50] [--d-max 50]
@@ -105,8 +105,8 @@ def main() -> None:
     r = json.loads(out.stdout)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
     print(f"| map | nodes | triangles | targets | UAVs, d_max | heights (numpy) | Terrain.from_grid "
-          f"| Visibility() | one evaluation, {args.threads} thr | again (builds skylines) | third | coverage | peak RSS | interpreter alone "
-          f"| mesh path |")
+          f"| Visibility() | one evaluation, {args.threads} thr | again (builds skylines) | third | coverage | peak RSS "
+          f"| interpreter alone | mesh path |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     print(f"| {args.size / 1000:g} km x {args.size / 1000:g} km at {args.spacing:g} m | {r['nodes']:,} | {r['triangles']:,} "
           f"| {r['targets']:,} | {args.uavs}, {args.d_max:g} m | {r['heights_s']:.1f} s | {r['terrain_s']:.2f} s "

@@ -29,13 +29,13 @@ def main() -> None:
             terrain, n_uavs=12, d_max=25.0, iterations=500, optimizer=args.optimizer, rng=seed, n_threads=args.n_threads
         )
         t = r.trace
-        rows.append((r.wall_time_s, t.time_measure, t.time_feasibility, t.time_own))
-    med = [statistics.median(col) for col in zip(*rows)]
+        rows.append((r.wall_time_s, t.time_measure_s, t.time_feasibility_s, t.time_optimizer_s))
+    med = [statistics.median(col) for col in zip(*rows, strict=True)]
     total = med[0]
     print(f"optimizer {args.optimizer}, n_threads {args.n_threads}, median of {args.seeds} runs (seeds 1000-{999 + args.seeds})")
     print("| part | seconds | share of the run |")
     print("|---|---|---|")
-    for name, value in zip(("whole mission", "coverage measurements", "feasibility queries", "optimiser's own work"), med):
+    for name, value in zip(("whole mission", "coverage measurements", "feasibility queries", "optimiser's own work"), med, strict=True):
         print(f"| {name} | {value:.2f} | {value / total:.0%} |")
     print(f"| rest (prior, S', CVT, start) | {total - sum(med[1:]):.2f} | {(total - sum(med[1:])) / total:.0%} |")
 

@@ -61,7 +61,7 @@ def run_one(experiment: paper.PaperExperiment, seed: int, n: int, start: str, it
     t0 = time.perf_counter()
     try:
         r = paper.run_paper_mission(experiment, seed=seed, n_uavs=n, start=start, iterations=iterations, n_threads=1)
-    except Exception as exc:  # recorded, so one bad run does not hide the others
+    except Exception as exc:  # noqa: BLE001 - any failure is recorded with its type, so one bad run does not hide the others
         return {"seed": seed, "n": n, "start": start, "error": f"{type(exc).__name__}: {exc}"}
     x0 = r.initial_positions
     clearance = x0[:, 2] - r.terrain.ground_height(x0[:, :2])
@@ -215,12 +215,10 @@ def main(argv: list[str] | None = None) -> int:
     tasks = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
 
     t0 = time.perf_counter()
-    rows: list[dict[str, Any]] = []
     context = multiprocessing.get_context("spawn")
     with cf.ProcessPoolExecutor(max_workers=args.workers, mp_context=context) as pool:
         futures = [pool.submit(run_one, experiment, seed, n, start, iterations) for seed, n, start in tasks]
-        for future in cf.as_completed(futures):
-            rows.append(future.result())
+        rows: list[dict[str, Any]] = [future.result() for future in cf.as_completed(futures)]
     elapsed = time.perf_counter() - t0
     failed = [r for r in rows if r["error"]]
     for row in failed[:5]:

@@ -15,7 +15,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from reference import grid_mesh  # noqa: E402
+from reference import grid_mesh
 
 
 def hills(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -95,7 +95,7 @@ def uavs_above(case: GridCase, n: int, rng: np.random.Generator, low: float = 0.
 
 def flat_grid_case(half: float, step: float) -> GridCase:
     """The plane z = 0 on [-half, half]^2 sampled every ``step`` metres."""
-    n = int(round(2 * half / step)) + 1
+    n = round(2 * half / step) + 1
     return make_grid_case(np.zeros((n, n)), (step, step), (-half, -half))
 
 

@@ -227,12 +227,23 @@ def test_trace_shapes_bookkeeping_and_pickling():
     assert tr.n_checked[0] == 200 and np.all(tr.n_checked[1:] == 16)
     np.testing.assert_array_equal(tr.n_feasible, tr.n_checked)
     assert tr.settings.n_regressors == 1 + 6 + 10
-    assert min(tr.time_measure, tr.time_feasibility, tr.time_own) >= 0.0
-    with pytest.raises(ValueError):
-        tr.trajectory[0, 0, 0] = 1.0  # read-only
+    assert min(tr.time_measure_s, tr.time_feasibility_s, tr.time_optimizer_s) >= 0.0
+    with pytest.raises(ValueError, match="read-only"):
+        tr.trajectory[0, 0, 0] = 1.0
     back = pickle.loads(pickle.dumps(tr))
     np.testing.assert_array_equal(back.trajectory, tr.trajectory)
     assert back.best_value == tr.best_value and back.settings == tr.settings
+
+
+@pytest.mark.parametrize(
+    "old, new", [("time_measure", "time_measure_s"), ("time_feasibility", "time_feasibility_s"), ("time_own", "time_optimizer_s")]
+)
+def test_the_old_timing_names_still_read_with_a_deprecation_warning(old, new):
+    tr = cao(quadratic(np.ones((1, 3))), np.zeros((1, 3)), feasible=lambda c, m: np.ones(len(m), bool), iterations=3, rng=0)
+    with pytest.warns(DeprecationWarning, match=rf"OptimizerTrace\.{old} is deprecated.*OptimizerTrace\.{new}"):
+        assert getattr(tr, old) == getattr(tr, new)
+    with pytest.raises(AttributeError):
+        setattr(tr, old, 1.0)  # read-only, like the fields
 
 
 def test_every_move_is_a_perturbation_of_size_alpha():
@@ -444,7 +455,7 @@ def test_bad_callables_raise_clear_errors():
 
 def test_registry():
     assert OPTIMIZERS["cao"] is cao and OPTIMIZERS["per_robot"] is per_robot_cao
-    assert MARGINAL_OPTIMIZERS == {"per_robot"}
+    assert isinstance(MARGINAL_OPTIMIZERS, frozenset) and set(MARGINAL_OPTIMIZERS) == {"per_robot"}
     with pytest.raises(TypeError):
         OPTIMIZERS["other"] = cao  # read-only
 

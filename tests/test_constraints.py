@@ -22,7 +22,6 @@ from uavcov.constraints import (
 )
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
-
 # ---------------------------------------------------------------------------------------------
 # An analytic world: ground z = ground on [0, size]^2, closed boxes standing on it
 # ---------------------------------------------------------------------------------------------
@@ -76,9 +75,7 @@ class BoxWorld:
                 continue
             # surfaces below the point in this column: the ground and every box top under it
             below = [self.ground] if z >= self.ground else []
-            for b in self.boxes:
-                if b[0] <= x <= b[2] and b[1] <= y <= b[3] and b[4] <= z:
-                    below.append(b[4])
+            below.extend(b[4] for b in self.boxes if b[0] <= x <= b[2] and b[1] <= y <= b[3] and b[4] <= z)
             out[k] = z - max(below) if below else math.inf
         return out
 
@@ -137,9 +134,9 @@ def reference_ok(c: Constraints, world: BoxWorld, current, config) -> bool:
         for j in range(i + 1, n):
             if np.linalg.norm(np.asarray(config[i]) - np.asarray(config[j])) < c.d_safe:
                 return False
-        if c.check_moves and not np.array_equal(current[i], config[i]):
-            if world._segment_hits(np.asarray(current[i], float), np.asarray(config[i], float)):
-                return False
+        moved = c.check_moves and not np.array_equal(current[i], config[i])
+        if moved and world._segment_hits(np.asarray(current[i], float), np.asarray(config[i], float)):
+            return False
     return True
 
 

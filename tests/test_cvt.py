@@ -168,7 +168,9 @@ def test_annealed_refinement_reduces_jitter() -> None:
     for preset in ("damped", "annealed"):
         error[preset] = np.mean(
             [
-                np.linalg.norm(cvt(rectangle, 2, preset=preset, initial=exact, rng=s, tol=0.0, max_iterations=40).generators - exact, axis=1).mean()
+                np.linalg.norm(
+                    cvt(rectangle, 2, preset=preset, initial=exact, rng=s, tol=0.0, max_iterations=40).generators - exact, axis=1
+                ).mean()
                 for s in range(12)
             ]
         )
@@ -196,7 +198,7 @@ def test_history_and_stopping_rule(hilly: Terrain) -> None:
 
 def test_result_is_frozen_and_pickles(square: Terrain) -> None:
     result = cvt(square, 3, rng=0)
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         result.generators[0, 0] = 1.0
     with pytest.raises(AttributeError):
         result.iterations = 3  # type: ignore[misc]

@@ -289,7 +289,7 @@ def test_grid_terrain_tables_equal_the_mesh_ones():
     np.testing.assert_array_equal(ours.points, mesh.vertices)
     # The weight of a node is a third of the triangles around it, summed in face order.
     expected = np.zeros(mesh.n_vertices)
-    for face, area in zip(mesh.faces, mesh.face_areas):
+    for face, area in zip(mesh.faces, mesh.face_areas, strict=True):
         for k in face:
             expected[k] += area / 3.0
     np.testing.assert_array_equal(ours.weights, expected)

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference import grid_height
 from scipy.interpolate import LinearNDInterpolator
 from scipy.spatial import ConvexHull, Delaunay
 
+from reference import grid_height
 from uavcov.errors import InvalidInputError, InvalidTypeError
 from uavcov.prior import (
     Prior,
@@ -158,9 +158,9 @@ def test_prior_avoids_nodata_holes():
     assert np.isfinite(prior.points).all()
     hole = (prior.points[:, :2] > 5.0).all(axis=1) & (prior.points[:, :2] < 15.0).all(axis=1)
     assert not hole.any()
-    with pytest.raises(InvalidInputError, match="centre"):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(InvalidInputError, match="centre"):
             sample_prior(terrain, kind="pyramid")
 
 

@@ -12,8 +12,8 @@ import pytest
 from conftest import GridCase, flat_grid_case, hills, make_grid_case, random_soup
 from reference import (
     closest_point_on_mesh,
-    ground_height_mesh,
     grid_height,
+    ground_height_mesh,
     mesh_area,
     segments_hit_mesh,
     triangle_areas,
@@ -25,7 +25,7 @@ def _triangle_set(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Triangles as rows of 9 coordinates, vertex order and face order normalised."""
     tri = np.asarray(vertices)[np.asarray(faces)]  # (F, 3, 3)
     keys = [np.lexsort(t.T[::-1]) for t in tri]
-    tri = np.stack([t[k] for t, k in zip(tri, keys)]).reshape(len(tri), 9)
+    tri = np.stack([t[k] for t, k in zip(tri, keys, strict=True)]).reshape(len(tri), 9)
     return tri[np.lexsort(tri.T[::-1])]
 
 
@@ -194,7 +194,7 @@ def _subdivision_centroids(vertices: np.ndarray, faces: np.ndarray, density: flo
     (m = ceil(sqrt(area * density))) by the lattice of its edges divided in m, a target at each
     piece's centroid weighing area / m^2. Returns (points (T, 3), weights (T,))."""
     points, weights = [], []
-    for (a, b, c), area in zip(vertices[faces], triangle_areas(vertices, faces)):
+    for (a, b, c), area in zip(vertices[faces], triangle_areas(vertices, faces), strict=True):
         m = int(np.ceil(np.sqrt(area * density)))
         for i in range(m):
             for j in range(m - i):

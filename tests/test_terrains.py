@@ -8,8 +8,8 @@ import sys
 
 import numpy as np
 import pytest
-from reference import grid_height
 
+from reference import grid_height
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, MeshError
 from uavcov.surface import Terrain
 from uavcov.terrains import (
@@ -143,8 +143,8 @@ def test_random_buildings_respect_layout_rules():
     boxes = random_buildings(size=24.0, n_buildings=5, gap=2.0, margin=1.0, step=0.5, rng=8)
     assert len(boxes) == 5
     for k, b in enumerate(boxes):
-        assert 1.0 - 1e-9 <= b.xmin and b.xmax <= 23.0 + 1e-9
-        assert 1.0 - 1e-9 <= b.ymin and b.ymax <= 23.0 + 1e-9
+        assert b.xmin >= 1.0 - 1e-9 and b.xmax <= 23.0 + 1e-9
+        assert b.ymin >= 1.0 - 1e-9 and b.ymax <= 23.0 + 1e-9
         assert 3.0 <= b.height <= 10.0
         for value in (b.xmin, b.xmax, b.ymin, b.ymax):
             assert abs(value * 2 - round(value * 2)) < 1e-9  # multiples of 0.5
@@ -179,7 +179,7 @@ def test_buildings_mesh_is_closed_and_consistently_oriented_except_the_rim():
             assert min(p[0], p[1]) == 0.0 or max(p[0], p[1]) == 14.0
     assert len(boundary) == 4 * 28  # 14 m / 0.5 m edges on each side
     # Consistent orientation: an interior edge is walked once in each direction.
-    for (a, b), count in directed.items():
+    for count in directed.values():
         assert count == 1
     # Topologically a disc: V - E + F = 1.
     assert len(v) - len(undirected) + len(f) == 1
@@ -272,7 +272,7 @@ def test_perturb_buildings():
     assert noisy != SCENE
     assert noisy == perturb_buildings(SCENE, size=14.0, position_error=0.7, size_error=0.5, height_error=1.0, step=0.5, rng=1)
     buildings_terrain(noisy, size=14.0, spacing=0.5)  # a valid layout again
-    shifts = [abs((n.xmin + n.xmax) - (s.xmin + s.xmax)) / 2 for n, s in zip(noisy, SCENE)]
+    shifts = [abs((n.xmin + n.xmax) - (s.xmin + s.xmax)) / 2 for n, s in zip(noisy, SCENE, strict=True)]
     assert max(shifts) < 5 * 0.7 + 0.5
     with pytest.raises(InvalidInputError):
         perturb_buildings(SCENE, size=14.0, height_error=-1.0)

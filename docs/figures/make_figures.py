@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 from PIL import Image
+
 from uavcov import paper, plotting
 
 HERE = Path(__file__).resolve().parent

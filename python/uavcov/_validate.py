@@ -137,9 +137,12 @@ MAX_THREADS = 1024
 
 
 def as_n_threads(value: Any) -> int:
-    """Return the thread count for a Rust call: ``None`` means every core, else 1..MAX_THREADS."""
+    """Return the thread count for a Rust call: 1..MAX_THREADS, or 0 for ``None``.
+
+    ``None`` means rayon's default: ``RAYON_NUM_THREADS`` if set, else every core.
+    """
     if value is None:
-        return 0  # the Rust side reads 0 as "all cores"
+        return 0  # the Rust side reads 0 as "rayon's default" (rust/threads.rs)
     n = as_positive_int(value, "n_threads")
     if n > MAX_THREADS:
         raise InvalidInputError(f"n_threads must be at most {MAX_THREADS}, got {n}")
@@ -187,7 +190,7 @@ def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
 def as_cell_count(length: float, step: float, name: str) -> int:
     """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
     count = length / step
-    cells = int(round(count))
+    cells = round(count)
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")
     return cells

@@ -9,8 +9,9 @@ a prior is built from.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -59,7 +60,7 @@ class Building:
             ]
         )
 
-    def gap_to(self, other: "Building") -> float:
+    def gap_to(self, other: Building) -> float:
         """Horizontal clearance between the two footprints (m); negative when they overlap."""
         gap_x = max(other.xmin - self.xmax, self.xmin - other.xmax)
         gap_y = max(other.ymin - self.ymax, self.ymin - other.ymax)
@@ -142,7 +143,7 @@ def random_buildings(
             y0 = _snap(generator.uniform(margin, max(margin, size - margin - depth)), step)
             height = float(generator.uniform(h_low, h_high))
             candidate = Building(x0, y0, x0 + width, y0 + depth, height)
-            if _layout_ok(placed + [candidate], size, margin, gap):
+            if _layout_ok([*placed, candidate], size, margin, gap):
                 placed.append(candidate)
                 break
         else:
@@ -179,7 +180,7 @@ def _quad(pool: _VertexPool, faces: list[tuple[int, int, int]], corners: Sequenc
 
 
 def _subdivisions(length: float, step: float) -> int:
-    return max(1, int(math.ceil(length / step - 1e-9)))
+    return max(1, math.ceil(length / step - 1e-9))
 
 
 def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing: float = 0.5) -> Terrain:
@@ -230,8 +231,8 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
     # Ground: skip the cells that lie inside a footprint.
     blocked = np.zeros((cells, cells), dtype=bool)
     for b in boxes:
-        j0, j1 = int(round(b.xmin / spacing)), int(round(b.xmax / spacing))
-        i0, i1 = int(round(b.ymin / spacing)), int(round(b.ymax / spacing))
+        j0, j1 = round(b.xmin / spacing), round(b.xmax / spacing)
+        i0, i1 = round(b.ymin / spacing), round(b.ymax / spacing)
         blocked[i0:i1, j0:j1] = True
     for i in range(cells):
         for j in range(cells):
@@ -247,8 +248,8 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
         # Walls, each walked counter-clockwise around the footprint seen from above, so the
         # quad (p, q, q_up, p_up) is counter-clockwise seen from outside.
         ring = [(b.xmin, b.ymin), (b.xmax, b.ymin), (b.xmax, b.ymax), (b.xmin, b.ymax)]
-        for (xa, ya), (xb, yb) in zip(ring, ring[1:] + ring[:1]):
-            columns = int(round(max(abs(xb - xa), abs(yb - ya)) / spacing))
+        for (xa, ya), (xb, yb) in zip(ring, ring[1:] + ring[:1], strict=True):
+            columns = round(max(abs(xb - xa), abs(yb - ya)) / spacing)
             xs = np.linspace(xa, xb, columns + 1)
             ys = np.linspace(ya, yb, columns + 1)
             for c in range(columns):
@@ -257,8 +258,8 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
                     p, q = (xs[c], ys[c]), (xs[c + 1], ys[c + 1])
                     _quad(pool, faces, [(*p, z0), (*q, z0), (*q, z1), (*p, z1)])
         # Roof.
-        xs = np.linspace(b.xmin, b.xmax, int(round((b.xmax - b.xmin) / spacing)) + 1)
-        ys = np.linspace(b.ymin, b.ymax, int(round((b.ymax - b.ymin) / spacing)) + 1)
+        xs = np.linspace(b.xmin, b.xmax, round((b.xmax - b.xmin) / spacing) + 1)
+        ys = np.linspace(b.ymin, b.ymax, round((b.ymax - b.ymin) / spacing) + 1)
         for i in range(len(ys) - 1):
             for j in range(len(xs) - 1):
                 x0, x1, y0, y1, h = xs[j], xs[j + 1], ys[i], ys[i + 1], b.height
@@ -286,6 +287,13 @@ def buildings_scene(
     (footprints snapped to ``spacing``) and :func:`buildings_terrain`. The defaults (24 m
     square, 5 buildings 3-7 m wide and 3-10 m tall, 2 m apart) are starting values: the paper
     gives only the 24 m x 24 m size and "several buildings".
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> boxes = uavcov.random_buildings(rng=0)
+    >>> len(boxes), uavcov.buildings_scene(rng=0).n_faces == uavcov.buildings_terrain(boxes).n_faces
+    (5, True)
     """
     boxes = random_buildings(
         size=size,
@@ -346,7 +354,7 @@ def perturb_buildings(
             if x1 <= x0 or y1 <= y0:
                 continue
             candidate = Building(x0, y0, x1, y1, height)
-            if _layout_ok(result + [candidate], size, 0.0, gap):
+            if _layout_ok([*result, candidate], size, 0.0, gap):
                 result.append(candidate)
                 break
         else:

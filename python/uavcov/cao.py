@@ -56,9 +56,11 @@ import functools
 import math
 import numbers
 import time
+import warnings
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import Any, Callable, Mapping, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -204,12 +206,19 @@ class CAOSettings:
         return 10 if self.robot_regressors is None else self.robot_regressors
 
     def step_size(self, k: int | np.ndarray) -> float | np.ndarray:
-        """``alpha_k`` in metres for iteration ``k`` (0-based; ``alpha_0`` at ``k = 0``)."""
+        """``alpha_k`` in metres for iteration ``k`` (0-based; ``alpha_0`` at ``k = 0``).
+
+        Examples
+        --------
+        >>> s = CAOSettings()
+        >>> s.step_size(0), round(s.step_size(100), 3)
+        (1.5, 0.78)
+        """
         ratio = (1.0 + self.stability) / (np.asarray(k, dtype=np.float64) + 1.0 + self.stability)
         result = self.alpha0 * ratio**self.decay
         return float(result) if np.ndim(result) == 0 else result
 
-    def resolved(self, n_uavs: int) -> "CAOSettings":
+    def resolved(self, n_uavs: int) -> CAOSettings:
         """These settings with every ``None`` replaced by the value used for ``n_uavs`` UAVs."""
         return replace(
             self,
@@ -221,6 +230,14 @@ class CAOSettings:
 def _frozen(array: np.ndarray) -> np.ndarray:
     array.setflags(write=False)
     return array
+
+
+def _renamed(old: str, new: str) -> None:
+    warnings.warn(
+        f"OptimizerTrace.{old} is deprecated and will be removed in the next release; use OptimizerTrace.{new}",
+        DeprecationWarning,
+        stacklevel=3,
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -254,8 +271,10 @@ class OptimizerTrace:
         Calls of ``measure`` (``K + 1``).
     settings : CAOSettings
         The settings used, with ``None`` resolved.
-    time_measure, time_feasibility, time_own : float
-        Seconds spent in ``measure``, in ``feasible``, and in the optimiser's own work.
+    time_measure_s, time_feasibility_s, time_optimizer_s : float
+        Seconds spent in ``measure``, in ``feasible``, and in the optimiser's own work (the
+        names of :class:`~uavcov.mission.MissionResult`). ``time_measure``, ``time_feasibility``
+        and ``time_own`` are deprecated aliases, kept for one release.
     """
 
     kind: str
@@ -270,9 +289,27 @@ class OptimizerTrace:
     best_iteration: int
     evaluations: int
     settings: CAOSettings
-    time_measure: float = field(default=0.0)
-    time_feasibility: float = field(default=0.0)
-    time_own: float = field(default=0.0)
+    time_measure_s: float = field(default=0.0)
+    time_feasibility_s: float = field(default=0.0)
+    time_optimizer_s: float = field(default=0.0)
+
+    @property
+    def time_measure(self) -> float:
+        """Deprecated alias of :attr:`time_measure_s`."""
+        _renamed("time_measure", "time_measure_s")
+        return self.time_measure_s
+
+    @property
+    def time_feasibility(self) -> float:
+        """Deprecated alias of :attr:`time_feasibility_s`."""
+        _renamed("time_feasibility", "time_feasibility_s")
+        return self.time_feasibility_s
+
+    @property
+    def time_own(self) -> float:
+        """Deprecated alias of :attr:`time_optimizer_s`."""
+        _renamed("time_own", "time_optimizer_s")
+        return self.time_optimizer_s
 
     @property
     def n_iterations(self) -> int:
@@ -282,11 +319,13 @@ class OptimizerTrace:
     @property
     def final_positions(self) -> np.ndarray:
         """``(N, 3)`` positions after the last iteration."""
-        return self.trajectory[-1]
+        last: np.ndarray = self.trajectory[-1]
+        return last
 
     def best_so_far(self) -> np.ndarray:
         """``(K + 1,)`` running maximum of :attr:`values`."""
-        return np.maximum.accumulate(self.values)
+        best: np.ndarray = np.maximum.accumulate(self.values)
+        return best
 
 
 class Optimizer(Protocol):
@@ -325,8 +364,7 @@ def _all_monomials(dim: int) -> np.ndarray:
     for i in range(dim):
         for j in range(i, dim):
             rows.append((i, j, dim))
-            for l in range(j, dim):
-                rows.append((i, j, l))
+            rows.extend((i, j, k) for k in range(j, dim))
     return _frozen(np.array(rows, dtype=np.int64).reshape(-1, 3))
 
 
@@ -365,7 +403,7 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
 
 def _design(u: np.ndarray, terms: np.ndarray) -> np.ndarray:
     """Regressor matrix ``(n, 1 + dim + n_terms)`` of points ``u`` of shape ``(n, dim)``."""
-    ones = np.ones(u.shape[:-1] + (1,))
+    ones = np.ones((*u.shape[:-1], 1))
     if terms.shape[0] == 0:
         return np.concatenate([ones, u], axis=-1)
     augmented = np.concatenate([u, ones], axis=-1)
@@ -389,7 +427,7 @@ def _robot_design(u: np.ndarray, selected: np.ndarray) -> np.ndarray:
     zero. A zero column changes nothing in a ridge fit (its coefficient is exactly 0), so this
     is the fit on the active columns only, without a per-robot gather.
     """
-    ones = np.ones(u.shape[:-1] + (1,))
+    ones = np.ones((*u.shape[:-1], 1))
     mono = _every_monomial3(u) * selected[:, None, :]
     return np.concatenate([ones, u, mono], axis=-1)
 
@@ -402,7 +440,7 @@ def _refresh_robot_terms(
     ``strength`` is ``(N, 16)`` (zero for inactive monomials).
     """
     n_terms = int(selected[0].sum())
-    n_keep = int(math.ceil(keep_fraction * n_terms))
+    n_keep = math.ceil(keep_fraction * n_terms)
     if n_keep >= n_terms:
         return selected
     # strongest active first; inactive ones sort last whatever their (zero) strength
@@ -444,7 +482,8 @@ def _ridge(phi: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
 def _strength(phi: np.ndarray, theta: np.ndarray, first: int) -> np.ndarray:
     """Contribution of nonlinear regressors ``first:``: ``|theta_j| * rms(phi[:, j])``."""
     rms = np.sqrt(np.mean(phi[..., first:] ** 2, axis=-2))
-    return np.abs(theta[..., first:]) * rms
+    strength: np.ndarray = np.abs(theta[..., first:]) * rms
+    return strength
 
 
 def _refresh_terms(
@@ -452,7 +491,7 @@ def _refresh_terms(
 ) -> np.ndarray:
     """Keep the strongest monomials (ties by position) and redraw the others."""
     n_terms = terms.shape[0]
-    n_keep = int(math.ceil(keep_fraction * n_terms))
+    n_keep = math.ceil(keep_fraction * n_terms)
     if n_keep >= n_terms:
         return terms
     order = np.argsort(-strength, kind="stable")
@@ -467,7 +506,8 @@ def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
     ``window`` is ``(W, ..., d)`` and ``centre`` ``(..., d)``; one scale per leading estimator.
     """
     spread = np.sqrt(np.mean((window - centre) ** 2, axis=(0, -1)))
-    return np.maximum(alpha, spread)
+    scale: np.ndarray = np.maximum(alpha, spread)
+    return scale
 
 
 # --------------------------------------------------------------------------------------------
@@ -478,7 +518,7 @@ def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
 @functools.lru_cache(maxsize=1)
 def _blas_controller() -> Any:
     try:
-        from threadpoolctl import ThreadpoolController  # type: ignore[import-untyped]
+        from threadpoolctl import ThreadpoolController
     except ImportError:  # declared as a dependency; without it CAO is only slower
         return None
     return ThreadpoolController()
@@ -495,7 +535,8 @@ def _one_blas_thread() -> contextlib.AbstractContextManager[Any]:
     controller = _blas_controller()
     if controller is None:
         return contextlib.nullcontext()
-    return controller.limit(limits=1, user_api="blas")
+    limited: contextlib.AbstractContextManager[Any] = controller.limit(limits=1, user_api="blas")
+    return limited
 
 
 def _check_common(x0: Any, feasible: Any, iterations: Any, settings: Any) -> tuple[np.ndarray, int]:
@@ -648,9 +689,9 @@ def _finish(
         best_iteration=best,
         evaluations=int(values.shape[0]),
         settings=settings,
-        time_measure=t_measure,
-        time_feasibility=t_feasible,
-        time_own=max(0.0, t_total - t_measure - t_feasible),
+        time_measure_s=t_measure,
+        time_feasibility_s=t_feasible,
+        time_optimizer_s=max(0.0, t_total - t_measure - t_feasible),
     )
 
 
@@ -698,6 +739,16 @@ def cao(
         something else than documented.
     InfeasibleError
         The start is not feasible.
+
+    Examples
+    --------
+    One UAV climbing a concave quadratic whose top is at (10, 20, 30), without constraints:
+
+    >>> import numpy as np
+    >>> top = np.array([[10.0, 20.0, 30.0]])
+    >>> trace = cao(lambda x: -float(np.sum((x - top) ** 2)), np.zeros((1, 3)), feasible=None, iterations=200, rng=0)
+    >>> trace.evaluations, np.round(trace.best_positions, 1).tolist()
+    (201, [[10.0, 20.0, 30.0]])
     """
     x0, n_iter = _check_common(x0, feasible, iterations, settings)
     if not callable(measure):

@@ -17,8 +17,9 @@ team could sense or has been told: :class:`World` (``clearance``, ``segments_cle
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -136,7 +137,7 @@ class Constraints:
             )
 
     @classmethod
-    def for_world(cls, world: World, **kwargs: Any) -> "Constraints":
+    def for_world(cls, world: World, **kwargs: Any) -> Constraints:
         """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
         return cls(bounds=_as_bounds(world.bounds), **kwargs).resolve(world)
 

@@ -42,16 +42,17 @@ over starts; at most 2.6 %), against at most 1.7 % after 300 iterations (``bench
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
-from typing import Any, Callable, Mapping
+from typing import Any
 
 import numpy as np
 
 from . import _core
 from ._validate import (
-    as_generator,
     as_float_array,
+    as_generator,
     as_n_threads,
     as_non_negative_float,
     as_points,
@@ -143,7 +144,8 @@ class CVTResult:
         points : (n, 3) array_like of float
             Points, metres; usually on the surface (e.g. ``terrain.default_targets().points``).
         n_threads : int, optional
-            Threads for the Rust side; all cores by default.
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
@@ -305,7 +307,8 @@ def cvt(
         Randomness; converted to a u64 seed by :func:`seed_from_rng`. The result depends only on
         that seed, not on ``n_threads``.
     n_threads : int, optional
-        Threads for the Rust side; all cores by default.
+        Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
     **options
         Fields of :class:`CVTSettings` (``preset="lloyd"``, ``tol=0.05``, ...) overriding
         ``settings``'s.

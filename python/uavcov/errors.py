@@ -40,7 +40,12 @@ class MeshError(InvalidInputError):
 
 
 class SurfaceTooLargeError(InvalidInputError):
-    """A surface would need more memory than the chosen path allows; use the grid path."""
+    """A surface would need more memory than the chosen ``method`` allows; use the grid method.
+
+    A general mesh, and the mesh method (``method="mesh"``) on a grid, keep a BVH over every
+    triangle and are refused beyond 10 million triangles; the grid method of a terrain built with
+    :meth:`~uavcov.surface.Terrain.from_grid` needs no triangle list (up to 2^32 nodes).
+    """
 
 
 class ConfigError(InvalidInputError):

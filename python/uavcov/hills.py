@@ -72,7 +72,7 @@ class GaussianMixture:
     def _evaluate(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         z = np.zeros(np.broadcast(x, y).shape)
         scale = -0.5 / self.sigma**2
-        for (cx, cy), h in zip(self.centres, self.heights):
+        for (cx, cy), h in zip(self.centres, self.heights, strict=True):
             z += h * np.exp(scale * ((x - cx) ** 2 + (y - cy) ** 2))
         return z
 
@@ -154,6 +154,16 @@ def gaussian_hills(
     Terrain
         Vertex ``(i, j)`` at ``(j * spacing, i * spacing)``, height from the mixture. Use
         :func:`random_gaussian_mixture` with the same ``rng`` for the analytic height function.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> hills = uavcov.gaussian_hills(rng=0)
+    >>> hills
+    Terrain(grid 101x101, 10201 vertices, 20000 faces, area 11341.0 m^2)
+    >>> exact = uavcov.random_gaussian_mixture(rng=0)  # the same hills, as a function
+    >>> bool(np.isclose(exact.height([[50.0, 50.0]])[0], hills.ground_height([[50.0, 50.0]])[0]))
+    True
     """
     mixture = random_gaussian_mixture(size=size, n_hills=n_hills, heights=heights, sigma=sigma, rng=rng)
     return mixture.terrain(size, spacing)

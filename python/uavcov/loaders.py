@@ -60,7 +60,13 @@ def metres_per_degree(latitude: float) -> tuple[float, float]:
     """Metres per degree of longitude and of latitude at ``latitude`` (degrees), WGS84.
 
     From the prime-vertical radius ``N`` and the meridian radius ``M`` of the ellipsoid:
-    ``(pi/180) N cos(phi)`` and ``(pi/180) M``. At 45 degrees: (78846.8, 111132.95).
+    ``(pi/180) N cos(phi)`` and ``(pi/180) M``.
+
+    Examples
+    --------
+    >>> from uavcov import metres_per_degree
+    >>> [round(v, 1) for v in metres_per_degree(45.0)]
+    [78846.8, 111131.8]
     """
     latitude = as_finite_float(latitude, "latitude")
     if abs(latitude) > 90.0:
@@ -110,19 +116,21 @@ class LocalFrame:
         object.__setattr__(self, "factors", factors)
 
     @classmethod
-    def identity(cls) -> "LocalFrame":
+    def identity(cls) -> LocalFrame:
         """The frame of data that is already local (generated scenes)."""
         return cls(np.zeros(3), np.ones(3))
 
     def to_local(self, points: Any) -> np.ndarray:
         """Source coordinates ``(n, 3)`` to local metres ``(n, 3)``."""
         array = _as_xyz(points, "points")
-        return (array - self.origin) * self.factors
+        local: np.ndarray = (array - self.origin) * self.factors
+        return local
 
     def to_source(self, points: Any) -> np.ndarray:
         """Local metres ``(n, 3)`` back to source coordinates ``(n, 3)``."""
         array = _as_xyz(points, "points")
-        return array / self.factors + self.origin
+        source: np.ndarray = array / self.factors + self.origin
+        return source
 
 
 def _as_xyz(points: Any, name: str) -> np.ndarray:
@@ -259,6 +267,18 @@ def load_dem(
     :meth:`Terrain.from_grid` does with NaN), so no coverage target and no prior sample lies
     in a hole, and holes are not filled with ground at height zero. At least one grid cell must
     have four valid corners.
+
+    Examples
+    --------
+    A 2 x 3 grid every 30 m in a projected frame (UTM-like eastings and northings), recentred:
+
+    >>> import numpy as np, uavcov
+    >>> z = np.array([[100.0, 101.0, 102.0], [100.0, 103.0, 104.0]])
+    >>> dem = uavcov.load_dem(z, 30.0, lower_left=(500000.0, 4000000.0))
+    >>> dem.terrain.bounds.tolist()
+    [[0.0, 0.0, 0.0], [60.0, 30.0, 4.0]]
+    >>> dem.frame.to_source([[60.0, 30.0, 4.0]]).tolist()
+    [[500060.0, 4000030.0, 104.0]]
     """
     heights = as_float_array(z, "z", ndim=2, allow_nan=True)
     spacing_xy = as_spacing(spacing)
@@ -399,9 +419,11 @@ def load_geotiff(path: Any, *, band: int = 1, origin: Any = None, scale: float =
     geographic = bool(crs is not None and crs.is_geographic)
     unit_factor = 1.0
     if crs is not None and not geographic:
+        from rasterio.errors import CRSError
+
         try:
             unit_factor = float(crs.linear_units_factor[1])
-        except Exception:  # a CRS without a linear unit: keep metres
+        except CRSError:  # a CRS without a linear unit: keep metres
             unit_factor = 1.0
     if first_row == "north":
         heights = heights[::-1]

@@ -427,8 +427,8 @@ def run_mission(
         iterations_to_95=iterations_to_fraction(values, 0.95),
         evaluations=int(trace.evaluations),
         wall_time_s=time.perf_counter() - started,
-        time_measure_s=float(trace.time_measure),
-        time_optimizer_s=float(trace.time_own),
+        time_measure_s=float(trace.time_measure_s),
+        time_optimizer_s=float(trace.time_optimizer_s),
         trace=trace,
     )
 

@@ -19,22 +19,23 @@ and part of the paper's pyramid) the hull is that whole rectangle.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ._validate import (
-    as_generator,
     as_float_array,
+    as_generator,
     as_non_negative_float,
     as_non_negative_int,
     as_positive_float,
 )
+from .buildings import Building, buildings_terrain, perturb_buildings
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .surface import Terrain
-from .buildings import Building, buildings_terrain, perturb_buildings
 
 __all__ = [
     "Prior",
@@ -169,6 +170,16 @@ def sample_prior(
     -------
     Prior
         Random points first, then the corners (and for the pyramid: corners, then centre).
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> hills = uavcov.gaussian_hills(rng=0)
+    >>> prior = uavcov.sample_prior(hills, 30, rng=0)  # 30 random points and the 4 corners
+    >>> prior.n_points, prior.kind
+    (34, 'random')
+    >>> uavcov.sample_prior(hills, kind="pyramid").points[:, :2].tolist()
+    [[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0], [50.0, 50.0]]
     """
     terrain = _check_terrain(terrain)
     if not isinstance(kind, str) or kind not in _KINDS:
@@ -263,6 +274,16 @@ def approximate_surface(samples: Any) -> Terrain:
         Fewer than 3 samples, NaN or infinite coordinates, all samples on a line, or two
         samples at the same (x, y) with different heights. Exact (or within 1e-9 of the
         extent) duplicates with the same height are merged silently.
+
+    Examples
+    --------
+    The pyramid of the paper: four corners on the ground and a summit, four triangles.
+
+    >>> import uavcov
+    >>> pyramid = [[0, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0], [5, 5, 4]]
+    >>> s = uavcov.approximate_surface(pyramid)
+    >>> s.n_faces, s.ground_height([[5.0, 5.0], [2.5, 5.0], [20.0, 5.0]]).tolist()
+    (4, [4.0, 2.0, nan])
     """
     raw = samples.points if isinstance(samples, Prior) else samples
     points = as_float_array(raw, "samples", allow_nan=True)
@@ -348,8 +369,8 @@ def approximation_error(truth: Terrain, approx: Terrain, resolution: float | Non
     approx = _check_terrain(approx)
     xmin, ymin, xmax, ymax = _rectangle(truth)
     step = max(xmax - xmin, ymax - ymin) / 100.0 if resolution is None else as_positive_float(resolution, "resolution")
-    nx = max(1, int(round((xmax - xmin) / step)))
-    ny = max(1, int(round((ymax - ymin) / step)))
+    nx = max(1, round((xmax - xmin) / step))
+    ny = max(1, round((ymax - ymin) / step))
     xs = xmin + (np.arange(nx) + 0.5) * ((xmax - xmin) / nx)
     ys = ymin + (np.arange(ny) + 0.5) * ((ymax - ymin) / ny)
     x, y = np.meshgrid(xs, ys)
@@ -413,7 +434,7 @@ def building_corner_prior(
         raise InvalidInputError(f"known_fraction must be in [0, 1], got {fraction}")
     sigma = as_non_negative_float(height_error, "height_error")
     generator = as_generator(rng)
-    count = int(round(fraction * len(boxes)))
+    count = round(fraction * len(boxes))
     chosen = np.sort(generator.choice(len(boxes), size=count, replace=False)) if count else np.zeros(0, dtype=int)
     ground = np.array([[0.0, 0.0, 0.0], [size, 0.0, 0.0], [size, size, 0.0], [0.0, size, 0.0]])
     roofs = []
@@ -421,7 +442,7 @@ def building_corner_prior(
         corners = boxes[int(index)].corners()
         corners[:, 2] = max(corners[0, 2] + sigma * float(generator.normal()), 0.0)
         roofs.append(corners)
-    known = np.concatenate([ground] + roofs) if roofs else ground
+    known = np.concatenate([ground, *roofs]) if roofs else ground
     return Prior(known, kind="corners")
 
 

@@ -33,6 +33,8 @@ FORMAT = "uavcov.mission/2"
 _FORMAT_1 = "uavcov.mission/1"  # a flat settings record instead of the MissionSpec; still read
 
 _TRACE_ARRAYS = ("trajectory", "values", "measured", "step_sizes", "n_checked", "n_feasible", "best_positions")
+_TRACE_TIMES = (("time_measure_s", "time_measure"), ("time_feasibility_s", "time_feasibility"), ("time_optimizer_s", "time_own"))
+"""The trace's timings in the header: the name written, and the name of files from before the ``_s`` names."""
 _CVT_ARRAYS = ("generators", "moves", "drift", "energy")
 
 
@@ -93,9 +95,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
             "best_value": trace.best_value,
             "best_iteration": trace.best_iteration,
             "evaluations": trace.evaluations,
-            "time_measure": trace.time_measure,
-            "time_feasibility": trace.time_feasibility,
-            "time_own": trace.time_own,
+            **{name: getattr(trace, name) for name, _ in _TRACE_TIMES},
         },
         "cvt": None
         if result.cvt is None
@@ -127,6 +127,9 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
 def load_mission(path: str | os.PathLike[str]) -> MissionResult:
     """Read a run written by :func:`save_mission`.
 
+    Files written before the trace's timings took their ``_s`` names (``time_measure``,
+    ``time_feasibility``, ``time_own``) load as well.
+
     Raises
     ------
     ResultsFormatError
@@ -151,7 +154,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
     if header.get("format") not in (FORMAT, _FORMAT_1):
         raise ResultsFormatError(f"{path} has format {header.get('format')!r}; this uavcov reads {FORMAT!r}")
     _require(header, ("settings" if header["format"] == _FORMAT_1 else "spec", "scalars", "trace"), path)
-    _require(arrays, ("prior_points", "start_positions", "coverage") + tuple(f"trace_{n}" for n in _TRACE_ARRAYS), path)
+    _require(arrays, ("prior_points", "start_positions", "coverage", *(f"trace_{n}" for n in _TRACE_ARRAYS)), path)
     try:
         if header["format"] == _FORMAT_1:
             spec, seed, prior_kind = _spec_of_format_1(header)
@@ -165,9 +168,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             best_iteration=t["best_iteration"],
             evaluations=t["evaluations"],
             settings=spec.cao,
-            time_measure=t["time_measure"],
-            time_feasibility=t["time_feasibility"],
-            time_own=t["time_own"],
+            **{new: t[old] if old in t and new not in t else t[new] for new, old in _TRACE_TIMES},
         )
         cvt = None
         if header.get("cvt") is not None:

@@ -47,7 +47,7 @@ class GridInfo:
     @property
     def shape(self) -> tuple[int, int]:
         """``(ny, nx)``."""
-        return self.z.shape  # type: ignore[return-value]
+        return self.z.shape
 
     def node_xy(self) -> tuple[np.ndarray, np.ndarray]:
         """The x coordinates of the columns ``(nx,)`` and y coordinates of the rows ``(ny,)``."""
@@ -93,7 +93,7 @@ class Terrain:
     array([0.])
     """
 
-    __slots__ = ("_surface", "_grid", "_vertices", "_faces")
+    __slots__ = ("_faces", "_grid", "_surface", "_vertices")
 
     def __init__(self, vertices: Any, faces: Any, *, drop_degenerate: bool = False) -> None:
         v = as_float_array(vertices, "vertices", allow_nan=True)
@@ -112,7 +112,7 @@ class Terrain:
                 raise MeshError("every face of the mesh is degenerate (zero area)")
         self._init(_core.Surface(v, f), None)
 
-    def _init(self, surface: Any, grid: GridInfo | None) -> None:
+    def _init(self, surface: _core.Surface, grid: GridInfo | None) -> None:
         self._surface = surface
         self._grid = grid
         # A grid terrain keeps only its heights; vertices and faces are made on first access
@@ -121,7 +121,7 @@ class Terrain:
         self._faces: np.ndarray | None = None if grid is not None else _read_only(surface.faces())
 
     @classmethod
-    def from_mesh(cls, mesh: Any, *, drop_degenerate: bool = False) -> "Terrain":
+    def from_mesh(cls, mesh: Any, *, drop_degenerate: bool = False) -> Terrain:
         """Build from any object with ``.vertices`` ``(V, 3)`` and ``.faces`` ``(F, 3)``.
 
         A ``trimesh.Trimesh`` works without uavcov depending on trimesh.
@@ -133,7 +133,7 @@ class Terrain:
         return cls(np.asarray(mesh.vertices), np.asarray(mesh.faces), drop_degenerate=drop_degenerate)
 
     @classmethod
-    def from_grid(cls, z: Any, spacing: Any, origin: Any = (0.0, 0.0)) -> "Terrain":
+    def from_grid(cls, z: Any, spacing: Any, origin: Any = (0.0, 0.0)) -> Terrain:
         """Build from a regular elevation grid.
 
         Parameters
@@ -217,7 +217,7 @@ class Terrain:
         return self._grid
 
     @property
-    def core(self) -> Any:
+    def core(self) -> _core.Surface:
         """The Rust surface (``uavcov._core.Surface``), for library internals."""
         return self._surface
 
@@ -256,11 +256,21 @@ class Terrain:
         ----------
         xy : (n, 2) array_like of float
             Horizontal positions, metres; ``(n, 3)`` points are accepted and their z ignored.
+        n_threads : int, optional
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
         (n,) float64 array
             Heights in metres; NaN where no surface lies below.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> ramp = uavcov.Terrain.from_grid([[0.0, 1.0], [0.0, 1.0]], spacing=10.0)  # z = x / 10
+        >>> ramp.ground_height([[2.5, 5.0], [20.0, 5.0]])  # the second point is off the grid
+        array([0.25,  nan])
         """
         array = as_float_array(xy, "xy")
         if array.ndim == 1 and array.shape[0] in (2, 3):
@@ -275,16 +285,37 @@ class Terrain:
         Parameters
         ----------
         points : (n, 3) array_like of float
+        n_threads : int, optional
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
         (n,) float64 array
             Metres; ``inf`` where nothing lies below (off the surface or under it).
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.clearance([[5.0, 5.0, 3.0], [5.0, 5.0, -1.0]])  # under the surface: nothing below
+        array([ 3., inf])
         """
         return self._surface.clearance(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
 
     def closest_point(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
-        """The surface point closest to each point: ``(n, 3)`` in, ``(n, 3)`` out, metres."""
+        """The surface point closest to each point: ``(n, 3)`` in, ``(n, 3)`` out, metres.
+
+        ``n_threads`` as in :meth:`ground_height`.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.closest_point([[5.0, 5.0, 3.0], [12.0, 5.0, 0.0]])
+        array([[ 5.,  5.,  0.],
+               [10.,  5.,  0.]])
+        """
         return self._surface.closest_point(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
 
     def segments_clear(self, a: Any, b: Any, *, n_threads: int | None = None) -> np.ndarray:
@@ -294,11 +325,21 @@ class Terrain:
         ----------
         a, b : (n, 3) array_like of float
             Segment ends, metres.
+        n_threads : int, optional
+            Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+            ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
         Returns
         -------
         (n,) bool array
             True where the segment touches no triangle, ends included.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.segments_clear([[2.0, 2.0, 1.0], [2.0, 2.0, 1.0]], [[8.0, 8.0, 5.0], [8.0, 8.0, -1.0]])
+        array([ True, False])
         """
         pa = as_points(a, "a", allow_empty=True)
         pb = as_points(b, "b", allow_empty=True)
@@ -327,4 +368,5 @@ def _degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     diagonal = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))
     # A margin of 10 over the core's threshold, so rounding never lets one through to it.
-    return area <= 1e-13 * max(diagonal, 1e-300) ** 2
+    degenerate: np.ndarray = area <= 1e-13 * max(diagonal, 1e-300) ** 2
+    return degenerate

@@ -426,7 +426,7 @@ def execute_run(spec: RunSpec, n_threads: int | None = 1, keep_result: bool = Tr
         wall_time_s=float(result.wall_time_s),
         time_measure_s=float(result.time_measure_s),
         time_optimizer_s=float(result.time_optimizer_s),
-        time_feasibility_s=float(result.trace.time_feasibility),
+        time_feasibility_s=float(result.trace.time_feasibility_s),
     )
     return row, (result if keep_result else None)
 

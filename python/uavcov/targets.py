@@ -29,6 +29,13 @@ class Targets:
     ------
     InvalidInputError
         Wrong shapes, non-finite values, negative weights or weights that are all zero.
+
+    Examples
+    --------
+    >>> from uavcov import Targets
+    >>> targets = Targets([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], weights=[1.0, 3.0])
+    >>> len(targets), targets.total_weight
+    (2, 4.0)
     """
 
     points: np.ndarray
@@ -54,7 +61,7 @@ class Targets:
         object.__setattr__(self, "weights", w)
 
     @classmethod
-    def from_points(cls, points: Any, weights: Any = None) -> "Targets":
+    def from_points(cls, points: Any, weights: Any = None) -> Targets:
         """Same as the constructor; reads better at call sites."""
         return cls(points, weights)
 

@@ -59,13 +59,15 @@ class Visibility:
     targets : Targets, optional
         Defaults to ``terrain.default_targets()``.
     n_threads : int, optional
-        Threads for each evaluation; all cores by default. Results do not depend on it.
+        Threads for each evaluation, 1 to 1024; ``None`` (the default) is rayon's default:
+        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
     method : {"auto", "grid", "mesh"}, default "auto"
-        How lines of sight are tested. "grid" walks the elevation grid of a terrain built with
-        :meth:`Terrain.from_grid`; "mesh" uses the triangle mesh and its BVH; "auto" takes "grid"
-        whenever the terrain is a grid. Both give the same answer for every target; the grid path
-        is faster and needs no triangle list (a grid of many millions of nodes fits), and with
-        the default targets of a grid terrain the targets are generated in Rust, not stored.
+        How lines of sight are tested. The *grid method* ("grid") walks the elevation grid of a
+        terrain built with :meth:`Terrain.from_grid`; the *mesh method* ("mesh") uses the triangle
+        mesh and its BVH; "auto" takes the grid method whenever the terrain is a grid. Both give
+        the same answer for every target; the grid method is faster and needs no triangle list (a
+        grid of many millions of nodes fits), and with the default targets of a grid terrain the
+        targets are generated in Rust, not stored.
 
     Examples
     --------
@@ -76,7 +78,7 @@ class Visibility:
     1.0
     """
 
-    __slots__ = ("_terrain", "_targets", "_d_max", "_n_threads", "_method", "_core")
+    __slots__ = ("_core", "_d_max", "_method", "_n_threads", "_targets", "_terrain")
 
     def __init__(
         self,
@@ -176,6 +178,15 @@ def coverage(
 ) -> float:
     """Coverage of one configuration: a one-off :meth:`Visibility.coverage`.
 
-    Prefer a :class:`Visibility` object when evaluating many configurations.
+    Prefer a :class:`Visibility` object when evaluating many configurations; the arguments are
+    those of :class:`Visibility` (``n_threads=None`` is rayon's default: ``RAYON_NUM_THREADS`` if
+    set, else every core), and ``uavs`` those of :meth:`Visibility.coverage`.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+    >>> round(uavcov.coverage(flat, [[5.0, 5.0, 3.0]], d_max=4.0), 2)  # nodes within 4 m of the UAV
+    0.21
     """
     return Visibility(terrain, d_max, targets, n_threads=n_threads, method=method).coverage(uavs)
