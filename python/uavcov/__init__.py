@@ -8,23 +8,6 @@ from __future__ import annotations
 
 from . import errors
 from ._core import __version__
-from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
-from .constraints import Constraints, closest_admissible, feasibility, feasible_mask, trajectory_feasible
-from .cvt import CVTResult, CVTSettings, cvt
-from .mission import MissionResult, MissionSpec, run_mission
-from .records import load_mission, save_mission
-from .starts import StartSpec, initial_positions, start_configuration
-from .prior import (
-    ApproximationError,
-    Prior,
-    approximate_surface,
-    approximation_error,
-    building_corner_prior,
-    buildings_prior,
-    sample_prior,
-)
-from .surface import GridInfo, Terrain
-from .targets import Targets
 from .buildings import (
     Building,
     buildings_scene,
@@ -32,6 +15,9 @@ from .buildings import (
     perturb_buildings,
     random_buildings,
 )
+from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
+from .constraints import Constraints, closest_admissible, feasibility, feasible_mask, trajectory_feasible
+from .cvt import CVTResult, CVTSettings, cvt
 from .hills import (
     GaussianMixture,
     gaussian_hills,
@@ -49,6 +35,20 @@ from .loaders import (
     metres_per_degree,
     sample_dem,
 )
+from .mission import MissionResult, MissionSpec, run_mission
+from .prior import (
+    ApproximationError,
+    Prior,
+    approximate_surface,
+    approximation_error,
+    building_corner_prior,
+    buildings_prior,
+    sample_prior,
+)
+from .records import load_mission, save_mission
+from .starts import StartSpec, initial_positions, start_configuration
+from .surface import GridInfo, Terrain
+from .targets import Targets
 from .visibility import UavCounts, Visibility, coverage
 
 __all__ = [

@@ -141,7 +141,7 @@ class Constraints:
         """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
         return cls(bounds=_as_bounds(world.bounds), **kwargs).resolve(world)
 
-    def resolve(self, world: World) -> "Constraints":
+    def resolve(self, world: World) -> Constraints:
         """These constraints with ``bounds`` and ``check_moves`` decided for ``world``.
 
         ``bounds=None`` becomes the x-y bounds of ``world``; ``check_moves=None`` becomes True

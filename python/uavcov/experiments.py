@@ -42,7 +42,7 @@ _MOVED: dict[str, tuple[str, str]] = {
     "example_markdown": ("reports", "example_markdown"),
 }
 
-__all__ = sorted(_MOVED)
+__all__ = sorted(_MOVED)  # noqa: PLE0605 (the moved names, each importable through __getattr__)
 
 
 def __getattr__(name: str) -> Any:

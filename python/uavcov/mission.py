@@ -27,7 +27,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
@@ -43,6 +43,11 @@ from .targets import Targets
 from .visibility import Visibility
 
 __all__ = ["MissionSpec", "MissionResult", "run_mission", "iterations_to_fraction", "OPTIMIZERS", "PRIOR_KINDS"]
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
+_Settings = TypeVar("_Settings", bound="DataclassInstance")
 
 OPTIMIZERS = ("cao", "per_robot")
 """The optimisers :func:`run_mission` knows: centralised CAO, or one estimator per UAV."""
@@ -145,7 +150,8 @@ class MissionSpec:
         """
         if not isinstance(data, dict):
             raise InvalidTypeError(f"a mission spec must be a mapping, got {type(data).__name__}")
-        return _build(cls, data, "mission")
+        spec: MissionSpec = _build(cls, data, "mission")
+        return spec
 
 
 def _build(cls: type, data: dict[str, Any], where: str) -> Any:
@@ -155,21 +161,20 @@ def _build(cls: type, data: dict[str, Any], where: str) -> Any:
     if unknown:
         raise InvalidInputError(f"{where}: unknown field(s) {unknown}; the fields are {sorted(names)}")
     values: dict[str, Any] = {}
-    for key, value in data.items():
+    for key, raw in data.items():
         if cls is MissionSpec and key in nested:
-            if not isinstance(value, dict):
-                raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(value).__name__}")
-            value = _build(nested[key], value, f"{where}.{key}")
-        elif isinstance(value, list):
-            value = tuple(value)
-        values[key] = value
+            if not isinstance(raw, dict):
+                raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(raw).__name__}")
+            values[key] = _build(nested[key], raw, f"{where}.{key}")
+        else:
+            values[key] = tuple(raw) if isinstance(raw, list) else raw
     try:
         return cls(**values)
     except TypeError as exc:  # a required field is missing
         raise InvalidInputError(f"{where}: {exc}") from None
 
 
-def nested_replace(obj: Any, changes: dict[str, Any]) -> Any:
+def nested_replace(obj: _Settings, changes: dict[str, Any]) -> _Settings:
     """``dataclasses.replace`` that also reaches into nested dataclasses by dotted names.
 
     ``nested_replace(spec, {"start.kind": "random", "iterations": 10})``. ``"__"`` may stand
@@ -193,7 +198,7 @@ def nested_replace(obj: Any, changes: dict[str, Any]) -> Any:
             top[head] = value
     for head, sub in inner.items():
         current = top.get(head, getattr(obj, head))
-        if not is_dataclass(current):
+        if not is_dataclass(current) or isinstance(current, type):
             raise InvalidInputError(f"{type(obj).__name__}.{head} has no fields to set ({sorted(sub)})")
         top[head] = nested_replace(current, sub)
     return replace(obj, **top)
@@ -274,12 +279,12 @@ class MissionResult:
     @property
     def initial_positions(self) -> np.ndarray:
         """``(N, 3)`` admissible start the optimiser began from."""
-        return self.trajectory[0]
+        return np.asarray(self.trajectory[0])
 
     @property
     def final_positions(self) -> np.ndarray:
         """``(N, 3)`` positions after the last iteration."""
-        return self.trajectory[-1]
+        return np.asarray(self.trajectory[-1])
 
 
 def iterations_to_fraction(values: np.ndarray, fraction: float = 0.95) -> int:

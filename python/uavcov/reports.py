@@ -87,8 +87,7 @@ def _failures(rows: Sequence[Mapping[str, Any]]) -> str:
     if not failed:
         return ""
     lines = [f"\n{len(failed)} run(s) failed and are left out (see the `error` column of runs.csv):\n"]
-    for r in failed[:10]:
-        lines.append(f"- `{r['run_id']}`: {r['error']}")
+    lines += [f"- `{r['run_id']}`: {r['error']}" for r in failed[:10]]
     return "\n".join(lines) + "\n"
 
 
@@ -179,7 +178,7 @@ def pyramid_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
             f"{published['max'].mean:.2f} ({published['max'].sigma:.2f}) |"
         )
     checks = [""]
-    for (n, start), entry in summary.items():
+    for (n, _start), entry in summary.items():
         for metric, column in (("initial", "initial_coverage"), ("max", "max_coverage")):
             off = entry[column][0] - published[metric].mean
             verdict = "within" if abs(off) <= 0.05 + 1e-12 else "NOT within"
@@ -242,11 +241,11 @@ def example_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
         "| seed | N | start | iterations | initial | max | final | iterations to 95 % | seconds |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in finished_rows(rows):
-        lines.append(
-            f"| {r['seed']} | {r['n_uavs']} | {r['init']} | {r['iterations']} | {r['initial_coverage']:.3f} | "
-            f"{r['max_coverage']:.3f} | {r['final_coverage']:.3f} | {r['iterations_to_95']} | {r['wall_time_s']:.1f} |"
-        )
+    lines += [
+        f"| {r['seed']} | {r['n_uavs']} | {r['init']} | {r['iterations']} | {r['initial_coverage']:.3f} | "
+        f"{r['max_coverage']:.3f} | {r['final_coverage']:.3f} | {r['iterations_to_95']} | {r['wall_time_s']:.1f} |"
+        for r in finished_rows(rows)
+    ]
     return "\n".join(lines) + "\n" + _failures(rows)
 
 
@@ -272,8 +271,7 @@ def coverage_curves_csv(folder: ResultsFolder, rows: Sequence[Mapping[str, Any]]
         return None
     length = max(len(c) for _, c in columns)
     lines = [csv_line(["iteration"] + [name for name, _ in columns])]
-    for k in range(length):
-        lines.append(csv_line([k] + [float(c[k]) if k < len(c) else "" for _, c in columns]))
+    lines += [csv_line([k] + [float(c[k]) if k < len(c) else "" for _, c in columns]) for k in range(length)]
     return folder.write_text("coverage.csv", "".join(lines))
 
 

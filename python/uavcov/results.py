@@ -188,7 +188,7 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = RUN_COL
             if len(cells) != len(header):
                 raise ResultsFormatError(f"{path}, line {line_number}: {len(cells)} cells for {len(header)} columns")
             where = f"{path}, line {line_number}"
-            rows.append({name: _parse(name, cell, where) for name, cell in zip(header, cells)})
+            rows.append({name: _parse(name, cell, where) for name, cell in zip(header, cells, strict=True)})
     except csv.Error as exc:
         raise ResultsFormatError(f"{path} is not a CSV file: {exc}") from None
     return rows

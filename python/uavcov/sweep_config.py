@@ -40,9 +40,10 @@ import itertools
 import math
 import os
 import tomllib
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from .cao import CAOSettings
 from .constraints import Constraints
@@ -118,7 +119,7 @@ class _Source:
         return ConfigError(f"{self.name}: {key}: {message}")
 
 
-def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:
+def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:  # noqa: PLR0911 (one return per TOML type)
     """``value`` converted to the type of the field's ``default`` (TOML gives ints, floats, lists)."""
     if isinstance(value, str) and value.lower() == "none" and default is None:
         return None
@@ -128,7 +129,7 @@ def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:
         if not isinstance(value, bool):
             raise source.error(key, f"expected true or false, got {value!r}")
         return value
-    if isinstance(default, int) or (default is None and key.split(".")[-1] in _INT_OR_NONE):
+    if isinstance(default, int) or (default is None and key.rsplit(".", maxsplit=1)[-1] in _INT_OR_NONE):
         if isinstance(value, bool) or not isinstance(value, int):
             raise source.error(key, f"expected an integer, got {value!r}")
         return value
@@ -141,7 +142,7 @@ def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:
     if isinstance(default, tuple):
         if not isinstance(value, list) or len(value) != len(default):
             raise source.error(key, f"expected a list of {len(default)} numbers, got {value!r}")
-        return tuple(_coerce(v, d, key, source) for v, d in zip(value, default))
+        return tuple(_coerce(v, d, key, source) for v, d in zip(value, default, strict=True))
     if isinstance(default, str):
         if not isinstance(value, str):
             raise source.error(key, f"expected a string, got {value!r}")
@@ -322,7 +323,7 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     starts = _string_list(data.get("starts", list(starts_default)), "starts", STARTS, src)
     team_sizes = _int_list(data.get("team_sizes", list(base.team_sizes)), "team_sizes", src)
     try:
-        seeds = parse_seeds(data["seeds"] if "seeds" in data else base.seeds)
+        seeds = parse_seeds(data.get("seeds", base.seeds))
     except ConfigError as exc:
         raise src.error("seeds", str(exc)) from None
     changes["starts"] = starts
@@ -358,7 +359,7 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
 
     variants = []
     for combination in itertools.product(*values):
-        extra = tuple(zip(axes, combination))
+        extra = tuple(zip(axes, combination, strict=True))
         variants.append((_build(common, dict(extra), src) if extra else common, extra))
     total = len(variants) * len(seeds) * len(team_sizes) * len(starts)
     if total > _MAX_RUNS:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..errors import InvalidInputError, InvalidTypeError
+from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 
 # The paper's colours where it has them: covered surface red, start black, end green.
 SEEN_COLOUR = (0.84, 0.15, 0.16)
@@ -24,13 +24,11 @@ INIT_COLOURS = {"cvt": "#2ca02c", "random": "#1f77b4", "corner": "#d62728", "pai
 def _matplotlib() -> Any:
     """Import matplotlib, or say which extra provides it."""
     try:
-        import matplotlib
+        import matplotlib as mpl
         from matplotlib.figure import Figure  # noqa: F401
     except ImportError as exc:
-        raise ImportError(
-            "uavcov's figures need matplotlib, the optional extra: pip install 'uavcov[plot]'"
-        ) from exc
-    return matplotlib
+        raise MissingExtraError("uavcov's figures need matplotlib, the optional extra: pip install 'uavcov[plot]'") from exc
+    return mpl
 
 
 def _new_axes(ax: Any, *, three_d: bool, figsize: tuple[float, float]) -> tuple[Any, Any]:

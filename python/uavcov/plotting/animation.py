@@ -114,4 +114,4 @@ def animate_mission(
         _write_gif(images, out, fps)
     else:
         _write_mp4(images, out, fps)
-    return out
+    return Path(out)

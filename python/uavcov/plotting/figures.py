@@ -124,7 +124,7 @@ def plot_approximation(
     _draw_polygons(ax, true_polys.polys, np.tile(TRUE_SURFACE_COLOUR, (len(true_polys), 1)), shade=True, zorder=1)
     # S' as its own triangles' edges: the piecewise-linear interpolant is what the eye should
     # compare with the red surface, and edges do not hide it.
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection  # type: ignore[import-untyped]
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     edges, which = _outline_edges(approximation)
     segments = np.asarray(approximation.vertices)[edges]
@@ -361,8 +361,8 @@ def _group_results(results: Any, group_by: str) -> dict[str, list[Any]]:
         if isinstance(results, (str, os.PathLike)) or not isinstance(results, Iterable):
             results = [results]
         groups = {}
-        for r in results:
-            r = _as_result(r, ("coverage",))
+        for item in results:
+            r = _as_result(item, ("coverage",))
             if group_by == "none":
                 key = "runs"
             else:

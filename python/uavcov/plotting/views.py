@@ -157,7 +157,8 @@ def _block_means(node_values: np.ndarray, blocks: np.ndarray) -> np.ndarray:
     r0, r1, c0, c1 = blocks.T
 
     def box(table: np.ndarray) -> np.ndarray:
-        return table[r1 + 1, c1 + 1] - table[r0, c1 + 1] - table[r1 + 1, c0] + table[r0, c0]
+        sums: np.ndarray = table[r1 + 1, c1 + 1] - table[r0, c1 + 1] - table[r1 + 1, c0] + table[r0, c0]
+        return sums
 
     n = box(counts)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -187,13 +188,14 @@ def _shade(rgb: np.ndarray, polys: np.ndarray) -> np.ndarray:
 def _blend(fraction: np.ndarray, low: Sequence[float], high: Sequence[float]) -> np.ndarray:
     """``(P, 3)`` colours from ``low`` (fraction 0, and NaN) to ``high`` (fraction 1)."""
     f = np.clip(np.nan_to_num(fraction, nan=0.0), 0.0, 1.0)[:, None]
-    return (1.0 - f) * np.asarray(low)[None, :] + f * np.asarray(high)[None, :]
+    colours: np.ndarray = (1.0 - f) * np.asarray(low)[None, :] + f * np.asarray(high)[None, :]
+    return colours
 
 
 def _draw_polygons(ax: Any, polys: np.ndarray, rgb: np.ndarray, *, shade: bool, alpha: float = 1.0,
                    zorder: float = 1.0) -> Any:
     """Add ``(P, k, 3)`` polygons in colours ``rgb`` ``(P, 3 or 4)`` to 3D axes; returns the collection."""
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     colours = _shade(rgb, polys) if shade else np.asarray(rgb)[:, :3]
     rgba = np.concatenate([colours, np.full((colours.shape[0], 1), alpha)], axis=1)
@@ -322,7 +324,7 @@ def _coverage_3d(ax: Any, terrain: Terrain, pts: np.ndarray, d_max: float, path:
             ax.plot(path[:, i, 0], path[:, i, 1], path[:, i, 2], color="0.1", linewidth=width, alpha=0.8, zorder=4)
     # Dotted drops to the ground place each UAV over the map.
     ground = terrain.ground_height(pts[:, :2])
-    for p, g in zip(pts, ground):
+    for p, g in zip(pts, ground, strict=True):
         if np.isfinite(g):
             ax.plot([p[0], p[0]], [p[1], p[1]], [g, p[2]], color="0.25", linewidth=0.6, linestyle=":", zorder=4)
     return coll

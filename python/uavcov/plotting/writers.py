@@ -59,7 +59,7 @@ def write_ply(points: Any, path: Any, colors: Any = None) -> Path:
             else:
                 table = np.concatenate([pts, rgb.astype(np.float64)], axis=1)
                 np.savetxt(handle, table, fmt=["%.6f"] * 3 + ["%d"] * 3)
-    return path
+    return Path(path)
 
 
 def _write_gif(images: list[np.ndarray], out: Path, fps: float) -> None:
