@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from . import paper
+from .records import load_mission
 from .results import ResultsFolder, csv_line, format_cell
 
 __all__ = [
@@ -260,8 +261,6 @@ REPORTS: Mapping[str, Callable[[Sequence[Mapping[str, Any]]], str]] = {
 
 def coverage_curves_csv(folder: ResultsFolder, rows: Sequence[Mapping[str, Any]]) -> Path | None:
     """Write ``coverage.csv``: the coverage per iteration of every stored run, one column each."""
-    from .records import load_mission
-
     columns: list[tuple[str, np.ndarray]] = []
     for r in finished_rows(rows):
         path = folder.run_file(str(r["run_id"]))

@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from ._core import __version__
 from .errors import ResultsFolderError, ResultsFormatError, ResultsInUseError
 
 __all__ = [
@@ -272,8 +273,6 @@ def config_document(
     about : mapping, optional
         Anything else the command records (a sweep's name, base, description and axes).
     """
-    from ._core import __version__
-
     return {
         "format": CONFIG_FORMAT,
         "command": command,

@@ -41,6 +41,7 @@ import numpy as np
 from .errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from .executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution, stop_pool
 from .mission import PRIOR_KINDS, MissionResult, MissionSpec, nested_replace, run_mission
+from .records import save_mission
 from .results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
 from .scenarios import BuildingsTerrain, HillsTerrain
 from .starts import START_KINDS
@@ -621,8 +622,6 @@ def _run(
 
     def finish(spec: RunSpec, row: dict[str, Any], result: MissionResult | None) -> None:
         if result is not None and save_to is not None:
-            from .records import save_mission  # records sits beside this module, not below it
-
             try:
                 save_mission(result, save_to.run_file(spec.run_id))
             except OSError as exc:

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from . import paper
 from .cao import CAOSettings
 from .constraints import Constraints
 from .cvt import CVTSettings
@@ -291,8 +292,6 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     description = data.get("description", "")
     if not isinstance(description, str):
         raise src.error("description", f"expected a string, got {description!r}")
-    from . import paper  # the base experiments are the paper's (data, imported when a sweep is parsed)
-
     experiments = paper.EXPERIMENTS
     base_name = data.get("base", "table1")
     if base_name not in experiments:
