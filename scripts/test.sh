@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up a virtualenv (.venv, or $UAVCOV_VENV), builds and installs uavcov with its test extras,
-# then runs every test: the Rust core's (cargo test) and the Python suite (pytest).
+# then runs every check: the Rust core's formatting, lints and tests (no Python needed), the
+# Python package's lints and types, and the Python suite with the doctests.
 # Extra arguments go to pytest, e.g. `bash scripts/test.sh -k visibility`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -8,7 +9,21 @@ venv="${UAVCOV_VENV:-.venv}"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --upgrade pip
 "$venv/bin/python" -m pip install -q ".[test]"
+# The binding's lints compile PyO3, which looks for this interpreter.
+export PYO3_PYTHON="$PWD/$venv/bin/python"
+[ "${venv#/}" != "$venv" ] && export PYO3_PYTHON="$venv/bin/python"
+echo "== cargo fmt --check"
+cargo fmt --check
+echo "== cargo clippy (every target, every feature, warnings are errors)"
+cargo clippy --quiet --all-targets --all-features -- -D warnings
 echo "== cargo test (pure Rust core, no Python)"
 cargo test --release --quiet
-echo "== pytest"
-"$venv/bin/python" -m pytest -q -p no:cacheprovider "$@"
+echo "== ruff (lint and format)"
+"$venv/bin/ruff" check python tests benches scripts docs/figures
+"$venv/bin/ruff" format --check python tests benches scripts docs/figures
+echo "== mypy (the package)"
+"$venv/bin/mypy"
+echo "== pytest (the suite, with the README's quick start)"
+"$venv/bin/python" -m pytest -q -p no:cacheprovider tests "$@"
+echo "== doctests (the installed package's docstrings)"
+"$venv/bin/python" -m pytest -q -p no:cacheprovider --doctest-modules --pyargs uavcov
