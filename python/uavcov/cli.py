@@ -276,7 +276,7 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from .errors import ConfigError
+    from .errors import ConfigError, MissingExtraError
 
     directory = Path(args.directory)
     if not directory.is_dir():
@@ -286,7 +286,7 @@ def _plot(args: argparse.Namespace) -> int:
 
         figures = list(plot_directory(directory, args.out, max_runs=args.max_runs, animation=not args.no_animation) or [])
     except ImportError as exc:  # plotting.py missing, or matplotlib when it draws
-        raise ConfigError(f"plotting is not available: pip install 'uavcov[plot]' (needs matplotlib; {exc})") from exc
+        raise MissingExtraError(f"plotting is not available: pip install 'uavcov[plot]' (needs matplotlib; {exc})") from exc
     for figure in figures:
         print(figure)
     _say(f"{len(figures)} figure(s) written from {directory}")

@@ -34,7 +34,7 @@ from ._validate import (
     as_positive_int,
     as_spacing,
 )
-from .errors import InvalidInputError, InvalidTypeError, MeshError
+from .errors import InvalidInputError, InvalidTypeError, MeshError, MissingExtraError
 from .surface import Terrain
 
 __all__ = [
@@ -377,7 +377,7 @@ def load_geotiff(path: Any, *, band: int = 1, origin: Any = None, scale: float =
 
     Raises
     ------
-    ImportError
+    MissingExtraError
         When rasterio is not installed (``pip install uavcov[geotiff]``).
     InvalidInputError
         When the file does not exist, does not parse, or is rotated.
@@ -385,7 +385,7 @@ def load_geotiff(path: Any, *, band: int = 1, origin: Any = None, scale: float =
     try:
         import rasterio
     except ImportError as exc:
-        raise ImportError(
+        raise MissingExtraError(
             "reading GeoTIFF files needs rasterio: pip install 'uavcov[geotiff]' (or pip install rasterio)"
         ) from exc
     band = as_positive_int(band, "band")
@@ -617,7 +617,7 @@ def load_mesh(
 
     Raises
     ------
-    ImportError
+    MissingExtraError
         When trimesh is not installed (``pip install uavcov[mesh]``).
     MeshError
         When the file does not exist, does not parse, or holds no triangles.
@@ -625,7 +625,7 @@ def load_mesh(
     try:
         import trimesh
     except ImportError as exc:
-        raise ImportError(
+        raise MissingExtraError(
             "reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)"
         ) from exc
     path_text = _existing_path(path, "mesh", MeshError)
@@ -679,13 +679,13 @@ def sample_dem(window: Any = None, stride: int = 1, scale: float = 1.0) -> Loade
 
     Raises
     ------
-    ImportError
+    MissingExtraError
         When matplotlib is not installed (``pip install uavcov[plot]``).
     """
     try:
         from matplotlib import cbook
     except ImportError as exc:
-        raise ImportError("sample_dem reads a file that matplotlib ships: pip install matplotlib") from exc
+        raise MissingExtraError("sample_dem reads a file that matplotlib ships: pip install matplotlib") from exc
     stride = as_positive_int(stride, "stride")
     path = cbook.get_sample_data("jacksboro_fault_dem.npz", asfileobj=False)
     with np.load(path) as data:
