@@ -25,9 +25,8 @@ def main() -> None:
     rows = []
     for seed in range(1000, 1000 + args.seeds):
         terrain = uavcov.gaussian_hills(spacing=1.0, rng=seed)
-        r = uavcov.run_mission(
-            terrain, n_uavs=12, d_max=25.0, iterations=500, optimizer=args.optimizer, rng=seed, n_threads=args.n_threads
-        )
+        spec = uavcov.MissionSpec(n_uavs=12, d_max=25.0, iterations=500, optimizer=args.optimizer)
+        r = uavcov.run_mission(terrain, spec, rng=seed, n_threads=args.n_threads)
         t = r.trace
         rows.append((r.wall_time_s, t.time_measure_s, t.time_feasibility_s, t.time_optimizer_s))
     med = [statistics.median(col) for col in zip(*rows, strict=True)]

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from uavcov import paper
+from uavcov.sweep import Experiment, RunSpec
 
 
 def _seeds(text: str) -> list[int]:
@@ -56,11 +57,11 @@ def _value(text: str) -> Any:
         return text
 
 
-def run_one(experiment: paper.PaperExperiment, seed: int, n: int, start: str, iterations: int) -> dict[str, Any]:
+def run_one(experiment: Experiment, seed: int, n: int, start: str, iterations: int) -> dict[str, Any]:
     """One mission; a plain dict of what the summary needs (runs in a worker process)."""
     t0 = time.perf_counter()
     try:
-        r = paper.run_paper_mission(experiment, seed=seed, n_uavs=n, start=start, iterations=iterations, n_threads=1)
+        r = RunSpec(experiment.with_changes(iterations=iterations), seed, n, start).run(n_threads=1)
     except Exception as exc:  # noqa: BLE001 - any failure is recorded with its type, so one bad run does not hide the others
         return {"seed": seed, "n": n, "start": start, "error": f"{type(exc).__name__}: {exc}"}
     x0 = r.initial_positions
@@ -121,23 +122,23 @@ SEARCH_SPACES: dict[str, dict[str, Any]] = {
     "ground": {
         "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(20.0, 60.0)), 1)),
         "terrain.sigma": lambda g: round(float(g.uniform(5.0, 15.0)), 1),
-        "flight.start_altitude": lambda g: round(float(g.uniform(2.5, 15.0)), 1),
+        "start.altitude": lambda g: round(float(g.uniform(2.5, 15.0)), 1),
     },
     # search 2: the start flies start_altitude above S' (the paper's reading), gentler hills
     "prior": {
         "terrain.heights": lambda g: (round(float(g.uniform(0.0, 15.0)), 1), round(float(g.uniform(15.0, 45.0)), 1)),
         "terrain.sigma": lambda g: round(float(g.uniform(6.0, 14.0)), 1),
-        "flight.start_altitude": lambda g: round(float(g.uniform(0.0, 6.0)), 1),
-        "flight.altitude_reference": lambda g: "prior",
+        "start.altitude": lambda g: round(float(g.uniform(0.0, 6.0)), 1),
+        "start.altitude_reference": lambda g: "prior",
     },
     # search 3: the start is on S' and climbs to h_min above the real ground where it is lower;
     # a high h_min keeps the footprints small (the max columns need a ceiling near the paper's)
     "hmin": {
         "terrain.heights": lambda g: tuple(sorted((round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(10.0, 50.0)), 1)))),
         "terrain.sigma": lambda g: round(float(g.uniform(4.0, 14.0)), 1),
-        "flight.h_min": lambda g: round(float(g.uniform(2.0, 18.0)), 1),
-        "flight.start_altitude": lambda g: 0.0,
-        "flight.altitude_reference": lambda g: "prior",
+        "constraints.h_min": lambda g: round(float(g.uniform(2.0, 18.0)), 1),
+        "start.altitude": lambda g: 0.0,
+        "start.altitude_reference": lambda g: "prior",
     },
 }
 """The random searches of the initial columns (``--search K --space NAME``): what is drawn, from where."""
@@ -148,7 +149,7 @@ def search_initial(
 ) -> None:
     """Random search of terrain and altitude against the "initial" columns (no CAO iterations)."""
     generator = np.random.default_rng(search_seed)
-    base = paper.TABLE1.with_changes(**{"flight.z_max": 200.0})
+    base = paper.TABLE1.with_changes(**{"constraints.z_max": 200.0})
     context = multiprocessing.get_context("spawn")
     results = []
     with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
@@ -157,7 +158,7 @@ def search_initial(
             experiment = base.with_changes(**changes)
             futures = [pool.submit(run_one, experiment, seed, n, start, 0)
                        for n in sizes for start in ("cvt", "random") for seed in seeds]
-            pyramid = paper.PYRAMID.with_changes(**{"flight.z_max": 200.0, **changes})
+            pyramid = paper.PYRAMID.with_changes(**{"constraints.z_max": 200.0, **changes})
             pyramid_futures = [pool.submit(run_one, pyramid, seed, 12, "cvt", 0) for seed in seeds]
             rows = [f.result() for f in futures]
             table_score, means = _score(rows, "initial")
@@ -185,7 +186,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sizes", default=None, help="team sizes, e.g. 5,12 (default: the experiment's)")
     parser.add_argument("--starts", default=None, help="e.g. cvt,random (default: the experiment's)")
     parser.add_argument("--iterations", type=int, default=None, help="CAO iterations (default: the experiment's)")
-    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="e.g. flight.h_min=3 cao.alpha0=2")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="e.g. constraints.h_min=3 cao.alpha0=2")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--csv", default=None, help="append every run here")
     parser.add_argument("--tag", default="", help="label written in the csv")

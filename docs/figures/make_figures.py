@@ -17,6 +17,7 @@ from pathlib import Path
 from PIL import Image
 
 from uavcov import paper, plotting
+from uavcov.sweep import RunSpec
 
 HERE = Path(__file__).resolve().parent
 DPI = 100
@@ -37,7 +38,9 @@ def _save(fig, name: str) -> None:
 
 
 def _run(experiment, seed: int, n: int, start: str, iterations: int | None = None):
-    return paper.run_paper_mission(experiment, seed=seed, n_uavs=n, start=start, iterations=iterations, n_threads=None)
+    if iterations is not None:
+        experiment = experiment.with_changes(iterations=iterations)
+    return RunSpec(experiment, seed, n, start).run(n_threads=None)
 
 
 def main() -> int:
