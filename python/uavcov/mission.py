@@ -340,8 +340,9 @@ def run_mission(
     targets : Targets, optional
         Coverage targets; the true terrain's default targets by default.
     n_threads : int, optional
-        Threads for each coverage measurement and for the start; rayon's default (every core, or
-        ``RAYON_NUM_THREADS``) when None. Results do not depend on it.
+        Threads for each coverage measurement and for the start, 1 to 1024; ``None`` (the
+        default) is rayon's default: ``RAYON_NUM_THREADS`` if set, else every core. Results do
+        not depend on it.
     rng : None, int or numpy.random.Generator
         Source of every random draw (see the module's random streams); the same seed gives the
         same run.

@@ -177,7 +177,8 @@ def initial_positions(
     cvt_options : mapping, optional
         Keyword arguments for :func:`uavcov.cvt.cvt` ("cvt" only), e.g. ``{"preset": "lloyd"}``.
     n_threads : int, optional
-        Threads for the Rust side; all cores by default.
+        Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
 
     Returns
     -------
@@ -327,7 +328,7 @@ def start_configuration(
     rng : None, int or numpy.random.Generator
         The start's randomness (CVT or random positions, random heights), drawn in that order.
     n_threads : int, optional
-        Threads for the Rust side.
+        Threads for the Rust side (as in :func:`initial_positions`).
 
     Returns
     -------
