@@ -1,7 +1,8 @@
 """The command line: every command end to end on tiny settings, and every kind of bad input.
 
-Bad input must give a clear message, a non-zero exit code, and leave whatever is already in
-``--out`` as it was.
+Bad input must give a clear message (``uavcov <command>: error: <message>``, the message the
+library's own, naming no command-line flag), a non-zero exit code, and leave whatever is already
+in ``--out`` as it was.
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ from pathlib import Path
 import pytest
 
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, main
-from uavcov.experiments import read_runs
+from uavcov.results import CONFIG_FORMAT, read_runs
+from uavcov.sweep import available_cores
 
 TINY_SWEEP = """
 name = "tiny"
@@ -51,6 +53,13 @@ def write(path: Path, text: str) -> Path:
     return path
 
 
+def error_message(err: str, command: str, tmp_path: Path) -> str:
+    """The message of the CLI's one error line (``uavcov <command>: error: ...``), paths left out."""
+    lines = [line for line in err.splitlines() if line.startswith(f"uavcov {command}: error: ")]
+    assert len(lines) == 1, err
+    return lines[0].removeprefix(f"uavcov {command}: error: ").replace(str(tmp_path), "<tmp>")
+
+
 def snapshot(directory: Path) -> dict[str, bytes]:
     return {str(p.relative_to(directory)): p.read_bytes() for p in sorted(directory.rglob("*")) if p.is_file()}
 
@@ -65,8 +74,16 @@ def test_sweep_end_to_end(tmp_path, capsys):
     assert all(r["experiment"] == "tiny" and r["error"] == "" for r in rows)
     assert len(list((out / "runs").glob("*.npz"))) == len(rows)
     resolved = json.loads((out / "config.json").read_text())
-    assert sorted(v["settings"]["cao"]["alpha0"] for v in resolved["settings"].values()) == [1.0, 2.0]
-    assert all(v["settings"]["terrain"]["spacing"] == 4.0 for v in resolved["settings"].values())
+    assert resolved["format"] == CONFIG_FORMAT and resolved["command"] == "sweep"
+    assert resolved["about"]["name"] == "tiny" and resolved["about"]["axes"] == ["cao.alpha0"]
+    # One entry per settings hash: the label, the swept values, and the experiment they give.
+    assert sorted(resolved["settings"]) == sorted({r["settings_hash"] for r in rows})
+    entries = list(resolved["settings"].values())
+    assert sorted(v["experiment"]["mission"]["cao"]["alpha0"] for v in entries) == [1.0, 2.0]
+    assert sorted(v["swept"]["cao.alpha0"] for v in entries) == [1.0, 2.0]
+    assert all(v["label"] == "tiny" for v in entries)
+    assert all(v["experiment"]["terrain"]["spacing"] == 4.0 for v in entries)
+    assert resolved["runs"] == {"seeds": [0, 1], "team_sizes": [2], "starts": ["cvt", "corner"], "count": len(rows)}
     assert (out / "sweep.toml").read_text() == config.read_text()
     summary = (out / "summary.md").read_text()
     assert summary.count("| 1.0 | 2 |") == 2 and summary.count("| 2.0 | 2 |") == 2
@@ -74,7 +91,9 @@ def test_sweep_end_to_end(tmp_path, capsys):
     # Rerunning into the same directory without --resume is refused and changes nothing.
     before = snapshot(out)
     assert main(["sweep", str(config), "--out", str(out), "--workers", "1"]) == EXIT_BAD_INPUT
-    assert "--resume" in capsys.readouterr().err
+    message = error_message(capsys.readouterr().err, "sweep", tmp_path)
+    assert "already holds 8 run(s)" in message and "resume" in message
+    assert "--" not in message  # the library names no flag (it used to say --resume)
     assert snapshot(out) == before
     # --resume of a finished sweep runs nothing and keeps every row once.
     assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "--resume"]) == EXIT_OK
@@ -82,7 +101,8 @@ def test_sweep_end_to_end(tmp_path, capsys):
     # Other settings into the same directory, even with --resume, are refused.
     other = write(tmp_path / "other.toml", TINY_SWEEP.format(iterations=5).replace('name = "tiny"', 'name = "tiny"'))
     assert main(["sweep", str(other), "--out", str(out), "--resume"]) == EXIT_BAD_INPUT
-    assert "other settings" in capsys.readouterr().err
+    message = error_message(capsys.readouterr().err, "sweep", tmp_path)
+    assert "other settings" in message and "--" not in message
     assert snapshot(out)["runs.csv"] == before["runs.csv"]
 
 
@@ -102,7 +122,11 @@ def test_sweep_end_to_end(tmp_path, capsys):
         ("[cao]\nalpha0 = -1.0\n", "alpha0"),
         ("[cao]\nn_candidates = 2.5\n", "integer"),
         ("[terrain]\nspacing = 3.0\n", "whole number"),
-        ("[cvt]\npreset = \"lloid\"\n", "did you mean 'lloyd'"),
+        pytest.param(
+            "[cvt]\npreset = \"lloid\"\n",
+            "did you mean 'lloyd'",
+        ),
+        ("[cvt]\npreset = \"lloid\"\n", "cvt.preset"),
         ("[flight]\nh_min = 60.0\nz_max = 50.0\n", "h_min"),
         ("prior = \"map\"\n", "buildings"),
         ("[sweep]\nd_max = []\n", "non-empty list"),
@@ -134,9 +158,11 @@ def test_an_out_that_cannot_be_written(tmp_path, capsys):
     config = write(tmp_path / "tiny.toml", TINY_SWEEP.format(iterations=1))
     blocker = write(tmp_path / "a-file", "keep me")
     assert main(["sweep", str(config), "--out", str(blocker / "sub"), "--workers", "1"]) == EXIT_BAD_INPUT
-    assert "cannot write" in capsys.readouterr().err
+    assert "cannot write" in error_message(capsys.readouterr().err, "sweep", tmp_path)
     assert main(["reproduce", "example", "--out", str(blocker), "--workers", "1"]) == EXIT_BAD_INPUT
-    assert "is a file" in capsys.readouterr().err
+    assert "is a file" in error_message(capsys.readouterr().err, "reproduce", tmp_path)
+    assert main(["demo", "--out", str(blocker), "--iterations", "0", "--no-plots"]) == EXIT_BAD_INPUT
+    assert "is a file" in error_message(capsys.readouterr().err, "demo", tmp_path)
     assert blocker.read_text() == "keep me"
 
 
@@ -146,15 +172,13 @@ def test_a_scheduler_that_does_not_answer(tmp_path, capsys):
     (out / "runs.csv").write_text("precious")
     started = time.perf_counter()
     code = main(["reproduce", "example", "--out", str(out), "--scheduler", "tcp://127.0.0.1:9", "--scheduler-timeout", "1"])
-    assert code == EXIT_BAD_INPUT
+    assert code == EXIT_BAD_INPUT  # a SchedulerTimeoutError is bad input too
     assert time.perf_counter() - started < 10.0
-    assert "did not answer" in capsys.readouterr().err
+    assert "did not answer" in error_message(capsys.readouterr().err, "reproduce", tmp_path)
     assert (out / "runs.csv").read_text() == "precious"
 
 
 def test_oversubscribed_threads_are_refused(tmp_path, capsys):
-    from uavcov.experiments import available_cores
-
     cores = available_cores()
     code = main(["reproduce", "example", "--out", str(tmp_path / "o"), "--workers", str(cores), "--threads", "2"])
     assert code == EXIT_BAD_INPUT
@@ -194,10 +218,19 @@ def test_demo(tmp_path, capsys):
     assert len(rows) == 1 and rows[0]["n_uavs"] == 9 and rows[0]["sensing_range"] == 35.0
     assert f"{rows[0]['initial_coverage']:.3f}" in text and f"{rows[0]['max_coverage']:.3f}" in text
     assert (out / "runs" / f"{rows[0]['run_id']}.npz").is_file()
+    config = json.loads((out / "config.json").read_text())
+    assert config["format"] == CONFIG_FORMAT and config["command"] == "demo"
+    assert list(config["settings"]) == [rows[0]["settings_hash"]]
+    assert {p.name for p in out.iterdir()} >= {"runs.csv", "config.json", "example.md", "coverage.csv", "runs"}
     # The demo again into its own directory replaces its run instead of adding a second row.
     assert main(["demo", "--out", str(out), "--iterations", "3", "--no-plots", "--threads", "1"]) == EXIT_OK
     again = read_runs(out / "runs.csv")
     assert len(again) == 1 and again[0]["max_coverage"] == rows[0]["max_coverage"]
+    capsys.readouterr()
+    # Another seed is another run: the demo's folder holds its own run only, so it is refused.
+    assert main(["demo", "--out", str(out), "--iterations", "3", "--no-plots", "--threads", "1", "--seed", "1"]) == EXIT_BAD_INPUT
+    assert "other results" in error_message(capsys.readouterr().err, "demo", tmp_path)
+    assert read_runs(out / "runs.csv") == again
 
 
 def test_plot_without_plotting_gives_a_clear_error(tmp_path, capsys, monkeypatch):

@@ -1,5 +1,10 @@
 """Sweeps of missions: rows, seeding, executors, runs.csv, resume, failures and the tables.
 
+Through the modules the sweep machinery now lives in: :mod:`uavcov.sweep` (experiments, run
+specs, executors, run_specs), :mod:`uavcov.results` (runs.csv, config.json), :mod:`uavcov.reports`
+(the tables) and :mod:`uavcov.jobs` (reproduce); the deprecated :mod:`uavcov.experiments` shim
+is checked once, at the end.
+
 Every sweep here is tiny (a 40 m terrain on a 4 m grid, a handful of CAO iterations) so the file
 stays fast; the numbers are checked against the missions run directly, not against constants.
 """
@@ -7,17 +12,31 @@ stays fast; the numbers are checked against the missions run directly, not again
 from __future__ import annotations
 
 import contextlib
+import importlib
+import json
 import math
 import os
 import time
+import warnings
 
 import numpy as np
 import pytest
 
 from uavcov import paper
-from uavcov.errors import ConfigError, InvalidInputError, ResultsFormatError
-from uavcov.experiments import (
-    RUN_COLUMNS,
+from uavcov.errors import (
+    ConfigError,
+    InvalidInputError,
+    ResultsFolderError,
+    ResultsFormatError,
+    ResultsInUseError,
+    SchedulerTimeoutError,
+)
+from uavcov.jobs import reproduce
+from uavcov.mission import run_mission
+from uavcov.records import load_mission
+from uavcov.reports import summarise, table1_markdown
+from uavcov.results import RUN_COLUMNS, read_runs
+from uavcov.sweep import (
     RunSpec,
     dask_executor,
     execute_run,
@@ -25,14 +44,9 @@ from uavcov.experiments import (
     local_executor,
     parse_seeds,
     plan_execution,
-    read_runs,
-    reproduce,
     run_specs,
     settings_hash,
-    summarise,
-    table1_markdown,
 )
-from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
 
@@ -65,10 +79,17 @@ def test_rows_match_the_missions_run_directly():
     specs = tiny_specs(seeds=(3,), sizes=(3,))
     rows = run_specs(specs, workers=1, n_threads=1)
     assert [r["run_id"] for r in rows] == [s.run_id for s in specs]
-    for spec, row in zip(specs, rows):
+    for spec, row in zip(specs, rows, strict=True):
         assert set(RUN_COLUMNS) <= set(row)
-        result = paper.run_paper_mission(TINY, seed=3, n_uavs=3, start=spec.start)
+        # The mission of the run, through the public API: terrain ``seed``, the experiment's
+        # mission for this team and start, ``rng=seed`` (run_paper_mission is gone).
+        mission = TINY.spec(3, spec.start)
+        assert spec.mission == mission
+        assert (mission.n_uavs, mission.start.kind) == (3, spec.start)
+        result = run_mission(TINY.terrain.make(3), mission, known=TINY.known(3), n_threads=1, rng=3)
+        assert (result.seed, result.prior_kind, result.spec.n_uavs, result.spec.start.kind) == (3, "random", 3, spec.start)
         assert row["error"] == ""
+        assert row["settings_hash"] == settings_hash(TINY)
         assert (row["experiment"], row["init"], row["n_uavs"], row["seed"]) == ("table1", spec.start, 3, 3)
         assert row["sensing_range"] == 12.0 and row["iterations"] == 6
         assert row["initial_coverage"] == result.initial_coverage
@@ -121,9 +142,10 @@ def test_process_pool_dask_and_one_process_give_the_same_numbers():
 
 def test_an_unreachable_scheduler_fails_fast_with_a_clear_error():
     started = time.perf_counter()
-    with pytest.raises(ConfigError, match="did not answer"):
+    with pytest.raises(SchedulerTimeoutError, match="did not answer") as error:
         with dask_executor("tcp://127.0.0.1:9", timeout=1.0):
             pass
+    assert isinstance(error.value, TimeoutError)  # except TimeoutError keeps working
     assert time.perf_counter() - started < 8.0
 
 
@@ -146,8 +168,11 @@ def test_resume_runs_only_what_is_missing_and_never_duplicates(tmp_path):
     specs = tiny_specs(seeds=(0, 1), sizes=(2,))
     full = run_specs(specs, workers=1)
     run_specs(specs[:2], out=tmp_path, workers=1)
-    with pytest.raises(ConfigError, match="--resume"):
+    before = (tmp_path / "runs.csv").read_bytes()
+    with pytest.raises(ResultsInUseError, match="already holds 2 run") as refused:
         run_specs(specs, out=tmp_path, workers=1)
+    assert "--" not in str(refused.value).replace(str(tmp_path), "")  # the library names no CLI flag
+    assert (tmp_path / "runs.csv").read_bytes() == before
     ran = []
     rows = run_specs(specs, out=tmp_path, workers=1, resume=True, on_result=lambda s, r, m: ran.append(s.run_id))
     assert ran == [s.run_id for s in specs[2:]]
@@ -174,7 +199,7 @@ def test_a_line_cut_off_by_a_crash_is_ignored_then_dropped_on_resume(tmp_path):
 
 def test_a_failing_run_is_recorded_and_the_sweep_goes_on(tmp_path):
     # A 5 x 5 lattice 3 m apart in the corner of a 12 m square does not fit: the corner start raises.
-    small = TINY.with_changes(**{"terrain.size": 12.0, "d_max": 6.0, "n_prior": 4, "flight.d_safe": 1.0})
+    small = TINY.with_changes(**{"terrain.size": 12.0, "d_max": 6.0, "n_prior": 4, "constraints.d_safe": 1.0})
     specs = experiment_specs(small, seeds=(0,), team_sizes=(2, 25), starts=("random", "corner"))
     rows = run_specs(specs, out=tmp_path, workers=2, n_threads=1)
     by_id = {r["run_id"]: r for r in rows}
@@ -186,7 +211,7 @@ def test_a_failing_run_is_recorded_and_the_sweep_goes_on(tmp_path):
     assert all(r["error"] == "" and r["max_coverage"] is not None for r in ok if r["n_uavs"] == 2)
     stored = read_runs(tmp_path / "runs.csv")
     assert len(stored) == len(specs)
-    # --retry-failed runs it again (still failing), replacing its row instead of adding one.
+    # rerun="failed" (the CLI's --retry-failed) runs it again (still failing), replacing its row instead of adding one.
     ran = []
     run_specs(specs, out=tmp_path, workers=1, resume=True, rerun="failed", on_result=lambda s, r, m: ran.append(s.run_id))
     assert ran == [failed[0].run_id]
@@ -229,10 +254,13 @@ def test_duplicate_runs_and_bad_execution_plans_are_refused(tmp_path):
     assert plan_execution(workers=1, cores=2).n_threads == 2
     blocker = tmp_path / "a-file"
     blocker.write_text("keep me")
-    with pytest.raises(ConfigError, match="cannot write|is a file"):
+    # A folder that cannot be written is an OSError now (ResultsFolderError), not a ConfigError.
+    with pytest.raises(ResultsFolderError, match=r"cannot write|is a file") as below_a_file:
         run_specs([spec], out=blocker / "sub", workers=1)
-    with pytest.raises(ConfigError, match="is a file"):
+    with pytest.raises(ResultsFolderError, match="is a file") as a_file:
         run_specs([spec], out=blocker, workers=1)
+    for error in (below_a_file.value, a_file.value):
+        assert isinstance(error, OSError) and not isinstance(error, ConfigError)
     assert blocker.read_text() == "keep me"
 
 
@@ -301,18 +329,26 @@ def test_reproduce_writes_runs_config_and_table(tmp_path):
     assert {p.name for p in tmp_path.iterdir()} >= {"runs.csv", "config.json", "pyramid.md", "runs"}
     table = (tmp_path / "pyramid.md").read_text()
     assert "0.78 (0.03)" in table and "0.91 (0.02)" in table
-    import json
-
+    # config.json: settings keyed by the settings hash (label, swept values, the experiment).
     config = json.loads((tmp_path / "config.json").read_text())
-    assert config["settings"]["pyramid"]["prior"] == "pyramid"
-    assert config["settings"]["pyramid"]["iterations"] == 3
+    ran = paper.PYRAMID.with_changes(iterations=3)
+    assert config["format"] == "uavcov.results/1" and config["command"] == "reproduce pyramid"
+    assert list(config["settings"]) == [settings_hash(ran)] == sorted({r["settings_hash"] for r in rows})
+    entry = config["settings"][settings_hash(ran)]
+    assert entry["label"] == "pyramid" and entry["swept"] == {}
+    assert entry["experiment"]["mission"]["prior"] == "pyramid"
+    assert entry["experiment"]["mission"]["iterations"] == 3
+    assert entry["experiment"]["terrain_kind"] == "HillsTerrain"
     assert config["runs"]["seeds"] == [0, 1]
+    assert config["runs"]["count"] == 2
     before = (tmp_path / "runs.csv").read_bytes()
-    with pytest.raises(ConfigError, match="--resume"):
+    with pytest.raises(ResultsInUseError, match="already holds"):
         reproduce("pyramid", tmp_path, seeds="0-1", iterations=3, workers=1)
-    with pytest.raises(ConfigError, match="other settings"):
+    with pytest.raises(ResultsInUseError, match="other settings"):
         reproduce("pyramid", tmp_path, seeds="0-1", iterations=4, workers=1, resume=True)
     assert (tmp_path / "runs.csv").read_bytes() == before
+    with pytest.raises(ConfigError, match="unknown experiment"):
+        reproduce("table2", tmp_path)
 
 
 def test_execute_run_catches_errors():
@@ -356,11 +392,35 @@ def test_two_sweeps_never_write_one_directory_at_once(tmp_path):
     other = os.open(tmp_path / ".uavcov.lock", os.O_RDWR)  # another open file: another "process"
     try:
         fcntl.flock(other, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        with pytest.raises(ConfigError, match="another uavcov process"):
+        with pytest.raises(ResultsInUseError, match="another uavcov process"):
             run_specs([spec], out=tmp_path, workers=1, resume=True, rerun="all")
-        with pytest.raises(ConfigError, match="another uavcov process"):
+        with pytest.raises(ResultsInUseError, match="another uavcov process"):
             reproduce("pyramid", tmp_path, seeds="0", iterations=1, workers=1, resume=True)
     finally:
         os.close(other)
     assert (tmp_path / "runs.csv").read_bytes() == before
     run_specs([spec], out=tmp_path, workers=1, resume=True)  # free again
+
+
+def test_the_experiments_shim_still_gives_every_old_name_with_a_deprecation_warning():
+    experiments = importlib.import_module("uavcov.experiments")
+    moved = {
+        "RUN_COLUMNS": "results", "read_runs": "results",
+        "RunSpec": "sweep", "ExecutionPlan": "sweep", "experiment_specs": "sweep", "settings_hash": "sweep",
+        "execute_run": "sweep", "run_specs": "sweep", "available_cores": "sweep", "plan_execution": "sweep",
+        "local_executor": "sweep", "dask_executor": "sweep", "parse_seeds": "sweep",
+        "reproduce": "jobs", "REPRODUCIBLE": "jobs",
+        "summarise": "reports", "table1_markdown": "reports", "pyramid_markdown": "reports",
+        "comparison_markdown": "reports", "buildings_markdown": "reports", "example_markdown": "reports",
+    }  # fmt: skip
+    assert sorted(experiments.__all__) == sorted(moved)
+    for name, module in moved.items():
+        with pytest.warns(DeprecationWarning, match=rf"uavcov\.{module}\.{name}"):
+            old = getattr(experiments, name)
+        assert old is getattr(importlib.import_module(f"uavcov.{module}"), name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the old import form warns too, and gives the same object
+        with pytest.raises(DeprecationWarning):
+            from uavcov.experiments import run_specs as _  # noqa: F401
+    with pytest.raises(AttributeError):
+        experiments.run_paper_mission  # noqa: B018 (removed, not moved)

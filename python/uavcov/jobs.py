@@ -19,6 +19,7 @@ from typing import Any
 
 from . import paper
 from .errors import ConfigError
+from .executors import plan_execution
 from .reports import REPORTS, coverage_curves_csv, sweep_markdown
 from .results import ResultsFolder
 from .sweep import experiment_specs, parse_seeds, run_specs
@@ -101,6 +102,8 @@ def reproduce(
         if unknown or not starts:
             raise ConfigError(f"{name} compares the starts {', '.join(experiment.starts)}; got {', '.join(starts) or 'none'}")
     specs = experiment_specs(experiment, seeds=seed_list, team_sizes=team_sizes, starts=starts)
+    if executor is None:
+        plan_execution(workers, n_threads)  # refused before the folder is made
     folder = ResultsFolder(out)
     with folder.lock():
         rows = run_specs(
@@ -137,6 +140,8 @@ def run_sweep(
     :func:`uavcov.sweep.run_specs` (``executor``, ``workers``, ``n_threads``, ``resume``,
     ``rerun``, ``save_runs``, ``progress``).
     """
+    if run_options.get("executor") is None:
+        plan_execution(run_options.get("workers"), run_options.get("n_threads"))  # refused before the folder is made
     folder = ResultsFolder(out)
     about = {"name": config.name, "base": config.base, "description": config.description, "axes": list(config.axes)}
     with folder.lock():

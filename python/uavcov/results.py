@@ -201,21 +201,35 @@ class RunsFile:
     def __init__(self, path: Path, columns: Sequence[str]) -> None:
         self.path = path
         self.columns = list(columns)
-        fresh = not path.exists() or path.stat().st_size == 0
-        if not fresh:
-            text, end = _complete_text(path)
-            header = next(csv.reader(io.StringIO(text)), None)
-            if header != self.columns:
-                raise ResultsInUseError(
-                    f"{path} has the columns {header}, this sweep writes {self.columns}: it holds another kind of sweep"
-                )
-            if end != path.stat().st_size:
-                # A line cut off by a crash: drop it (its run was not finished) before appending.
-                with open(path, "r+b") as handle:
-                    handle.truncate(end)
+        end = self.check(path, self.columns)
+        fresh = end == 0
+        if path.exists() and end != path.stat().st_size:
+            # A line cut off by a crash (its run was not finished, or the header itself was cut
+            # on the first write): drop it before appending.
+            with open(path, "r+b") as handle:
+                handle.truncate(end)
         self.handle = open(path, "a", encoding="utf-8", newline="")  # noqa: SIM115 (closed by close())
         if fresh:
             self._write(csv_line(self.columns))
+
+    @staticmethod
+    def check(path: Path, columns: Sequence[str]) -> int:
+        """Refuse a ``runs.csv`` whose header is not ``columns``; the length of its complete lines.
+
+        Raises
+        ------
+        ResultsInUseError
+            The file holds another kind of sweep.
+        """
+        if not path.exists():
+            return 0
+        text, end = _complete_text(path)
+        if end == 0:
+            return 0
+        header = next(csv.reader(io.StringIO(text)), None)
+        if header != list(columns):
+            raise ResultsInUseError(f"{path} has the columns {header}, this sweep writes {list(columns)}: it holds another kind of sweep")
+        return end
 
     def _write(self, line: str) -> None:
         self.handle.write(line)
@@ -334,6 +348,10 @@ class ResultsFolder:
     def read_runs(self) -> list[dict[str, Any]]:
         """The rows of ``runs.csv`` (none when it does not exist yet)."""
         return read_runs(self.runs_csv) if self.runs_csv.exists() else []
+
+    def check_columns(self, columns: Sequence[str]) -> None:
+        """Refuse a ``runs.csv`` of another kind of sweep (see :meth:`RunsFile.check`)."""
+        RunsFile.check(self.runs_csv, columns)
 
     def open_runs(self, columns: Sequence[str]) -> RunsFile:
         """``runs.csv`` for appending rows with these columns."""

@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import as_generator, as_non_negative_float, as_positive_float, as_positive_int
+from ._validate import MAX_UAVS, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
 from .cvt import CVTResult, CVTSettings, cvt
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .surface import Terrain
@@ -162,7 +162,7 @@ def initial_positions(
     surface : Terrain
         The surface the starts are computed on (the approximating surface S' in the paper).
     n : int
-        Number of UAVs, >= 1.
+        Number of UAVs, 1 to 1 000 (:data:`uavcov._validate.MAX_UAVS`).
     altitude : float, default 0.0
         Metres added to every position's z (>= 0). The default leaves the starts on the surface;
         lifting above the real terrain is :func:`uavcov.constraints.closest_admissible`'s job.
@@ -202,7 +202,7 @@ def initial_positions(
         raise InvalidInputError(f"kind must be one of {START_KINDS}, got {kind!r}")
     if not isinstance(surface, Terrain):
         raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
-    n = as_positive_int(n, "n")
+    n = as_count(n, "n", MAX_UAVS)
     lift = as_non_negative_float(altitude, "altitude")
     if not isinstance(corner, str):
         raise InvalidTypeError(f"corner must be a string, got {type(corner).__name__}")
@@ -280,7 +280,7 @@ class StartSpec:
         if self.corner_altitude is not None:
             object.__setattr__(self, "corner_altitude", as_non_negative_float(self.corner_altitude, "corner_altitude"))
         if self.random_altitude is not None:
-            if isinstance(self.random_altitude, (str, bytes)) or len(self.random_altitude) != 2:
+            if not isinstance(self.random_altitude, (tuple, list)) or len(self.random_altitude) != 2:
                 raise InvalidInputError(f"random_altitude must be (low, high), got {self.random_altitude!r}")
             low, high = (as_non_negative_float(v, "random_altitude") for v in self.random_altitude)
             if low > high:
@@ -339,6 +339,7 @@ def start_configuration(
     """
     if not isinstance(spec, StartSpec):
         raise InvalidTypeError(f"spec must be a StartSpec, got {type(spec).__name__}")
+    n = as_count(n, "n", MAX_UAVS)
     generator = as_generator(rng)
     tessellation = None
     if spec.kind == "cvt":

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import MAX_RUNS, MAX_SEEDS, MAX_UAVS
 from .errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from .executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution, stop_pool
 from .mission import PRIOR_KINDS, MissionResult, MissionSpec, nested_replace, run_mission
@@ -124,8 +125,8 @@ class Experiment:
         if not isinstance(self.mission, MissionSpec):
             raise InvalidTypeError(f"mission must be a MissionSpec, got {type(self.mission).__name__}")
         sizes = tuple(self.team_sizes)
-        if not sizes or not all(_is_int(n) and n >= 1 for n in sizes):
-            raise InvalidInputError(f"team_sizes must be integers >= 1, got {self.team_sizes}")
+        if not sizes or not all(_is_int(n) and 1 <= n <= MAX_UAVS for n in sizes):
+            raise InvalidInputError(f"team_sizes must be integers from 1 to {MAX_UAVS:,}, got {self.team_sizes}")
         starts = tuple(self.starts)
         unknown = [s for s in starts if s not in START_KINDS]
         if not starts or unknown:
@@ -133,6 +134,8 @@ class Experiment:
         seeds = tuple(self.seeds)
         if not all(_is_int(s) and s >= 0 for s in seeds):
             raise InvalidInputError(f"seeds must be integers >= 0, got {self.seeds}")
+        for n in sizes:  # each team's mission within the size limits, checked before any run
+            self.mission.with_changes(n_uavs=int(n))
         object.__setattr__(self, "team_sizes", tuple(int(n) for n in sizes))
         object.__setattr__(self, "starts", starts)
         object.__setattr__(self, "seeds", tuple(int(s) for s in seeds))
@@ -261,8 +264,8 @@ class RunSpec:
             raise InvalidTypeError(f"experiment must be an Experiment, got {type(self.experiment).__name__}")
         if not _is_int(self.seed) or self.seed < 0:
             raise InvalidInputError(f"seed must be an integer >= 0, got {self.seed!r}")
-        if not _is_int(self.n_uavs) or self.n_uavs < 1:
-            raise InvalidInputError(f"n_uavs must be an integer >= 1, got {self.n_uavs!r}")
+        if not _is_int(self.n_uavs) or not 1 <= self.n_uavs <= MAX_UAVS:
+            raise InvalidInputError(f"n_uavs must be an integer from 1 to {MAX_UAVS:,}, got {self.n_uavs!r}")
         if self.start not in self.experiment.starts:
             raise InvalidInputError(f"start must be one of {self.experiment.starts} for {self.experiment.name}, got {self.start!r}")
         object.__setattr__(self, "seed", int(self.seed))
@@ -338,6 +341,12 @@ def experiment_specs(
     for name, values in (("seeds", seeds), ("team_sizes", team_sizes), ("starts", starts)):
         if not values:
             raise InvalidInputError(f"{name} is empty: the sweep has no run")
+    count = len(seeds) * len(team_sizes) * len(starts)
+    if count > MAX_RUNS:
+        raise InvalidInputError(
+            f"{len(seeds):,} seeds x {len(team_sizes)} team sizes x {len(starts)} starts make {count:,} runs, "
+            f"more than uavcov's limit of {MAX_RUNS:,}; split the sweep"
+        )
     unknown = [s for s in starts if s not in experiment.starts]
     if unknown:
         raise InvalidInputError(f"starts {unknown} are not starts of {experiment.name} {experiment.starts}")
@@ -349,9 +358,6 @@ def experiment_specs(
     ]
 
 
-_MAX_SEEDS = 10_000_000
-
-
 def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
     """Seeds from ``"0-39"``, ``"0,3,7"``, ``"1000-1009,2000"`` or an iterable of ints.
 
@@ -359,7 +365,8 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
     ------
     ConfigError
         Anything else, a negative seed, an empty or reversed range, a repeated seed, or more
-        than ten million seeds.
+        than a million seeds (:data:`uavcov._validate.MAX_SEEDS`; checked before any list is
+        made).
     """
     if isinstance(text, str):
         seeds: list[int] = []
@@ -374,15 +381,19 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
                 raise ConfigError(f"seeds {text!r}: {part!r} is not a seed or a range like 0-39") from None
             if b < a:
                 raise ConfigError(f"seeds {text!r}: the range {part} runs backwards")
-            if len(seeds) + (b - a + 1) > _MAX_SEEDS:
-                raise ConfigError(f"seeds {text!r}: more than {_MAX_SEEDS} seeds")
+            if len(seeds) + (b - a + 1) > MAX_SEEDS:
+                raise ConfigError(f"seeds {text!r}: more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
             seeds.extend(range(a, b + 1))
+    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable):
+        raise ConfigError(f"seeds must be a string like \"0-39\" or a list of integers, got {text!r}")
     else:
-        seeds = list(text)
-        for s in seeds:
+        seeds = []
+        for s in text:
             if not _is_int(s):
                 raise ConfigError(f"seeds must be integers, got {s!r}")
-        seeds = [int(s) for s in seeds]
+            if len(seeds) >= MAX_SEEDS:
+                raise ConfigError(f"more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
+            seeds.append(int(s))
     if not seeds:
         raise ConfigError("no seeds given")
     if min(seeds) < 0:
@@ -564,8 +575,12 @@ def run_specs(
         return _run(specs, plan, None, None, executor, progress, False, on_result, {})
     folder = out if isinstance(out, ResultsFolder) else ResultsFolder(out)
     with folder.lock():
-        done = _prepare(folder, specs, resume, rerun, exclusive)
+        # Every check first, then the writes: a refused run changes nothing in the folder.
+        done, drop = _prepare(folder, specs, resume, rerun, exclusive)
+        folder.check_columns(columns)
         folder.write_config(_configuration(specs, command, execution, about), resume=resume)
+        if drop:
+            folder.drop_runs(drop)
         runs_file = folder.open_runs(columns)
         try:
             if save_runs:
@@ -575,8 +590,10 @@ def run_specs(
             runs_file.close()
 
 
-def _prepare(folder: ResultsFolder, specs: Sequence[RunSpec], resume: bool, rerun: str, exclusive: bool) -> dict[str, dict[str, Any]]:
-    """Check what the folder holds against the specs; drop the rows to run again; the rows kept."""
+def _prepare(
+    folder: ResultsFolder, specs: Sequence[RunSpec], resume: bool, rerun: str, exclusive: bool
+) -> tuple[dict[str, dict[str, Any]], set[str]]:
+    """Check what the folder holds against the specs: the stored rows kept, and the run ids to run again."""
     stored = folder.read_runs()
     if stored and not resume:
         raise ResultsInUseError(
@@ -599,9 +616,7 @@ def _prepare(folder: ResultsFolder, specs: Sequence[RunSpec], resume: bool, reru
         drop = {r["run_id"] for r in stored if r["run_id"] in wanted}
     elif rerun == "failed":
         drop = {r["run_id"] for r in stored if r["run_id"] in wanted and r["error"]}
-    if drop:
-        folder.drop_runs(drop)
-    return {r["run_id"]: r for r in stored if r["run_id"] in wanted and r["run_id"] not in drop}
+    return {r["run_id"]: r for r in stored if r["run_id"] in wanted and r["run_id"] not in drop}, drop
 
 
 def _run(

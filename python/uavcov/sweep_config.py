@@ -46,13 +46,14 @@ from pathlib import Path
 from typing import Any
 
 from . import paper
+from ._validate import MAX_ITERATIONS, MAX_RUNS, MAX_UAVS
 from .cao import CAOSettings
 from .constraints import Constraints
-from .cvt import CVTSettings
+from .cvt import PRESETS, CVTSettings
 from .errors import ConfigError, InvalidInputError, InvalidTypeError
 from .mission import MissionSpec
 from .scenarios import BuildingsTerrain, HillsTerrain
-from .starts import START_KINDS, StartSpec
+from .starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSpec
 from .sweep import FLIGHT_KEYS, Experiment, RunSpec, experiment_specs, parse_seeds
 
 __all__ = ["SweepConfig", "load_sweep_config", "parse_sweep_config", "STARTS", "PRIORS"]
@@ -74,8 +75,8 @@ _TOP_KEYS = ("name", "base", "description", "seeds", "team_sizes", "starts") + _
     "sweep",
 )
 _TERRAINS: Mapping[str, type] = {"hills": HillsTerrain, "buildings": BuildingsTerrain}
-_MAX_ITERATIONS = 1_000_000
-_MAX_RUNS = 10_000_000
+_MAX_ITERATIONS = MAX_ITERATIONS
+_MAX_RUNS = MAX_RUNS
 
 
 def _suggest(key: str, valid: Sequence[str]) -> str:
@@ -120,7 +121,16 @@ class _Source:
         return ConfigError(f"{self.name}: {key}: {message}")
 
 
-def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:  # noqa: PLR0911 (one return per TOML type)
+def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:
+    """``value`` converted to the type of the field's ``default``, and one of its choices if it has some."""
+    coerced = _coerce_type(value, default, key, source)
+    choices = _CHOICES.get(".".join(key.split(".")[-2:]))
+    if choices is not None and coerced not in choices:
+        raise source.error(key, f"must be one of {', '.join(choices)}, got {coerced!r}{_suggest(str(coerced), choices)}")
+    return coerced
+
+
+def _coerce_type(value: Any, default: Any, key: str, source: _Source) -> Any:  # noqa: PLR0911 (one return per TOML type)
     """``value`` converted to the type of the field's ``default`` (TOML gives ints, floats, lists)."""
     if isinstance(value, str) and value.lower() == "none" and default is None:
         return None
@@ -143,13 +153,22 @@ def _coerce(value: Any, default: Any, key: str, source: _Source) -> Any:  # noqa
     if isinstance(default, tuple):
         if not isinstance(value, list) or len(value) != len(default):
             raise source.error(key, f"expected a list of {len(default)} numbers, got {value!r}")
-        return tuple(_coerce(v, d, key, source) for v, d in zip(value, default, strict=True))
+        return tuple(_coerce_type(v, d, key, source) for v, d in zip(value, default, strict=True))
     if isinstance(default, str):
         if not isinstance(value, str):
             raise source.error(key, f"expected a string, got {value!r}")
         return value
     return value
 
+
+# Settings that take one of a few names, so a typo gets the closest one.
+_CHOICES: Mapping[str, tuple[str, ...]] = {
+    "cvt.preset": tuple(PRESETS),
+    "start.altitude_reference": ALTITUDE_REFERENCES,
+    "start.corner": CORNERS,
+    "flight.altitude_reference": ALTITUDE_REFERENCES,
+    "flight.corner": CORNERS,
+}
 
 # Fields whose default is None but which take an integer otherwise.
 _INT_OR_NONE = frozenset({"n_regressors", "robot_regressors", "check_batch", "samples_per_iteration"})
@@ -356,13 +375,13 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
         axes.append(key)
         values.append(coerced)
 
+    total = math.prod(len(v) for v in values) * len(seeds) * len(team_sizes) * len(starts)
+    if total > _MAX_RUNS:  # before a single variant is built
+        raise ConfigError(f"{source}: the sweep has {total:,} runs, more than uavcov's limit of {_MAX_RUNS:,}; split it")
     variants = []
     for combination in itertools.product(*values):
         extra = tuple(zip(axes, combination, strict=True))
         variants.append((_build(common, dict(extra), src) if extra else common, extra))
-    total = len(variants) * len(seeds) * len(team_sizes) * len(starts)
-    if total > _MAX_RUNS:
-        raise ConfigError(f"{source}: the sweep has {total} runs, more than {_MAX_RUNS}; split it")
     return SweepConfig(
         name=name.strip(),
         base=base_name,
@@ -396,6 +415,8 @@ def _int_list(value: Any, key: str, source: _Source) -> tuple[int, ...]:
     for item in value:
         if isinstance(item, bool) or not isinstance(item, int) or item < 1:
             raise source.error(key, f"expected integers >= 1, got {item!r}")
+        if key == "team_sizes" and item > MAX_UAVS:
+            raise source.error(key, f"a team of {item:,} UAVs is beyond uavcov's limit of {MAX_UAVS:,}")
     if len(set(value)) != len(value):
         raise source.error(key, "a value is listed twice")
     return tuple(value)
