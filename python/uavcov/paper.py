@@ -203,3 +203,15 @@ PUBLISHED_PYRAMID: Mapping[str, PublishedValue] = MappingProxyType({"initial": _
 
 PUBLISHED_FIG6_MAX: Mapping[str, float] = MappingProxyType({"corner": 0.56, "random": 0.84, "cvt": 0.93})
 """Fig. 6 (10 UAVs, one terrain): the maximum coverage of each start."""
+
+
+def __getattr__(name: str) -> Any:
+    # Deprecated names of earlier releases; the code they stood for lives in uavcov.sweep.
+    if name == "run_paper_mission":
+        import warnings
+
+        from .sweep import run_paper_mission
+
+        warnings.warn("uavcov.paper.run_paper_mission is deprecated; use uavcov.sweep.RunSpec(...).run()", DeprecationWarning, stacklevel=2)
+        return run_paper_mission
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

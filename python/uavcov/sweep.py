@@ -315,6 +315,15 @@ class RunSpec:
         return run_mission(terrain, self.mission, known=self.experiment.known(self.seed), n_threads=n_threads, rng=self.seed)
 
 
+def run_paper_mission(
+    experiment: Experiment, *, seed: int, n_uavs: int, start: str, iterations: int | None = None, n_threads: int | None = 1
+) -> MissionResult:
+    """Deprecated (``uavcov.paper.run_paper_mission`` of earlier releases): ``RunSpec(...).run()``."""
+    if iterations is not None:
+        experiment = experiment.with_changes(iterations=iterations)
+    return RunSpec(experiment, seed, n_uavs, start).run(n_threads=n_threads)
+
+
 def experiment_specs(
     experiment: Experiment,
     *,
