@@ -33,12 +33,12 @@ def test_table1_is_the_papers_table():
     table = text[text.index("\\begin{tabular}") : text.index("\\end{tabular}")]
     rows = re.findall(r"^\s*(\d+)\s*&(.*?)\\\\", table, flags=re.MULTILINE)
     assert [int(n) for n, _ in rows] == [5, 8, 12, 20]
-    for n, rest in rows:
+    for size, rest in rows:
         values = [float(v) for v in re.findall(r"\d\.\d+", rest)]
         assert len(values) == 10
         cvt_i, cvt_is, cvt_m, cvt_ms, rnd_i, rnd_is, rnd_m, rnd_ms, cor_m, cor_ms = values
         pub = paper.PUBLISHED_TABLE1
-        n = int(n)
+        n = int(size)
         assert pub[(n, "cvt", "initial")] == paper.PublishedValue(cvt_i, cvt_is)
         assert pub[(n, "cvt", "max")] == paper.PublishedValue(cvt_m, cvt_ms)
         assert pub[(n, "random", "initial")] == paper.PublishedValue(rnd_i, rnd_is)
@@ -59,7 +59,7 @@ def test_pyramid_and_fig6_numbers_are_the_papers():
     fig6 = re.search(r"maximum obtained values for the three strategies are (\d\.\d+), (\d\.\d+) and (\d\.\d+)", text)
     assert fig6, "the Fig. 6 caption was not found in the excerpts"
     # the caption lists red (corner), blue (random), green (CVT)
-    assert dict(zip(("corner", "random", "cvt"), (float(v) for v in fig6.groups()))) == dict(paper.PUBLISHED_FIG6_MAX)
+    assert dict(zip(("corner", "random", "cvt"), (float(v) for v in fig6.groups()), strict=True)) == dict(paper.PUBLISHED_FIG6_MAX)
 
 
 def test_the_excerpts_are_verbatim_in_the_paper():
