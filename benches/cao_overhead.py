@@ -9,7 +9,7 @@ Two runs per team size N (5, 12, 20):
   targets, d_max = 25 m, default constraints), split into coverage measurement, feasibility
   (clearance of the M x N candidate points on the real surface) and own work.
 
-Run: ``/work/venv/bin/python benches/cao_overhead.py [--iterations 200] [--repeats 3]``.
+Run: ``python benches/cao_overhead.py [--iterations 200] [--repeats 3]``.
 Prints one line per (N, optimiser, case) with milliseconds per iteration (median over repeats).
 """
 

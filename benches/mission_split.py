@@ -1,6 +1,6 @@
 """Where one 500-iteration mission spends its time: coverage measurements against the optimiser.
 
-The case of issue 5: 12 UAVs, a paper terrain (7 Gaussians, 100 m x 100 m) with 1 m targets,
+The reference mission: 12 UAVs, a paper terrain (7 Gaussians, 100 m x 100 m) with 1 m targets,
 d_max = 25 m, CVT start, 500 CAO iterations. Prints the median over a few seeds of the wall time
 and of its parts, as recorded by the optimiser's trace: coverage measurements, feasibility
 (constraint queries on the real surface) and the optimiser's own work (regression, candidates).

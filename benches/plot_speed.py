@@ -1,7 +1,7 @@
 """How long the figures take on large surfaces: a 447 x 447 grid (about 200k targets), the
 buildings mesh and a fine buildings mesh (more triangles than are drawn), drawn and saved to PNG.
 
-Run: ``/work/venv/bin/python benches/plot_speed.py`` (needs the ``plot`` extra). Prints one line
+Run: ``python benches/plot_speed.py`` (needs the ``plot`` extra). Prints one line
 per figure: seconds to build the figure and seconds to render and save it. The coverage map of
 the grid computes visibility for all 200k targets and draws at most ``max_polygons`` quads, so
 its cost does not grow with the number of targets beyond the visibility pass.

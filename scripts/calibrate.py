@@ -118,11 +118,12 @@ def _score(rows: list[dict[str, Any]], column: str) -> tuple[float, dict[tuple[i
 
 
 SEARCH_SPACES: dict[str, dict[str, Any]] = {
-    # search 1: the start flies start_altitude above the real ground (run_mission's own rule)
+    # search 1: the start flies start_altitude above the real ground
     "ground": {
         "terrain.heights": lambda g: (round(float(g.uniform(0.0, 20.0)), 1), round(float(g.uniform(20.0, 60.0)), 1)),
         "terrain.sigma": lambda g: round(float(g.uniform(5.0, 15.0)), 1),
         "start.altitude": lambda g: round(float(g.uniform(2.5, 15.0)), 1),
+        "start.altitude_reference": lambda g: "ground",
     },
     # search 2: the start flies start_altitude above S' (the paper's reading), gentler hills
     "prior": {

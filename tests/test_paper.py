@@ -115,11 +115,12 @@ def test_with_changes_sets_nested_fields_and_refuses_unknown_groups():
     assert m.constraints.d_safe == paper.TABLE1.mission.constraints.d_safe and m.cao.decay == paper.TABLE1.mission.cao.decay
     assert paper.TABLE1.with_changes() == paper.TABLE1 and e != paper.TABLE1
     # the deprecated flight group names the same settings
-    assert paper.TABLE1.with_changes(**{"flight.h_min": 3.0, "flight.start_altitude": 4.0}) == paper.TABLE1.with_changes(
-        **{"constraints.h_min": 3.0, "start.altitude": 4.0})
+    with pytest.warns(DeprecationWarning, match="flight group is deprecated"):
+        old = paper.TABLE1.with_changes(**{"flight.h_min": 3.0, "flight.start_altitude": 4.0})
+    assert old == paper.TABLE1.with_changes(**{"constraints.h_min": 3.0, "start.altitude": 4.0})
     with pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(**{"nothing.x": 1})
-    with pytest.raises(InvalidInputError):
+    with pytest.warns(DeprecationWarning), pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(**{"flight.colour": 1})
     with pytest.raises(InvalidInputError):
         Constraints(h_min=10.0, z_max=5.0)

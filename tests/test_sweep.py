@@ -315,7 +315,10 @@ FLIGHT_VALUES = {
 }
 
 
+@pytest.mark.filterwarnings("ignore:the flight group is deprecated:DeprecationWarning")
 def test_flight_names_are_their_new_names():
+    with pytest.warns(DeprecationWarning, match="constraints.h_min"):
+        paper.TABLE1.with_changes(**{"flight.h_min": 2.0})
     assert set(FLIGHT_VALUES) == set(FLIGHT_KEYS)
     assert paper.TABLE1.with_changes(**{"flight.h_min": 2.0}) == paper.TABLE1.with_changes(**{"constraints.h_min": 2.0})
     assert paper.TABLE1.with_changes(**{"constraints.h_min": 2.0}).mission.constraints.h_min == 2.0
@@ -329,6 +332,7 @@ def test_flight_names_are_their_new_names():
         assert settings_hash(via_flight) != settings_hash(paper.TABLE1)
 
 
+@pytest.mark.filterwarnings("ignore:the flight group is deprecated:DeprecationWarning")
 def test_with_changes_shortcuts_and_unknown_names():
     e = paper.TABLE1
     assert e.with_changes(d_max=20.0) == e.with_changes(**{"mission.d_max": 20.0})

@@ -25,6 +25,7 @@ picks them with :func:`uavcov.executors.plan_execution`.
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures as cf
 import dataclasses
 import hashlib
@@ -32,6 +33,7 @@ import json
 import os
 import sys
 import time
+import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -184,6 +186,11 @@ class Experiment:
             dotted = key.replace("__", ".")
             head, _, rest = dotted.partition(".")
             if head == "flight":
+                warnings.warn(
+                    f"the flight group is deprecated: {dotted!r} is {'mission.' + FLIGHT_KEYS.get(rest, rest)!r}",
+                    DeprecationWarning,
+                    stacklevel=2,
+                )
                 if rest not in FLIGHT_KEYS:
                     raise InvalidInputError(f"flight has no setting {rest!r}; its settings are {sorted(FLIGHT_KEYS)}")
                 dotted = "mission." + FLIGHT_KEYS[rest]
@@ -570,7 +577,7 @@ def run_specs(
         raise InvalidInputError(f"rerun must be 'none', 'failed' or 'all', got {rerun!r}")
     ids = [s.run_id for s in specs]
     if len(set(ids)) != len(ids):
-        duplicates = sorted({i for i in ids if ids.count(i) > 1})
+        duplicates = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
         raise ConfigError(f"the sweep lists the same run more than once: {', '.join(duplicates[:5])}")
     plan = plan_execution(workers, n_threads) if executor is None else ExecutionPlan(workers or 1, n_threads or 1)
 
@@ -585,6 +592,7 @@ def run_specs(
     folder = out if isinstance(out, ResultsFolder) else ResultsFolder(out)
     with folder.lock():
         # Every check first, then the writes: a refused run changes nothing in the folder.
+        folder.claim()
         done, drop = _prepare(folder, specs, resume, rerun, exclusive)
         folder.check_columns(columns)
         folder.write_config(_configuration(specs, command, execution, about), resume=resume)
