@@ -27,7 +27,7 @@
 //!
 //! ## Determinism
 //!
-//! Iteration `k` draws its samples in fixed chunks of [`CHUNK`]; chunk `c` has its own ChaCha8
+//! Iteration `k` draws its samples in fixed chunks of 1024 (`CHUNK`); chunk `c` has its own ChaCha8
 //! stream keyed by `(seed, k, c)`, and per-chunk sums are combined in chunk order. The result is
 //! bit-identical for any number of threads.
 //!
@@ -39,16 +39,15 @@
 //! brute-force answer; fine meshes use the brute-force scan. `benches/cvt.rs` times it.
 //!
 //! ```
-//! use uavcov::cvt::{constrained_cvt, Settings};
+//! use uavcov::cvt::{constrained_cvt, CvtOptions};
 //! use uavcov::mesh::Surface;
 //! // A 200 m x 100 m flat rectangle: the CVT of 2 generators is the two squares' centres.
 //! let s = Surface::new(
 //!     vec![[0.0, 0.0, 0.0], [200.0, 0.0, 0.0], [200.0, 100.0, 0.0], [0.0, 100.0, 0.0]],
 //!     vec![[0, 1, 2], [0, 2, 3]],
 //! ).unwrap();
-//! let mut settings = Settings::for_generators(2);
-//! settings.tolerance = 0.02;
-//! let cvt = constrained_cvt(&s, 2, &settings, None, None, 7, 1).unwrap();
+//! let options = CvtOptions { tolerance: 0.02, ..CvtOptions::for_generators(2) }.with_seed(7).with_threads(1);
+//! let cvt = constrained_cvt(&s, 2, &options, None, None).unwrap();
 //! let mut x: Vec<f64> = cvt.generators.iter().map(|g| g[0]).collect();
 //! x.sort_by(f64::total_cmp);
 //! assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0);
@@ -61,12 +60,13 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::error::{ensure, Error, Result};
-use crate::mesh::{p, Point, Surface};
+use crate::geometry::{p, Point};
+use crate::mesh::Surface;
 use crate::threads;
 
 /// Samples per chunk of work: each chunk has its own random stream, so results do not depend on
 /// how chunks are spread over threads; 1024 keeps rayon's per-task cost (~1 us) negligible.
-pub const CHUNK: usize = 1024;
+pub(crate) const CHUNK: usize = 1024;
 
 /// Random-stream purposes, part of each stream's key so no two uses share a stream.
 const STREAM_INITIAL: u64 = 1;
@@ -125,9 +125,16 @@ impl Weights {
     }
 }
 
-/// How a CVT run samples, moves and stops.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Settings {
+/// How a CVT run samples, moves and stops, which random streams it draws and on how many
+/// threads: everything [`constrained_cvt`] takes besides the surface and its inputs.
+///
+/// ```
+/// use uavcov::cvt::{CvtOptions, Weights};
+/// let options = CvtOptions { tolerance: 0.05, weights: Weights::LLOYD, ..CvtOptions::for_generators(8) }.with_seed(3);
+/// assert_eq!((options.samples_per_iteration, options.seed, options.n_threads), (2000, 3, 0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CvtOptions {
     /// `q`, samples drawn per iteration.
     pub samples_per_iteration: usize,
     /// The update rule's weights.
@@ -139,13 +146,38 @@ pub struct Settings {
     pub window: usize,
     /// Most iterations (>= 1).
     pub max_iterations: usize,
+    /// The seed of every random stream: the run is a function of it and the inputs only.
+    pub seed: u64,
+    /// Threads for the samples (`0`: one per core); the result never depends on it.
+    pub n_threads: usize,
 }
 
-impl Settings {
+impl CvtOptions {
     /// The starting values of `paper-setup.md` for `n` generators: `q = max(2000, 200 n)`,
-    /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations.
+    /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations; seed 0,
+    /// one thread per core.
     pub fn for_generators(n: usize) -> Self {
-        Self { samples_per_iteration: default_samples(n), weights: Weights::DAMPED, tolerance: 0.1, window: 5, max_iterations: 300 }
+        Self {
+            samples_per_iteration: default_samples(n),
+            weights: Weights::DAMPED,
+            tolerance: 0.1,
+            window: 5,
+            max_iterations: 300,
+            seed: 0,
+            n_threads: 0,
+        }
+    }
+
+    /// The same options with another seed.
+    #[must_use]
+    pub fn with_seed(self, seed: u64) -> Self {
+        Self { seed, ..self }
+    }
+
+    /// The same options on `n_threads` threads (`0`: one per core).
+    #[must_use]
+    pub fn with_threads(self, n_threads: usize) -> Self {
+        Self { n_threads, ..self }
     }
 
     fn check(&self, n: usize) -> Result<()> {
@@ -162,7 +194,7 @@ impl Settings {
 }
 
 /// The default samples per iteration for `n` generators: `max(2000, 200 n)`.
-pub fn default_samples(n: usize) -> usize {
+pub(crate) fn default_samples(n: usize) -> usize {
     n.saturating_mul(200).max(2000)
 }
 
@@ -189,10 +221,9 @@ pub struct Tessellation {
 
 /// Points uniform by (density-weighted) area, with the triangle each lies in.
 ///
-/// Like [`crate::sampling::AreaSampler`], but it picks the triangle in O(1) with Walker's alias
-/// table (no binary search, whose mispredicted branches cost more than the rest of a draw), uses
-/// two 64-bit random words per point instead of three, and tells which triangle it drew, which
-/// the nearest-generator search uses.
+/// It picks the triangle in O(1) with Walker's alias table (no binary search over cumulative
+/// areas, whose mispredicted branches cost more than the rest of a draw), uses two 64-bit random
+/// words per point, and tells which triangle it drew, which the nearest-generator search uses.
 struct TriangleSampler {
     /// `(a, b - a, c - a)` of each triangle.
     frames: Vec<[Point; 3]>,
@@ -391,8 +422,8 @@ fn distance(a: Point, b: Point) -> f64 {
 ///   initial generators are drawn with probability proportional to `area * density`.
 /// * `initial`: optional `n` starting generators, projected onto the surface first; by default
 ///   `n` random points drawn like the samples.
-/// * `seed`: the whole run is a function of it, never of `n_threads`.
-/// * `n_threads`: threads for the samples (`0`: one per core).
+/// * `options`: the samples, update weights, stopping rule, seed and threads; the whole run is
+///   a function of the inputs and `options.seed`, never of `options.n_threads`.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for `n = 0`, `n > q`, `q = 0`, weights outside the constraints (see
@@ -402,13 +433,12 @@ fn distance(a: Point, b: Point) -> f64 {
 pub fn constrained_cvt(
     surface: &Surface,
     n: usize,
-    settings: &Settings,
+    options: &CvtOptions,
     density: Option<&[f64]>,
     initial: Option<&[Point]>,
-    seed: u64,
-    n_threads: usize,
 ) -> Result<Tessellation> {
-    settings.check(n)?;
+    let &CvtOptions { seed, n_threads, .. } = options;
+    options.check(n)?;
     if surface.n_triangles() == 0 || !(surface.area().is_finite() && surface.area() > 0.0) {
         return Err(Error::Mesh("the surface has no area to tessellate".into()));
     }
@@ -424,9 +454,9 @@ pub fn constrained_cvt(
             (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
         }
     };
-    let q = settings.samples_per_iteration;
+    let q = options.samples_per_iteration;
     let n_chunks = q.div_ceil(CHUNK);
-    let window = settings.window;
+    let window = options.window;
     let mut updates = vec![1u64; n]; // the paper's j_i, starting at 1
     let mut history: VecDeque<Vec<Point>> = VecDeque::with_capacity(window + 1);
     history.push_back(generators.clone());
@@ -437,7 +467,7 @@ pub fn constrained_cvt(
     let corners = (sampler.n_triangles() * 4 <= q).then(|| triangle_corners(surface));
 
     threads::run(n_threads, || {
-        for k in 0..settings.max_iterations {
+        for k in 0..options.max_iterations {
             let current = &generators;
             let candidates = corners.as_ref().map(|t| Candidates::new(t, current));
             let partials: Vec<Partial> = (0..n_chunks)
@@ -485,7 +515,7 @@ pub fn constrained_cvt(
                 }
                 let inv = 1.0 / counts[i] as f64;
                 let mean = [sums[i][0] * inv, sums[i][1] * inv, sums[i][2] * inv];
-                let (keep, toward) = settings.weights.coefficients(updates[i]);
+                let (keep, toward) = options.weights.coefficients(updates[i]);
                 let z = generators[i];
                 let free = [keep * z[0] + toward * mean[0], keep * z[1] + toward * mean[1], keep * z[2] + toward * mean[2]];
                 let projected = surface.closest_point(free);
@@ -504,7 +534,7 @@ pub fn constrained_cvt(
                 let net: f64 = generators.iter().zip(old).map(|(&a, &b)| distance(a, b)).sum();
                 let d = net / (n * window) as f64;
                 drift.push(d);
-                if d < settings.tolerance {
+                if d < options.tolerance {
                     converged = true;
                     break;
                 }
@@ -578,11 +608,11 @@ mod tests {
     fn one_generator_goes_to_the_centroid() {
         // The CVT of one generator is the centroid; a non-square rectangle so x and y differ.
         let s = rectangle(80.0, 30.0);
-        let mut settings = Settings::for_generators(1);
+        let mut settings = CvtOptions::for_generators(1);
         settings.weights = Weights::ANNEALED; // its averaging makes the final point precise
         settings.tolerance = 0.0;
         settings.max_iterations = 200;
-        let t = constrained_cvt(&s, 1, &settings, None, None, 3, 1).unwrap();
+        let t = constrained_cvt(&s, 1, &settings.with_seed(3).with_threads(1), None, None).unwrap();
         let g = t.generators[0];
         assert!((g[0] - 40.0).abs() < 0.3 && (g[1] - 15.0).abs() < 0.2 && g[2] == 0.0, "{g:?}");
         // Energy per unit area of a w x h rectangle about its centre: (w^2 + h^2) / 12.
@@ -597,7 +627,7 @@ mod tests {
     fn two_generators_split_a_rectangle_into_squares() {
         let s = rectangle(200.0, 100.0);
         for seed in 0..4 {
-            let t = constrained_cvt(&s, 2, &Settings::for_generators(2), None, None, seed, 1).unwrap();
+            let t = constrained_cvt(&s, 2, &CvtOptions::for_generators(2).with_seed(seed).with_threads(1), None, None).unwrap();
             assert!(t.converged, "seed {seed}: {} iterations", t.iterations);
             let x = sorted_x(&t);
             assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0, "seed {seed}: {x:?}");
@@ -610,8 +640,8 @@ mod tests {
     #[test]
     fn history_is_consistent() {
         let s = hills();
-        let settings = Settings::for_generators(6);
-        let t = constrained_cvt(&s, 6, &settings, None, None, 11, 1).unwrap();
+        let settings = CvtOptions::for_generators(6);
+        let t = constrained_cvt(&s, 6, &settings.with_seed(11).with_threads(1), None, None).unwrap();
         assert_eq!(t.moves.len(), t.iterations);
         assert_eq!(t.energy.len(), t.iterations);
         assert_eq!(t.drift.len(), t.iterations);
@@ -631,7 +661,7 @@ mod tests {
     #[test]
     fn generators_stay_on_a_hilly_surface() {
         let s = hills();
-        let t = constrained_cvt(&s, 9, &Settings::for_generators(9), None, None, 5, 2).unwrap();
+        let t = constrained_cvt(&s, 9, &CvtOptions::for_generators(9).with_seed(5).with_threads(2), None, None).unwrap();
         for &g in &t.generators {
             let c = s.closest_point(g);
             assert!(distance(c, g) < 1e-9, "{g:?} vs {c:?}");
@@ -641,21 +671,21 @@ mod tests {
     #[test]
     fn identical_for_any_thread_count() {
         let s = hills();
-        let mut settings = Settings::for_generators(7);
+        let mut settings = CvtOptions::for_generators(7);
         settings.samples_per_iteration = 5 * CHUNK + 17; // a ragged last chunk
-        let one = constrained_cvt(&s, 7, &settings, None, None, 42, 1).unwrap();
-        let two = constrained_cvt(&s, 7, &settings, None, None, 42, 2).unwrap();
-        let three = constrained_cvt(&s, 7, &settings, None, None, 42, 3).unwrap();
+        let one = constrained_cvt(&s, 7, &settings.with_seed(42).with_threads(1), None, None).unwrap();
+        let two = constrained_cvt(&s, 7, &settings.with_seed(42).with_threads(2), None, None).unwrap();
+        let three = constrained_cvt(&s, 7, &settings.with_seed(42).with_threads(3), None, None).unwrap();
         // Bit for bit (drift holds NaN, which `==` would call unequal to itself).
         let bits = |t: &Tessellation| format!("{t:?}");
         assert_eq!(bits(&one), bits(&two));
         assert_eq!(bits(&one), bits(&three));
-        let other = constrained_cvt(&s, 7, &settings, None, None, 43, 1).unwrap();
+        let other = constrained_cvt(&s, 7, &settings.with_seed(43).with_threads(1), None, None).unwrap();
         assert_ne!(one.generators, other.generators);
         // The same on a coarse surface, where the search runs over per-triangle candidates.
         let coarse = rectangle(120.0, 80.0);
-        let one = constrained_cvt(&coarse, 7, &settings, None, None, 42, 1).unwrap();
-        let two = constrained_cvt(&coarse, 7, &settings, None, None, 42, 2).unwrap();
+        let one = constrained_cvt(&coarse, 7, &settings.with_seed(42).with_threads(1), None, None).unwrap();
+        let two = constrained_cvt(&coarse, 7, &settings.with_seed(42).with_threads(2), None, None).unwrap();
         assert_eq!(bits(&one), bits(&two));
     }
 
@@ -669,7 +699,7 @@ mod tests {
         };
         // Triangle 0 = (0,0),(200,0),(200,100): centroid x = 133; triangle 1: centroid x = 67.
         assert!(centroid_x(0) > 100.0 && centroid_x(1) < 100.0);
-        let t = constrained_cvt(&s, 3, &Settings::for_generators(3), Some(&[0.0, 1.0]), None, 1, 1).unwrap();
+        let t = constrained_cvt(&s, 3, &CvtOptions::for_generators(3).with_seed(1).with_threads(1), Some(&[0.0, 1.0]), None).unwrap();
         for g in &t.generators {
             // Inside triangle 1: below the diagonal y = x / 2 is triangle 0.
             assert!(g[1] >= g[0] / 2.0 - 1e-9, "{g:?}");
@@ -693,11 +723,11 @@ mod tests {
             vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]],
         )
         .unwrap();
-        let mut settings = Settings::for_generators(2);
+        let mut settings = CvtOptions::for_generators(2);
         settings.max_iterations = 8;
         settings.tolerance = 0.0;
         let initial = [[10.0, 10.0, 0.0], [1002.0, 3.0, 0.0]];
-        let t = constrained_cvt(&s, 2, &settings, Some(&[1.0, 1.0, 0.0]), Some(&initial), 9, 1).unwrap();
+        let t = constrained_cvt(&s, 2, &settings.with_seed(9).with_threads(1), Some(&[1.0, 1.0, 0.0]), Some(&initial)).unwrap();
         assert_eq!(t.generators[1], initial[1]);
         assert!(distance(t.generators[0], [50.0, 50.0, 0.0]) < 3.0, "{:?}", t.generators[0]);
         // The first damped step takes the square's generator half way from (10, 10) to about
@@ -786,8 +816,8 @@ mod tests {
     #[test]
     fn bad_input_is_an_error() {
         let s = rectangle(10.0, 10.0);
-        let ok = Settings::for_generators(3);
-        let run = |n: usize, settings: &Settings| constrained_cvt(&s, n, settings, None, None, 0, 1);
+        let ok = CvtOptions::for_generators(3);
+        let run = |n: usize, settings: &CvtOptions| constrained_cvt(&s, n, &settings.with_seed(0).with_threads(1), None, None);
         assert!(matches!(run(0, &ok), Err(Error::InvalidInput(_))));
         let mut few = ok.clone();
         few.samples_per_iteration = 2;
@@ -807,21 +837,21 @@ mod tests {
             assert!(Weights::new(alpha, beta).is_err());
         }
         for edit in [
-            |s: &mut Settings| s.tolerance = -1.0,
-            |s: &mut Settings| s.tolerance = f64::NAN,
-            |s: &mut Settings| s.window = 0,
-            |s: &mut Settings| s.max_iterations = 0,
+            |s: &mut CvtOptions| s.tolerance = -1.0,
+            |s: &mut CvtOptions| s.tolerance = f64::NAN,
+            |s: &mut CvtOptions| s.window = 0,
+            |s: &mut CvtOptions| s.max_iterations = 0,
         ] {
             let mut bad = ok.clone();
             edit(&mut bad);
             assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))));
         }
         for density in [vec![0.0, 0.0], vec![1.0, -1.0], vec![1.0, f64::NAN], vec![1.0]] {
-            assert!(matches!(constrained_cvt(&s, 3, &ok, Some(&density), None, 0, 1), Err(Error::InvalidInput(_))));
+            assert!(matches!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), Some(&density), None), Err(Error::InvalidInput(_))));
         }
         let two = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0]];
-        assert!(constrained_cvt(&s, 3, &ok, None, Some(&two), 0, 1).is_err());
+        assert!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), None, Some(&two)).is_err());
         let nan = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [f64::NAN, 0.0, 0.0]];
-        assert!(constrained_cvt(&s, 3, &ok, None, Some(&nan), 0, 1).is_err());
+        assert!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), None, Some(&nan)).is_err());
     }
 }

@@ -24,35 +24,13 @@ use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 use std::sync::OnceLock;
 
 use crate::error::{Error, Result};
+use crate::geometry::{p, triangle_area, v, Point, SIGHT_FRACTION};
+use crate::grid::Grid;
 use crate::heightfield::HeightField;
-
-/// A point or vector in metres.
-pub type Point = [f64; 3];
 
 /// Most triangles the general mesh path accepts: about 300 bytes each with the BVH, so this caps
 /// the mesh at a few gigabytes; larger maps belong on the elevation-grid path.
 pub const MAX_TRIANGLES: usize = 10_000_000;
-
-/// The regular elevation grid a surface was built from, kept for the grid fast path and targets.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Grid {
-    /// Number of rows (along y).
-    pub ny: usize,
-    /// Number of columns (along x).
-    pub nx: usize,
-    /// Cell size along x, metres.
-    pub dx: f64,
-    /// Cell size along y, metres.
-    pub dy: f64,
-    /// x of column 0, metres.
-    pub x0: f64,
-    /// y of row 0, metres.
-    pub y0: f64,
-    /// Heights, row-major `(ny, nx)`; NaN marks nodata.
-    pub z: Vec<f64>,
-    /// For each grid node, its index among the surface vertices, or `u32::MAX` when unused.
-    pub vertex_of_node: Vec<u32>,
-}
 
 /// A triangle mesh with parry's BVH: the general path, and the mesh path of a grid on demand.
 #[derive(Clone)]
@@ -88,21 +66,6 @@ impl std::fmt::Debug for Surface {
             .field("grid", &self.grid().map(|g| (g.ny, g.nx)))
             .finish()
     }
-}
-
-#[inline]
-pub(crate) fn v(p: Point) -> Vector {
-    Vector::new(p[0], p[1], p[2])
-}
-
-#[inline]
-pub(crate) fn p(v: Vector) -> Point {
-    [v.x, v.y, v.z]
-}
-
-/// Area of the triangle `abc`.
-pub(crate) fn triangle_area(a: Vector, b: Vector, c: Vector) -> f64 {
-    0.5 * (b - a).cross(c - a).length()
 }
 
 impl Surface {
@@ -467,10 +430,6 @@ impl TriangleMesh {
         p(self.mesh.project_local_point(v(point), false).point)
     }
 }
-
-/// The segment from a UAV to a target is tested up to this fraction of its length, so the
-/// target's own triangles never count as an obstruction.
-pub const SIGHT_FRACTION: f64 = 0.999;
 
 fn bounding_diagonal(points: &[Vector]) -> f64 {
     let mut lo = Vector::splat(f64::INFINITY);

@@ -31,7 +31,8 @@ use rayon::prelude::*;
 
 use crate::error::{ensure, Error, Result};
 use crate::heightfield::{HeightField, Horizon};
-use crate::mesh::{Point, Surface, TriangleMesh};
+use crate::geometry::Point;
+use crate::mesh::{Surface, TriangleMesh};
 use crate::sampling::default_targets;
 use crate::skyline::{ChunkSkylines, Skyline, Skylines};
 use crate::threads;

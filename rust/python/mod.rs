@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::mesh::Point;
+use crate::geometry::Point;
 use crate::threads;
 
 pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {

@@ -8,7 +8,8 @@ use pyo3::prelude::*;
 
 use super::{invalid, parallel_map, points, points_to_py, to_py_err};
 use crate::error::Error;
-use crate::mesh::{self, Point};
+use crate::geometry::Point;
+use crate::mesh;
 use crate::sampling;
 
 /// A triangle mesh with its BVH (see `uavcov.Terrain`).

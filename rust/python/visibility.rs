@@ -81,7 +81,8 @@ impl PyVisibility {
         py.detach(|| self.inner.coverage(&u, n_threads)).map_err(|e| to_py_err(py, e))
     }
 
-    /// `(seen, exclusive, seen_weight, exclusive_weight, total_weight)` per UAV.
+    /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
+    /// then `total_weight` and the team's `coverage` (equal to `coverage()` to the last bit).
     #[pyo3(signature = (uavs, n_threads=0))]
     #[allow(clippy::type_complexity)]
     fn per_uav<'py>(
