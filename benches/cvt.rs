@@ -99,7 +99,8 @@ fn bench(c: &mut Criterion) {
     let n = 20;
     let settings = CvtOptions::for_generators(n);
     let seeds = 32u64;
-    let runs: Vec<_> = (0..seeds).map(|s| constrained_cvt(&surface, n, &settings.with_seed(s).with_threads(1), None, None).unwrap()).collect();
+    let runs: Vec<_> =
+        (0..seeds).map(|s| constrained_cvt(&surface, n, &settings.with_seed(s).with_threads(1), None, None).unwrap()).collect();
     let mut iterations: Vec<usize> = runs.iter().map(|t| t.iterations).collect();
     iterations.sort_unstable();
     let converged = runs.iter().filter(|t| t.converged).count();
@@ -121,15 +122,15 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 seed = (seed + 1) % seeds;
                 black_box(constrained_cvt(&surface, n, &settings.with_seed(seed).with_threads(threads), None, None).unwrap())
-            })
+            });
         });
     }
     // The cost of one iteration: 50 iterations without the stopping test.
-    let mut fixed = settings.clone();
+    let mut fixed = settings;
     fixed.tolerance = 0.0;
     fixed.max_iterations = 50;
     group.bench_function("N20_34pt_S'_50_iterations_1thread", |b| {
-        b.iter(|| black_box(constrained_cvt(&surface, n, &fixed.with_seed(1).with_threads(1), None, None).unwrap()))
+        b.iter(|| black_box(constrained_cvt(&surface, n, &fixed.with_seed(1).with_threads(1), None, None).unwrap()));
     });
     group.finish();
 }

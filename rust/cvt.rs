@@ -117,6 +117,7 @@ impl Weights {
     /// The coefficients `((a1 j + b1) / (j + 1), (a2 j + b2) / (j + 1))` of the current generator
     /// and of the sample mean at a generator's `j`-th update.
     #[inline]
+    #[must_use]
     pub fn coefficients(&self, j: u64) -> (f64, f64) {
         let jf = j as f64;
         let keep = (self.alpha[0] * jf + self.beta[0]) / (jf + 1.0);
@@ -156,6 +157,7 @@ impl CvtOptions {
     /// The starting values of `paper-setup.md` for `n` generators: `q = max(2000, 200 n)`,
     /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations; seed 0,
     /// one thread per core.
+    #[must_use]
     pub fn for_generators(n: usize) -> Self {
         Self {
             samples_per_iteration: default_samples(n),
@@ -244,7 +246,7 @@ impl TriangleSampler {
         let weights: Vec<f64> = areas.iter().enumerate().map(|(f, &a)| a * density.map_or(1.0, |d| d[f])).collect();
         let total: f64 = weights.iter().sum();
         ensure!(total.is_finite() && total > 0.0, "the sampling density is zero over the whole surface");
-        ensure!(n <= u32::MAX as usize, "too many triangles for the CVT sampler: {n}");
+        ensure!(u32::try_from(n).is_ok(), "too many triangles for the CVT sampler: {n}");
         // Vose's construction: scaled weights average 1; each slot below 1 is topped up from
         // one above 1, which becomes its alias.
         let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
@@ -277,12 +279,12 @@ impl TriangleSampler {
 
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Point, usize) {
-        // The high word of r * F is a uniform slot, the low word an independent fraction.
+        const SCALE: f64 = 1.0 / 4_294_967_296.0; // 2^-32: 32 bits per barycentric coordinate
+                                                  // The high word of r * F is a uniform slot, the low word an independent fraction.
         let x = u128::from(rng.next_u64()) * self.frames.len() as u128;
         let slot = (x >> 64) as usize;
         let f = if (x as u64) < self.keep[slot] { slot } else { self.alias[slot] as usize };
         let bits = rng.next_u64();
-        const SCALE: f64 = 1.0 / 4_294_967_296.0; // 2^-32: 32 bits per barycentric coordinate
         let (r, s) = ((bits >> 32) as f64 * SCALE, (bits & 0xffff_ffff) as f64 * SCALE);
         // The spacings (min, max - min, 1 - max) of two uniform numbers are uniform on the
         // simplex; min and max need no branch (reflecting u + v > 1 mispredicts half the time).
@@ -443,16 +445,13 @@ pub fn constrained_cvt(
         return Err(Error::Mesh("the surface has no area to tessellate".into()));
     }
     let sampler = TriangleSampler::new(surface, density)?;
-    let mut generators: Vec<Point> = match initial {
-        Some(points) => {
-            ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
-            ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "initial generators must be finite");
-            points.iter().map(|&q| surface.closest_point(q)).collect()
-        }
-        None => {
-            let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
-            (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
-        }
+    let mut generators: Vec<Point> = if let Some(points) = initial {
+        ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
+        ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "initial generators must be finite");
+        points.iter().map(|&q| surface.closest_point(q)).collect()
+    } else {
+        let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
+        (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
     };
     let q = options.samples_per_iteration;
     let n_chunks = q.div_ceil(CHUNK);
@@ -765,12 +764,12 @@ mod tests {
         assert_eq!(counts[1], 0);
         for f in 0..4 {
             let p = weights[f] / total;
-            let sigma = (draws as f64 * p * (1.0 - p)).sqrt();
-            assert!((counts[f] as f64 - draws as f64 * p).abs() <= 5.0 * sigma + 1e-9, "{f}: {counts:?}");
+            let sigma = (f64::from(draws) * p * (1.0 - p)).sqrt();
+            assert!((counts[f] as f64 - f64::from(draws) * p).abs() <= 5.0 * sigma + 1e-9, "{f}: {counts:?}");
         }
         // Uniform within a triangle: the share in the half nearer the base edge's first vertex.
         let sampler = TriangleSampler::new(&s, Some(&[1.0, 0.0, 0.0, 0.0])).unwrap();
-        let left = (0..draws).filter(|_| sampler.sample(&mut rng).0[0] < 1.0).count() as f64 / draws as f64;
+        let left = (0..draws).filter(|_| sampler.sample(&mut rng).0[0] < 1.0).count() as f64 / f64::from(draws);
         // Triangle (0,0),(2,0),(0,1) in x-y: the part with x < 1 holds 3/4 of its area.
         assert!((left - 0.75).abs() < 0.005, "{left}");
     }
@@ -801,11 +800,11 @@ mod tests {
     #[test]
     fn nearest_matches_brute_force() {
         let generators = [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 5.0]];
-        let points: Vec<Point> = (0..3000).map(|k| [(k % 17) as f64 - 3.0, (k % 13) as f64, (k % 7) as f64 - 2.0]).collect();
+        let points: Vec<Point> = (0..3000).map(|k| [f64::from(k % 17) - 3.0, f64::from(k % 13), f64::from(k % 7) - 2.0]).collect();
         let labels = nearest_generator(&generators, &points, 2).unwrap();
         for (p, &l) in points.iter().zip(&labels) {
             let d: Vec<f64> = generators.iter().map(|&g| distance(g, *p)).collect();
-            let best = d.iter().cloned().fold(f64::INFINITY, f64::min);
+            let best = d.iter().copied().fold(f64::INFINITY, f64::min);
             assert_eq!(d[l], best);
             assert_eq!(l, d.iter().position(|&x| x == best).unwrap()); // ties to the lower index
         }
@@ -819,7 +818,7 @@ mod tests {
         let ok = CvtOptions::for_generators(3);
         let run = |n: usize, settings: &CvtOptions| constrained_cvt(&s, n, &settings.with_seed(0).with_threads(1), None, None);
         assert!(matches!(run(0, &ok), Err(Error::InvalidInput(_))));
-        let mut few = ok.clone();
+        let mut few = ok;
         few.samples_per_iteration = 2;
         assert!(matches!(run(3, &few), Err(Error::InvalidInput(_))));
         few.samples_per_iteration = 0;
@@ -831,7 +830,7 @@ mod tests {
             ([-0.5, 1.5], [0.5, 0.5]),
             ([f64::NAN, 0.5], [0.5, 0.5]),
         ] {
-            let mut bad = ok.clone();
+            let mut bad = ok;
             bad.weights = Weights { alpha, beta };
             assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))), "{alpha:?} {beta:?}");
             assert!(Weights::new(alpha, beta).is_err());
@@ -842,7 +841,7 @@ mod tests {
             |s: &mut CvtOptions| s.window = 0,
             |s: &mut CvtOptions| s.max_iterations = 0,
         ] {
-            let mut bad = ok.clone();
+            let mut bad = ok;
             edit(&mut bad);
             assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))));
         }

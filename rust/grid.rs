@@ -60,6 +60,7 @@ pub(crate) fn pseudo_angle(x: f64, y: f64) -> f64 {
 impl Grid {
     /// The position of node `k` (row-major), as the mesh path computes it.
     #[inline(always)]
+    #[must_use]
     pub fn node_point(&self, k: usize) -> Point {
         let (i, j) = (k / self.nx, k % self.nx);
         [self.x0 + j as f64 * self.dx, self.y0 + i as f64 * self.dy, self.z[k]]
@@ -67,6 +68,7 @@ impl Grid {
 
     /// Nodes `[a, b, c, d] = [(i, j), (i, j+1), (i+1, j+1), (i+1, j)]` of cell `(i, j)`.
     #[inline(always)]
+    #[must_use]
     pub fn cell_nodes(&self, i: usize, j: usize) -> [usize; 4] {
         let a = i * self.nx + j;
         [a, a + 1, a + self.nx + 1, a + self.nx]
@@ -75,6 +77,7 @@ impl Grid {
     /// The corners of the two triangles of cell `(i, j)`, `[a, b, c]` and `[a, c, d]`, or `None`
     /// for a triangle with a nodata corner.
     #[inline(always)]
+    #[must_use]
     pub fn cell_triangles(&self, i: usize, j: usize) -> [Option<[Vector; 3]>; 2] {
         let [a, b, c, d] = self.cell_nodes(i, j).map(|k| v(self.node_point(k)));
         let ok = |q: Vector| !q.z.is_nan();

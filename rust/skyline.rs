@@ -371,7 +371,7 @@ mod tests {
     #[test]
     fn direction_inverts_the_pseudo_angle() {
         for k in 0..400 {
-            let s = 4.0 * k as f64 / 400.0;
+            let s = 4.0 * f64::from(k) / 400.0;
             let (x, y) = direction(s);
             assert!((pseudo_angle(x, y) - s).abs() < 1e-12 || (s == 4.0), "{s}");
             assert!(((x * x + y * y) - 1.0).abs() < 1e-12);

@@ -34,7 +34,6 @@ pub(crate) struct Horizon {
     delta: f64,
 }
 
-
 /// One sector's bounds in a [`Horizon`], bin by bin.
 #[derive(Clone, Copy)]
 struct Column<'a> {
@@ -46,7 +45,7 @@ struct Column<'a> {
 impl Column<'_> {
     #[inline(always)]
     fn at(&self, bin: usize) -> f64 {
-        self.slope[bin * self.stride] as f64
+        f64::from(self.slope[bin * self.stride])
     }
 }
 
@@ -55,7 +54,7 @@ impl Column<'_> {
 fn round_up(x: f64) -> f32 {
     let f = x as f32;
     // Rounded down (never for NaN, where the comparison fails): the next value up.
-    if (f as f64) < x {
+    if f64::from(f) < x {
         f.next_up()
     } else {
         f
@@ -64,6 +63,7 @@ fn round_up(x: f64) -> f32 {
 
 impl HeightField {
     /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally.
+    #[expect(clippy::too_many_lines, reason = "one pass over the cells near the UAV; its steps share a dozen locals")]
     pub(crate) fn horizon(&self, uav: Point, radius: f64) -> Horizon {
         let g = &self.grid;
         let w = g.dx.min(g.dy);

@@ -111,6 +111,8 @@ impl HeightField {
     /// origin that is not finite (spacing also > 0), infinite heights; [`Error::Mesh`] when nodata
     /// leaves no triangle; [`Error::TooLarge`] for 2^32 nodes or more.
     pub fn new(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
+        /// Marks a node some triangle uses, before the vertices are numbered.
+        const USED: u32 = 0;
         ensure!(ny >= 2 && nx >= 2, "an elevation grid needs at least 2 rows and 2 columns, got {ny} x {nx}");
         let n_nodes = ny.checked_mul(nx).ok_or_else(|| Error::TooLarge(format!("a {ny} x {nx} grid is too large")))?;
         ensure!(z.len() == n_nodes, "z has {} values, expected {ny} x {nx}", z.len());
@@ -123,7 +125,6 @@ impl HeightField {
         let mut grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: Vec::new() };
 
         // Triangles, area and used nodes, in the mesh path's face order so the area sums alike.
-        const USED: u32 = 0;
         let mut vertex_of_node = vec![u32::MAX; n_nodes];
         let mut n_triangles = 0usize;
         let mut area = -0.0; // `Iterator::sum` of f64 starts here too
@@ -249,6 +250,9 @@ impl HeightField {
     }
 
     /// The corners of triangle `f`.
+    ///
+    /// # Panics
+    /// When `f` is not below [`HeightField::n_triangles`].
     pub fn triangle(&self, f: usize) -> [Vector; 3] {
         let code = if self.complete {
             f as u64

@@ -100,7 +100,7 @@ fn segments_agree_with_the_mesh_path_exactly() {
                 assert_eq!(grid.ray_hits(a, d, t_max), expect, "case {case}: {a:?} -> {b:?} up to {t_max}");
                 let field = grid.heightfield().unwrap();
                 assert_eq!(field.ray_hits_quadtree(a, d, t_max), expect, "quadtree, case {case}");
-                blocked += expect as usize;
+                blocked += usize::from(expect);
                 total += 1;
             }
             assert_eq!(grid.line_of_sight(a, b), mesh.line_of_sight(a, b));
@@ -150,7 +150,7 @@ fn horizons_give_the_mesh_paths_sight_lines() {
                 let q = point(&mut rng, &g, lo[2], hi[2]);
                 let expect = mesh.line_of_sight(uav, q);
                 assert_eq!(field.line_of_sight_from(&horizon, q), expect, "case {case}: {uav:?} -> {q:?}, radius {radius}");
-                seen += expect as usize;
+                seen += usize::from(expect);
                 total += 1;
             }
         }
@@ -196,7 +196,7 @@ fn skylines_give_the_mesh_paths_sight_lines_to_nodes() {
                 if r > 0.0 && (uav[2] - q[2]) / r > sky.slope(sector_of(pseudo_angle(ex, ey))) {
                     steep += 1;
                 }
-                seen += expect as usize;
+                seen += usize::from(expect);
                 total += 1;
             }
         }

@@ -18,6 +18,7 @@ const BOX: usize = 8;
 
 /// `x as usize` for `x` already known to lie in `[0, usize::MAX)`, without the saturation checks.
 #[inline(always)]
+#[allow(unsafe_code, reason = "the one unchecked cast of the walk's hot loop; its callers rule out NaN and clamp")]
 fn cell_index(x: f64) -> usize {
     debug_assert!((0.0..(usize::MAX as f64)).contains(&x));
     // SAFETY: callers clamp `x` into `[0, cells)` after ruling out NaN, so it is finite and in range.
@@ -97,8 +98,8 @@ impl HeightField {
         let o = cast.ray.origin;
         let mut cols = [(0.0, 0.0); BOX];
         let mut rows = [(0.0, 0.0); BOX];
-        self.spans(&mut cols[..=j1 - j0], |c| self.x(j0 + c), o.x, cast.inv[0]);
-        self.spans(&mut rows[..=i1 - i0], |r| self.y(i0 + r), o.y, cast.inv[1]);
+        Self::spans(&mut cols[..=j1 - j0], |c| self.x(j0 + c), o.x, cast.inv[0]);
+        Self::spans(&mut rows[..=i1 - i0], |r| self.y(i0 + r), o.y, cast.inv[1]);
         for (r, &(ny, fy)) in rows.iter().enumerate().take(i1 - i0 + 1) {
             let (ny, fy) = (max(0.0, ny), min(t_max, fy));
             if ny > fy {
@@ -137,7 +138,7 @@ impl HeightField {
     /// and the interval's ends ordered by the sign of `inv` (which is what `axis`'s comparison
     /// finds, since the products are monotone in the boundary).
     #[inline(always)]
-    fn spans(&self, out: &mut [(f64, f64)], at: impl Fn(usize) -> f64, origin: f64, inv: f64) {
+    fn spans(out: &mut [(f64, f64)], at: impl Fn(usize) -> f64, origin: f64, inv: f64) {
         if inv.is_infinite() {
             for (c, span) in out.iter_mut().enumerate() {
                 *span = axis(at(c), at(c + 1), origin, inv);

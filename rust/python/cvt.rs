@@ -12,6 +12,7 @@ type RunOutput<'py> =
     (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, usize, bool);
 
 /// The probabilistic MacQueen CVT; static methods only (one class keeps the module's names few).
+#[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "CVT")]
 pub struct PyCvt;
 
