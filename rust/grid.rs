@@ -1,7 +1,7 @@
 //! The regular elevation grid a surface is built from, and the plane geometry that the grid's
-//! queries share ([`pseudo_angle`], the cheap monotone angle of the horizons and skylines).
+//! queries share (`pseudo_angle`, the cheap monotone angle of the horizons and skylines).
 //!
-//! A leaf below [`crate::heightfield`] and [`crate::skyline`]: it imports only
+//! A leaf below [`crate::heightfield`] and the internal `skyline` module: it imports only
 //! [`crate::geometry`].
 //!
 //! ```

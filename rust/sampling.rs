@@ -22,7 +22,7 @@ use crate::mesh::Surface;
 /// points are deterministic and never lie on an edge, where visibility is ill-defined.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] when `density` is not finite and positive (meshes only), or when the
+/// [`Error::InvalidInput`](crate::Error::InvalidInput) when `density` is not finite and positive (meshes only), or when the
 /// mesh would get more than 100 million targets.
 pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
     if surface.grid().is_some() {

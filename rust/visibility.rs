@@ -12,8 +12,9 @@
 //! for a surface built from an elevation grid, the [`HeightField`] walk, which gives the same
 //! answer for every segment (see [`crate::heightfield`]) at a fraction of the cost and memory.
 //! The grid path is chosen automatically; the mesh path of a grid stays available for comparison.
-//! On the grid path, grid-node targets also get their [`Skyline`] from their chunk's second
-//! evaluation on, which settles most sight lines with two look-ups (see [`crate::skyline`]).
+//! On the grid path, grid-node targets also get their skyline (how steeply the surface rises
+//! around them, direction by direction) from their chunk's second evaluation on, which settles
+//! most sight lines with two look-ups.
 //!
 //! ```
 //! use uavcov::mesh::Surface;

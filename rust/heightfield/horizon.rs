@@ -1,7 +1,7 @@
 //! A UAV's horizon: for each direction sector and distance bin around it, an upper bound on how
 //! steeply the grid rises as seen from the UAV. Built once per UAV and evaluation, it clears
 //! most of every sight line with a binary search, and with the target node's
-//! [`Skyline`](crate::skyline::Skyline) usually all of it; what neither clears goes to the walk.
+//! [`Skyline`] usually all of it; what neither clears goes to the walk.
 
 use super::slab::max;
 use super::HeightField;
