@@ -1,5 +1,5 @@
 //! The reference case of `benches/README.md`: a 7-Gaussian terrain on 100 m x 100 m, all grid
-//! nodes as targets, 12 UAVs 5-30 m above the ground, d_max = 25 m; one full coverage
+//! nodes as targets, 12 UAVs 5-30 m above the ground, `d_max` = 25 m; one full coverage
 //! evaluation at 1 m, 0.5 m and 0.25 m spacing, on 1 and 2 threads, on the grid path (the
 //! default for a grid surface) and on the mesh path of the same grid (parry's BVH).
 //!

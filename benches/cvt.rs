@@ -13,7 +13,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
-use uavcov::cvt::{constrained_cvt, Settings};
+use uavcov::cvt::{constrained_cvt, CvtOptions};
 use uavcov::mesh::Surface;
 
 const SIZE: f64 = 100.0;
@@ -97,9 +97,10 @@ fn bench(c: &mut Criterion) {
         .sum();
     assert!((xy_area - SIZE * SIZE).abs() < 1e-6, "the triangulation covers {xy_area} m^2");
     let n = 20;
-    let settings = Settings::for_generators(n);
+    let settings = CvtOptions::for_generators(n);
     let seeds = 32u64;
-    let runs: Vec<_> = (0..seeds).map(|s| constrained_cvt(&surface, n, &settings, None, None, s, 1).unwrap()).collect();
+    let runs: Vec<_> =
+        (0..seeds).map(|s| constrained_cvt(&surface, n, &settings.with_seed(s).with_threads(1), None, None).unwrap()).collect();
     let mut iterations: Vec<usize> = runs.iter().map(|t| t.iterations).collect();
     iterations.sort_unstable();
     let converged = runs.iter().filter(|t| t.converged).count();
@@ -120,16 +121,16 @@ fn bench(c: &mut Criterion) {
         group.bench_function(format!("N20_34pt_S'_converge_{threads}thread"), |b| {
             b.iter(|| {
                 seed = (seed + 1) % seeds;
-                black_box(constrained_cvt(&surface, n, &settings, None, None, seed, threads).unwrap())
-            })
+                black_box(constrained_cvt(&surface, n, &settings.with_seed(seed).with_threads(threads), None, None).unwrap())
+            });
         });
     }
     // The cost of one iteration: 50 iterations without the stopping test.
-    let mut fixed = settings.clone();
+    let mut fixed = settings;
     fixed.tolerance = 0.0;
     fixed.max_iterations = 50;
     group.bench_function("N20_34pt_S'_50_iterations_1thread", |b| {
-        b.iter(|| black_box(constrained_cvt(&surface, n, &fixed, None, None, 1, 1).unwrap()))
+        b.iter(|| black_box(constrained_cvt(&surface, n, &fixed.with_seed(1).with_threads(1), None, None).unwrap()));
     });
     group.finish();
 }

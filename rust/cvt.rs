@@ -27,7 +27,7 @@
 //!
 //! ## Determinism
 //!
-//! Iteration `k` draws its samples in fixed chunks of [`CHUNK`]; chunk `c` has its own ChaCha8
+//! Iteration `k` draws its samples in fixed chunks of 1024 (`CHUNK`); chunk `c` has its own ChaCha8
 //! stream keyed by `(seed, k, c)`, and per-chunk sums are combined in chunk order. The result is
 //! bit-identical for any number of threads.
 //!
@@ -39,16 +39,15 @@
 //! brute-force answer; fine meshes use the brute-force scan. `benches/cvt.rs` times it.
 //!
 //! ```
-//! use uavcov::cvt::{constrained_cvt, Settings};
+//! use uavcov::cvt::{constrained_cvt, CvtOptions};
 //! use uavcov::mesh::Surface;
 //! // A 200 m x 100 m flat rectangle: the CVT of 2 generators is the two squares' centres.
 //! let s = Surface::new(
 //!     vec![[0.0, 0.0, 0.0], [200.0, 0.0, 0.0], [200.0, 100.0, 0.0], [0.0, 100.0, 0.0]],
 //!     vec![[0, 1, 2], [0, 2, 3]],
 //! ).unwrap();
-//! let mut settings = Settings::for_generators(2);
-//! settings.tolerance = 0.02;
-//! let cvt = constrained_cvt(&s, 2, &settings, None, None, 7, 1).unwrap();
+//! let options = CvtOptions { tolerance: 0.02, ..CvtOptions::for_generators(2) }.with_seed(7).with_threads(1);
+//! let cvt = constrained_cvt(&s, 2, &options, None, None).unwrap();
 //! let mut x: Vec<f64> = cvt.generators.iter().map(|g| g[0]).collect();
 //! x.sort_by(f64::total_cmp);
 //! assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0);
@@ -61,12 +60,13 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::error::{ensure, Error, Result};
-use crate::mesh::{p, Point, Surface};
+use crate::geometry::{p, Point};
+use crate::mesh::Surface;
 use crate::threads;
 
 /// Samples per chunk of work: each chunk has its own random stream, so results do not depend on
 /// how chunks are spread over threads; 1024 keeps rayon's per-task cost (~1 us) negligible.
-pub const CHUNK: usize = 1024;
+pub(crate) const CHUNK: usize = 1024;
 
 /// Random-stream purposes, part of each stream's key so no two uses share a stream.
 const STREAM_INITIAL: u64 = 1;
@@ -117,6 +117,7 @@ impl Weights {
     /// The coefficients `((a1 j + b1) / (j + 1), (a2 j + b2) / (j + 1))` of the current generator
     /// and of the sample mean at a generator's `j`-th update.
     #[inline]
+    #[must_use]
     pub fn coefficients(&self, j: u64) -> (f64, f64) {
         let jf = j as f64;
         let keep = (self.alpha[0] * jf + self.beta[0]) / (jf + 1.0);
@@ -125,9 +126,16 @@ impl Weights {
     }
 }
 
-/// How a CVT run samples, moves and stops.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Settings {
+/// How a CVT run samples, moves and stops, which random streams it draws and on how many
+/// threads: everything [`constrained_cvt`] takes besides the surface and its inputs.
+///
+/// ```
+/// use uavcov::cvt::{CvtOptions, Weights};
+/// let options = CvtOptions { tolerance: 0.05, weights: Weights::LLOYD, ..CvtOptions::for_generators(8) }.with_seed(3);
+/// assert_eq!((options.samples_per_iteration, options.seed, options.n_threads), (2000, 3, 0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CvtOptions {
     /// `q`, samples drawn per iteration.
     pub samples_per_iteration: usize,
     /// The update rule's weights.
@@ -139,13 +147,39 @@ pub struct Settings {
     pub window: usize,
     /// Most iterations (>= 1).
     pub max_iterations: usize,
+    /// The seed of every random stream: the run is a function of it and the inputs only.
+    pub seed: u64,
+    /// Threads for the samples (`0`: one per core); the result never depends on it.
+    pub n_threads: usize,
 }
 
-impl Settings {
+impl CvtOptions {
     /// The starting values of `paper-setup.md` for `n` generators: `q = max(2000, 200 n)`,
-    /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations.
+    /// [`Weights::DAMPED`], 0.1 m over a window of 5 iterations, at most 300 iterations; seed 0,
+    /// one thread per core.
+    #[must_use]
     pub fn for_generators(n: usize) -> Self {
-        Self { samples_per_iteration: default_samples(n), weights: Weights::DAMPED, tolerance: 0.1, window: 5, max_iterations: 300 }
+        Self {
+            samples_per_iteration: default_samples(n),
+            weights: Weights::DAMPED,
+            tolerance: 0.1,
+            window: 5,
+            max_iterations: 300,
+            seed: 0,
+            n_threads: 0,
+        }
+    }
+
+    /// The same options with another seed.
+    #[must_use]
+    pub fn with_seed(self, seed: u64) -> Self {
+        Self { seed, ..self }
+    }
+
+    /// The same options on `n_threads` threads (`0`: one per core).
+    #[must_use]
+    pub fn with_threads(self, n_threads: usize) -> Self {
+        Self { n_threads, ..self }
     }
 
     fn check(&self, n: usize) -> Result<()> {
@@ -162,7 +196,7 @@ impl Settings {
 }
 
 /// The default samples per iteration for `n` generators: `max(2000, 200 n)`.
-pub fn default_samples(n: usize) -> usize {
+pub(crate) fn default_samples(n: usize) -> usize {
     n.saturating_mul(200).max(2000)
 }
 
@@ -189,10 +223,9 @@ pub struct Tessellation {
 
 /// Points uniform by (density-weighted) area, with the triangle each lies in.
 ///
-/// Like [`crate::sampling::AreaSampler`], but it picks the triangle in O(1) with Walker's alias
-/// table (no binary search, whose mispredicted branches cost more than the rest of a draw), uses
-/// two 64-bit random words per point instead of three, and tells which triangle it drew, which
-/// the nearest-generator search uses.
+/// It picks the triangle in O(1) with Walker's alias table (no binary search over cumulative
+/// areas, whose mispredicted branches cost more than the rest of a draw), uses two 64-bit random
+/// words per point, and tells which triangle it drew, which the nearest-generator search uses.
 struct TriangleSampler {
     /// `(a, b - a, c - a)` of each triangle.
     frames: Vec<[Point; 3]>,
@@ -213,7 +246,7 @@ impl TriangleSampler {
         let weights: Vec<f64> = areas.iter().enumerate().map(|(f, &a)| a * density.map_or(1.0, |d| d[f])).collect();
         let total: f64 = weights.iter().sum();
         ensure!(total.is_finite() && total > 0.0, "the sampling density is zero over the whole surface");
-        ensure!(n <= u32::MAX as usize, "too many triangles for the CVT sampler: {n}");
+        ensure!(u32::try_from(n).is_ok(), "too many triangles for the CVT sampler: {n}");
         // Vose's construction: scaled weights average 1; each slot below 1 is topped up from
         // one above 1, which becomes its alias.
         let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
@@ -246,12 +279,12 @@ impl TriangleSampler {
 
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Point, usize) {
-        // The high word of r * F is a uniform slot, the low word an independent fraction.
+        const SCALE: f64 = 1.0 / 4_294_967_296.0; // 2^-32: 32 bits per barycentric coordinate
+                                                  // The high word of r * F is a uniform slot, the low word an independent fraction.
         let x = u128::from(rng.next_u64()) * self.frames.len() as u128;
         let slot = (x >> 64) as usize;
         let f = if (x as u64) < self.keep[slot] { slot } else { self.alias[slot] as usize };
         let bits = rng.next_u64();
-        const SCALE: f64 = 1.0 / 4_294_967_296.0; // 2^-32: 32 bits per barycentric coordinate
         let (r, s) = ((bits >> 32) as f64 * SCALE, (bits & 0xffff_ffff) as f64 * SCALE);
         // The spacings (min, max - min, 1 - max) of two uniform numbers are uniform on the
         // simplex; min and max need no branch (reflecting u + v > 1 mispredicts half the time).
@@ -391,8 +424,8 @@ fn distance(a: Point, b: Point) -> f64 {
 ///   initial generators are drawn with probability proportional to `area * density`.
 /// * `initial`: optional `n` starting generators, projected onto the surface first; by default
 ///   `n` random points drawn like the samples.
-/// * `seed`: the whole run is a function of it, never of `n_threads`.
-/// * `n_threads`: threads for the samples (`0`: one per core).
+/// * `options`: the samples, update weights, stopping rule, seed and threads; the whole run is
+///   a function of the inputs and `options.seed`, never of `options.n_threads`.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for `n = 0`, `n > q`, `q = 0`, weights outside the constraints (see
@@ -402,31 +435,27 @@ fn distance(a: Point, b: Point) -> f64 {
 pub fn constrained_cvt(
     surface: &Surface,
     n: usize,
-    settings: &Settings,
+    options: &CvtOptions,
     density: Option<&[f64]>,
     initial: Option<&[Point]>,
-    seed: u64,
-    n_threads: usize,
 ) -> Result<Tessellation> {
-    settings.check(n)?;
+    let &CvtOptions { seed, n_threads, .. } = options;
+    options.check(n)?;
     if surface.n_triangles() == 0 || !(surface.area().is_finite() && surface.area() > 0.0) {
         return Err(Error::Mesh("the surface has no area to tessellate".into()));
     }
     let sampler = TriangleSampler::new(surface, density)?;
-    let mut generators: Vec<Point> = match initial {
-        Some(points) => {
-            ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
-            ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "initial generators must be finite");
-            points.iter().map(|&q| surface.closest_point(q)).collect()
-        }
-        None => {
-            let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
-            (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
-        }
+    let mut generators: Vec<Point> = if let Some(points) = initial {
+        ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
+        ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "initial generators must be finite");
+        points.iter().map(|&q| surface.closest_point(q)).collect()
+    } else {
+        let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
+        (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
     };
-    let q = settings.samples_per_iteration;
+    let q = options.samples_per_iteration;
     let n_chunks = q.div_ceil(CHUNK);
-    let window = settings.window;
+    let window = options.window;
     let mut updates = vec![1u64; n]; // the paper's j_i, starting at 1
     let mut history: VecDeque<Vec<Point>> = VecDeque::with_capacity(window + 1);
     history.push_back(generators.clone());
@@ -437,7 +466,7 @@ pub fn constrained_cvt(
     let corners = (sampler.n_triangles() * 4 <= q).then(|| triangle_corners(surface));
 
     threads::run(n_threads, || {
-        for k in 0..settings.max_iterations {
+        for k in 0..options.max_iterations {
             let current = &generators;
             let candidates = corners.as_ref().map(|t| Candidates::new(t, current));
             let partials: Vec<Partial> = (0..n_chunks)
@@ -485,7 +514,7 @@ pub fn constrained_cvt(
                 }
                 let inv = 1.0 / counts[i] as f64;
                 let mean = [sums[i][0] * inv, sums[i][1] * inv, sums[i][2] * inv];
-                let (keep, toward) = settings.weights.coefficients(updates[i]);
+                let (keep, toward) = options.weights.coefficients(updates[i]);
                 let z = generators[i];
                 let free = [keep * z[0] + toward * mean[0], keep * z[1] + toward * mean[1], keep * z[2] + toward * mean[2]];
                 let projected = surface.closest_point(free);
@@ -504,7 +533,7 @@ pub fn constrained_cvt(
                 let net: f64 = generators.iter().zip(old).map(|(&a, &b)| distance(a, b)).sum();
                 let d = net / (n * window) as f64;
                 drift.push(d);
-                if d < settings.tolerance {
+                if d < options.tolerance {
                     converged = true;
                     break;
                 }
@@ -578,11 +607,11 @@ mod tests {
     fn one_generator_goes_to_the_centroid() {
         // The CVT of one generator is the centroid; a non-square rectangle so x and y differ.
         let s = rectangle(80.0, 30.0);
-        let mut settings = Settings::for_generators(1);
+        let mut settings = CvtOptions::for_generators(1);
         settings.weights = Weights::ANNEALED; // its averaging makes the final point precise
         settings.tolerance = 0.0;
         settings.max_iterations = 200;
-        let t = constrained_cvt(&s, 1, &settings, None, None, 3, 1).unwrap();
+        let t = constrained_cvt(&s, 1, &settings.with_seed(3).with_threads(1), None, None).unwrap();
         let g = t.generators[0];
         assert!((g[0] - 40.0).abs() < 0.3 && (g[1] - 15.0).abs() < 0.2 && g[2] == 0.0, "{g:?}");
         // Energy per unit area of a w x h rectangle about its centre: (w^2 + h^2) / 12.
@@ -597,7 +626,7 @@ mod tests {
     fn two_generators_split_a_rectangle_into_squares() {
         let s = rectangle(200.0, 100.0);
         for seed in 0..4 {
-            let t = constrained_cvt(&s, 2, &Settings::for_generators(2), None, None, seed, 1).unwrap();
+            let t = constrained_cvt(&s, 2, &CvtOptions::for_generators(2).with_seed(seed).with_threads(1), None, None).unwrap();
             assert!(t.converged, "seed {seed}: {} iterations", t.iterations);
             let x = sorted_x(&t);
             assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0, "seed {seed}: {x:?}");
@@ -610,8 +639,8 @@ mod tests {
     #[test]
     fn history_is_consistent() {
         let s = hills();
-        let settings = Settings::for_generators(6);
-        let t = constrained_cvt(&s, 6, &settings, None, None, 11, 1).unwrap();
+        let settings = CvtOptions::for_generators(6);
+        let t = constrained_cvt(&s, 6, &settings.with_seed(11).with_threads(1), None, None).unwrap();
         assert_eq!(t.moves.len(), t.iterations);
         assert_eq!(t.energy.len(), t.iterations);
         assert_eq!(t.drift.len(), t.iterations);
@@ -631,7 +660,7 @@ mod tests {
     #[test]
     fn generators_stay_on_a_hilly_surface() {
         let s = hills();
-        let t = constrained_cvt(&s, 9, &Settings::for_generators(9), None, None, 5, 2).unwrap();
+        let t = constrained_cvt(&s, 9, &CvtOptions::for_generators(9).with_seed(5).with_threads(2), None, None).unwrap();
         for &g in &t.generators {
             let c = s.closest_point(g);
             assert!(distance(c, g) < 1e-9, "{g:?} vs {c:?}");
@@ -641,21 +670,21 @@ mod tests {
     #[test]
     fn identical_for_any_thread_count() {
         let s = hills();
-        let mut settings = Settings::for_generators(7);
+        let mut settings = CvtOptions::for_generators(7);
         settings.samples_per_iteration = 5 * CHUNK + 17; // a ragged last chunk
-        let one = constrained_cvt(&s, 7, &settings, None, None, 42, 1).unwrap();
-        let two = constrained_cvt(&s, 7, &settings, None, None, 42, 2).unwrap();
-        let three = constrained_cvt(&s, 7, &settings, None, None, 42, 3).unwrap();
+        let one = constrained_cvt(&s, 7, &settings.with_seed(42).with_threads(1), None, None).unwrap();
+        let two = constrained_cvt(&s, 7, &settings.with_seed(42).with_threads(2), None, None).unwrap();
+        let three = constrained_cvt(&s, 7, &settings.with_seed(42).with_threads(3), None, None).unwrap();
         // Bit for bit (drift holds NaN, which `==` would call unequal to itself).
         let bits = |t: &Tessellation| format!("{t:?}");
         assert_eq!(bits(&one), bits(&two));
         assert_eq!(bits(&one), bits(&three));
-        let other = constrained_cvt(&s, 7, &settings, None, None, 43, 1).unwrap();
+        let other = constrained_cvt(&s, 7, &settings.with_seed(43).with_threads(1), None, None).unwrap();
         assert_ne!(one.generators, other.generators);
         // The same on a coarse surface, where the search runs over per-triangle candidates.
         let coarse = rectangle(120.0, 80.0);
-        let one = constrained_cvt(&coarse, 7, &settings, None, None, 42, 1).unwrap();
-        let two = constrained_cvt(&coarse, 7, &settings, None, None, 42, 2).unwrap();
+        let one = constrained_cvt(&coarse, 7, &settings.with_seed(42).with_threads(1), None, None).unwrap();
+        let two = constrained_cvt(&coarse, 7, &settings.with_seed(42).with_threads(2), None, None).unwrap();
         assert_eq!(bits(&one), bits(&two));
     }
 
@@ -669,7 +698,7 @@ mod tests {
         };
         // Triangle 0 = (0,0),(200,0),(200,100): centroid x = 133; triangle 1: centroid x = 67.
         assert!(centroid_x(0) > 100.0 && centroid_x(1) < 100.0);
-        let t = constrained_cvt(&s, 3, &Settings::for_generators(3), Some(&[0.0, 1.0]), None, 1, 1).unwrap();
+        let t = constrained_cvt(&s, 3, &CvtOptions::for_generators(3).with_seed(1).with_threads(1), Some(&[0.0, 1.0]), None).unwrap();
         for g in &t.generators {
             // Inside triangle 1: below the diagonal y = x / 2 is triangle 0.
             assert!(g[1] >= g[0] / 2.0 - 1e-9, "{g:?}");
@@ -693,11 +722,11 @@ mod tests {
             vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]],
         )
         .unwrap();
-        let mut settings = Settings::for_generators(2);
+        let mut settings = CvtOptions::for_generators(2);
         settings.max_iterations = 8;
         settings.tolerance = 0.0;
         let initial = [[10.0, 10.0, 0.0], [1002.0, 3.0, 0.0]];
-        let t = constrained_cvt(&s, 2, &settings, Some(&[1.0, 1.0, 0.0]), Some(&initial), 9, 1).unwrap();
+        let t = constrained_cvt(&s, 2, &settings.with_seed(9).with_threads(1), Some(&[1.0, 1.0, 0.0]), Some(&initial)).unwrap();
         assert_eq!(t.generators[1], initial[1]);
         assert!(distance(t.generators[0], [50.0, 50.0, 0.0]) < 3.0, "{:?}", t.generators[0]);
         // The first damped step takes the square's generator half way from (10, 10) to about
@@ -735,12 +764,12 @@ mod tests {
         assert_eq!(counts[1], 0);
         for f in 0..4 {
             let p = weights[f] / total;
-            let sigma = (draws as f64 * p * (1.0 - p)).sqrt();
-            assert!((counts[f] as f64 - draws as f64 * p).abs() <= 5.0 * sigma + 1e-9, "{f}: {counts:?}");
+            let sigma = (f64::from(draws) * p * (1.0 - p)).sqrt();
+            assert!((counts[f] as f64 - f64::from(draws) * p).abs() <= 5.0 * sigma + 1e-9, "{f}: {counts:?}");
         }
         // Uniform within a triangle: the share in the half nearer the base edge's first vertex.
         let sampler = TriangleSampler::new(&s, Some(&[1.0, 0.0, 0.0, 0.0])).unwrap();
-        let left = (0..draws).filter(|_| sampler.sample(&mut rng).0[0] < 1.0).count() as f64 / draws as f64;
+        let left = (0..draws).filter(|_| sampler.sample(&mut rng).0[0] < 1.0).count() as f64 / f64::from(draws);
         // Triangle (0,0),(2,0),(0,1) in x-y: the part with x < 1 holds 3/4 of its area.
         assert!((left - 0.75).abs() < 0.005, "{left}");
     }
@@ -771,11 +800,11 @@ mod tests {
     #[test]
     fn nearest_matches_brute_force() {
         let generators = [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 5.0]];
-        let points: Vec<Point> = (0..3000).map(|k| [(k % 17) as f64 - 3.0, (k % 13) as f64, (k % 7) as f64 - 2.0]).collect();
+        let points: Vec<Point> = (0..3000).map(|k| [f64::from(k % 17) - 3.0, f64::from(k % 13), f64::from(k % 7) - 2.0]).collect();
         let labels = nearest_generator(&generators, &points, 2).unwrap();
         for (p, &l) in points.iter().zip(&labels) {
             let d: Vec<f64> = generators.iter().map(|&g| distance(g, *p)).collect();
-            let best = d.iter().cloned().fold(f64::INFINITY, f64::min);
+            let best = d.iter().copied().fold(f64::INFINITY, f64::min);
             assert_eq!(d[l], best);
             assert_eq!(l, d.iter().position(|&x| x == best).unwrap()); // ties to the lower index
         }
@@ -786,10 +815,10 @@ mod tests {
     #[test]
     fn bad_input_is_an_error() {
         let s = rectangle(10.0, 10.0);
-        let ok = Settings::for_generators(3);
-        let run = |n: usize, settings: &Settings| constrained_cvt(&s, n, settings, None, None, 0, 1);
+        let ok = CvtOptions::for_generators(3);
+        let run = |n: usize, settings: &CvtOptions| constrained_cvt(&s, n, &settings.with_seed(0).with_threads(1), None, None);
         assert!(matches!(run(0, &ok), Err(Error::InvalidInput(_))));
-        let mut few = ok.clone();
+        let mut few = ok;
         few.samples_per_iteration = 2;
         assert!(matches!(run(3, &few), Err(Error::InvalidInput(_))));
         few.samples_per_iteration = 0;
@@ -801,27 +830,27 @@ mod tests {
             ([-0.5, 1.5], [0.5, 0.5]),
             ([f64::NAN, 0.5], [0.5, 0.5]),
         ] {
-            let mut bad = ok.clone();
+            let mut bad = ok;
             bad.weights = Weights { alpha, beta };
             assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))), "{alpha:?} {beta:?}");
             assert!(Weights::new(alpha, beta).is_err());
         }
         for edit in [
-            |s: &mut Settings| s.tolerance = -1.0,
-            |s: &mut Settings| s.tolerance = f64::NAN,
-            |s: &mut Settings| s.window = 0,
-            |s: &mut Settings| s.max_iterations = 0,
+            |s: &mut CvtOptions| s.tolerance = -1.0,
+            |s: &mut CvtOptions| s.tolerance = f64::NAN,
+            |s: &mut CvtOptions| s.window = 0,
+            |s: &mut CvtOptions| s.max_iterations = 0,
         ] {
-            let mut bad = ok.clone();
+            let mut bad = ok;
             edit(&mut bad);
             assert!(matches!(run(3, &bad), Err(Error::InvalidInput(_))));
         }
         for density in [vec![0.0, 0.0], vec![1.0, -1.0], vec![1.0, f64::NAN], vec![1.0]] {
-            assert!(matches!(constrained_cvt(&s, 3, &ok, Some(&density), None, 0, 1), Err(Error::InvalidInput(_))));
+            assert!(matches!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), Some(&density), None), Err(Error::InvalidInput(_))));
         }
         let two = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0]];
-        assert!(constrained_cvt(&s, 3, &ok, None, Some(&two), 0, 1).is_err());
+        assert!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), None, Some(&two)).is_err());
         let nan = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [f64::NAN, 0.0, 0.0]];
-        assert!(constrained_cvt(&s, 3, &ok, None, Some(&nan), 0, 1).is_err());
+        assert!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), None, Some(&nan)).is_err());
     }
 }

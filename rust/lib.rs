@@ -7,28 +7,49 @@
 //! - [`mesh`]: the surface, a triangle mesh with parry's BVH: segment, vertical and
 //!   closest-point queries.
 //! - [`heightfield`]: the exact fast path for elevation grids, without a triangle list.
-//! - [`skyline`]: how steeply the surface rises around a grid node, so sight lines to grid-node
-//!   targets settle their last cells with one comparison.
-//! - [`sampling`]: coverage targets and area-uniform samples on a surface.
+//! - [`grid`]: the elevation grid itself (shape, spacing, heights, node numbering).
+//! - [`geometry`]: [`Point`] and what a line of sight is.
+//! - [`sampling`]: coverage targets on a surface.
 //! - [`visibility`]: the coverage objective, parallel over targets.
-//! - [`threads`]: cached thread pools so results never depend on their size.
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
+//!
+//! Two modules are internal: `skyline` (how steeply the surface rises around a grid node, so
+//! sight lines to grid-node targets settle their last cells with one comparison) and `threads`
+//! (cached thread pools, so results never depend on their size).
+//!
+//! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
+//! <- `sampling` <- `visibility`, and `mesh` <- `cvt`.
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
 //! plain Rust, so `cargo test` and `cargo bench` need no Python.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use uavcov::{Surface, Targets, Visibility};
+//! // A flat 20 m x 20 m grid at 1 m, every node a target, and one UAV 10 m above its centre.
+//! let surface = Arc::new(Surface::from_grid(vec![0.0; 21 * 21], 21, 21, 1.0, 1.0, 0.0, 0.0)?);
+//! let targets = Targets::grid_nodes(surface.clone())?;
+//! let vis = Visibility::new(surface, targets, 15.0)?;
+//! let coverage = vis.coverage(&[[10.0, 10.0, 10.0]], 1)?;
+//! assert!(coverage > 0.5 && coverage < 1.0); // the corners are out of range
+//! # Ok::<(), uavcov::Error>(())
+//! ```
 
 pub mod cvt;
 pub mod error;
+pub mod geometry;
+pub mod grid;
 pub mod heightfield;
 pub mod mesh;
 pub mod sampling;
-pub mod skyline;
-pub mod threads;
+mod skyline;
+mod threads;
 pub mod visibility;
 
 #[cfg(feature = "python")]
 mod python;
 
 pub use error::{Error, Result};
+pub use geometry::Point;
 pub use mesh::Surface;
-pub use visibility::{Targets, UavCounts, Visibility};
+pub use visibility::{Path, Targets, UavCounts, Visibility};

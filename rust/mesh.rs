@@ -24,37 +24,24 @@ use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 use std::sync::OnceLock;
 
 use crate::error::{Error, Result};
+use crate::geometry::{p, triangle_area, v, Point, SIGHT_FRACTION};
+use crate::grid::Grid;
 use crate::heightfield::HeightField;
-
-/// A point or vector in metres.
-pub type Point = [f64; 3];
 
 /// Most triangles the general mesh path accepts: about 300 bytes each with the BVH, so this caps
 /// the mesh at a few gigabytes; larger maps belong on the elevation-grid path.
 pub const MAX_TRIANGLES: usize = 10_000_000;
 
-/// The regular elevation grid a surface was built from, kept for the grid fast path and targets.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Grid {
-    /// Number of rows (along y).
-    pub ny: usize,
-    /// Number of columns (along x).
-    pub nx: usize,
-    /// Cell size along x, metres.
-    pub dx: f64,
-    /// Cell size along y, metres.
-    pub dy: f64,
-    /// x of column 0, metres.
-    pub x0: f64,
-    /// y of row 0, metres.
-    pub y0: f64,
-    /// Heights, row-major `(ny, nx)`; NaN marks nodata.
-    pub z: Vec<f64>,
-    /// For each grid node, its index among the surface vertices, or `u32::MAX` when unused.
-    pub vertex_of_node: Vec<u32>,
-}
-
 /// A triangle mesh with parry's BVH: the general path, and the mesh path of a grid on demand.
+///
+/// ```
+/// use uavcov::Surface;
+/// // The mesh path of a flat 3 x 3 grid: 8 triangles, built on first call.
+/// let s = Surface::from_grid(vec![0.0; 9], 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
+/// let mesh = s.triangle_mesh().unwrap();
+/// assert_eq!(mesh.trimesh().indices().len(), 8);
+/// assert!(mesh.line_of_sight([1.0, 1.0, 5.0], [0.5, 0.5, 0.0]));
+/// ```
 #[derive(Clone)]
 pub struct TriangleMesh {
     mesh: TriMesh,
@@ -79,6 +66,12 @@ enum Body {
     Grid(Box<HeightField>, OnceLock<Result<TriangleMesh>>),
 }
 
+impl std::fmt::Debug for TriangleMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TriangleMesh").field("triangles", &self.corners.len()).field("area", &self.total_area).finish_non_exhaustive()
+    }
+}
+
 impl std::fmt::Debug for Surface {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Surface")
@@ -88,21 +81,6 @@ impl std::fmt::Debug for Surface {
             .field("grid", &self.grid().map(|g| (g.ny, g.nx)))
             .finish()
     }
-}
-
-#[inline]
-pub(crate) fn v(p: Point) -> Vector {
-    Vector::new(p[0], p[1], p[2])
-}
-
-#[inline]
-pub(crate) fn p(v: Vector) -> Point {
-    [v.x, v.y, v.z]
-}
-
-/// Area of the triangle `abc`.
-pub(crate) fn triangle_area(a: Vector, b: Vector, c: Vector) -> f64 {
-    0.5 * (b - a).cross(c - a).length()
 }
 
 impl Surface {
@@ -194,6 +172,9 @@ impl Surface {
     }
 
     /// Vertex `i`.
+    ///
+    /// # Panics
+    /// When `i` is not below [`Surface::n_vertices`].
     pub fn vertex(&self, i: usize) -> Point {
         match &self.body {
             Body::Mesh(m) => p(m.mesh.vertices()[i]),
@@ -215,6 +196,9 @@ impl Surface {
     }
 
     /// The corners of triangle `f`.
+    ///
+    /// # Panics
+    /// When `f` is not below [`Surface::n_triangles`].
     #[inline]
     pub fn triangle(&self, f: usize) -> [Vector; 3] {
         match &self.body {
@@ -370,7 +354,7 @@ impl TriangleMesh {
             return Err(Error::Mesh(format!("vertex {i} has a non-finite coordinate")));
         }
         let n = vertices.len() as u64;
-        if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| k as u64 >= n)) {
+        if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| u64::from(k) >= n)) {
             return Err(Error::Mesh(format!("face {f} refers to vertex {:?} but there are only {n} vertices", faces[f])));
         }
         let points: Vec<Vector> = vertices.into_iter().map(v).collect();
@@ -396,11 +380,13 @@ impl TriangleMesh {
     }
 
     /// The parry triangle mesh.
+    #[must_use]
     pub fn trimesh(&self) -> &TriMesh {
         &self.mesh
     }
 
     /// `(mins, maxs)` of the vertices.
+    #[must_use]
     pub fn bounds(&self) -> (Point, Point) {
         let aabb = self.mesh.local_aabb();
         (p(aabb.mins), p(aabb.maxs))
@@ -409,6 +395,7 @@ impl TriangleMesh {
     /// Whether the ray `origin + t dir`, `0 <= t <= t_max`, crosses a triangle.
     ///
     /// Any-hit: the traversal stops at the first triangle found, since visibility needs no more.
+    #[must_use]
     pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
         let ray = Ray::new(v(origin), v(dir));
         let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
@@ -432,6 +419,7 @@ impl TriangleMesh {
     }
 
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
+    #[must_use]
     pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
         let ray = Ray::new(v(origin), v(dir));
         let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
@@ -457,20 +445,18 @@ impl TriangleMesh {
 
     /// Whether a UAV at `uav` sees `target` (see [`Surface::line_of_sight`]).
     #[inline]
+    #[must_use]
     pub fn line_of_sight(&self, uav: Point, target: Point) -> bool {
         let d = [target[0] - uav[0], target[1] - uav[1], target[2] - uav[2]];
         !self.ray_hits(uav, d, SIGHT_FRACTION)
     }
 
     /// The surface point closest to `point`.
+    #[must_use]
     pub fn closest_point(&self, point: Point) -> Point {
         p(self.mesh.project_local_point(v(point), false).point)
     }
 }
-
-/// The segment from a UAV to a target is tested up to this fraction of its length, so the
-/// target's own triangles never count as an obstruction.
-pub const SIGHT_FRACTION: f64 = 0.999;
 
 fn bounding_diagonal(points: &[Vector]) -> f64 {
     let mut lo = Vector::splat(f64::INFINITY);
@@ -556,7 +542,7 @@ mod tests {
     #[test]
     fn vertical_queries_on_a_tilted_grid() {
         // z = x + 2 y on a 3 x 3 grid: planar, so every query is exact.
-        let z: Vec<f64> = (0..9).map(|k| (k % 3) as f64 + 2.0 * (k / 3) as f64).collect();
+        let z: Vec<f64> = (0..9).map(|k| f64::from(k % 3) + 2.0 * f64::from(k / 3)).collect();
         let s = Surface::from_grid(z, 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
         let h = s.ground_height(0.3, 1.2).unwrap();
         assert!((h - 2.7).abs() < 1e-12);

@@ -1,5 +1,5 @@
-//! Points on a surface: coverage targets with the area each stands for, and random samples
-//! uniform by area (the CVT's input).
+//! Coverage targets on a surface, with the area each stands for. (The CVT draws its random
+//! samples with its own alias-table sampler, in [`crate::cvt`].)
 //!
 //! ```
 //! use uavcov::mesh::Surface;
@@ -10,10 +10,9 @@
 //! assert!((weights.iter().sum::<f64>() - 4.0).abs() < 1e-12);
 //! ```
 
-use rand::RngExt;
-
-use crate::error::{ensure, Error, Result};
-use crate::mesh::{p, Point, Surface};
+use crate::error::{ensure, Result};
+use crate::geometry::{p, Point};
+use crate::mesh::Surface;
 
 /// Targets of a surface with the area (m^2) each stands for; weights sum to the surface area.
 ///
@@ -23,7 +22,7 @@ use crate::mesh::{p, Point, Surface};
 /// points are deterministic and never lie on an edge, where visibility is ill-defined.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] when `density` is not finite and positive (meshes only), or when the
+/// [`Error::InvalidInput`](crate::Error::InvalidInput) when `density` is not finite and positive (meshes only), or when the
 /// mesh would get more than 100 million targets.
 pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
     if surface.grid().is_some() {
@@ -79,56 +78,9 @@ pub fn vertex_targets(surface: &Surface) -> (Vec<Point>, Vec<f64>) {
     (surface.vertices().collect(), weights)
 }
 
-/// Draws points uniformly by area on a surface, optionally weighted by a density per triangle.
-pub struct AreaSampler<'a> {
-    surface: &'a Surface,
-    cumulative: Vec<f64>,
-}
-
-impl<'a> AreaSampler<'a> {
-    /// A sampler over `surface`. With `density`, triangle `f` is drawn with probability
-    /// proportional to `area[f] * density[f]`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidInput`] when `density` has the wrong length, a negative or non-finite
-    /// value, or is zero everywhere.
-    pub fn new(surface: &'a Surface, density: Option<&[f64]>) -> Result<Self> {
-        let areas = surface.areas();
-        if let Some(d) = density {
-            ensure!(d.len() == areas.len(), "density has {} values for {} triangles", d.len(), areas.len());
-            ensure!(d.iter().all(|x| x.is_finite() && *x >= 0.0), "density must be finite and >= 0 everywhere");
-        }
-        let mut cumulative = Vec::with_capacity(areas.len());
-        let mut sum = 0.0;
-        for (f, &a) in areas.iter().enumerate() {
-            sum += a * density.map_or(1.0, |d| d[f]);
-            cumulative.push(sum);
-        }
-        if sum.is_nan() || sum <= 0.0 {
-            return Err(Error::InvalidInput("the sampling density is zero over the whole surface".into()));
-        }
-        Ok(Self { surface, cumulative })
-    }
-
-    /// One point, uniform by (weighted) area.
-    pub fn sample<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> Point {
-        let total = *self.cumulative.last().expect("a surface has triangles");
-        let x = rng.random::<f64>() * total;
-        let f = self.cumulative.partition_point(|&c| c <= x).min(self.cumulative.len() - 1);
-        let [a, b, c] = self.surface.triangle(f);
-        let (mut u, mut v) = (rng.random::<f64>(), rng.random::<f64>());
-        if u + v > 1.0 {
-            // Reflect into the lower half of the unit square: uniform on the triangle.
-            (u, v) = (1.0 - u, 1.0 - v);
-        }
-        p(a + (b - a) * u + (c - a) * v)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::SeedableRng;
 
     fn square_mesh() -> Surface {
         Surface::new(vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]], vec![[0, 1, 2], [0, 2, 3]]).unwrap()
@@ -151,22 +103,9 @@ mod tests {
     }
 
     #[test]
-    fn area_sampler_is_uniform() {
-        let s = square_mesh();
-        let sampler = AreaSampler::new(&s, None).unwrap();
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        let n = 40_000;
-        let left = (0..n).filter(|_| sampler.sample(&mut rng)[0] < 1.0).count();
-        let share = left as f64 / n as f64;
-        assert!((share - 0.25).abs() < 0.01, "{share}");
-    }
-
-    #[test]
     fn bad_density_is_an_error() {
         let s = square_mesh();
-        assert!(AreaSampler::new(&s, Some(&[0.0, 0.0])).is_err());
-        assert!(AreaSampler::new(&s, Some(&[1.0, -1.0])).is_err());
-        assert!(AreaSampler::new(&s, Some(&[1.0])).is_err());
         assert!(default_targets(&s, 0.0).is_err());
+        assert!(default_targets(&s, f64::NAN).is_err());
     }
 }

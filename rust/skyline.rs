@@ -14,33 +14,24 @@
 //! height over the node divided by the triangle's nearest (or farthest) distance adds to its
 //! gradient over the sector. Each bound is rounded up to one of 256 levels, so a skyline is 32
 //! bytes. The geometry shared by all nodes of a grid (which triangles, how far, which sectors)
-//! is computed once, in a [`Stencil`].
+//! is computed once, in a [`Stencil`]; [`Skylines`] keeps them per chunk of targets, computed
+//! on demand.
 //!
-//! ```
-//! use uavcov::heightfield::HeightField;
-//! use uavcov::skyline::{Stencil, SECTORS};
-//! // A plane rising 0.5 m per metre along +x.
-//! let z: Vec<f64> = (0..49).map(|k| 0.5 * (k % 7) as f64).collect();
-//! let hf = HeightField::new(z, 7, 7, 1.0, 1.0, 0.0, 0.0).unwrap();
-//! let sky = Stencil::of_grid(hf.grid()).skyline(hf.grid(), 3, 3);
-//! assert!(sky.slope(0) >= 0.5 && sky.slope(0) < 0.6); // towards +x: the plane's own slope
-//! assert!(sky.slope(SECTORS / 2) < 0.0); // towards -x the surface falls away
-//! ```
+//! Internal to the grid path of [`crate::visibility`]; it reads only [`crate::grid`].
 //!
 //! [`HeightField::line_of_sight_to_node`]: crate::heightfield::HeightField::line_of_sight_to_node
 
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use crate::heightfield::pseudo_angle;
-use crate::mesh::Grid;
+use crate::grid::{pseudo_angle, Grid};
 
 /// Directions around a node; sector `k` holds the pseudo-angles `[4k, 4(k+1)) / SECTORS` (see
 /// [`sector_of`]).
-pub const SECTORS: usize = 32;
+pub(crate) const SECTORS: usize = 32;
 
 /// How far a skyline reaches, in cells: every point within `REACH * min(dx, dy)` of the node
 /// horizontally is accounted for.
-pub const REACH: usize = 4;
+pub(crate) const REACH: usize = 4;
 
 /// Slope levels: `LEVELS[q]` is the slope that code `q` stands for, strictly increasing from
 /// about -64 to `+inf`: `2t / (1 - t^2)` (the tangent of twice the angle whose tangent is `t`)
@@ -61,11 +52,11 @@ const fn levels() -> [f64; 256] {
 
 /// Upper bounds on the slope from a grid node to the surface around it, per direction sector.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Skyline([u8; SECTORS]);
+pub(crate) struct Skyline([u8; SECTORS]);
 
 /// The sector of a direction given by its pseudo-angle `a` in `[0, 4]`.
 #[inline(always)]
-pub fn sector_of(a: f64) -> usize {
+pub(crate) fn sector_of(a: f64) -> usize {
     ((a * (SECTORS as f64 / 4.0)) as usize).min(SECTORS - 1)
 }
 
@@ -74,7 +65,7 @@ impl Skyline {
     /// surface within [`REACH`] cells whose direction lies within one sector of `k`; `+inf` when
     /// nothing is known, `LEVELS[0]` (about -64) where there is no surface.
     #[inline(always)]
-    pub fn slope(&self, k: usize) -> f64 {
+    pub(crate) fn slope(&self, k: usize) -> f64 {
         LEVELS[self.0[k] as usize]
     }
 }
@@ -83,7 +74,7 @@ impl Skyline {
 /// of a node, where its two triangles lie from the node (distances and sectors), which depends
 /// on the spacing only. Built once per grid; a skyline then only reads heights.
 #[derive(Debug, Clone)]
-pub struct Stencil {
+pub(crate) struct Stencil {
     cells: Vec<Cell>,
     /// Unit vectors along the sector boundaries: `edges[k]` at pseudo-angle `4k / SECTORS`.
     edges: [(f64, f64); SECTORS + 1],
@@ -119,7 +110,7 @@ struct Span {
 
 impl Stencil {
     /// The stencil of a grid with cells of `dx` by `dy` metres.
-    pub fn new(dx: f64, dy: f64) -> Self {
+    pub(crate) fn new(dx: f64, dy: f64) -> Self {
         let reach = REACH as isize;
         let mut cells = Vec::with_capacity(4 * REACH * REACH);
         for di in -reach..reach {
@@ -159,13 +150,13 @@ impl Stencil {
     }
 
     /// The stencil of `grid`.
-    pub fn of_grid(grid: &Grid) -> Self {
+    pub(crate) fn of_grid(grid: &Grid) -> Self {
         Self::new(grid.dx, grid.dy)
     }
 
     /// The skyline of node `(i, j)` (row, column) of `grid` (whose spacing is the stencil's),
     /// whose height must not be nodata.
-    pub fn skyline(&self, grid: &Grid, i: usize, j: usize) -> Skyline {
+    pub(crate) fn skyline(&self, grid: &Grid, i: usize, j: usize) -> Skyline {
         debug_assert!(grid.dx == self.dx && grid.dy == self.dy);
         let nx = grid.nx;
         let z = &grid.z;
@@ -230,7 +221,7 @@ impl Stencil {
 /// one-off coverage, the edge of a large map) is not worth the cost, while one evaluated again
 /// most likely will be, many times over (an optimiser's loop). Answers never depend on it.
 #[derive(Debug)]
-pub struct Skylines {
+pub(crate) struct Skylines {
     stencil: Stencil,
     chunks: Vec<Mutex<Slot>>,
 }
@@ -247,7 +238,7 @@ enum Slot {
 const UNKNOWN: Skyline = Skyline([255; SECTORS]);
 
 /// The skylines of one chunk, held for one evaluation of it.
-pub struct ChunkSkylines<'a> {
+pub(crate) struct ChunkSkylines<'a> {
     slot: MutexGuard<'a, Slot>,
     stencil: &'a Stencil,
     grid: &'a Grid,
@@ -255,12 +246,12 @@ pub struct ChunkSkylines<'a> {
 
 impl Skylines {
     /// An empty store for the targets of `grid`, in `n_chunks` chunks.
-    pub fn new(grid: &Grid, n_chunks: usize) -> Self {
+    pub(crate) fn new(grid: &Grid, n_chunks: usize) -> Self {
         Self { stencil: Stencil::of_grid(grid), chunks: (0..n_chunks).map(|_| Mutex::new(Slot::Untouched)).collect() }
     }
 
     /// The skylines of chunk `c` (`len` targets of `grid`), or `None` on its first evaluation.
-    pub fn chunk<'a>(&'a self, c: usize, len: usize, grid: &'a Grid) -> Option<ChunkSkylines<'a>> {
+    pub(crate) fn chunk<'a>(&'a self, c: usize, len: usize, grid: &'a Grid) -> Option<ChunkSkylines<'a>> {
         // A panic elsewhere cannot leave a slot half-written: every write is a whole value.
         let mut slot = self.chunks[c].lock().unwrap_or_else(PoisonError::into_inner);
         match *slot {
@@ -277,7 +268,7 @@ impl Skylines {
 
 impl ChunkSkylines<'_> {
     /// The skyline of target `t` of the chunk, grid node `node` (row-major index).
-    pub fn get(&mut self, t: usize, node: usize) -> Skyline {
+    pub(crate) fn get(&mut self, t: usize, node: usize) -> Skyline {
         let Slot::Kept(kept) = &mut *self.slot else { unreachable!("a chunk is handed out only once kept") };
         if kept[t] == UNKNOWN {
             kept[t] = self.stencil.skyline(self.grid, node / self.grid.nx, node % self.grid.nx);
@@ -346,9 +337,22 @@ fn direction(s: f64) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::heightfield::HeightField;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// A grid of heights `z` (row-major, `ny` x `nx`) at the origin, as a height field keeps it.
+    fn grid(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64) -> Grid {
+        Grid { ny, nx, dx, dy, x0: 0.0, y0: 0.0, z, vertex_of_node: Vec::new() }
+    }
+
+    #[test]
+    fn a_plane_rising_along_x_has_its_own_slope_towards_x() {
+        // A plane rising 0.5 m per metre along +x.
+        let g = grid((0..49).map(|k| 0.5 * f64::from(k % 7)).collect(), 7, 7, 1.0, 1.0);
+        let sky = Stencil::of_grid(&g).skyline(&g, 3, 3);
+        assert!(sky.slope(0) >= 0.5 && sky.slope(0) < 0.6); // towards +x: the plane's own slope
+        assert!(sky.slope(SECTORS / 2) < 0.0); // towards -x the surface falls away
+    }
 
     #[test]
     fn levels_round_up_and_are_tight() {
@@ -367,7 +371,7 @@ mod tests {
     #[test]
     fn direction_inverts_the_pseudo_angle() {
         for k in 0..400 {
-            let s = 4.0 * k as f64 / 400.0;
+            let s = 4.0 * f64::from(k) / 400.0;
             let (x, y) = direction(s);
             assert!((pseudo_angle(x, y) - s).abs() < 1e-12 || (s == 4.0), "{s}");
             assert!(((x * x + y * y) - 1.0).abs() < 1e-12);
@@ -385,9 +389,10 @@ mod tests {
             let z: Vec<f64> = (0..ny * nx)
                 .map(|_| if case % 5 == 4 && rng.random::<f64>() < 0.1 { f64::NAN } else { rng.random_range(-2.0..2.0) })
                 .collect();
-            let hf = HeightField::new(z.clone(), ny, nx, dx, dy, 0.0, 0.0);
-            let Ok(hf) = hf else { continue };
-            let g = hf.grid();
+            if z.iter().all(|h| h.is_nan()) {
+                continue; // no triangle at all
+            }
+            let g = &grid(z.clone(), ny, nx, dx, dy);
             let stencil = Stencil::of_grid(g);
             let reach = REACH as f64 * dx.min(dy);
             for i in 0..ny {

@@ -13,7 +13,7 @@ use rayon::{ThreadPool, ThreadPoolBuilder};
 /// in order. That is also why a refusal is harmless: when the OS will not start `n_threads`
 /// threads, the work runs on a single-thread pool or, failing that, on the calling thread alone,
 /// and gives the same answer.
-pub fn run<R: Send>(n_threads: usize, work: impl FnOnce() -> R + Send) -> R {
+pub(crate) fn run<R: Send>(n_threads: usize, work: impl FnOnce() -> R + Send) -> R {
     let n = if n_threads == 0 { available() } else { n_threads };
     if n == 1 {
         // One thread: the calling thread itself, as a pool of its own, so that a call does not
@@ -51,13 +51,13 @@ fn run_elsewhere<R: Send>(n: usize, work: impl FnOnce() -> R + Send) -> R {
 }
 
 /// The number of cores rayon would use by default.
-pub fn available() -> usize {
-    std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+pub(crate) fn available() -> usize {
+    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
 }
 
 fn pool(n: usize) -> Option<Arc<ThreadPool>> {
     static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
-    let mut pools = POOLS.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
+    let mut pools = POOLS.get_or_init(Default::default).lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     if let Some(p) = pools.get(&n) {
         return Some(p.clone());
     }

@@ -12,8 +12,9 @@
 //! for a surface built from an elevation grid, the [`HeightField`] walk, which gives the same
 //! answer for every segment (see [`crate::heightfield`]) at a fraction of the cost and memory.
 //! The grid path is chosen automatically; the mesh path of a grid stays available for comparison.
-//! On the grid path, grid-node targets also get their [`Skyline`] from their chunk's second
-//! evaluation on, which settles most sight lines with two look-ups (see [`crate::skyline`]).
+//! On the grid path, grid-node targets also get their skyline (how steeply the surface rises
+//! around them, direction by direction) from their chunk's second evaluation on, which settles
+//! most sight lines with two look-ups.
 //!
 //! ```
 //! use uavcov::mesh::Surface;
@@ -30,8 +31,9 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use crate::error::{ensure, Error, Result};
+use crate::geometry::Point;
 use crate::heightfield::{HeightField, Horizon};
-use crate::mesh::{Point, Surface, TriangleMesh};
+use crate::mesh::{Surface, TriangleMesh};
 use crate::sampling::default_targets;
 use crate::skyline::{ChunkSkylines, Skyline, Skylines};
 use crate::threads;
@@ -83,6 +85,9 @@ impl Targets {
     }
 
     /// The surface's default targets (see [`default_targets`]).
+    ///
+    /// # Errors
+    /// As [`default_targets`].
     pub fn of_surface(surface: &Surface, density: f64) -> Result<Self> {
         let (points, weights) = default_targets(surface, density)?;
         Self::new(points, Some(weights))
@@ -124,11 +129,13 @@ impl Targets {
     }
 
     /// Whether the points are generated from a grid surface rather than stored.
+    #[must_use]
     pub fn is_grid_nodes(&self) -> bool {
         matches!(self.points, Points::GridNodes { .. })
     }
 
     /// The target points (generated for grid-node targets).
+    #[must_use]
     pub fn points(&self) -> std::borrow::Cow<'_, [Point]> {
         match &self.points {
             Points::Given(p) => std::borrow::Cow::Borrowed(p),
@@ -182,16 +189,19 @@ impl Targets {
     }
 
     /// The weight of each target.
+    #[must_use]
     pub fn weights(&self) -> &[f64] {
         &self.weights
     }
 
     /// Number of targets.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.len
     }
 
     /// Always false: a target set is never empty.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
@@ -269,6 +279,7 @@ impl std::str::FromStr for Path {
 }
 
 /// The coverage objective for one surface, one target set and one sensing range.
+#[derive(Debug)]
 pub struct Visibility {
     surface: Arc<Surface>,
     targets: Targets,
@@ -314,21 +325,25 @@ impl Visibility {
     }
 
     /// The surface.
+    #[must_use]
     pub fn surface(&self) -> &Arc<Surface> {
         &self.surface
     }
 
     /// The targets.
+    #[must_use]
     pub fn targets(&self) -> &Targets {
         &self.targets
     }
 
     /// The sensing range, m.
+    #[must_use]
     pub fn d_max(&self) -> f64 {
         self.d_max
     }
 
     /// The path the line-of-sight tests take ([`Path::Grid`] or [`Path::Mesh`]).
+    #[must_use]
     pub fn path(&self) -> Path {
         if self.grid_path {
             Path::Grid
@@ -375,6 +390,9 @@ impl Visibility {
     }
 
     /// For each target, whether at least one UAV sees it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when there is no UAV or a UAV coordinate is not finite.
     pub fn seen(&self, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
         let d2 = self.d_max * self.d_max;
@@ -425,12 +443,16 @@ impl Visibility {
     }
 
     /// The weighted share of targets seen by at least one UAV, in `[0, 1]`.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen`].
     pub fn coverage(&self, uavs: &[Point], n_threads: usize) -> Result<f64> {
         let seen = self.seen(uavs, n_threads)?;
         Ok(self.share(&seen))
     }
 
     /// The weighted share of the targets flagged in `mask`.
+    #[must_use]
     pub fn share(&self, mask: &[bool]) -> f64 {
         // A fold from +0.0, not `sum()`, whose empty sum is -0.0.
         let covered = mask.iter().zip(&self.targets.weights).filter(|(s, _)| **s).fold(0.0, |acc, (_, w)| acc + w);
@@ -439,6 +461,9 @@ impl Visibility {
 
     /// Per-UAV counts, and the coverage: every UAV in range is tested for every target (no early
     /// stop), so one call answers what a per-robot optimiser needs.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen`].
     pub fn per_uav(&self, uavs: &[Point], n_threads: usize) -> Result<UavCounts> {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
@@ -622,7 +647,7 @@ mod tests {
         assert!(nodes.targets().is_grid_nodes());
         assert_eq!(nodes.targets().points().as_ref(), grid.targets().points().as_ref());
         assert_eq!(nodes.targets().weights(), grid.targets().weights());
-        let uavs: Vec<Point> = (0..6).map(|k| [103.0 + 4.0 * k as f64, -5.0 + 3.5 * k as f64, 4.0 + k as f64]).collect();
+        let uavs: Vec<Point> = (0..6).map(|k| [103.0 + 4.0 * f64::from(k), -5.0 + 3.5 * f64::from(k), 4.0 + f64::from(k)]).collect();
         for n in 1..=uavs.len() {
             let u = &uavs[..n];
             let seen = mesh.seen(u, 1).unwrap();

@@ -5,13 +5,14 @@ use pyo3::prelude::*;
 
 use super::surface::PySurface;
 use super::{invalid, points, points_to_py, to_py_err};
-use crate::cvt::{self, Settings, Weights};
+use crate::cvt::{self, CvtOptions, Weights};
 
 /// `(generators (N, 3), moves (K,), drift (K,), energy (K,), iterations, converged)`.
 type RunOutput<'py> =
     (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, usize, bool);
 
 /// The probabilistic MacQueen CVT; static methods only (one class keeps the module's names few).
+#[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "CVT")]
 pub struct PyCvt;
 
@@ -20,7 +21,7 @@ impl PyCvt {
     /// Runs the CVT; the Python wrapper `uavcov.cvt.cvt` validates and documents the arguments.
     #[staticmethod]
     #[pyo3(signature = (surface, n, samples_per_iteration, alpha, beta, tolerance, window, max_iterations, seed, density=None, initial=None, n_threads=0))]
-    #[allow(clippy::too_many_arguments)]
+    #[expect(clippy::too_many_arguments, reason = "the Python-visible signature of `_core.CVT.run`; Rust gathers them in `CvtOptions`")]
     fn run<'py>(
         py: Python<'py>,
         surface: &Bound<'py, PySurface>,
@@ -37,7 +38,7 @@ impl PyCvt {
         n_threads: usize,
     ) -> PyResult<RunOutput<'py>> {
         let weights = Weights::new([alpha.0, alpha.1], [beta.0, beta.1]).map_err(|e| to_py_err(py, e))?;
-        let settings = Settings { samples_per_iteration, weights, tolerance, window, max_iterations };
+        let options = CvtOptions { samples_per_iteration, weights, tolerance, window, max_iterations, seed, n_threads };
         // Copies, so Rust reads nothing Python could change once the GIL is released.
         let density: Option<Vec<f64>> = density.map(|d| d.as_array().to_vec());
         let initial = match initial {
@@ -46,7 +47,7 @@ impl PyCvt {
         };
         let surface = surface.get().inner.clone();
         let result = py
-            .detach(|| cvt::constrained_cvt(&surface, n, &settings, density.as_deref(), initial.as_deref(), seed, n_threads))
+            .detach(|| cvt::constrained_cvt(&surface, n, &options, density.as_deref(), initial.as_deref()))
             .map_err(|e| to_py_err(py, e))?;
         Ok((
             points_to_py(py, result.generators),

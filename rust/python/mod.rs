@@ -4,6 +4,10 @@
 //!
 //! One file per Python class; this one holds the module and the conversions they share.
 
+// PyO3 extracts every argument by value (arrays, strings, errors for `map_err`), whether or not
+// the body consumes it.
+#![allow(clippy::needless_pass_by_value, reason = "PyO3's calling convention")]
+
 mod cvt;
 mod surface;
 mod visibility;
@@ -15,7 +19,7 @@ use pyo3::prelude::*;
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::mesh::Point;
+use crate::geometry::Point;
 use crate::threads;
 
 pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
@@ -51,7 +55,7 @@ pub(crate) fn points(py: Python<'_>, array: &PyReadonlyArray2<'_, f64>, name: &s
     Ok(out)
 }
 
-pub(crate) fn points_to_py<'py>(py: Python<'py>, pts: Vec<Point>) -> Bound<'py, PyArray2<f64>> {
+pub(crate) fn points_to_py(py: Python<'_>, pts: Vec<Point>) -> Bound<'_, PyArray2<f64>> {
     let n = pts.len();
     let flat: Vec<f64> = pts.into_iter().flatten().collect();
     Array2::from_shape_vec((n, 3), flat).expect("n x 3 values").into_pyarray(py)

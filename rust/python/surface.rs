@@ -8,10 +8,15 @@ use pyo3::prelude::*;
 
 use super::{invalid, parallel_map, points, points_to_py, to_py_err};
 use crate::error::Error;
-use crate::mesh::{self, Point};
+use crate::geometry::Point;
+use crate::mesh;
 use crate::sampling;
 
+/// `(points (n, 3), weights (n,))`.
+type WeightedPoints<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// A triangle mesh with its BVH (see `uavcov.Terrain`).
+#[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "Surface")]
 pub struct PySurface {
     pub(crate) inner: Arc<mesh::Surface>,
@@ -88,13 +93,13 @@ impl PySurface {
     }
 
     /// The vertices with a third of the area around each: `(points (V, 3), weights (V,))`.
-    fn vertex_targets<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
+    fn vertex_targets<'py>(&self, py: Python<'py>) -> WeightedPoints<'py> {
         let (pts, w) = sampling::vertex_targets(&self.inner);
         (points_to_py(py, pts), w.into_pyarray(py))
     }
 
     /// `density` evenly spread points per m^2: `(points (T, 3), weights (T,))`.
-    fn area_targets<'py>(&self, py: Python<'py>, density: f64) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+    fn area_targets<'py>(&self, py: Python<'py>, density: f64) -> PyResult<WeightedPoints<'py>> {
         let s = self.inner.clone();
         let (pts, w) = py.detach(|| sampling::area_targets(&s, density)).map_err(|e| to_py_err(py, e))?;
         Ok((points_to_py(py, pts), w.into_pyarray(py)))

@@ -7,8 +7,13 @@ use super::surface::PySurface;
 use super::{points, to_py_err};
 use crate::visibility;
 
+/// `(seen (U,), exclusive (U,), seen_weight (U,), exclusive_weight (U,), total_weight, coverage)`.
+type PerUavOutput<'py> =
+    (Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, f64, f64);
+
 /// The coverage objective for one surface, target set and sensing range (see
 /// `uavcov.Visibility`).
+#[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "Visibility")]
 pub struct PyVisibility {
     inner: visibility::Visibility,
@@ -81,16 +86,10 @@ impl PyVisibility {
         py.detach(|| self.inner.coverage(&u, n_threads)).map_err(|e| to_py_err(py, e))
     }
 
-    /// `(seen, exclusive, seen_weight, exclusive_weight, total_weight)` per UAV.
+    /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
+    /// then `total_weight` and the team's `coverage` (equal to `coverage()` to the last bit).
     #[pyo3(signature = (uavs, n_threads=0))]
-    #[allow(clippy::type_complexity)]
-    fn per_uav<'py>(
-        &self,
-        py: Python<'py>,
-        uavs: PyReadonlyArray2<'_, f64>,
-        n_threads: usize,
-    ) -> PyResult<(Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, f64, f64)>
-    {
+    fn per_uav<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<PerUavOutput<'py>> {
         let u = points(py, &uavs, "uavs")?;
         let c = py.detach(|| self.inner.per_uav(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
         Ok((

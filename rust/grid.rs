@@ -1,0 +1,86 @@
+//! The regular elevation grid a surface is built from, and the plane geometry that the grid's
+//! queries share (`pseudo_angle`, the cheap monotone angle of the horizons and skylines).
+//!
+//! A leaf below [`crate::heightfield`] and the internal `skyline` module: it imports only
+//! [`crate::geometry`].
+//!
+//! ```
+//! use uavcov::grid::Grid;
+//! // A 2 x 3 grid (rows along y, columns along x) of 1 m cells starting at (10, 20).
+//! let z = vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+//! let g = Grid { ny: 2, nx: 3, dx: 1.0, dy: 1.0, x0: 10.0, y0: 20.0, z, vertex_of_node: vec![] };
+//! assert_eq!(g.node_point(4), [11.0, 21.0, 4.0]);
+//! assert_eq!(g.cell_nodes(0, 1), [1, 2, 5, 4]);
+//! let [upper, lower] = g.cell_triangles(0, 0);
+//! assert!(upper.is_some() && lower.is_some());
+//! ```
+
+use parry3d_f64::math::Vector;
+
+use crate::geometry::{v, Point};
+
+/// The regular elevation grid a surface was built from, kept for the grid fast path and targets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Number of rows (along y).
+    pub ny: usize,
+    /// Number of columns (along x).
+    pub nx: usize,
+    /// Cell size along x, metres.
+    pub dx: f64,
+    /// Cell size along y, metres.
+    pub dy: f64,
+    /// x of column 0, metres.
+    pub x0: f64,
+    /// y of row 0, metres.
+    pub y0: f64,
+    /// Heights, row-major `(ny, nx)`; NaN marks nodata.
+    pub z: Vec<f64>,
+    /// For each grid node, its index among the surface vertices, or `u32::MAX` when unused.
+    pub vertex_of_node: Vec<u32>,
+}
+
+/// A monotone stand-in for the angle of `(x, y)`, in `[0, 4)`: the diamond angle, which needs a
+/// division instead of an arctangent.
+#[inline(always)]
+pub(crate) fn pseudo_angle(x: f64, y: f64) -> f64 {
+    if y >= 0.0 {
+        if x >= 0.0 {
+            y / (x + y)
+        } else {
+            1.0 - x / (y - x)
+        }
+    } else if x < 0.0 {
+        2.0 - y / (-x - y)
+    } else {
+        3.0 + x / (x - y)
+    }
+}
+
+impl Grid {
+    /// The position of node `k` (row-major), as the mesh path computes it.
+    #[inline(always)]
+    #[must_use]
+    pub fn node_point(&self, k: usize) -> Point {
+        let (i, j) = (k / self.nx, k % self.nx);
+        [self.x0 + j as f64 * self.dx, self.y0 + i as f64 * self.dy, self.z[k]]
+    }
+
+    /// Nodes `[a, b, c, d] = [(i, j), (i, j+1), (i+1, j+1), (i+1, j)]` of cell `(i, j)`.
+    #[inline(always)]
+    #[must_use]
+    pub fn cell_nodes(&self, i: usize, j: usize) -> [usize; 4] {
+        let a = i * self.nx + j;
+        [a, a + 1, a + self.nx + 1, a + self.nx]
+    }
+
+    /// The corners of the two triangles of cell `(i, j)`, `[a, b, c]` and `[a, c, d]`, or `None`
+    /// for a triangle with a nodata corner.
+    #[inline(always)]
+    #[must_use]
+    pub fn cell_triangles(&self, i: usize, j: usize) -> [Option<[Vector; 3]>; 2] {
+        let [a, b, c, d] = self.cell_nodes(i, j).map(|k| v(self.node_point(k)));
+        let ok = |q: Vector| !q.z.is_nan();
+        [(ok(a) && ok(b) && ok(c)).then_some([a, b, c]), (ok(a) && ok(c) && ok(d)).then_some([a, c, d])]
+    }
+}
