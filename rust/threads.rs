@@ -50,9 +50,19 @@ fn run_elsewhere<R: Send>(n: usize, work: impl FnOnce() -> R + Send) -> R {
     }
 }
 
-/// The number of cores rayon would use by default.
+/// The number of threads rayon would use by default: `RAYON_NUM_THREADS` when it is set to a
+/// positive integer, else one per core.
 pub(crate) fn available() -> usize {
-    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+    default_threads(std::env::var("RAYON_NUM_THREADS").ok().as_deref())
+}
+
+/// [`available`] for a given value of `RAYON_NUM_THREADS` (rayon ignores one that is not a
+/// positive integer, and so does this).
+fn default_threads(rayon_num_threads: Option<&str>) -> usize {
+    match rayon_num_threads.and_then(|text| text.trim().parse::<usize>().ok()) {
+        Some(n) if n > 0 => n,
+        _ => std::thread::available_parallelism().map_or(1, std::num::NonZero::get),
+    }
 }
 
 fn pool(n: usize) -> Option<Arc<ThreadPool>> {
@@ -69,6 +79,16 @@ fn pool(n: usize) -> Option<Arc<ThreadPool>> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_default_follows_rayon_num_threads_like_rayon() {
+        let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+        assert_eq!(super::default_threads(Some("3")), 3);
+        assert_eq!(super::default_threads(Some(" 2 ")), 2);
+        for ignored in [None, Some(""), Some("0"), Some("-1"), Some("many")] {
+            assert_eq!(super::default_threads(ignored), cores);
+        }
+    }
+
     #[test]
     fn results_come_back_from_any_pool_size() {
         use rayon::prelude::*;
