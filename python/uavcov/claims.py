@@ -1,0 +1,275 @@
+"""The paper's claims about Table 1, measured on the rows of a results folder.
+
+Beyond its cells, the paper's section V-C claims that
+
+* the CVT start improves the maximum coverage over the random start by between 5 % and 12 %
+  (6.6, 12.0, 7.0 and 5.4 % for N = 5, 8, 12, 20, from the published means): :func:`headline`
+  measures the gain per N on paired runs (the same terrain for both starts) with a 95 %
+  confidence interval;
+* the CVT start "always reaches the highest portion of covered environment and with the smallest
+  standard deviation": :func:`robustness`;
+* it does so in fewer iterations: :func:`speed` (iterations to 95 % of the run's best);
+* and CAO converges: :func:`convergence`, the share of runs whose coverage stays within a band
+  of their best from a given iteration on (read from the stored runs' coverage curves).
+
+Each function returns plain data (frozen dataclasses); :func:`claims_markdown` sets them out with
+a verdict each. Nothing here runs a mission.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from . import paper
+from .records import load_mission
+from .reports import finished_rows
+from .results import ResultsFolder
+
+__all__ = [
+    "PairedGain",
+    "RowRobustness",
+    "Convergence",
+    "PUBLISHED_GAIN",
+    "headline",
+    "robustness",
+    "speed",
+    "convergence",
+    "claims_markdown",
+]
+
+PUBLISHED_GAIN: Mapping[int, float] = {
+    n: paper.PUBLISHED_TABLE1[(n, "cvt", "max")].mean / paper.PUBLISHED_TABLE1[(n, "random", "max")].mean - 1.0
+    for n in sorted({n for n, _, _ in paper.PUBLISHED_TABLE1})
+}
+"""The paper's CVT-over-random gain in mean max coverage per N, from its Table 1 (relative)."""
+
+_BOOTSTRAP = 4000
+
+
+@dataclass(frozen=True)
+class PairedGain:
+    """CVT against random on the same terrains, for one team size.
+
+    Attributes
+    ----------
+    n_uavs : int
+    pairs : int
+        Terrains with a finished run of both starts.
+    cvt_mean, random_mean : float
+        Mean max coverage of each start over those terrains.
+    difference, difference_ci : float, (float, float)
+        Mean paired difference (CVT minus random) of max coverage, and its 95 % t interval.
+    gain, gain_ci : float, (float, float)
+        Relative gain ``cvt_mean / random_mean - 1``, and its 95 % paired-bootstrap interval.
+    published : float or None
+        The paper's gain for this N.
+    """
+
+    n_uavs: int
+    pairs: int
+    cvt_mean: float
+    random_mean: float
+    difference: float
+    difference_ci: tuple[float, float]
+    gain: float
+    gain_ci: tuple[float, float]
+    published: float | None
+
+    def within(self, points: float = 0.02) -> bool:
+        """Whether the gain is within ``points`` (absolute, 0.02 = 2 percentage points) of the paper's."""
+        return self.published is not None and abs(self.gain - self.published) <= points + 1e-12
+
+
+@dataclass(frozen=True)
+class RowRobustness:
+    """Mean and sigma of max coverage per start for one team size."""
+
+    n_uavs: int
+    sigma: Mapping[str, float]
+    mean: Mapping[str, float]
+
+    @property
+    def cvt_smallest_sigma(self) -> bool:
+        """The CVT start has the smallest sigma of the starts in this row."""
+        others = [s for k, s in self.sigma.items() if k != "cvt"]
+        return "cvt" in self.sigma and all(self.sigma["cvt"] <= s for s in others)
+
+    @property
+    def cvt_highest_mean(self) -> bool:
+        """The CVT start has the highest mean max coverage in this row."""
+        others = [m for k, m in self.mean.items() if k != "cvt"]
+        return "cvt" in self.mean and all(self.mean["cvt"] >= m for m in others)
+
+
+@dataclass(frozen=True)
+class Convergence:
+    """How many stored runs stay near their best from iteration ``from_iteration`` on.
+
+    Attributes
+    ----------
+    runs : int
+        Stored runs read (with at least ``from_iteration + 1`` iterations).
+    converged : int
+        Runs whose coverage from ``from_iteration`` on stays within ``band`` of their best.
+    from_iteration : int
+    band : float
+        Coverage units.
+    worst : tuple of (str, float)
+        Up to five runs that left the band furthest: run id and the largest shortfall.
+    """
+
+    runs: int
+    converged: int
+    from_iteration: int
+    band: float
+    worst: tuple[tuple[str, float], ...]
+
+    @property
+    def share(self) -> float:
+        """``converged / runs`` (NaN without runs)."""
+        return self.converged / self.runs if self.runs else math.nan
+
+
+def _paired(rows: Iterable[Mapping[str, Any]], n: int) -> tuple[np.ndarray, np.ndarray]:
+    by_seed: dict[int, dict[str, float]] = {}
+    for r in finished_rows(rows):
+        if int(r["n_uavs"]) == n and r["init"] in ("cvt", "random"):
+            by_seed.setdefault(int(r["seed"]), {})[str(r["init"])] = float(r["max_coverage"])
+    seeds = sorted(s for s, v in by_seed.items() if len(v) == 2)
+    return np.array([by_seed[s]["cvt"] for s in seeds]), np.array([by_seed[s]["random"] for s in seeds])
+
+
+def headline(rows: Iterable[Mapping[str, Any]], *, seed: int = 0) -> list[PairedGain]:
+    """The CVT-over-random gain per team size, on paired runs (see the module docstring).
+
+    The difference's interval is Student's t on the paired differences; the relative gain's is
+    a percentile bootstrap over terrains (``seed`` fixes its resampling, so a report is
+    reproducible).
+    """
+    from scipy import stats
+
+    rows = list(rows)
+    sizes = sorted({int(r["n_uavs"]) for r in finished_rows(rows)})
+    gains = []
+    for n in sizes:
+        cvt, rnd = _paired(rows, n)
+        if len(cvt) < 2:
+            continue
+        d = cvt - rnd
+        half = float(stats.t.ppf(0.975, len(d) - 1) * np.std(d, ddof=1) / math.sqrt(len(d)))
+        rng = np.random.default_rng([seed, n])
+        picks = rng.integers(0, len(d), size=(_BOOTSTRAP, len(d)))
+        boot = cvt[picks].mean(axis=1) / rnd[picks].mean(axis=1) - 1.0
+        low, high = (float(v) for v in np.quantile(boot, [0.025, 0.975]))
+        gains.append(
+            PairedGain(
+                n_uavs=n,
+                pairs=len(d),
+                cvt_mean=float(cvt.mean()),
+                random_mean=float(rnd.mean()),
+                difference=float(d.mean()),
+                difference_ci=(float(d.mean()) - half, float(d.mean()) + half),
+                gain=float(cvt.mean() / rnd.mean() - 1.0),
+                gain_ci=(low, high),
+                published=PUBLISHED_GAIN.get(n),
+            )
+        )
+    return gains
+
+
+def robustness(rows: Iterable[Mapping[str, Any]]) -> list[RowRobustness]:
+    """Mean and sigma of max coverage per start and team size (the paper's robustness claim)."""
+    groups: dict[int, dict[str, list[float]]] = {}
+    for r in finished_rows(rows):
+        groups.setdefault(int(r["n_uavs"]), {}).setdefault(str(r["init"]), []).append(float(r["max_coverage"]))
+    out = []
+    for n in sorted(groups):
+        starts = {k: np.array(v) for k, v in groups[n].items() if len(v) > 1}
+        out.append(
+            RowRobustness(
+                n_uavs=n,
+                sigma={k: float(np.std(v, ddof=1)) for k, v in starts.items()},
+                mean={k: float(np.mean(v)) for k, v in starts.items()},
+            )
+        )
+    return out
+
+
+def speed(rows: Iterable[Mapping[str, Any]]) -> dict[tuple[int, str], tuple[float, float]]:
+    """Iterations to 95 % of the run's best, mean and median per (team size, start)."""
+    groups: dict[tuple[int, str], list[float]] = {}
+    for r in finished_rows(rows):
+        groups.setdefault((int(r["n_uavs"]), str(r["init"])), []).append(float(r["iterations_to_95"]))
+    return {k: (float(np.mean(v)), float(np.median(v))) for k, v in sorted(groups.items())}
+
+
+def convergence(
+    folder: ResultsFolder, rows: Iterable[Mapping[str, Any]], *, from_iteration: int = 400, band: float = 0.01
+) -> Convergence:
+    """The share of stored runs whose coverage stays within ``band`` of their best from ``from_iteration`` on."""
+    shortfalls: list[tuple[str, float]] = []
+    runs = converged = 0
+    for r in finished_rows(rows):
+        path = folder.run_file(str(r["run_id"]))
+        if not path.is_file():
+            continue
+        curve = np.asarray(load_mission(path).coverage, dtype=float)
+        if len(curve) <= from_iteration:
+            continue
+        runs += 1
+        gap = float(curve.max() - curve[from_iteration:].min())
+        if gap <= band + 1e-12:
+            converged += 1
+        else:
+            shortfalls.append((str(r["run_id"]), gap))
+    worst = tuple(sorted(shortfalls, key=lambda item: -item[1])[:5])
+    return Convergence(runs=runs, converged=converged, from_iteration=from_iteration, band=band, worst=worst)
+
+
+def _pct(value: float) -> str:
+    return f"{100.0 * value:+.1f} %"
+
+
+def claims_markdown(
+    rows: Sequence[Mapping[str, Any]], folder: ResultsFolder | None = None, *, required_share: float = 0.95
+) -> str:
+    """The claims of section V-C beside the measurements, each with its verdict (Markdown)."""
+    rows = list(rows)
+    lines = ["# The paper's claims on Table 1, measured", ""]
+    lines += [
+        "## CVT over random (paired by terrain)",
+        "",
+        "| N | pairs | CVT max | random max | difference [95 % CI] | gain [95 % CI] | paper | within 2 points |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for g in headline(rows):
+        published = "-" if g.published is None else _pct(g.published)
+        lines.append(
+            f"| {g.n_uavs} | {g.pairs} | {g.cvt_mean:.3f} | {g.random_mean:.3f} | {g.difference:+.3f} "
+            f"[{g.difference_ci[0]:+.3f}, {g.difference_ci[1]:+.3f}] | {_pct(g.gain)} [{_pct(g.gain_ci[0])}, {_pct(g.gain_ci[1])}] | "
+            f"{published} | {'yes' if g.within() else 'NO'} |"
+        )
+    lines += ["", "## Robustness: the CVT start has the highest mean and the smallest sigma", ""]
+    lines += ["| N | sigma per start | CVT sigma smallest | CVT mean highest |", "|---|---|---|---|"]
+    for row in robustness(rows):
+        sigmas = ", ".join(f"{k} {v:.3f}" for k, v in sorted(row.sigma.items()))
+        lines.append(f"| {row.n_uavs} | {sigmas} | {'yes' if row.cvt_smallest_sigma else 'NO'} | {'yes' if row.cvt_highest_mean else 'NO'} |")
+    lines += ["", "## Iterations to 95 % of the run's best (mean / median)", "", "| N | start | mean | median |", "|---|---|---|---|"]
+    lines += [f"| {n} | {start} | {mean:.0f} | {median:.0f} |" for (n, start), (mean, median) in speed(rows).items()]
+    if folder is not None:
+        c = convergence(folder, rows)
+        verdict = "holds" if c.runs and c.share >= required_share else "does NOT hold"
+        lines += [
+            "",
+            f"## Convergence: coverage within {c.band} of the run's best from iteration {c.from_iteration} on",
+            "",
+            f"{c.converged} of {c.runs} stored runs ({100.0 * c.share:.1f} %); the bar is {100.0 * required_share:.0f} %: {verdict}.",
+        ]
+        if c.worst:
+            lines.append("Furthest out: " + ", ".join(f"`{run}` ({gap:.3f})" for run, gap in c.worst) + ".")
+    return "\n".join(lines) + "\n"
