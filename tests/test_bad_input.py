@@ -434,3 +434,57 @@ def test_too_many_threads_is_an_error_not_a_panic(n_threads, expected):
     lines = result.stdout.strip().splitlines()
     assert lines, result.stderr[-2000:]
     assert lines[-1].startswith(expected), lines[-1]
+
+
+# --------------------------------------------------------------------------------------------
+# issue 14, item 9: the error class the docstrings promise, naming what was wrong. These need
+# surface.py and loaders.py (the patch is in the issue's report); until then they are expected
+# to fail.
+
+
+
+def test_infinite_vertex_is_a_mesh_error_like_nan():
+    for bad in (np.inf, -np.inf, np.nan):
+        v = TRI_V.copy()
+        v[2, 0] = bad
+        with pytest.raises(MeshError):
+            Terrain(v, TRI_F)
+
+
+@pytest.mark.parametrize("spacing", ["1.0", b"1", {"dx": 1.0}])
+def test_spacing_of_the_wrong_type_names_its_type(spacing):
+    with pytest.raises(InvalidTypeError, match=type(spacing).__name__):
+        Terrain.from_grid(np.zeros((4, 4)), spacing)
+
+
+@pytest.mark.parametrize("coordinate", ["nan", "inf"])
+def test_load_mesh_names_the_file_of_a_bad_vertex(tmp_path, coordinate):
+    pytest.importorskip("trimesh")
+    from uavcov.loaders import load_mesh
+
+    path = tmp_path / f"bad-{coordinate}.obj"
+    path.write_text(f"v 0 0 0\nv 1 0 0\nv 0 1 {coordinate}\nf 1 2 3\n")
+    with pytest.raises(MeshError, match=path.name):
+        load_mesh(path)
+
+
+def test_load_mesh_names_the_file_of_a_degenerate_mesh(tmp_path):
+    pytest.importorskip("trimesh")
+    from uavcov.loaders import load_mesh
+
+    path = tmp_path / "flat.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")
+    with pytest.raises(MeshError):
+        load_mesh(path)
+
+
+def test_float_arrays_raise_the_class_asked_for_non_finite_values():
+    from uavcov._validate import as_float_array
+
+    with pytest.raises(MeshError, match="infinite"):
+        as_float_array([[0.0, np.inf, 0.0]], "vertices", allow_nan=True, nonfinite_error=MeshError)
+    with pytest.raises(MeshError, match="NaN"):
+        as_float_array([[0.0, np.nan, 0.0]], "vertices", nonfinite_error=MeshError)
+    with pytest.raises(InvalidInputError) as plain:
+        as_float_array([np.inf], "x")
+    assert type(plain.value) is InvalidInputError

@@ -3,6 +3,33 @@
 Each check returns the value converted to what the library computes with (a C-contiguous
 float64 array, a Python float, ...) or raises an error from :mod:`uavcov.errors` that names the
 argument. Converting here, once, is what lets the Rust core assume clean input.
+
+Size limits
+-----------
+Every count a user chooses and that sizes an allocation is checked against one of the limits
+below *before* anything is allocated, with an :class:`~uavcov.errors.InvalidInputError` (a
+:class:`~uavcov.errors.ConfigError` for sweeps) naming the limit. They are generous (far beyond
+the paper's experiments) and keep one run, or a sweep's bookkeeping, well inside a 24 GB
+machine; this is the one place they are defined:
+
+=============================  ==============  ===================================================
+limit                          value           what it bounds
+=============================  ==============  ===================================================
+:data:`MAX_UAVS`               1 000           team size: ``MissionSpec.n_uavs``, a sweep's
+                                               ``team_sizes``
+:data:`MAX_GENERATORS`         10 000          generators of one :func:`~uavcov.cvt.cvt`
+:data:`MAX_SAMPLES`            10 000 000      CVT samples per iteration; prior points ``n_prior``;
+                                               positions of :func:`~uavcov.starts.initial_positions`
+:data:`MAX_ITERATIONS`         1 000 000       optimiser iterations of one mission
+:data:`MAX_TRAJECTORY`         50 000 000      UAV positions a mission records,
+                                               ``(iterations + 1) * n_uavs`` (1.2 GB)
+:data:`MAX_PAIR_CHECKS`        25 000 000      d_safe distance checks per optimiser step,
+                                               ``n_candidates * N (N - 1) / 2`` (about 2 GB)
+:data:`MAX_SEEDS`              1 000 000       seeds of one sweep or reproduction
+:data:`MAX_RUNS`               1 000 000       runs of one sweep (variants x seeds x team sizes x
+                                               starts)
+:data:`MAX_THREADS`            1 024           Rust threads of one call
+=============================  ==============  ===================================================
 """
 
 from __future__ import annotations
@@ -26,11 +53,49 @@ __all__ = [
     "as_non_negative_int",
     "as_n_threads",
     "as_generator",
+    "as_count",
+    "MAX_UAVS",
+    "MAX_GENERATORS",
+    "MAX_SAMPLES",
+    "MAX_ITERATIONS",
+    "MAX_TRAJECTORY",
+    "MAX_PAIR_CHECKS",
+    "MAX_SEEDS",
+    "MAX_RUNS",
+    "MAX_THREADS",
 ]
 
+MAX_UAVS = 1_000
+"""Largest team (see the module's size limits)."""
+MAX_GENERATORS = 10_000
+"""Most generators of one CVT: its cost per iteration grows like generators x samples."""
+MAX_SAMPLES = 10_000_000
+"""Most CVT samples per iteration, and most prior points (``n_prior``)."""
+MAX_ITERATIONS = 1_000_000
+"""Most optimiser iterations of one mission."""
+MAX_TRAJECTORY = 50_000_000
+"""Most UAV positions one mission records: ``(iterations + 1) * n_uavs``."""
+MAX_PAIR_CHECKS = 25_000_000
+"""Most d_safe distance checks of one optimiser step: ``n_candidates * N * (N - 1) / 2``."""
+MAX_SEEDS = 1_000_000
+"""Most seeds of one sweep or reproduction."""
+MAX_RUNS = 1_000_000
+"""Most runs of one sweep."""
 
-def as_float_array(value: Any, name: str, *, ndim: int | None = None, allow_nan: bool = False) -> np.ndarray:
-    """Return ``value`` as a C-contiguous float64 array, checking dimension and finiteness."""
+
+def as_float_array(
+    value: Any,
+    name: str,
+    *,
+    ndim: int | None = None,
+    allow_nan: bool = False,
+    nonfinite_error: type[InvalidInputError] = InvalidInputError,
+) -> np.ndarray:
+    """Return ``value`` as a C-contiguous float64 array, checking dimension and finiteness.
+
+    ``nonfinite_error`` is the class raised for NaN (unless ``allow_nan``) or infinite values:
+    :class:`~uavcov.errors.MeshError` for the vertices of a mesh, for example.
+    """
     if isinstance(value, (str, bytes)):
         raise InvalidTypeError(f"{name} must be a numeric array, got {type(value).__name__}")
     try:
@@ -50,9 +115,9 @@ def as_float_array(value: Any, name: str, *, ndim: int | None = None, allow_nan:
         raise InvalidInputError(f"{name} must be {ndim}-dimensional, got shape {array.shape}")
     if allow_nan:
         if np.isinf(array).any():
-            raise InvalidInputError(f"{name} contains infinite values")
+            raise nonfinite_error(f"{name} contains infinite values")
     elif not np.isfinite(array).all():
-        raise InvalidInputError(f"{name} contains NaN or infinite values")
+        raise nonfinite_error(f"{name} contains NaN or infinite values")
     return array
 
 
@@ -130,6 +195,14 @@ def as_positive_int(value: Any, name: str) -> int:
 def as_non_negative_int(value: Any, name: str) -> int:
     """Return ``value`` as an int >= 0."""
     return _int_at_least(value, name, 0)
+
+
+def as_count(value: Any, name: str, maximum: int, *, minimum: int = 1) -> int:
+    """Return ``value`` as an int in ``[minimum, maximum]`` (``maximum`` one of the size limits)."""
+    result = _int_at_least(value, name, minimum)
+    if result > maximum:
+        raise InvalidInputError(f"{name} must be at most {maximum:,}, got {result:,} (uavcov's size limit)")
+    return result
 
 
 MAX_THREADS = 1024

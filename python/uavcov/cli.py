@@ -25,7 +25,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 __all__ = ["main"]
 
@@ -33,6 +33,11 @@ EXIT_OK = 0
 EXIT_RUNS_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
+
+
+def _one_line(exc: BaseException) -> str:
+    """An exception's message on one line (the CLI prints exactly one line per error)."""
+    return " | ".join(part.strip() for part in str(exc).splitlines() if part.strip()) or type(exc).__name__
 
 
 def _say(message: str) -> None:
@@ -96,7 +101,13 @@ def _add_execution(parser: argparse.ArgumentParser) -> None:
     where = group.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster of this scheduler (uavcov[distributed])")
     where.add_argument("--dask-workers", type=_positive_int, metavar="N", help="run on a local Dask cluster of N worker processes")
-    group.add_argument("--scheduler-timeout", type=_positive_float, default=10.0, metavar="SECONDS", help="give up on an unreachable scheduler after this long (default 10)")
+    group.add_argument(
+        "--scheduler-timeout",
+        type=_positive_float,
+        default=10.0,
+        metavar="SECONDS",
+        help="give up on an unreachable scheduler after this long (default 10)",
+    )
     group.add_argument("--resume", action="store_true", help="continue the sweep in --out: skip finished runs")
     group.add_argument("--retry-failed", action="store_true", help="with --resume: run again the runs that failed")
     group.add_argument("--no-save-runs", action="store_true", help="write only runs.csv, not one .npz per run")
@@ -120,7 +131,12 @@ def _execution(args: argparse.Namespace) -> Iterator[dict[str, Any]]:
     if args.scheduler is None and args.dask_workers is None:
         plan = plan_execution(args.workers, args.threads)
         options.update(workers=plan.workers, n_threads=plan.n_threads)
-        record = {"executor": "process pool (spawn)" if plan.workers > 1 else "this process", "workers": plan.workers, "threads_per_run": plan.n_threads, "cores": cores}
+        record = {
+            "executor": "process pool (spawn)" if plan.workers > 1 else "this process",
+            "workers": plan.workers,
+            "threads_per_run": plan.n_threads,
+            "cores": cores,
+        }
         yield {**options, "execution": record}
         return
     if args.workers is not None:
@@ -297,8 +313,15 @@ def _plot(args: argparse.Namespace) -> int:
 # Parser
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line, like every other error of the command line."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="uavcov",
         description="Multi-UAV visual coverage of partially known 3D surfaces (Renzaglia et al.): "
         "the paper's experiments, sweeps and figures.",
@@ -347,7 +370,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.run(args))
     except UavcovError as exc:
-        _say(f"uavcov {args.command}: error: {exc}")
+        _say(f"uavcov {args.command}: error: {_one_line(exc)}")
+        return EXIT_BAD_INPUT
+    except (OSError, MemoryError) as exc:  # the system refused (disk full, no permission, no memory): one line too
+        _say(f"uavcov {args.command}: error: {type(exc).__name__}: {_one_line(exc)}")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         out = getattr(args, "out", None)

@@ -189,7 +189,7 @@ class Constraints:
                 f"no two UAVs can be that far apart"
             )
         box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (self.z_max - floor + 2 * r)
-        need = n_uavs * 4.0 / 3.0 * math.pi * r**3
+        need = n_uavs * 4.0 / 3.0 * math.pi * r * r * r  # inf, not OverflowError, for a huge d_safe
         if need > box:
             raise InfeasibleError(
                 f"{n_uavs} UAVs kept d_safe = {self.d_safe} m apart cannot fit in the flight "

@@ -51,6 +51,10 @@ import numpy as np
 
 from . import _core
 from ._validate import (
+    MAX_GENERATORS,
+    MAX_ITERATIONS,
+    MAX_SAMPLES,
+    as_count,
     as_float_array,
     as_generator,
     as_n_threads,
@@ -221,13 +225,15 @@ class CVTSettings:
         ``(a1, a2)`` and ``(b1, b2)`` of the update rule, overriding the preset's. The paper asks
         ``a1 + a2 = b1 + b2 = 1`` and ``a2, b2 > 0``; uavcov also asks ``a1, b1 >= 0``.
     samples_per_iteration : int, optional
-        ``q``; ``max(2000, 200 n)`` by default.
+        ``q``; ``max(2000, 200 n)`` by default; at most 10 million
+        (:data:`uavcov._validate.MAX_SAMPLES`).
     tol : float, default 0.1
         Stop once the net move per iteration over the last ``window`` iterations, averaged over
         the generators, is below ``tol`` metres (``0`` runs to ``max_iterations``).
     window : int, default 5
         Iterations the net move is measured over.
     max_iterations : int, default 300
+        At most 1 million (:data:`uavcov._validate.MAX_ITERATIONS`).
 
     Raises
     ------
@@ -256,10 +262,10 @@ class CVTSettings:
         if self.beta is not None:
             object.__setattr__(self, "beta", b)
         if self.samples_per_iteration is not None:
-            object.__setattr__(self, "samples_per_iteration", as_positive_int(self.samples_per_iteration, "samples_per_iteration"))
+            object.__setattr__(self, "samples_per_iteration", as_count(self.samples_per_iteration, "samples_per_iteration", MAX_SAMPLES))
         object.__setattr__(self, "tol", as_non_negative_float(self.tol, "tol"))
         object.__setattr__(self, "window", as_positive_int(self.window, "window"))
-        object.__setattr__(self, "max_iterations", as_positive_int(self.max_iterations, "max_iterations"))
+        object.__setattr__(self, "max_iterations", as_count(self.max_iterations, "max_iterations", MAX_ITERATIONS))
 
     def weights(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """``((a1, a2), (b1, b2))``: the preset's, or ``alpha`` and ``beta`` where given."""
@@ -291,7 +297,8 @@ def cvt(
     surface : Terrain
         The surface to tessellate (in the paper, S' from :func:`uavcov.prior.approximate_surface`).
     n : int
-        Number of generators, ``1 <= n <= samples_per_iteration``.
+        Number of generators, ``1 <= n <= samples_per_iteration`` and at most 10 000
+        (:data:`uavcov._validate.MAX_GENERATORS`).
     settings : CVTSettings, optional
         The constants (weights, samples per iteration, stopping rule); ``CVTSettings()`` by
         default.
@@ -336,7 +343,7 @@ def cvt(
     """
     if not isinstance(surface, Terrain):
         raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
-    n = as_positive_int(n, "n")
+    n = as_count(n, "n", MAX_GENERATORS)
     if settings is None:
         settings = CVTSettings()
     elif not isinstance(settings, CVTSettings):

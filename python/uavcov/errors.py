@@ -28,7 +28,12 @@ class UavcovError(Exception):
 
 
 class InvalidInputError(UavcovError, ValueError):
-    """A value has the wrong shape, is not finite, or is out of its documented range."""
+    """A value has the wrong shape, is not finite, or is out of its documented range.
+
+    Sizes too (team size, CVT generators and samples, iterations, seeds, runs of a sweep): each
+    has a generous limit, checked before anything is allocated; the limits are listed in one
+    table, in the docstring of ``uavcov._validate``.
+    """
 
 
 class InvalidTypeError(UavcovError, TypeError):

@@ -11,9 +11,14 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+import ctypes
+import ctypes.util
 import multiprocessing
 import os
 import signal
+import sys
+import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -75,7 +80,36 @@ def plan_execution(workers: int | None = None, n_threads: int | None = None, cor
     return ExecutionPlan(int(workers), int(n_threads))
 
 
-def _ignore_sigint() -> None:
+_PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def _die_with(parent: int, kernel_signal: bool) -> None:
+    """End this process when ``parent`` dies, even by ``kill -9`` (which runs no clean-up there).
+
+    A daemon thread checks ``os.getppid()`` twice a second and exits when the parent is gone
+    (the process is then re-parented). With ``kernel_signal``, on Linux, the kernel also sends
+    SIGKILL at once (``prctl(PR_SET_PDEATHSIG)``); the kernel ties that signal to the *thread*
+    that started the process, so it is asked for only when the pool is made and used by the
+    parent's main thread (what :func:`uavcov.sweep.run_specs` does).
+    """
+    if kernel_signal and sys.platform.startswith("linux"):
+        with contextlib.suppress(Exception):  # no libc to load: the thread below still watches
+            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)  # orphaned: nothing of ours is left to report to
+
+    if os.getppid() != parent:
+        os._exit(1)
+    threading.Thread(target=watch, name="uavcov-parent-watch", daemon=True).start()
+
+
+def _worker_start(parent: int, kernel_signal: bool) -> None:
+    """The pool workers' initializer: die with the parent, and leave Ctrl-C to it."""
+    _die_with(parent, kernel_signal)
     # Ctrl-C is the parent's to handle: it stops the sweep, then ends the workers itself.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
@@ -84,9 +118,17 @@ def local_executor(workers: int) -> cf.ProcessPoolExecutor:
     """A process pool of ``workers`` processes started with the spawn context.
 
     Spawn, not fork: a forked child would inherit the parent's Rust thread pools in a state it
-    cannot use, and spawn behaves the same on every platform.
+    cannot use, and spawn behaves the same on every platform. The workers die with this process,
+    even when it is killed with SIGKILL: no orphan keeps computing (and holding the
+    multiprocessing resource tracker alive) after its sweep is gone.
     """
-    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
+    main_thread = threading.current_thread() is threading.main_thread()
+    return cf.ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_worker_start,
+        initargs=(os.getpid(), main_thread),
+    )
 
 
 def stop_pool(executor: cf.Executor) -> None:
@@ -101,8 +143,27 @@ def stop_pool(executor: cf.Executor) -> None:
             process.join(timeout=5)
 
 
+def _check_address(scheduler: Any) -> None:
+    """Refuse what is not a scheduler address before a Dask ``Client`` is made: a Client that fails
+    to start leaves an object whose clean-up, at exit, waits 20 s and prints a traceback."""
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ConfigError(f"a Dask scheduler address is a string like tcp://host:8786, got {scheduler!r}")
+    try:
+        from distributed.comm.addressing import parse_address, parse_host_port
+
+        scheme, location = parse_address(scheduler)
+        if scheme in ("tcp", "tls", "ws", "wss"):
+            host, port = parse_host_port(location)
+            if not host or not 0 < int(port) < 65536:
+                raise ValueError("a host and a port from 1 to 65535 are needed")
+    except (ValueError, TypeError) as exc:
+        raise ConfigError(f"{scheduler!r} is not the address of a Dask scheduler (like tcp://host:8786): {exc}") from None
+
+
 @contextlib.contextmanager
-def dask_executor(scheduler: str | None = None, n_workers: int | None = None, *, timeout: float = 10.0) -> Iterator[tuple[cf.Executor, int]]:
+def dask_executor(
+    scheduler: str | None = None, n_workers: int | None = None, *, timeout: float = 10.0
+) -> Iterator[tuple[cf.Executor, int]]:
     """A ``concurrent.futures`` executor on a Dask cluster (the ``uavcov[distributed]`` extra).
 
     Parameters
@@ -138,6 +199,7 @@ def dask_executor(scheduler: str | None = None, n_workers: int | None = None, *,
     cluster = None
     try:
         if scheduler is not None:
+            _check_address(scheduler)
             try:
                 client = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
             except (OSError, TimeoutError) as exc:

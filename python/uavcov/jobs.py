@@ -106,6 +106,7 @@ def reproduce(
         plan_execution(workers, n_threads)  # refused before the folder is made
     folder = ResultsFolder(out)
     with folder.lock():
+        folder.claim([f"{name}.md", *(["coverage.csv"] if name in _CURVES and save_runs else [])])
         rows = run_specs(
             specs,
             out=folder,
@@ -145,6 +146,7 @@ def run_sweep(
     folder = ResultsFolder(out)
     about = {"name": config.name, "base": config.base, "description": config.description, "axes": list(config.axes)}
     with folder.lock():
+        folder.claim([*(["sweep.toml"] if source_text is not None else []), "summary.md"])
         rows = run_specs(config.specs(), out=folder, command="sweep", execution=execution, about=about, **run_options)
         if source_text is not None:
             folder.write_text("sweep.toml", source_text)

@@ -480,7 +480,7 @@ def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshR
     exports produce. Open boundaries are kept: a terrain is an open sheet. Duplicate faces are
     dropped because a doubled triangle would double the coverage targets on it.
     """
-    points = as_float_array(vertices, "vertices")
+    points = as_float_array(vertices, "vertices", nonfinite_error=MeshError)
     if points.ndim != 2 or points.shape[1] != 3:
         raise MeshError(f"vertices must have shape (V, 3), got {points.shape}")
     triangles = as_index_array(faces, "faces")
@@ -574,7 +574,7 @@ def mesh_terrain(
     if on_defect not in ("repair", "raise"):
         raise InvalidInputError(f"on_defect must be 'repair' or 'raise', got {on_defect!r}")
     scale = as_positive_float(scale, "scale")
-    points = as_float_array(vertices, "vertices")
+    points = as_float_array(vertices, "vertices", nonfinite_error=MeshError)
     if points.ndim != 2 or points.shape[1] != 3:
         raise MeshError(f"vertices must have shape (V, 3), got {points.shape}")
     if up.lower() == "y":
@@ -638,15 +638,20 @@ def load_mesh(
     faces = getattr(loaded, "faces", None)
     if vertices is None or faces is None or len(faces) == 0:
         raise MeshError(f"{path_text!r} holds no triangles")
-    return mesh_terrain(
-        np.asarray(vertices, dtype=np.float64),
-        np.asarray(faces, dtype=np.int64),
-        up=up,
-        origin=origin,
-        scale=scale,
-        on_defect=on_defect,
-        source=path_text,
-    )
+    try:
+        return mesh_terrain(
+            np.asarray(vertices, dtype=np.float64),
+            np.asarray(faces, dtype=np.int64),
+            up=up,
+            origin=origin,
+            scale=scale,
+            on_defect=on_defect,
+            source=path_text,
+        )
+    except MeshError as exc:  # name the file in every mesh error
+        if path_text in str(exc):
+            raise
+        raise MeshError(f"{path_text}: {exc}") from exc
 
 
 # ---------------------------------------------------------------------------------------------

@@ -31,7 +31,17 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
-from ._validate import as_generator, as_non_negative_int, as_points, as_positive_float, as_positive_int
+from ._validate import (
+    MAX_ITERATIONS,
+    MAX_PAIR_CHECKS,
+    MAX_SAMPLES,
+    MAX_TRAJECTORY,
+    MAX_UAVS,
+    as_count,
+    as_generator,
+    as_points,
+    as_positive_float,
+)
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility
 from .cvt import CVTResult, CVTSettings
@@ -110,10 +120,10 @@ class MissionSpec:
     iterations: int = 500
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "n_uavs", as_positive_int(self.n_uavs, "n_uavs"))
+        object.__setattr__(self, "n_uavs", as_count(self.n_uavs, "n_uavs", MAX_UAVS))
         object.__setattr__(self, "d_max", as_positive_float(self.d_max, "d_max"))
-        object.__setattr__(self, "n_prior", as_non_negative_int(self.n_prior, "n_prior"))
-        object.__setattr__(self, "iterations", as_non_negative_int(self.iterations, "iterations"))
+        object.__setattr__(self, "n_prior", as_count(self.n_prior, "n_prior", MAX_SAMPLES, minimum=0))
+        object.__setattr__(self, "iterations", as_count(self.iterations, "iterations", MAX_ITERATIONS, minimum=0))
         if self.prior not in PRIOR_KINDS:
             raise InvalidInputError(f"prior must be one of {PRIOR_KINDS} (pass anything else as known=), got {self.prior!r}")
         if self.optimizer not in OPTIMIZERS:
@@ -122,6 +132,26 @@ class MissionSpec:
             value = getattr(self, name)
             if not isinstance(value, kind):
                 raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+        self._check_size()
+
+    def _check_size(self) -> None:
+        """Refuse a mission whose records or optimiser steps would not fit in memory (the size limits
+        of :mod:`uavcov._validate`), before anything is allocated."""
+        positions = (self.iterations + 1) * self.n_uavs
+        if positions > MAX_TRAJECTORY:
+            raise InvalidInputError(
+                f"{self.iterations:,} iterations x {self.n_uavs:,} UAVs would record {positions:,} positions, "
+                f"more than uavcov's limit of {MAX_TRAJECTORY:,}; use fewer iterations or UAVs"
+            )
+        d_safe = self.constraints.d_safe
+        if d_safe is not None and d_safe > 0.0 and self.n_uavs > 1:
+            checks = self.cao.n_candidates * self.n_uavs * (self.n_uavs - 1) // 2
+            if checks > MAX_PAIR_CHECKS:
+                raise InvalidInputError(
+                    f"{self.n_uavs:,} UAVs kept d_safe apart with {self.cao.n_candidates:,} candidates a step need "
+                    f"{checks:,} distance checks a step, more than uavcov's limit of {MAX_PAIR_CHECKS:,}; "
+                    "use fewer UAVs or cao.n_candidates (or d_safe = 0)"
+                )
 
     def with_changes(self, **changes: Any) -> MissionSpec:
         """A copy with some fields replaced; nested ones as ``"start.kind"`` or ``"cao.alpha0"``.

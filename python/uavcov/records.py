@@ -10,9 +10,12 @@ stored runs; a file from an unknown format, or one missing a field, raises
 from __future__ import annotations
 
 import json
+import numbers
 import os
 import tempfile
 import zipfile
+import zlib
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -20,8 +23,9 @@ import numpy as np
 
 from .cao import OptimizerTrace
 from .cvt import CVTResult
-from .errors import ResultsFormatError, UavcovError
+from .errors import InvalidTypeError, ResultsFormatError, UavcovError
 from .mission import MissionResult, MissionSpec
+from .results import widen_mode
 from .starts import START_KINDS
 from .surface import Terrain
 
@@ -64,6 +68,66 @@ def _require(mapping: Any, names: tuple[str, ...], path: Path) -> None:
         raise ResultsFormatError(f"{path} is missing {', '.join(missing)}")
 
 
+def _as_path(path: Any) -> Path:
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
+    return Path(path)
+
+
+# The header's scalars and their types: a file that says n_uavs = "many" is refused, not loaded.
+_INT = (numbers.Integral,)
+_REAL = (numbers.Real,)
+_SCALAR_TYPES = {
+    "best_coverage": _REAL,
+    "initial_coverage": _REAL,
+    "final_coverage": _REAL,
+    "best_iteration": _INT,
+    "iterations_to_95": _INT,
+    "evaluations": _INT,
+    "wall_time_s": _REAL,
+    "time_measure_s": _REAL,
+    "time_optimizer_s": _REAL,
+}
+_TRACE_TYPES = {"best_value": _REAL, "best_iteration": _INT, "evaluations": _INT}
+_CVT_TYPES = {"iterations": _INT, "converged": (bool,), "seed": _INT}
+
+
+def _check_fields(record: Any, types: Mapping[str, tuple[type, ...]], where: str, path: Path) -> None:
+    if not isinstance(record, dict):
+        raise ResultsFormatError(f"{path}: {where} must be a JSON object, got {type(record).__name__}")
+    for name, kinds in types.items():
+        if name not in record:
+            continue  # missing fields are reported by name where they are read
+        value = record[name]
+        ok = isinstance(value, kinds) and (kinds == (bool,) or not isinstance(value, bool))
+        if not ok:
+            raise ResultsFormatError(f"{path}: {where}.{name} = {value!r} is not {'an integer' if kinds is _INT else 'a number'}")
+
+
+def _check_arrays(arrays: dict[str, np.ndarray], n_uavs: int, path: Path) -> None:
+    """The arrays' shapes agree with each other and with the spec (a corrupt file is refused)."""
+    expected = {
+        "prior_points": (None, 3),
+        "start_positions": (n_uavs, 3),
+        "coverage": (None,),
+        "trace_trajectory": (None, n_uavs, 3),
+        "trace_best_positions": (n_uavs, 3),
+    }
+    for name, shape in expected.items():
+        array = arrays[name]
+        if (
+            array.dtype.kind not in "fiu"
+            or array.ndim != len(shape)
+            or any(want is not None and got != want for got, want in zip(array.shape, shape, strict=True))
+        ):
+            wanted = "(" + ", ".join("n" if d is None else str(d) for d in shape) + ")"
+            raise ResultsFormatError(f"{path}: {name} has shape {array.shape} and dtype {array.dtype}, expected numbers of shape {wanted}")
+    if arrays["trace_trajectory"].shape[0] != arrays["coverage"].shape[0]:
+        raise ResultsFormatError(
+            f"{path}: {arrays['trace_trajectory'].shape[0]} positions in the trajectory for {arrays['coverage'].shape[0]} coverage values"
+        )
+
+
 def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     """Write ``result`` to ``path`` (an ``.npz`` file), atomically: a reader never sees half a file.
 
@@ -72,7 +136,9 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     Path
         The file written.
     """
-    path = Path(path)
+    if not isinstance(result, MissionResult):
+        raise InvalidTypeError(f"result must be a MissionResult, got {type(result).__name__}")
+    path = _as_path(path)
     trace = result.trace
     header = {
         "format": FORMAT,
@@ -116,6 +182,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".npz")
     try:
         with os.fdopen(fd, "wb") as out:
+            widen_mode(out.fileno())  # the mode of every file of a results folder, not mkstemp's 0o600
             np.savez_compressed(out, **arrays)  # type: ignore[arg-type]
         os.replace(tmp, path)
     except BaseException:
@@ -136,18 +203,26 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         The file does not exist, is not a run file, comes from another format version, or lacks
         a field (the message names it).
     """
-    path = Path(path)
+    path = _as_path(path)
     if not path.is_file():
         raise ResultsFormatError(f"no run file at {path}")
     try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile) as exc:
-        raise ResultsFormatError(f"{path} is not a uavcov run file: {exc}") from exc
+        data = np.load(path, allow_pickle=False)
+        if not isinstance(data, np.lib.npyio.NpzFile):  # a bare .npy array, not an archive
+            raise ValueError("a single array, not an archive of a run's arrays")
+        with data:
+            arrays: dict[str, Any] = {name: data[name] for name in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError, NotImplementedError) as exc:
+        # EOFError: an empty file; zlib.error, BadZipFile: a corrupt member; ValueError: not numpy
+        raise ResultsFormatError(f"{path} is not a readable uavcov run file: {type(exc).__name__}: {exc}") from exc
+    except MemoryError:
+        raise ResultsFormatError(f"{path} is not a uavcov run file: an array of it claims more memory than there is") from None
     _require(arrays, ("header",), path)
+    if arrays["header"].shape != () or arrays["header"].dtype.kind != "U":
+        raise ResultsFormatError(f"{path} has a header that is not a JSON text")
     try:
         header = json.loads(str(arrays["header"]))
-    except json.JSONDecodeError as exc:
+    except (json.JSONDecodeError, RecursionError) as exc:
         raise ResultsFormatError(f"{path} has an unreadable header: {exc}") from exc
     if not isinstance(header, dict):
         raise ResultsFormatError(f"{path} has a header that is not a JSON object")
@@ -155,11 +230,20 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         raise ResultsFormatError(f"{path} has format {header.get('format')!r}; this uavcov reads {FORMAT!r}")
     _require(header, ("settings" if header["format"] == _FORMAT_1 else "spec", "scalars", "trace"), path)
     _require(arrays, ("prior_points", "start_positions", "coverage", *(f"trace_{n}" for n in _TRACE_ARRAYS)), path)
+    _check_fields(header["scalars"], _SCALAR_TYPES, "scalars", path)
+    _check_fields(header["trace"], _TRACE_TYPES, "trace", path)
+    if header.get("cvt") is not None:
+        _check_fields(header["cvt"], _CVT_TYPES, "cvt", path)
     try:
         if header["format"] == _FORMAT_1:
             spec, seed, prior_kind = _spec_of_format_1(header)
         else:
-            spec, seed, prior_kind = MissionSpec.from_dict(header["spec"]), header["seed"], str(header["prior_kind"])
+            spec, seed, prior_kind = MissionSpec.from_dict(header["spec"]), header["seed"], header["prior_kind"]
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
+            raise ResultsFormatError(f"{path}: seed = {seed!r} is not an integer")
+        if not isinstance(prior_kind, str):
+            raise ResultsFormatError(f"{path}: prior_kind = {prior_kind!r} is not a string")
+        _check_arrays(arrays, spec.n_uavs, path)
         t = header["trace"]
         trace = OptimizerTrace(
             kind=t["kind"],
@@ -190,8 +274,10 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             trace=trace,
             **s,
         )
-    except (KeyError, TypeError, AttributeError, UavcovError) as exc:
-        raise ResultsFormatError(f"{path} is missing or has a malformed field: {exc}") from exc
+    except ResultsFormatError:
+        raise
+    except (KeyError, TypeError, AttributeError, ValueError, UavcovError) as exc:
+        raise ResultsFormatError(f"{path} is missing or has a malformed field: {type(exc).__name__}: {exc}") from exc
 
 
 def _spec_of_format_1(header: dict[str, Any]) -> tuple[MissionSpec, int | None, str]:

@@ -34,11 +34,13 @@ from .errors import ResultsFolderError, ResultsFormatError, ResultsInUseError
 
 __all__ = [
     "RUN_COLUMNS",
+    "file_mode",
     "CONFIG_FORMAT",
     "ResultsFolder",
     "RunsFile",
     "read_runs",
     "atomic_write",
+    "widen_mode",
     "csv_line",
     "format_cell",
     "config_document",
@@ -109,6 +111,14 @@ def json_default(value: Any) -> Any:
 
 # ---------------------------------------------------------------------------------------------
 # runs.csv
+
+
+def _refuse_link(path: Path) -> None:
+    if path.is_symlink():
+        raise ResultsFolderError(
+            f"{path} is a symbolic link: uavcov writes only inside the results folder and never through a link; "
+            "remove it or write to another folder (nothing was changed)"
+        )
 
 
 def format_cell(value: Any) -> str:
@@ -208,7 +218,11 @@ class RunsFile:
             # on the first write): drop it before appending.
             with open(path, "r+b") as handle:
                 handle.truncate(end)
-        self.handle = open(path, "a", encoding="utf-8", newline="")  # noqa: SIM115 (closed by close())
+        try:  # never through a symbolic link (check refuses one; O_NOFOLLOW closes the race)
+            fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o666)
+        except OSError as exc:
+            raise ResultsFolderError(f"cannot write {path}: {exc.strerror or exc}") from exc
+        self.handle = os.fdopen(fd, "a", encoding="utf-8", newline="")
         if fresh:
             self._write(csv_line(self.columns))
 
@@ -220,13 +234,23 @@ class RunsFile:
         ------
         ResultsInUseError
             The file holds another kind of sweep.
+        ResultsFolderError
+            ``path`` is a symbolic link (uavcov never writes through one) or not a file.
+        ResultsFormatError
+            It cannot be read, or is not UTF-8 text.
         """
+        _refuse_link(path)
         if not path.exists():
             return 0
+        if not path.is_file():
+            raise ResultsFolderError(f"{path} is not a file")
         text, end = _complete_text(path)
         if end == 0:
             return 0
-        header = next(csv.reader(io.StringIO(text)), None)
+        try:
+            header = next(csv.reader(io.StringIO(text)), None)
+        except csv.Error as exc:
+            raise ResultsFormatError(f"{path} is not a CSV file: {exc}") from None
         if header != list(columns):
             raise ResultsInUseError(f"{path} has the columns {header}, this sweep writes {list(columns)}: it holds another kind of sweep")
         return end
@@ -245,11 +269,38 @@ class RunsFile:
         self.handle.close()
 
 
+def file_mode() -> int:
+    """The mode of every file uavcov writes: ``0o666`` less the process's umask (0o644 usually).
+
+    What ``open()`` gives a new file; :func:`tempfile.mkstemp` makes 0o600 files, which
+    :func:`atomic_write` and :func:`uavcov.records.save_mission` widen to this, so that a results
+    folder holds one mode.
+    """
+    with contextlib.suppress(OSError, ValueError), open("/proc/self/status", encoding="ascii") as status:
+        for line in status:
+            if line.startswith("Umask:"):
+                return 0o666 & ~int(line.split()[1], 8)
+    mask = os.umask(0o022)  # no /proc: read the umask by setting it, then put it back
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def widen_mode(fd: int) -> None:
+    """Give the open file ``fd`` (made by :func:`tempfile.mkstemp`, mode 0o600) :func:`file_mode`."""
+    if hasattr(os, "fchmod"):  # not on Windows, where modes mean little
+        os.fchmod(fd, file_mode())
+
+
 def atomic_write(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename (never half-written)."""
+    """Write ``text`` to ``path`` through a temporary file and a rename (never half-written).
+
+    The rename replaces ``path`` itself: a symbolic link there is replaced, never followed. The
+    file gets :func:`file_mode`.
+    """
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=path.suffix)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
+            widen_mode(out.fileno())
             out.write(text)
             out.flush()
             os.fsync(out.fileno())
@@ -300,6 +351,37 @@ def config_document(
 
 # ---------------------------------------------------------------------------------------------
 # The folder
+
+
+def _is_our_document(document: Any) -> bool:
+    """Whether a parsed ``config.json`` is uavcov's: its ``format`` is :data:`CONFIG_FORMAT`, or it
+    comes from a release before that tag (``uavcov_version`` and ``settings``, no ``format``)."""
+    if not isinstance(document, dict):
+        return False
+    if "format" in document:
+        return bool(document["format"] == CONFIG_FORMAT)
+    return "uavcov_version" in document and "settings" in document
+
+
+def _is_our_config(path: Path) -> bool:
+    """Whether ``path`` is a ``config.json`` uavcov wrote."""
+    try:
+        document = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return False
+    return _is_our_document(document)
+
+
+def _is_our_runs(path: Path) -> bool:
+    """Whether ``path`` starts with a header of uavcov's ``runs.csv``."""
+    try:
+        with open(path, "rb") as handle:
+            first = handle.readline(1 << 16).decode("utf-8")
+        header = next(csv.reader(io.StringIO(first)), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    return all(c in header for c in RUN_COLUMNS)
+
 
 _HELD_LOCKS: dict[Path, tuple[int, int]] = {}
 
@@ -358,8 +440,9 @@ class ResultsFolder:
         return RunsFile(self.runs_csv, columns)
 
     def write_text(self, name: str, text: str) -> Path:
-        """Write a file of the folder atomically; returns its path."""
+        """Write a file of the folder atomically (never through a symbolic link); returns its path."""
         path = self.path / name
+        _refuse_link(path)
         atomic_write(path, text)
         return path
 
@@ -378,8 +461,82 @@ class ResultsFolder:
                 kept.append(line)
         atomic_write(self.runs_csv, "".join(kept))
 
+    def claim(self, names: Sequence[str] = ()) -> None:
+        """Check, before anything is written, that uavcov may write ``runs.csv``, ``runs/``,
+        ``config.json`` and ``names`` here.
+
+        Refused: a symbolic link in place of any of them (uavcov writes only inside the
+        folder), a ``runs`` that is not a directory, a ``config.json`` that uavcov did not
+        write, and, in a folder that holds no uavcov results yet (neither its ``config.json``
+        nor its ``runs.csv``), any file uavcov would overwrite.
+
+        Raises
+        ------
+        ResultsFolderError
+            A symbolic link, or ``runs`` is a file.
+        ResultsInUseError
+            A file that is not uavcov's would be overwritten.
+        """
+        written = list(dict.fromkeys(["runs.csv", "config.json", *names]))
+        for name in dict.fromkeys([*written, "runs", ".uavcov.lock"]):
+            _refuse_link(self.path / name)
+        runs = self.path / "runs"
+        if runs.exists() and not runs.is_dir():
+            raise ResultsFolderError(f"{runs} is a file: uavcov keeps a folder's runs in a directory of that name")
+        config = self.config_json
+        ours = config.exists() and _is_our_config(config)
+        if config.exists() and not ours:
+            raise ResultsInUseError(
+                f'{config} is not a uavcov results file (no "format": "{CONFIG_FORMAT}") and would be overwritten: '
+                "move it away or write to another folder (nothing was changed)"
+            )
+        if not ours and not (self.runs_csv.is_file() and _is_our_runs(self.runs_csv)):
+            clash = [n for n in written if (self.path / n).exists()]
+            if clash:
+                raise ResultsInUseError(
+                    f"{self.path} holds {', '.join(clash)} but no uavcov results, and uavcov would overwrite them: "
+                    "move them away or write to another folder (nothing was changed)"
+                )
+
+    def remove_leftovers(self) -> None:
+        """Delete the temporary files (``.tmp-*``) a write cut short by a crash left in the folder
+        and in ``runs/``; call it holding :meth:`lock`, so that no write of ours is under way."""
+        for where in (self.path, self.path / "runs"):
+            if where.is_dir() and not where.is_symlink():
+                for leftover in where.glob(".tmp-*"):
+                    with contextlib.suppress(OSError):
+                        if leftover.is_file() and not leftover.is_symlink():
+                            leftover.unlink()
+
+    def check_config(self, config: Mapping[str, Any], *, resume: bool) -> None:
+        """On ``resume``, an existing ``config.json`` must hold the same ``"settings"`` entry.
+
+        Raises
+        ------
+        ResultsInUseError
+            The folder holds results of other settings, or a ``config.json`` that uavcov did not
+            write or cannot read.
+        """
+        path = self.config_json
+        if not path.exists():
+            return
+        try:
+            previous = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            raise ResultsInUseError(f"cannot read {path}: {exc}; move it away or write to another folder") from None
+        if not _is_our_document(previous):
+            raise ResultsInUseError(f'{path} is not a uavcov results file (no "format": "{CONFIG_FORMAT}")')
+        if not resume:
+            return
+        old = json.dumps(previous.get("settings"), sort_keys=True, default=json_default)
+        new = json.dumps(config.get("settings"), sort_keys=True, default=json_default)
+        if old != new:
+            raise ResultsInUseError(
+                f"{self.path} holds results of other settings (see {path}); resume them with the same settings, or write to another folder"
+            )
+
     def write_config(self, config: Mapping[str, Any], *, resume: bool) -> Path:
-        """Write ``config.json`` (atomically).
+        """Write ``config.json`` (atomically), after :meth:`check_config`.
 
         On ``resume``, an existing ``config.json`` must hold the same ``"settings"`` entry:
         results of two configurations are never mixed in one folder.
@@ -387,22 +544,11 @@ class ResultsFolder:
         Raises
         ------
         ResultsInUseError
-            The folder holds results of other settings.
+            The folder holds results of other settings, or a ``config.json`` that is not uavcov's.
         """
+        self.check_config(config, resume=resume)
         path = self.config_json
-        if resume and path.exists():
-            try:
-                previous = json.loads(path.read_text(encoding="utf-8"))
-            except (OSError, UnicodeDecodeError, json.JSONDecodeError):
-                previous = None
-            if isinstance(previous, dict):
-                old = json.dumps(previous.get("settings"), sort_keys=True, default=json_default)
-                new = json.dumps(config.get("settings"), sort_keys=True, default=json_default)
-                if old != new:
-                    raise ResultsInUseError(
-                        f"{self.path} holds results of other settings (see {path}); resume them with the same settings, "
-                        "or write to another folder"
-                    )
+        _refuse_link(path)
         atomic_write(path, json.dumps(config, indent=2, sort_keys=True, default=json_default) + "\n")
         return path
 
@@ -434,7 +580,11 @@ class ResultsFolder:
                 fd, depth = _HELD_LOCKS[key]
                 _HELD_LOCKS[key] = (fd, depth - 1)
             return
-        fd = os.open(key / ".uavcov.lock", os.O_RDWR | os.O_CREAT, 0o644)
+        lock_file = key / ".uavcov.lock"
+        try:
+            fd = os.open(lock_file, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o666)
+        except OSError as exc:  # a symbolic link there (O_NOFOLLOW), no permission, ...
+            raise ResultsFolderError(f"cannot open the lock file {key / '.uavcov.lock'}: {exc.strerror or exc}") from exc
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:

@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import MAX_UAVS, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
+from ._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
 from .cvt import CVTResult, CVTSettings, cvt
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .surface import Terrain
@@ -162,7 +162,8 @@ def initial_positions(
     surface : Terrain
         The surface the starts are computed on (the approximating surface S' in the paper).
     n : int
-        Number of UAVs, 1 to 1 000 (:data:`uavcov._validate.MAX_UAVS`).
+        Number of positions, 1 to 10 million (:data:`uavcov._validate.MAX_SAMPLES`; a "cvt" start
+        allows 10 000, :data:`~uavcov._validate.MAX_GENERATORS`).
     altitude : float, default 0.0
         Metres added to every position's z (>= 0). The default leaves the starts on the surface;
         lifting above the real terrain is :func:`uavcov.constraints.closest_admissible`'s job.
@@ -202,7 +203,7 @@ def initial_positions(
         raise InvalidInputError(f"kind must be one of {START_KINDS}, got {kind!r}")
     if not isinstance(surface, Terrain):
         raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
-    n = as_count(n, "n", MAX_UAVS)
+    n = as_count(n, "n", MAX_SAMPLES)
     lift = as_non_negative_float(altitude, "altitude")
     if not isinstance(corner, str):
         raise InvalidTypeError(f"corner must be a string, got {type(corner).__name__}")
@@ -339,7 +340,7 @@ def start_configuration(
     """
     if not isinstance(spec, StartSpec):
         raise InvalidTypeError(f"spec must be a StartSpec, got {type(spec).__name__}")
-    n = as_count(n, "n", MAX_UAVS)
+    n = as_count(n, "n", MAX_SAMPLES)
     generator = as_generator(rng)
     tessellation = None
     if spec.kind == "cvt":

@@ -96,7 +96,7 @@ class Terrain:
     __slots__ = ("_faces", "_grid", "_surface", "_vertices")
 
     def __init__(self, vertices: Any, faces: Any, *, drop_degenerate: bool = False) -> None:
-        v = as_float_array(vertices, "vertices", allow_nan=True)
+        v = as_float_array(vertices, "vertices", allow_nan=True, nonfinite_error=MeshError)
         if v.ndim != 2 or v.shape[1] != 3:
             raise MeshError(f"vertices must have shape (V, 3), got {v.shape}")
         if not np.isfinite(v).all():
@@ -351,6 +351,8 @@ class Terrain:
 def _pair(value: Any, name: str, *, positive: bool) -> tuple[float, float]:
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
         values = (value, value)
+    elif isinstance(value, (str, bytes, dict)):
+        raise InvalidTypeError(f"{name} must be a number or a pair of numbers, got {type(value).__name__} {value!r}")
     else:
         try:
             values = tuple(value)

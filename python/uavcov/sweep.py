@@ -401,7 +401,7 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
                 raise ConfigError(f"seeds {text!r}: more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
             seeds.extend(range(a, b + 1))
     elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable):
-        raise ConfigError(f"seeds must be a string like \"0-39\" or a list of integers, got {text!r}")
+        raise ConfigError(f'seeds must be a string like "0-39" or a list of integers, got {text!r}')
     else:
         seeds = []
         for s in text:
@@ -598,6 +598,7 @@ def run_specs(
         folder.write_config(_configuration(specs, command, execution, about), resume=resume)
         if drop:
             folder.drop_runs(drop)
+        folder.remove_leftovers()
         runs_file = folder.open_runs(columns)
         try:
             if save_runs:

@@ -28,8 +28,9 @@ and start. See ``examples/sweep.toml``::
 
 A setting whose default is "none" (for example ``cao.n_regressors``) takes the string
 ``"none"`` for that default. The ``[flight]`` table of earlier releases is still read (its keys
-map to ``[start]`` and ``[constraints]`` as :data:`uavcov.sweep.FLIGHT_KEYS` says). Every error is a :class:`~uavcov.errors.ConfigError` naming the file
-and the key; an unknown key comes with the closest valid one.
+map to ``[start]`` and ``[constraints]`` as :data:`uavcov.sweep.FLIGHT_KEYS` says). Every error is a
+:class:`~uavcov.errors.ConfigError` naming the file and the key; an unknown key comes with the closest
+valid one.
 """
 
 from __future__ import annotations
@@ -332,7 +333,12 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     for group, defaults in _GROUPS.items():
         if group in data:
             changes.update(_group_changes(group, data[group], defaults, src))
-    top_defaults = {"d_max": base.mission.d_max, "prior": base.prior, "n_prior": base.mission.n_prior, "iterations": base.mission.iterations}
+    top_defaults = {
+        "d_max": base.mission.d_max,
+        "prior": base.prior,
+        "n_prior": base.mission.n_prior,
+        "iterations": base.mission.iterations,
+    }
     for key in _TOP_SCALARS:
         if key in data:
             changes[key] = _coerce(data[key], top_defaults[key], key, src)

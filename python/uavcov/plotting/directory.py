@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ResultsFormatError
+from ..errors import ResultsFolderError, ResultsFormatError
 from ..records import load_mission
 from . import _runs
 from ._canvas import _close, _matplotlib
@@ -60,6 +60,8 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     ResultsFormatError
         No such directory, nothing to plot in it, a ``runs.csv`` without a required column, or
         a stored run that cannot be read (the message names the file and what is missing).
+    ResultsFolderError
+        ``out`` is a file or cannot be made.
     ImportError
         matplotlib is not installed (the ``uavcov[plot]`` extra).
     """
@@ -69,10 +71,17 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     limit = max(0, int(max_runs))
     target = directory / "figures" if out is None else Path(out)
     runs_csv = directory / "runs.csv"
-    run_files = sorted((directory / "runs").glob("*.npz")) if (directory / "runs").is_dir() else []
+    # Not the hidden files: ".tmp-*.npz" is what a save cut short by a crash leaves behind.
+    run_files = sorted(f for f in (directory / "runs").glob("*.npz") if not f.name.startswith(".")) if (directory / "runs").is_dir() else []
     if not runs_csv.is_file() and not run_files:
         raise ResultsFormatError(f"{directory} holds neither runs.csv nor runs/*.npz: nothing to plot")
     _matplotlib()
+    if target.exists() and not target.is_dir():
+        raise ResultsFolderError(f"the figures folder {target} is a file, not a directory")
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ResultsFolderError(f"cannot make the figures folder {target}: {exc.strerror or exc}") from exc
     from .. import paper
 
     written: list[Path] = []
