@@ -53,8 +53,9 @@ def make_grid_case(z: np.ndarray, spacing: tuple[float, float], origin: tuple[fl
     return GridCase(z=z, spacing=spacing, origin=origin, vertices=vertices, faces=faces)
 
 
-def hills_grid_case(nx: int = 17, ny: int = 14, spacing: tuple[float, float] = (1.1, 1.3),
-                    origin: tuple[float, float] = (0.5, -0.7)) -> GridCase:
+def hills_grid_case(
+    nx: int = 17, ny: int = 14, spacing: tuple[float, float] = (1.1, 1.3), origin: tuple[float, float] = (0.5, -0.7)
+) -> GridCase:
     xs = origin[0] + np.arange(nx) * spacing[0]
     ys = origin[1] + np.arange(ny) * spacing[1]
     x, y = np.meshgrid(xs, ys)  # (ny, nx): row i is y, column j is x

@@ -129,9 +129,7 @@ def segment_segment_distance(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2:
     return np.where(inside, np.minimum(best, interior), best)
 
 
-def closest_points_on_triangles(
-    p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def closest_points_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Closest point of each triangle ``(a, b, c)`` to ``p`` (broadcast over leading axes).
 
     The closest point is either the orthogonal projection onto the plane (when it falls inside
@@ -183,9 +181,7 @@ def closest_point_on_mesh(points: np.ndarray, vertices: np.ndarray, faces: np.nd
 # segment against triangles
 
 
-def segment_triangle_hits(
-    origin: np.ndarray, end: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
-) -> np.ndarray:
+def segment_triangle_hits(origin: np.ndarray, end: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     """Moller-Trumbore: does the closed segment ``[origin, end]`` meet triangle ``(a, b, c)``?
 
     Broadcast over leading axes. Segments parallel to the triangle's plane count as a miss here;
@@ -321,9 +317,7 @@ def visibility_reference(
 # heights
 
 
-def ground_height_mesh(
-    xy: np.ndarray, vertices: np.ndarray, faces: np.ndarray, *, below: np.ndarray | None = None
-) -> np.ndarray:
+def ground_height_mesh(xy: np.ndarray, vertices: np.ndarray, faces: np.ndarray, *, below: np.ndarray | None = None) -> np.ndarray:
     """Highest surface z on the vertical line through each ``(x, y)``; NaN where there is none.
 
     With ``below`` (n,), only surface points at or under ``below[k]`` count (the first surface
@@ -355,9 +349,7 @@ def ground_height_mesh(
     return out
 
 
-def grid_height(
-    xy: np.ndarray, z: np.ndarray, spacing: tuple[float, float], origin: tuple[float, float] = (0.0, 0.0)
-) -> np.ndarray:
+def grid_height(xy: np.ndarray, z: np.ndarray, spacing: tuple[float, float], origin: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
     """Piecewise-linear height of an elevation grid, straight from the grid values.
 
     Vertex (i, j) is at ``x = ox + j dx, y = oy + i dy``; each cell is split along the diagonal
@@ -388,9 +380,7 @@ def grid_height(
     return np.where(outside, np.nan, h)
 
 
-def grid_mesh(
-    z: np.ndarray, spacing: tuple[float, float], origin: tuple[float, float] = (0.0, 0.0)
-) -> tuple[np.ndarray, np.ndarray]:
+def grid_mesh(z: np.ndarray, spacing: tuple[float, float], origin: tuple[float, float] = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
     """The grid's triangulation built independently: ``(vertices (ny*nx, 3), faces (F, 3))``.
 
     All vertices are kept (NaN ones included, with their NaN z); triangles touching a NaN vertex

@@ -442,7 +442,6 @@ def test_too_many_threads_is_an_error_not_a_panic(n_threads, expected):
 # to fail.
 
 
-
 def test_infinite_vertex_is_a_mesh_error_like_nan():
     for bad in (np.inf, -np.inf, np.nan):
         v = TRI_V.copy()

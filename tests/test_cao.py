@@ -279,8 +279,7 @@ def test_same_seed_same_trajectory_and_different_seeds_differ(optimizer):
 def test_noise_is_added_to_what_the_optimiser_sees_only(optimizer):
     target = np.zeros((2, 3))
     measure = quadratic(target) if optimizer is cao else marginal_quadratic(target)
-    tr = optimizer(measure, np.ones((2, 3)), feasible=None, iterations=200,
-                   settings=CAOSettings(measurement_noise=0.3), rng=1)
+    tr = optimizer(measure, np.ones((2, 3)), feasible=None, iterations=200, settings=CAOSettings(measurement_noise=0.3), rng=1)
     truth = np.array([quadratic(target)(x) for x in tr.trajectory])
     np.testing.assert_allclose(tr.values, truth)
     noise = tr.measured - tr.values
@@ -294,8 +293,7 @@ def test_best_so_far_never_decreases_even_when_coverage_falls(optimizer):
     rng = np.random.default_rng(4)
     target = rng.normal(size=(3, 3))
     measure = quadratic(target) if optimizer is cao else marginal_quadratic(target)
-    tr = optimizer(measure, np.full((3, 3), 3.0), feasible=None, iterations=150,
-                   settings=CAOSettings(measurement_noise=2.0), rng=5)
+    tr = optimizer(measure, np.full((3, 3), 3.0), feasible=None, iterations=150, settings=CAOSettings(measurement_noise=2.0), rng=5)
     best = tr.best_so_far()
     assert np.all(np.diff(best) >= 0.0)
     assert best[-1] == tr.best_value

@@ -14,8 +14,17 @@ def _rows(values: dict[tuple[int, str], list[float]]) -> list[dict]:
     rows = []
     for (n, start), column in values.items():
         for seed, value in enumerate(column):
-            rows.append({"run_id": f"t-{start}-{n}-{seed}", "n_uavs": n, "init": start, "seed": seed, "max_coverage": value,
-                         "iterations_to_95": 10 * seed, "error": ""})
+            rows.append(
+                {
+                    "run_id": f"t-{start}-{n}-{seed}",
+                    "n_uavs": n,
+                    "init": start,
+                    "seed": seed,
+                    "max_coverage": value,
+                    "iterations_to_95": 10 * seed,
+                    "error": "",
+                }
+            )
     return rows
 
 

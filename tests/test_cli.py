@@ -107,28 +107,28 @@ def test_sweep_end_to_end(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    ("text", "message"),
+    "text, message",
     [
         ("name = \n", "not valid TOML"),
         ("iteratoins = 5\n", "did you mean 'iterations'"),
         ("[cao]\nalpha = 1.0\n", "did you mean 'alpha0'"),
         ("[terrain]\nsigmaa = 3.0\n", "did you mean 'sigma'"),
-        ("[sweep]\n\"cao.alpah0\" = [1.0]\n", "did you mean 'cao.alpha0'"),
+        ('[sweep]\n"cao.alpah0" = [1.0]\n', "did you mean 'cao.alpha0'"),
         ("d_max = -5.0\n", "d_max"),
         ("iterations = -1\n", "iterations"),
         ("team_sizes = [0]\n", "team_sizes"),
-        ("starts = [\"cvtt\"]\n", "did you mean 'cvt'"),
-        ("seeds = \"5-1\"\n", "backwards"),
+        ('starts = ["cvtt"]\n', "did you mean 'cvt'"),
+        ('seeds = "5-1"\n', "backwards"),
         ("[cao]\nalpha0 = -1.0\n", "alpha0"),
         ("[cao]\nn_candidates = 2.5\n", "integer"),
         ("[terrain]\nspacing = 3.0\n", "whole number"),
         pytest.param(
-            "[cvt]\npreset = \"lloid\"\n",
+            '[cvt]\npreset = "lloid"\n',
             "did you mean 'lloyd'",
         ),
-        ("[cvt]\npreset = \"lloid\"\n", "cvt.preset"),
+        ('[cvt]\npreset = "lloid"\n', "cvt.preset"),
         ("[flight]\nh_min = 60.0\nz_max = 50.0\n", "h_min"),
-        ("prior = \"map\"\n", "buildings"),
+        ('prior = "map"\n', "buildings"),
         ("[sweep]\nd_max = []\n", "non-empty list"),
         ("[sweep]\nseeds = [1, 2]\n", "top level"),
     ],
@@ -197,7 +197,10 @@ def test_argument_errors_exit_2(capsys):
 def test_reproduce_records_failed_runs_and_exits_1(tmp_path, capsys):
     config = write(
         tmp_path / "fail.toml",
-        TINY_SWEEP.format(iterations=2).replace("team_sizes = [2]", "team_sizes = [2, 30]").replace("size = 40.0", "size = 12.0").replace("spacing = 4.0", "spacing = 2.0"),
+        TINY_SWEEP.format(iterations=2)
+        .replace("team_sizes = [2]", "team_sizes = [2, 30]")
+        .replace("size = 40.0", "size = 12.0")
+        .replace("spacing = 4.0", "spacing = 2.0"),
     )
     out = tmp_path / "out"
     assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "--no-save-runs"]) == EXIT_RUNS_FAILED
@@ -248,7 +251,7 @@ def _env() -> dict[str, str]:
 
 def test_python_dash_m_is_the_same_command(tmp_path):
     done = subprocess.run(
-        [sys.executable, "-m", "uavcov", "reproduce", "--help"], capture_output=True, text=True, timeout=60, env=_env()
+        [sys.executable, "-m", "uavcov", "reproduce", "--help"], check=False, capture_output=True, text=True, timeout=60, env=_env()
     )
     assert done.returncode == 0
     assert "table1" in done.stdout and "--scheduler" in done.stdout and "--resume" in done.stdout
@@ -280,7 +283,7 @@ def test_ctrl_c_leaves_a_clean_runs_file_and_resume_finishes_it(tmp_path):
         assert 2 <= len(rows) < total
     else:  # the machine was fast enough to finish before the signal landed
         assert process.returncode == EXIT_OK and len(rows) == total
-    done = subprocess.run(command + ["--resume"], capture_output=True, text=True, timeout=300, env=_env())
+    done = subprocess.run(command + ["--resume"], check=False, capture_output=True, text=True, timeout=300, env=_env())
     assert done.returncode == EXIT_OK, done.stderr
     final = read_runs(runs)
     assert len(final) == total and len({r["run_id"] for r in final}) == total

@@ -257,14 +257,16 @@ def test_under_the_ground_outside_the_surface_and_over_holes_are_refused():
     world = BoxWorld(20.0, ground=1.0, holes=[(8, 8, 12, 12)])
     c = Constraints((-5, -5, 25, 25), h_min=0.5, z_max=30.0, d_safe=0.0)
     current = np.array([[2.0, 2.0, 5.0]])
-    cands = np.array([
-        [[2.0, 2.0, 5.0]],  # fine
-        [[2.0, 2.0, 0.5]],  # below the ground: nothing below it, clearance inf
-        [[10.0, 10.0, 5.0]],  # over the hole
-        [[-2.0, 3.0, 5.0]],  # inside the bounds but off the surface
-        [[4.0, 4.0, 1.4]],  # 0.4 m over the ground < h_min
-        [[4.0, 4.0, 1.5]],  # exactly h_min: allowed (closed constraint)
-    ])
+    cands = np.array(
+        [
+            [[2.0, 2.0, 5.0]],  # fine
+            [[2.0, 2.0, 0.5]],  # below the ground: nothing below it, clearance inf
+            [[10.0, 10.0, 5.0]],  # over the hole
+            [[-2.0, 3.0, 5.0]],  # inside the bounds but off the surface
+            [[4.0, 4.0, 1.4]],  # 0.4 m over the ground < h_min
+            [[4.0, 4.0, 1.5]],  # exactly h_min: allowed (closed constraint)
+        ]
+    )
     np.testing.assert_array_equal(feasible_mask(c, world, current, cands), [True, False, False, False, False, True])
 
 
@@ -335,21 +337,25 @@ def test_an_admissible_start_is_left_exactly_alone(town):
 
 def test_each_uav_goes_to_its_own_closest_admissible_point(town):
     c = Constraints((0, 0, 30, 30), h_min=2.0, z_max=20.0, d_safe=2.0)
-    start = np.array([
-        [3.0, 3.0, -4.0],  # under the ground -> 2 m above it
-        [7.0, 8.0, 5.0],  # inside the first building -> over its roof (8 + 2)
-        [20.0, 17.0, 15.0],  # 1 m over the second roof (14) -> 16
-        [-3.0, 35.0, 40.0],  # outside the region and too high -> clamped into the corner, z_max
-        [27.0, 3.0, 5.0],  # already fine
-    ])
+    start = np.array(
+        [
+            [3.0, 3.0, -4.0],  # under the ground -> 2 m above it
+            [7.0, 8.0, 5.0],  # inside the first building -> over its roof (8 + 2)
+            [20.0, 17.0, 15.0],  # 1 m over the second roof (14) -> 16
+            [-3.0, 35.0, 40.0],  # outside the region and too high -> clamped into the corner, z_max
+            [27.0, 3.0, 5.0],  # already fine
+        ]
+    )
     out = closest_admissible(c, town, start)
-    expected = np.array([
-        [3.0, 3.0, 2.0],
-        [7.0, 8.0, 10.0],
-        [20.0, 17.0, 16.0],
-        [0.0, 30.0, 20.0],
-        [27.0, 3.0, 5.0],
-    ])
+    expected = np.array(
+        [
+            [3.0, 3.0, 2.0],
+            [7.0, 8.0, 10.0],
+            [20.0, 17.0, 16.0],
+            [0.0, 30.0, 20.0],
+            [27.0, 3.0, 5.0],
+        ]
+    )
     np.testing.assert_allclose(out, expected, atol=1e-5)
     assert np.all(out[:3, 2] >= expected[:3, 2])  # lifted to h_min or just above, never below
     assert feasible_mask(c, town, out, out[None])[0]
@@ -457,12 +463,14 @@ def test_on_a_real_buildings_scene():
     out = closest_admissible(c, scene, start)
     np.testing.assert_allclose(out, [[10.0, 10.0, 7.0], [4.0, 10.0, 1.0], [20.0, 20.0, 4.0]], atol=1e-5)
     current = np.array([[6.0, 10.0, 3.0]])  # 2 m west of the west wall (x = 8)
-    cands = np.array([
-        [[7.0, 10.0, 3.0]],  # closer to the wall: fine
-        [[9.0, 10.0, 3.0]],  # inside the building
-        [[9.0, 10.0, 7.2]],  # over the roof, but the move hits the wall (z = 5.8 at x = 8)
-        [[6.0, 10.0, 8.0]],  # straight up: fine
-    ])
+    cands = np.array(
+        [
+            [[7.0, 10.0, 3.0]],  # closer to the wall: fine
+            [[9.0, 10.0, 3.0]],  # inside the building
+            [[9.0, 10.0, 7.2]],  # over the roof, but the move hits the wall (z = 5.8 at x = 8)
+            [[6.0, 10.0, 8.0]],  # straight up: fine
+        ]
+    )
     np.testing.assert_array_equal(feasible_mask(c, scene, current, cands), [True, False, False, True])
     loose = Constraints.for_world(scene, h_min=1.0, z_max=20.0, d_safe=1.0)
     np.testing.assert_array_equal(feasible_mask(loose, scene, current, cands), [True, False, True, True])

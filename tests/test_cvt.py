@@ -60,7 +60,6 @@ def _kmeans(points: np.ndarray, **kwargs) -> KMeans:
         return KMeans(tol=1e-10, max_iter=3000, **kwargs).fit(points[:, :2])
 
 
-
 @pytest.mark.parametrize("n", [5, 8, 12, 20])
 def test_energy_matches_kmeans(square: Terrain, dense: np.ndarray, n: int) -> None:
     """The converged CVT's energy is within 2 % of scikit-learn's k-means (Lloyd) energy.
@@ -205,8 +204,7 @@ def test_result_is_frozen_and_pickles(square: Terrain) -> None:
     back = pickle.loads(pickle.dumps(result))
     np.testing.assert_array_equal(back.generators, result.generators)
     np.testing.assert_array_equal(back.drift, result.drift)
-    assert (back.iterations, back.converged, back.seed, back.n_generators) == (
-        result.iterations, result.converged, result.seed, 3)
+    assert (back.iterations, back.converged, back.seed, back.n_generators) == (result.iterations, result.converged, result.seed, 3)
 
 
 # -- determinism ------------------------------------------------------------------------------------

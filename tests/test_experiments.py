@@ -142,9 +142,8 @@ def test_process_pool_dask_and_one_process_give_the_same_numbers():
 
 def test_an_unreachable_scheduler_fails_fast_with_a_clear_error():
     started = time.perf_counter()
-    with pytest.raises(SchedulerTimeoutError, match="did not answer") as error:
-        with dask_executor("tcp://127.0.0.1:9", timeout=1.0):
-            pass
+    with pytest.raises(SchedulerTimeoutError, match="did not answer") as error, dask_executor("tcp://127.0.0.1:9", timeout=1.0):
+        pass
     assert isinstance(error.value, TimeoutError)  # except TimeoutError keeps working
     assert time.perf_counter() - started < 8.0
 
@@ -305,7 +304,7 @@ def test_summaries_and_table1_against_numpy():
         initial = mi + 0.06 * rng.standard_normal(6)
         best = mm + 0.04 * rng.standard_normal(6)
         values[start] = (initial, best)
-        rows += [_row(5, start, s, float(a), float(b)) for s, (a, b) in enumerate(zip(initial, best))]
+        rows += [_row(5, start, s, float(a), float(b)) for s, (a, b) in enumerate(zip(initial, best, strict=False))]
     rows.append({**_row(5, "cvt", 99, 0.0, 0.0), "max_coverage": None, "error": "InfeasibleError: no"})
     summary = summarise(rows, by=("n_uavs", "init"))
     for start, (initial, best) in values.items():
@@ -376,9 +375,8 @@ def test_a_server_that_is_not_a_scheduler_fails_fast_with_a_clear_error():
     thread.start()
     started = time.perf_counter()
     try:
-        with pytest.raises(ConfigError, match="Dask scheduler"):
-            with dask_executor(f"tcp://127.0.0.1:{port}", timeout=2.0):
-                pass
+        with pytest.raises(ConfigError, match="Dask scheduler"), dask_executor(f"tcp://127.0.0.1:{port}", timeout=2.0):
+            pass
     finally:
         server.close()
     assert time.perf_counter() - started < 8.0

@@ -425,7 +425,6 @@ KNOWN = [
             "n": 2,
             "point": [2.0, 1.5, 3.0],
         },
-        marks=known("constraints.py (Python, outside this change): check_team's r**3 raises OverflowError"),
         id="check_team-r-cubed-overflows",
     ),
     pytest.param(

@@ -214,22 +214,38 @@ def test_the_deprecated_keyword_form_runs_the_same_mission(hills, short_run):
         old = run_mission(hills, n_uavs=6, d_max=25.0, iterations=40, rng=7, n_threads=1)
     assert old.spec == short_run.spec
     np.testing.assert_array_equal(old.trajectory, short_run.trajectory)
-    with pytest.warns(DeprecationWarning):
+    with pytest.warns(DeprecationWarning, match="MissionSpec"):
         keywords = run_mission(
-            hills, n_uavs=4, d_max=25.0, start="corner", start_altitude=3.0, h_min=1.5, z_max=70.0, d_safe=1.5,
-            settings=CAOSettings(alpha0=2.0), cvt_options={"tol": 0.2}, iterations=3, rng=2,
+            hills,
+            n_uavs=4,
+            d_max=25.0,
+            start="corner",
+            start_altitude=3.0,
+            h_min=1.5,
+            z_max=70.0,
+            d_safe=1.5,
+            settings=CAOSettings(alpha0=2.0),
+            cvt_options={"tol": 0.2},
+            iterations=3,
+            rng=2,
         )
-    expected = _spec(4, start="corner", iterations=3, cao=CAOSettings(alpha0=2.0), cvt=CVTSettings(tol=0.2),
-                     **{"start.altitude": 3.0, "constraints.h_min": 1.5, "constraints.z_max": 70.0, "constraints.d_safe": 1.5})
+    expected = _spec(
+        4,
+        start="corner",
+        iterations=3,
+        cao=CAOSettings(alpha0=2.0),
+        cvt=CVTSettings(tol=0.2),
+        **{"start.altitude": 3.0, "constraints.h_min": 1.5, "constraints.z_max": 70.0, "constraints.d_safe": 1.5},
+    )
     resolved = expected.with_changes(constraints=keywords.spec.constraints, cao=expected.cao.resolved(4))
     assert keywords.spec == resolved
-    with pytest.warns(DeprecationWarning), pytest.raises(InvalidInputError, match="unknown"):
+    with pytest.warns(DeprecationWarning, match="MissionSpec"), pytest.raises(InvalidInputError, match="unknown"):
         run_mission(hills, n_uavs=4, d_max=25.0, colour="red")
     with pytest.raises(InvalidInputError, match="not both"):
         run_mission(hills, _spec(4), n_uavs=4)
-    with pytest.warns(DeprecationWarning):
+    with pytest.warns(DeprecationWarning, match="MissionResult.spec"):
         assert short_run.settings is short_run.spec
-    with pytest.warns(DeprecationWarning):
+    with pytest.warns(DeprecationWarning, match="MissionSpec"):
         assert uavcov.MissionSettings is MissionSpec
 
 
@@ -268,7 +284,9 @@ def test_start_configuration_is_the_one_start_pipeline(hills):
     # the same start as a mission draws it from its start stream
     run = run_mission(hills, _spec(5, iterations=0, cvt=CVTSettings(preset="lloyd")), known=prior, rng=np.random.default_rng(11))
     _, start_rng, _ = np.random.default_rng(11).spawn(3)
-    expected, _ = uavcov.start_configuration(StartSpec(), run.approximation, hills, 5, cvt_settings=CVTSettings(preset="lloyd"), rng=start_rng)
+    expected, _ = uavcov.start_configuration(
+        StartSpec(), run.approximation, hills, 5, cvt_settings=CVTSettings(preset="lloyd"), rng=start_rng
+    )
     np.testing.assert_array_equal(run.start_positions, expected)
 
 
@@ -290,9 +308,20 @@ def test_format_1_run_files_still_load(short_run, tmp_path):
     header.pop("spec"), header.pop("seed"), header.pop("prior_kind")
     header["format"] = "uavcov.mission/1"
     header["settings"] = {
-        "n_uavs": spec.n_uavs, "d_max": spec.d_max, "start": "given", "optimizer": spec.optimizer, "iterations": spec.iterations,
-        "start_altitude": 5.0, "h_min": 2.0, "z_max": 50.0, "d_safe": 2.0, "check_moves": False,
-        "cao": spec.cao.__dict__, "prior_kind": "random", "n_prior": 34, "seed": 7,
+        "n_uavs": spec.n_uavs,
+        "d_max": spec.d_max,
+        "start": "given",
+        "optimizer": spec.optimizer,
+        "iterations": spec.iterations,
+        "start_altitude": 5.0,
+        "h_min": 2.0,
+        "z_max": 50.0,
+        "d_safe": 2.0,
+        "check_moves": False,
+        "cao": spec.cao.__dict__,
+        "prior_kind": "random",
+        "n_prior": 34,
+        "seed": 7,
     }
     arrays["header"] = np.array(json.dumps(header))
     np.savez(tmp_path / "old.npz", **arrays)

@@ -49,9 +49,12 @@ def test_table1_is_the_papers_table():
 
 def test_pyramid_and_fig6_numbers_are_the_papers():
     text = " ".join(_excerpts().split())
-    found = re.search(r"initialization with this input surface is \$(\d\.\d+)\$ with a standard deviation "
-                      r"\$\\sigma=(\d\.\d+)\$, while the final maximum coverage achieved is \$(\d\.\d+)\$ "
-                      r"with a standard deviation \$\\sigma=(\d\.\d+)\$", text)
+    found = re.search(
+        r"initialization with this input surface is \$(\d\.\d+)\$ with a standard deviation "
+        r"\$\\sigma=(\d\.\d+)\$, while the final maximum coverage achieved is \$(\d\.\d+)\$ "
+        r"with a standard deviation \$\\sigma=(\d\.\d+)\$",
+        text,
+    )
     assert found, "the pyramid sentence was not found in the excerpts"
     i, i_sd, m, m_sd = (float(v) for v in found.groups())
     assert paper.PUBLISHED_PYRAMID["initial"] == paper.PublishedValue(i, i_sd)
@@ -77,7 +80,13 @@ def test_the_excerpts_are_verbatim_in_the_paper():
 
 def test_experiments_follow_the_paper():
     t = paper.TABLE1
-    assert (t.team_sizes, t.starts, t.d_max, t.mission.n_prior, t.iterations) == ((5, 8, 12, 20), ("cvt", "random", "corner"), 25.0, 30, 500)
+    assert (t.team_sizes, t.starts, t.d_max, t.mission.n_prior, t.iterations) == (
+        (5, 8, 12, 20),
+        ("cvt", "random", "corner"),
+        25.0,
+        30,
+        500,
+    )
     assert t.prior == "random" and t.seeds == tuple(range(40)) and len(t.cells()) == 12
     assert t.terrain.size == 100.0 and t.terrain.n_hills == 7 and t.terrain.spacing == 1.0
     p = paper.PYRAMID
@@ -120,7 +129,7 @@ def test_with_changes_sets_nested_fields_and_refuses_unknown_groups():
     assert old == paper.TABLE1.with_changes(**{"constraints.h_min": 3.0, "start.altitude": 4.0})
     with pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(**{"nothing.x": 1})
-    with pytest.warns(DeprecationWarning), pytest.raises(InvalidInputError):
+    with pytest.warns(DeprecationWarning, match="flight group"), pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(**{"flight.colour": 1})
     with pytest.raises(InvalidInputError):
         Constraints(h_min=10.0, z_max=5.0)
@@ -193,8 +202,7 @@ def test_prior_referenced_start_flies_above_s_prime_or_climbs_over_the_real_grou
     """Against an independent S': scipy's linear interpolant of the same prior points."""
     from scipy.interpolate import LinearNDInterpolator
 
-    e = _TINY.with_changes(**{"start.altitude_reference": "prior", "start.altitude": 2.0,
-                              "constraints.h_min": 1.0, "start.climb": 1.0})
+    e = _TINY.with_changes(**{"start.altitude_reference": "prior", "start.altitude": 2.0, "constraints.h_min": 1.0, "start.climb": 1.0})
     seed = 1002
     r = _run(e, seed, 8, "random", iterations=0)
     terrain = r.terrain
@@ -210,8 +218,15 @@ def test_prior_referenced_start_flies_above_s_prime_or_climbs_over_the_real_grou
 
 
 def test_random_altitude_and_corner_altitude():
-    e = _TINY.with_changes(**{"start.altitude_reference": "ground", "start.random_altitude": (3.0, 9.0),
-                              "start.corner_altitude": 7.0, "start.climb": 0.0, "constraints.h_min": 1.0})
+    e = _TINY.with_changes(
+        **{
+            "start.altitude_reference": "ground",
+            "start.random_altitude": (3.0, 9.0),
+            "start.corner_altitude": 7.0,
+            "start.climb": 0.0,
+            "constraints.h_min": 1.0,
+        }
+    )
     r = _run(e, 1004, 20, "random", iterations=0)
     x = r.start_positions
     height = x[:, 2] - r.terrain.ground_height(x[:, :2])

@@ -21,8 +21,8 @@ pytest.importorskip("matplotlib")
 
 import uavcov
 from uavcov import plotting
-from uavcov.plotting import _runs, directory, figures, views
 from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError
+from uavcov.plotting import _runs, directory, figures, views
 from uavcov.records import save_mission
 from uavcov.targets import Targets
 from uavcov.visibility import Visibility
@@ -72,9 +72,10 @@ def hills_run(hills_runs):
 
 @pytest.fixture(scope="module")
 def scene_run():
-    scene = uavcov.buildings_scene(size=12.0, n_buildings=2, footprint=(2.0, 4.0), heights=(2.0, 5.0),
-                                   spacing=1.0, rng=0)
-    spec = uavcov.MissionSpec(n_uavs=3, d_max=6.0, iterations=8, constraints=uavcov.Constraints(h_min=1.0, z_max=12.0, d_safe=1.0, check_moves=None))
+    scene = uavcov.buildings_scene(size=12.0, n_buildings=2, footprint=(2.0, 4.0), heights=(2.0, 5.0), spacing=1.0, rng=0)
+    spec = uavcov.MissionSpec(
+        n_uavs=3, d_max=6.0, iterations=8, constraints=uavcov.Constraints(h_min=1.0, z_max=12.0, d_safe=1.0, check_moves=None)
+    )
     return uavcov.run_mission(scene, spec, rng=1)
 
 
@@ -96,8 +97,7 @@ def test_approximation_renders(hills_run):
 
 
 def test_approximation_of_a_terrain_needs_the_approximation(hills_run):
-    fig = plotting.plot_approximation(hills_run.terrain, approximation=hills_run.approximation,
-                                      prior_points=hills_run.prior_points)
+    fig = plotting.plot_approximation(hills_run.terrain, approximation=hills_run.approximation, prior_points=hills_run.prior_points)
     _assert_not_blank(_render(fig))
     with pytest.raises(InvalidInputError, match="approximation"):
         plotting.plot_approximation(hills_run.terrain)
@@ -110,7 +110,10 @@ def test_outline_of_a_fine_surface_is_its_creases_and_border():
     edges, which = views._outline_edges(flat_mesh)
     assert which == "its creases and borders" and len(edges) == 4 * 30
     ends = flat_mesh.vertices[edges]
-    on_border = lambda p: (np.isin(p[:, 0], (0, 30)) | np.isin(p[:, 1], (0, 30)))
+
+    def on_border(p):
+        return np.isin(p[:, 0], (0, 30)) | np.isin(p[:, 1], (0, 30))
+
     assert on_border(ends[:, 0]).all() and on_border(ends[:, 1]).all()
     # A roof ridge along x = 15 (slopes of 45 degrees either side) adds its 30 edges.
     roof = uavcov.Terrain.from_grid(np.tile(15.0 - np.abs(x - 15.0), (31, 1)), spacing=1.0)
@@ -189,24 +192,41 @@ def test_coverage_curves_running_max_and_mapping(hills_runs):
 
 def _rows(results, experiment="table1"):
     return [
-        {"run_id": f"{experiment}-{i}", "experiment": experiment, "init": r.spec.start.kind, "n_uavs": str(r.spec.n_uavs), "seed": str(i),
-         "sensing_range": str(r.spec.d_max), "initial_coverage": repr(r.initial_coverage),
-         "max_coverage": repr(r.best_coverage), "final_coverage": repr(r.final_coverage),
-         "iterations_to_95": str(r.iterations_to_95), "wall_time_s": repr(r.wall_time_s)}
+        {
+            "run_id": f"{experiment}-{i}",
+            "experiment": experiment,
+            "init": r.spec.start.kind,
+            "n_uavs": str(r.spec.n_uavs),
+            "seed": str(i),
+            "sensing_range": str(r.spec.d_max),
+            "initial_coverage": repr(r.initial_coverage),
+            "max_coverage": repr(r.best_coverage),
+            "final_coverage": repr(r.final_coverage),
+            "iterations_to_95": str(r.iterations_to_95),
+            "wall_time_s": repr(r.wall_time_s),
+        }
         for i, r in enumerate(results)
     ]
 
 
 def test_table1_bars_are_the_means_beside_the_paper():
     rng = np.random.default_rng(0)
-    rows = []
-    for init in ("cvt", "random", "corner"):
-        for n in (5, 8):
-            for seed in range(4):
-                rows.append({"experiment": "table1", "init": init, "n_uavs": str(n), "seed": str(seed),
-                             "max_coverage": f"{rng.uniform(0.4, 0.9):.6f}", "initial_coverage": "0.5"})
-    rows.append({"experiment": "table1", "init": "cvt", "n_uavs": "5", "seed": "9", "max_coverage": "",
-                 "initial_coverage": ""})  # a failed run
+    rows = [
+        {
+            "experiment": "table1",
+            "init": init,
+            "n_uavs": str(n),
+            "seed": str(seed),
+            "max_coverage": f"{rng.uniform(0.4, 0.9):.6f}",
+            "initial_coverage": "0.5",
+        }
+        for init in ("cvt", "random", "corner")
+        for n in (5, 8)
+        for seed in range(4)
+    ]
+    rows.append(
+        {"experiment": "table1", "init": "cvt", "n_uavs": "5", "seed": "9", "max_coverage": "", "initial_coverage": ""}
+    )  # a failed run
     fig = plotting.plot_table1(rows)
     _assert_not_blank(_render(fig))
     ax = fig.axes[0]
@@ -214,18 +234,18 @@ def test_table1_bars_are_the_means_beside_the_paper():
     heights = sorted(round(p.get_height(), 6) for p in ax.patches)
     for init in ("cvt", "random", "corner"):
         for n in (5, 8):
-            ours = [float(r["max_coverage"]) for r in rows
-                    if r["init"] == init and r["n_uavs"] == str(n) and r["max_coverage"]]
+            ours = [float(r["max_coverage"]) for r in rows if r["init"] == init and r["n_uavs"] == str(n) and r["max_coverage"]]
             assert round(float(np.mean(ours)), 6) in heights
             assert round(uavcov.paper.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
     assert len(ax.patches) == 12  # 3 starts x 2 sizes x (ours, paper)
 
 
 def test_table1_takes_typed_rows_with_failed_runs_as_none():
-    rows = [{"experiment": "pyramid", "init": "cvt", "n_uavs": 12, "seed": s, "max_coverage": v, "error": ""}
-            for s, v in enumerate([0.9, 0.94, 0.91])]
-    rows.append({"experiment": "pyramid", "init": "cvt", "n_uavs": 12, "seed": 9, "max_coverage": None,
-                 "error": "InfeasibleError: ..."})
+    rows = [
+        {"experiment": "pyramid", "init": "cvt", "n_uavs": 12, "seed": s, "max_coverage": v, "error": ""}
+        for s, v in enumerate([0.9, 0.94, 0.91])
+    ]
+    rows.append({"experiment": "pyramid", "init": "cvt", "n_uavs": 12, "seed": 9, "max_coverage": None, "error": "InfeasibleError: ..."})
     ax = plotting.plot_table1(rows).axes[0]
     assert "1 failed" in ax.get_title()
     heights = sorted(p.get_height() for p in ax.patches)
@@ -292,8 +312,11 @@ def test_animation_mp4(hills_run, tmp_path):
 
     path = plotting.animate_mission(hills_run, tmp_path / "run.mp4", max_frames=4, raster=40, dpi=50)
     # Decode it back: 4 frames of real pictures.
-    raw = subprocess.run(["ffmpeg", "-loglevel", "error", "-i", str(path), "-f", "rawvideo", "-pix_fmt", "rgb24",
-                          "-vf", "scale=100:50", "-"], capture_output=True, check=True).stdout
+    raw = subprocess.run(
+        ["ffmpeg", "-loglevel", "error", "-i", str(path), "-f", "rawvideo", "-pix_fmt", "rgb24", "-vf", "scale=100:50", "-"],
+        capture_output=True,
+        check=True,
+    ).stdout
     frames = np.frombuffer(raw, dtype=np.uint8).reshape(-1, 50, 100, 3)
     assert frames.shape[0] == 4
     _assert_not_blank(frames[-1].astype(float))
@@ -379,7 +402,10 @@ def test_mesh_coverage_colours_match_the_engine(scene_run, cut):
         np.testing.assert_allclose(terrain.closest_point(probes), probes, atol=1e-9)
     else:
         centroids = terrain.vertices[terrain.faces].mean(axis=1)
-        order = lambda p: p[np.lexsort(np.round(p, 9).T)]
+
+        def order(p):
+            return p[np.lexsort(np.round(p, 9).T)]
+
         np.testing.assert_allclose(order(probes), order(centroids))  # one polygon per face, at its centre
     seen = Visibility(terrain, scene_run.spec.d_max, Targets(probes)).seen(final)
     _both_kinds(seen.astype(float))
@@ -394,8 +420,8 @@ def test_decimated_grid_blocks_are_brute_force_means(hills):
     values = rng.uniform(size=hills.grid.shape)
     values[0, 5] = np.nan
     means = views._block_means(values, polys.blocks)
-    for (r0, r1, c0, c1), mean in zip(polys.blocks, means):
-        assert np.isclose(mean, np.nanmean(values[r0:r1 + 1, c0:c1 + 1]))
+    for (r0, r1, c0, c1), mean in zip(polys.blocks, means, strict=False):
+        assert np.isclose(mean, np.nanmean(values[r0 : r1 + 1, c0 : c1 + 1]))
 
 
 def test_decimated_mesh_stays_under_budget_and_on_the_surface(scene_run):
@@ -434,9 +460,17 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
     written = plotting.plot_directory(tmp_path, max_runs=1, dpi=60)
     names = {p.name for p in written}
     first = rows[random_index]["run_id"]
-    assert names == {"table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png",
-                     f"{first}_approximation.png", f"{first}_coverage_map.png", f"{first}_coverage_top.png",
-                     f"{first}_point_cloud.png", f"{first}_seen.ply", f"{first}_animation.gif"}  # no CVT: random
+    assert names == {
+        "table1_max_coverage.png",
+        "table1_initial_coverage.png",
+        "table1_coverage_N4_d15.png",
+        f"{first}_approximation.png",
+        f"{first}_coverage_map.png",
+        f"{first}_coverage_top.png",
+        f"{first}_point_cloud.png",
+        f"{first}_seen.ply",
+        f"{first}_animation.gif",
+    }  # no CVT: random
     assert len(drawn_groups) == 1 and set(drawn_groups[0]) == {"random", "corner"}
     np.testing.assert_array_equal(drawn_groups[0]["corner"][0], hills_runs[corner_index].coverage)
     assert all(p.parent == tmp_path / "figures" and p.stat().st_size > 0 for p in written)
@@ -454,7 +488,7 @@ def test_plot_directory_draws_the_same_from_text_rows(hills_runs, tmp_path, monk
     results = tmp_path / "results"
     (results / "runs").mkdir(parents=True)
     rows = _rows(hills_runs)
-    failed = {name: "" for name in rows[0]}
+    failed = dict.fromkeys(rows[0], "")
     failed.update(run_id="table1-failed", experiment="table1", init="cvt", n_uavs="4", seed="9")
     rows.append(failed)
     save_mission(hills_runs[0], results / "runs" / f"{rows[0]['run_id']}.npz")
@@ -472,9 +506,12 @@ def test_plot_directory_draws_the_same_from_text_rows(hills_runs, tmp_path, monk
 
     monkeypatch.setattr(_runs, "_read_runs", text_reader)
     as_text = plotting.plot_directory(results, out=tmp_path / "text", max_runs=0, animation=False, dpi=40)
-    assert [p.name for p in as_text] == [p.name for p in as_numbers] == [
-        "table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png"]
-    for text, numbers in zip(as_text, as_numbers):
+    assert (
+        [p.name for p in as_text]
+        == [p.name for p in as_numbers]
+        == ["table1_max_coverage.png", "table1_initial_coverage.png", "table1_coverage_N4_d15.png"]
+    )
+    for text, numbers in zip(as_text, as_numbers, strict=False):
         assert text.read_bytes() == numbers.read_bytes(), text.name
 
 
@@ -532,7 +569,7 @@ def test_empty_or_broken_arrays_are_refused(hills_run):
 
 def test_run_without_cvt_is_refused(hills_runs):
     random_start = next(r for r in hills_runs if r.spec.start.kind == "random")
-    with pytest.raises(ResultsFormatError, match="no CVT.*random"):
+    with pytest.raises(ResultsFormatError, match=r"no CVT.*random"):
         plotting.plot_cvt(random_start)
 
 
@@ -551,20 +588,20 @@ def test_older_or_broken_run_files_are_refused(hills_run, tmp_path):
         plotting.plot_coverage_curves([tmp_path / "partial.npz"])
     (tmp_path / "runs").mkdir()
     shutil.copy(tmp_path / "partial.npz", tmp_path / "runs" / "partial.npz")
-    with pytest.raises(ResultsFormatError, match="partial.npz is missing coverage"):
+    with pytest.raises(ResultsFormatError, match=r"partial.npz is missing coverage"):
         plotting.plot_directory(tmp_path)
 
 
 def test_bad_runs_csv_is_refused(tmp_path):
     with pytest.raises(ResultsFormatError, match="no results directory"):
         plotting.plot_directory(tmp_path / "nowhere")
-    with pytest.raises(ResultsFormatError, match="neither runs.csv nor"):
+    with pytest.raises(ResultsFormatError, match=r"neither runs.csv nor"):
         plotting.plot_directory(tmp_path)
     (tmp_path / "runs.csv").write_text("experiment,init,seed\ntable1,cvt,0\n")
     with pytest.raises(ResultsFormatError, match="n_uavs, max_coverage"):
         plotting.plot_directory(tmp_path)
     (tmp_path / "runs.csv").write_text("")
-    with pytest.raises(ResultsFormatError, match="empty runs.csv"):
+    with pytest.raises(ResultsFormatError, match=r"empty runs.csv"):
         plotting.plot_directory(tmp_path)
     (tmp_path / "runs.csv").write_bytes(b"\x89PNG\r\n\x1a\n\x00\xff\n")
     with pytest.raises(ResultsFormatError, match="not UTF-8"):
@@ -604,7 +641,7 @@ def test_bad_arguments_are_refused(hills_run, tmp_path):
         plotting.plot_coverage_map(hills_run.terrain, hills_run.trajectory[-1], -1.0)
     with pytest.raises(InvalidInputError, match="positions"):
         plotting.plot_coverage_map(hills_run.terrain, [[1.0, 2.0]], 10.0)
-    with pytest.raises(InvalidInputError, match=".gif or .mp4"):
+    with pytest.raises(InvalidInputError, match=r".gif or .mp4"):
         plotting.animate_mission(hills_run, tmp_path / "run.avi")
     with pytest.raises(InvalidTypeError, match="CVTResult"):
         plotting.plot_cvt(hills_run.approximation, cvt="generators")

@@ -337,8 +337,10 @@ def test_prior_of_a_buildings_scene_reads_roofs_and_ground():
     expected = np.zeros(prior.n_points)
     for box in BOXES:
         inside = (
-            (prior.points[:, 0] > box.xmin) & (prior.points[:, 0] < box.xmax)
-            & (prior.points[:, 1] > box.ymin) & (prior.points[:, 1] < box.ymax)
+            (prior.points[:, 0] > box.xmin)
+            & (prior.points[:, 0] < box.xmax)
+            & (prior.points[:, 1] > box.ymin)
+            & (prior.points[:, 1] < box.ymax)
         )
         expected[inside] = box.height
     np.testing.assert_allclose(prior.points[:, 2], expected, atol=1e-9)

@@ -70,9 +70,7 @@ def test_from_grid_triangles_match_reference(hill_grid: GridCase, hill_terrain: 
     t = hill_terrain
     assert t.grid is not None
     assert t.n_faces == hill_grid.faces.shape[0] == 2 * 16 * 13
-    np.testing.assert_allclose(
-        _triangle_set(t.vertices, t.faces), _triangle_set(hill_grid.vertices, hill_grid.faces), atol=1e-12
-    )
+    np.testing.assert_allclose(_triangle_set(t.vertices, t.faces), _triangle_set(hill_grid.vertices, hill_grid.faces), atol=1e-12)
     assert t.area == pytest.approx(mesh_area(hill_grid.vertices, hill_grid.faces), rel=1e-12)
     v = hill_grid.vertices
     np.testing.assert_allclose(t.bounds, [v.min(axis=0), v.max(axis=0)], atol=1e-12)
@@ -103,9 +101,7 @@ def test_from_grid_nan_is_nodata():
     assert case.faces.shape[0] == full - 6 - 2 - 2
     assert terrain.n_faces == case.faces.shape[0]
     assert np.isfinite(terrain.vertices[terrain.faces]).all()
-    np.testing.assert_allclose(
-        _triangle_set(terrain.vertices, terrain.faces), _triangle_set(case.vertices, case.faces), atol=1e-12
-    )
+    np.testing.assert_allclose(_triangle_set(terrain.vertices, terrain.faces), _triangle_set(case.vertices, case.faces), atol=1e-12)
     assert terrain.area == pytest.approx(mesh_area(case.vertices, case.faces), rel=1e-12)
     assert np.isfinite(terrain.bounds).all()
     targets = terrain.default_targets()

@@ -213,7 +213,7 @@ def test_a_refused_rerun_deletes_nothing(tmp_path):
     assert [s.run_id for s in plain.specs()] == [s.run_id for s in swept.specs()]
     jobs.run_sweep(plain, tmp_path, workers=1)
     before = read_runs(tmp_path / "runs.csv")
-    with pytest.raises(ResultsInUseError, match="another kind of sweep|other settings"):
+    with pytest.raises(ResultsInUseError, match=r"another kind of sweep|other settings"):
         jobs.run_sweep(swept, tmp_path, workers=1, resume=True, rerun="all")
     assert read_runs(tmp_path / "runs.csv") == before
 

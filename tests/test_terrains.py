@@ -200,8 +200,10 @@ def test_buildings_mesh_geometry():
     for box in SCENE:
         centre = np.array([(box.xmin + box.xmax) / 2, (box.ymin + box.ymax) / 2])
         inside = (
-            (centroid[:, 0] >= box.xmin - 1e-9) & (centroid[:, 0] <= box.xmax + 1e-9)
-            & (centroid[:, 1] >= box.ymin - 1e-9) & (centroid[:, 1] <= box.ymax + 1e-9)
+            (centroid[:, 0] >= box.xmin - 1e-9)
+            & (centroid[:, 0] <= box.xmax + 1e-9)
+            & (centroid[:, 1] >= box.ymin - 1e-9)
+            & (centroid[:, 1] <= box.ymax + 1e-9)
         )
         # No ground under a building: inside the footprint only roof and walls.
         assert not np.any(inside & horizontal & (centroid[:, 2] < box.height - 1e-9))
@@ -280,6 +282,7 @@ def test_perturb_buildings():
 
 # --------------------------------------------------------------------------------------------
 # Geodesy and DEMs
+
 
 # Lengths of one degree on WGS84, from standard geodesy tables (metres): (latitude, lon, lat).
 def degree_lengths_series(latitude: float) -> tuple[float, float]:
@@ -508,8 +511,16 @@ def north_up(west: float, north: float, dx: float, dy: float):
 def write_geotiff(path, z, transform, crs, nodata=None):
     rasterio = pytest.importorskip("rasterio")
     with rasterio.open(
-        path, "w", driver="GTiff", height=z.shape[0], width=z.shape[1], count=1, dtype="float32",
-        crs=crs, transform=transform, nodata=nodata,
+        path,
+        "w",
+        driver="GTiff",
+        height=z.shape[0],
+        width=z.shape[1],
+        count=1,
+        dtype="float32",
+        crs=crs,
+        transform=transform,
+        nodata=nodata,
     ) as dst:
         dst.write(z.astype(np.float32), 1)
 
@@ -528,7 +539,7 @@ def test_geotiff_projected_with_nodata(tmp_path):
     valid = z[z > -1000]
     # The south-west pixel centre is the origin; file row 0 is north.
     np.testing.assert_allclose(loaded.frame.origin, [west + 1.0, north - 8 * 2.0 + 1.0, valid.min()])
-    expected = (z[::-1].astype(float) - valid.min())
+    expected = z[::-1].astype(float) - valid.min()
     expected[expected < -1000] = np.nan
     np.testing.assert_allclose(loaded.terrain.grid.z, expected, rtol=0, atol=1e-4)
 
@@ -667,8 +678,12 @@ def test_mesh_missing_or_unparseable_file(tmp_path):
         load_mesh(tmp_path / "nothing.obj")
     with pytest.raises(MeshError):
         load_mesh(tmp_path)  # a directory
-    for name, content in [("bad.stl", b"solid x\n facet normal oops\n"), ("bad.ply", b"ply\nformat nonsense\n"),
-                          ("bad.obj", b"v 0 0 0\nv 1 0 0\n"), ("bad.xyz123", b"1 2 3")]:
+    for name, content in [
+        ("bad.stl", b"solid x\n facet normal oops\n"),
+        ("bad.ply", b"ply\nformat nonsense\n"),
+        ("bad.obj", b"v 0 0 0\nv 1 0 0\n"),
+        ("bad.xyz123", b"1 2 3"),
+    ]:
         path = tmp_path / name
         path.write_bytes(content)
         with pytest.raises(MeshError):

@@ -36,9 +36,7 @@ from uavcov.surface import Terrain
 from uavcov.targets import Targets
 from uavcov.visibility import Visibility
 
-PROPERTY_SETTINGS = settings(
-    max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
-)
+PROPERTY_SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 # --------------------------------------------------------------------------------------------
 # the reference itself, on cases whose answer is known by hand
@@ -291,15 +289,17 @@ def test_sight_lines_through_shared_edges_and_vertices_are_blocked():
     case = flat_grid_case(5.0, 1.0)  # nodes at integer x, y in [-5, 5]
     terrain = Terrain.from_grid(case.z, 1.0, origin=case.origin)
     uav = np.array([[0.0, 0.0, -4.0]])
-    crossings = np.array([
-        [0.0, 0.0],  # straight up through a vertex
-        [1.0, 1.0],  # through a vertex, obliquely
-        [2.0, -1.0],
-        [0.5, 0.5],  # through the middle of a cell diagonal
-        [1.5, 2.5],
-        [0.5, 0.0],  # through the middle of a horizontal edge
-        [-2.0, 1.5],  # through the middle of a vertical edge
-    ])
+    crossings = np.array(
+        [
+            [0.0, 0.0],  # straight up through a vertex
+            [1.0, 1.0],  # through a vertex, obliquely
+            [2.0, -1.0],
+            [0.5, 0.5],  # through the middle of a cell diagonal
+            [1.5, 2.5],
+            [0.5, 0.0],  # through the middle of a horizontal edge
+            [-2.0, 1.5],  # through the middle of a vertical edge
+        ]
+    )
     # Each target is the mirror image of the UAV through the crossing point: the segment from
     # the UAV to it, shortened by 0.1 %, still crosses z = 0 exactly at that point.
     targets = np.column_stack([2 * crossings - uav[0, :2], np.full(len(crossings), 4.0)])
@@ -321,9 +321,7 @@ def _uavs_from_unit(case: GridCase, unit: list[tuple[float, float, float]]) -> n
     return np.column_stack([xy, grid_height(xy, case.z, case.spacing, case.origin) + u[:, 2]])
 
 
-_unit_uav = st.tuples(
-    st.floats(0.0, 1.0), st.floats(0.0, 1.0), st.floats(0.3, 12.0)
-)
+_unit_uav = st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0), st.floats(0.3, 12.0))
 
 
 @PROPERTY_SETTINGS

@@ -103,9 +103,7 @@ def as_float_array(
     except Exception as exc:  # ragged lists and the like
         raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
     if array.dtype == object or not (
-        np.issubdtype(array.dtype, np.floating)
-        or np.issubdtype(array.dtype, np.integer)
-        or array.dtype == np.bool_
+        np.issubdtype(array.dtype, np.floating) or np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_
     ):
         raise InvalidTypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
     if array.dtype == np.bool_:

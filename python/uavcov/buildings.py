@@ -358,7 +358,5 @@ def perturb_buildings(
                 result.append(candidate)
                 break
         else:
-            raise InfeasibleError(
-                f"could not perturb {b} into a valid box after {max_attempts} draws: lower the errors or the gap"
-            )
+            raise InfeasibleError(f"could not perturb {b} into a valid box after {max_attempts} draws: lower the errors or the gap")
     return tuple(result)

@@ -191,8 +191,7 @@ class CAOSettings:
         value = 1 + dim + max(10, n_uavs) if self.n_regressors is None else self.n_regressors
         if value < 1 + dim:
             raise InvalidInputError(
-                f"n_regressors must be at least 1 + 3N = {1 + dim} for N = {n_uavs} "
-                f"(the constant and every linear term), got {value}"
+                f"n_regressors must be at least 1 + 3N = {1 + dim} for N = {n_uavs} (the constant and every linear term), got {value}"
             )
         if value - 1 - dim > _n_distinct_monomials(dim):
             raise InvalidInputError(
@@ -432,9 +431,7 @@ def _robot_design(u: np.ndarray, selected: np.ndarray) -> np.ndarray:
     return np.concatenate([ones, u, mono], axis=-1)
 
 
-def _refresh_robot_terms(
-    selected: np.ndarray, strength: np.ndarray, keep_fraction: float, rng: np.random.Generator
-) -> np.ndarray:
+def _refresh_robot_terms(selected: np.ndarray, strength: np.ndarray, keep_fraction: float, rng: np.random.Generator) -> np.ndarray:
     """:func:`_refresh_terms` for every robot at once, on ``(N, 16)`` masks of active monomials.
 
     ``strength`` is ``(N, 16)`` (zero for inactive monomials).
@@ -486,9 +483,7 @@ def _strength(phi: np.ndarray, theta: np.ndarray, first: int) -> np.ndarray:
     return strength
 
 
-def _refresh_terms(
-    terms: np.ndarray, strength: np.ndarray, keep_fraction: float, dim: int, rng: np.random.Generator
-) -> np.ndarray:
+def _refresh_terms(terms: np.ndarray, strength: np.ndarray, keep_fraction: float, dim: int, rng: np.random.Generator) -> np.ndarray:
     """Keep the strongest monomials (ties by position) and redraw the others."""
     n_terms = terms.shape[0]
     n_keep = math.ceil(keep_fraction * n_terms)
@@ -584,18 +579,14 @@ class _Feasibility:
         mask = np.asarray(mask)
         if mask.shape != (candidates.shape[0],) or mask.dtype != np.bool_:
             raise InvalidInputError(
-                f"feasible must return a ({candidates.shape[0]},) bool array, got "
-                f"shape {mask.shape} dtype {mask.dtype}"
+                f"feasible must return a ({candidates.shape[0]},) bool array, got shape {mask.shape} dtype {mask.dtype}"
             )
         return mask
 
 
 def _check_start(check: _Feasibility, x0: np.ndarray) -> None:
     if not check(x0, x0[None])[0]:
-        raise InfeasibleError(
-            "the start configuration is infeasible; move it first with "
-            "uavcov.constraints.closest_admissible"
-        )
+        raise InfeasibleError("the start configuration is infeasible; move it first with uavcov.constraints.closest_admissible")
 
 
 def _pick_best(score: np.ndarray, allowed: np.ndarray, rng: np.random.Generator) -> int:
@@ -643,9 +634,7 @@ def _best_feasible(
     return _pick_best(score, allowed, rng), checked, int(allowed.sum())
 
 
-def _first_feasible(
-    candidates: np.ndarray, current: np.ndarray, check: _Feasibility, batch: int | None
-) -> tuple[int | None, int, int]:
+def _first_feasible(candidates: np.ndarray, current: np.ndarray, check: _Feasibility, batch: int | None) -> tuple[int | None, int, int]:
     """Index of the first feasible candidate in the given order, checking in doubling batches."""
     n = candidates.shape[0]
     checked = 0
@@ -829,15 +818,12 @@ def cao(
 def _as_team_and_marginals(raw: Any, n_uavs: int, k: int) -> tuple[float, np.ndarray]:
     if not isinstance(raw, tuple) or len(raw) != 2:
         raise InvalidTypeError(
-            f"per-robot measure must return (team value, marginals of shape ({n_uavs},)), "
-            f"got {type(raw).__name__} at iteration {k}"
+            f"per-robot measure must return (team value, marginals of shape ({n_uavs},)), got {type(raw).__name__} at iteration {k}"
         )
     team = _as_value(raw[0], "measure (team value)", k)
     marginals = np.asarray(raw[1], dtype=np.float64) if not isinstance(raw[1], (str, bytes)) else None
     if marginals is None or marginals.shape != (n_uavs,) or not np.isfinite(marginals).all():
-        raise InvalidInputError(
-            f"per-robot measure must return finite marginals of shape ({n_uavs},) at iteration {k}"
-        )
+        raise InvalidInputError(f"per-robot measure must return finite marginals of shape ({n_uavs},) at iteration {k}")
     return team, marginals
 
 
@@ -952,9 +938,7 @@ def per_robot_cao(
             terms = _refresh_robot_terms(terms, _strength(phi, theta, 4), settings.keep_fraction, rng)
 
     t_total = time.perf_counter() - t_start
-    return _finish(
-        "per_robot", traj, values, measured, steps, n_checked, n_feasible, settings, t_measure, check.seconds, t_total
-    )
+    return _finish("per_robot", traj, values, measured, steps, n_checked, n_feasible, settings, t_measure, check.seconds, t_total)
 
 
 OPTIMIZERS: Mapping[str, Optimizer] = MappingProxyType({"cao": cao, "per_robot": per_robot_cao})

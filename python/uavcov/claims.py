@@ -208,9 +208,7 @@ def speed(rows: Iterable[Mapping[str, Any]]) -> dict[tuple[int, str], tuple[floa
     return {k: (float(np.mean(v)), float(np.median(v))) for k, v in sorted(groups.items())}
 
 
-def convergence(
-    folder: ResultsFolder, rows: Iterable[Mapping[str, Any]], *, from_iteration: int = 400, band: float = 0.01
-) -> Convergence:
+def convergence(folder: ResultsFolder, rows: Iterable[Mapping[str, Any]], *, from_iteration: int = 400, band: float = 0.01) -> Convergence:
     """The share of stored runs whose coverage stays within ``band`` of their best from ``from_iteration`` on."""
     shortfalls: list[tuple[str, float]] = []
     runs = converged = 0
@@ -235,9 +233,7 @@ def _pct(value: float) -> str:
     return f"{100.0 * value:+.1f} %"
 
 
-def claims_markdown(
-    rows: Sequence[Mapping[str, Any]], folder: ResultsFolder | None = None, *, required_share: float = 0.95
-) -> str:
+def claims_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder | None = None, *, required_share: float = 0.95) -> str:
     """The claims of section V-C beside the measurements, each with its verdict (Markdown)."""
     rows = list(rows)
     lines = ["# The paper's claims on Table 1, measured", ""]
@@ -258,7 +254,9 @@ def claims_markdown(
     lines += ["| N | sigma per start | CVT sigma smallest | CVT mean highest |", "|---|---|---|---|"]
     for row in robustness(rows):
         sigmas = ", ".join(f"{k} {v:.3f}" for k, v in sorted(row.sigma.items()))
-        lines.append(f"| {row.n_uavs} | {sigmas} | {'yes' if row.cvt_smallest_sigma else 'NO'} | {'yes' if row.cvt_highest_mean else 'NO'} |")
+        lines.append(
+            f"| {row.n_uavs} | {sigmas} | {'yes' if row.cvt_smallest_sigma else 'NO'} | {'yes' if row.cvt_highest_mean else 'NO'} |"
+        )
     lines += ["", "## Iterations to 95 % of the run's best (mean / median)", "", "| N | start | mean | median |", "|---|---|---|---|"]
     lines += [f"| {n} | {start} | {mean:.0f} | {median:.0f} |" for (n, start), (mean, median) in speed(rows).items()]
     if folder is not None:

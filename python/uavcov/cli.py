@@ -272,9 +272,7 @@ def _demo(args: argparse.Namespace) -> int:
     print(f"  | at the start (CVT on S', lifted to flying height) | {row['initial_coverage']:.3f} |")
     print(f"  | best reached by CAO (the paper: close to 1) | {row['max_coverage']:.3f} |")
     print(f"  | after the last iteration | {row['final_coverage']:.3f} |")
-    print(
-        f"\n  95 % of the best reached at iteration {row['iterations_to_95']}; best at iteration {row['best_iteration']}"
-    )
+    print(f"\n  95 % of the best reached at iteration {row['iterations_to_95']}; best at iteration {row['best_iteration']}")
     print(
         f"  time: {row['wall_time_s']:.1f} s for the mission ({row['time_measure_s']:.1f} s in coverage measurements, "
         f"{row['time_optimizer_s']:.1f} s in the optimiser)"

@@ -69,8 +69,7 @@ def _as_bounds(value: Any) -> tuple[float, float, float, float]:
         array = np.array([array[0, 0], array[0, 1], array[1, 0], array[1, 1]])
     if array.shape != (4,):
         raise InvalidInputError(
-            f"bounds must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], "
-            f"got shape {array.shape}"
+            f"bounds must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], got shape {array.shape}"
         )
     xmin, ymin, xmax, ymax = (float(v) for v in array)
     if not (xmin < xmax and ymin < ymax):
@@ -132,9 +131,7 @@ class Constraints:
                 raise InvalidTypeError(f"check_moves must be a bool or None, got {type(self.check_moves).__name__}")
             object.__setattr__(self, "check_moves", bool(self.check_moves))
         if self.h_min > self.z_max:
-            raise InfeasibleError(
-                f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m"
-            )
+            raise InfeasibleError(f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m")
 
     @classmethod
     def for_world(cls, world: World, **kwargs: Any) -> Constraints:
@@ -185,8 +182,7 @@ class Constraints:
         diagonal = math.hypot(xmax - xmin, ymax - ymin, self.z_max - floor)
         if self.d_safe > diagonal:
             raise InfeasibleError(
-                f"d_safe = {self.d_safe} m exceeds the flight box's diagonal ({diagonal:.4g} m): "
-                f"no two UAVs can be that far apart"
+                f"d_safe = {self.d_safe} m exceeds the flight box's diagonal ({diagonal:.4g} m): no two UAVs can be that far apart"
             )
         box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (self.z_max - floor + 2 * r)
         need = n_uavs * 4.0 / 3.0 * math.pi * r * r * r  # inf, not OverflowError, for a huge d_safe
@@ -267,9 +263,7 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
             moved = (ends != cur[None]).any(axis=2)  # a UAV that stays has nothing to cross
             if moved.any():
                 starts = np.broadcast_to(cur[None], ends.shape)[moved]
-                clear_moves = np.asarray(
-                    world.segments_clear(np.ascontiguousarray(starts), np.ascontiguousarray(ends[moved])), dtype=bool
-                )
+                clear_moves = np.asarray(world.segments_clear(np.ascontiguousarray(starts), np.ascontiguousarray(ends[moved])), dtype=bool)
                 per_uav = np.ones(moved.shape, dtype=bool)
                 per_uav[moved] = clear_moves
                 ok[idx] = per_uav.all(axis=1)
@@ -310,9 +304,7 @@ def _separation_direction(i: int, j: int) -> np.ndarray:
     return np.array([math.cos(angle), math.sin(angle), 0.0])
 
 
-def closest_admissible(
-    constraints: Constraints, world: World, x: Any, *, climb: float = 0.0, max_sweeps: int = 1000
-) -> np.ndarray:
+def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb: float = 0.0, max_sweeps: int = 1000) -> np.ndarray:
     """Move a start configuration to nearby admissible positions (deterministic).
 
     Each sweep projects every UAV onto its own constraints exactly (clamp into the x-y bounds;
@@ -374,9 +366,7 @@ def closest_admissible(
         if (pos[:, 2] > constraints.z_max).any():
             if (floor > constraints.z_max).any():
                 bad = int(np.flatnonzero(floor > constraints.z_max)[0])
-                raise InfeasibleError(
-                    f"UAV {bad}: ground at {ground[bad]:.3f} m plus h_min exceeds z_max = {constraints.z_max} m"
-                )
+                raise InfeasibleError(f"UAV {bad}: ground at {ground[bad]:.3f} m plus h_min exceeds z_max = {constraints.z_max} m")
             pos[:, 2] = np.minimum(pos[:, 2], constraints.z_max)
         if target > 0.0 and n_uavs > 1:
             i, j = pairs

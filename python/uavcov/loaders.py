@@ -332,9 +332,7 @@ def _grid_terrain(
     nodata_cells = int(heights.size - valid.sum())
     complete = valid[:-1, :-1] & valid[1:, :-1] & valid[:-1, 1:] & valid[1:, 1:]
     if not complete.any():
-        raise InvalidInputError(
-            f"z has no grid cell with four valid corners ({nodata_cells} of {heights.size} samples are nodata)"
-        )
+        raise InvalidInputError(f"z has no grid cell with four valid corners ({nodata_cells} of {heights.size} samples are nodata)")
 
     reference_latitude: float | None = None
     mx = my = unit_factor
@@ -385,9 +383,7 @@ def load_geotiff(path: Any, *, band: int = 1, origin: Any = None, scale: float =
     try:
         import rasterio
     except ImportError as exc:
-        raise MissingExtraError(
-            "reading GeoTIFF files needs rasterio: pip install 'uavcov[geotiff]' (or pip install rasterio)"
-        ) from exc
+        raise MissingExtraError("reading GeoTIFF files needs rasterio: pip install 'uavcov[geotiff]' (or pip install rasterio)") from exc
     band = as_positive_int(band, "band")
     path_text = _existing_path(path, "GeoTIFF", InvalidInputError)
     try:
@@ -625,9 +621,7 @@ def load_mesh(
     try:
         import trimesh
     except ImportError as exc:
-        raise MissingExtraError(
-            "reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)"
-        ) from exc
+        raise MissingExtraError("reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)") from exc
     path_text = _existing_path(path, "mesh", MeshError)
     try:
         # process=False: we weld and clean ourselves, with a report, rather than silently.
@@ -707,16 +701,13 @@ def sample_dem(window: Any = None, stride: int = 1, scale: float = 1.0) -> Loade
     else:
         bounds = tuple(window)
         if len(bounds) != 4 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in bounds):
-            raise InvalidInputError(
-                f"window must be four integers (row_start, row_stop, col_start, col_stop), got {window!r}"
-            )
+            raise InvalidInputError(f"window must be four integers (row_start, row_stop, col_start, col_stop), got {window!r}")
         rows, cols = slice(int(bounds[0]), int(bounds[1])), slice(int(bounds[2]), int(bounds[3]))
     row_index = np.arange(ny)[rows][::stride]
     col_index = np.arange(nx)[cols][::stride]
     if row_index.size < 2 or col_index.size < 2:
         raise InvalidInputError(
-            f"window {window!r} with stride {stride} keeps {row_index.size} x {col_index.size} samples; "
-            "at least 2 x 2 are needed"
+            f"window {window!r} with stride {stride} keeps {row_index.size} x {col_index.size} samples; at least 2 x 2 are needed"
         )
     heights = elevation[np.ix_(row_index, col_index)]
     # Grid points are cell centres: half a cell in from the file's edges.

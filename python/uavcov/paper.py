@@ -21,9 +21,9 @@ generators), and every team size and start on one terrain sees the same prior po
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
 from dataclasses import dataclass, replace
 from types import MappingProxyType
+from typing import Any
 
 from .cao import CAOSettings
 from .constraints import Constraints

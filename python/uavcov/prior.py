@@ -86,7 +86,6 @@ class Prior:
         return approximate_surface(self.points)
 
 
-
 def _check_terrain(terrain: Any) -> Terrain:
     if not isinstance(terrain, Terrain):
         raise InvalidTypeError(f"terrain must be a uavcov Terrain, got {type(terrain).__name__}")
@@ -292,8 +291,7 @@ def approximate_surface(samples: Any) -> Terrain:
     if not np.isfinite(points).all():
         bad = np.flatnonzero(~np.isfinite(points).all(axis=1))
         raise InvalidInputError(
-            f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), "
-            f"first at index {int(bad[0])}"
+            f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), first at index {int(bad[0])}"
         )
     if points.shape[0] < 3:
         raise InvalidInputError(f"S' needs at least 3 samples, got {points.shape[0]}")
@@ -311,8 +309,7 @@ def approximate_surface(samples: Any) -> Terrain:
         raise InvalidInputError(f"the samples cannot be triangulated: {exc}") from exc
     if len(getattr(triangulation, "coplanar", ())):
         raise InvalidInputError(
-            f"{len(triangulation.coplanar)} sample(s) coincide with others for Qhull and would be unused; "
-            "remove near-duplicate samples"
+            f"{len(triangulation.coplanar)} sample(s) coincide with others for Qhull and would be unused; remove near-duplicate samples"
         )
     faces = np.array(triangulation.simplices, dtype=np.int64)
     a, b, c = xy[faces[:, 0]], xy[faces[:, 1]], xy[faces[:, 2]]
@@ -500,9 +497,6 @@ def buildings_prior(
         )
         return buildings_terrain(mapped, size=size, spacing=spacing)
     if kind == "corners":
-        prior = building_corner_prior(
-            boxes, size=size, known_fraction=known_fraction, height_error=height_error, rng=generator
-        )
+        prior = building_corner_prior(boxes, size=size, known_fraction=known_fraction, height_error=height_error, rng=generator)
         return approximate_surface(prior)
     raise InvalidInputError(f"kind must be 'boxes' or 'corners', got {kind!r}")
-

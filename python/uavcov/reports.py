@@ -40,7 +40,9 @@ def finished_rows(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
 
 
 def summarise(
-    rows: Iterable[Mapping[str, Any]], by: Sequence[str] = ("experiment", "n_uavs", "init"), metrics: Sequence[str] = ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95")
+    rows: Iterable[Mapping[str, Any]],
+    by: Sequence[str] = ("experiment", "n_uavs", "init"),
+    metrics: Sequence[str] = ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"),
 ) -> dict[tuple[Any, ...], dict[str, Any]]:
     """Mean and standard deviation of ``metrics`` over the finished runs, grouped ``by`` columns.
 
@@ -116,7 +118,7 @@ def table1_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
         "# Table 1: coverage, mean (sigma) over the terrains",
         "",
         f"Ours: {_seed_text(ok)}, {'/'.join(str(c) for c in counts) or 0} terrain(s) per cell; the paper: 40 terrains.",
-        "d_max = 25 m, 30 prior samples, CAO; \"max\" is the best coverage reached during the run.",
+        'd_max = 25 m, 30 prior samples, CAO; "max" is the best coverage reached during the run.',
         "",
         "| N | | " + " | ".join(f"{s} {m}" for s, m in columns) + " |",
         "|---|---|" + "---|" * len(columns),

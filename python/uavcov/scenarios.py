@@ -51,9 +51,7 @@ class HillsTerrain:
 
     def make(self, seed: int) -> Terrain:
         """The terrain of scenario ``seed``."""
-        return gaussian_hills(
-            size=self.size, spacing=self.spacing, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=seed
-        )
+        return gaussian_hills(size=self.size, spacing=self.spacing, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=seed)
 
 
 @dataclass(frozen=True)

@@ -53,7 +53,6 @@ ALTITUDE_REFERENCES = ("ground", "prior")
 _MAX_ROUNDS = 100
 
 
-
 def _rectangle(surface: Terrain) -> tuple[float, float, float, float]:
     b = np.asarray(surface.bounds, dtype=np.float64)
     return float(b[0, 0]), float(b[0, 1]), float(b[1, 0]), float(b[1, 1])
@@ -86,8 +85,7 @@ def _corner(surface: Terrain, n: int, corner: str, spacing: float, threads: int 
     width, depth = columns * spacing, rows * spacing
     if width > xmax - xmin or depth > ymax - ymin:
         raise InfeasibleError(
-            f"a {rows} x {columns} lattice {spacing} m apart needs {width} m x {depth} m, "
-            f"the region is {xmax - xmin} m x {ymax - ymin} m"
+            f"a {rows} x {columns} lattice {spacing} m apart needs {width} m x {depth} m, the region is {xmax - xmin} m x {ymax - ymin} m"
         )
     k = np.arange(n)
     offset_x = spacing / 2 + (k % columns) * spacing

@@ -127,9 +127,7 @@ class Terrain:
         A ``trimesh.Trimesh`` works without uavcov depending on trimesh.
         """
         if not (hasattr(mesh, "vertices") and hasattr(mesh, "faces")):
-            raise InvalidTypeError(
-                f"a mesh needs .vertices and .faces attributes, {type(mesh).__name__} has not both"
-            )
+            raise InvalidTypeError(f"a mesh needs .vertices and .faces attributes, {type(mesh).__name__} has not both")
         return cls(np.asarray(mesh.vertices), np.asarray(mesh.faces), drop_degenerate=drop_degenerate)
 
     @classmethod

@@ -701,4 +701,3 @@ def _run(
         if bar is not None:
             bar.close()
     return [rows[s.run_id] for s in specs]
-

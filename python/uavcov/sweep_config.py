@@ -66,14 +66,18 @@ PRIORS: tuple[str, ...] = ("random", "pyramid", "map")
 """Priors: random samples plus the corners, the pyramid (corners and centre), a buildings map."""
 
 _TOP_SCALARS = ("d_max", "prior", "n_prior", "iterations")
-_TOP_KEYS = ("name", "base", "description", "seeds", "team_sizes", "starts") + _TOP_SCALARS + (
-    "terrain",
-    "flight",
-    "start",
-    "constraints",
-    "cao",
-    "cvt",
-    "sweep",
+_TOP_KEYS = (
+    ("name", "base", "description", "seeds", "team_sizes", "starts")
+    + _TOP_SCALARS
+    + (
+        "terrain",
+        "flight",
+        "start",
+        "constraints",
+        "cao",
+        "cvt",
+        "sweep",
+    )
 )
 _TERRAINS: Mapping[str, type] = {"hills": HillsTerrain, "buildings": BuildingsTerrain}
 _MAX_ITERATIONS = MAX_ITERATIONS
@@ -111,6 +115,7 @@ _GROUPS: Mapping[str, dict[str, Any]] = {
     "cvt": _defaults(CVTSettings),
     "flight": _flight_defaults(),
 }
+
 
 class _Source:
     """Where a key came from, for error messages."""
@@ -239,9 +244,7 @@ class SweepConfig:
         specs: list[RunSpec] = []
         for experiment, extra in self.variants:
             specs.extend(
-                experiment_specs(
-                    experiment, seeds=self.seeds, team_sizes=self.team_sizes, starts=self.starts, label=self.name, extra=extra
-                )
+                experiment_specs(experiment, seeds=self.seeds, team_sizes=self.team_sizes, starts=self.starts, label=self.name, extra=extra)
             )
         return specs
 

@@ -161,9 +161,7 @@ class Visibility:
         )
 
 
-def _rebuild(
-    terrain: Terrain, d_max: float, targets: Targets | None, n_threads: int | None, method: str = "auto"
-) -> Visibility:
+def _rebuild(terrain: Terrain, d_max: float, targets: Targets | None, n_threads: int | None, method: str = "auto") -> Visibility:
     return Visibility(terrain, d_max, targets, n_threads=n_threads, method=method)
 
 

@@ -33,9 +33,7 @@ def _as_result(result: Any, needs: Sequence[str]) -> Any:
         raise ResultsFormatError("no result given (None)")
     missing = [name for name in needs if not hasattr(result, name)]
     if missing:
-        raise ResultsFormatError(
-            f"{type(result).__name__} is not a complete mission result: missing {', '.join(missing)}"
-        )
+        raise ResultsFormatError(f"{type(result).__name__} is not a complete mission result: missing {', '.join(missing)}")
     for name in needs:
         if name in ("terrain", "approximation") and not isinstance(getattr(result, name), Terrain):
             raise ResultsFormatError(f"the result's {name} is not a Terrain")

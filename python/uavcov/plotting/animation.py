@@ -63,8 +63,9 @@ def animate_mission(
     fps = as_positive_float(fps, "fps")
     traj = _trajectory(result.trajectory)
     curve = _curve(result.coverage)
-    frames = np.unique(np.rint(np.linspace(0, traj.shape[0] - 1,
-                                           min(as_positive_int(max_frames, "max_frames"), traj.shape[0]))).astype(int))
+    frames = np.unique(
+        np.rint(np.linspace(0, traj.shape[0] - 1, min(as_positive_int(max_frames, "max_frames"), traj.shape[0]))).astype(int)
+    )
     d = _d_max(result)
     view = _TopView(result.terrain, d, as_positive_int(raster, "raster"))
 
@@ -84,10 +85,19 @@ def animate_mission(
     ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=14, c=START_COLOUR, zorder=3)
     paths = [ax_map.plot([], [], color="0.1", linewidth=0.8)[0] for _ in range(traj.shape[1])]
     uavs = ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=36, c=[END_COLOUR], edgecolors="black", linewidths=0.6, zorder=4)
-    ax_map.legend(handles=[_patch(SEEN_COLOUR, "seen"), _patch(UNSEEN_COLOUR, "not seen"),
-                           _marker("start", marker="o", color=START_COLOUR, markersize=4),
-                           _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6)],
-                  fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.17), ncol=4, framealpha=0.9)
+    ax_map.legend(
+        handles=[
+            _patch(SEEN_COLOUR, "seen"),
+            _patch(UNSEEN_COLOUR, "not seen"),
+            _marker("start", marker="o", color=START_COLOUR, markersize=4),
+            _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6),
+        ],
+        fontsize=7,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.17),
+        ncol=4,
+        framealpha=0.9,
+    )
     ax_curve.set_xlim(0, max(1, curve.shape[0] - 1))
     low = float(curve.min())
     ax_curve.set_ylim(max(0.0, low - 0.05), min(1.0, float(curve.max()) + 0.03) + 1e-3)

@@ -28,8 +28,7 @@ def _safe(text: str) -> str:
     return "".join(c if c.isalnum() or c in "-_." else "_" for c in text)
 
 
-def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animation: bool = True,
-                   dpi: float = 110.0) -> list[Path]:
+def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animation: bool = True, dpi: float = 110.0) -> list[Path]:
     """Redraw every figure of a results directory from what is stored, without rerunning anything.
 
     Reads ``DIR/runs.csv`` (one row per run) and ``DIR/runs/*.npz`` (runs saved by
@@ -129,8 +128,15 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     for (experiment, n, d), groups in sorted(curves.items()):
         path = target / f"{_safe(experiment)}_coverage_N{n}_d{d:g}.png"
         reference = dict(paper.PUBLISHED_FIG6_MAX) if experiment == "comparison" else None
-        _close(plot_coverage_curves(groups, reference=reference, out=path, dpi=dpi,
-                                    title=f"{experiment}: coverage during the optimisation, N = {n}, d_max = {d:g} m"))
+        _close(
+            plot_coverage_curves(
+                groups,
+                reference=reference,
+                out=path,
+                dpi=dpi,
+                title=f"{experiment}: coverage during the optimisation, N = {n}, d_max = {d:g} m",
+            )
+        )
         written.append(path)
 
     for index, (f, r) in enumerate(chosen):

@@ -137,8 +137,13 @@ def plot_approximation(
         ax.scatter(known[:, 0], known[:, 1], known[:, 2], s=22, c="black", depthshade=False, zorder=3)
         handles.append(_marker(f"known points ({known.shape[0]})", marker="o", color="black", markersize=5))
     source_text = f" from {known.shape[0]} known points" if known.shape[0] else ""
-    _style_3d(ax, _scene_bounds(truth.bounds, approximation.bounds), elev=elev, azim=azim,
-              title=f"True surface S and its approximation S'{source_text}")
+    _style_3d(
+        ax,
+        _scene_bounds(truth.bounds, approximation.bounds),
+        elev=elev,
+        azim=azim,
+        title=f"True surface S and its approximation S'{source_text}",
+    )
     _legend(ax, handles)
     return _finish(fig, out, dpi)
 
@@ -212,8 +217,18 @@ def plot_cvt(
     palette = _region_colours(generators.shape[0])
     coll = _draw_polygons(ax, polys.polys, palette[region], shade=True, zorder=1)
     coll.uavcov_probes = polys.probes
-    ax.scatter(generators[:, 0], generators[:, 1], generators[:, 2], s=60, marker="*", c="black",
-               edgecolors="white", linewidths=0.6, depthshade=False, zorder=3)
+    ax.scatter(
+        generators[:, 0],
+        generators[:, 1],
+        generators[:, 2],
+        s=60,
+        marker="*",
+        c="black",
+        edgecolors="white",
+        linewidths=0.6,
+        depthshade=False,
+        zorder=3,
+    )
     for i, g in enumerate(generators):
         ax.text(g[0], g[1], g[2], f" {i}", fontsize=7, zorder=4)
     handles = [
@@ -221,8 +236,9 @@ def plot_cvt(
         _patch(palette[0], "Voronoi region of one generator (one colour each)"),
     ]
     iters = f", {cvt.iterations} iterations" + ("" if cvt.converged else ", not converged")
-    _style_3d(ax, _scene_bounds(surface.bounds, generators), elev=elev, azim=azim,
-              title=f"Constrained CVT on the approximating surface{iters}")
+    _style_3d(
+        ax, _scene_bounds(surface.bounds, generators), elev=elev, azim=azim, title=f"Constrained CVT on the approximating surface{iters}"
+    )
     _legend(ax, handles)
     return _finish(fig, out, dpi)
 
@@ -312,8 +328,13 @@ def plot_coverage_map(
     if view == "3d":
         fig, ax = _new_axes(ax, three_d=True, figsize=(7.2, 5.8))
         _coverage_3d(ax, terrain, pts, d, path, max_polygons=max_polygons, shade=shade)
-        _style_3d(ax, _scene_bounds(terrain.bounds, pts, path if path is not None else pts), elev=elev, azim=azim,
-                  title=f"Coverage {coverage_value:.3f} (d_max = {d:g} m)")
+        _style_3d(
+            ax,
+            _scene_bounds(terrain.bounds, pts, path if path is not None else pts),
+            elev=elev,
+            azim=azim,
+            title=f"Coverage {coverage_value:.3f} (d_max = {d:g} m)",
+        )
     elif view == "top":
         fig, ax = _new_axes(ax, three_d=False, figsize=(6.6, 6.0))
         image, extent = _top_view(terrain, pts, d, as_positive_int(raster, "raster"), shade=shade)
@@ -527,8 +548,9 @@ def plot_table1(
     if not values:
         raise ResultsFormatError(f"no run has a value for {metric!r} ({failed} failed)")
     experiments = sorted({e for e, _, _ in values})
-    series = sorted({(e, i) for e, i, _ in values},
-                    key=lambda s: (s[0], list(INIT_COLOURS).index(s[1]) if s[1] in INIT_COLOURS else 99, s[1]))
+    series = sorted(
+        {(e, i) for e, i, _ in values}, key=lambda s: (s[0], list(INIT_COLOURS).index(s[1]) if s[1] in INIT_COLOURS else 99, s[1])
+    )
     sizes = sorted({n for _, _, n in values})
     published = published_values() if paper else {}
 
@@ -546,19 +568,36 @@ def plot_table1(
             if ours:
                 mean = float(np.mean(ours))
                 sigma = float(np.std(ours, ddof=1)) if len(ours) > 1 else 0.0
-                ax.bar(base, mean, width, yerr=sigma, color=colour, edgecolor="black", linewidth=0.4,
-                       error_kw={"elinewidth": 0.8, "capsize": 2})
+                ax.bar(
+                    base,
+                    mean,
+                    width,
+                    yerr=sigma,
+                    color=colour,
+                    edgecolor="black",
+                    linewidth=0.4,
+                    error_kw={"elinewidth": 0.8, "capsize": 2},
+                )
                 ax.text(base, 0.01, f"{len(ours)}", ha="center", va="bottom", fontsize=6, color="white")
             ref = published.get((experiment, metric, init, n))
             if ref is not None and bars_per_series == 2:
-                ax.bar(base + width, ref[0], width, yerr=ref[1], color=colour, alpha=0.35, hatch="///",
-                       edgecolor="black", linewidth=0.4, error_kw={"elinewidth": 0.8, "capsize": 2})
+                ax.bar(
+                    base + width,
+                    ref[0],
+                    width,
+                    yerr=ref[1],
+                    color=colour,
+                    alpha=0.35,
+                    hatch="///",
+                    edgecolor="black",
+                    linewidth=0.4,
+                    error_kw={"elinewidth": 0.8, "capsize": 2},
+                )
         handles.append(_patch(colour, f"{name}: ours"))
         if bars_per_series == 2 and any((experiment, metric, init, n) in published for n in sizes):
             from matplotlib.patches import Patch
 
-            handles.append(Patch(facecolor=colour, alpha=0.35, hatch="///", edgecolor="black", linewidth=0.4,
-                                 label=f"{name}: paper"))
+            handles.append(Patch(facecolor=colour, alpha=0.35, hatch="///", edgecolor="black", linewidth=0.4, label=f"{name}: paper"))
     ax.set_xticks(range(len(sizes)), [f"N = {n}" for n in sizes])
     ax.set_xlim(-0.6, len(sizes) - 0.4)
     ax.set_ylim(0.0, 1.08)
@@ -568,8 +607,9 @@ def plot_table1(
     note = f"; {failed} failed run(s) left out" if failed else ""
     ax.set_title(f"{', '.join(experiments)}: {metric.replace('_', ' ')} by start and team size{note}", fontsize=10)
     # Below the axes: bars may reach the top anywhere.
-    ax.legend(handles=handles, fontsize=7, ncol=max(1, min(len(handles), 6)), loc="upper center",
-              bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
+    ax.legend(
+        handles=handles, fontsize=7, ncol=max(1, min(len(handles), 6)), loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9
+    )
     if fig.get_layout_engine() is None and len(fig.axes) == 1:
         fig.set_layout_engine("constrained")
     return _finish(fig, out, dpi)
@@ -590,8 +630,7 @@ def published_values() -> dict[tuple[str, str, str, int], tuple[float, float]]:
     from .. import paper  # only here: the paper's tables are not needed to draw our own runs
 
     metrics = {"initial": "initial_coverage", "max": "max_coverage"}
-    values = {("table1", metrics[kind], init, int(n)): (v.mean, v.sigma)
-              for (n, init, kind), v in paper.PUBLISHED_TABLE1.items()}
+    values = {("table1", metrics[kind], init, int(n)): (v.mean, v.sigma) for (n, init, kind), v in paper.PUBLISHED_TABLE1.items()}
     for kind, v in paper.PUBLISHED_PYRAMID.items():
         values[("pyramid", metrics[kind], "cvt", 12)] = (v.mean, v.sigma)
     return values
@@ -681,26 +720,34 @@ def plot_point_cloud(
     shown = pts[:: math.ceil(pts.shape[0] / limit)] if pts.shape[0] > limit else pts
     handles = []
     if shown.shape[0]:
-        cloud = ax.scatter(shown[:, 0], shown[:, 1], shown[:, 2], c=shown[:, 2], cmap="viridis",
-                           s=max(1.0, min(8.0, 40_000.0 / shown.shape[0])), marker="o", linewidths=0,
-                           depthshade=False, zorder=1)
+        cloud = ax.scatter(
+            shown[:, 0],
+            shown[:, 1],
+            shown[:, 2],
+            c=shown[:, 2],
+            cmap="viridis",
+            s=max(1.0, min(8.0, 40_000.0 / shown.shape[0])),
+            marker="o",
+            linewidths=0,
+            depthshade=False,
+            zorder=1,
+        )
         bar = fig.colorbar(cloud, ax=ax, shrink=0.55, pad=0.14)
         bar.set_label("height of the seen point (m)")
     parts = [shown] if shown.shape[0] else []
     if positions is not None:
         uav = _points(positions, "positions")
         if uav.shape[0]:
-            ax.scatter(uav[:, 0], uav[:, 1], uav[:, 2], s=46, c=[END_COLOUR], edgecolors="black",
-                       linewidths=0.6, depthshade=False, zorder=3)
-            handles.append(_marker("final UAV positions", marker="o", markerfacecolor=END_COLOUR,
-                                   markeredgecolor="black", markersize=6))
+            ax.scatter(
+                uav[:, 0], uav[:, 1], uav[:, 2], s=46, c=[END_COLOUR], edgecolors="black", linewidths=0.6, depthshade=False, zorder=3
+            )
+            handles.append(_marker("final UAV positions", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6))
             parts.append(uav)
     if not parts:
         raise InvalidInputError("nothing to draw: no point was seen and no position was given")
     drawn = f"{shown.shape[0]} of {pts.shape[0]} points drawn" if shown.shape[0] < pts.shape[0] else f"{pts.shape[0]} points"
     of = f" of {total_targets} targets" if total_targets else ""
-    handles.insert(0, _marker(f"surface point seen during the mission ({drawn}{of})", marker=".",
-                              color=(0.2, 0.5, 0.55), markersize=8))
+    handles.insert(0, _marker(f"surface point seen during the mission ({drawn}{of})", marker=".", color=(0.2, 0.5, 0.55), markersize=8))
     _style_3d(ax, _scene_bounds(*parts), elev=elev, azim=azim, title="Point cloud of what the team saw")
     _legend(ax, handles)
     return _finish(fig, out, dpi)

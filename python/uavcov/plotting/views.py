@@ -192,8 +192,7 @@ def _blend(fraction: np.ndarray, low: Sequence[float], high: Sequence[float]) ->
     return colours
 
 
-def _draw_polygons(ax: Any, polys: np.ndarray, rgb: np.ndarray, *, shade: bool, alpha: float = 1.0,
-                   zorder: float = 1.0) -> Any:
+def _draw_polygons(ax: Any, polys: np.ndarray, rgb: np.ndarray, *, shade: bool, alpha: float = 1.0, zorder: float = 1.0) -> Any:
     """Add ``(P, k, 3)`` polygons in colours ``rgb`` ``(P, 3 or 4)`` to 3D axes; returns the collection."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
@@ -246,8 +245,7 @@ def _scene_bounds(*parts: np.ndarray) -> np.ndarray:
 
 def _legend(ax: Any, handles: list[Any]) -> None:
     """Under a 3D axes, where it hides nothing of the scene."""
-    ax.legend(handles=handles, fontsize=8, framealpha=0.9, loc="upper center", bbox_to_anchor=(0.5, -0.04),
-              ncol=min(len(handles), 2))
+    ax.legend(handles=handles, fontsize=8, framealpha=0.9, loc="upper center", bbox_to_anchor=(0.5, -0.04), ncol=min(len(handles), 2))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -306,8 +304,9 @@ def _coverage_fraction(terrain: Terrain, polys: _Polygons, positions: np.ndarray
     return seen.astype(np.float64)
 
 
-def _coverage_3d(ax: Any, terrain: Terrain, pts: np.ndarray, d_max: float, path: np.ndarray | None, *,
-                 max_polygons: int, shade: bool) -> Any:
+def _coverage_3d(
+    ax: Any, terrain: Terrain, pts: np.ndarray, d_max: float, path: np.ndarray | None, *, max_polygons: int, shade: bool
+) -> Any:
     """Draw the coverage of positions ``pts`` ``(N, 3)`` on 3D axes: the surface blended from
     not seen to seen, the paths ``(K + 1, N, 3)`` (metres) when given, a drop line under each
     UAV. Returns the surface's collection."""
@@ -374,8 +373,9 @@ class _TopView:
             stride = max(1, math.ceil(max(ny, nx) / raster))
             rows, cols = np.arange(0, ny, stride), np.arange(0, nx, stride)
             r0, c0 = np.meshgrid(rows, cols, indexing="ij")
-            self.blocks = np.stack([r0, np.minimum(r0 + stride - 1, ny - 1), c0,
-                                    np.minimum(c0 + stride - 1, nx - 1)], axis=2).reshape(-1, 4)
+            self.blocks = np.stack([r0, np.minimum(r0 + stride - 1, ny - 1), c0, np.minimum(c0 + stride - 1, nx - 1)], axis=2).reshape(
+                -1, 4
+            )
             self.shape = (rows.size, cols.size)
             z = _block_means(np.asarray(grid.z, dtype=float), self.blocks).reshape(self.shape)
             (ox, oy), (dx, dy) = grid.origin, grid.spacing

@@ -46,8 +46,15 @@ def write_ply(points: Any, path: Any, colors: Any = None) -> Path:
         rgb = rgb.astype(np.int64)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    header = ["ply", "format ascii 1.0", "comment uavcov: surface points seen by the team, metres",
-              f"element vertex {pts.shape[0]}", "property double x", "property double y", "property double z"]
+    header = [
+        "ply",
+        "format ascii 1.0",
+        "comment uavcov: surface points seen by the team, metres",
+        f"element vertex {pts.shape[0]}",
+        "property double x",
+        "property double y",
+        "property double z",
+    ]
     if rgb is not None:
         header += ["property uchar red", "property uchar green", "property uchar blue"]
     header.append("end_header")
@@ -82,9 +89,29 @@ def _write_mp4(images: list[np.ndarray], out: Path, fps: float) -> None:
 
     h, w = images[0].shape[:2]
     # yuv420p wants even sizes; pad by one pixel where needed.
-    command = ["ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{w}x{h}",
-               "-r", f"{fps:g}", "-i", "-", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p",
-               "-vcodec", "libx264", str(out)]
+    command = [
+        "ffmpeg",
+        "-y",
+        "-loglevel",
+        "error",
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        "rgb24",
+        "-s",
+        f"{w}x{h}",
+        "-r",
+        f"{fps:g}",
+        "-i",
+        "-",
+        "-vf",
+        "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+        "-pix_fmt",
+        "yuv420p",
+        "-vcodec",
+        "libx264",
+        str(out),
+    ]
     with subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE) as proc:
         assert proc.stdin is not None
         try:
