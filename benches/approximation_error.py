@@ -51,9 +51,11 @@ def main(argv: list[str] | None = None) -> int:
             relative[r, t] = result.rms / relief
     elapsed = time.perf_counter() - start
 
-    print(f"Height error of S' over the true surface, {args.terrains} Gaussian-hill terrains "
-          f"(seeds {args.first_seed}-{args.first_seed + args.terrains - 1}, 100 m x 100 m, 7 hills, "
-          f"heights U[5, 25] m, sigma 10 m, {args.spacing:g} m grid); mean (std) over terrains.")
+    print(
+        f"Height error of S' over the true surface, {args.terrains} Gaussian-hill terrains "
+        f"(seeds {args.first_seed}-{args.first_seed + args.terrains - 1}, 100 m x 100 m, 7 hills, "
+        f"heights U[5, 25] m, sigma 10 m, {args.spacing:g} m grid); mean (std) over terrains."
+    )
     print()
     print("| prior samples | known points | RMS error (m) | max abs error (m) | RMS / std of true heights |")
     print("|---|---|---|---|---|")

@@ -81,8 +81,9 @@ def main() -> None:
         }
 
     s = CAOSettings()
-    print(f"M = {s.n_candidates} candidates, T_h = {s.history}, {args.iterations} iterations, "
-          f"median of {args.repeats} runs; ms per iteration")
+    print(
+        f"M = {s.n_candidates} candidates, T_h = {s.history}, {args.iterations} iterations, median of {args.repeats} runs; ms per iteration"
+    )
     print(f"{'N':>3} {'optimiser':>10} {'case':>14} {'L':>4} {'own':>8} {'measure':>8} {'feasible':>9}")
     for n_uavs in (5, 12, 20):
         for optimizer in ("cao", "per_robot"):
@@ -94,8 +95,9 @@ def main() -> None:
                 results = [run(seed) for seed in range(args.repeats)]
                 med = {key: statistics.median(r[key] for r in results) * 1e3 / args.iterations for key in results[0]}
                 n_reg = s.regressors_for(n_uavs) if optimizer == "cao" else s.robot_regressors_value()
-                print(f"{n_uavs:>3} {optimizer:>10} {name:>14} {n_reg:>4} {med['own']:>8.3f} "
-                      f"{med['measure']:>8.3f} {med['feasible']:>9.3f}")
+                print(
+                    f"{n_uavs:>3} {optimizer:>10} {name:>14} {n_reg:>4} {med['own']:>8.3f} {med['measure']:>8.3f} {med['feasible']:>9.3f}"
+                )
 
 
 if __name__ == "__main__":

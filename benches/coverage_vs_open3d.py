@@ -79,9 +79,7 @@ def open3d_case(terrain: uavcov.Terrain, targets: np.ndarray, uavs: np.ndarray, 
     import open3d as o3d
 
     scene = o3d.t.geometry.RaycastingScene()
-    scene.add_triangles(
-        o3d.core.Tensor(terrain.vertices.astype(np.float32)), o3d.core.Tensor(terrain.faces.astype(np.uint32))
-    )
+    scene.add_triangles(o3d.core.Tensor(terrain.vertices.astype(np.float32)), o3d.core.Tensor(terrain.faces.astype(np.uint32)))
 
     def segments() -> tuple[np.ndarray, np.ndarray]:
         d = targets[None, :, :] - uavs[:, None, :]
@@ -117,8 +115,10 @@ def main() -> None:
         print("open3d is not installed: timing uavcov alone")
     d_max = 25.0
     print(f"load average before: {os.getloadavg()[0]:.2f}")
-    print("| spacing | targets | segments | covered grid / mesh / Open3D | grid 1 thr | grid 2 thr | mesh 2 thr "
-          "| Open3D full 2 thr | Open3D queries 2 thr | Open3D queries / grid 2 thr |")
+    print(
+        "| spacing | targets | segments | covered grid / mesh / Open3D | grid 1 thr | grid 2 thr | mesh 2 thr "
+        "| Open3D full 2 thr | Open3D queries 2 thr | Open3D queries / grid 2 thr |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for spacing in args.spacing:
         terrain, uavs = reference_case(spacing)
@@ -129,8 +129,11 @@ def main() -> None:
         assert np.array_equal(seen, mesh2.seen(uavs)), "the grid and mesh methods disagree"
         ours = int(seen.sum())
         # partial binds this spacing's objects; every call is timed within this iteration
-        calls = {"grid1": functools.partial(grid1.coverage, uavs), "grid2": functools.partial(grid2.coverage, uavs),
-                 "mesh2": functools.partial(mesh2.coverage, uavs)}
+        calls = {
+            "grid1": functools.partial(grid1.coverage, uavs),
+            "grid2": functools.partial(grid2.coverage, uavs),
+            "mesh2": functools.partial(mesh2.coverage, uavs),
+        }
         targets = terrain.default_targets().points
         row = [f"{spacing} m", str(len(targets))]
         if o3d is not None:
@@ -141,12 +144,18 @@ def main() -> None:
             calls["o3d_queries"] = functools.partial(query, rays)
         ms = interleaved_medians(calls, args.repeat, args.block)
         if o3d is not None:
-            row += [str(rays.shape[0]), f"{ours} / {ours} / {theirs}", f"{ms['grid1']:.2f} ms", f"{ms['grid2']:.2f} ms",
-                    f"{ms['mesh2']:.2f} ms", f"{ms['o3d_full']:.2f} ms", f"{ms['o3d_queries']:.2f} ms",
-                    f"{ms['o3d_queries'] / ms['grid2']:.2f}x"]
+            row += [
+                str(rays.shape[0]),
+                f"{ours} / {ours} / {theirs}",
+                f"{ms['grid1']:.2f} ms",
+                f"{ms['grid2']:.2f} ms",
+                f"{ms['mesh2']:.2f} ms",
+                f"{ms['o3d_full']:.2f} ms",
+                f"{ms['o3d_queries']:.2f} ms",
+                f"{ms['o3d_queries'] / ms['grid2']:.2f}x",
+            ]
         else:
-            row += ["-", f"{ours} / {ours} / -", f"{ms['grid1']:.2f} ms", f"{ms['grid2']:.2f} ms", f"{ms['mesh2']:.2f} ms",
-                    "-", "-", "-"]
+            row += ["-", f"{ours} / {ours} / -", f"{ms['grid1']:.2f} ms", f"{ms['grid2']:.2f} ms", f"{ms['mesh2']:.2f} ms", "-", "-", "-"]
         print("| " + " | ".join(row) + " |", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
 

@@ -104,16 +104,20 @@ def main() -> None:
         sys.exit(out.stderr)
     r = json.loads(out.stdout)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
-    print(f"| map | nodes | triangles | targets | UAVs, d_max | heights (numpy) | Terrain.from_grid "
-          f"| Visibility() | one evaluation, {args.threads} thr | again (builds skylines) | third | coverage | peak RSS "
-          f"| interpreter alone | mesh path |")
+    print(
+        f"| map | nodes | triangles | targets | UAVs, d_max | heights (numpy) | Terrain.from_grid "
+        f"| Visibility() | one evaluation, {args.threads} thr | again (builds skylines) | third | coverage | peak RSS "
+        f"| interpreter alone | mesh path |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    print(f"| {args.size / 1000:g} km x {args.size / 1000:g} km at {args.spacing:g} m | {r['nodes']:,} | {r['triangles']:,} "
-          f"| {r['targets']:,} | {args.uavs}, {args.d_max:g} m | {r['heights_s']:.1f} s | {r['terrain_s']:.2f} s "
-          f"| {r['visibility_s']:.2f} s | {r['evaluation_s']:.2f} s | {r['second_evaluation_s']:.2f} s "
-          f"| {r['third_evaluation_s']:.2f} s "
-          f"| {r['coverage']:.4f} | {r['peak_mib']:.0f} MiB | {r['baseline_mib']:.0f} MiB "
-          f"| {'refused (SurfaceTooLargeError)' if r['mesh_path_refused'] else 'ran'} |")
+    print(
+        f"| {args.size / 1000:g} km x {args.size / 1000:g} km at {args.spacing:g} m | {r['nodes']:,} | {r['triangles']:,} "
+        f"| {r['targets']:,} | {args.uavs}, {args.d_max:g} m | {r['heights_s']:.1f} s | {r['terrain_s']:.2f} s "
+        f"| {r['visibility_s']:.2f} s | {r['evaluation_s']:.2f} s | {r['second_evaluation_s']:.2f} s "
+        f"| {r['third_evaluation_s']:.2f} s "
+        f"| {r['coverage']:.4f} | {r['peak_mib']:.0f} MiB | {r['baseline_mib']:.0f} MiB "
+        f"| {'refused (SurfaceTooLargeError)' if r['mesh_path_refused'] else 'ran'} |"
+    )
 
 
 if __name__ == "__main__":

@@ -47,18 +47,21 @@ def main() -> None:
         t0 = time.perf_counter()
         uavcov.Visibility(hills, 25.0).seen(uavs)
         print(f"{'(visibility of every grid target, once)':<44} {time.perf_counter() - t0:6.2f} s")
-        _timed("coverage map 3D, 200k-target grid", lambda: plotting.plot_coverage_map(
-            hills, uavs, 25.0, trajectory=trajectory), out / "a.png")
-        _timed("coverage map top view, 200k-target grid", lambda: plotting.plot_coverage_map(
-            hills, uavs, 25.0, trajectory=trajectory, view="top"), out / "b.png")
-        _timed("coverage map 3D, buildings mesh", lambda: plotting.plot_coverage_map(
-            scene, scene_uavs, 8.0), out / "c.png")
-        _timed("coverage map top view, buildings mesh", lambda: plotting.plot_coverage_map(
-            scene, scene_uavs, 8.0, view="top"), out / "d.png")
+        _timed(
+            "coverage map 3D, 200k-target grid", lambda: plotting.plot_coverage_map(hills, uavs, 25.0, trajectory=trajectory), out / "a.png"
+        )
+        _timed(
+            "coverage map top view, 200k-target grid",
+            lambda: plotting.plot_coverage_map(hills, uavs, 25.0, trajectory=trajectory, view="top"),
+            out / "b.png",
+        )
+        _timed("coverage map 3D, buildings mesh", lambda: plotting.plot_coverage_map(scene, scene_uavs, 8.0), out / "c.png")
+        _timed(
+            "coverage map top view, buildings mesh", lambda: plotting.plot_coverage_map(scene, scene_uavs, 8.0, view="top"), out / "d.png"
+        )
         fine = uavcov.buildings_scene(spacing=0.125, rng=0)
         print(f"fine scene: {fine!r}")
-        _timed("coverage map 3D, fine mesh (clustered)", lambda: plotting.plot_coverage_map(
-            fine, scene_uavs, 8.0), out / "f.png")
+        _timed("coverage map 3D, fine mesh (clustered)", lambda: plotting.plot_coverage_map(fine, scene_uavs, 8.0), out / "f.png")
         points = hills.default_targets().points
         _timed("point cloud, 200k points (30k drawn)", lambda: plotting.plot_point_cloud(points), out / "e.png")
 

@@ -112,8 +112,11 @@ def _score(rows: list[dict[str, Any]], column: str) -> tuple[float, dict[tuple[i
         if not row["error"]:
             cells[(row["n"], row["start"])].append(row[column])
     means = {key: float(np.mean(v)) for key, v in cells.items()}
-    errors = [means[key] - paper.PUBLISHED_TABLE1[(key[0], key[1], column)].mean for key in means
-              if (key[0], key[1], column) in paper.PUBLISHED_TABLE1]
+    errors = [
+        means[key] - paper.PUBLISHED_TABLE1[(key[0], key[1], column)].mean
+        for key in means
+        if (key[0], key[1], column) in paper.PUBLISHED_TABLE1
+    ]
     return float(np.sqrt(np.mean(np.square(errors)))), means
 
 
@@ -157,8 +160,7 @@ def search_initial(
         for index in range(count):
             changes = {key: draw(generator) for key, draw in SEARCH_SPACES[space].items()}
             experiment = base.with_changes(**changes)
-            futures = [pool.submit(run_one, experiment, seed, n, start, 0)
-                       for n in sizes for start in ("cvt", "random") for seed in seeds]
+            futures = [pool.submit(run_one, experiment, seed, n, start, 0) for n in sizes for start in ("cvt", "random") for seed in seeds]
             pyramid = paper.PYRAMID.with_changes(**{"constraints.z_max": 200.0, **changes})
             pyramid_futures = [pool.submit(run_one, pyramid, seed, 12, "cvt", 0) for seed in seeds]
             rows = [f.result() for f in futures]
@@ -192,8 +194,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--csv", default=None, help="append every run here")
     parser.add_argument("--tag", default="", help="label written in the csv")
     parser.add_argument("--held-out", action="store_true", help="allow seeds 0-39 (the published run only)")
-    parser.add_argument("--search", type=int, default=0, metavar="K",
-                        help="random search of K terrain/altitude settings against the initial columns")
+    parser.add_argument(
+        "--search", type=int, default=0, metavar="K", help="random search of K terrain/altitude settings against the initial columns"
+    )
     parser.add_argument("--search-seed", type=int, default=0)
     parser.add_argument("--space", default="ground", choices=sorted(SEARCH_SPACES), help="the search space of --search")
     args = parser.parse_args(argv)

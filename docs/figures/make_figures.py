@@ -51,23 +51,26 @@ def main() -> int:
     _save(plotting.plot_approximation(example), "example_approximation.png")
     _save(plotting.plot_cvt(example), "example_cvt.png")
     _save(plotting.plot_coverage_map(example, configuration="best"), "example_coverage_map.png")
-    _save(plotting.plot_coverage_curves(example, title="Fig. 5d: coverage during the optimisation"),
-          "example_coverage_curve.png")
+    _save(plotting.plot_coverage_curves(example, title="Fig. 5d: coverage during the optimisation"), "example_coverage_curve.png")
     _save(plotting.plot_point_cloud(example), "example_point_cloud.png")
 
     # Fig. 6: the three starts on one terrain (10 UAVs, d_max = 25 m), the paper's maxima dashed.
     comparison = {start: [_run(paper.COMPARISON, 0, 10, start)] for start in ("cvt", "random", "corner")}
     _save(plotting.plot_coverage_map(comparison["corner"][0], configuration="best"), "comparison_corner_coverage_map.png")
-    gif = plotting.animate_mission(comparison["corner"][0], HERE / "comparison_corner_animation.gif", max_frames=40,
-                                   raster=100, dpi=70)
+    gif = plotting.animate_mission(comparison["corner"][0], HERE / "comparison_corner_animation.gif", max_frames=40, raster=100, dpi=70)
     print(f"{gif.name:<32} {gif.stat().st_size / 1e3:6.0f} kB", flush=True)
-    _save(plotting.plot_coverage_curves(comparison, reference=dict(paper.PUBLISHED_FIG6_MAX),
-                                        title="Fig. 6: 10 UAVs, one terrain, three starts"), "comparison_curves.png")
+    _save(
+        plotting.plot_coverage_curves(
+            comparison, reference=dict(paper.PUBLISHED_FIG6_MAX), title="Fig. 6: 10 UAVs, one terrain, three starts"
+        ),
+        "comparison_curves.png",
+    )
     # The same over five terrains: mean and one sigma.
-    five = {start: [_run(paper.COMPARISON, seed, 10, start, iterations=300) for seed in range(5)]
-            for start in ("cvt", "random", "corner")}
-    _save(plotting.plot_coverage_curves(five, title="10 UAVs, 5 terrains (seeds 0-4), 300 iterations: mean and one sigma"),
-          "comparison_band.png")
+    five = {start: [_run(paper.COMPARISON, seed, 10, start, iterations=300) for seed in range(5)] for start in ("cvt", "random", "corner")}
+    _save(
+        plotting.plot_coverage_curves(five, title="10 UAVs, 5 terrains (seeds 0-4), 300 iterations: mean and one sigma"),
+        "comparison_band.png",
+    )
 
     # Figs. 7-8: the buildings scene (4 UAVs, d_max = 8 m), CVT on the simplified map vs two pairs.
     buildings = {start: [_run(paper.BUILDINGS, 0, 4, start)] for start in ("cvt", "pairs")}
@@ -76,8 +79,7 @@ def main() -> int:
     _save(plotting.plot_coverage_map(cvt_run, configuration="best"), "buildings_coverage_map.png")
     _save(plotting.plot_coverage_map(cvt_run, configuration="best", view="top"), "buildings_coverage_top.png")
     _save(plotting.plot_point_cloud(cvt_run), "buildings_point_cloud.png")
-    _save(plotting.plot_coverage_curves(buildings, title="Fig. 8: buildings scene, CVT start against two pairs"),
-          "buildings_curves.png")
+    _save(plotting.plot_coverage_curves(buildings, title="Fig. 8: buildings scene, CVT start against two pairs"), "buildings_curves.png")
 
     # Table 1 preview: 5 terrains x N x 3 starts, 150 iterations, beside the paper's values.
     rows = []
@@ -85,8 +87,16 @@ def main() -> int:
         for n in paper.TABLE1.team_sizes:
             for start in paper.TABLE1.starts:
                 r = _run(paper.TABLE1, seed, n, start, iterations=150)
-                rows.append({"experiment": "table1", "init": start, "n_uavs": str(n), "seed": str(seed),
-                             "initial_coverage": repr(r.initial_coverage), "max_coverage": repr(r.best_coverage)})
+                rows.append(
+                    {
+                        "experiment": "table1",
+                        "init": start,
+                        "n_uavs": str(n),
+                        "seed": str(seed),
+                        "initial_coverage": repr(r.initial_coverage),
+                        "max_coverage": repr(r.best_coverage),
+                    }
+                )
     fig = plotting.plot_table1(rows)
     fig.axes[0].set_title("Table 1 preview (5 terrains, 150 iterations) beside the paper (40 terrains, 500)", fontsize=10)
     _save(fig, "table1_preview.png")
