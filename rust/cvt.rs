@@ -450,6 +450,7 @@ fn distance(a: Point, b: Point) -> f64 {
 /// [`Weights::new`]), a negative or non-finite tolerance, `window = 0`, `max_iterations = 0`, a
 /// density of the wrong length, negative, non-finite or zero everywhere, or initial generators
 /// that are not `n` finite points; [`Error::Mesh`] for a surface without area.
+#[expect(clippy::too_many_lines, reason = "one loop of iterations; its steps share the run's state")]
 pub fn constrained_cvt(
     surface: &Surface,
     n: usize,

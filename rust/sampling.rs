@@ -44,7 +44,10 @@ pub fn area_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<
     // Counted in floating point first, so that no count can overflow before the limit is checked.
     let sides: Vec<f64> = surface.areas().iter().map(|&a| (a * density).sqrt().ceil().max(1.0)).collect();
     let total: f64 = sides.iter().map(|m| m * m).sum();
-    ensure!(total <= MAX_TARGETS as f64, "density {density} per m^2 gives {total:e} targets, over {MAX_TARGETS}; lower it");
+    ensure!(
+        total.is_finite() && total <= MAX_TARGETS as f64,
+        "density {density} per m^2 gives {total:e} targets, over {MAX_TARGETS}; lower it"
+    );
     let per_triangle: Vec<usize> = sides.into_iter().map(|m| m as usize).collect();
     let total: usize = per_triangle.iter().map(|m| m * m).sum();
     let mut points = try_with_capacity(total, "the targets")?;

@@ -759,7 +759,7 @@ mod tests {
         // The silent 1.0: the mesh path, d_max = 1e300 and a UAV at z = 3e300.
         let s = flat(11);
         let vis = Visibility::with_path(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 1e300, Path::Mesh).unwrap();
-        for uav in [[5.0, 5.0, 3e300], [5.0, 1.0000001e15, 3.0]] {
+        for uav in [[5.0, 5.0, 3e300], [5.0, 1.000_000_1e15, 3.0]] {
             assert!(matches!(vis.coverage(&[uav], 1), Err(Error::InvalidInput(_))), "{uav:?}");
             assert!(matches!(vis.per_uav(&[uav], 1), Err(Error::InvalidInput(_))));
         }

@@ -126,7 +126,7 @@ impl HeightField {
         ensure!(x0.is_finite() && y0.is_finite(), "grid origin must be finite, got ({x0}, {y0})");
         ensure!(z.iter().all(|h| !h.is_infinite()), "heights must be finite or NaN (nodata), found an infinite value");
         ensure!(
-            z.iter().all(|h| !(h.abs() > MAX_COORDINATE)),
+            z.iter().all(|h| h.is_nan() || h.abs() <= MAX_COORDINATE),
             "heights must be at most {MAX_COORDINATE:e} m in magnitude (or NaN, nodata)"
         );
         let mut grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: Vec::new() };
@@ -219,11 +219,12 @@ impl HeightField {
             let mut before = start;
             for k in 1..n {
                 let at = start + k as f64 * step;
-                ensure!(
-                    at > before,
-                    "grid spacing {step} m is below the resolution of its {name} coordinates near {start} m: nodes {} and {k} coincide",
-                    k - 1
-                );
+                if at <= before {
+                    return Err(Error::InvalidInput(format!(
+                        "grid spacing {step} m is below the resolution of its {name} coordinates near {start} m: nodes {} and {k} coincide",
+                        k - 1
+                    )));
+                }
                 before = at;
             }
         }

@@ -170,7 +170,7 @@ impl HeightField {
         if min(z0, end[2]) - delta_z > self.bounds.1[2] {
             return false; // above everything
         }
-        if !(delta <= MAX_MARGIN) {
+        if delta > MAX_MARGIN || delta.is_nan() {
             return self.cast::<true>(origin, dir, t_max).is_some(); // also for NaN
         }
         let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
