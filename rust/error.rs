@@ -62,6 +62,22 @@ pub(crate) fn try_copy<T: Clone>(values: &[T], what: &str) -> Result<Vec<T>> {
     Ok(out)
 }
 
+/// `work()`, with a panic caught and returned as [`Error::Internal`]: the binding's last line
+/// of defence (no input is known to reach a panic, and the tests hold it so). The work is
+/// treated as unwind-safe: what a panic could leave half-updated is the work's own state
+/// (dropped with it) or a cache behind a `OnceLock`, which stays unset.
+#[cfg_attr(not(feature = "python"), allow(dead_code, reason = "used by the binding"))]
+pub(crate) fn guarded<T>(work: impl FnOnce() -> Result<T>) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic without a message".to_owned());
+        Err(Error::Internal(format!("internal error in uavcov's Rust core (a bug, please report it): {what}")))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,5 +89,22 @@ mod tests {
         assert!(matches!(try_filled(0u64, usize::MAX / 4, "a test"), Err(Error::TooLarge(_))));
         assert_eq!(try_filled(7u8, 3, "a test").unwrap(), vec![7, 7, 7]);
         assert_eq!(try_copy(&[1, 2], "a test").unwrap(), vec![1, 2]);
+    }
+
+    #[test]
+    fn a_panic_becomes_an_internal_error() {
+        assert_eq!(guarded(|| Ok(3)), Ok(3));
+        assert_eq!(guarded::<()>(|| Err(Error::Mesh("m".into()))), Err(Error::Mesh("m".into())));
+        let hook = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|_| {})); // keep the test's output clean
+        let caught = guarded::<()>(|| panic!("range start index {} out of range", usize::MAX));
+        // A panic on a rayon worker comes back to the caller, and is caught the same way.
+        let parallel = guarded::<u64>(|| {
+            use rayon::prelude::*;
+            Ok((0..1000u64).into_par_iter().map(|k| if k == 777 { panic!("worker") } else { k }).sum())
+        });
+        std::panic::set_hook(hook);
+        assert!(matches!(&caught, Err(Error::Internal(m)) if m.contains("18446744073709551615")), "{caught:?}");
+        assert!(matches!(&parallel, Err(Error::Internal(m)) if m.contains("worker")), "{parallel:?}");
     }
 }

@@ -17,15 +17,13 @@ mod cvt;
 mod surface;
 mod visibility;
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
-
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::{guarded, Error, Result};
 use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::threads;
 
@@ -44,19 +42,6 @@ pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
         },
         Err(_) => PyValueError::new_err(message),
     }
-}
-
-/// `work()`, with a panic caught and returned as [`Error::Internal`] (the binding's last line
-/// of defence: no input is known to reach a panic, and the tests hold it so).
-pub(crate) fn guarded<T>(work: impl FnOnce() -> Result<T>) -> Result<T> {
-    catch_unwind(AssertUnwindSafe(work)).unwrap_or_else(|payload| {
-        let what = payload
-            .downcast_ref::<&str>()
-            .map(|s| (*s).to_owned())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "a panic without a message".to_owned());
-        Err(Error::Internal(format!("internal error in uavcov's Rust core (a bug, please report it): {what}")))
-    })
 }
 
 /// [`guarded`] `work` with the GIL released, its error mapped onto `uavcov.errors`.
