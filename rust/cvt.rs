@@ -250,7 +250,7 @@ impl TriangleSampler {
                  tessellate a coarser surface"
             )));
         }
-        let areas = surface.areas();
+        let areas = surface.try_areas()?;
         if let Some(d) = density {
             ensure!(d.len() == n, "density has {} values for {n} triangles", d.len());
             ensure!(d.iter().all(|x| x.is_finite() && *x >= 0.0), "density must be finite and >= 0 everywhere");

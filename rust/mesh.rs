@@ -196,6 +196,41 @@ impl Surface {
         }
     }
 
+    /// [`Surface::faces`], or [`Error::TooLarge`] when the system refuses the memory of a grid's
+    /// table.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] as said.
+    pub fn try_faces(&self) -> Result<&[[u32; 3]]> {
+        match &self.body {
+            Body::Mesh(m) => Ok(m.mesh.indices()),
+            Body::Grid(field, _) => field.try_faces(),
+        }
+    }
+
+    /// [`Surface::areas`], or [`Error::TooLarge`] when the system refuses the memory of a grid's
+    /// table.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] as said.
+    pub fn try_areas(&self) -> Result<&[f64]> {
+        match &self.body {
+            Body::Mesh(m) => Ok(&m.areas),
+            Body::Grid(field, _) => field.try_areas(),
+        }
+    }
+
+    /// The vertices as one flat row-major `(n, 3)` buffer, or [`Error::TooLarge`] when the
+    /// system refuses the memory.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] as said.
+    pub fn try_flat_vertices(&self) -> Result<Vec<f64>> {
+        let mut out = crate::error::try_with_capacity(3 * self.n_vertices(), "the vertices")?;
+        out.extend(self.vertices().flatten());
+        Ok(out)
+    }
+
     /// The corners of triangle `f`.
     ///
     /// # Panics

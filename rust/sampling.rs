@@ -42,7 +42,7 @@ pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, V
 pub fn area_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
     ensure!(density.is_finite() && density > 0.0, "target density must be finite and > 0 points per m^2, got {density}");
     // Counted in floating point first, so that no count can overflow before the limit is checked.
-    let sides: Vec<f64> = surface.areas().iter().map(|&a| (a * density).sqrt().ceil().max(1.0)).collect();
+    let sides: Vec<f64> = surface.try_areas()?.iter().map(|&a| (a * density).sqrt().ceil().max(1.0)).collect();
     let total: f64 = sides.iter().map(|m| m * m).sum();
     ensure!(
         total.is_finite() && total <= MAX_TARGETS as f64,

@@ -56,7 +56,7 @@ use std::sync::OnceLock;
 
 use parry3d_f64::math::Vector;
 
-use crate::error::{ensure, try_filled, Error, Result};
+use crate::error::{ensure, try_filled, try_with_capacity, Error, Result};
 use crate::geometry::{triangle_area, Point, MAX_COORDINATE, SIGHT_FRACTION};
 use crate::grid::Grid;
 
@@ -268,22 +268,48 @@ impl HeightField {
     }
 
     /// The triangles as vertex indices, in the mesh path's order (built on first call).
+    ///
+    /// # Panics
+    /// When the system refuses the memory of the table (12 bytes a triangle); see
+    /// [`HeightField::try_faces`].
     pub fn faces(&self) -> &[[u32; 3]] {
-        self.faces.get_or_init(|| {
-            let vof = &self.grid.vertex_of_node;
-            let mut out = Vec::with_capacity(self.n_triangles);
-            self.for_each_face(|nodes, _| out.push(nodes.map(|k| vof[k])));
-            out
-        })
+        self.try_faces().expect("memory for the face table")
+    }
+
+    /// [`HeightField::faces`], or [`Error::TooLarge`] when the system refuses the memory.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when the table cannot be allocated (it is then not kept).
+    pub fn try_faces(&self) -> Result<&[[u32; 3]]> {
+        if let Some(f) = self.faces.get() {
+            return Ok(f);
+        }
+        let vof = &self.grid.vertex_of_node;
+        let mut out = try_with_capacity(self.n_triangles, "the grid's face table")?;
+        self.for_each_face(|nodes, _| out.push(nodes.map(|k| vof[k])));
+        Ok(self.faces.get_or_init(|| out))
     }
 
     /// The area of each triangle, m^2 (built on first call).
+    ///
+    /// # Panics
+    /// When the system refuses the memory of the table (8 bytes a triangle); see
+    /// [`HeightField::try_areas`].
     pub fn areas(&self) -> &[f64] {
-        self.areas.get_or_init(|| {
-            let mut out = Vec::with_capacity(self.n_triangles);
-            self.for_each_face(|_, [a, b, c]| out.push(triangle_area(a, b, c)));
-            out
-        })
+        self.try_areas().expect("memory for the area table")
+    }
+
+    /// [`HeightField::areas`], or [`Error::TooLarge`] when the system refuses the memory.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when the table cannot be allocated (it is then not kept).
+    pub fn try_areas(&self) -> Result<&[f64]> {
+        if let Some(a) = self.areas.get() {
+            return Ok(a);
+        }
+        let mut out = try_with_capacity(self.n_triangles, "the grid's area table")?;
+        self.for_each_face(|_, [a, b, c]| out.push(triangle_area(a, b, c)));
+        Ok(self.areas.get_or_init(|| out))
     }
 
     /// The corners of triangle `f`.

@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMet
 use pyo3::prelude::*;
 
 use super::{detached, held, invalid, parallel_map, points, points_to_py, to_py_err};
-use crate::error::Error;
+use crate::error::{try_copy, try_with_capacity, Error};
 use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::mesh;
 use crate::sampling;
@@ -75,14 +75,18 @@ impl PySurface {
 
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = &self.inner;
-        Ok(points_to_py(py, detached(py, || Ok(s.vertices().collect()))?))
+        let flat = detached(py, || s.try_flat_vertices())?;
+        let array = Array2::from_shape_vec((flat.len() / 3, 3), flat).map_err(|e| to_py_err(py, Error::Internal(e.to_string())))?;
+        Ok(array.into_pyarray(py))
     }
 
     fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
         let s = &self.inner;
         let (n, flat) = detached(py, || {
-            let f = s.faces();
-            Ok((f.len(), f.iter().flat_map(|t| t.map(i64::from)).collect::<Vec<i64>>()))
+            let f = s.try_faces()?;
+            let mut flat = try_with_capacity(3 * f.len(), "the face array")?;
+            flat.extend(f.iter().flat_map(|t| t.map(i64::from)));
+            Ok((f.len(), flat))
         })?;
         let array = Array2::from_shape_vec((n, 3), flat).map_err(|e| to_py_err(py, Error::Internal(e.to_string())))?;
         Ok(array.into_pyarray(py))
@@ -90,7 +94,7 @@ impl PySurface {
 
     fn face_areas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let s = &self.inner;
-        Ok(detached(py, || Ok(s.areas().to_vec()))?.into_pyarray(py))
+        Ok(detached(py, || try_copy(s.try_areas()?, "the face areas"))?.into_pyarray(py))
     }
 
     fn bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
