@@ -225,3 +225,18 @@ def test_extreme_finite_floats_never_panic_hang_or_abort() -> None:
         timeout=300,
     )
     assert out["ok"] > 50 and out["error"] > 50, out
+
+
+def test_the_mesh_tables_of_a_large_grid_are_a_clean_error_under_4_gib() -> None:
+    # 81 million nodes fit (about 2 GB with numpy's copy); their 162 million triangles' face
+    # table and its numpy copy (1.9 + 3.9 GB) do not, and are refused instead of aborting.
+    out = run(
+        """
+        s = _core.Surface.from_grid(np.zeros((9000, 9000)), 1.0, 1.0, 0.0, 0.0)
+        done([s.n_faces, outcome(lambda: s.faces().shape), outcome(lambda: s.vertices().shape)])
+        """
+    )
+    n_faces, faces, vertices = out
+    assert n_faces == 2 * 8999 * 8999
+    assert is_error(faces, "SurfaceTooLargeError"), faces
+    assert is_error(vertices, "SurfaceTooLargeError") or vertices == ["ok", [81_000_000, 3]], vertices

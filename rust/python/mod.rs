@@ -23,7 +23,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
-use crate::error::{guarded, Error, Result};
+use crate::error::{guarded, try_with_capacity, Error, Result};
 use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::threads;
 
@@ -64,7 +64,8 @@ pub(crate) fn points(py: Python<'_>, array: &PyReadonlyArray2<'_, f64>, name: &s
     if a.ncols() != 3 {
         return Err(invalid(py, format!("{name} must have shape (n, 3), got {:?}", array.shape())));
     }
-    let out: Vec<Point> = a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    let mut out: Vec<Point> = try_with_capacity(a.nrows(), &format!("a copy of {name}")).map_err(|e| to_py_err(py, e))?;
+    out.extend(a.rows().into_iter().map(|r| [r[0], r[1], r[2]]));
     if out.iter().any(|q| q.iter().any(|c| !c.is_finite())) {
         return Err(invalid(py, format!("{name} contains NaN or infinite values")));
     }

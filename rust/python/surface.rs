@@ -30,12 +30,13 @@ impl PySurface {
         if vertices.ncols() != 3 {
             return Err(to_py_err(py, Error::Mesh(format!("vertices must have shape (n, 3), got {:?}", vertices.shape()))));
         }
-        let verts: Vec<Point> = vertices.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+        let mut verts: Vec<Point> = try_with_capacity(vertices.nrows(), "a copy of the vertices").map_err(|e| to_py_err(py, e))?;
+        verts.extend(vertices.rows().into_iter().map(|r| [r[0], r[1], r[2]]));
         let f = faces.as_array();
         if f.ncols() != 3 {
             return Err(to_py_err(py, Error::Mesh(format!("faces must have shape (f, 3), got {:?}", f.shape()))));
         }
-        let mut tris = Vec::with_capacity(f.nrows());
+        let mut tris = try_with_capacity(f.nrows(), "a copy of the faces").map_err(|e| to_py_err(py, e))?;
         for (k, r) in f.rows().into_iter().enumerate() {
             let mut t = [0u32; 3];
             for c in 0..3 {
@@ -53,7 +54,8 @@ impl PySurface {
     fn from_grid(py: Python<'_>, z: PyReadonlyArray2<'_, f64>, dx: f64, dy: f64, x0: f64, y0: f64) -> PyResult<Self> {
         let a = z.as_array();
         let (ny, nx) = a.dim();
-        let heights: Vec<f64> = a.iter().copied().collect();
+        let mut heights = try_with_capacity(a.len(), "a copy of the heights").map_err(|e| to_py_err(py, e))?;
+        heights.extend(a.iter().copied());
         let inner = detached(py, || mesh::Surface::from_grid(heights, ny, nx, dx, dy, x0, y0))?;
         Ok(Self { inner: Arc::new(inner) })
     }
