@@ -88,7 +88,7 @@ impl Surface {
     ///
     /// # Errors
     /// [`Error::Mesh`] when there is no triangle, an index is out of range, a coordinate is not
-    /// finite or beyond [`MAX_COORDINATE`](crate::geometry::MAX_COORDINATE) in magnitude, or a
+    /// finite or beyond [`MAX_COORDINATE`] in magnitude, or a
     /// triangle has zero area (drop those first: a zero-area triangle hides nothing, but it
     /// usually means the mesh was not what the caller thinks); [`Error::TooLarge`] beyond
     /// [`MAX_TRIANGLES`].
