@@ -59,14 +59,20 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::error::{ensure, Error, Result};
-use crate::geometry::{p, Point};
-use crate::mesh::Surface;
+use crate::error::{ensure, try_copy, try_filled, try_with_capacity, Error, Result};
+use crate::geometry::{in_bounds, p, Point, MAX_COORDINATE};
+use crate::mesh::{Surface, MAX_TRIANGLES};
 use crate::threads;
 
 /// Samples per chunk of work: each chunk has its own random stream, so results do not depend on
 /// how chunks are spread over threads; 1024 keeps rayon's per-task cost (~1 us) negligible.
 pub(crate) const CHUNK: usize = 1024;
+
+/// Most generator slots of per-chunk sums held at once (32 bytes each: 256 MiB). An iteration's
+/// chunks are sampled in batches of `PARTIAL_BUDGET / N` and summed in chunk order, so the
+/// batch size never changes a result; it only keeps `N x q` from deciding the memory (30,000
+/// generators at the default `q` would have needed 5.6 GB at once).
+const PARTIAL_BUDGET: usize = 1 << 23;
 
 /// Random-stream purposes, part of each stream's key so no two uses share a stream.
 const STREAM_INITIAL: u64 = 1;
@@ -237,8 +243,14 @@ struct TriangleSampler {
 
 impl TriangleSampler {
     fn new(surface: &Surface, density: Option<&[f64]>) -> Result<Self> {
-        let areas = surface.areas();
-        let n = areas.len();
+        let n = surface.n_triangles();
+        if n > MAX_TRIANGLES {
+            return Err(Error::TooLarge(format!(
+                "the CVT samples surfaces of at most {MAX_TRIANGLES} triangles (about 100 bytes each), got {n}; \
+                 tessellate a coarser surface"
+            )));
+        }
+        let areas = surface.try_areas()?;
         if let Some(d) = density {
             ensure!(d.len() == n, "density has {} values for {n} triangles", d.len());
             ensure!(d.iter().all(|x| x.is_finite() && *x >= 0.0), "density must be finite and >= 0 everywhere");
@@ -250,7 +262,7 @@ impl TriangleSampler {
         // Vose's construction: scaled weights average 1; each slot below 1 is topped up from
         // one above 1, which becomes its alias.
         let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
-        let mut keep = vec![u64::MAX; n];
+        let mut keep = try_filled(u64::MAX, n, "the CVT sampler")?;
         let mut alias: Vec<u32> = (0..n as u32).collect();
         let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&f| scaled[f] < 1.0);
         while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
@@ -325,15 +337,20 @@ impl Candidates {
     /// Triangles per parallel task when building the lists.
     const TASK: usize = 256;
 
-    fn new(triangles: &[([Point; 3], Point)], generators: &[Point]) -> Self {
+    /// # Errors
+    /// [`Error::TooLarge`] when the system refuses the memory of the lists.
+    fn new(triangles: &[([Point; 3], Point)], generators: &[Point]) -> Result<Self> {
         // Each task lists its triangles' candidates; the tasks are joined in order, so the lists
         // do not depend on the thread count.
-        let parts: Vec<(Vec<usize>, Vec<u32>)> = triangles
+        let parts: Result<Vec<(Vec<usize>, Vec<u32>)>> = triangles
             .par_chunks(Self::TASK)
             .map(|chunk| {
                 let mut ends = Vec::with_capacity(chunk.len());
-                let mut list = Vec::new();
+                let mut list: Vec<u32> = Vec::new();
                 for &(corners, centroid) in chunk {
+                    // Room for every generator first: a refusal is an error, not an abort.
+                    list.try_reserve(generators.len())
+                        .map_err(|_| Error::TooLarge("the CVT's candidate lists need more memory than the system gives".into()))?;
                     let h = generators[nearest(generators, centroid).0];
                     let to_h = corners.map(|v| squared_distance(v, h));
                     for (i, &g) in generators.iter().enumerate() {
@@ -345,18 +362,19 @@ impl Candidates {
                     }
                     ends.push(list.len());
                 }
-                (ends, list)
+                Ok((ends, list))
             })
             .collect();
+        let parts = parts?;
         let mut offsets = Vec::with_capacity(triangles.len() + 1);
         offsets.push(0);
-        let mut list = Vec::with_capacity(parts.iter().map(|(_, l)| l.len()).sum());
+        let mut list = try_with_capacity(parts.iter().map(|(_, l)| l.len()).sum(), "the CVT's candidate lists")?;
         for (ends, part) in parts {
             let base = list.len();
             offsets.extend(ends.into_iter().map(|e| base + e));
             list.extend(part);
         }
-        Self { offsets, list }
+        Ok(Self { offsets, list })
     }
 
     #[inline]
@@ -432,6 +450,7 @@ fn distance(a: Point, b: Point) -> f64 {
 /// [`Weights::new`]), a negative or non-finite tolerance, `window = 0`, `max_iterations = 0`, a
 /// density of the wrong length, negative, non-finite or zero everywhere, or initial generators
 /// that are not `n` finite points; [`Error::Mesh`] for a surface without area.
+#[expect(clippy::too_many_lines, reason = "one loop of iterations; its steps share the run's state")]
 pub fn constrained_cvt(
     surface: &Surface,
     n: usize,
@@ -445,65 +464,89 @@ pub fn constrained_cvt(
         return Err(Error::Mesh("the surface has no area to tessellate".into()));
     }
     let sampler = TriangleSampler::new(surface, density)?;
-    let mut generators: Vec<Point> = if let Some(points) = initial {
+    let mut generators: Vec<Point> = try_with_capacity(n, "the generators")?;
+    if let Some(points) = initial {
         ensure!(points.len() == n, "{} initial generators given for n = {n}", points.len());
         ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "initial generators must be finite");
-        points.iter().map(|&q| surface.closest_point(q)).collect()
+        ensure!(points.iter().all(|&q| in_bounds(q)), "initial generators must be at most {MAX_COORDINATE:e} m in magnitude");
+        generators.extend(points.iter().map(|&q| surface.closest_point(q)));
     } else {
         let mut rng = stream(seed, STREAM_INITIAL, 0, 0);
-        (0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)).collect()
-    };
+        generators.extend((0..n).map(|_| surface.closest_point(sampler.sample(&mut rng).0)));
+    }
     let q = options.samples_per_iteration;
     let n_chunks = q.div_ceil(CHUNK);
     let window = options.window;
-    let mut updates = vec![1u64; n]; // the paper's j_i, starting at 1
-    let mut history: VecDeque<Vec<Point>> = VecDeque::with_capacity(window + 1);
-    history.push_back(generators.clone());
+    let mut updates = try_filled(1u64, n, "the generators' update counts")?; // the paper's j_i, starting at 1
+                                                                             // The history holds at most `window + 1` copies of the generators (and never more than the
+                                                                             // iterations run plus one), each allocated with `try_reserve`.
+    let full = window.saturating_add(1);
+    let history_refused =
+        || Error::TooLarge(format!("a history of {window} iterations of {n} generators needs more memory than the system gives"));
+    let mut history: VecDeque<Vec<Point>> = VecDeque::new();
+    history.try_reserve(1).map_err(|_| history_refused())?;
+    history.push_back(try_copy(&generators, "the generators' history")?);
     let (mut moves, mut drift, mut energy) = (Vec::new(), Vec::new(), Vec::new());
     let mut converged = false;
     // Candidate lists cost 3 N distances per triangle each iteration: worth it when triangles get
     // a few samples each (the paper's S' has ~60), not on fine meshes (brute force there).
     let corners = (sampler.n_triangles() * 4 <= q).then(|| triangle_corners(surface));
+    let batch = (PARTIAL_BUDGET / n).max(1);
+    let mut sums = try_filled([0.0; 3], n, "the CVT's sample sums")?;
+    let mut counts = try_filled(0u64, n, "the CVT's sample counts")?;
 
     threads::run(n_threads, || {
         for k in 0..options.max_iterations {
             let current = &generators;
-            let candidates = corners.as_ref().map(|t| Candidates::new(t, current));
-            let partials: Vec<Partial> = (0..n_chunks)
-                .into_par_iter()
-                .map(|c| {
-                    let mut rng = stream(seed, STREAM_ITERATION, k as u64, c as u64);
-                    let count = CHUNK.min(q - c * CHUNK);
-                    let mut part = Partial { sums: vec![[0.0; 3]; n], counts: vec![0; n], squared_distance: 0.0 };
-                    for _ in 0..count {
-                        let (y, f) = sampler.sample(&mut rng);
-                        let (i, d) = match &candidates {
-                            Some(c) => nearest_in(current, c.of(f), y),
-                            None => nearest(current, y),
-                        };
-                        let s = &mut part.sums[i];
-                        s[0] += y[0];
-                        s[1] += y[1];
-                        s[2] += y[2];
-                        part.counts[i] += 1;
-                        part.squared_distance += d;
-                    }
-                    part
-                })
-                .collect();
-            let mut sums = vec![[0.0; 3]; n];
-            let mut counts = vec![0u64; n];
+            let candidates = match corners.as_ref() {
+                Some(t) => Some(Candidates::new(t, current)?),
+                None => None,
+            };
+            sums.fill([0.0; 3]);
+            counts.fill(0);
             let mut squared_distance = 0.0;
-            for part in &partials {
-                for (total, chunk) in sums.iter_mut().zip(&part.sums) {
-                    for (t, c) in total.iter_mut().zip(chunk) {
-                        *t += c;
+            // Batches of chunks, each summed in chunk order: the same sums as all chunks at once.
+            let mut first = 0;
+            while first < n_chunks {
+                let last = (first + batch).min(n_chunks);
+                let partials: Result<Vec<Partial>> = (first..last)
+                    .into_par_iter()
+                    .map(|c| {
+                        let mut rng = stream(seed, STREAM_ITERATION, k as u64, c as u64);
+                        let count = CHUNK.min(q - c * CHUNK);
+                        let mut part = Partial {
+                            sums: try_filled([0.0; 3], n, "the CVT's per-chunk sums")?,
+                            counts: try_filled(0, n, "the CVT's per-chunk counts")?,
+                            squared_distance: 0.0,
+                        };
+                        for _ in 0..count {
+                            let (y, f) = sampler.sample(&mut rng);
+                            let (i, d) = match &candidates {
+                                Some(c) => nearest_in(current, c.of(f), y),
+                                None => nearest(current, y),
+                            };
+                            let s = &mut part.sums[i];
+                            s[0] += y[0];
+                            s[1] += y[1];
+                            s[2] += y[2];
+                            part.counts[i] += 1;
+                            part.squared_distance += d;
+                        }
+                        Ok(part)
+                    })
+                    .collect();
+                for part in &partials? {
+                    for (total, chunk) in sums.iter_mut().zip(&part.sums) {
+                        for (t, c) in total.iter_mut().zip(chunk) {
+                            *t += c;
+                        }
                     }
+                    for (total, chunk) in counts.iter_mut().zip(&part.counts) {
+                        *total += chunk;
+                    }
+                    squared_distance += part.squared_distance;
                 }
-                for (total, chunk) in counts.iter_mut().zip(&part.counts) {
-                    *total += chunk;
-                }
-                squared_distance += part.squared_distance;
+                first = last;
             }
             energy.push(squared_distance / q as f64);
 
@@ -524,14 +567,18 @@ pub fn constrained_cvt(
             }
             moves.push(moved / n as f64);
 
-            if history.len() == window + 1 {
-                history.pop_front();
-            }
-            history.push_back(generators.clone());
-            if history.len() == window + 1 {
+            // The oldest copy is reused for the newest once the window is full.
+            let mut copy = if history.len() == full { history.pop_front() } else { None }.unwrap_or_default();
+            copy.clear();
+            copy.try_reserve_exact(n).map_err(|_| history_refused())?;
+            copy.extend_from_slice(&generators);
+            history.try_reserve(1).map_err(|_| history_refused())?;
+            history.push_back(copy);
+            if history.len() == full {
                 let old = &history[0];
                 let net: f64 = generators.iter().zip(old).map(|(&a, &b)| distance(a, b)).sum();
-                let d = net / (n * window) as f64;
+                // In floating point, so that no product overflows (exact below 2^53, as before).
+                let d = net / (n as f64 * window as f64);
                 drift.push(d);
                 if d < options.tolerance {
                     converged = true;
@@ -541,7 +588,8 @@ pub fn constrained_cvt(
                 drift.push(f64::NAN);
             }
         }
-    });
+        Ok::<_, Error>(())
+    })?;
     Ok(Tessellation { iterations: moves.len(), generators, moves, drift, energy, converged })
 }
 
@@ -782,7 +830,7 @@ mod tests {
         let mut rng = stream(8, 0, 0, 0);
         for n in [1, 3, 17, 40] {
             let generators: Vec<Point> = (0..n).map(|_| sampler.sample(&mut rng).0).collect();
-            let candidates = Candidates::new(&triangles, &generators);
+            let candidates = Candidates::new(&triangles, &generators).unwrap();
             assert!(candidates.list.len() < n * s.n_triangles() || n < 3);
             for _ in 0..20_000 {
                 let (y, f) = sampler.sample(&mut rng);
@@ -791,7 +839,7 @@ mod tests {
         }
         // Exact ties go to the lower index either way.
         let twins = [[10.0, 10.0, s.closest_point([10.0, 10.0, 0.0])[2]]; 2];
-        let candidates = Candidates::new(&triangles, &twins);
+        let candidates = Candidates::new(&triangles, &twins).unwrap();
         let y = s.closest_point([12.0, 11.0, 0.0]);
         let f = (0..s.n_triangles()).find(|&f| candidates.of(f).len() == 2).unwrap();
         assert_eq!(nearest_in(&twins, candidates.of(f), y).0, 0);
@@ -852,5 +900,19 @@ mod tests {
         assert!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), None, Some(&two)).is_err());
         let nan = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [f64::NAN, 0.0, 0.0]];
         assert!(constrained_cvt(&s, 3, &ok.with_seed(0).with_threads(1), None, Some(&nan)).is_err());
+    }
+
+    #[test]
+    fn extreme_sizes_are_errors_or_bounded() {
+        let s = rectangle(10.0, 10.0);
+        let base = CvtOptions::for_generators(3).with_seed(0).with_threads(1);
+        // A window and iteration count of usize::MAX: no overflow (`window + 1`, `n * window`).
+        let endless = CvtOptions { window: usize::MAX, max_iterations: 3, ..base };
+        let t = constrained_cvt(&s, 3, &endless, None, None).unwrap();
+        assert_eq!(t.iterations, 3);
+        assert!(t.drift.iter().all(|d| d.is_nan()));
+        // Initial generators beyond the coordinate bound are refused.
+        let far = [[1e300, 0.0, 0.0]; 3];
+        assert!(matches!(constrained_cvt(&s, 3, &base, None, Some(&far)), Err(Error::InvalidInput(_))));
     }
 }

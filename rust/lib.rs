@@ -23,6 +23,26 @@
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
 //! plain Rust, so `cargo test` and `cargo bench` need no Python.
 //!
+//! ## Limits on hostile input
+//!
+//! Every input gives the right answer or an [`Error`], never a panic, an abort or unbounded
+//! work:
+//!
+//! - Coordinates (vertices, grid nodes and heights, targets, UAVs, query points) are at most
+//!   [`geometry::MAX_COORDINATE`] (1e15 m) in magnitude; a grid's spacing must resolve its
+//!   coordinates (neighbouring nodes distinct) and every surface has a positive finite area.
+//! - Any finite `d_max` is accepted; from [`geometry::UNLIMITED_RANGE`] (4e15 m) on it is an
+//!   unlimited range, with the same answers.
+//! - Line-of-sight work is bounded on both methods: a UAV's horizon holds at most 4096 x 4096
+//!   bounds (and all UAVs of one evaluation 2^26), and the grid method's walk hands a segment
+//!   it cannot resolve (margins wider than a cell, or 16 halvings deep) to the tile quadtree.
+//! - Allocations whose size the input decides are checked (`try_reserve`), so a refusal by the
+//!   system is [`Error::TooLarge`]; the CVT's and per-UAV counts' per-chunk sums are held in
+//!   batches of bounded size (256 and 128 MiB). Fixed limits: [`mesh::MAX_TRIANGLES`] for the
+//!   mesh method and the CVT, [`sampling::MAX_TARGETS`] area targets, 2^32 grid nodes.
+//! - The binding catches any residual panic as [`Error::Internal`] (raised as
+//!   `uavcov.errors.UavcovError`), so none reaches Python as a `PanicException`.
+//!
 //! ```
 //! use std::sync::Arc;
 //! use uavcov::{Surface, Targets, Visibility};

@@ -24,7 +24,7 @@ use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 use std::sync::OnceLock;
 
 use crate::error::{Error, Result};
-use crate::geometry::{p, triangle_area, v, Point, SIGHT_FRACTION};
+use crate::geometry::{in_bounds, p, triangle_area, v, Point, MAX_COORDINATE, SIGHT_FRACTION};
 use crate::grid::Grid;
 use crate::heightfield::HeightField;
 
@@ -88,8 +88,9 @@ impl Surface {
     ///
     /// # Errors
     /// [`Error::Mesh`] when there is no triangle, an index is out of range, a coordinate is not
-    /// finite, or a triangle has zero area (drop those first: a zero-area triangle hides nothing,
-    /// but it usually means the mesh was not what the caller thinks); [`Error::TooLarge`] beyond
+    /// finite or beyond [`MAX_COORDINATE`] in magnitude, or a
+    /// triangle has zero area (drop those first: a zero-area triangle hides nothing, but it
+    /// usually means the mesh was not what the caller thinks); [`Error::TooLarge`] beyond
     /// [`MAX_TRIANGLES`].
     pub fn new(vertices: Vec<Point>, faces: Vec<[u32; 3]>) -> Result<Self> {
         Ok(Self { body: Body::Mesh(TriangleMesh::build(vertices, faces, true)?) })
@@ -193,6 +194,41 @@ impl Surface {
             Body::Mesh(m) => m.mesh.indices(),
             Body::Grid(field, _) => field.faces(),
         }
+    }
+
+    /// [`Surface::faces`], or [`Error::TooLarge`] when the system refuses the memory of a grid's
+    /// table.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] as said.
+    pub fn try_faces(&self) -> Result<&[[u32; 3]]> {
+        match &self.body {
+            Body::Mesh(m) => Ok(m.mesh.indices()),
+            Body::Grid(field, _) => field.try_faces(),
+        }
+    }
+
+    /// [`Surface::areas`], or [`Error::TooLarge`] when the system refuses the memory of a grid's
+    /// table.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] as said.
+    pub fn try_areas(&self) -> Result<&[f64]> {
+        match &self.body {
+            Body::Mesh(m) => Ok(&m.areas),
+            Body::Grid(field, _) => field.try_areas(),
+        }
+    }
+
+    /// The vertices as one flat row-major `(n, 3)` buffer, or [`Error::TooLarge`] when the
+    /// system refuses the memory.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] as said.
+    pub fn try_flat_vertices(&self) -> Result<Vec<f64>> {
+        let mut out = crate::error::try_with_capacity(3 * self.n_vertices(), "the vertices")?;
+        out.extend(self.vertices().flatten());
+        Ok(out)
     }
 
     /// The corners of triangle `f`.
@@ -353,6 +389,9 @@ impl TriangleMesh {
         if let Some(i) = vertices.iter().position(|q| q.iter().any(|c| !c.is_finite())) {
             return Err(Error::Mesh(format!("vertex {i} has a non-finite coordinate")));
         }
+        if let Some(i) = vertices.iter().position(|&q| !in_bounds(q)) {
+            return Err(Error::Mesh(format!("vertex {i} has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {:?}", vertices[i])));
+        }
         let n = vertices.len() as u64;
         if let Some(f) = faces.iter().position(|t| t.iter().any(|&k| u64::from(k) >= n)) {
             return Err(Error::Mesh(format!("face {f} refers to vertex {:?} but there are only {n} vertices", faces[f])));
@@ -373,7 +412,10 @@ impl TriangleMesh {
             }
             areas.push(area);
         }
-        let total_area = areas.iter().sum();
+        let total_area: f64 = areas.iter().sum();
+        if !(total_area.is_finite() && total_area > 0.0) {
+            return Err(Error::Mesh(format!("the surface's area is {total_area} m^2, not a positive number")));
+        }
         let mesh = TriMesh::with_flags(points, faces, TriMeshFlags::empty())
             .map_err(|e| Error::Mesh(format!("cannot build the triangle mesh: {e}")))?;
         Ok(Self { mesh, corners, areas, total_area })
@@ -591,5 +633,16 @@ mod tests {
         assert!(matches!(Surface::from_grid(vec![0.0; 2], 1, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
         assert!(matches!(Surface::from_grid(vec![0.0; 4], 2, 2, 0.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
         assert!(matches!(Surface::from_grid(vec![f64::NAN; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::Mesh(_))));
+    }
+
+    #[test]
+    fn meshes_beyond_the_coordinate_bound_are_refused() {
+        let tri = |scale: f64| vec![[0.0, 0.0, 0.0], [scale, 0.0, 0.0], [0.0, scale, 0.0]];
+        assert!(matches!(Surface::new(tri(1e300), vec![[0, 1, 2]]), Err(Error::Mesh(_))));
+        assert!(matches!(Surface::new(tri(2e15), vec![[0, 1, 2]]), Err(Error::Mesh(_))));
+        let s = Surface::new(tri(1e15), vec![[0, 1, 2]]).unwrap();
+        assert!(s.area().is_finite() && s.area() > 0.0);
+        // Squared distances at the bound stay finite: the closest point of a far query is a corner.
+        assert_eq!(s.closest_point([-1e15, -1e15, -1e15]), [0.0, 0.0, 0.0]);
     }
 }

@@ -10,9 +10,12 @@
 //! assert!((weights.iter().sum::<f64>() - 4.0).abs() < 1e-12);
 //! ```
 
-use crate::error::{ensure, Result};
+use crate::error::{ensure, try_with_capacity, Result};
 use crate::geometry::{p, Point};
 use crate::mesh::Surface;
+
+/// Most targets [`area_targets`] makes (32 bytes each: 3.2 GB).
+pub const MAX_TARGETS: usize = 100_000_000;
 
 /// Targets of a surface with the area (m^2) each stands for; weights sum to the surface area.
 ///
@@ -23,7 +26,8 @@ use crate::mesh::Surface;
 ///
 /// # Errors
 /// [`Error::InvalidInput`](crate::Error::InvalidInput) when `density` is not finite and positive (meshes only), or when the
-/// mesh would get more than 100 million targets.
+/// mesh would get more than [`MAX_TARGETS`] (100 million) targets;
+/// [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses their memory.
 pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
     if surface.grid().is_some() {
         return Ok(vertex_targets(surface));
@@ -37,11 +41,17 @@ pub fn default_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, V
 /// As [`default_targets`].
 pub fn area_targets(surface: &Surface, density: f64) -> Result<(Vec<Point>, Vec<f64>)> {
     ensure!(density.is_finite() && density > 0.0, "target density must be finite and > 0 points per m^2, got {density}");
-    let per_triangle: Vec<usize> = surface.areas().iter().map(|&a| ((a * density).sqrt().ceil() as usize).max(1)).collect();
+    // Counted in floating point first, so that no count can overflow before the limit is checked.
+    let sides: Vec<f64> = surface.try_areas()?.iter().map(|&a| (a * density).sqrt().ceil().max(1.0)).collect();
+    let total: f64 = sides.iter().map(|m| m * m).sum();
+    ensure!(
+        total.is_finite() && total <= MAX_TARGETS as f64,
+        "density {density} per m^2 gives {total:e} targets, over {MAX_TARGETS}; lower it"
+    );
+    let per_triangle: Vec<usize> = sides.into_iter().map(|m| m as usize).collect();
     let total: usize = per_triangle.iter().map(|m| m * m).sum();
-    ensure!(total <= 100_000_000, "density {density} per m^2 gives {total} targets; lower it");
-    let mut points = Vec::with_capacity(total);
-    let mut weights = Vec::with_capacity(total);
+    let mut points = try_with_capacity(total, "the targets")?;
+    let mut weights = try_with_capacity(total, "the target weights")?;
     for (f, &m) in per_triangle.iter().enumerate() {
         let [a, b, c] = surface.triangle(f);
         let (ab, ac) = (b - a, c - a);
@@ -107,5 +117,14 @@ mod tests {
         let s = square_mesh();
         assert!(default_targets(&s, 0.0).is_err());
         assert!(default_targets(&s, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn densities_too_large_are_errors_not_overflows() {
+        // `sqrt(area density)` past usize::MAX used to saturate, and its square to wrap to 1.
+        let s = square_mesh();
+        for density in [1e7, 1e30, 1e300, f64::MAX] {
+            assert!(matches!(default_targets(&s, density), Err(crate::Error::InvalidInput(_))), "{density}");
+        }
     }
 }

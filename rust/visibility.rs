@@ -30,8 +30,8 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::error::{ensure, Error, Result};
-use crate::geometry::Point;
+use crate::error::{ensure, try_filled, try_with_capacity, Error, Result};
+use crate::geometry::{in_bounds, Point, MAX_COORDINATE, UNLIMITED_RANGE};
 use crate::heightfield::{HeightField, Horizon};
 use crate::mesh::{Surface, TriangleMesh};
 use crate::sampling::default_targets;
@@ -41,6 +41,15 @@ use crate::threads;
 /// Targets per chunk: small enough to balance very unequal UAV footprints, large enough that
 /// the per-chunk culling and rayon's ~1 us per task stay negligible.
 const CHUNK: usize = 256;
+
+/// Most horizon bounds kept at once for one evaluation (4 bytes each: 256 MiB), shared by its
+/// UAVs; a horizon's size changes how much of a sight line it clears, never an answer.
+const HORIZON_BUDGET: usize = 1 << 26;
+
+/// Most per-UAV counters (`UavCounts`, 32 bytes per UAV) held at once by [`Visibility::per_uav`]
+/// (128 MiB): its chunks are evaluated in batches of this many counters and summed in chunk
+/// order, so the batch size never changes a result.
+const COUNTS_BUDGET: usize = 1 << 22;
 
 /// Points to see and the area (m^2) each stands for.
 #[derive(Debug, Clone)]
@@ -66,11 +75,12 @@ impl Targets {
     /// User-given targets; weights default to 1 each.
     ///
     /// # Errors
-    /// When a coordinate is not finite, weights have the wrong length or a negative or non-finite
-    /// value, or all weights are zero.
+    /// When a coordinate is not finite or beyond [`MAX_COORDINATE`], weights have the wrong
+    /// length or a negative or non-finite value, or all weights are zero.
     pub fn new(points: Vec<Point>, weights: Option<Vec<f64>>) -> Result<Self> {
         ensure!(!points.is_empty(), "there must be at least one target");
         ensure!(points.iter().all(|q| q.iter().all(|c| c.is_finite())), "target coordinates must be finite");
+        ensure!(points.iter().all(|&q| in_bounds(q)), "target coordinates must be at most {MAX_COORDINATE:e} m in magnitude");
         let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
         ensure!(weights.len() == points.len(), "{} weights for {} targets", weights.len(), points.len());
         let chunk_bounds = points.chunks(CHUNK).map(bounds).collect();
@@ -284,6 +294,9 @@ pub struct Visibility {
     surface: Arc<Surface>,
     targets: Targets,
     d_max: f64,
+    /// `d_max`, at most [`UNLIMITED_RANGE`] (which every accepted pair of points is within, so
+    /// the answers are `d_max`'s): the range the tests use.
+    range: f64,
     grid_path: bool,
     /// For grid-node targets on the grid path.
     skylines: Option<Skylines>,
@@ -294,6 +307,7 @@ impl Visibility {
     ///
     /// # Errors
     /// When `d_max` is not finite and positive, or grid-node targets belong to another surface.
+    /// Any finite `d_max` of [`UNLIMITED_RANGE`] or more is an unlimited range.
     pub fn new(surface: Arc<Surface>, targets: Targets, d_max: f64) -> Result<Self> {
         Self::with_path(surface, targets, d_max, Path::Auto)
     }
@@ -321,7 +335,8 @@ impl Visibility {
         };
         let grid = surface.grid().filter(|_| grid_path && targets.is_grid_nodes());
         let skylines = grid.map(|g| Skylines::new(g, targets.n_chunks()));
-        Ok(Self { surface, targets, d_max, grid_path, skylines })
+        let range = d_max.min(UNLIMITED_RANGE);
+        Ok(Self { surface, targets, d_max, range, grid_path, skylines })
     }
 
     /// The surface.
@@ -355,6 +370,7 @@ impl Visibility {
     fn check_uavs(uavs: &[Point]) -> Result<()> {
         ensure!(!uavs.is_empty(), "there must be at least one UAV");
         ensure!(uavs.iter().all(|q| q.iter().all(|c| c.is_finite())), "UAV coordinates must be finite");
+        ensure!(uavs.iter().all(|&q| in_bounds(q)), "UAV coordinates must be at most {MAX_COORDINATE:e} m in magnitude");
         Ok(())
     }
 
@@ -363,7 +379,7 @@ impl Visibility {
     /// does.
     fn in_range_of(&self, chunk: usize, uavs: &[Point], into: &mut Vec<usize>) {
         into.clear();
-        let d2 = self.d_max * self.d_max;
+        let d2 = self.range * self.range;
         let b = self.targets.chunk_bounds[chunk];
         into.extend((0..uavs.len()).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2));
         let centre = [0, 1, 2].map(|k| 0.5 * (b.0[k] + b.1[k]));
@@ -381,12 +397,16 @@ impl Visibility {
     }
 
     /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
-    /// horizon here, in parallel).
-    fn engine(&self, uavs: &[Point]) -> Engine<'_> {
-        match (self.grid_path, self.surface.heightfield()) {
-            (true, Some(field)) => Engine::Grid(field, uavs.par_iter().map(|&u| field.horizon(u, self.d_max)).collect()),
-            _ => Engine::Mesh(self.surface.triangle_mesh().expect("checked when the objective was built"), uavs.to_vec()),
-        }
+    /// horizon here, in parallel, within [`HORIZON_BUDGET`] bounds in all).
+    fn engine(&self, uavs: &[Point]) -> Result<Engine<'_>> {
+        Ok(match (self.grid_path, self.surface.heightfield()) {
+            (true, Some(field)) => {
+                let per_uav = HORIZON_BUDGET / uavs.len();
+                let horizons: Result<Vec<Horizon>> = uavs.par_iter().map(|&u| field.horizon(u, self.range, per_uav)).collect();
+                Engine::Grid(field, horizons?)
+            }
+            _ => Engine::Mesh(self.surface.triangle_mesh()?, uavs.to_vec()),
+        })
     }
 
     /// For each target, whether at least one UAV sees it.
@@ -395,51 +415,57 @@ impl Visibility {
     /// [`Error::InvalidInput`] when there is no UAV or a UAV coordinate is not finite.
     pub fn seen(&self, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
-        let d2 = self.d_max * self.d_max;
+        let d2 = self.range * self.range;
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
-            let engine = self.engine(uavs);
-            (0..self.targets.n_chunks())
-                .into_par_iter()
-                .map_init(
-                    || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                    |(near, points, nodes), c| {
-                        self.in_range_of(c, uavs, near);
-                        if near.is_empty() {
-                            return vec![false; self.targets.chunk_len(c)];
-                        }
-                        points.clear();
-                        self.targets.chunk_points(c, points);
-                        let mut skylines = self.skylines_of(c, nodes);
-                        // Neighbouring targets are mostly seen by the same UAV: try the last
-                        // one that saw a target first (the answer does not depend on the order).
-                        let mut last = 0;
-                        points
-                            .iter()
-                            .enumerate()
-                            .map(|(t, &q)| {
-                                let mut sky = None;
-                                let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
-                                for k in order {
-                                    let u = near[k];
-                                    if squared_distance(uavs[u], q) > d2 {
-                                        continue;
+            let engine = self.engine(uavs)?;
+            Ok::<_, Error>(
+                (0..self.targets.n_chunks())
+                    .into_par_iter()
+                    .map_init(
+                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                        |(near, points, nodes), c| {
+                            self.in_range_of(c, uavs, near);
+                            if near.is_empty() {
+                                return vec![false; self.targets.chunk_len(c)];
+                            }
+                            points.clear();
+                            self.targets.chunk_points(c, points);
+                            let mut skylines = self.skylines_of(c, nodes);
+                            // Neighbouring targets are mostly seen by the same UAV: try the last
+                            // one that saw a target first (the answer does not depend on the order).
+                            let mut last = 0;
+                            points
+                                .iter()
+                                .enumerate()
+                                .map(|(t, &q)| {
+                                    let mut sky = None;
+                                    let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
+                                    for k in order {
+                                        let u = near[k];
+                                        if squared_distance(uavs[u], q) > d2 {
+                                            continue;
+                                        }
+                                        if sky.is_none() {
+                                            sky = skylines.as_mut().map(|s| s.get(t, nodes[t]));
+                                        }
+                                        if engine.line_of_sight(u, q, sky.as_ref()) {
+                                            last = k;
+                                            return true;
+                                        }
                                     }
-                                    if sky.is_none() {
-                                        sky = skylines.as_mut().map(|s| s.get(t, nodes[t]));
-                                    }
-                                    if engine.line_of_sight(u, q, sky.as_ref()) {
-                                        last = k;
-                                        return true;
-                                    }
-                                }
-                                false
-                            })
-                            .collect()
-                    },
-                )
-                .collect()
-        });
-        Ok(chunks.concat())
+                                    false
+                                })
+                                .collect()
+                        },
+                    )
+                    .collect(),
+            )
+        })?;
+        let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
+        for chunk in chunks {
+            mask.extend(chunk);
+        }
+        Ok(mask)
     }
 
     /// The weighted share of targets seen by at least one UAV, in `[0, 1]`.
@@ -467,59 +493,68 @@ impl Visibility {
     pub fn per_uav(&self, uavs: &[Point], n_threads: usize) -> Result<UavCounts> {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
-        let d2 = self.d_max * self.d_max;
-        let partials: Vec<(UavCounts, Vec<bool>)> = threads::run(n_threads, || {
-            let engine = self.engine(uavs);
-            (0..self.targets.n_chunks())
-                .into_par_iter()
-                .map_init(
-                    || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                    |(seers, points, nodes), c| {
-                        let mut out = UavCounts::zeros(n, 0.0);
-                        let mut seen = vec![false; self.targets.chunk_len(c)];
-                        let b = self.targets.chunk_bounds[c];
-                        let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
-                        if near.is_empty() {
-                            return (out, seen);
-                        }
-                        points.clear();
-                        self.targets.chunk_points(c, points);
-                        let mut skylines = self.skylines_of(c, nodes);
-                        for (k, &q) in points.iter().enumerate() {
-                            let w = self.targets.weights[c * CHUNK + k];
-                            let in_range = |i: &usize| squared_distance(uavs[*i], q) <= d2;
-                            let sky = match &mut skylines {
-                                Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
-                                _ => None,
-                            };
-                            seers.clear();
-                            seers.extend(near.iter().copied().filter(|i| in_range(i) && engine.line_of_sight(*i, q, sky.as_ref())));
-                            for &i in seers.iter() {
-                                out.seen[i] += 1;
-                                out.seen_weight[i] += w;
+        let d2 = self.range * self.range;
+        let mut total = UavCounts::zeros(n, self.targets.total_weight)?;
+        let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
+        // Chunks in batches whose counters fit in COUNTS_BUDGET, each batch summed in chunk order
+        // into the total: the same sums, in the same order, as one batch of every chunk.
+        let batch = (COUNTS_BUDGET / n).max(1);
+        threads::run(n_threads, || {
+            let engine = self.engine(uavs)?;
+            let mut first = 0;
+            while first < self.targets.n_chunks() {
+                let last = (first + batch).min(self.targets.n_chunks());
+                let partials: Result<Vec<(UavCounts, Vec<bool>)>> = (first..last)
+                    .into_par_iter()
+                    .map_init(
+                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                        |(seers, points, nodes), c| {
+                            let mut out = UavCounts::zeros(n, 0.0)?;
+                            let mut seen = vec![false; self.targets.chunk_len(c)];
+                            let b = self.targets.chunk_bounds[c];
+                            let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
+                            if near.is_empty() {
+                                return Ok((out, seen));
                             }
-                            if let [only] = seers[..] {
-                                out.exclusive[only] += 1;
-                                out.exclusive_weight[only] += w;
+                            points.clear();
+                            self.targets.chunk_points(c, points);
+                            let mut skylines = self.skylines_of(c, nodes);
+                            for (k, &q) in points.iter().enumerate() {
+                                let w = self.targets.weights[c * CHUNK + k];
+                                let in_range = |i: &usize| squared_distance(uavs[*i], q) <= d2;
+                                let sky = match &mut skylines {
+                                    Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
+                                    _ => None,
+                                };
+                                seers.clear();
+                                seers.extend(near.iter().copied().filter(|i| in_range(i) && engine.line_of_sight(*i, q, sky.as_ref())));
+                                for &i in seers.iter() {
+                                    out.seen[i] += 1;
+                                    out.seen_weight[i] += w;
+                                }
+                                if let [only] = seers[..] {
+                                    out.exclusive[only] += 1;
+                                    out.exclusive_weight[only] += w;
+                                }
+                                seen[k] = !seers.is_empty();
                             }
-                            seen[k] = !seers.is_empty();
-                        }
-                        (out, seen)
-                    },
-                )
-                .collect()
-        });
-        let mut total = UavCounts::zeros(n, self.targets.total_weight);
-        let mut mask = Vec::with_capacity(self.targets.len());
-        for (part, seen) in partials {
-            for i in 0..n {
-                total.seen[i] += part.seen[i];
-                total.exclusive[i] += part.exclusive[i];
-                total.seen_weight[i] += part.seen_weight[i];
-                total.exclusive_weight[i] += part.exclusive_weight[i];
+                            Ok((out, seen))
+                        },
+                    )
+                    .collect();
+                for (part, seen) in partials? {
+                    for i in 0..n {
+                        total.seen[i] += part.seen[i];
+                        total.exclusive[i] += part.exclusive[i];
+                        total.seen_weight[i] += part.seen_weight[i];
+                        total.exclusive_weight[i] += part.exclusive_weight[i];
+                    }
+                    mask.extend(seen);
+                }
+                first = last;
             }
-            mask.extend(seen);
-        }
+            Ok::<_, Error>(())
+        })?;
         // The same mask and the same sum as `coverage`, so the same value.
         total.coverage = self.share(&mask);
         Ok(total)
@@ -545,15 +580,15 @@ impl Engine<'_> {
 }
 
 impl UavCounts {
-    fn zeros(n: usize, total_weight: f64) -> Self {
-        Self {
-            seen: vec![0; n],
-            exclusive: vec![0; n],
-            seen_weight: vec![0.0; n],
-            exclusive_weight: vec![0.0; n],
+    fn zeros(n: usize, total_weight: f64) -> Result<Self> {
+        Ok(Self {
+            seen: try_filled(0, n, "per-UAV counts")?,
+            exclusive: try_filled(0, n, "per-UAV counts")?,
+            seen_weight: try_filled(0.0, n, "per-UAV counts")?,
+            exclusive_weight: try_filled(0.0, n, "per-UAV counts")?,
             total_weight,
             coverage: 0.0,
-        }
+        })
     }
 }
 
@@ -700,5 +735,59 @@ mod tests {
         assert!(Targets::new(vec![], None).is_err());
         assert!(Targets::new(vec![[0.0; 3]], Some(vec![-1.0])).is_err());
         assert!(Targets::new(vec![[0.0; 3]], Some(vec![0.0])).is_err());
+    }
+
+    #[test]
+    fn huge_ranges_are_unlimited_and_answer_like_the_mesh_path() {
+        // The panic: `Visibility(t, 1e19).coverage([[5, 5, 3]])` on an 11 x 11 grid.
+        let s = flat(11);
+        let nodes = || Targets::grid_nodes(s.clone()).unwrap();
+        let all = Visibility::new(s.clone(), nodes(), 100.0).unwrap().seen(&[[5.0, 5.0, 3.0]], 1).unwrap();
+        for d_max in [6e18, 1e19, 1e300, f64::MAX] {
+            for path in [Path::Grid, Path::Mesh] {
+                let vis = Visibility::with_path(s.clone(), nodes(), d_max, path).unwrap();
+                assert_eq!(vis.d_max(), d_max);
+                assert_eq!(vis.seen(&[[5.0, 5.0, 3.0]], 1).unwrap(), all, "{d_max} {path:?}");
+                assert_eq!(vis.coverage(&[[5.0, 5.0, 3.0], [1e15, -1e15, 1e15]], 2).unwrap(), 1.0);
+                assert_eq!(vis.per_uav(&[[5.0, 5.0, 3.0]], 1).unwrap().coverage, 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn coordinates_beyond_the_bound_are_refused() {
+        // The silent 1.0: the mesh path, d_max = 1e300 and a UAV at z = 3e300.
+        let s = flat(11);
+        let vis = Visibility::with_path(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 1e300, Path::Mesh).unwrap();
+        for uav in [[5.0, 5.0, 3e300], [5.0, 1.000_000_1e15, 3.0]] {
+            assert!(matches!(vis.coverage(&[uav], 1), Err(Error::InvalidInput(_))), "{uav:?}");
+            assert!(matches!(vis.per_uav(&[uav], 1), Err(Error::InvalidInput(_))));
+        }
+        assert!(matches!(Targets::new(vec![[1e300, 0.0, 0.0]], None), Err(Error::InvalidInput(_))));
+    }
+
+    #[test]
+    fn grids_far_from_the_origin_give_the_mesh_paths_coverage() {
+        // The hang: a grid at 1e10 m, one UAV above it.
+        let n = 30;
+        let z: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 23) as f64 * 0.4).collect();
+        let s = Arc::new(Surface::from_grid(z, n, n, 1.0, 1.0, 1e10, 1e10).unwrap());
+        let grid = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 25.0).unwrap();
+        let mesh = Visibility::with_path(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 25.0, Path::Mesh).unwrap();
+        let uavs = [[1e10 + 15.0, 1e10 + 15.0, 12.0], [1e10 + 3.0, 1e10 + 25.0, 9.0]];
+        assert_eq!(grid.seen(&uavs, 2).unwrap(), mesh.seen(&uavs, 1).unwrap());
+        assert_eq!(grid.per_uav(&uavs, 1).unwrap(), mesh.per_uav(&uavs, 2).unwrap());
+    }
+
+    #[test]
+    fn many_uavs_keep_to_the_horizon_and_counter_budgets() {
+        // 5000 UAVs: horizons share HORIZON_BUDGET, counters are summed in batches; the answers
+        // are those of the mesh path.
+        let s = rugged(40);
+        let targets = Targets::of_surface(&s, 1.0).unwrap();
+        let grid = Visibility::new(s.clone(), targets.clone(), 1e9).unwrap();
+        let mesh = Visibility::with_path(s.clone(), targets, 1e9, Path::Mesh).unwrap();
+        let uavs: Vec<Point> = (0..5000).map(|k| [101.0 + f64::from(k % 50) * 0.4, -7.0 + f64::from(k / 50) * 0.2, 12.0]).collect();
+        assert_eq!(grid.per_uav(&uavs, 2).unwrap(), mesh.per_uav(&uavs, 2).unwrap());
     }
 }

@@ -5,6 +5,7 @@
 
 use super::slab::max;
 use super::HeightField;
+use crate::error::{try_filled, Result};
 use crate::geometry::{Point, SIGHT_FRACTION};
 use crate::grid::pseudo_angle;
 use crate::skyline::{sector_of, Skyline, REACH};
@@ -20,8 +21,8 @@ const HORIZON_SHIFT: u32 = 1;
 #[derive(Debug, Clone)]
 pub(crate) struct Horizon {
     uav: Point,
-    sectors: usize,
-    bins: usize,
+    pub(super) sectors: usize,
+    pub(super) bins: usize,
     /// Width of a distance bin, metres, and its inverse.
     bin: f64,
     inv_bin: f64,
@@ -29,7 +30,7 @@ pub(crate) struct Horizon {
     quarter: f64,
     /// Running maximum along distance of the slope bounds, `slope[bin * sectors + sector]`, each a
     /// signed square (`s |s|`, which orders like `s`) rounded up to `f32`.
-    slope: Vec<f32>,
+    pub(super) slope: Vec<f32>,
     /// How far every cell box was widened, metres.
     delta: f64,
 }
@@ -62,15 +63,30 @@ fn round_up(x: f64) -> f32 {
 }
 
 impl HeightField {
-    /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally.
+    /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally,
+    /// in at most `max_values` bounds (at least one bin of 64 sectors).
+    ///
+    /// Its size is bounded whatever the inputs: the radius stops at the grid's farthest corner
+    /// (no cell lies beyond; any radius gives the same answers, only the work differs), the
+    /// bins and sectors are counted in floating point and clamped before they become integers
+    /// (at most 4096 each), and the bounds are allocated with `try_reserve`.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory.
     #[expect(clippy::too_many_lines, reason = "one pass over the cells near the UAV; its steps share a dozen locals")]
-    pub(crate) fn horizon(&self, uav: Point, radius: f64) -> Horizon {
+    pub(crate) fn horizon(&self, uav: Point, radius: f64, max_values: usize) -> Result<Horizon> {
         let g = &self.grid;
         let w = g.dx.min(g.dy);
         let radius = if radius.is_finite() { radius.max(0.0) } else { 0.0 };
-        let bins = ((radius / w).ceil() as usize).saturating_add(2).min(1 << 12);
+        // No cell is farther than the grid's farthest corner (plus a cell for rounding).
+        let (lo, hi) = (self.bounds.0, self.bounds.1);
+        let far = |a: f64, l: f64, h: f64| (a - l).abs().max((h - a).abs());
+        let corner = far(uav[0], lo[0], hi[0]).hypot(far(uav[1], lo[1], hi[1])) + 2.0 * w;
+        let radius = if radius > corner { corner } else { radius };
+        let bins = ((radius / w).ceil() + 2.0).min(4096.0) as usize;
         // Sectors about a bin wide at the far edge (at least 64, a multiple of 4).
-        let sectors = ((std::f64::consts::PI * radius / w).ceil().max(64.0) as usize).next_multiple_of(4).min(4096);
+        let sectors = ((std::f64::consts::PI * radius / w).ceil().clamp(64.0, 4096.0) as usize).next_multiple_of(4);
+        let bins = bins.min((max_values / sectors).max(1));
         let (px, py, pz) = (uav[0], uav[1], uav[2]);
         let delta = 1e-9 * (px.abs().max(py.abs()) + self.scales.xy + radius);
         let delta_z = 1e-9 * (pz.abs() + self.scales.z + 1e-300);
@@ -79,7 +95,7 @@ impl HeightField {
         let inv_w = 1.0 / w;
         // Bounds by bin then sector while cells are entered; a running maximum along distance,
         // stored sector by sector for the queries, at the end.
-        let mut by_bin = vec![f32::NEG_INFINITY; sectors * bins];
+        let mut by_bin = try_filled(f32::NEG_INFINITY, sectors * bins, "a UAV's horizon")?;
         let quarter = sectors as f64 / 4.0;
         let last_row = (g.ny - 2) as f64;
         let last_col = (g.nx - 2) as f64;
@@ -210,7 +226,7 @@ impl HeightField {
             }
         }
         let slope = by_bin;
-        Horizon { uav, sectors, bins, bin: w, inv_bin: 1.0 / w, quarter, slope, delta }
+        Ok(Horizon { uav, sectors, bins, bin: w, inv_bin: 1.0 / w, quarter, slope, delta })
     }
 
     /// [`HeightField::line_of_sight`] from the UAV of `horizon`, the same answer to the last bit.

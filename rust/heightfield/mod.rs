@@ -56,8 +56,8 @@ use std::sync::OnceLock;
 
 use parry3d_f64::math::Vector;
 
-use crate::error::{ensure, Error, Result};
-use crate::geometry::{triangle_area, Point, SIGHT_FRACTION};
+use crate::error::{ensure, try_filled, try_with_capacity, Error, Result};
+use crate::geometry::{triangle_area, Point, MAX_COORDINATE, SIGHT_FRACTION};
 use crate::grid::Grid;
 
 pub(crate) use horizon::Horizon;
@@ -108,8 +108,11 @@ impl HeightField {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for fewer than 2 rows or columns, a wrong-sized `z`, spacing or
-    /// origin that is not finite (spacing also > 0), infinite heights; [`Error::Mesh`] when nodata
-    /// leaves no triangle; [`Error::TooLarge`] for 2^32 nodes or more.
+    /// origin that is not finite (spacing also > 0), infinite heights, a node coordinate or
+    /// height beyond [`MAX_COORDINATE`], or a spacing below the resolution of the coordinates
+    /// (two neighbouring columns or rows at the same `x` or `y`); [`Error::Mesh`] when nodata
+    /// leaves no triangle or the area is not a positive finite number (it underflows);
+    /// [`Error::TooLarge`] for 2^32 nodes or more, or when the system refuses the memory.
     pub fn new(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
         /// Marks a node some triangle uses, before the vertices are numbered.
         const USED: u32 = 0;
@@ -122,10 +125,15 @@ impl HeightField {
         ensure!(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0, "grid spacing must be finite and > 0, got ({dx}, {dy})");
         ensure!(x0.is_finite() && y0.is_finite(), "grid origin must be finite, got ({x0}, {y0})");
         ensure!(z.iter().all(|h| !h.is_infinite()), "heights must be finite or NaN (nodata), found an infinite value");
+        ensure!(
+            z.iter().all(|h| h.is_nan() || h.abs() <= MAX_COORDINATE),
+            "heights must be at most {MAX_COORDINATE:e} m in magnitude (or NaN, nodata)"
+        );
         let mut grid = Grid { ny, nx, dx, dy, x0, y0, z, vertex_of_node: Vec::new() };
+        Self::check_coordinates(&grid)?;
 
         // Triangles, area and used nodes, in the mesh path's face order so the area sums alike.
-        let mut vertex_of_node = vec![u32::MAX; n_nodes];
+        let mut vertex_of_node = try_filled(u32::MAX, n_nodes, "the grid's node numbering")?;
         let mut n_triangles = 0usize;
         let mut area = -0.0; // `Iterator::sum` of f64 starts here too
         for i in 0..ny - 1 {
@@ -150,6 +158,9 @@ impl HeightField {
         }
         if n_triangles == 0 {
             return Err(Error::Mesh("the elevation grid has no triangle without nodata".into()));
+        }
+        if !(area.is_finite() && area > 0.0) {
+            return Err(Error::Mesh(format!("the elevation grid's area is {area} m^2, not a positive number (spacing too fine)")));
         }
         let mut n_vertices = 0u32;
         let mut lo = [f64::INFINITY; 3];
@@ -194,6 +205,32 @@ impl HeightField {
         })
     }
 
+    /// Refuses a grid whose nodes are not all within [`MAX_COORDINATE`], or whose spacing is
+    /// below the resolution of its coordinates: node coordinates `x0 + j dx` (and `y0 + i dy`)
+    /// must strictly increase, or cells have no width and the geometry no meaning (a grid at
+    /// `1e300` m with 1 m cells is a single point).
+    fn check_coordinates(g: &Grid) -> Result<()> {
+        for (name, start, step, n) in [("x", g.x0, g.dx, g.nx), ("y", g.y0, g.dy, g.ny)] {
+            let last = start + (n - 1) as f64 * step;
+            ensure!(
+                start.abs() <= MAX_COORDINATE && last.abs() <= MAX_COORDINATE,
+                "grid nodes must be at most {MAX_COORDINATE:e} m from 0, got {name} from {start} to {last}"
+            );
+            let mut before = start;
+            for k in 1..n {
+                let at = start + k as f64 * step;
+                if at <= before {
+                    return Err(Error::InvalidInput(format!(
+                        "grid spacing {step} m is below the resolution of its {name} coordinates near {start} m: nodes {} and {k} coincide",
+                        k - 1
+                    )));
+                }
+                before = at;
+            }
+        }
+        Ok(())
+    }
+
     /// The grid: shape, spacing, origin, heights and node-to-vertex numbering.
     pub fn grid(&self) -> &Grid {
         &self.grid
@@ -231,22 +268,48 @@ impl HeightField {
     }
 
     /// The triangles as vertex indices, in the mesh path's order (built on first call).
+    ///
+    /// # Panics
+    /// When the system refuses the memory of the table (12 bytes a triangle); see
+    /// [`HeightField::try_faces`].
     pub fn faces(&self) -> &[[u32; 3]] {
-        self.faces.get_or_init(|| {
-            let vof = &self.grid.vertex_of_node;
-            let mut out = Vec::with_capacity(self.n_triangles);
-            self.for_each_face(|nodes, _| out.push(nodes.map(|k| vof[k])));
-            out
-        })
+        self.try_faces().expect("memory for the face table")
+    }
+
+    /// [`HeightField::faces`], or [`Error::TooLarge`] when the system refuses the memory.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when the table cannot be allocated (it is then not kept).
+    pub fn try_faces(&self) -> Result<&[[u32; 3]]> {
+        if let Some(f) = self.faces.get() {
+            return Ok(f);
+        }
+        let vof = &self.grid.vertex_of_node;
+        let mut out = try_with_capacity(self.n_triangles, "the grid's face table")?;
+        self.for_each_face(|nodes, _| out.push(nodes.map(|k| vof[k])));
+        Ok(self.faces.get_or_init(|| out))
     }
 
     /// The area of each triangle, m^2 (built on first call).
+    ///
+    /// # Panics
+    /// When the system refuses the memory of the table (8 bytes a triangle); see
+    /// [`HeightField::try_areas`].
     pub fn areas(&self) -> &[f64] {
-        self.areas.get_or_init(|| {
-            let mut out = Vec::with_capacity(self.n_triangles);
-            self.for_each_face(|_, [a, b, c]| out.push(triangle_area(a, b, c)));
-            out
-        })
+        self.try_areas().expect("memory for the area table")
+    }
+
+    /// [`HeightField::areas`], or [`Error::TooLarge`] when the system refuses the memory.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when the table cannot be allocated (it is then not kept).
+    pub fn try_areas(&self) -> Result<&[f64]> {
+        if let Some(a) = self.areas.get() {
+            return Ok(a);
+        }
+        let mut out = try_with_capacity(self.n_triangles, "the grid's area table")?;
+        self.for_each_face(|_, [a, b, c]| out.push(triangle_area(a, b, c)));
+        Ok(self.areas.get_or_init(|| out))
     }
 
     /// The corners of triangle `f`.

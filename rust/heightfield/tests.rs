@@ -145,7 +145,7 @@ fn horizons_give_the_mesh_paths_sight_lines() {
             let uav = point(&mut rng, &g, lo[2], hi[2]);
             // Sometimes shorter than the farthest targets: those must fall back to the walk.
             let radius = rng.random::<f64>() * 1.5 * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
-            let horizon = field.horizon(uav, radius);
+            let horizon = field.horizon(uav, radius, usize::MAX).unwrap();
             for _ in 0..150 {
                 let q = point(&mut rng, &g, lo[2], hi[2]);
                 let expect = mesh.line_of_sight(uav, q);
@@ -183,7 +183,7 @@ fn skylines_give_the_mesh_paths_sight_lines_to_nodes() {
         for _ in 0..12 {
             let uav = point(&mut rng, &g, lo[2], hi[2]);
             let radius = rng.random::<f64>() * 1.5 * ((nx as f64 * dx).powi(2) + (ny as f64 * dy).powi(2)).sqrt();
-            let horizon = field.horizon(uav, radius);
+            let horizon = field.horizon(uav, radius, usize::MAX).unwrap();
             for _ in 0..150 {
                 let k = nodes[rng.random_range(0..nodes.len())];
                 let q = g.node_point(k);
@@ -282,4 +282,79 @@ fn memory_scales_with_nodes() {
     assert!(HeightField::new(vec![0.0; 4], 2, 2, 1.0, f64::NAN, 0.0, 0.0).is_err());
     assert!(matches!(HeightField::new(vec![f64::NAN; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::Mesh(_))));
     assert!(matches!(HeightField::new(vec![f64::INFINITY; 4], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
+}
+
+/// Rough heights on an `n x n` grid at `origin`, and the same grid as a plain mesh.
+fn far(n: usize, origin: f64) -> (Surface, Surface) {
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    let z = heights(&mut rng, n, n, 1, false);
+    both(z, n, n, 1.0, 1.0, origin, origin)
+}
+
+#[test]
+fn grids_far_from_the_origin_answer_like_the_mesh_path_without_spinning() {
+    // At 1e10 m with 1 m cells the walk's margins (1e-9 of the coordinates) span 20 cells: the
+    // bisection never reached its leaves and took minutes per sight line; such segments now
+    // take the quadtree's any-hit test, the same answer.
+    for origin in [1e9, 1e10, 1e13] {
+        let (grid, mesh) = far(24, origin);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let start = std::time::Instant::now();
+        for _ in 0..400 {
+            let a = [origin + rng.random_range(-5.0..28.0), origin + rng.random_range(-5.0..28.0), rng.random_range(-2.0..12.0)];
+            let b = [origin + rng.random_range(0.0..23.0), origin + rng.random_range(0.0..23.0), rng.random_range(-2.0..8.0)];
+            let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            assert_eq!(grid.ray_hits(a, d, 0.999), mesh.ray_hits(a, d, 0.999), "origin {origin}: {a:?} -> {b:?}");
+        }
+        assert!(start.elapsed().as_secs_f64() < 20.0, "origin {origin}: {:?}", start.elapsed());
+    }
+}
+
+#[test]
+fn segments_from_very_far_away_stay_bounded_and_exact() {
+    // A UAV 1e14 m away: 2^16 halvings still leave pieces of a billion cells, which go to the
+    // quadtree instead of testing every cell of the grid for each piece.
+    let (grid, mesh) = far(40, 0.0);
+    for a in [[1e14, 20.0, 30.0], [20.0, -3e13, 1e12], [7e8, 9e8, 1e3]] {
+        for b in [[10.0, 10.0, 0.0], [33.5, 2.25, 1.0]] {
+            let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            assert_eq!(grid.ray_hits(a, d, 0.999), mesh.ray_hits(a, d, 0.999), "{a:?} -> {b:?}");
+        }
+    }
+}
+
+#[test]
+fn horizons_of_huge_ranges_are_bounded() {
+    // d_max = 1e19 made `PI * radius / w` saturate to usize::MAX, whose next multiple of 4 wrapped
+    // to 0 sectors, and `sectors - 1` to a range start of usize::MAX (the panic).
+    let (grid, mesh) = far(11, 0.0);
+    let field = grid.heightfield().unwrap();
+    for radius in [1e19, 1e300, f64::MAX, 6e18, 1e6] {
+        let h = field.horizon([5.0, 5.0, 30.0], radius, usize::MAX).unwrap();
+        assert!(h.sectors >= 64 && h.sectors <= 4096 && h.bins >= 1 && h.bins <= 4096, "{radius}");
+        assert!(h.slope.len() == h.sectors * h.bins);
+        for target in [[1.0, 2.0, field.grid().z[2 * 11 + 1]], [9.0, 9.0, 0.0]] {
+            assert_eq!(field.line_of_sight_from(&h, target), mesh.line_of_sight([5.0, 5.0, 30.0], target));
+        }
+    }
+    // A budget of bounds shrinks the horizon, never the answers.
+    let small = field.horizon([5.0, 5.0, 30.0], 1e19, 64).unwrap();
+    assert_eq!((small.bins, small.sectors), (1, 64));
+}
+
+#[test]
+fn grids_beyond_the_coordinate_bound_or_their_resolution_are_refused() {
+    let z = vec![0.0; 9];
+    let refused = |dx: f64, x0: f64, y0: f64| HeightField::new(z.clone(), 3, 3, dx, dx, x0, y0).err();
+    // 1e300 m: every node at the same place, area 0 (was accepted).
+    assert!(matches!(refused(1.0, 1e300, 1e300), Some(Error::InvalidInput(_))));
+    assert!(matches!(refused(1.0, 0.0, -2e15), Some(Error::InvalidInput(_))));
+    assert!(matches!(refused(1e15, 0.0, 0.0), Some(Error::InvalidInput(_)))); // its far corner
+                                                                              // Spacing below the coordinates' resolution (0.125 m at 1e15 m): nodes coincide.
+    assert!(matches!(refused(0.01, 9e14, 0.0), Some(Error::InvalidInput(_))));
+    // Area underflows to 0.
+    assert!(matches!(refused(1e-300, 0.0, 0.0), Some(Error::Mesh(_))));
+    assert!(matches!(HeightField::new(vec![0.0, 2e15, 0.0, 0.0], 2, 2, 1.0, 1.0, 0.0, 0.0), Err(Error::InvalidInput(_))));
+    // At the bound itself, and with a resolvable spacing, the grid is fine.
+    assert!(HeightField::new(z.clone(), 3, 3, 1.0, 1.0, 1e15 - 2.0, -1e15).is_ok());
 }

@@ -16,6 +16,14 @@ use crate::grid::Grid;
 /// by cell.
 const BOX: usize = 8;
 
+/// The widest margin (cells) the bisection works with. The margins are `1e-9` of the
+/// coordinates, so they pass a cell only for coordinates over `5e8` cells from the origin (or
+/// a UAV that far from the grid); there a piece's box never shrinks below [`BOX`] cells, and
+/// bisecting would only multiply the work (it did: a grid at `1e10` m with 1 m cells spun for
+/// minutes per sight line). Such a segment takes the tile quadtree's any-hit test instead,
+/// which needs no margin and gives the same answer.
+const MAX_MARGIN: f64 = 1.0;
+
 /// `x as usize` for `x` already known to lie in `[0, usize::MAX)`, without the saturation checks.
 #[inline(always)]
 #[allow(unsafe_code, reason = "the one unchecked cast of the walk's hot loop; its callers rule out NaN and clamp")]
@@ -26,31 +34,6 @@ fn cell_index(x: f64) -> usize {
 }
 
 impl HeightField {
-    /// The mesh path's leaf test on the triangles of cell `(i, j)`: the slab test of each
-    /// triangle's box, then parry's triangle test, corners in the mesh's order.
-    #[inline(always)]
-    fn cell_hit(&self, i: usize, j: usize, cast: &Cast, t_max: f64) -> bool {
-        let g = &self.grid;
-        let row = i * g.nx + j;
-        let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
-        if za.is_nan() || zc.is_nan() {
-            return false; // both triangles use the diagonal a-c
-        }
-        let (xa, xb) = (self.x(j), self.x(j + 1));
-        let (ya, yc) = (self.y(i), self.y(i + 1));
-        let o = cast.ray.origin;
-        // The slab test of each triangle's box, as `mesh::slab_test` (no value here is NaN, so
-        // the plain comparisons below give what its `f64::max`/`min` give).
-        let (nx, fx) = axis(xa, xb, o.x, cast.inv[0]);
-        let (ny, fy) = axis(ya, yc, o.y, cast.inv[1]);
-        let enter_xy = max(max(0.0, nx), ny);
-        let exit_xy = min(min(t_max, fx), fy);
-        if enter_xy > exit_xy {
-            return false; // both triangles span the cell's whole footprint
-        }
-        self.triangles_hit(i, j, [za, zb, zc, zd], (enter_xy, exit_xy), cast, t_max)
-    }
-
     /// The second half of the mesh path's leaf test, for the triangles `[a, b, c]` and
     /// `[a, c, d]` of cell `(i, j)` (corner heights `z`, `a` and `c` not NaN) on a ray that
     /// passes the cell's footprint between `xy.0` and `xy.1`: the z part of each triangle's slab
@@ -153,25 +136,6 @@ impl HeightField {
         }
     }
 
-    /// [`HeightField::cell_hit`] unless the piece of segment, lowest at `zmin`, passes above
-    /// every corner of the cell.
-    #[inline(always)]
-    fn cell_hit_below(&self, i: usize, j: usize, zmin: f64, cast: &Cast, t_max: f64) -> bool {
-        // A cell of nodata only has NaN corners: not skipped here, its triangles are left out.
-        if zmin > self.cell_top(i, j) {
-            return false;
-        }
-        self.cell_hit(i, j, cast, t_max)
-    }
-
-    /// The highest corner of cell `(i, j)` (NaN corners ignored; NaN when all are).
-    #[inline(always)]
-    fn cell_top(&self, i: usize, j: usize) -> f64 {
-        let g = &self.grid;
-        let row = i * g.nx + j;
-        g.z[row].max(g.z[row + 1]).max(g.z[row + g.nx]).max(g.z[row + g.nx + 1])
-    }
-
     /// Any-hit by bisecting the segment.
     ///
     /// A piece of the segment is clear when its lowest point is above the highest node of the
@@ -205,6 +169,9 @@ impl HeightField {
         let delta_z = 1e-9 * (z0.abs() + end[2].abs() + s.z + 1e-300);
         if min(z0, end[2]) - delta_z > self.bounds.1[2] {
             return false; // above everything
+        }
+        if delta > MAX_MARGIN || delta.is_nan() {
+            return self.cast::<true>(origin, dir, t_max).is_some(); // also for NaN
         }
         let cast = Cast { ray: Ray::new(v(origin), v(dir)), inv: [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]] };
         let (nx_f, ny_f) = (cells_x as f64, cells_y as f64);
@@ -259,15 +226,11 @@ impl HeightField {
             }
             let tm = 0.5 * (ta + tb);
             if top + 1 > stack.len() || !(ta < tm && tm < tb) {
-                // Too deep to split further (not reached with sane inputs): test every cell.
-                for i in i0..=i1 {
-                    for j in j0..=j1 {
-                        if self.cell_hit_below(i, j, zmin, &cast, t_max) {
-                            return true;
-                        }
-                    }
-                }
-                continue;
+                // Too deep to split further (a segment of some 2^16 boxes, from a UAV very far
+                // from the grid): the quadtree's any-hit test of the whole segment, the same
+                // answer in work bounded by the tiles it crosses, where testing the cells of
+                // this box could take the whole grid for each of 2^16 pieces.
+                return self.cast::<true>(origin, dir, t_max).is_some();
             }
             // Go on with the half nearer the end (the target, on the ground): it decides most
             // often.

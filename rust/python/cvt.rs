@@ -4,7 +4,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2}
 use pyo3::prelude::*;
 
 use super::surface::PySurface;
-use super::{invalid, points, points_to_py, to_py_err};
+use super::{detached, invalid, points, points_to_py, to_py_err};
 use crate::cvt::{self, CvtOptions, Weights};
 
 /// `(generators (N, 3), moves (K,), drift (K,), energy (K,), iterations, converged)`.
@@ -46,9 +46,7 @@ impl PyCvt {
             None => None,
         };
         let surface = surface.get().inner.clone();
-        let result = py
-            .detach(|| cvt::constrained_cvt(&surface, n, &options, density.as_deref(), initial.as_deref()))
-            .map_err(|e| to_py_err(py, e))?;
+        let result = detached(py, || cvt::constrained_cvt(&surface, n, &options, density.as_deref(), initial.as_deref()))?;
         Ok((
             points_to_py(py, result.generators),
             result.moves.into_pyarray(py),
@@ -73,7 +71,7 @@ impl PyCvt {
         if gens.is_empty() {
             return Err(invalid(py, "there must be at least one generator".into()));
         }
-        let labels = py.detach(|| cvt::nearest_generator(&gens, &pts, n_threads)).map_err(|e| to_py_err(py, e))?;
+        let labels = detached(py, || cvt::nearest_generator(&gens, &pts, n_threads))?;
         Ok(labels.into_iter().map(|i| i as i64).collect::<Vec<i64>>().into_pyarray(py))
     }
 }

@@ -3,6 +3,11 @@
 //! wrappers (`uavcov.Terrain`, `uavcov.Visibility`), which validate before calling here.
 //!
 //! One file per Python class; this one holds the module and the conversions they share.
+//!
+//! No panic crosses into Python (where it would be a `pyo3_runtime.PanicException`, a
+//! `BaseException` that `except Exception` misses): every method runs its Rust work through
+//! [`guarded`] (with the GIL released, [`detached`]), which turns a residual panic, a bug, into
+//! [`Error::Internal`], raised as the base class `uavcov.errors.UavcovError`.
 
 // PyO3 extracts every argument by value (arrays, strings, errors for `map_err`), whether or not
 // the body consumes it.
@@ -18,8 +23,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
-use crate::error::Error;
-use crate::geometry::Point;
+use crate::error::{guarded, try_with_capacity, Error, Result};
+use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::threads;
 
 pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
@@ -27,6 +32,7 @@ pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
         Error::InvalidInput(_) => "InvalidInputError",
         Error::Mesh(_) => "MeshError",
         Error::TooLarge(_) => "SurfaceTooLargeError",
+        Error::Internal(_) => "UavcovError",
     };
     let message = err.to_string();
     match py.import("uavcov.errors").and_then(|m| m.getattr(class)) {
@@ -36,6 +42,16 @@ pub(crate) fn to_py_err(py: Python<'_>, err: Error) -> PyErr {
         },
         Err(_) => PyValueError::new_err(message),
     }
+}
+
+/// [`guarded`] `work` with the GIL released, its error mapped onto `uavcov.errors`.
+pub(crate) fn detached<T: Send>(py: Python<'_>, work: impl FnOnce() -> Result<T> + Send) -> PyResult<T> {
+    py.detach(|| guarded(work)).map_err(|e| to_py_err(py, e))
+}
+
+/// [`guarded`] `work` holding the GIL (for cheap calls), its error mapped onto `uavcov.errors`.
+pub(crate) fn held<T>(py: Python<'_>, work: impl FnOnce() -> Result<T>) -> PyResult<T> {
+    guarded(work).map_err(|e| to_py_err(py, e))
 }
 
 pub(crate) fn invalid(py: Python<'_>, message: String) -> PyErr {
@@ -48,9 +64,13 @@ pub(crate) fn points(py: Python<'_>, array: &PyReadonlyArray2<'_, f64>, name: &s
     if a.ncols() != 3 {
         return Err(invalid(py, format!("{name} must have shape (n, 3), got {:?}", array.shape())));
     }
-    let out: Vec<Point> = a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    let mut out: Vec<Point> = try_with_capacity(a.nrows(), &format!("a copy of {name}")).map_err(|e| to_py_err(py, e))?;
+    out.extend(a.rows().into_iter().map(|r| [r[0], r[1], r[2]]));
     if out.iter().any(|q| q.iter().any(|c| !c.is_finite())) {
         return Err(invalid(py, format!("{name} contains NaN or infinite values")));
+    }
+    if let Some(q) = out.iter().find(|q| !in_bounds(**q)) {
+        return Err(invalid(py, format!("{name} has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {q:?}")));
     }
     Ok(out)
 }
@@ -62,8 +82,13 @@ pub(crate) fn points_to_py(py: Python<'_>, pts: Vec<Point>) -> Bound<'_, PyArray
 }
 
 /// Runs `f` over `items` in parallel without the GIL; output order follows `items`.
-pub(crate) fn parallel_map<T: Sync, R: Send>(py: Python<'_>, n_threads: usize, items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    py.detach(|| threads::run(n_threads, || items.par_iter().with_min_len(64).map(&f).collect()))
+pub(crate) fn parallel_map<T: Sync, R: Send>(
+    py: Python<'_>,
+    n_threads: usize,
+    items: &[T],
+    f: impl Fn(&T) -> R + Sync,
+) -> PyResult<Vec<R>> {
+    detached(py, || Ok(threads::run(n_threads, || items.par_iter().with_min_len(64).map(&f).collect())))
 }
 
 /// Number of cores the Rust side uses when `n_threads` is 0.

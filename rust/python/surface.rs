@@ -6,9 +6,9 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::{invalid, parallel_map, points, points_to_py, to_py_err};
-use crate::error::Error;
-use crate::geometry::Point;
+use super::{detached, held, invalid, parallel_map, points, points_to_py, to_py_err};
+use crate::error::{try_copy, try_with_capacity, Error};
+use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::mesh;
 use crate::sampling;
 
@@ -30,12 +30,13 @@ impl PySurface {
         if vertices.ncols() != 3 {
             return Err(to_py_err(py, Error::Mesh(format!("vertices must have shape (n, 3), got {:?}", vertices.shape()))));
         }
-        let verts: Vec<Point> = vertices.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+        let mut verts: Vec<Point> = try_with_capacity(vertices.nrows(), "a copy of the vertices").map_err(|e| to_py_err(py, e))?;
+        verts.extend(vertices.rows().into_iter().map(|r| [r[0], r[1], r[2]]));
         let f = faces.as_array();
         if f.ncols() != 3 {
             return Err(to_py_err(py, Error::Mesh(format!("faces must have shape (f, 3), got {:?}", f.shape()))));
         }
-        let mut tris = Vec::with_capacity(f.nrows());
+        let mut tris = try_with_capacity(f.nrows(), "a copy of the faces").map_err(|e| to_py_err(py, e))?;
         for (k, r) in f.rows().into_iter().enumerate() {
             let mut t = [0u32; 3];
             for c in 0..3 {
@@ -44,7 +45,7 @@ impl PySurface {
             }
             tris.push(t);
         }
-        let inner = py.detach(|| mesh::Surface::new(verts, tris)).map_err(|e| to_py_err(py, e))?;
+        let inner = detached(py, || mesh::Surface::new(verts, tris))?;
         Ok(Self { inner: Arc::new(inner) })
     }
 
@@ -53,8 +54,9 @@ impl PySurface {
     fn from_grid(py: Python<'_>, z: PyReadonlyArray2<'_, f64>, dx: f64, dy: f64, x0: f64, y0: f64) -> PyResult<Self> {
         let a = z.as_array();
         let (ny, nx) = a.dim();
-        let heights: Vec<f64> = a.iter().copied().collect();
-        let inner = py.detach(|| mesh::Surface::from_grid(heights, ny, nx, dx, dy, x0, y0)).map_err(|e| to_py_err(py, e))?;
+        let mut heights = try_with_capacity(a.len(), "a copy of the heights").map_err(|e| to_py_err(py, e))?;
+        heights.extend(a.iter().copied());
+        let inner = detached(py, || mesh::Surface::from_grid(heights, ny, nx, dx, dy, x0, y0))?;
         Ok(Self { inner: Arc::new(inner) })
     }
 
@@ -73,35 +75,46 @@ impl PySurface {
         self.inner.area()
     }
 
-    fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        points_to_py(py, self.inner.vertices().collect())
+    fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = &self.inner;
+        let flat = detached(py, || s.try_flat_vertices())?;
+        let array = Array2::from_shape_vec((flat.len() / 3, 3), flat).map_err(|e| to_py_err(py, Error::Internal(e.to_string())))?;
+        Ok(array.into_pyarray(py))
     }
 
-    fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
-        let f = self.inner.faces();
-        let flat: Vec<i64> = f.iter().flat_map(|t| t.map(i64::from)).collect();
-        Array2::from_shape_vec((f.len(), 3), flat).expect("f x 3 indices").into_pyarray(py)
+    fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let s = &self.inner;
+        let (n, flat) = detached(py, || {
+            let f = s.try_faces()?;
+            let mut flat = try_with_capacity(3 * f.len(), "the face array")?;
+            flat.extend(f.iter().flat_map(|t| t.map(i64::from)));
+            Ok((f.len(), flat))
+        })?;
+        let array = Array2::from_shape_vec((n, 3), flat).map_err(|e| to_py_err(py, Error::Internal(e.to_string())))?;
+        Ok(array.into_pyarray(py))
     }
 
-    fn face_areas<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.inner.areas().to_vec().into_pyarray(py)
+    fn face_areas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let s = &self.inner;
+        Ok(detached(py, || try_copy(s.try_areas()?, "the face areas"))?.into_pyarray(py))
     }
 
-    fn bounds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let (lo, hi) = self.inner.bounds();
-        points_to_py(py, vec![lo, hi])
+    fn bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (lo, hi) = held(py, || Ok(self.inner.bounds()))?;
+        Ok(points_to_py(py, vec![lo, hi]))
     }
 
     /// The vertices with a third of the area around each: `(points (V, 3), weights (V,))`.
-    fn vertex_targets<'py>(&self, py: Python<'py>) -> WeightedPoints<'py> {
-        let (pts, w) = sampling::vertex_targets(&self.inner);
-        (points_to_py(py, pts), w.into_pyarray(py))
+    fn vertex_targets<'py>(&self, py: Python<'py>) -> PyResult<WeightedPoints<'py>> {
+        let s = &self.inner;
+        let (pts, w) = detached(py, || Ok(sampling::vertex_targets(s)))?;
+        Ok((points_to_py(py, pts), w.into_pyarray(py)))
     }
 
     /// `density` evenly spread points per m^2: `(points (T, 3), weights (T,))`.
     fn area_targets<'py>(&self, py: Python<'py>, density: f64) -> PyResult<WeightedPoints<'py>> {
-        let s = self.inner.clone();
-        let (pts, w) = py.detach(|| sampling::area_targets(&s, density)).map_err(|e| to_py_err(py, e))?;
+        let s = &self.inner;
+        let (pts, w) = detached(py, || sampling::area_targets(s, density))?;
         Ok((points_to_py(py, pts), w.into_pyarray(py)))
     }
 
@@ -116,8 +129,11 @@ impl PySurface {
         if pts.iter().any(|q| !q[0].is_finite() || !q[1].is_finite()) {
             return Err(invalid(py, "xy contains NaN or infinite values".into()));
         }
+        if let Some(q) = pts.iter().find(|q| !in_bounds([q[0], q[1], 0.0])) {
+            return Err(invalid(py, format!("xy has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {q:?}")));
+        }
         let s = &self.inner;
-        let out = parallel_map(py, n_threads, &pts, |q| s.ground_height(q[0], q[1]).unwrap_or(f64::NAN));
+        let out = parallel_map(py, n_threads, &pts, |q| s.ground_height(q[0], q[1]).unwrap_or(f64::NAN))?;
         Ok(out.into_pyarray(py))
     }
 
@@ -126,7 +142,7 @@ impl PySurface {
     fn clearance<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
-        Ok(parallel_map(py, n_threads, &pts, |&q| s.clearance(q)).into_pyarray(py))
+        Ok(parallel_map(py, n_threads, &pts, |&q| s.clearance(q))?.into_pyarray(py))
     }
 
     /// The closest surface point to each point.
@@ -139,7 +155,7 @@ impl PySurface {
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
-        Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))))
+        Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))?))
     }
 
     /// Whether each closed segment `a[k] -> b[k]` crosses no triangle.
@@ -158,6 +174,6 @@ impl PySurface {
         }
         let pairs: Vec<(Point, Point)> = a.into_iter().zip(b).collect();
         let s = &self.inner;
-        Ok(parallel_map(py, n_threads, &pairs, |&(p, q)| s.segment_clear(p, q)).into_pyarray(py))
+        Ok(parallel_map(py, n_threads, &pairs, |&(p, q)| s.segment_clear(p, q))?.into_pyarray(py))
     }
 }

@@ -4,7 +4,7 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use super::surface::PySurface;
-use super::{points, to_py_err};
+use super::{detached, held, points, to_py_err};
 use crate::visibility;
 
 /// `(seen (U,), exclusive (U,), seen_weight (U,), exclusive_weight (U,), total_weight, coverage)`.
@@ -38,17 +38,16 @@ impl PyVisibility {
             (Some(targets), Some(weights)) => {
                 let pts = points(py, &targets, "targets")?;
                 let w = weights.as_array().to_vec();
-                visibility::Targets::new(pts, Some(w))
+                detached(py, || visibility::Targets::new(pts, Some(w)))?
             }
             (None, None) => {
                 let s = surface.inner.clone();
-                py.detach(|| visibility::Targets::grid_nodes(s))
+                detached(py, || visibility::Targets::grid_nodes(s))?
             }
-            _ => Err(crate::error::Error::InvalidInput("give both targets and weights, or neither".into())),
-        }
-        .map_err(|e| to_py_err(py, e))?;
+            _ => return Err(to_py_err(py, crate::error::Error::InvalidInput("give both targets and weights, or neither".into()))),
+        };
         let s = surface.inner.clone();
-        let inner = py.detach(|| visibility::Visibility::with_path(s, t, d_max, path)).map_err(|e| to_py_err(py, e))?;
+        let inner = detached(py, || visibility::Visibility::with_path(s, t, d_max, path))?;
         Ok(Self { inner })
     }
 
@@ -62,8 +61,8 @@ impl PyVisibility {
     }
 
     #[getter]
-    fn n_targets(&self) -> usize {
-        self.inner.targets().len()
+    fn n_targets(&self, py: Python<'_>) -> PyResult<usize> {
+        held(py, || Ok(self.inner.targets().len()))
     }
 
     #[getter]
@@ -75,7 +74,7 @@ impl PyVisibility {
     #[pyo3(signature = (uavs, n_threads=0))]
     fn seen<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let u = points(py, &uavs, "uavs")?;
-        let mask = py.detach(|| self.inner.seen(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
+        let mask = detached(py, || self.inner.seen(&u, n_threads))?;
         Ok(mask.into_pyarray(py))
     }
 
@@ -83,7 +82,7 @@ impl PyVisibility {
     #[pyo3(signature = (uavs, n_threads=0))]
     fn coverage(&self, py: Python<'_>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<f64> {
         let u = points(py, &uavs, "uavs")?;
-        py.detach(|| self.inner.coverage(&u, n_threads)).map_err(|e| to_py_err(py, e))
+        detached(py, || self.inner.coverage(&u, n_threads))
     }
 
     /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
@@ -91,7 +90,7 @@ impl PyVisibility {
     #[pyo3(signature = (uavs, n_threads=0))]
     fn per_uav<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<PerUavOutput<'py>> {
         let u = points(py, &uavs, "uavs")?;
-        let c = py.detach(|| self.inner.per_uav(&u, n_threads)).map_err(|e| to_py_err(py, e))?;
+        let c = detached(py, || self.inner.per_uav(&u, n_threads))?;
         Ok((
             c.seen.into_pyarray(py),
             c.exclusive.into_pyarray(py),
