@@ -6,10 +6,9 @@ never another exception type, never a Rust panic (``pyo3_runtime.PanicException`
 line, each with a timeout, so that a hang or an abort fails one probe and the worker is started
 again.
 
-Some inputs still reach known failures of the Rust grid path and mesh sampling (the Rust items
-of the issue). Those are the deterministic cases at the end, marked ``xfail(strict=False)`` with
-the item they belong to, and the property tests that can draw them are marked the same way: they
-pass (XPASS) once the Rust side holds.
+The inputs of the issue that reached the Rust core's failures (a panic for a huge range, a walk
+that did not end far from the origin, wrong answers near the limits of f64, an overflowing
+target count) are the deterministic cases at the end.
 """
 
 from __future__ import annotations
@@ -267,35 +266,30 @@ def check(worker: Worker, case: dict[str, Any]) -> None:
 
 @PROPERTY
 @given(surface=st.one_of(grid_surfaces(), mesh_surfaces()))
-@pytest.mark.xfail(strict=False, reason="Rust item 4 of the issue: grid origin 1e300 accepted with area 0; mesh sampling")
 def test_surfaces_with_extreme_coordinates(worker, surface):
     check(worker, {**surface, "probe": "surface"})
 
 
 @PROPERTY
 @given(surface=st.one_of(grid_surfaces(extreme_geometry=False), mesh_surfaces(extreme_geometry=False)), point=points)
-@pytest.mark.xfail(strict=False, reason="Rust item 4 of the issue: closest_point of a far point returns the point")
 def test_queries_at_extreme_points(worker, surface, point):
     check(worker, {**surface, "probe": "queries", "point": point})
 
 
 @PROPERTY
 @given(surface=st.one_of(grid_surfaces(), mesh_surfaces()), point=points)
-@pytest.mark.xfail(strict=False, reason="Rust items 1, 2 and 4 of the issue (grid path far from its origin; f64 extremes)")
 def test_queries_on_extreme_surfaces(worker, surface, point):
     check(worker, {**surface, "probe": "queries", "point": point})
 
 
 @PROPERTY
 @given(surface=grid_surfaces(extreme_geometry=False), point=points, d_max=positive_extreme)
-@pytest.mark.xfail(strict=False, reason="Rust item 1 of the issue: the grid path panics for a large d_max")
 def test_grid_coverage_with_extreme_uavs_and_ranges(worker, surface, point, d_max):
     check(worker, {**surface, "probe": "coverage", "point": point, "d_max": d_max, "methods": ["grid", "mesh"]})
 
 
 @PROPERTY
 @given(surface=mesh_surfaces(extreme_geometry=False), point=points, d_max=positive_extreme)
-@pytest.mark.xfail(strict=False, reason="Rust item 4 of the issue: the mesh path sees from 3e300 with d_max = 1e300")
 def test_mesh_coverage_with_extreme_uavs_and_ranges(worker, surface, point, d_max):
     check(worker, {**surface, "probe": "coverage", "point": point, "d_max": d_max, "methods": ["mesh"]})
 
@@ -350,11 +344,7 @@ def test_mission_settings_with_extreme_values(worker, surface, d_max, start, poi
 
 
 # ---------------------------------------------------------------------------------------------
-# The known Rust failures, one input each (what the Rust items of the issue must fix)
-
-
-def known(reason: str) -> pytest.MarkDecorator:
-    return pytest.mark.xfail(strict=False, reason=reason)
+# The inputs that reached the Rust core's failures, one each
 
 
 FLAT = {"surface": "grid", "z": [[0.0] * 11 for _ in range(11)], "spacing": 1.0, "origin": [0.0, 0.0]}
@@ -366,55 +356,38 @@ SQUARE = {"surface": "mesh", "vertices": [[0, 0, 0], [3, 0, 0], [0, 3, 0], [3, 3
 KNOWN = [
     pytest.param(
         {**FLAT, "probe": "coverage", "point": [5, 5, 3], "d_max": 1e19, "methods": ["grid"]},
-        marks=known(
-            "Rust item 1: PanicException 'range end index 18446744073709551615' (heightfield/horizon.rs:155, was heightfield.rs:820)"
-        ),
         id="item1-grid-d_max-1e19",
     ),
     pytest.param(
         {**SMALL, "probe": "coverage", "point": [1, 1, 1], "d_max": 1e150, "methods": ["grid"]},
-        marks=known(
-            "Rust item 1: PanicException 'range start index 18446744073709551615' (heightfield/horizon.rs:155, was heightfield.rs:820)"
-        ),
         id="item1-grid-d_max-1e150",
     ),
     pytest.param(
         {**ROUGH, "origin": [1e10, 1e10], "probe": "coverage", "point": [1e10 + 5, 1e10 + 5, 5], "d_max": 10.0, "methods": ["grid"]},
-        marks=known("Rust item 2: the grid path hangs for an origin of 1e10"),
         id="item2-grid-origin-1e10",
     ),
     pytest.param(
         {**RAMP, "spacing": 1e-100, "probe": "coverage", "point": [1, 1, 1], "d_max": 10.0, "methods": ["grid"]},
-        marks=known(
-            "Rust items 1/4: PanicException 'index out of bounds: the len is 0' (heightfield/horizon.rs:48, was heightfield.rs:205)"
-        ),
         id="grid-spacing-1e-100-uav-1e100-cells-away",
     ),
     pytest.param(
         {**SMALL, "probe": "coverage", "point": [8.7e76, 0, 1], "d_max": 4.8e122, "methods": ["grid"]},
-        marks=known(
-            "Rust items 1/4: PanicException 'index out of bounds: the len is 0' (heightfield/horizon.rs:48, was heightfield.rs:205)"
-        ),
         id="grid-far-uav",
     ),
     pytest.param(
         {**SQUARE, "probe": "coverage", "point": [1, 1, 3e300], "d_max": 1e300, "methods": ["mesh"]},
-        marks=known("Rust item 4: the mesh path gives coverage 1.0 from z = 3e300"),
         id="item4-mesh-3e300",
     ),
     pytest.param(
         {**SQUARE, "probe": "queries", "point": [1e300, 1e300, 1e300]},
-        marks=known("Rust item 4: closest_point([1e300] * 3) returns the query point"),
         id="item4-closest-point-1e300",
     ),
     pytest.param(
         {**FLAT, "probe": "queries", "point": [-1e300, 1e-300, 0.0]},
-        marks=known("Rust item 4: closest_point([-1e300, 1e-300, 0]) on a grid returns the query point"),
         id="item4-grid-closest-point-1e300",
     ),
     pytest.param(
         {**SMALL, "origin": [1e300, 1e300], "probe": "surface"},
-        marks=known("Rust item 4: from_grid(origin=(1e300, 1e300)) is accepted with area 0"),
         id="item4-grid-origin-1e300",
     ),
     pytest.param(
@@ -437,7 +410,6 @@ KNOWN = [
             "d_max": 10.0,
             "methods": ["mesh"],
         },
-        marks=known("Rust items 3/4: default targets of a 1e20 m mesh never return (sampling.rs:40-41, m * m overflows)"),
         id="mesh-targets-1e20",
     ),
 ]

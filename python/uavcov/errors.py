@@ -24,7 +24,11 @@ __all__ = [
 
 
 class UavcovError(Exception):
-    """Base class of every error raised by uavcov."""
+    """Base class of every error raised by uavcov.
+
+    Raised as itself only for an internal error: a bug of uavcov's Rust core, caught at the
+    binding instead of crossing into Python as a panic (please report it with its message).
+    """
 
 
 class InvalidInputError(UavcovError, ValueError):

@@ -69,7 +69,8 @@ class Terrain:
     Parameters
     ----------
     vertices : (V, 3) array_like of float
-        Vertex coordinates, metres.
+        Vertex coordinates, metres; at most 1e15 m in magnitude (a coordinate there still
+        resolves 0.125 m), so that squared distances stay exact enough to decide sight lines.
     faces : (F, 3) array_like of int
         Triangles as indices into ``vertices``.
     drop_degenerate : bool, default False
@@ -79,7 +80,8 @@ class Terrain:
     Raises
     ------
     MeshError
-        No triangle, an index out of range, a non-finite coordinate, or a zero-area triangle.
+        No triangle, an index out of range, a non-finite coordinate, a coordinate beyond 1e15 m,
+        a zero-area triangle, or a total area that is not a positive finite number.
     InvalidTypeError
         Faces that are not integers.
 
@@ -144,6 +146,14 @@ class Terrain:
             Cell size, metres: one value for square cells or ``(dx, dy)``.
         origin : (float, float), default (0, 0)
             ``(x, y)`` of node ``(0, 0)``, metres.
+
+        Raises
+        ------
+        InvalidInputError
+            Fewer than 2 rows or columns, a spacing that is not positive, a node or height beyond
+            1e15 m, or a spacing the coordinates cannot resolve (node coordinates must strictly
+            increase: 0.01 m cells 9e14 m from the origin are refused). Recentre far grids
+            (:class:`uavcov.LocalFrame` does for DEMs).
 
         Notes
         -----

@@ -55,7 +55,8 @@ class Visibility:
     terrain : Terrain
         The surface that both holds the targets and blocks the lines of sight.
     d_max : float
-        Sensing range, metres (> 0).
+        Sensing range, metres (> 0, finite). From 4e15 m up it is an unlimited range: every two
+        points a surface may hold (coordinates at most 1e15 m) are closer than that.
     targets : Targets, optional
         Defaults to ``terrain.default_targets()``.
     n_threads : int, optional
