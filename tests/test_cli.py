@@ -17,35 +17,12 @@ from pathlib import Path
 
 import pytest
 
+from tiny import TINY_TOML
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, main
 from uavcov.results import CONFIG_FORMAT, read_runs
 from uavcov.sweep import available_cores
 
-TINY_SWEEP = """
-name = "tiny"
-seeds = [0, 1]
-team_sizes = [2]
-starts = ["cvt", "corner"]
-d_max = 12.0
-n_prior = 8
-iterations = {iterations}
-
-[terrain]
-size = 40.0
-spacing = 4.0
-heights = [2.0, 8.0]
-sigma = 6.0
-
-[cao]
-n_candidates = 20
-
-[cvt]
-samples_per_iteration = 400
-max_iterations = 20
-
-[sweep]
-"cao.alpha0" = [1.0, 2.0]
-"""
+TINY_SWEEP = TINY_TOML + '\n[sweep]\n"cao.alpha0" = [1.0, 2.0]\n'
 
 
 def write(path: Path, text: str) -> Path:

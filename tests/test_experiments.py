@@ -22,6 +22,7 @@ import warnings
 import numpy as np
 import pytest
 
+from tiny import tiny_experiment
 from uavcov import paper
 from uavcov.errors import (
     ConfigError,
@@ -50,21 +51,7 @@ from uavcov.sweep import (
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
 
-TINY = paper.TABLE1.with_changes(
-    **{
-        "terrain.size": 40.0,
-        "terrain.spacing": 4.0,
-        "terrain.heights": (2.0, 8.0),
-        "terrain.sigma": 6.0,
-        "d_max": 12.0,
-        "n_prior": 8,
-        "iterations": 6,
-        "cao.n_candidates": 20,
-        "cvt.max_iterations": 20,
-        "cvt.samples_per_iteration": 400,
-        "team_sizes": (2, 3),
-    }
-)
+TINY = tiny_experiment(6, team_sizes=(2, 3))
 
 
 def tiny_specs(seeds=(0, 1), sizes=(2, 3), starts=("cvt", "random", "corner")):

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tiny import TINY_TOML, tiny_experiment
 from uavcov import paper
 from uavcov._validate import MAX_RUNS, MAX_SEEDS, MAX_UAVS
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
@@ -37,43 +38,7 @@ from uavcov.surface import Terrain
 from uavcov.sweep import experiment_specs, parse_seeds, run_specs, settings_hash
 from uavcov.sweep_config import parse_sweep_config
 
-TINY_TOML = """
-name = "tiny"
-seeds = [0, 1]
-team_sizes = [2]
-starts = ["cvt", "corner"]
-d_max = 12.0
-n_prior = 8
-iterations = {iterations}
-
-[terrain]
-size = 40.0
-spacing = 4.0
-heights = [2.0, 8.0]
-sigma = 6.0
-
-[cao]
-n_candidates = 20
-
-[cvt]
-samples_per_iteration = 400
-max_iterations = 20
-"""
-
-TINY = paper.TABLE1.with_changes(
-    **{
-        "terrain.size": 40.0,
-        "terrain.spacing": 4.0,
-        "terrain.heights": (2.0, 8.0),
-        "terrain.sigma": 6.0,
-        "d_max": 12.0,
-        "n_prior": 8,
-        "iterations": 2,
-        "cao.n_candidates": 20,
-        "cvt.max_iterations": 20,
-        "cvt.samples_per_iteration": 400,
-    }
-)
+TINY = tiny_experiment(2)
 
 
 def tiny_specs(experiment=TINY, seeds=(0,)):

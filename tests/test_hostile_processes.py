@@ -17,34 +17,14 @@ from pathlib import Path
 
 import pytest
 
+from tiny import TINY_TOML
 from uavcov.cli import EXIT_OK, main
 from uavcov.records import load_mission
 from uavcov.results import read_runs
 
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc (Linux)")
 
-SWEEP = """
-name = "kill"
-seeds = "0-{last_seed}"
-team_sizes = [2]
-starts = ["cvt", "corner"]
-d_max = 12.0
-n_prior = 8
-iterations = {iterations}
-
-[terrain]
-size = 40.0
-spacing = 4.0
-heights = [2.0, 8.0]
-sigma = 6.0
-
-[cao]
-n_candidates = 20
-
-[cvt]
-samples_per_iteration = 400
-max_iterations = 20
-"""
+SWEEP = TINY_TOML.replace('name = "tiny"', 'name = "kill"').replace("seeds = [0, 1]", 'seeds = "0-{last_seed}"')
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
 

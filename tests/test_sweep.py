@@ -18,6 +18,7 @@ import json
 import numpy as np
 import pytest
 
+from tiny import tiny_experiment
 from uavcov import jobs, paper
 from uavcov.cli import EXIT_OK, main
 from uavcov.errors import (
@@ -49,20 +50,7 @@ TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility
 SMALL = paper.TABLE1.with_changes(**{"terrain.spacing": 4.0, "iterations": 3})
 
 # Smaller still, for the folder tests: a 40 m terrain, 2 UAVs.
-TINY = paper.TABLE1.with_changes(
-    **{
-        "terrain.size": 40.0,
-        "terrain.spacing": 4.0,
-        "terrain.heights": (2.0, 8.0),
-        "terrain.sigma": 6.0,
-        "d_max": 12.0,
-        "n_prior": 8,
-        "iterations": 2,
-        "cao.n_candidates": 20,
-        "cvt.max_iterations": 20,
-        "cvt.samples_per_iteration": 400,
-    }
-)
+TINY = tiny_experiment(2)
 
 TINY_SWEEP = {
     "name": "tiny",
