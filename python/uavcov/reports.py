@@ -160,26 +160,43 @@ def table1_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     return "\n".join(lines + checks) + "\n" + _failures(rows)
 
 
+def _table(title: str, intro: Sequence[str], header: Sequence[str], body: Iterable[Sequence[str]]) -> list[str]:
+    """A Markdown section: ``# title``, the intro lines, then a table of ``header`` and ``body`` rows."""
+    lines = [f"# {title}", "", *intro, "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return lines + ["| " + " | ".join(cells) + " |" for cells in body]
+
+
+def _by_start(rows: Sequence[Mapping[str, Any]]) -> tuple[list[Mapping[str, Any]], dict[tuple[Any, ...], dict[str, Any]]]:
+    ok = finished_rows(rows)
+    return ok, summarise(ok, by=("n_uavs", "init"))
+
+
+def _published(value: Any) -> str:
+    return f"{value.mean:.2f} ({value.sigma:.2f})"
+
+
 def pyramid_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The pyramid prior (N = 12, 4 corners and the centre known) beside the paper's numbers."""
     rows = list(rows)
-    ok = finished_rows(rows)
-    summary = summarise(ok, by=("n_uavs", "init"))
-    lines = [
-        "# Pyramid prior: coverage, mean (sigma) over the terrains",
-        "",
-        f"Ours: {_seed_text(ok)}; the paper: 40 terrains. Only the 4 corners and the centre are known.",
-        "",
-        "| N | start | runs | initial (ours) | initial (paper) | max (ours) | max (paper) |",
-        "|---|---|---|---|---|---|---|",
-    ]
+    ok, summary = _by_start(rows)
     published = paper.PUBLISHED_PYRAMID
-    for (n, start), entry in summary.items():
-        lines.append(
-            f"| {n} | {start} | {entry['count']} | {_cell(entry['initial_coverage'])} | "
-            f"{published['initial'].mean:.2f} ({published['initial'].sigma:.2f}) | {_cell(entry['max_coverage'])} | "
-            f"{published['max'].mean:.2f} ({published['max'].sigma:.2f}) |"
-        )
+    lines = _table(
+        "Pyramid prior: coverage, mean (sigma) over the terrains",
+        [f"Ours: {_seed_text(ok)}; the paper: 40 terrains. Only the 4 corners and the centre are known."],
+        ["N", "start", "runs", "initial (ours)", "initial (paper)", "max (ours)", "max (paper)"],
+        (
+            [
+                str(n),
+                start,
+                str(e["count"]),
+                _cell(e["initial_coverage"]),
+                _published(published["initial"]),
+                _cell(e["max_coverage"]),
+                _published(published["max"]),
+            ]
+            for (n, start), e in summary.items()
+        ),
+    )
     checks = [""]
     for (n, _start), entry in summary.items():
         for metric, column in (("initial", "initial_coverage"), ("max", "max_coverage")):
@@ -192,63 +209,81 @@ def pyramid_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
 def comparison_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The paper's Fig. 6 comparison (one scenario, three starts) beside its max coverages."""
     rows = list(rows)
-    ok = finished_rows(rows)
-    summary = summarise(ok, by=("n_uavs", "init"))
-    lines = [
-        "# Single-scenario comparison (paper Fig. 6)",
-        "",
-        f"Ours: {_seed_text(ok)}. Coverage per iteration is in coverage.csv.",
-        "",
-        "| N | start | runs | initial | max (ours) | max (paper) | iterations to 95 % |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    for (n, start), entry in summary.items():
-        paper_max = paper.PUBLISHED_FIG6_MAX.get(start)
-        lines.append(
-            f"| {n} | {start} | {entry['count']} | {_cell(entry['initial_coverage'])} | {_cell(entry['max_coverage'])} | "
-            f"{'-' if paper_max is None else f'{paper_max:.2f}'} | {_cell(entry['iterations_to_95'], 0)} |"
-        )
+    ok, summary = _by_start(rows)
+
+    def paper_max(start: str) -> str:
+        value = paper.PUBLISHED_FIG6_MAX.get(start)
+        return "-" if value is None else f"{value:.2f}"
+
+    lines = _table(
+        "Single-scenario comparison (paper Fig. 6)",
+        [f"Ours: {_seed_text(ok)}. Coverage per iteration is in coverage.csv."],
+        ["N", "start", "runs", "initial", "max (ours)", "max (paper)", "iterations to 95 %"],
+        (
+            [
+                str(n),
+                start,
+                str(e["count"]),
+                _cell(e["initial_coverage"]),
+                _cell(e["max_coverage"]),
+                paper_max(start),
+                _cell(e["iterations_to_95"], 0),
+            ]
+            for (n, start), e in summary.items()
+        ),
+    )
     return "\n".join(lines) + "\n" + _failures(rows)
 
 
 def buildings_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The buildings scene: CVT start from the simplified map against two pairs on opposite sides."""
     rows = list(rows)
-    ok = finished_rows(rows)
-    summary = summarise(ok, by=("n_uavs", "init"))
-    lines = [
-        "# Buildings scene (paper Figs. 7-8)",
-        "",
-        f"Ours: {_seed_text(ok)}. The paper: the CVT start begins higher and converges faster than two",
-        "pairs of UAVs started on opposite sides (no numbers published). Coverage per iteration is in coverage.csv.",
-        "",
-        "| N | start | runs | initial | max | final | iterations to 95 % |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    for (n, start), entry in summary.items():
-        lines.append(
-            f"| {n} | {start} | {entry['count']} | {_cell(entry['initial_coverage'])} | {_cell(entry['max_coverage'])} | "
-            f"{_cell(entry['final_coverage'])} | {_cell(entry['iterations_to_95'], 0)} |"
-        )
+    ok, summary = _by_start(rows)
+    lines = _table(
+        "Buildings scene (paper Figs. 7-8)",
+        [
+            f"Ours: {_seed_text(ok)}. The paper: the CVT start begins higher and converges faster than two",
+            "pairs of UAVs started on opposite sides (no numbers published). Coverage per iteration is in coverage.csv.",
+        ],
+        ["N", "start", "runs", "initial", "max", "final", "iterations to 95 %"],
+        (
+            [
+                str(n),
+                start,
+                str(e["count"]),
+                _cell(e["initial_coverage"]),
+                _cell(e["max_coverage"]),
+                _cell(e["final_coverage"]),
+                _cell(e["iterations_to_95"], 0),
+            ]
+            for (n, start), e in summary.items()
+        ),
+    )
     return "\n".join(lines) + "\n" + _failures(rows)
 
 
 def example_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The illustrative example (paper Fig. 5): one run per seed, its coverage at a glance."""
     rows = list(rows)
-    lines = [
-        "# Illustrative example (paper Fig. 5)",
-        "",
-        "The paper: 9 UAVs, d_max = 35 m, 30 prior samples; the final coverage is close to 1.",
-        "",
-        "| seed | N | start | iterations | initial | max | final | iterations to 95 % | seconds |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    lines += [
-        f"| {r['seed']} | {r['n_uavs']} | {r['init']} | {r['iterations']} | {r['initial_coverage']:.3f} | "
-        f"{r['max_coverage']:.3f} | {r['final_coverage']:.3f} | {r['iterations_to_95']} | {r['wall_time_s']:.1f} |"
-        for r in finished_rows(rows)
-    ]
+    lines = _table(
+        "Illustrative example (paper Fig. 5)",
+        ["The paper: 9 UAVs, d_max = 35 m, 30 prior samples; the final coverage is close to 1."],
+        ["seed", "N", "start", "iterations", "initial", "max", "final", "iterations to 95 %", "seconds"],
+        (
+            [
+                str(r["seed"]),
+                str(r["n_uavs"]),
+                str(r["init"]),
+                str(r["iterations"]),
+                f"{r['initial_coverage']:.3f}",
+                f"{r['max_coverage']:.3f}",
+                f"{r['final_coverage']:.3f}",
+                str(r["iterations_to_95"]),
+                f"{r['wall_time_s']:.1f}",
+            ]
+            for r in finished_rows(rows)
+        ),
+    )
     return "\n".join(lines) + "\n" + _failures(rows)
 
 
