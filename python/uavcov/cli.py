@@ -176,6 +176,8 @@ def _finish(rows: list[dict[str, Any]], out: Path, started: float, wrote: Sequen
 def _reproduce(args: argparse.Namespace) -> int:
     from .jobs import reproduce
 
+    if args.experiment == "all":
+        return _reproduce_all(args)
     out = Path(args.out or f"out/{args.experiment}")
     started = time.perf_counter()
     with _execution(args) as options:
@@ -200,6 +202,23 @@ def _reproduce(args: argparse.Namespace) -> int:
         if figures:
             _say(f"{len(figures)} figure(s) in {Path(figures[0]).parent}/ (`uavcov plot {out}` adds an animation)")
     return code
+
+
+def _reproduce_all(args: argparse.Namespace) -> int:
+    from .errors import ConfigError
+    from .jobs import reproduce_all
+
+    if args.team_sizes is not None or args.starts is not None:
+        raise ConfigError("--team-sizes and --starts choose within one experiment, not with all")
+    out = Path(args.out or "out/all")
+    started = time.perf_counter()
+    with _execution(args) as options:
+        execution = options.pop("execution")
+        results = reproduce_all(
+            out, seeds=args.seeds, iterations=args.iterations, figures=not args.no_plots, execution=execution, **options
+        )
+    rows = [row for name in results for row in results[name]]
+    return _finish(rows, out, started, [*(f"{name}/" for name in results), "report.md"])
 
 
 def _sweep(args: argparse.Namespace) -> int:
@@ -335,8 +354,8 @@ def _parser() -> argparse.ArgumentParser:
     demo.set_defaults(run=_demo)
 
     reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
-    reproduce.add_argument("experiment", choices=("table1", "pyramid", "example", "comparison", "buildings"))
-    reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT)")
+    reproduce.add_argument("experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "all"))
+    reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
     reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")
     reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")

@@ -6,6 +6,10 @@ Each job builds its run specs, hands them to the one function that runs specs in
 
 * :func:`reproduce`: one of the paper's experiments (:data:`uavcov.paper.EXPERIMENTS`) ->
   ``<name>.md`` beside the paper's numbers, and ``coverage.csv`` for the single-scenario ones;
+* :func:`reproduce_all`: every experiment of the paper, each in its own folder, then
+  ``report.md``: every table beside the paper's numbers, the claims of section V-C measured
+  (:mod:`uavcov.claims`) and the figures, each named with the hash of the settings it was made
+  with (:func:`uavcov.sweep.experiments_hash` of :data:`uavcov.paper.EXPERIMENTS`);
 * :func:`run_sweep`: a sweep file (:mod:`uavcov.sweep_config`) -> ``sweep.toml`` (the file as
   written) and ``summary.md``.
 """
@@ -18,14 +22,19 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from . import paper
-from .errors import ConfigError
+from .claims import claims_markdown
+from .errors import ConfigError, MissingExtraError
 from .executors import plan_execution
 from .reports import REPORTS, coverage_curves_csv, sweep_markdown
 from .results import ResultsFolder
-from .sweep import experiment_specs, parse_seeds, run_specs
+from .sweep import experiment_specs, experiments_hash, parse_seeds, run_specs
 from .sweep_config import SweepConfig
 
-__all__ = ["reproduce", "run_sweep", "REPRODUCIBLE"]
+__all__ = ["reproduce", "reproduce_all", "run_sweep", "REPRODUCIBLE", "REPORT_SEEDS"]
+
+REPORT_SEEDS: Mapping[str, tuple[int, ...]] = {"comparison": paper.HELD_OUT_SEEDS, "buildings": tuple(range(20))}
+"""Seeds :func:`reproduce_all` runs where the paper shows one scenario: its claims are checked
+over many (the comparison over the 40 terrains of Table 1, the buildings scene over 20 draws)."""
 
 REPRODUCIBLE: tuple[str, ...] = tuple(paper.EXPERIMENTS)
 """The experiments :func:`reproduce` knows."""
@@ -125,6 +134,80 @@ def reproduce(
         if name in _CURVES and save_runs:
             coverage_curves_csv(folder, rows)
     return rows
+
+
+def reproduce_all(
+    out: str | os.PathLike[str],
+    *,
+    seeds: Iterable[int] | str | None = None,
+    iterations: int | None = None,
+    figures: bool = True,
+    **run_options: Any,
+) -> dict[str, list[dict[str, Any]]]:
+    """Every experiment of the paper into ``out/<name>/``, then ``out/report.md``.
+
+    Parameters
+    ----------
+    out : path
+    seeds : "0-39", iterable of int, optional
+        The same seeds for every experiment (for a quick look); by default each experiment's
+        own, and :data:`REPORT_SEEDS` where the paper shows a single scenario.
+    iterations : int, optional
+        CAO iterations instead of the experiments' (a quick look, not the paper's runs).
+    figures : bool
+        Draw each folder's figures into ``out/<name>/figures`` (needs ``uavcov[plot]``; without
+        it the report says so).
+    **run_options
+        As in :func:`reproduce` (``workers``, ``n_threads``, ``resume``, ...).
+
+    Returns
+    -------
+    dict
+        The rows of each experiment, by name.
+    """
+    folder = ResultsFolder(out)
+    tag = experiments_hash(paper.EXPERIMENTS)
+    results: dict[str, list[dict[str, Any]]] = {}
+    drawn: dict[str, list[str]] = {}
+    for name in REPRODUCIBLE:
+        chosen = seeds if seeds is not None else REPORT_SEEDS.get(name)
+        results[name] = reproduce(name, folder.path / name, seeds=chosen, iterations=iterations, **run_options)
+        drawn[name] = _figures(folder.path / name) if figures else []
+    how = "" if seeds is None else f" with seeds {seeds}"
+    how += "" if iterations is None else f" and {iterations} CAO iterations"
+    parts = [
+        "# The paper's experiments, reproduced",
+        "",
+        f"Settings: `uavcov.paper` {tag} (every table and figure below was made with them).",
+        f"Made by `uavcov reproduce all`{how}; each experiment's runs are in its folder.",
+        "",
+    ]
+    for name in REPRODUCIBLE:
+        table = (folder.path / name / f"{name}.md").read_text(encoding="utf-8")
+        parts.append(_demote(table).rstrip() + "\n")
+        if name == "table1":
+            parts.append(_demote(claims_markdown(results[name], ResultsFolder(folder.path / name))).rstrip() + "\n")
+        parts += [f"![{name}: {path} (settings {tag})]({name}/figures/{path})" for path in drawn[name]]
+        parts.append("")
+    if figures and not any(drawn.values()):
+        parts.append("No figures: drawing them needs matplotlib (`pip install 'uavcov[plot]'`).\n")
+    folder.write_text("report.md", "\n".join(parts))
+    return results
+
+
+def _demote(markdown: str) -> str:
+    """Every heading one level down, so that a report's sections nest under the whole."""
+    return "\n".join("#" + line if line.startswith("#") else line for line in markdown.splitlines()) + "\n"
+
+
+def _figures(folder: os.PathLike[str]) -> list[str]:
+    """Draw a folder's figures (no animation); their file names, or none without matplotlib."""
+    try:
+        from .plotting import plot_directory
+
+        return [os.path.basename(p) for p in plot_directory(folder, max_runs=2, animation=False) if str(p).endswith(".png")]
+    except MissingExtraError:
+        return []
 
 
 def run_sweep(

@@ -56,6 +56,7 @@ __all__ = [
     "ExecutionPlan",
     "experiment_specs",
     "settings_hash",
+    "experiments_hash",
     "execute_run",
     "run_specs",
     "available_cores",
@@ -236,6 +237,19 @@ def settings_hash(experiment: Experiment) -> str:
     identity of the runs already made (a resume then runs only the new ones).
     """
     text = json.dumps(experiment_settings(experiment), sort_keys=True, default=json_default)
+    return hashlib.sha256(text.encode()).hexdigest()[:8]
+
+
+def experiments_hash(experiments: Mapping[str, Experiment]) -> str:
+    """Eight hex digits that change with any setting of any of ``experiments`` (and their names, seeds, sizes, starts).
+
+    ``experiments_hash(uavcov.paper.EXPERIMENTS)`` names the paper's settings a report was made with.
+    """
+    settings = {
+        name: {**experiment_settings(e), "seeds": list(e.seeds), "team_sizes": list(e.team_sizes), "starts": list(e.starts)}
+        for name, e in sorted(experiments.items())
+    }
+    text = json.dumps(settings, sort_keys=True, default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:8]
 
 

@@ -1,0 +1,69 @@
+"""uavcov.jobs.reproduce_all: every experiment into its folder, one report naming its settings."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from uavcov import jobs, paper
+from uavcov.errors import ConfigError
+from uavcov.results import read_runs
+from uavcov.sweep import experiments_hash
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("all")
+    results = jobs.reproduce_all(out, seeds=[0], iterations=2, figures=False, workers=1, n_threads=1)
+    return out, results
+
+
+def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick):
+    out, results = quick
+    assert set(results) == set(paper.EXPERIMENTS)
+    for name, experiment in paper.EXPERIMENTS.items():
+        rows = read_runs(out / name / "runs.csv")
+        assert len(rows) == len(experiment.team_sizes) * len(experiment.starts) == len(results[name])
+        assert not any(r["error"] for r in rows)
+    report = (out / "report.md").read_text(encoding="utf-8")
+    assert f"`uavcov.paper` {experiments_hash(paper.EXPERIMENTS)}" in report
+    for heading in (
+        "## Table 1",
+        "## The paper's claims on Table 1",
+        "## Pyramid prior",
+        "## Illustrative example",
+        "## Single-scenario comparison",
+        "## Buildings scene",
+    ):
+        assert heading in report
+    assert "with seeds [0] and 2 CAO iterations" in report
+    # each experiment's own table is in the report, one heading level down
+    table1 = (out / "table1" / "table1.md").read_text(encoding="utf-8")
+    assert table1.splitlines()[2] in report
+
+
+def test_the_settings_hash_follows_every_setting_of_the_paper():
+    base = experiments_hash(paper.EXPERIMENTS)
+    assert base == experiments_hash(dict(paper.EXPERIMENTS)) and len(base) == 8
+    changed = dict(paper.EXPERIMENTS, table1=paper.TABLE1.with_changes(**{"cao.alpha0": 2.9}))
+    assert experiments_hash(changed) != base
+    fewer = dict(paper.EXPERIMENTS, comparison=dataclasses.replace(paper.COMPARISON, seeds=(0, 1)))
+    assert experiments_hash(fewer) != base
+
+
+def test_the_many_scenario_claims_run_more_than_the_papers_single_scenario():
+    assert jobs.REPORT_SEEDS["comparison"] == paper.HELD_OUT_SEEDS and len(jobs.REPORT_SEEDS["buildings"]) >= 20
+    with pytest.raises(ConfigError, match="unknown experiment"):
+        jobs.reproduce("everything", "unused")
+
+
+def test_the_command_line_runs_all_and_refuses_a_choice_within_one(tmp_path, capsys):
+    from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
+
+    args = ["reproduce", "all", "--out", str(tmp_path / "all"), "--seeds", "0", "--iterations", "1", "--no-plots", "--workers", "1"]
+    assert main(args) == EXIT_OK
+    assert (tmp_path / "all" / "report.md").is_file() and (tmp_path / "all" / "buildings" / "buildings.md").is_file()
+    assert main([*args, "--team-sizes", "5"]) == EXIT_BAD_INPUT
+    errors = [line for line in capsys.readouterr().err.splitlines() if "error:" in line]
+    assert len(errors) == 1 and "not with all" in errors[0]
