@@ -119,6 +119,11 @@ def as_float_array(
     return array
 
 
+def is_int(value: Any) -> bool:
+    """An integer (Python or numpy), and not a bool."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
 def as_points(value: Any, name: str, *, dim: int = 3, allow_empty: bool = False) -> np.ndarray:
     """Return ``value`` as a finite ``(n, dim)`` float64 array (a single point becomes ``(1, dim)``)."""
     array = as_float_array(value, name)

@@ -23,15 +23,10 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
+from ._validate import is_int
 from .errors import ConfigError, MissingExtraError, SchedulerTimeoutError
 
 __all__ = ["ExecutionPlan", "available_cores", "plan_execution", "local_executor", "stop_pool", "dask_executor"]
-
-
-def _is_int(value: Any) -> bool:
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
 def available_cores() -> int:
@@ -66,7 +61,7 @@ def plan_execution(workers: int | None = None, n_threads: int | None = None, cor
     """
     cores = available_cores() if cores is None else cores
     for name, value in (("workers", workers), ("n_threads", n_threads)):
-        if value is not None and (not _is_int(value) or value < 1):
+        if value is not None and (not is_int(value) or value < 1):
             raise ConfigError(f"{name} must be an integer >= 1, got {value!r}")
     if workers is None:
         workers = max(1, cores // (n_threads or 1))
@@ -208,7 +203,7 @@ def dask_executor(
                 raise ConfigError(f"cannot use {scheduler!r} as a Dask scheduler: {type(exc).__name__}: {exc}") from exc
         else:
             workers = available_cores() if n_workers is None else n_workers
-            if not _is_int(workers) or workers < 1:
+            if not is_int(workers) or workers < 1:
                 raise ConfigError(f"the number of Dask workers must be an integer >= 1, got {workers!r}")
             cluster = LocalCluster(
                 n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR

@@ -22,6 +22,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from . import paper
+from ._validate import is_int
 from .claims import claims_markdown
 from .errors import ConfigError, MissingExtraError
 from .executors import plan_execution
@@ -97,13 +98,13 @@ def reproduce(
         raise ConfigError(f"unknown experiment {name!r}; choose one of {', '.join(REPRODUCIBLE)}")
     experiment = paper.EXPERIMENTS[name]
     if iterations is not None:
-        if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 0:
+        if not is_int(iterations) or iterations < 0:
             raise ConfigError(f"iterations must be an integer >= 0, got {iterations!r}")
         experiment = experiment.with_changes(iterations=int(iterations))
     seed_list = experiment.seeds if seeds is None else parse_seeds(seeds)
     if team_sizes is not None:
         team_sizes = tuple(team_sizes)
-        if not team_sizes or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in team_sizes):
+        if not team_sizes or any(not is_int(n) or n < 1 for n in team_sizes):
             raise ConfigError(f"team sizes must be integers >= 1, got {team_sizes}")
     if starts is not None:
         starts = tuple(starts)

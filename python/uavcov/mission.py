@@ -41,6 +41,7 @@ from ._validate import (
     as_generator,
     as_points,
     as_positive_float,
+    is_int,
 )
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility
@@ -324,7 +325,7 @@ def iterations_to_fraction(values: np.ndarray, fraction: float = 0.95) -> int:
 
 
 def _seed_of(rng: Any) -> int | None:
-    return int(rng) if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool) else None
+    return int(rng) if is_int(rng) else None
 
 
 def _approximation(terrain: Terrain, spec: MissionSpec, known: Any, rng: np.random.Generator) -> tuple[Terrain, np.ndarray, str]:

@@ -38,9 +38,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
-
-from ._validate import MAX_RUNS, MAX_SEEDS, MAX_UAVS
+from ._validate import MAX_RUNS, MAX_SEEDS, MAX_UAVS, is_int
 from .errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from .executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution, stop_pool
 from .mission import PRIOR_KINDS, MissionResult, MissionSpec, nested_replace, run_mission
@@ -85,10 +83,6 @@ FLIGHT_KEYS: Mapping[str, str] = {
 _MISSION_SHORTCUTS = frozenset({"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"})
 
 
-def _is_int(value: Any) -> bool:
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
-
-
 # ---------------------------------------------------------------------------------------------
 # Experiments and runs
 
@@ -128,14 +122,14 @@ class Experiment:
         if not isinstance(self.mission, MissionSpec):
             raise InvalidTypeError(f"mission must be a MissionSpec, got {type(self.mission).__name__}")
         sizes = tuple(self.team_sizes)
-        if not sizes or not all(_is_int(n) and 1 <= n <= MAX_UAVS for n in sizes):
+        if not sizes or not all(is_int(n) and 1 <= n <= MAX_UAVS for n in sizes):
             raise InvalidInputError(f"team_sizes must be integers from 1 to {MAX_UAVS:,}, got {self.team_sizes}")
         starts = tuple(self.starts)
         unknown = [s for s in starts if s not in START_KINDS]
         if not starts or unknown:
             raise InvalidInputError(f"starts must be some of {START_KINDS}, got {self.starts}")
         seeds = tuple(self.seeds)
-        if not all(_is_int(s) and s >= 0 for s in seeds):
+        if not all(is_int(s) and s >= 0 for s in seeds):
             raise InvalidInputError(f"seeds must be integers >= 0, got {self.seeds}")
         for n in sizes:  # each team's mission within the size limits, checked before any run
             self.mission.with_changes(n_uavs=int(n))
@@ -283,9 +277,9 @@ class RunSpec:
     def __post_init__(self) -> None:
         if not isinstance(self.experiment, Experiment):
             raise InvalidTypeError(f"experiment must be an Experiment, got {type(self.experiment).__name__}")
-        if not _is_int(self.seed) or self.seed < 0:
+        if not is_int(self.seed) or self.seed < 0:
             raise InvalidInputError(f"seed must be an integer >= 0, got {self.seed!r}")
-        if not _is_int(self.n_uavs) or not 1 <= self.n_uavs <= MAX_UAVS:
+        if not is_int(self.n_uavs) or not 1 <= self.n_uavs <= MAX_UAVS:
             raise InvalidInputError(f"n_uavs must be an integer from 1 to {MAX_UAVS:,}, got {self.n_uavs!r}")
         if self.start not in self.experiment.starts:
             raise InvalidInputError(f"start must be one of {self.experiment.starts} for {self.experiment.name}, got {self.start!r}")
@@ -419,7 +413,7 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
     else:
         seeds = []
         for s in text:
-            if not _is_int(s):
+            if not is_int(s):
                 raise ConfigError(f"seeds must be integers, got {s!r}")
             if len(seeds) >= MAX_SEEDS:
                 raise ConfigError(f"more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
