@@ -222,9 +222,10 @@ def test_trace_shapes_bookkeeping_and_pickling():
     assert tr.best_value == tr.values.max() and tr.best_iteration == int(np.argmax(tr.values))
     np.testing.assert_array_equal(tr.best_positions, tr.trajectory[tr.best_iteration])
     np.testing.assert_array_equal(tr.final_positions, tr.trajectory[-1])
-    # iteration 0: one sample, a flat surrogate, all 200 candidates tie and all are checked;
-    # afterwards the first batch of 16 settles it (nothing is infeasible)
-    assert tr.n_checked[0] == 200 and np.all(tr.n_checked[1:] == 16)
+    # iterations 0 and 1 fit no sample and one (eq. 4's window ends at k - 1): a flat
+    # surrogate, all 200 candidates tie and all are checked; afterwards the first batch of 16
+    # settles it (nothing is infeasible)
+    assert np.all(tr.n_checked[:2] == 200) and np.all(tr.n_checked[2:] == 16)
     np.testing.assert_array_equal(tr.n_feasible, tr.n_checked)
     assert tr.settings.n_regressors == 1 + 6 + 10
     assert min(tr.time_measure_s, tr.time_feasibility_s, tr.time_optimizer_s) >= 0.0
@@ -619,3 +620,38 @@ def test_constraints_hold_at_every_iteration_on_real_scenes(optimizer):
         _independent_constraint_check(terrain, constraints, tr.trajectory)
         assert tr.best_value > tr.values[0]  # and it did improve the coverage
         assert np.any(tr.n_feasible < tr.n_checked)  # some candidates were refused along the way
+
+
+@pytest.mark.parametrize("optimizer", ["cao", "per_robot"])
+def test_each_fit_uses_the_window_of_eq_4(monkeypatch, optimizer):
+    """Iteration k fits exactly the measurements l_k ... k - 1, l_k = max(0, k - L - T_h)."""
+    import sys
+
+    module = sys.modules["uavcov.cao"]  # the package exports the function cao under that name
+    fits: list[np.ndarray] = []
+    real_ridge = module._ridge
+
+    def recording_ridge(phi, y, ridge):
+        fits.append(np.array(y, copy=True))
+        return real_ridge(phi, y, ridge)
+
+    monkeypatch.setattr(module, "_ridge", recording_ridge)
+    top = np.array([[3.0, -2.0, 1.0], [-1.0, 4.0, 2.0]])
+    settings = CAOSettings(history=3, n_candidates=30, robot_regressors=6, measurement_noise=0.1)
+    if optimizer == "cao":
+        trace = cao(lambda x: -float(np.sum((x - top) ** 2)), np.zeros((2, 3)), feasible=None, iterations=40, settings=settings, rng=5)
+        n_window = settings.regressors_for(2) + 3
+        seen = [trace.measured[max(0, k - n_window) : k] for k in range(40)]
+    else:
+
+        def measure(x):
+            return -float(np.sum((x - top) ** 2)), -np.sum((x - top) ** 2, axis=1)
+
+        trace = per_robot_cao(measure, np.zeros((2, 3)), feasible=None, iterations=40, settings=settings, rng=5)
+        n_window = 6 + 3
+        seen = [None] * 40  # the marginals are not in the trace: check the window lengths only
+    assert len(fits) == 40
+    for k, y in enumerate(fits):
+        assert y.shape[-1] == min(k, n_window), k
+        if seen[k] is not None:
+            np.testing.assert_array_equal(y, seen[k])  # noisy values, and never x_k's own

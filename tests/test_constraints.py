@@ -131,6 +131,8 @@ def reference_ok(c: Constraints, world: BoxWorld, current, config) -> bool:
         below = [s for s in surfaces if s <= z]
         if not below or z - max(below) < c.h_min:
             return False
+        if c.h_max is not None and z - max(below) > c.h_max:
+            return False
         for j in range(i + 1, n):
             if np.linalg.norm(np.asarray(config[i]) - np.asarray(config[j])) < c.d_safe:
                 return False
@@ -178,6 +180,10 @@ def test_defaults_and_bounds_forms():
         (dict(bounds=(0, 0, 10, 10), d_safe=math.nan), InvalidInputError),
         (dict(bounds=(0, 0, 10, 10), check_moves="yes"), InvalidTypeError),
         (dict(bounds=(0, 0, 10, 10), h_min=10.0, z_max=5.0), InfeasibleError),
+        (dict(bounds=(0, 0, 10, 10), h_min=3.0, h_max=2.0), InfeasibleError),
+        (dict(bounds=(0, 0, 10, 10), h_max=math.nan), InvalidInputError),
+        (dict(bounds=(0, 0, 10, 10), h_max=math.inf), InvalidInputError),
+        (dict(bounds=(0, 0, 10, 10), h_max="high"), InvalidTypeError),
     ],
 )
 def test_bad_settings_raise(kwargs, error):
@@ -206,6 +212,35 @@ def test_packing_bound():
         c.check_team(2.5, world)
 
 
+def test_the_ceiling_above_ground_bounds_clearance_and_thins_the_packing():
+    world = BoxWorld(10.0, boxes=[(0, 0, 5, 10, 6.0)])  # a 6 m block over the west half
+    c = Constraints((0, 0, 10, 10), h_min=1.0, z_max=40.0, h_max=3.0, d_safe=0.0)
+    # the ceiling follows the ground: 7 m is legal over the block (1 m up), not east of it
+    over_block, east = [2.5, 5.0, 7.0], [7.5, 5.0, 7.0]
+    np.testing.assert_array_equal(feasible_mask(c, world, [over_block], [[over_block], [east]]), [True, False])
+    assert feasible_mask(c, world, [east], [[[7.5, 5.0, 3.0]], [[7.5, 5.0, 3.0 + 1e-9]]]).tolist() == [True, False]
+    # the packing bound counts the 2 m band between h_min and h_max, not the 39 m up to z_max
+    packed = Constraints((0, 0, 10, 10), h_min=1.0, z_max=40.0, h_max=3.0, d_safe=3.0)
+    packed.check_team(59, world)  # (10 + 3)^2 (2 + 3) = 845 m^3 holds 59 balls of 14.14 m^3
+    with pytest.raises(InfeasibleError, match="cannot fit"):
+        packed.check_team(60, world)
+    Constraints((0, 0, 10, 10), h_min=1.0, z_max=40.0, d_safe=3.0).check_team(60, world)
+
+
+def test_closest_admissible_lowers_to_the_ceiling_and_caps_the_climb():
+    world = BoxWorld(10.0, boxes=[(0, 0, 5, 10, 6.0)])
+    c = Constraints((0, 0, 10, 10), h_min=1.0, z_max=40.0, h_max=3.0, d_safe=0.0)
+    start = np.array([[7.5, 5.0, 30.0], [2.5, 5.0, 2.0], [7.5, 2.0, 0.5]])
+    out = closest_admissible(c, world, start, climb=5.0)
+    assert feasible_mask(c, world, out, out[None])[0]
+    np.testing.assert_allclose(out[:, 2], [3.0, 9.0, 3.0], atol=1e-5)  # every one just under its ceiling
+    assert (out[:, 2] <= world.ground_height(out[:, :2]) + 3.0).all()
+    np.testing.assert_array_equal(out[:, :2], start[:, :2])
+    # a climb inside the band is kept; a UAV already between floor and ceiling stays put
+    mid = closest_admissible(c, world, [[7.5, 5.0, 0.5], [2.0, 2.0, 8.0]], climb=1.0)
+    np.testing.assert_allclose(mid, [[7.5, 5.0, 2.0], [2.0, 2.0, 8.0]])
+
+
 def test_packing_bound_is_only_necessary_and_closest_admissible_reports_the_rest():
     # 3 UAVs in a 2 m x 2 m x 0 m slab with d_safe = 2.5: passes the volume bound (3 balls of
     # 8.18 m^3 < 4.5^2 * 2.5 = 50.6 m^3) but only 2 fit in reality (the diagonal is 2.83 m).
@@ -221,10 +256,10 @@ def test_packing_bound_is_only_necessary_and_closest_admissible_reports_the_rest
 # ---------------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("check_moves", [False, True])
-def test_mask_matches_the_definition(town, check_moves):
+@pytest.mark.parametrize(("check_moves", "h_max"), [(False, None), (True, None), (False, 6.0), (True, 6.0)])
+def test_mask_matches_the_definition(town, check_moves, h_max):
     rng = np.random.default_rng(3)
-    c = Constraints((1, 1, 29, 29), h_min=2.0, z_max=20.0, d_safe=2.5, check_moves=check_moves)
+    c = Constraints((1, 1, 29, 29), h_min=2.0, z_max=20.0, d_safe=2.5, check_moves=check_moves, h_max=h_max)
     current = np.array([[3.0, 3.0, 4.0], [15.0, 8.0, 3.0], [21.0, 17.0, 17.0], [26.0, 26.0, 2.5]])
     assert reference_ok(c, town, current, current)
     # candidates around the current state at several scales: inside buildings, over roofs,

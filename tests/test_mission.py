@@ -34,15 +34,25 @@ def _constraints(result) -> Constraints:
 
 
 @pytest.mark.parametrize("start", ["cvt", "random", "corner"])
-def test_every_constraint_holds_at_every_iteration(hills, start):
-    result = run_mission(hills, _spec(8, start=start), rng=3, n_threads=1)
+@pytest.mark.parametrize("ceiling", [None, 6.0])
+def test_every_constraint_holds_at_every_iteration(hills, start, ceiling):
+    changes = {} if ceiling is None else {"constraints.h_max": ceiling, "constraints.check_moves": True}
+    result = run_mission(hills, _spec(8, start=start, **changes), rng=3, n_threads=1)
     assert result.trajectory.shape == (41, 8, 3)
-    assert result.spec.constraints.bounds == (0.0, 0.0, 100.0, 100.0) and result.spec.constraints.check_moves is False
+    assert result.spec.constraints.bounds == (0.0, 0.0, 100.0, 100.0)
+    assert result.spec.constraints.check_moves is (ceiling is not None)
     assert trajectory_feasible(_constraints(result), hills, result.trajectory).all()
     # Checked again from the definitions, independently of the constraints module.
     t = result.trajectory.reshape(-1, 3)
     assert (hills.clearance(t) >= result.spec.constraints.h_min - 1e-9).all()
     assert (t[:, 2] <= result.spec.constraints.z_max + 1e-9).all()
+    if ceiling is not None:
+        height = t[:, 2] - hills.ground_height(t[:, :2])
+        assert (height <= ceiling + 1e-9).all() and height.max() > ceiling - 1.0  # held, and reached
+        moves = result.trajectory[1:] != result.trajectory[:-1]
+        assert moves.any()
+        a, b = result.trajectory[:-1].reshape(-1, 3), result.trajectory[1:].reshape(-1, 3)
+        assert hills.segments_clear(a, b).all()  # every move, on the grid, crosses no ground
     lo, hi = hills.bounds
     assert ((t[:, :2] >= lo[:2] - 1e-9) & (t[:, :2] <= hi[:2] + 1e-9)).all()
     for x in result.trajectory:

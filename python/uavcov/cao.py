@@ -6,8 +6,8 @@ candidate configuration is admissible. Each iteration it
 
 1. measures the objective once, at the current configuration ``x_k`` (optionally with simulated
    Gaussian noise);
-2. fits a surrogate ``theta^T phi(u)`` by ridge-regularised least squares on the last
-   ``L + T_h`` measurements, where ``u = (x - x_k) / s_k`` are coordinates normalised around the
+2. fits a surrogate ``theta^T phi(u)`` by ridge-regularised least squares on the ``L + T_h``
+   measurements before this one (iterations ``l_k ... k - 1`` of the paper's eq. 4), where ``u = (x - x_k) / s_k`` are coordinates normalised around the
    current state and ``phi`` holds ``L`` regressors: a constant, every linear term, and random
    2nd- and 3rd-order monomials of ``u``;
 3. draws ``M`` candidates ``x_k + alpha_k zeta`` (``zeta`` zero-mean, unit-variance; candidate 0
@@ -104,7 +104,7 @@ class CAOSettings:
         random 2nd/3rd-order monomials. ``None`` means ``1 + 3N + max(10, N)``. Must be at least
         ``1 + 3N``.
     history : int, default 10
-        ``T_h``: the fit uses the last ``L + T_h`` measurements.
+        ``T_h``: iteration ``k`` fits the ``L + T_h`` measurements ``l_k ... k - 1`` (eq. 4).
     n_candidates : int, default 200
         ``M``: candidate configurations per iteration, the unperturbed state included.
     alpha0 : float, default 1.5
@@ -459,6 +459,8 @@ def _ridge(phi: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
     ``y`` is centred first so the solve only carries the variations (better conditioned).
     """
     n_samples = phi.shape[-2]
+    if n_samples == 0:  # nothing measured yet: a flat surrogate (every candidate ties)
+        return np.zeros(phi.shape[:-2] + phi.shape[-1:])
     mean = y.mean(axis=-1, keepdims=True)
     yc = y - mean
     gram = np.swapaxes(phi, -1, -2) @ phi
@@ -495,11 +497,23 @@ def _refresh_terms(terms: np.ndarray, strength: np.ndarray, keep_fraction: float
     return np.concatenate([kept, fresh], axis=0)
 
 
+def _window_start(k: int, n_window: int) -> int:
+    """``l_k = max(0, k - L - T_h)`` of the paper's eq. 4: iteration ``k`` fits ``l_k ... k - 1``.
+
+    The window holds the ``L + T_h`` measurements before ``x_k``'s own (``n_window = L + T_h``),
+    so the move from ``x_k`` is chosen on what was measured before reaching it; at ``k = 0`` it
+    is empty and the surrogate is flat.
+    """
+    return max(0, k - n_window)
+
+
 def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
     """Normalisation scale(s) ``max(alpha, rms distance per coordinate)`` over the window.
 
     ``window`` is ``(W, ..., d)`` and ``centre`` ``(..., d)``; one scale per leading estimator.
     """
+    if window.shape[0] == 0:
+        return np.broadcast_to(np.float64(alpha), centre.shape[:-1]).copy()
     spread = np.sqrt(np.mean((window - centre) ** 2, axis=(0, -1)))
     scale: np.ndarray = np.maximum(alpha, spread)
     return scale
@@ -776,12 +790,12 @@ def cao(
             break
 
         alpha = float(steps[k])
-        lo = max(0, k + 1 - n_window)
-        window = traj[lo : k + 1]
+        lo = _window_start(k, n_window)
+        window = traj[lo:k]
         scale = float(_scale(window, x, alpha))
         with _one_blas_thread():
             phi = _design((window - x) / scale, terms)
-            theta = _ridge(phi, measured[lo : k + 1], settings.ridge)
+            theta = _ridge(phi, measured[lo:k], settings.ridge)
             zeta = _draw_zeta(settings, (n_cand, dim), rng)
             zeta[0] = 0.0
             predicted = _design(zeta * (alpha / scale), terms) @ theta
@@ -791,7 +805,7 @@ def cao(
         )
         if choice is not None:
             x = candidates[choice].copy()
-        if n_terms:
+        if n_terms and k > lo:
             terms = _refresh_terms(terms, _strength(phi, theta, 1 + dim), settings.keep_fraction, dim, rng)
 
     t_total = time.perf_counter() - t_start
@@ -906,13 +920,13 @@ def per_robot_cao(
             break
 
         alpha = float(steps[k])
-        lo = max(0, k + 1 - n_window)
-        window = traj[lo : k + 1]  # (W, N, 3)
+        lo = _window_start(k, n_window)
+        window = traj[lo:k]  # (W, N, 3)
         scale = _scale(window, x, alpha)  # (N,)
         u = np.swapaxes(window - x, 0, 1) / scale[:, None, None]  # (N, W, 3)
         with _one_blas_thread():
             phi = _robot_design(u, terms)  # (N, W, L)
-            theta = _ridge(phi, marg[lo : k + 1].T, settings.ridge)  # (N, L)
+            theta = _ridge(phi, marg[lo:k].T, settings.ridge)  # (N, L)
             zeta = _draw_zeta(settings, (n_cand, n_uavs, 3), rng)
             zeta[0] = 0.0
             uc = np.swapaxes(zeta, 0, 1) * (alpha / scale)[:, None, None]  # (N, M, 3)
@@ -934,7 +948,7 @@ def per_robot_cao(
         choice, n_checked[k], n_feasible[k] = _first_feasible(team_cand, x, check, settings.check_batch)
         if choice is not None:
             x = team_cand[choice].copy()
-        if n_terms:
+        if n_terms and k > lo:
             terms = _refresh_robot_terms(terms, _strength(phi, theta, 4), settings.keep_fraction, rng)
 
     t_total = time.perf_counter() - t_start

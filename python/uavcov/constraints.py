@@ -5,6 +5,9 @@ A configuration ``x`` of shape ``(N, 3)`` is admissible when every UAV
 * lies inside the region's x-y bounds (closed),
 * has at least ``h_min`` of clearance straight down to the real surface (and a surface below it
   at all: a UAV under a heightfield or over a nodata hole has none, and is refused),
+* has at most ``h_max`` of that clearance, when ``h_max`` is set: the paper's maximum height of
+  flight, measured, like the minimum, above the ground the UAV is over (the height its
+  altimeter reads, and the one flight rules cap),
 * flies at most at the absolute altitude ``z_max``,
 * stays at least ``d_safe`` away from every other UAV,
 
@@ -96,6 +99,13 @@ class Constraints:
     z_max : float, default 50.0
         Highest absolute altitude, metres, in the surface's frame. ``h_min > z_max`` is refused:
         uavcov surfaces stand on z >= 0, so it would leave no room anywhere.
+    h_max : float or None, default None
+        Most clearance straight down to the real surface, metres: the maximum height of flight
+        above the ground below the UAV (``None``: no such ceiling, only ``z_max``). Must be at
+        least ``h_min``. Above ground rather than absolute because eq. 2's constraints "depend
+        on the surface" (the paper, section III), because it is what a UAV's altimeter senses
+        and what flight rules cap, and because an absolute ceiling over hills binds over the
+        peaks only and leaves the valleys free.
     d_safe : float, default 2.0
         Least distance between two UAVs, metres (>= 0).
     check_moves : bool or None, default False
@@ -111,7 +121,7 @@ class Constraints:
     InvalidInputError
         Non-finite or out-of-range values.
     InfeasibleError
-        ``h_min > z_max``.
+        ``h_min > z_max`` or ``h_min > h_max``.
     """
 
     bounds: tuple[float, float, float, float] | None = None
@@ -119,6 +129,7 @@ class Constraints:
     z_max: float = 50.0
     d_safe: float = 2.0
     check_moves: bool | None = False
+    h_max: float | None = None
 
     def __post_init__(self) -> None:
         if self.bounds is not None:
@@ -132,6 +143,10 @@ class Constraints:
             object.__setattr__(self, "check_moves", bool(self.check_moves))
         if self.h_min > self.z_max:
             raise InfeasibleError(f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m")
+        if self.h_max is not None:
+            object.__setattr__(self, "h_max", as_finite_float(self.h_max, "h_max"))
+            if self.h_min > self.h_max:  # type: ignore[operator]
+                raise InfeasibleError(f"h_min = {self.h_min} m above the surface is more than h_max = {self.h_max} m")
 
     @classmethod
     def for_world(cls, world: World, **kwargs: Any) -> Constraints:
@@ -179,12 +194,15 @@ class Constraints:
             return
         r = self.d_safe / 2.0
         xmin, ymin, xmax, ymax = resolved.flight_box
-        diagonal = math.hypot(xmax - xmin, ymax - ymin, self.z_max - floor)
+        # over any x-y point the admissible altitudes span at most z_max - floor, and at most
+        # h_max - h_min when the ceiling above ground is set
+        height = self.z_max - floor if self.h_max is None else min(self.z_max - floor, self.h_max - self.h_min)
+        diagonal = math.hypot(xmax - xmin, ymax - ymin, height)
         if self.d_safe > diagonal:
             raise InfeasibleError(
                 f"d_safe = {self.d_safe} m exceeds the flight box's diagonal ({diagonal:.4g} m): no two UAVs can be that far apart"
             )
-        box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (self.z_max - floor + 2 * r)
+        box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (height + 2 * r)
         need = n_uavs * 4.0 / 3.0 * math.pi * r * r * r  # inf, not OverflowError, for a huge d_safe
         if need > box:
             raise InfeasibleError(
@@ -255,7 +273,10 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     if idx.size:
         clear = np.asarray(world.clearance(np.ascontiguousarray(cand[idx].reshape(-1, 3))), dtype=np.float64)
         clear = clear.reshape(idx.size, n_uavs)
-        ok[idx] = (np.isfinite(clear) & (clear >= constraints.h_min)).all(axis=1)
+        good = np.isfinite(clear) & (clear >= constraints.h_min)
+        if constraints.h_max is not None:
+            good &= clear <= constraints.h_max
+        ok[idx] = good.all(axis=1)
     if constraints.check_moves:
         idx = np.flatnonzero(ok)
         if idx.size:
@@ -309,7 +330,7 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
 
     Each sweep projects every UAV onto its own constraints exactly (clamp into the x-y bounds;
     lift to ``ground + h_min`` when under the terrain, inside a building or too low; lower to
-    ``z_max``), then pushes every pair closer than ``d_safe`` apart symmetrically along the line
+    ``ground + h_max`` and to ``z_max``), then pushes every pair closer than ``d_safe`` apart symmetrically along the line
     joining them (a fixed horizontal direction when they coincide). Sweeps repeat until nothing
     moves. A UAV already admissible and far from the others is left exactly where it is.
 
@@ -361,8 +382,14 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
         floor = ground + constraints.h_min
         # Lifted with a margin, and judged with it: a UAV exactly at ground + h_min can measure a
         # clearance a rounding below h_min and be refused by feasible_mask.
-        low = pos[:, 2] < floor + _MARGIN
-        pos[low, 2] = floor[low] + max(climb, _MARGIN)
+        inset = _MARGIN if constraints.h_max is None else min(_MARGIN, 0.5 * (constraints.h_max - constraints.h_min))
+        low = pos[:, 2] < floor + inset
+        pos[low, 2] = floor[low] + max(climb, inset)
+        if constraints.h_max is not None:
+            # too high above the ground, or lifted by a climb through the ceiling: just under it
+            ceiling = ground + constraints.h_max - inset
+            high = pos[:, 2] > ceiling
+            pos[high, 2] = ceiling[high]
         if (pos[:, 2] > constraints.z_max).any():
             if (floor > constraints.z_max).any():
                 bad = int(np.flatnonzero(floor > constraints.z_max)[0])
