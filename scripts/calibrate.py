@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from uavcov import paper
+from uavcov.claims import PUBLISHED_GAIN
 from uavcov.sweep import Experiment, RunSpec
 
 
@@ -66,6 +67,10 @@ def run_one(experiment: Experiment, seed: int, n: int, start: str, iterations: i
         return {"seed": seed, "n": n, "start": start, "error": f"{type(exc).__name__}: {exc}"}
     x0 = r.initial_positions
     clearance = x0[:, 2] - r.terrain.ground_height(x0[:, :2])
+    curve = np.asarray(r.coverage)
+    # the convergence rule of claims.convergence: from iteration 400 on within 0.01 of the best
+    tail = curve[400:] if curve.size > 400 else curve[-1:]
+    gap = float(curve.max() - tail.min())
     return {
         "seed": seed,
         "n": n,
@@ -74,6 +79,8 @@ def run_one(experiment: Experiment, seed: int, n: int, start: str, iterations: i
         "max": r.best_coverage,
         "final": r.final_coverage,
         "best_iteration": r.best_iteration,
+        "iterations_to_95": r.iterations_to_95,
+        "tail_gap": gap,
         "start_clearance": float(np.mean(clearance)),
         "wall_time_s": time.perf_counter() - t0,
         "measure_s": r.time_measure_s,
@@ -102,7 +109,35 @@ def summarise(rows: list[dict[str, Any]], iterations: int, name: str = "table1")
         d = f"{mean - pub.mean:+.3f}" if pub else "-"
         ratio = f"{sd / pub.sigma:.2f}" if pub else "-"
         lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {mean:.3f} ({sd:.3f}) | {p} | {d} | {ratio} | {values.size} |")
+    if iterations > 0:
+        lines += ["", _claims(rows)]
     return "\n".join(lines)
+
+
+def _claims(rows: list[dict[str, Any]]) -> str:
+    """The paired CVT-over-random gain per N, the convergence share and iterations to 95 %."""
+    best = {(r["n"], r["start"], r["seed"]): r["max"] for r in rows}
+    out = []
+    for n in sorted({r["n"] for r in rows}):
+        seeds = sorted(s for (m, start, s) in best if m == n and start == "cvt" and (n, "random", s) in best)
+        if seeds:
+            cvt = np.array([best[(n, "cvt", s)] for s in seeds])
+            rnd = np.array([best[(n, "random", s)] for s in seeds])
+            diff = cvt - rnd
+            half = 1.96 * diff.std(ddof=1) / np.sqrt(diff.size) if diff.size > 1 else float("nan")
+            pub = PUBLISHED_GAIN.get(n)
+            paper_gain = f"{100 * pub:+.1f} %" if pub is not None else "-"
+            out.append(
+                f"gain N={n}: {100 * (cvt.mean() / rnd.mean() - 1):+.1f} % (paper {paper_gain}); "
+                f"paired diff {diff.mean():+.3f} +- {half:.3f} over {diff.size}"
+            )
+    gaps = np.array([r["tail_gap"] for r in rows])
+    out.append(f"converged (within 0.01 of the best from 400 on): {np.mean(gaps <= 0.01 + 1e-12):.1%} of {gaps.size}; median gap {np.median(gaps):.4f}")
+    speed: dict[tuple[int, str], list[int]] = defaultdict(list)
+    for r in rows:
+        speed[(r["n"], r["start"])].append(r["iterations_to_95"])
+    out.append("iterations to 95 %: " + ", ".join(f"{n}{start[:2]} {np.mean(v):.0f}" for (n, start), v in sorted(speed.items())))
+    return "\n".join(out)
 
 
 def _score(rows: list[dict[str, Any]], column: str) -> tuple[float, dict[tuple[int, str], float]]:
@@ -146,6 +181,62 @@ SEARCH_SPACES: dict[str, dict[str, Any]] = {
     },
 }
 """The random searches of the initial columns (``--search K --space NAME``): what is drawn, from where."""
+
+MAX_SPACES: dict[str, dict[str, Any]] = {
+    # the open constants of the on-line step, with the paper's model (no noise, one altitude
+    # rule for every start, moves checked): the ceiling above ground and CAO's step and candidates
+    "cao": {
+        "constraints.h_max": lambda g: round(float(g.uniform(4.0, 9.0)), 1),
+        "cao.alpha0": lambda g: round(float(g.uniform(3.0, 12.0)), 1),
+        "cao.stability": lambda g: round(float(g.choice([0.0, 2.0, 5.0, 10.0])), 1),
+        "cao.decay": lambda g: round(float(g.uniform(0.8, 1.0)), 3),
+        "cao.n_candidates": lambda g: int(g.choice([100, 200, 400])),
+    },
+}
+"""The random searches of the max columns (``--search K --space NAME --iterations 500``)."""
+
+
+def score_max(rows: list[dict[str, Any]]) -> tuple[float, str]:
+    """One number for a setting of the on-line step: lower is closer to every claim of the paper.
+
+    The root-mean-square distance of the max cells to Table 1, plus the mean distance of the
+    paired CVT-over-random gains to the paper's, plus the convergence shortfall below 95 %.
+    """
+    rms, means = _score(rows, "max")
+    gains = []
+    for n, published in PUBLISHED_GAIN.items():
+        if (n, "cvt") in means and (n, "random") in means:
+            gains.append(abs(means[(n, "cvt")] / means[(n, "random")] - 1.0 - published))
+    gaps = np.array([r["tail_gap"] for r in rows if not r["error"]])
+    converged = float(np.mean(gaps <= 0.01 + 1e-12))
+    score = rms + float(np.mean(gains)) + max(0.0, 0.95 - converged)
+    cells = " ".join(f"{n}{s[:2]}={m:.3f}" for (n, s), m in sorted(means.items()))
+    return score, f"rms {rms:.4f} gain-miss {np.mean(gains):.4f} converged {converged:.0%} {cells}"
+
+
+def search_max(
+    count: int, seeds: list[int], sizes: list[int], starts: list[str], workers: int, csv_path: str | None, search_seed: int, space: str
+) -> None:
+    """Random search of the on-line step's constants against the max columns, gains and convergence."""
+    generator = np.random.default_rng(search_seed)
+    base = paper.TABLE1
+    context = multiprocessing.get_context("spawn")
+    results = []
+    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        for index in range(count):
+            changes = {key: draw(generator) for key, draw in MAX_SPACES[space].items()}
+            experiment = base.with_changes(**changes)
+            futures = [pool.submit(run_one, experiment, seed, n, start, experiment.iterations) for n in sizes for start in starts for seed in seeds]
+            rows = [f.result() for f in futures]
+            score, text = score_max([r for r in rows if not r["error"]])
+            results.append((score, changes))
+            print(f"[{index}] score {score:.4f} {changes} {text}", flush=True)
+            if csv_path:
+                with open(csv_path, "a") as handle:
+                    handle.write(f"{score:.5f};{changes!r};{text}\n")
+    print("best:")
+    for score, changes in sorted(results, key=lambda r: r[0])[:8]:
+        print(f"  score {score:.4f} {changes}")
 
 
 def search_initial(
@@ -198,7 +289,7 @@ def main(argv: list[str] | None = None) -> int:
         "--search", type=int, default=0, metavar="K", help="random search of K terrain/altitude settings against the initial columns"
     )
     parser.add_argument("--search-seed", type=int, default=0)
-    parser.add_argument("--space", default="ground", choices=sorted(SEARCH_SPACES), help="the search space of --search")
+    parser.add_argument("--space", default="ground", choices=sorted(SEARCH_SPACES | MAX_SPACES), help="the search space of --search")
     args = parser.parse_args(argv)
 
     experiment = paper.EXPERIMENTS[args.experiment]
@@ -214,6 +305,9 @@ def main(argv: list[str] | None = None) -> int:
     sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(experiment.team_sizes)
     starts = args.starts.split(",") if args.starts else list(experiment.starts)
     iterations = experiment.iterations if args.iterations is None else args.iterations
+    if args.search and args.space in MAX_SPACES:
+        search_max(args.search, seeds, sizes, starts, args.workers, args.csv, args.search_seed, args.space)
+        return 0
     if args.search:
         search_initial(args.search, seeds, sizes, args.workers, args.csv, args.search_seed, args.space)
         return 0

@@ -21,7 +21,7 @@ def quick(tmp_path_factory):
 
 def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick):
     out, results = quick
-    assert set(results) == set(paper.EXPERIMENTS)
+    assert set(results) == {*paper.EXPERIMENTS, "ablation"}
     for name, experiment in paper.EXPERIMENTS.items():
         rows = read_runs(out / name / "runs.csv")
         assert len(rows) == len(experiment.team_sizes) * len(experiment.starts) == len(results[name])
@@ -35,12 +35,39 @@ def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick
         "## Illustrative example",
         "## Single-scenario comparison",
         "## Buildings scene",
+        "## Ablations",
     ):
         assert heading in report
     assert "with seeds [0] and 2 CAO iterations" in report
     # each experiment's own table is in the report, one heading level down
     table1 = (out / "table1" / "table1.md").read_text(encoding="utf-8")
     assert table1.splitlines()[2] in report
+
+
+def test_the_ablation_runs_each_change_beside_the_papers_model(quick):
+    from uavcov.records import load_mission
+    from uavcov.results import ResultsFolder
+
+    out, results = quick
+    rows = results["ablation"]
+    labels = ["ablation", *(f"ablation-{a.name}" for a in paper.ABLATIONS)]
+    assert sorted({r["experiment"] for r in rows}) == sorted(labels)
+    per_variant = len(paper.ABLATION_BASE.team_sizes) * len(paper.ABLATION_BASE.starts)
+    assert len(rows) == per_variant * len(labels) and not any(r["error"] for r in rows)
+    # one settings hash per variant: each runs its own change, and the base is Table 1's model
+    hashes = {r["experiment"]: r["settings_hash"] for r in rows}
+    assert len(set(hashes.values())) == len(labels)
+    folder = ResultsFolder(out / "ablation")
+    by_label = {r["experiment"]: r for r in rows if r["init"] == "corner" and r["n_uavs"] == 12}
+    base = load_mission(folder.run_file(by_label["ablation"]["run_id"]))
+    assert base.spec.constraints == paper.TABLE1.spec(12, "corner").constraints.resolve(base.terrain)
+    assert load_mission(folder.run_file(by_label["ablation-no-ceiling"]["run_id"])).spec.constraints.h_max is None
+    assert load_mission(folder.run_file(by_label["ablation-noise"]["run_id"])).spec.cao.measurement_noise == 0.015
+    assert load_mission(folder.run_file(by_label["ablation-corner-launch"]["run_id"])).spec.start.corner_altitude == 8.0
+    table = (out / "ablation" / "ablation.md").read_text(encoding="utf-8")
+    assert table.count("\n| ") == len(labels) + 1  # the header and one line per variant
+    for change in paper.ABLATIONS:
+        assert change.what in table
 
 
 def test_the_settings_hash_follows_every_setting_of_the_paper():

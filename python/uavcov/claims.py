@@ -40,6 +40,7 @@ __all__ = [
     "speed",
     "convergence",
     "claims_markdown",
+    "ablation_markdown",
 ]
 
 PUBLISHED_GAIN: Mapping[int, float] = {
@@ -270,4 +271,38 @@ def claims_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder | N
         ]
         if c.worst:
             lines.append("Furthest out: " + ", ".join(f"`{run}` ({gap:.3f})" for run, gap in c.worst) + ".")
+    return "\n".join(lines) + "\n"
+
+
+def ablation_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder, variants: Sequence[tuple[str, str]]) -> str:
+    """The claims measured for the paper's model and each change to it, one line each (Markdown).
+
+    ``variants`` is ``(experiment label, description)`` in the order to show, the paper's model
+    first; ``rows`` holds the runs of all of them, told apart by their ``experiment`` column.
+    """
+    rows = list(rows)
+    sizes = sorted({int(r["n_uavs"]) for r in finished_rows(rows)})
+    head = ["change"]
+    for n in sizes:
+        head += [f"N = {n}: CVT / random / corner max", f"gain N = {n} (paper {_pct(PUBLISHED_GAIN[n]) if n in PUBLISHED_GAIN else '-'})"]
+    head += ["converged", "CVT highest, smallest sigma"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for label, what in variants:
+        mine = [r for r in rows if r.get("experiment") == label]
+        if not finished_rows(mine):
+            lines.append(f"| {what} | " + " | ".join(["no finished run"] * (len(head) - 1)) + " |")
+            continue
+        gains = {g.n_uavs: g for g in headline(mine)}
+        rows_by_n = {row.n_uavs: row for row in robustness(mine)}
+        cells = [what]
+        for n in sizes:
+            row = rows_by_n.get(n)
+            means = "-" if row is None else " / ".join(f"{row.mean[k]:.3f}" if k in row.mean else "-" for k in ("cvt", "random", "corner"))
+            g = gains.get(n)
+            cells += [means, "-" if g is None else _pct(g.gain)]
+        c = convergence(folder, mine)
+        cells.append(f"{100.0 * c.share:.0f} % of {c.runs}" if c.runs else "-")
+        ok = [row.cvt_highest_mean and row.cvt_smallest_sigma for row in rows_by_n.values()]
+        cells.append(f"{sum(ok)} of {len(ok)} N")
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"

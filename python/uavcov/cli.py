@@ -5,7 +5,7 @@ Commands
 ``uavcov demo``
     The paper's illustrative example end to end (9 UAVs, d_max = 35 m, 30 prior samples, CVT
     start, then CAO): prints a summary, writes runs.csv, the run and its figures to ``--out``.
-``uavcov reproduce table1|pyramid|example|comparison|buildings``
+``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|all``
     One of the paper's experiments; writes runs.csv, the runs, config.json and ``<name>.md``.
 ``uavcov sweep CONFIG.toml``
     Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
@@ -178,6 +178,8 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     if args.experiment == "all":
         return _reproduce_all(args)
+    if args.experiment == "ablation":
+        return _reproduce_ablation(args)
     out = Path(args.out or f"out/{args.experiment}")
     started = time.perf_counter()
     with _execution(args) as options:
@@ -202,6 +204,21 @@ def _reproduce(args: argparse.Namespace) -> int:
         if figures:
             _say(f"{len(figures)} figure(s) in {Path(figures[0]).parent}/ (`uavcov plot {out}` adds an animation)")
     return code
+
+
+def _reproduce_ablation(args: argparse.Namespace) -> int:
+    from .errors import ConfigError
+    from .jobs import ablate
+
+    if args.team_sizes is not None or args.starts is not None:
+        raise ConfigError("--team-sizes and --starts choose within one experiment, not with ablation")
+    out = Path(args.out or "out/ablation")
+    started = time.perf_counter()
+    with _execution(args) as options:
+        execution = options.pop("execution")
+        rows = ablate(out, seeds=args.seeds, iterations=args.iterations, execution=execution, **options)
+    print((out / "ablation.md").read_text(encoding="utf-8"))
+    return _finish(rows, out, started, ["runs.csv", "config.json", "ablation.md"] + ([] if args.no_save_runs else ["runs/"]))
 
 
 def _reproduce_all(args: argparse.Namespace) -> int:
@@ -354,7 +371,7 @@ def _parser() -> argparse.ArgumentParser:
     demo.set_defaults(run=_demo)
 
     reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
-    reproduce.add_argument("experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "all"))
+    reproduce.add_argument("experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "all"))
     reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
     reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")

@@ -23,7 +23,7 @@ from typing import Any
 
 from . import paper
 from ._validate import is_int
-from .claims import claims_markdown
+from .claims import ablation_markdown, claims_markdown
 from .errors import ConfigError, MissingExtraError
 from .executors import plan_execution
 from .reports import REPORTS, coverage_curves_csv, sweep_markdown
@@ -31,7 +31,7 @@ from .results import ResultsFolder
 from .sweep import experiment_specs, experiments_hash, parse_seeds, run_specs
 from .sweep_config import SweepConfig
 
-__all__ = ["reproduce", "reproduce_all", "run_sweep", "REPRODUCIBLE", "REPORT_SEEDS"]
+__all__ = ["reproduce", "reproduce_all", "ablate", "run_sweep", "REPRODUCIBLE", "REPORT_SEEDS"]
 
 REPORT_SEEDS: Mapping[str, tuple[int, ...]] = {"comparison": paper.HELD_OUT_SEEDS, "buildings": tuple(range(20))}
 """Seeds :func:`reproduce_all` runs where the paper shows one scenario: its claims are checked
@@ -137,6 +137,57 @@ def reproduce(
     return rows
 
 
+def ablate(
+    out: str | os.PathLike[str],
+    *,
+    seeds: Iterable[int] | str | None = None,
+    iterations: int | None = None,
+    command: str | None = None,
+    **run_options: Any,
+) -> list[dict[str, Any]]:
+    """The paper's model and each of :data:`uavcov.paper.ABLATIONS` into ``out``, then ``ablation.md``.
+
+    Every variant runs :data:`uavcov.paper.ABLATION_BASE` (N = 5 and 12, the three starts,
+    scenarios 0-9 by default) with one change; ``ablation.md`` sets the claims measured on each
+    (max coverage per start, the CVT-over-random gain, the convergence share, the robustness)
+    beside the paper's model, so that what drives a claim shows as the line that moves it.
+
+    Parameters
+    ----------
+    out : path
+    seeds, iterations
+        As in :func:`reproduce`.
+    command : str, optional
+        What ``config.json`` records (``"reproduce ablation"`` by default).
+    **run_options
+        As in :func:`reproduce` (``workers``, ``n_threads``, ``resume``, ...).
+
+    Returns
+    -------
+    list of dict
+        The rows of every variant (their ``experiment`` column names the variant).
+    """
+    base = paper.ABLATION_BASE
+    if iterations is not None:
+        if not is_int(iterations) or iterations < 0:
+            raise ConfigError(f"iterations must be an integer >= 0, got {iterations!r}")
+        base = base.with_changes(iterations=int(iterations))
+    seed_list = base.seeds if seeds is None else parse_seeds(seeds)
+    variants = [("ablation", "the paper's model (uavcov.paper)")]
+    specs = experiment_specs(base, seeds=seed_list, label="ablation")
+    for change in paper.ABLATIONS:
+        label = f"ablation-{change.name}"
+        variants.append((label, change.what))
+        specs += experiment_specs(base.with_changes(**change.changes), seeds=seed_list, label=label)
+    folder = ResultsFolder(out)
+    with folder.lock():
+        folder.claim(["ablation.md"])
+        rows = run_specs(specs, out=folder, command=command or "reproduce ablation", **run_options)
+        table = ablation_markdown(rows, folder, variants)
+        folder.write_text("ablation.md", "# Ablations: one change to the paper's model at a time\n\n" + table)
+    return rows
+
+
 def reproduce_all(
     out: str | os.PathLike[str],
     *,
@@ -190,6 +241,8 @@ def reproduce_all(
             parts.append(_demote(claims_markdown(results[name], ResultsFolder(folder.path / name))).rstrip() + "\n")
         parts += [f"![{name}: {path} (settings {tag})]({name}/figures/{path})" for path in drawn[name]]
         parts.append("")
+    results["ablation"] = ablate(folder.path / "ablation", seeds=seeds, iterations=iterations, **run_options)
+    parts.append(_demote((folder.path / "ablation" / "ablation.md").read_text(encoding="utf-8")).rstrip() + "\n")
     if figures and not any(drawn.values()):
         parts.append("No figures: drawing them needs matplotlib (`pip install 'uavcov[plot]'`).\n")
     folder.write_text("report.md", "\n".join(parts))
