@@ -242,7 +242,7 @@ def _static_ok(constraints: Constraints, cand: np.ndarray) -> np.ndarray:
     return ok
 
 
-def feasible_mask(constraints: Constraints, world: World, current: Any, candidates: Any) -> np.ndarray:
+def feasible_mask(constraints: Constraints, world: World, current: Any, candidates: Any, *, n_threads: int | None = None) -> np.ndarray:
     """Which candidate configurations are admissible.
 
     Parameters
@@ -255,6 +255,10 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
         Positions now, metres (the start of each move).
     candidates : (M, N, 3) array_like
         Candidate configurations, metres.
+    n_threads : int, optional
+        Passed to the world's queries (``Terrain.clearance(..., n_threads=)``); ``None`` leaves
+        them their default. A sweep worker gives its own count, so that a few hundred small
+        queries per mission do not each wake a pool of every core.
 
     Returns
     -------
@@ -267,11 +271,12 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     cur = as_points(current, "current")
     cand = _as_candidates(candidates, cur.shape[0])
     n_uavs = cur.shape[0]
+    threads: dict[str, Any] = {} if n_threads is None else {"n_threads": n_threads}
     # cheap checks first, so the surface is only queried for candidates still in the running
     ok = _static_ok(constraints, cand)
     idx = np.flatnonzero(ok)
     if idx.size:
-        clear = np.asarray(world.clearance(np.ascontiguousarray(cand[idx].reshape(-1, 3))), dtype=np.float64)
+        clear = np.asarray(world.clearance(np.ascontiguousarray(cand[idx].reshape(-1, 3)), **threads), dtype=np.float64)
         clear = clear.reshape(idx.size, n_uavs)
         good = np.isfinite(clear) & (clear >= constraints.h_min)
         if constraints.h_max is not None:
@@ -284,22 +289,24 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
             moved = (ends != cur[None]).any(axis=2)  # a UAV that stays has nothing to cross
             if moved.any():
                 starts = np.broadcast_to(cur[None], ends.shape)[moved]
-                clear_moves = np.asarray(world.segments_clear(np.ascontiguousarray(starts), np.ascontiguousarray(ends[moved])), dtype=bool)
+                clear_moves = np.asarray(
+                    world.segments_clear(np.ascontiguousarray(starts), np.ascontiguousarray(ends[moved]), **threads), dtype=bool
+                )
                 per_uav = np.ones(moved.shape, dtype=bool)
                 per_uav[moved] = clear_moves
                 ok[idx] = per_uav.all(axis=1)
     return ok
 
 
-def feasibility(constraints: Constraints, world: World) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world``."""
+def feasibility(constraints: Constraints, world: World, *, n_threads: int | None = None) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world`` (and ``n_threads``)."""
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world)
     constraints = constraints.resolve(world)
 
     def feasible(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
-        return feasible_mask(constraints, world, current, candidates)
+        return feasible_mask(constraints, world, current, candidates, n_threads=n_threads)
 
     return feasible
 

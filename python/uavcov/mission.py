@@ -433,7 +433,7 @@ def run_mission(
         )
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
 
-    feasible = feasibility(constraints, terrain)
+    feasible = feasibility(constraints, terrain, n_threads=n_threads)
     if spec.optimizer == "cao":
         trace = cao(vis.coverage, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
     else:
