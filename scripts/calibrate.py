@@ -132,7 +132,8 @@ def _claims(rows: list[dict[str, Any]]) -> str:
                 f"paired diff {diff.mean():+.3f} +- {half:.3f} over {diff.size}"
             )
     gaps = np.array([r["tail_gap"] for r in rows])
-    out.append(f"converged (within 0.01 of the best from 400 on): {np.mean(gaps <= 0.01 + 1e-12):.1%} of {gaps.size}; median gap {np.median(gaps):.4f}")
+    share = float(np.mean(gaps <= 0.01 + 1e-12))
+    out.append(f"converged (within 0.01 of the best from 400 on): {share:.1%} of {gaps.size}; median gap {np.median(gaps):.4f}")
     speed: dict[tuple[int, str], list[int]] = defaultdict(list)
     for r in rows:
         speed[(r["n"], r["start"])].append(r["iterations_to_95"])
@@ -226,7 +227,8 @@ def search_max(
         for index in range(count):
             changes = {key: draw(generator) for key, draw in MAX_SPACES[space].items()}
             experiment = base.with_changes(**changes)
-            futures = [pool.submit(run_one, experiment, seed, n, start, experiment.iterations) for n in sizes for start in starts for seed in seeds]
+            cells = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
+            futures = [pool.submit(run_one, experiment, seed, n, start, experiment.iterations) for seed, n, start in cells]
             rows = [f.result() for f in futures]
             score, text = score_max([r for r in rows if not r["error"]])
             results.append((score, changes))

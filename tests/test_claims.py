@@ -70,3 +70,65 @@ def test_convergence_reads_the_stored_curves(tmp_path):
     assert strict.converged == expected and strict.runs == 2
     assert claims.convergence(folder, rows, from_iteration=7).runs == 0  # 7 measurements: too short to judge
     assert "Convergence" in claims.claims_markdown(rows, folder)
+
+
+def _paper_like_results() -> dict[str, list[dict]]:
+    """Rows whose means are the paper's numbers and whose sigmas are its sigmas (40 scenarios)."""
+    signs = np.tile([1.0, -1.0], 20)
+    steps = {"cvt": 50, "random": 100, "corner": 200, "pairs": 120}
+    table1 = []
+    for n in (5, 8, 12, 20):
+        for start in ("cvt", "random", "corner"):
+            best = paper.PUBLISHED_TABLE1[(n, start, "max")]
+            first = paper.PUBLISHED_TABLE1.get((n, start, "initial"), paper.PublishedValue(0.1, 0.02))
+            for seed, sign in enumerate(signs):
+                table1.append(
+                    {
+                        "run_id": f"t-{start}-{n}-{seed}",
+                        "n_uavs": n,
+                        "init": start,
+                        "seed": seed,
+                        "initial_coverage": first.mean + sign * first.sigma,
+                        "max_coverage": best.mean + sign * best.sigma,
+                        "final_coverage": best.mean + sign * best.sigma,
+                        "iterations_to_95": steps[start],
+                        "error": "",
+                    }
+                )
+
+    def simple(start: str, seed: int, **values: float) -> dict:
+        return {"init": start, "n_uavs": 10, "seed": seed, "iterations_to_95": steps[start], "error": "", "max_coverage": 0.9, **values}
+
+    pyramid = [simple("cvt", s, initial_coverage=0.78, max_coverage=0.91) for s in range(3)]
+    comparison = [simple(k, s, max_coverage=v) for k, v in paper.PUBLISHED_FIG6_MAX.items() for s in range(3)]
+    example = [simple("cvt", 0, final_coverage=0.97)]
+    buildings = [simple(k, s, initial_coverage=v) for k, v in (("cvt", 0.5), ("pairs", 0.3)) for s in range(3)]
+    return {"table1": table1, "pyramid": pyramid, "comparison": comparison, "example": example, "buildings": buildings}
+
+
+def test_every_verdict_holds_on_the_papers_own_numbers_and_each_fails_when_its_number_moves():
+    results = _paper_like_results()
+    found = claims.verdicts(results)
+    assert len(found) == 1 + 4 + 1 + 1 + 1 + 1 + 1 + 2
+    assert all(v.holds for v in found), [v for v in found if not v.holds]
+    assert "12 of 12 hold" in claims.verdicts_markdown(results)
+
+    # random's max at N = 8 up by 0.06: that cell fails, the N = 8 gain (12 %) collapses to 4 %
+    moved = {k: [dict(r) for r in v] for k, v in results.items()}
+    for r in moved["table1"]:
+        if r["n_uavs"] == 8 and r["init"] == "random":
+            r["max_coverage"] += 0.06
+    failed = {v.claim for v in claims.verdicts(moved) if not v.holds}
+    assert failed == {"Table 1: each mean within 0.05, each sigma within 2x", "CVT over random, N = 8 (within 2 points)"}
+    # the buildings pairs start as high as the CVT start, and faster
+    for r in moved["buildings"]:
+        if r["init"] == "pairs":
+            r["initial_coverage"], r["iterations_to_95"] = 0.6, 10
+    failed = {v.claim for v in claims.verdicts(moved) if not v.holds}
+    assert {c for c in failed if c.startswith("Fig. 8")} == {
+        "Fig. 8: the CVT start begins higher than two pairs",
+        "Fig. 8: ... and converges faster (iterations to 95 % of its best)",
+    }
+    # an example that ends at 0.9 is not "close to 1"
+    moved["example"][0]["final_coverage"] = 0.9
+    assert not next(v for v in claims.verdicts(moved) if v.claim.startswith("Fig. 5")).holds

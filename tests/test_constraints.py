@@ -115,7 +115,7 @@ class BoxWorld:
         return False
 
 
-def reference_ok(c: Constraints, world: BoxWorld, current, config) -> bool:
+def reference_ok(c: Constraints, world: BoxWorld, current, config) -> bool:  # noqa: PLR0911 - one return per constraint
     """The definition, one UAV and one pair at a time."""
     n = len(config)
     xmin, ymin, xmax, ymax = c.bounds
@@ -256,7 +256,7 @@ def test_packing_bound_is_only_necessary_and_closest_admissible_reports_the_rest
 # ---------------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize(("check_moves", "h_max"), [(False, None), (True, None), (False, 6.0), (True, 6.0)])
+@pytest.mark.parametrize("check_moves, h_max", [(False, None), (True, None), (False, 6.0), (True, 6.0)])
 def test_mask_matches_the_definition(town, check_moves, h_max):
     rng = np.random.default_rng(3)
     c = Constraints((1, 1, 29, 29), h_min=2.0, z_max=20.0, d_safe=2.5, check_moves=check_moves, h_max=h_max)

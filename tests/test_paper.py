@@ -100,6 +100,18 @@ def test_experiments_follow_the_paper():
 
 
 @pytest.mark.parametrize("name", sorted(paper.EXPERIMENTS))
+def test_every_experiment_runs_the_papers_model(name):
+    """Every constraint of eq. 2 active, no mechanism the paper's simulations lack."""
+    mission = paper.EXPERIMENTS[name].mission
+    limits, start = mission.constraints, mission.start
+    assert limits.h_max is not None and 0.0 < limits.h_min < limits.h_max  # minimum and maximum height of flight
+    assert limits.check_moves is True and limits.d_safe > 0.0  # robot-ground and robot-robot, every move
+    assert mission.cao.measurement_noise == 0.0  # the paper measures coverage exactly
+    assert start.corner_altitude is None and start.random_altitude is None  # one altitude rule for every start
+    assert 0.5 < mission.cao.decay <= 1.0  # the step meets the paper's conditions (sum infinite, squares finite)
+
+
+@pytest.mark.parametrize("name", sorted(paper.EXPERIMENTS))
 def test_every_team_fits_under_the_ceiling(name):
     """The highest ground of a few scenarios plus the start altitude stays under z_max, so no start is infeasible."""
     e = paper.EXPERIMENTS[name]

@@ -7,9 +7,10 @@ candidate configuration is admissible. Each iteration it
 1. measures the objective once, at the current configuration ``x_k`` (optionally with simulated
    Gaussian noise);
 2. fits a surrogate ``theta^T phi(u)`` by ridge-regularised least squares on the ``L + T_h``
-   measurements before this one (iterations ``l_k ... k - 1`` of the paper's eq. 4), where ``u = (x - x_k) / s_k`` are coordinates normalised around the
-   current state and ``phi`` holds ``L`` regressors: a constant, every linear term, and random
-   2nd- and 3rd-order monomials of ``u``;
+   measurements before this one (iterations ``l_k ... k - 1`` of the paper's eq. 4), where
+   ``u = (x - x_k) / s_k`` are coordinates normalised around the current state and ``phi``
+   holds ``L`` regressors: a constant, every linear term, and random 2nd- and 3rd-order
+   monomials of ``u``;
 3. draws ``M`` candidates ``x_k + alpha_k zeta`` (``zeta`` zero-mean, unit-variance; candidate 0
    is the unperturbed state), drops the infeasible ones, and moves to the candidate the
    surrogate rates best (the team stays when none is feasible);

@@ -41,6 +41,9 @@ __all__ = [
     "convergence",
     "claims_markdown",
     "ablation_markdown",
+    "Verdict",
+    "verdicts",
+    "verdicts_markdown",
 ]
 
 PUBLISHED_GAIN: Mapping[int, float] = {
@@ -305,4 +308,171 @@ def ablation_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder, 
         ok = [row.cvt_highest_mean and row.cvt_smallest_sigma for row in rows_by_n.values()]
         cells.append(f"{sum(ok)} of {len(ok)} N")
         lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One claim of the paper, what it says, what was measured, and whether it holds."""
+
+    claim: str
+    paper: str
+    ours: str
+    holds: bool
+
+
+def _mean(rows: Iterable[Mapping[str, Any]], column: str, **where: Any) -> float:
+    values = [float(r[column]) for r in finished_rows(rows) if all(str(r[k]) == str(v) for k, v in where.items())]
+    return float(np.mean(values)) if values else math.nan
+
+
+def verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: ResultsFolder | None = None) -> list[Verdict]:
+    """Every claim of section V measured on the rows of each experiment (by name), with a verdict.
+
+    ``results`` maps experiment names (``"table1"``, ``"pyramid"``, ``"comparison"``,
+    ``"example"``, ``"buildings"``) to their rows; absent ones are skipped. The convergence
+    claim reads the stored curves of ``table1_folder``.
+    """
+    out: list[Verdict] = []
+    table1 = list(results.get("table1", ()))
+    if finished_rows(table1):
+        total = good = 0
+        misses = []
+        for (n, start, metric), value in sorted(paper.PUBLISHED_TABLE1.items()):
+            column = "initial_coverage" if metric == "initial" else "max_coverage"
+            values = [float(r[column]) for r in finished_rows(table1) if int(r["n_uavs"]) == n and r["init"] == start]
+            if len(values) < 2:
+                continue
+            total += 1
+            mean, sigma = float(np.mean(values)), float(np.std(values, ddof=1))
+            ok = abs(mean - value.mean) <= 0.05 + 1e-12 and value.sigma / 2 <= sigma <= value.sigma * 2
+            good += ok
+            if not ok:
+                misses.append(f"{start} {metric} N = {n}: {mean:.2f} ({sigma:.2f})")
+        out.append(
+            Verdict(
+                "Table 1: each mean within 0.05, each sigma within 2x",
+                f"{total} cells",
+                f"{good} of {total}" + (f"; off: {', '.join(misses)}" if misses else ""),
+                total > 0 and good == total,
+            )
+        )
+        for g in headline(table1):
+            published = "-" if g.published is None else _pct(g.published)
+            out.append(
+                Verdict(
+                    f"CVT over random, N = {g.n_uavs} (within 2 points)",
+                    published,
+                    f"{_pct(g.gain)} [{_pct(g.gain_ci[0])}, {_pct(g.gain_ci[1])}], {g.pairs} pairs",
+                    g.within(),
+                )
+            )
+        rob = robustness(table1)
+        out.append(
+            Verdict(
+                "CVT: highest mean max and smallest sigma, every N",
+                "every N",
+                ", ".join(f"N = {r.n_uavs}: {'yes' if r.cvt_highest_mean and r.cvt_smallest_sigma else 'no'}" for r in rob),
+                bool(rob) and all(r.cvt_highest_mean and r.cvt_smallest_sigma for r in rob),
+            )
+        )
+        fast = speed(table1)
+        sizes = sorted({n for n, _ in fast})
+        quicker = {
+            n: all(fast[(n, "cvt")][0] < fast[(n, s)][0] for s in ("random", "corner") if (n, s) in fast)
+            for n in sizes
+            if (n, "cvt") in fast
+        }
+        out.append(
+            Verdict(
+                "CVT needs fewer iterations to 95 % of its best, every N",
+                "fewer",
+                ", ".join(
+                    f"N = {n}: {fast[(n, 'cvt')][0]:.0f} vs "
+                    + "/".join(f"{fast[(n, s)][0]:.0f}" for s in ("random", "corner") if (n, s) in fast)
+                    for n in quicker
+                ),
+                bool(quicker) and all(quicker.values()),
+            )
+        )
+        if table1_folder is not None:
+            c = convergence(table1_folder, table1)
+            out.append(
+                Verdict(
+                    f"CAO converges: within {c.band} of the best from iteration {c.from_iteration} on",
+                    ">= 95 % of runs",
+                    f"{100.0 * c.share:.1f} % of {c.runs}",
+                    bool(c.runs) and c.share >= 0.95,
+                )
+            )
+    pyramid = list(results.get("pyramid", ()))
+    if finished_rows(pyramid):
+        got = {m: _mean(pyramid, f"{m}_coverage") for m in ("initial", "max")}
+        out.append(
+            Verdict(
+                "Pyramid prior, N = 12: initial and max within 0.05",
+                " / ".join(f"{paper.PUBLISHED_PYRAMID[m].mean:.2f}" for m in ("initial", "max")),
+                " / ".join(f"{got[m]:.2f}" for m in ("initial", "max")),
+                all(abs(got[m] - paper.PUBLISHED_PYRAMID[m].mean) <= 0.05 + 1e-12 for m in ("initial", "max")),
+            )
+        )
+    comparison = list(results.get("comparison", ()))
+    if finished_rows(comparison):
+        got = {s: _mean(comparison, "max_coverage", init=s) for s in paper.PUBLISHED_FIG6_MAX}
+        seeds = len({r["seed"] for r in finished_rows(comparison)})
+        out.append(
+            Verdict(
+                f"Fig. 6, N = 10: corner / random / CVT max within 0.05 (mean of {seeds} terrains)",
+                " / ".join(f"{paper.PUBLISHED_FIG6_MAX[s]:.2f}" for s in ("corner", "random", "cvt")),
+                " / ".join(f"{got[s]:.2f}" for s in ("corner", "random", "cvt")),
+                all(abs(got[s] - paper.PUBLISHED_FIG6_MAX[s]) <= 0.05 + 1e-12 for s in got),
+            )
+        )
+    example = finished_rows(results.get("example", ()))
+    if example:
+        final = min(float(r["final_coverage"]) for r in example)
+        out.append(
+            Verdict("Fig. 5: the final coverage is close to 1 (here: at least 0.95)", "almost entirely", f"{final:.3f}", final >= 0.95)
+        )
+    buildings = finished_rows(results.get("buildings", ()))
+    if buildings:
+        by_seed: dict[Any, dict[str, Mapping[str, Any]]] = {}
+        for r in buildings:
+            by_seed.setdefault(r["seed"], {})[str(r["init"])] = r
+        pairs = [v for v in by_seed.values() if {"cvt", "pairs"} <= set(v)]
+        higher = sum(float(v["cvt"]["initial_coverage"]) > float(v["pairs"]["initial_coverage"]) for v in pairs)
+        quicker_runs = sum(int(v["cvt"]["iterations_to_95"]) < int(v["pairs"]["iterations_to_95"]) for v in pairs)
+        cvt_fast, pairs_fast = _mean(buildings, "iterations_to_95", init="cvt"), _mean(buildings, "iterations_to_95", init="pairs")
+        cvt_start, pairs_start = _mean(buildings, "initial_coverage", init="cvt"), _mean(buildings, "initial_coverage", init="pairs")
+        out.append(
+            Verdict(
+                "Fig. 8: the CVT start begins higher than two pairs",
+                "higher",
+                f"initial {cvt_start:.2f} vs {pairs_start:.2f}; higher on {higher} of {len(pairs)} scenes",
+                bool(pairs) and cvt_start > pairs_start,
+            )
+        )
+        out.append(
+            Verdict(
+                "Fig. 8: ... and converges faster (iterations to 95 % of its best)",
+                "faster",
+                f"{cvt_fast:.0f} vs {pairs_fast:.0f} iterations; faster on {quicker_runs} of {len(pairs)} scenes",
+                bool(pairs) and cvt_fast < pairs_fast,
+            )
+        )
+    return out
+
+
+def verdicts_markdown(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: ResultsFolder | None = None) -> str:
+    """:func:`verdicts` as a Markdown table, with how many hold."""
+    found = verdicts(results, table1_folder)
+    lines = [
+        "# Every claim at a glance",
+        "",
+        f"{sum(v.holds for v in found)} of {len(found)} hold.",
+        "",
+        "| claim | the paper | ours | holds |",
+        "|---|---|---|---|",
+    ]
+    lines += [f"| {v.claim} | {v.paper} | {v.ours} | {'yes' if v.holds else 'NO'} |" for v in found]
     return "\n".join(lines) + "\n"

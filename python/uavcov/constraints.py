@@ -19,6 +19,7 @@ team could sense or has been told: :class:`World` (``clearance``, ``segments_cle
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -145,7 +146,7 @@ class Constraints:
             raise InfeasibleError(f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m")
         if self.h_max is not None:
             object.__setattr__(self, "h_max", as_finite_float(self.h_max, "h_max"))
-            if self.h_min > self.h_max:  # type: ignore[operator]
+            if self.h_min > self.h_max:
                 raise InfeasibleError(f"h_min = {self.h_min} m above the surface is more than h_max = {self.h_max} m")
 
     @classmethod
@@ -234,12 +235,22 @@ def _static_ok(constraints: Constraints, cand: np.ndarray) -> np.ndarray:
     ok: np.ndarray = np.asarray(inside.all(axis=1), dtype=bool)
     n_uavs = cand.shape[1]
     if n_uavs > 1 and constraints.d_safe > 0.0:
-        i, j = np.triu_indices(n_uavs, 1)
+        i, j = _pairs(n_uavs)
         idx = np.flatnonzero(ok)
-        diff = cand[idx][:, i] - cand[idx][:, j]
+        inside_cand = cand[idx]
+        diff = inside_cand[:, i] - inside_cand[:, j]
         far = (np.einsum("mpk,mpk->mp", diff, diff) >= constraints.d_safe**2).all(axis=1)
         ok[idx] = far
     return ok
+
+
+@functools.lru_cache(maxsize=32)
+def _pairs(n_uavs: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair ``i < j`` of ``n_uavs`` UAVs (read-only; an optimiser asks for them every iteration)."""
+    i, j = np.triu_indices(n_uavs, 1)
+    i.setflags(write=False)
+    j.setflags(write=False)
+    return i, j
 
 
 def feasible_mask(constraints: Constraints, world: World, current: Any, candidates: Any, *, n_threads: int | None = None) -> np.ndarray:

@@ -23,7 +23,7 @@ from typing import Any
 
 from . import paper
 from ._validate import is_int
-from .claims import ablation_markdown, claims_markdown
+from .claims import ablation_markdown, claims_markdown, verdicts_markdown
 from .errors import ConfigError, MissingExtraError
 from .executors import plan_execution
 from .reports import REPORTS, coverage_curves_csv, sweep_markdown
@@ -234,6 +234,7 @@ def reproduce_all(
         f"Made by `uavcov reproduce all`{how}; each experiment's runs are in its folder.",
         "",
     ]
+    parts.append(_demote(verdicts_markdown(results, ResultsFolder(folder.path / "table1"))).rstrip() + "\n")
     for name in REPRODUCIBLE:
         table = (folder.path / name / f"{name}.md").read_text(encoding="utf-8")
         parts.append(_demote(table).rstrip() + "\n")

@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import ResultsFolderError, ResultsFormatError
 from ..records import load_mission
 from . import _runs
-from ._canvas import _close, _matplotlib
+from ._canvas import _close, _finish, _matplotlib
 from ._runs import _number
 from .animation import animate_mission
 from .figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
@@ -87,6 +87,17 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     rows = _runs._read_runs(runs_csv) if runs_csv.is_file() else []
     if not rows and not run_files:
         raise ResultsFormatError(f"{directory} holds an empty runs.csv and no runs/*.npz: nothing to plot")
+    # Every figure names the settings its runs were made with (the hashes of runs.csv).
+    hashes = sorted({str(r["settings_hash"]) for r in rows if r.get("settings_hash")})
+    stamp = f"settings {', '.join(hashes[:3])}{' ...' if len(hashes) > 3 else ''}" if hashes else None
+
+    def emit(fig: Any, path: Path) -> None:
+        if stamp:
+            fig.text(0.995, 0.003, stamp, ha="right", va="bottom", fontsize=7, color="0.45")
+        _finish(fig, path, dpi)
+        _close(fig)
+        written.append(path)
+
     by_experiment: dict[str, list[dict[str, Any]]] = {}
     for row in rows:
         by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
@@ -101,9 +112,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         for metric in ("max_coverage", "initial_coverage"):
             if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
                 continue
-            path = target / f"{_safe(experiment)}_{metric}.png"
-            _close(plot_table1(group, metric=metric, out=path, dpi=dpi))
-            written.append(path)
+            emit(plot_table1(group, metric=metric), target / f"{_safe(experiment)}_{metric}.png")
 
     # Curves of every stored run; whole results are kept only for the runs drawn one by one.
     row_of = {str(r.get("run_id")): r for r in rows if r.get("run_id")}
@@ -126,18 +135,9 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         if all(f != c for c, _ in chosen):
             chosen.append((f, load_mission(f)))
     for (experiment, n, d), groups in sorted(curves.items()):
-        path = target / f"{_safe(experiment)}_coverage_N{n}_d{d:g}.png"
         reference = dict(paper.PUBLISHED_FIG6_MAX) if experiment == "comparison" else None
-        _close(
-            plot_coverage_curves(
-                groups,
-                reference=reference,
-                out=path,
-                dpi=dpi,
-                title=f"{experiment}: coverage during the optimisation, N = {n}, d_max = {d:g} m",
-            )
-        )
-        written.append(path)
+        title = f"{experiment}: coverage during the optimisation, N = {n}, d_max = {d:g} m"
+        emit(plot_coverage_curves(groups, reference=reference, title=title), target / f"{_safe(experiment)}_coverage_N{n}_d{d:g}.png")
 
     for index, (f, r) in enumerate(chosen):
         stem = _safe(f.stem)
@@ -146,13 +146,10 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
             figures.append(("cvt", plot_cvt, {}))
         figures += [("coverage_map", plot_coverage_map, {}), ("coverage_top", plot_coverage_map, {"view": "top"})]
         for suffix, draw, options in figures:
-            path = target / f"{stem}_{suffix}.png"
-            _close(draw(r, out=path, dpi=dpi, **options))
-            written.append(path)
+            emit(draw(r, **options), target / f"{stem}_{suffix}.png")
         ply = target / f"{stem}_seen.ply"
-        path = target / f"{stem}_point_cloud.png"
-        _close(plot_point_cloud(r, out=path, ply=ply, dpi=dpi))
-        written += [path, ply]
+        emit(plot_point_cloud(r, ply=ply), target / f"{stem}_point_cloud.png")
+        written.append(ply)
         if animation and index == 0:
             written.append(animate_mission(r, target / f"{stem}_animation.gif"))
     return written
