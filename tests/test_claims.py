@@ -72,6 +72,19 @@ def test_convergence_reads_the_stored_curves(tmp_path):
     assert "Convergence" in claims.claims_markdown(rows, folder)
 
 
+def test_the_papers_cao_converges_on_a_fixed_set_of_spread_starts_and_a_corner_team_does_not(tmp_path):
+    """The rule on real runs of the paper's settings (dev seeds, 500 iterations): it can fail."""
+    folder = ResultsFolder(tmp_path)
+    spread = experiment_specs(paper.TABLE1, seeds=[1000, 1001, 1002], team_sizes=[5], starts=["cvt", "random"])
+    corner = experiment_specs(paper.TABLE1, seeds=[1000], team_sizes=[12], starts=["corner"])
+    rows = run_specs([*spread, *corner], out=folder, workers=1, n_threads=1)
+    settled = claims.convergence(folder, [r for r in rows if r["init"] != "corner"])
+    assert (settled.runs, settled.converged) == (6, 6)
+    climbing = claims.convergence(folder, [r for r in rows if r["init"] == "corner"])
+    assert (climbing.runs, climbing.converged) == (1, 0)  # still spreading at iteration 500
+    assert climbing.worst[0][1] > 0.02
+
+
 def _paper_like_results() -> dict[str, list[dict]]:
     """Rows whose means are the paper's numbers and whose sigmas are its sigmas (40 scenarios)."""
     signs = np.tile([1.0, -1.0], 20)

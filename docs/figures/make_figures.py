@@ -17,7 +17,7 @@ from pathlib import Path
 from PIL import Image
 
 from uavcov import paper, plotting
-from uavcov.sweep import RunSpec
+from uavcov.sweep import RunSpec, experiments_hash
 
 HERE = Path(__file__).resolve().parent
 DPI = 100
@@ -30,8 +30,12 @@ def _small(path: Path) -> Path:
     return path
 
 
+SETTINGS = f"uavcov.paper {experiments_hash(paper.EXPERIMENTS)}"
+
+
 def _save(fig, name: str) -> None:
     path = HERE / name
+    fig.text(0.995, 0.003, SETTINGS, ha="right", va="bottom", fontsize=7, color="0.45")  # the settings it was made with
     fig.savefig(path, dpi=DPI, bbox_inches="tight", pad_inches=0.1)
     _small(path)
     print(f"{name:<32} {path.stat().st_size / 1e3:6.0f} kB", flush=True)
@@ -101,7 +105,7 @@ def main() -> int:
     fig.axes[0].set_title("Table 1 preview (5 terrains, 150 iterations) beside the paper (40 terrains, 500)", fontsize=10)
     _save(fig, "table1_preview.png")
 
-    print(f"done in {time.perf_counter() - started:.0f} s")
+    print(f"done in {time.perf_counter() - started:.0f} s, settings {SETTINGS}")
     return 0
 
 

@@ -96,19 +96,23 @@ def as_float_array(
     ``nonfinite_error`` is the class raised for NaN (unless ``allow_nan``) or infinite values:
     :class:`~uavcov.errors.MeshError` for the vertices of a mesh, for example.
     """
-    if isinstance(value, (str, bytes)):
-        raise InvalidTypeError(f"{name} must be a numeric array, got {type(value).__name__}")
-    try:
-        array = np.asarray(value)
-    except Exception as exc:  # ragged lists and the like
-        raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
-    if array.dtype == object or not (
-        np.issubdtype(array.dtype, np.floating) or np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_
-    ):
-        raise InvalidTypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
-    if array.dtype == np.bool_:
-        raise InvalidTypeError(f"{name} must hold real numbers, got booleans")
-    array = np.ascontiguousarray(array, dtype=np.float64)
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        # the common case (an optimiser's own arrays, hundreds of times a mission): no dtype probing
+        array = np.ascontiguousarray(value)
+    else:
+        if isinstance(value, (str, bytes)):
+            raise InvalidTypeError(f"{name} must be a numeric array, got {type(value).__name__}")
+        try:
+            array = np.asarray(value)
+        except Exception as exc:  # ragged lists and the like
+            raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
+        if array.dtype == object or not (
+            np.issubdtype(array.dtype, np.floating) or np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_
+        ):
+            raise InvalidTypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
+        if array.dtype == np.bool_:
+            raise InvalidTypeError(f"{name} must hold real numbers, got booleans")
+        array = np.ascontiguousarray(array, dtype=np.float64)
     if ndim is not None and array.ndim != ndim:
         raise InvalidInputError(f"{name} must be {ndim}-dimensional, got shape {array.shape}")
     if allow_nan:
