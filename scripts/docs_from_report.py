@@ -4,9 +4,10 @@
     uavcov reproduce all --out out/all --workers 2 --threads 1
     python scripts/docs_from_report.py out/all
 
-The page is the folder's ``report.md`` under a short preamble (what it is, the commands); every
-figure the report shows is copied under ``docs/figures/reproduction/<experiment>/`` (stored with
-a 256-colour palette to stay small) and its link rewritten. Figures of an earlier report are
+The page is the folder's ``report.md`` under a short preamble (what it is, the commands); each
+experiment's summary figures (Table 1 bars, coverage curves) are copied under
+``docs/figures/reproduction/<experiment>/`` (stored with a 256-colour palette to stay small) and
+their links rewritten; the pictures of single runs stay in the folder. Figures of an earlier report are
 removed first, so the docs hold exactly what this report shows.
 """
 
@@ -22,6 +23,10 @@ ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "reproduction.md"
 FIGURES = ROOT / "docs" / "figures" / "reproduction"
 LINK = re.compile(r"\]\((?P<name>[A-Za-z0-9_.-]+)/figures/(?P<file>[A-Za-z0-9_.-]+\.png)\)")
+IMAGE_LINE = re.compile(r"^!\[[^\]]*\]\((?P<name>[A-Za-z0-9_.-]+)/figures/(?P<file>[A-Za-z0-9_.-]+\.png)\)$")
+# What the page shows: each experiment's bars and curves; the pictures of single runs (a run id
+# followed by what is drawn) stay in the folder, and docs/figures.md shows such pictures.
+SUMMARY_FIGURE = re.compile(r"^[A-Za-z0-9]+_(max_coverage|initial_coverage|coverage_N\d+_d[0-9.]+)\.png$")
 
 PREAMBLE = """\
 # The paper's experiments, reproduced
@@ -81,7 +86,13 @@ def main(argv: list[str] | None = None) -> int:
         copied += 1
         return f"](figures/reproduction/{match['name']}/{match['file']})"
 
-    text = LINK.sub(relink, text)
+    kept = []
+    for line in text.splitlines():
+        image = IMAGE_LINE.match(line)
+        if image and not SUMMARY_FIGURE.match(image["file"]):
+            continue
+        kept.append(line)
+    text = LINK.sub(relink, "\n".join(kept))
     PAGE.write_text(PREAMBLE + text.rstrip() + "\n", encoding="utf-8")
     print(f"wrote {PAGE.relative_to(ROOT)} and {copied} figure(s) under {FIGURES.relative_to(ROOT)}/")
     return 0

@@ -290,6 +290,7 @@ def ablation_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder, 
         head += [f"N = {n}: CVT / random / corner max", f"gain N = {n} (paper {_pct(PUBLISHED_GAIN[n]) if n in PUBLISHED_GAIN else '-'})"]
     head += ["converged", "CVT highest, smallest sigma"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    measured: dict[str, dict[str, float]] = {}  # variant -> metric -> value, for the drivers below
     for label, what in variants:
         mine = [r for r in rows if r.get("experiment") == label]
         if not finished_rows(mine):
@@ -297,6 +298,9 @@ def ablation_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder, 
             continue
         gains = {g.n_uavs: g for g in headline(mine)}
         rows_by_n = {row.n_uavs: row for row in robustness(mine)}
+        values = measured.setdefault(what, {})
+        values.update({f"gain N = {n}": gain.gain for n, gain in gains.items()})
+        values.update({f"{start} max N = {n}": mean for n, found in rows_by_n.items() for start, mean in found.mean.items()})
         cells = [what]
         for n in sizes:
             row = rows_by_n.get(n)
@@ -305,10 +309,52 @@ def ablation_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder, 
             cells += [means, "-" if g is None else _pct(g.gain)]
         c = convergence(folder, mine)
         cells.append(f"{100.0 * c.share:.0f} % of {c.runs}" if c.runs else "-")
+        if c.runs:
+            values["converged"] = c.share
         ok = [row.cvt_highest_mean and row.cvt_smallest_sigma for row in rows_by_n.values()]
         cells.append(f"{sum(ok)} of {len(ok)} N")
         lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines) + "\n" + _drivers(measured, variants[0][1] if variants else "")
+
+
+def _drivers(measured: Mapping[str, Mapping[str, float]], base: str) -> str:
+    """For each measured claim, the change that moves it furthest toward the paper, and away."""
+    if base not in measured or len(measured) < 2:
+        return ""
+    targets: dict[str, float] = {"converged": 1.0}
+    for n, gain in PUBLISHED_GAIN.items():
+        targets[f"gain N = {n}"] = gain
+    for (n, start, metric), value in paper.PUBLISHED_TABLE1.items():
+        if metric == "max":
+            targets[f"{start} max N = {n}"] = value.mean
+    lines = [
+        "",
+        "What moves each claim (the change that brings it closest to the paper, and the one that takes it furthest away):",
+        "",
+        "| claim | the paper | the paper's model | closest to the paper | furthest |",
+        "|---|---|---|---|---|",
+    ]
+    for metric, target in targets.items():
+        if metric not in measured[base]:
+            continue
+        others = [(what, v[metric]) for what, v in measured.items() if what != base and metric in v]
+        if not others:
+            continue
+        closest = min(others, key=lambda item: abs(item[1] - target))
+        furthest = max(others, key=lambda item: abs(item[1] - target))
+        paper_text = ">= 95 %" if metric == "converged" else _metric_text(metric, target)
+        ours = _metric_text(metric, measured[base][metric])
+        near, far = (f"{what}: {_metric_text(metric, value)}" for what, value in (closest, furthest))
+        lines.append(f"| {metric} | {paper_text} | {ours} | {near} | {far} |")
+    return "\n".join(lines) + "\n" if len(lines) > 5 else ""
+
+
+def _metric_text(metric: str, value: float) -> str:
+    if metric.startswith("gain"):
+        return _pct(value)
+    if metric == "converged":
+        return f"{100.0 * value:.0f} %"
+    return f"{value:.3f}"
 
 
 @dataclass(frozen=True)

@@ -232,6 +232,9 @@ def reproduce_all(
         "",
         f"Settings: `uavcov.paper` {tag} (every table and figure below was made with them).",
         f"Made by `uavcov reproduce all`{how}; each experiment's runs are in its folder.",
+        "Each run id and figure names the settings hash of its experiment: "
+        + ", ".join(f"{name} {'/'.join(sorted({str(r['settings_hash']) for r in results[name]}))}" for name in REPRODUCIBLE)
+        + ".",
         "",
     ]
     parts.append(_demote(verdicts_markdown(results, ResultsFolder(folder.path / "table1"))).rstrip() + "\n")
