@@ -12,13 +12,15 @@
 //! - [`sampling`]: coverage targets on a surface.
 //! - [`visibility`]: the coverage objective, parallel over targets.
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
+//! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
+//!   candidates in one pass.
 //!
 //! Two modules are internal: `skyline` (how steeply the surface rises around a grid node, so
 //! sight lines to grid-node targets settle their last cells with one comparison) and `threads`
 //! (cached thread pools, so results never depend on their size).
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
-//! <- `sampling` <- `visibility`, and `mesh` <- `cvt`.
+//! <- `sampling` <- `visibility`, and `mesh` <- `cvt`, `mesh` <- `flight`.
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
 //! plain Rust, so `cargo test` and `cargo bench` need no Python.
@@ -57,6 +59,7 @@
 
 pub mod cvt;
 pub mod error;
+pub mod flight;
 pub mod geometry;
 pub mod grid;
 pub mod heightfield;

@@ -509,3 +509,71 @@ def test_on_a_real_buildings_scene():
     np.testing.assert_array_equal(feasible_mask(c, scene, current, cands), [True, False, False, True])
     loose = Constraints.for_world(scene, h_min=1.0, z_max=20.0, d_safe=1.0)
     np.testing.assert_array_equal(feasible_mask(loose, scene, current, cands), [True, False, True, True])
+
+
+class _Unfused:
+    """A Terrain seen through the World protocol only: feasible_mask takes its Python path."""
+
+    def __init__(self, terrain):
+        self._terrain = terrain
+        self.bounds = terrain.bounds
+
+    def ground_height(self, xy, **kwargs):
+        return self._terrain.ground_height(xy, **kwargs)
+
+    def clearance(self, points, **kwargs):
+        return self._terrain.clearance(points, **kwargs)
+
+    def segments_clear(self, a, b, **kwargs):
+        return self._terrain.segments_clear(a, b, **kwargs)
+
+
+@pytest.mark.parametrize("scene", ["hills", "buildings"])
+@pytest.mark.parametrize("h_max, check_moves", [(None, False), (4.0, True), (6.0, False)])
+def test_the_fused_rust_check_gives_the_python_checks_answers(scene, h_max, check_moves):
+    """Terrain.admissible_mask (one Rust pass) against the separate queries, candidate by candidate."""
+    _terrain_or_skip()
+    import uavcov
+    from uavcov.terrains import Building, buildings_terrain
+
+    if scene == "hills":
+        world = uavcov.gaussian_hills(spacing=2.0, rng=1001)
+    else:
+        world = buildings_terrain([Building(8.0, 8.0, 14.0, 12.0, 6.0), Building(16.0, 2.0, 20.0, 6.0, 4.0)], size=24.0, spacing=0.5)
+    c = Constraints.for_world(world, h_min=1.0, h_max=h_max, z_max=30.0, d_safe=1.5, check_moves=check_moves)
+    rng = np.random.default_rng(5)
+    lo, hi = world.bounds[0, :2], world.bounds[1, :2]
+    start = np.column_stack([rng.uniform(lo, hi, size=(6, 2)), np.full(6, 40.0)])
+    start[:, 2] = world.ground_height(start[:, :2]) + 2.5
+    current = closest_admissible(c, world, start)
+    scales = np.repeat([0.3, 1.5, 4.0, 20.0], 150)[:, None, None]
+    cands = current[None] + scales * rng.standard_normal((600, 6, 3))
+    cands[:3] = current  # staying
+    cands[3, 0, 0] = 1e300  # far outside: refused, not an error
+    fused = feasible_mask(c, world, current, cands, n_threads=1)
+    separate = feasible_mask(c, _Unfused(world), current, cands, n_threads=1)
+    np.testing.assert_array_equal(fused, separate)
+    assert 30 < fused.sum() < 570 and fused[:3].all() and not fused[3]
+    np.testing.assert_array_equal(feasible_mask(c, world, current, cands, n_threads=2), fused)
+
+
+def test_the_fused_check_refuses_bad_limits_with_clear_errors():
+    _terrain_or_skip()
+    import uavcov
+
+    world = uavcov.gaussian_hills(spacing=5.0, rng=3)
+    current = [[50.0, 50.0, 60.0]]
+    good = dict(bounds=(0, 0, 100, 100), h_min=1.0, h_max=None, z_max=80.0, d_safe=1.0, check_moves=True)
+    assert world.admissible_mask(current, [[50.0, 50.0, 60.0]], **good).dtype == np.bool_
+    for change, error in (
+        ({"bounds": (0, 0, 100)}, InvalidInputError),
+        ({"h_min": math.nan}, InvalidInputError),
+        ({"h_max": "high"}, InvalidTypeError),
+        ({"z_max": math.inf}, InvalidInputError),
+    ):
+        with pytest.raises(error):
+            world.admissible_mask(current, [[50.0, 50.0, 60.0]], **(good | change))
+    with pytest.raises(InvalidInputError):
+        world.admissible_mask(current, np.zeros((3, 2)), **good)
+    with pytest.raises(InvalidInputError):
+        world.admissible_mask([[50.0, 50.0, math.nan]], [[50.0, 50.0, 60.0]], **good)

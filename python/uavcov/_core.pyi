@@ -32,6 +32,18 @@ class Surface:
     def clearance(self, points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.float64]: ...
     def closest_point(self, points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.float64]: ...
     def segments_clear(self, a: npt.NDArray[np.float64], b: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.bool_]: ...
+    def admissible_mask(
+        self,
+        current: npt.NDArray[np.float64],
+        candidates: npt.NDArray[np.float64],
+        bounds: tuple[float, float, float, float],
+        h_min: float,
+        h_max: float | None,
+        z_max: float,
+        d_safe: float,
+        check_moves: bool,
+        n_threads: int = 0,
+    ) -> npt.NDArray[np.bool_]: ...
 
 @final
 class Visibility:

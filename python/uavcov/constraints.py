@@ -282,6 +282,20 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     cur = as_points(current, "current")
     cand = _as_candidates(candidates, cur.shape[0])
     n_uavs = cur.shape[0]
+    fused = getattr(world, "admissible_mask", None)
+    if fused is not None:  # a Terrain: every check below in one Rust pass, with the same answers
+        mask = fused(
+            cur,
+            cand.reshape(-1, 3),
+            bounds=constraints.flight_box,
+            h_min=constraints.h_min,
+            h_max=constraints.h_max,
+            z_max=constraints.z_max,
+            d_safe=constraints.d_safe,
+            check_moves=bool(constraints.check_moves),
+            n_threads=n_threads,
+        )
+        return np.asarray(mask, dtype=bool)
     threads: dict[str, Any] = {} if n_threads is None else {"n_threads": n_threads}
     # cheap checks first, so the surface is only queried for candidates still in the running
     ok = _static_ok(constraints, cand)

@@ -355,6 +355,62 @@ class Terrain:
             raise InvalidInputError(f"a and b must have the same shape, got {pa.shape} and {pb.shape}")
         return self._surface.segments_clear(pa, pb, as_n_threads(n_threads))
 
+    def admissible_mask(
+        self,
+        current: Any,
+        candidates: Any,
+        *,
+        bounds: tuple[float, float, float, float],
+        h_min: float,
+        h_max: float | None,
+        z_max: float,
+        d_safe: float,
+        check_moves: bool,
+        n_threads: int | None = None,
+    ) -> np.ndarray:
+        """Which candidate configurations keep the flight limits of eq. 2, in one Rust pass.
+
+        The fused form of :func:`uavcov.constraints.feasible_mask`'s checks (x-y ``bounds``,
+        ``z_max``, clearance in ``[h_min, h_max]``, pairs ``d_safe`` apart, moves from
+        ``current`` crossing no triangle when ``check_moves``), with the same answers; that
+        function calls it when the world is a ``Terrain`` and takes the limits from a
+        :class:`~uavcov.constraints.Constraints`, which is the way to use it.
+
+        Parameters
+        ----------
+        current : (N, 3) array_like of float
+            Positions now, metres.
+        candidates : (M, N, 3) or (M * N, 3) array_like of float
+            Candidate configurations, metres.
+        bounds, h_min, h_max, z_max, d_safe, check_moves
+            The resolved limits (``Constraints.flight_box`` and the fields of that name).
+        n_threads : int, optional
+            As in :meth:`clearance`; results do not depend on it.
+
+        Returns
+        -------
+        (M,) bool array
+        """
+        cur = as_points(current, "current")
+        cand = as_float_array(candidates, "candidates")
+        if cand.ndim == 3 and cand.shape[1:] == cur.shape:
+            cand = cand.reshape(-1, 3)
+        if cand.ndim != 2 or cand.shape[1] != 3 or cand.shape[0] % cur.shape[0]:
+            raise InvalidInputError(f"candidates must have shape (M, {cur.shape[0]}, 3), got {cand.shape}")
+        box = as_float_array(bounds, "bounds")
+        if box.shape != (4,):
+            raise InvalidInputError(f"bounds must be (xmin, ymin, xmax, ymax), got shape {box.shape}")
+        xmin, ymin, xmax, ymax = (float(v) for v in box)
+        ceiling = None if h_max is None else as_finite_float(h_max, "h_max")
+        limits = (
+            as_finite_float(h_min, "h_min"),
+            ceiling,
+            as_finite_float(z_max, "z_max"),
+            as_finite_float(d_safe, "d_safe"),
+            bool(check_moves),
+        )
+        return self._surface.admissible_mask(cur, np.ascontiguousarray(cand), (xmin, ymin, xmax, ymax), *limits, as_n_threads(n_threads))
+
 
 def _pair(value: Any, name: str, *, positive: bool) -> tuple[float, float]:
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):

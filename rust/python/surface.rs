@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 
 use super::{detached, held, invalid, parallel_map, points, points_to_py, to_py_err};
 use crate::error::{try_copy, try_with_capacity, Error};
+use crate::flight;
 use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::mesh;
 use crate::sampling;
@@ -156,6 +157,37 @@ impl PySurface {
         let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
         Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))?))
+    }
+
+    /// Which of the `len(candidates) / len(current)` configurations in `candidates` (one after
+    /// the other) are admissible under the flight limits of eq. 2 (see `uavcov.flight`).
+    #[pyo3(signature = (current, candidates, bounds, h_min, h_max, z_max, d_safe, check_moves, n_threads=0))]
+    #[allow(clippy::too_many_arguments)] // the limits as Python gives them, one value each
+    fn admissible_mask<'py>(
+        &self,
+        py: Python<'py>,
+        current: PyReadonlyArray2<'_, f64>,
+        candidates: PyReadonlyArray2<'_, f64>,
+        bounds: [f64; 4],
+        h_min: f64,
+        h_max: Option<f64>,
+        z_max: f64,
+        d_safe: f64,
+        check_moves: bool,
+        n_threads: usize,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let current = points(py, &current, "current")?;
+        // Candidates far outside the bounds are refused, not errors: copied as they are (the
+        // kernel queries the surface only for those inside the bounds, and checks them there).
+        let c = candidates.as_array();
+        if c.ncols() != 3 {
+            return Err(invalid(py, format!("candidates must have shape (n, 3), got {:?}", candidates.shape())));
+        }
+        let mut cand: Vec<Point> = try_with_capacity(c.nrows(), "a copy of the candidates").map_err(|e| to_py_err(py, e))?;
+        cand.extend(c.rows().into_iter().map(|r| [r[0], r[1], r[2]]));
+        let limits = flight::FlightLimits { bounds, h_min, h_max, z_max, d_safe, check_moves };
+        let s = &self.inner;
+        Ok(detached(py, || flight::admissible_mask(s, &limits, &current, &cand, n_threads))?.into_pyarray(py))
     }
 
     /// Whether each closed segment `a[k] -> b[k]` crosses no triangle.

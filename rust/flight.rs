@@ -1,0 +1,208 @@
+//! The admissible UAV configurations of the paper's eq. 2, judged for a batch of candidates in
+//! one pass.
+//!
+//! A configuration (one position per UAV) is admissible when every UAV is inside the closed x-y
+//! bounds and at most `z_max` high, has a clearance straight down to the surface of at least
+//! `h_min` (and at most `h_max` when set), every pair is at least `d_safe` apart, and, with
+//! `check_moves`, every UAV that moves does so along a segment that crosses no triangle. The
+//! rules are `uavcov.constraints`'s; this is the same test fused, so that an optimiser's batch of
+//! candidates costs one call instead of one per kind of check.
+//!
+//! ```
+//! use uavcov::flight::{admissible_mask, FlightLimits};
+//! use uavcov::Surface;
+//! // A flat 10 m x 10 m ground, two UAVs 2 m up, and three candidate configurations.
+//! let ground = Surface::from_grid(vec![0.0; 11 * 11], 11, 11, 1.0, 1.0, 0.0, 0.0)?;
+//! let limits = FlightLimits { bounds: [0.0, 0.0, 10.0, 10.0], h_min: 1.0, h_max: Some(4.0), z_max: 50.0, d_safe: 1.0, check_moves: true };
+//! let now = [[2.0, 2.0, 2.0], [6.0, 6.0, 2.0]];
+//! let candidates = [
+//!     [2.5, 2.0, 2.0], [6.0, 6.5, 3.0], // admissible
+//!     [2.0, 2.0, 5.0], [6.0, 6.0, 2.0], // the first UAV above h_max
+//!     [5.5, 6.0, 2.0], [6.0, 6.0, 2.0], // 0.5 m apart, under d_safe
+//! ];
+//! assert_eq!(admissible_mask(&ground, &limits, &now, &candidates, 1)?, vec![true, false, false]);
+//! # Ok::<(), uavcov::Error>(())
+//! ```
+
+use rayon::prelude::*;
+
+use crate::error::{try_with_capacity, Error, Result};
+use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
+use crate::mesh::Surface;
+use crate::threads;
+
+/// The flight limits of eq. 2, resolved against one surface (metres, the surface's frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlightLimits {
+    /// `[xmin, ymin, xmax, ymax]`, closed.
+    pub bounds: [f64; 4],
+    /// Least clearance straight down to the surface.
+    pub h_min: f64,
+    /// Most clearance straight down to the surface (`None`: no ceiling above ground).
+    pub h_max: Option<f64>,
+    /// Highest absolute altitude.
+    pub z_max: f64,
+    /// Least distance between two UAVs.
+    pub d_safe: f64,
+    /// Whether every move must cross no triangle.
+    pub check_moves: bool,
+}
+
+impl FlightLimits {
+    /// Inside the x-y bounds and under `z_max` (a NaN coordinate is neither).
+    fn inside(&self, q: Point) -> bool {
+        let [xmin, ymin, xmax, ymax] = self.bounds;
+        q[0] >= xmin && q[0] <= xmax && q[1] >= ymin && q[1] <= ymax && q[2] <= self.z_max
+    }
+
+    /// Every pair at least `d_safe` apart, the squared distance summed x, then y, then z.
+    fn separated(&self, config: &[Point]) -> bool {
+        if config.len() < 2 || self.d_safe <= 0.0 {
+            return true;
+        }
+        let least = self.d_safe * self.d_safe;
+        config.iter().enumerate().all(|(i, a)| {
+            config[i + 1..].iter().all(|b| {
+                let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= least
+            })
+        })
+    }
+
+    /// A clearance the limits accept (finite: there is a surface below).
+    fn clear_enough(&self, clearance: f64) -> bool {
+        clearance.is_finite() && clearance >= self.h_min && self.h_max.is_none_or(|h| clearance <= h)
+    }
+
+    /// Whether `config` is admissible, moving from `current` (same length).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when a UAV that passes the bounds has a coordinate beyond
+    /// [`MAX_COORDINATE`] (a `z_max` that large lets one through): the surface is not queried
+    /// so far out.
+    pub fn admissible(&self, surface: &Surface, current: &[Point], config: &[Point]) -> Result<bool> {
+        if !config.iter().all(|&q| self.inside(q)) || !self.separated(config) {
+            return Ok(false);
+        }
+        if let Some(q) = config.iter().find(|q| !in_bounds(**q)) {
+            return Err(Error::InvalidInput(format!("a candidate has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {q:?}")));
+        }
+        if !config.iter().all(|&q| self.clear_enough(surface.clearance(q))) {
+            return Ok(false);
+        }
+        if self.check_moves {
+            // a UAV that stays has nothing to cross
+            return Ok(current.iter().zip(config).all(|(&a, &b)| a == b || surface.segment_clear(a, b)));
+        }
+        Ok(true)
+    }
+}
+
+/// Which of the candidate configurations are admissible.
+///
+/// `candidates` holds `M` configurations of `current.len()` UAVs one after the other
+/// (`M * N` points); the answer has `M` entries, the same for any `n_threads` (0: every core).
+///
+/// # Errors
+/// [`Error::InvalidInput`] when there is no UAV, `candidates` is not a whole number of
+/// configurations, `current` is not finite, or as [`FlightLimits::admissible`].
+pub fn admissible_mask(
+    surface: &Surface,
+    limits: &FlightLimits,
+    current: &[Point],
+    candidates: &[Point],
+    n_threads: usize,
+) -> Result<Vec<bool>> {
+    let n = current.len();
+    if n == 0 {
+        return Err(Error::InvalidInput("current holds no UAV".into()));
+    }
+    if candidates.len() % n != 0 {
+        return Err(Error::InvalidInput(format!("{} candidate points are not a whole number of {n}-UAV configurations", candidates.len())));
+    }
+    if let Some(q) = current.iter().find(|q| !in_bounds(**q) || q.iter().any(|c| !c.is_finite())) {
+        return Err(Error::InvalidInput(format!("current has a coordinate that is not finite or beyond {MAX_COORDINATE:e} m: {q:?}")));
+    }
+    let mut out: Vec<bool> = try_with_capacity(candidates.len() / n, "the admissible mask")?;
+    let judged: Result<Vec<bool>> =
+        threads::run(n_threads, || candidates.par_chunks(n).map(|config| limits.admissible(surface, current, config)).collect());
+    out.extend(judged?);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ground() -> Surface {
+        Surface::from_grid(vec![0.0; 21 * 21], 21, 21, 1.0, 1.0, 0.0, 0.0).expect("a flat grid")
+    }
+
+    fn limits() -> FlightLimits {
+        FlightLimits { bounds: [0.0, 0.0, 20.0, 20.0], h_min: 1.0, h_max: Some(5.0), z_max: 30.0, d_safe: 2.0, check_moves: true }
+    }
+
+    #[test]
+    fn each_rule_refuses_on_its_own() {
+        let s = ground();
+        let l = limits();
+        let now = [[5.0, 5.0, 3.0], [10.0, 10.0, 3.0]];
+        let ok = [[5.5, 5.0, 3.0], [10.0, 10.5, 4.0]];
+        assert!(l.admissible(&s, &now, &ok).unwrap());
+        let cases: [[Point; 2]; 6] = [
+            [[-0.1, 5.0, 3.0], ok[1]], // out of the square
+            [[5.0, 5.0, 0.5], ok[1]],  // under h_min
+            [[5.0, 5.0, 5.5], ok[1]],  // over h_max
+            [[9.0, 10.0, 3.0], ok[1]], // 1 m from the other UAV
+            [[5.0, 5.0, -1.0], ok[1]], // under the ground: no surface below
+            [[f64::NAN, 5.0, 3.0], ok[1]],
+        ];
+        for config in cases {
+            assert!(!l.admissible(&s, &now, &config).unwrap(), "{config:?}");
+        }
+        let high = FlightLimits { h_max: None, z_max: 4.0, ..l };
+        assert!(!high.admissible(&s, &now, &[[5.0, 5.0, 4.5], ok[1]]).unwrap());
+        assert!(FlightLimits { h_max: None, ..l }.admissible(&s, &now, &[[5.0, 5.0, 5.5], ok[1]]).unwrap());
+    }
+
+    #[test]
+    fn moves_through_a_wall_are_refused_only_when_checked() {
+        // a 10 m wall along x = 10 (grid nodes at x = 10 raised)
+        let mut z = vec![0.0; 21 * 21];
+        for row in 0..21 {
+            z[row * 21 + 10] = 10.0;
+        }
+        let s = Surface::from_grid(z, 21, 21, 1.0, 1.0, 0.0, 0.0).unwrap();
+        let l = FlightLimits { h_max: None, d_safe: 0.0, ..limits() };
+        let now = [[8.0, 5.0, 3.0]];
+        let across = [[12.0, 5.0, 3.0]];
+        assert!(!l.admissible(&s, &now, &across).unwrap());
+        assert!(FlightLimits { check_moves: false, ..l }.admissible(&s, &now, &across).unwrap());
+        assert!(l.admissible(&s, &now, &now).unwrap()); // staying crosses nothing
+    }
+
+    #[test]
+    fn the_mask_is_the_same_for_any_thread_count_and_refuses_bad_shapes() {
+        let s = ground();
+        let l = limits();
+        let now = [[5.0, 5.0, 3.0], [10.0, 10.0, 3.0], [15.0, 15.0, 3.0]];
+        let mut candidates = Vec::new();
+        for k in 0..300_u32 {
+            let t = f64::from(k);
+            for (i, q) in now.iter().enumerate() {
+                #[allow(clippy::cast_precision_loss)]
+                let phase = t * 0.37 + i as f64;
+                candidates.push([q[0] + 3.0 * phase.sin(), q[1] + 3.0 * (1.3 * phase).cos(), q[2] + 2.5 * (0.7 * phase).sin()]);
+            }
+        }
+        let one = admissible_mask(&s, &l, &now, &candidates, 1).unwrap();
+        assert_eq!(one.len(), 300);
+        assert!(one.iter().any(|&b| b) && one.iter().any(|&b| !b));
+        assert_eq!(admissible_mask(&s, &l, &now, &candidates, 2).unwrap(), one);
+        assert_eq!(admissible_mask(&s, &l, &now, &candidates, 4).unwrap(), one);
+        assert!(admissible_mask(&s, &l, &[], &candidates, 1).is_err());
+        assert!(admissible_mask(&s, &l, &now, &candidates[..4], 1).is_err());
+        let far = FlightLimits { z_max: 1e300, h_max: None, ..l };
+        assert!(admissible_mask(&s, &far, &now[..1], &[[5.0, 5.0, 1e200]], 1).is_err());
+    }
+}
