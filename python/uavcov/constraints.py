@@ -260,8 +260,10 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     ----------
     constraints : Constraints
     world : World
-        The real surface (a ``Terrain``); queried once for the clearance of all surviving
-        candidates' points, and once for their moves when ``check_moves`` is set.
+        The real surface. A ``Terrain`` judges the whole batch in one Rust pass
+        (``Terrain.admissible_mask``); any other world is queried once for the clearance of the
+        candidates that pass the bounds and separation, and once for their moves when
+        ``check_moves`` is set, with the same answers.
     current : (N, 3) array_like
         Positions now, metres (the start of each move).
     candidates : (M, N, 3) array_like
