@@ -751,8 +751,8 @@ def cao(
     >>> import numpy as np
     >>> top = np.array([[10.0, 20.0, 30.0]])
     >>> trace = cao(lambda x: -float(np.sum((x - top) ** 2)), np.zeros((1, 3)), feasible=None, iterations=200, rng=0)
-    >>> trace.evaluations, np.round(trace.best_positions, 1).tolist()
-    (201, [[10.0, 20.0, 30.0]])
+    >>> trace.evaluations, bool(np.abs(trace.best_positions - top).max() < 0.1)  # within 10 cm of the top
+    (201, True)
     """
     x0, n_iter = _check_common(x0, feasible, iterations, settings)
     if not callable(measure):

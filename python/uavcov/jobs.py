@@ -28,7 +28,7 @@ from .errors import ConfigError, MissingExtraError
 from .executors import plan_execution
 from .reports import REPORTS, coverage_curves_csv, sweep_markdown
 from .results import ResultsFolder
-from .sweep import experiment_specs, experiments_hash, parse_seeds, run_specs
+from .sweep import Experiment, experiment_specs, experiments_hash, parse_seeds, run_specs
 from .sweep_config import SweepConfig
 
 __all__ = ["reproduce", "reproduce_all", "ablate", "run_sweep", "REPRODUCIBLE", "REPORT_SEEDS"]
@@ -96,11 +96,7 @@ def reproduce(
     """
     if name not in paper.EXPERIMENTS:
         raise ConfigError(f"unknown experiment {name!r}; choose one of {', '.join(REPRODUCIBLE)}")
-    experiment = paper.EXPERIMENTS[name]
-    if iterations is not None:
-        if not is_int(iterations) or iterations < 0:
-            raise ConfigError(f"iterations must be an integer >= 0, got {iterations!r}")
-        experiment = experiment.with_changes(iterations=int(iterations))
+    experiment = _with_iterations(paper.EXPERIMENTS[name], iterations)
     seed_list = experiment.seeds if seeds is None else parse_seeds(seeds)
     if team_sizes is not None:
         team_sizes = tuple(team_sizes)
@@ -167,11 +163,7 @@ def ablate(
     list of dict
         The rows of every variant (their ``experiment`` column names the variant).
     """
-    base = paper.ABLATION_BASE
-    if iterations is not None:
-        if not is_int(iterations) or iterations < 0:
-            raise ConfigError(f"iterations must be an integer >= 0, got {iterations!r}")
-        base = base.with_changes(iterations=int(iterations))
+    base = _with_iterations(paper.ABLATION_BASE, iterations)
     seed_list = base.seeds if seeds is None else parse_seeds(seeds)
     variants = [("ablation", "the paper's model (uavcov.paper)")]
     specs = experiment_specs(base, seeds=seed_list, label="ablation")
@@ -251,6 +243,15 @@ def reproduce_all(
         parts.append("No figures: drawing them needs matplotlib (`pip install 'uavcov[plot]'`).\n")
     folder.write_text("report.md", "\n".join(parts))
     return results
+
+
+def _with_iterations(experiment: Experiment, iterations: Any) -> Experiment:
+    """``experiment`` with ``iterations`` CAO iterations instead of its own (``None``: unchanged)."""
+    if iterations is None:
+        return experiment
+    if not is_int(iterations) or iterations < 0:
+        raise ConfigError(f"iterations must be an integer >= 0, got {iterations!r}")
+    return experiment.with_changes(iterations=int(iterations))
 
 
 def _demote(markdown: str) -> str:
