@@ -26,32 +26,10 @@ import numpy as np
 import uavcov
 from uavcov.errors import SurfaceTooLargeError
 
-size, spacing, n_uavs, d_max, threads = json.loads(sys.argv[1])
+size, spacing, n_uavs, d_max, threads, here = json.loads(sys.argv[1])
+sys.path.insert(0, here)
+from maps import heights
 baseline_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-
-def heights(size, spacing, seed=0):
-    # 150 rolling hills and 3000 small steep ones; Gaussians are separable, so each adds an
-    # outer product to a block of rows, and no temporary is as large as the map.
-    rng = np.random.default_rng(seed)
-    n = int(round(size / spacing)) + 1
-    hills = np.vstack([
-        np.column_stack([rng.uniform(0, size, 150), rng.uniform(0, size, 150),
-                         rng.uniform(5, 40, 150), rng.uniform(30, 150, 150)]),
-        np.column_stack([rng.uniform(0, size, 3000), rng.uniform(0, size, 3000),
-                         rng.uniform(1, 6, 3000), rng.uniform(1, 4, 3000)]),
-    ])
-    x = np.arange(n) * spacing
-    z = np.zeros((n, n))
-    for r0 in range(0, n, 256):
-        y = x[r0:r0 + 256]
-        for cx, cy, h, s in hills:
-            if cy + 5 * s < y[0] or cy - 5 * s > y[-1]:
-                continue
-            lo, hi = np.searchsorted(x, [cx - 5 * s, cx + 5 * s])
-            gx = h * np.exp(-((x[lo:hi] - cx) ** 2) / (2 * s * s))
-            gy = np.exp(-((y - cy) ** 2) / (2 * s * s))
-            z[r0:r0 + 256, lo:hi] += np.outer(gy, gx)
-    return z
 
 t0 = time.perf_counter()
 z = heights(size, spacing)
@@ -97,7 +75,7 @@ def main() -> None:
     parser.add_argument("--d-max", type=float, default=50.0)
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args()
-    config = json.dumps([args.size, args.spacing, args.uavs, args.d_max, args.threads])
+    config = json.dumps([args.size, args.spacing, args.uavs, args.d_max, args.threads, os.path.dirname(os.path.abspath(__file__))])
     print(f"load average before: {os.getloadavg()[0]:.2f}", flush=True)
     out = subprocess.run([sys.executable, "-c", CHILD, config], capture_output=True, text=True, check=False)
     if out.returncode != 0:
