@@ -94,3 +94,17 @@ def test_the_command_line_runs_all_and_refuses_a_choice_within_one(tmp_path, cap
     assert main([*args, "--team-sizes", "5"]) == EXIT_BAD_INPUT
     errors = [line for line in capsys.readouterr().err.splitlines() if "error:" in line]
     assert len(errors) == 1 and "not with all" in errors[0]
+
+
+def test_the_command_line_runs_the_ablation_and_refuses_a_choice_within_it(tmp_path, capsys):
+    from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
+
+    args = ["reproduce", "ablation", "--out", str(tmp_path / "ab"), "--seeds", "0", "--iterations", "1", "--no-plots", "--workers", "1"]
+    assert main(args) == EXIT_OK
+    table = (tmp_path / "ab" / "ablation.md").read_text(encoding="utf-8")
+    assert all(change.what in table for change in paper.ABLATIONS)
+    assert "the paper's model" in capsys.readouterr().out  # the table is printed too
+    assert main([*args[:3], str(tmp_path / "other"), "--starts", "cvt"]) == EXIT_BAD_INPUT
+    errors = [line for line in capsys.readouterr().err.splitlines() if "error:" in line]
+    assert len(errors) == 1 and "not with ablation" in errors[0]
+    assert main(["reproduce", "ablation", "--out", str(tmp_path / "bad"), "--seeds", "x-y"]) == EXIT_BAD_INPUT
