@@ -35,7 +35,7 @@ SETTINGS = f"uavcov.paper {experiments_hash(paper.EXPERIMENTS)}"
 
 def _save(fig, name: str) -> None:
     path = HERE / name
-    fig.text(0.995, 0.003, SETTINGS, ha="right", va="bottom", fontsize=7, color="0.45")  # the settings it was made with
+    fig.text(0.998, 0.998, SETTINGS, ha="right", va="top", fontsize=7, color="0.45")  # the settings it was made with
     fig.savefig(path, dpi=DPI, bbox_inches="tight", pad_inches=0.1)
     _small(path)
     print(f"{name:<32} {path.stat().st_size / 1e3:6.0f} kB", flush=True)

@@ -93,7 +93,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
 
     def emit(fig: Any, path: Path) -> None:
         if stamp:
-            fig.text(0.995, 0.003, stamp, ha="right", va="bottom", fontsize=7, color="0.45")
+            fig.text(0.998, 0.998, stamp, ha="right", va="top", fontsize=7, color="0.45")
         _finish(fig, path, dpi)
         _close(fig)
         written.append(path)
