@@ -206,12 +206,18 @@ def _reproduce(args: argparse.Namespace) -> int:
     return code
 
 
-def _reproduce_ablation(args: argparse.Namespace) -> int:
+def _refuse_choice_within(args: argparse.Namespace, what: str) -> None:
+    """``--team-sizes`` and ``--starts`` pick cells of one experiment; ``what`` runs several."""
     from .errors import ConfigError
-    from .jobs import ablate
 
     if args.team_sizes is not None or args.starts is not None:
-        raise ConfigError("--team-sizes and --starts choose within one experiment, not with ablation")
+        raise ConfigError(f"--team-sizes and --starts choose within one experiment, not with {what}")
+
+
+def _reproduce_ablation(args: argparse.Namespace) -> int:
+    from .jobs import ablate
+
+    _refuse_choice_within(args, "ablation")
     out = Path(args.out or "out/ablation")
     started = time.perf_counter()
     with _execution(args) as options:
@@ -222,11 +228,9 @@ def _reproduce_ablation(args: argparse.Namespace) -> int:
 
 
 def _reproduce_all(args: argparse.Namespace) -> int:
-    from .errors import ConfigError
     from .jobs import reproduce_all
 
-    if args.team_sizes is not None or args.starts is not None:
-        raise ConfigError("--team-sizes and --starts choose within one experiment, not with all")
+    _refuse_choice_within(args, "all")
     out = Path(args.out or "out/all")
     started = time.perf_counter()
     with _execution(args) as options:
