@@ -38,6 +38,7 @@ import os
 import sys
 import time
 from collections import defaultdict
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -222,64 +223,70 @@ def score_max(rows: list[dict[str, Any]]) -> tuple[float, str]:
     return score, f"rms {rms:.4f} gain-miss {np.mean(gains):.4f} converged {converged:.0%} {cells}"
 
 
-def search_max(
-    count: int, seeds: list[int], sizes: list[int], starts: list[str], workers: int, csv_path: str | None, search_seed: int, space: str
+def _random_search(
+    count: int,
+    space: dict[str, Any],
+    search_seed: int,
+    workers: int,
+    csv_path: str | None,
+    label: str,
+    evaluate: Callable[[cf.Executor, dict[str, Any]], tuple[float, str]],
 ) -> None:
-    """Random search of the on-line step's constants against the max columns, gains and convergence."""
+    """Draw ``count`` settings from ``space``, score each with ``evaluate(pool, changes)``, print the best."""
     generator = np.random.default_rng(search_seed)
-    base = paper.TABLE1
     context = multiprocessing.get_context("spawn")
     results = []
     with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         for index in range(count):
-            changes = {key: draw(generator) for key, draw in MAX_SPACES[space].items()}
-            experiment = base.with_changes(**changes)
-            cells = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
-            futures = [pool.submit(run_one, experiment, seed, n, start, experiment.iterations) for seed, n, start in cells]
-            rows = [f.result() for f in futures]
-            score, text = score_max([r for r in rows if not r["error"]])
+            changes = {key: draw(generator) for key, draw in space.items()}
+            score, text = evaluate(pool, changes)
             results.append((score, changes))
-            print(f"[{index}] score {score:.4f} {changes} {text}", flush=True)
+            print(f"[{index}] {label} {score:.4f} {changes} {text}", flush=True)
             if csv_path:
                 with open(csv_path, "a") as handle:
                     handle.write(f"{score:.5f};{changes!r};{text}\n")
     print("best:")
     for score, changes in sorted(results, key=lambda r: r[0])[:8]:
-        print(f"  score {score:.4f} {changes}")
+        print(f"  {label} {score:.4f} {changes}")
+
+
+def search_max(
+    count: int, seeds: list[int], sizes: list[int], starts: list[str], workers: int, csv_path: str | None, search_seed: int, space: str
+) -> None:
+    """Random search of the on-line step's constants against the max columns, gains and convergence."""
+
+    def evaluate(pool: cf.Executor, changes: dict[str, Any]) -> tuple[float, str]:
+        experiment = paper.TABLE1.with_changes(**changes)
+        cells = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
+        futures = [pool.submit(run_one, experiment, seed, n, start, experiment.iterations) for seed, n, start in cells]
+        rows = [f.result() for f in futures]
+        return score_max([r for r in rows if not r["error"]])
+
+    _random_search(count, MAX_SPACES[space], search_seed, workers, csv_path, "score", evaluate)
 
 
 def search_initial(
     count: int, seeds: list[int], sizes: list[int], workers: int, csv_path: str | None, search_seed: int, space: str
 ) -> None:
     """Random search of terrain and altitude against the "initial" columns (no CAO iterations)."""
-    generator = np.random.default_rng(search_seed)
     base = paper.TABLE1.with_changes(**{"constraints.z_max": 200.0})
-    context = multiprocessing.get_context("spawn")
-    results = []
-    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        for index in range(count):
-            changes = {key: draw(generator) for key, draw in SEARCH_SPACES[space].items()}
-            experiment = base.with_changes(**changes)
-            futures = [pool.submit(run_one, experiment, seed, n, start, 0) for n in sizes for start in ("cvt", "random") for seed in seeds]
-            pyramid = paper.PYRAMID.with_changes(**{"constraints.z_max": 200.0, **changes})
-            pyramid_futures = [pool.submit(run_one, pyramid, seed, 12, "cvt", 0) for seed in seeds]
-            rows = [f.result() for f in futures]
-            table_score, means = _score(rows, "initial")
-            pyramid_mean = float(np.mean([f.result()["initial"] for f in pyramid_futures]))
-            means[(12, "pyramid")] = pyramid_mean
-            # the pyramid cell counts as one more cell of the root mean square
-            n_cells = len(means) - 1
-            pyramid_error = pyramid_mean - paper.PUBLISHED_PYRAMID["initial"].mean
-            score = float(np.sqrt((table_score**2 * n_cells + pyramid_error**2) / (n_cells + 1)))
-            results.append((score, changes, means))
-            cells = " ".join(f"{n}{s[0]}={m:.3f}" for (n, s), m in sorted(means.items()))
-            print(f"[{index}] rms {score:.4f} {changes} {cells}", flush=True)
-            if csv_path:
-                with open(csv_path, "a") as handle:
-                    handle.write(f"{score:.5f};{changes!r};{cells}\n")
-    print("best:")
-    for score, changes, _ in sorted(results, key=lambda r: r[0])[:8]:
-        print(f"  rms {score:.4f} {changes}")
+
+    def evaluate(pool: cf.Executor, changes: dict[str, Any]) -> tuple[float, str]:
+        experiment = base.with_changes(**changes)
+        futures = [pool.submit(run_one, experiment, seed, n, start, 0) for n in sizes for start in ("cvt", "random") for seed in seeds]
+        pyramid = paper.PYRAMID.with_changes(**{"constraints.z_max": 200.0, **changes})
+        pyramid_futures = [pool.submit(run_one, pyramid, seed, 12, "cvt", 0) for seed in seeds]
+        rows = [f.result() for f in futures]
+        table_score, means = _score(rows, "initial")
+        pyramid_mean = float(np.mean([f.result()["initial"] for f in pyramid_futures]))
+        means[(12, "pyramid")] = pyramid_mean
+        # the pyramid cell counts as one more cell of the root mean square
+        n_cells = len(means) - 1
+        pyramid_error = pyramid_mean - paper.PUBLISHED_PYRAMID["initial"].mean
+        score = float(np.sqrt((table_score**2 * n_cells + pyramid_error**2) / (n_cells + 1)))
+        return score, " ".join(f"{n}{s[0]}={m:.3f}" for (n, s), m in sorted(means.items()))
+
+    _random_search(count, SEARCH_SPACES[space], search_seed, workers, csv_path, "rms", evaluate)
 
 
 def main(argv: list[str] | None = None) -> int:
