@@ -14,13 +14,16 @@
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
 //! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
 //!   candidates in one pass.
+//! - [`surrogate`]: CAO's estimator: polynomial regressors, their ridge fit, candidate scores
+//!   (dense linear algebra with nalgebra).
 //!
 //! Two modules are internal: `skyline` (how steeply the surface rises around a grid node, so
 //! sight lines to grid-node targets settle their last cells with one comparison) and `threads`
 //! (cached thread pools, so results never depend on their size).
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
-//! <- `sampling` <- `visibility`, and `mesh` <- `cvt`, `mesh` <- `flight`.
+//! <- `sampling` <- `visibility`, and `mesh` <- `cvt`, `mesh` <- `flight`; `surrogate` stands
+//! alone.
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
 //! plain Rust, so `cargo test` and `cargo bench` need no Python.
@@ -66,6 +69,7 @@ pub mod heightfield;
 pub mod mesh;
 pub mod sampling;
 mod skyline;
+pub mod surrogate;
 mod threads;
 pub mod visibility;
 

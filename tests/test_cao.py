@@ -16,6 +16,10 @@ from uavcov.cao import (
     _all_monomials,
     _design,
     _draw_monomials,
+    _fit_and_score,
+    _fit_and_score_numpy,
+    _fit_and_score_robots,
+    _fit_and_score_robots_numpy,
     _n_distinct_monomials,
     _ridge,
     _robot_design,
@@ -161,6 +165,74 @@ def test_design_matrix_matches_explicit_products():
         np.testing.assert_allclose(batched[i][:, :4], full[:, :4])
         np.testing.assert_allclose(batched[i][:, 4:][:, selected[i]], full[:, 4:][:, selected[i]])
         assert np.all(batched[i][:, 4:][:, ~selected[i]] == 0.0)
+
+
+@pytest.mark.parametrize("n_window", [0, 1, 7, 40, 91])
+def test_the_rust_surrogate_gives_the_numpy_references_fit_and_scores(n_window):
+    """Coefficients, candidate scores and monomial strengths agree to rounding, centralised
+    (36 coordinates, 12 monomials) and per robot (5 robots, 6 of 16 monomials each)."""
+    rng = np.random.default_rng(n_window)
+    dim = 36
+    terms = _draw_monomials(12, dim, np.empty((0, 3), dtype=np.int64), rng)
+    window = rng.normal(size=(n_window, dim))
+    values = 0.6 + 0.05 * rng.normal(size=n_window)
+    candidates = 0.3 * rng.normal(size=(200, dim))
+    for ridge in (1e-3, 10.0):
+        got = _fit_and_score(window, values, terms, candidates, ridge)
+        ref = _fit_and_score_numpy(window, values, terms, candidates, ridge)
+        for a, b in zip(got, ref, strict=True):
+            np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12)
+    active = np.zeros((5, 16), dtype=bool)
+    for row in active:
+        row[rng.choice(16, size=6, replace=False)] = True
+    window3 = rng.normal(size=(5, n_window, 3))
+    values3 = rng.normal(size=(5, n_window))
+    candidates3 = 0.3 * rng.normal(size=(5, 50, 3))
+    got = _fit_and_score_robots(np.swapaxes(window3, 0, 1).swapaxes(0, 1), values3, active, candidates3, 1e-3)
+    ref = _fit_and_score_robots_numpy(window3, values3, active, candidates3, 1e-3)
+    for a, b in zip(got, ref, strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12)
+    assert np.all(got[0][:, 4:][~active] == 0.0)  # inactive monomials have no coefficient
+
+
+@pytest.mark.parametrize("optimizer", ["cao", "per_robot"])
+def test_runs_on_the_rust_and_the_numpy_kernels_are_the_same(monkeypatch, optimizer):
+    """Same random streams: 120 iterations of a coverage mission end at the same positions."""
+    import sys
+
+    from uavcov import MissionSpec, gaussian_hills, run_mission
+
+    terrain = gaussian_hills(spacing=2.0, rng=4)
+    spec = MissionSpec(n_uavs=6, d_max=20.0, iterations=120, optimizer=optimizer)
+    rust = run_mission(terrain, spec, rng=4, n_threads=1)
+    module = sys.modules["uavcov.cao"]
+    monkeypatch.setattr(module, "_fit_and_score", _fit_and_score_numpy)
+    monkeypatch.setattr(module, "_fit_and_score_robots", _fit_and_score_robots_numpy)
+    reference = run_mission(terrain, spec, rng=4, n_threads=1)
+    np.testing.assert_allclose(rust.trace.trajectory, reference.trace.trajectory, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(rust.coverage, reference.coverage, rtol=0, atol=1e-12)
+
+
+def test_the_rust_surrogate_refuses_bad_arrays():
+    from uavcov import _core
+
+    terms = np.array([[0, 1, 2]], dtype=np.int64)
+    good = (np.zeros((4, 2)), np.zeros(4), terms, np.zeros((3, 2)), 1e-3)
+    assert _core.Surrogate.fit(*good)[1].shape == (3,)
+    bad = [
+        (np.zeros((4, 2)), np.zeros(3), terms, np.zeros((3, 2)), 1e-3),  # values of another length
+        (np.zeros((4, 2)), np.zeros(4), terms, np.zeros((3, 3)), 1e-3),  # candidates of another dimension
+        (np.zeros((4, 2)), np.zeros(4), np.array([[0, 1, 3]]), np.zeros((3, 2)), 1e-3),  # index beyond the one
+        (np.zeros((4, 2)), np.zeros(4), np.array([[0, -1, 2]]), np.zeros((3, 2)), 1e-3),  # negative index
+        (np.full((4, 2), np.nan), np.zeros(4), terms, np.zeros((3, 2)), 1e-3),
+        (np.zeros((4, 2)), np.zeros(4), terms, np.zeros((3, 2)), 0.0),
+    ]
+    for args in bad:
+        with pytest.raises(InvalidInputError):
+            _core.Surrogate.fit(*args)
+    all3 = _all_monomials(3)
+    with pytest.raises(InvalidInputError):
+        _core.Surrogate.fit_robots(np.zeros((2, 4, 3)), np.zeros((2, 4)), all3, np.ones((3, 16), bool), np.zeros((2, 5, 3)), 1e-3)
 
 
 def test_zero_columns_do_not_change_a_ridge_fit():
@@ -629,13 +701,14 @@ def test_each_fit_uses_the_window_of_eq_4(monkeypatch, optimizer):
 
     module = sys.modules["uavcov.cao"]  # the package exports the function cao under that name
     fits: list[np.ndarray] = []
-    real_ridge = module._ridge
+    name = "_fit_and_score" if optimizer == "cao" else "_fit_and_score_robots"
+    real_fit = getattr(module, name)
 
-    def recording_ridge(phi, y, ridge):
-        fits.append(np.array(y, copy=True))
-        return real_ridge(phi, y, ridge)
+    def recording_fit(window, values, *args):
+        fits.append(np.array(values, copy=True))
+        return real_fit(window, values, *args)
 
-    monkeypatch.setattr(module, "_ridge", recording_ridge)
+    monkeypatch.setattr(module, name, recording_fit)
     top = np.array([[3.0, -2.0, 1.0], [-1.0, 4.0, 2.0]])
     settings = CAOSettings(history=3, n_candidates=30, robot_regressors=6, measurement_noise=0.1)
     if optimizer == "cao":

@@ -5,7 +5,7 @@ from typing import final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Surface", "Visibility", "CVT", "available_threads", "__version__"]
+__all__ = ["Surface", "Visibility", "CVT", "Surrogate", "available_threads", "__version__"]
 
 __version__: str
 
@@ -100,3 +100,23 @@ class CVT:
     ]: ...
     @staticmethod
     def regions(generators: npt.NDArray[np.float64], points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.int64]: ...
+
+@final
+class Surrogate:
+    @staticmethod
+    def fit(
+        window: npt.NDArray[np.float64],
+        values: npt.NDArray[np.float64],
+        terms: npt.NDArray[np.int64],
+        candidates: npt.NDArray[np.float64],
+        ridge: float,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    @staticmethod
+    def fit_robots(
+        window: npt.NDArray[np.float64],
+        values: npt.NDArray[np.float64],
+        terms: npt.NDArray[np.int64],
+        active: npt.NDArray[np.bool_],
+        candidates: npt.NDArray[np.float64],
+        ridge: float,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...

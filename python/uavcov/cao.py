@@ -65,6 +65,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from . import _core
 from ._validate import (
     as_non_negative_float,
     as_non_negative_int,
@@ -521,6 +522,64 @@ def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------------
+# The surrogate's kernels: Rust (one call per iteration), and their numpy references
+# --------------------------------------------------------------------------------------------
+
+
+def _fit_and_score(
+    window: np.ndarray, values: np.ndarray, terms: np.ndarray, candidates: np.ndarray, ridge: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fit the centralised surrogate and score the candidates: ``(theta, scores, strength)``.
+
+    ``window`` ``(W, d)`` and ``candidates`` ``(M, d)`` are normalised coordinates, ``values``
+    ``(W,)`` what was measured at the window's points, ``terms`` ``(T, 3)`` the monomials.
+    ``strength`` ``(T,)`` is :func:`_strength` of the monomials. The Rust kernel
+    (``uavcov._core.Surrogate.fit``, nalgebra); :func:`_fit_and_score_numpy` is its reference.
+    """
+    return _core.Surrogate.fit(window, values, terms, candidates, ridge)
+
+
+def _fit_and_score_robots(
+    window: np.ndarray, values: np.ndarray, active: np.ndarray, candidates: np.ndarray, ridge: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every robot's surrogate at once: ``window`` ``(N, W, 3)``, ``values`` ``(N, W)``,
+    ``active`` ``(N, 16)`` bool (each robot's monomials), ``candidates`` ``(N, M, 3)`` ->
+    ``theta`` ``(N, 20)``, ``scores`` ``(N, M)``, ``strength`` ``(N, 16)``. Rust kernel;
+    :func:`_fit_and_score_robots_numpy` is its reference.
+    """
+    return _core.Surrogate.fit_robots(window, values, _all_monomials(3), active, candidates, ridge)
+
+
+def _fit_and_score_numpy(
+    window: np.ndarray, values: np.ndarray, terms: np.ndarray, candidates: np.ndarray, ridge: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """numpy reference of :func:`_fit_and_score` (same maths, LAPACK's solve)."""
+    dim = window.shape[-1]
+    with _one_blas_thread():
+        phi = _design(window, terms)
+        theta = _ridge(phi, values, ridge)
+        scores = _design(candidates, terms) @ theta
+    strength = _strength(phi, theta, 1 + dim) if window.shape[0] else np.zeros(terms.shape[0])
+    return theta, scores, strength
+
+
+def _fit_and_score_robots_numpy(
+    window: np.ndarray, values: np.ndarray, active: np.ndarray, candidates: np.ndarray, ridge: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """numpy reference of :func:`_fit_and_score_robots`."""
+    with _one_blas_thread():
+        phi = _robot_design(window, active)  # (N, W, 20)
+        theta = _ridge(phi, values, ridge)  # (N, 20)
+        scores = (  # theta . phi(candidates) without building phi for the M candidates
+            theta[:, :1]
+            + np.einsum("nmk,nk->nm", candidates, theta[:, 1:4])
+            + np.einsum("nmj,nj->nm", _every_monomial3(candidates), theta[:, 4:] * active)
+        )
+    strength = _strength(phi, theta, 4) if window.shape[1] else np.zeros(active.shape)
+    return theta, scores, strength
+
+
+# --------------------------------------------------------------------------------------------
 # Shared plumbing
 # --------------------------------------------------------------------------------------------
 
@@ -794,12 +853,9 @@ def cao(
         lo = _window_start(k, n_window)
         window = traj[lo:k]
         scale = float(_scale(window, x, alpha))
-        with _one_blas_thread():
-            phi = _design((window - x) / scale, terms)
-            theta = _ridge(phi, measured[lo:k], settings.ridge)
-            zeta = _draw_zeta(settings, (n_cand, dim), rng)
-            zeta[0] = 0.0
-            predicted = _design(zeta * (alpha / scale), terms) @ theta
+        zeta = _draw_zeta(settings, (n_cand, dim), rng)
+        zeta[0] = 0.0
+        _, predicted, strength = _fit_and_score((window - x) / scale, measured[lo:k], terms, zeta * (alpha / scale), settings.ridge)
         candidates = x + alpha * zeta
         choice, n_checked[k], n_feasible[k] = _best_feasible(
             predicted, candidates.reshape(n_cand, n_uavs, 3), x.reshape(n_uavs, 3), check, settings.check_batch, rng
@@ -807,7 +863,7 @@ def cao(
         if choice is not None:
             x = candidates[choice].copy()
         if n_terms and k > lo:
-            terms = _refresh_terms(terms, _strength(phi, theta, 1 + dim), settings.keep_fraction, dim, rng)
+            terms = _refresh_terms(terms, strength, settings.keep_fraction, dim, rng)
 
     t_total = time.perf_counter() - t_start
     return _finish(
@@ -925,17 +981,10 @@ def per_robot_cao(
         window = traj[lo:k]  # (W, N, 3)
         scale = _scale(window, x, alpha)  # (N,)
         u = np.swapaxes(window - x, 0, 1) / scale[:, None, None]  # (N, W, 3)
-        with _one_blas_thread():
-            phi = _robot_design(u, terms)  # (N, W, L)
-            theta = _ridge(phi, marg[lo:k].T, settings.ridge)  # (N, L)
-            zeta = _draw_zeta(settings, (n_cand, n_uavs, 3), rng)
-            zeta[0] = 0.0
-            uc = np.swapaxes(zeta, 0, 1) * (alpha / scale)[:, None, None]  # (N, M, 3)
-            score = (  # theta . phi(uc) without building phi for the M candidates
-                theta[:, :1]
-                + np.einsum("nmk,nk->nm", uc, theta[:, 1:4])
-                + np.einsum("nmj,nj->nm", _every_monomial3(uc), theta[:, 4:] * terms)
-            )
+        zeta = _draw_zeta(settings, (n_cand, n_uavs, 3), rng)
+        zeta[0] = 0.0
+        uc = np.swapaxes(zeta, 0, 1) * (alpha / scale)[:, None, None]  # (N, M, 3)
+        _, score, strength = _fit_and_score_robots(u, marg[lo:k].T, terms, uc, settings.ridge)  # score (N, M)
         # rank each robot's perturbations, best first; a flat estimator (all scores equal, as
         # at iteration 0) ranks them at random, or "stay" would win every tie
         order = np.argsort(-score, axis=1, kind="stable")  # (N, M)
@@ -950,7 +999,7 @@ def per_robot_cao(
         if choice is not None:
             x = team_cand[choice].copy()
         if n_terms and k > lo:
-            terms = _refresh_robot_terms(terms, _strength(phi, theta, 4), settings.keep_fraction, rng)
+            terms = _refresh_robot_terms(terms, strength, settings.keep_fraction, rng)
 
     t_total = time.perf_counter() - t_start
     return _finish("per_robot", traj, values, measured, steps, n_checked, n_feasible, settings, t_measure, check.seconds, t_total)

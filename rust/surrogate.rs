@@ -1,0 +1,299 @@
+//! CAO's estimator (the paper's eqs. 3-4): polynomial regressors of normalised coordinates,
+//! their ridge least-squares fit on a window of past measurements, and the scores of candidate
+//! configurations.
+//!
+//! The regressors of a point `u` of `dim` coordinates are a constant, the `dim` coordinates, and
+//! monomials of degree 2 or 3, each named by three indices into `u` augmented with a one (index
+//! `dim`): `(i, j, dim)` is `u_i u_j`, `(i, j, l)` is `u_i u_j u_l`. The optimiser draws and
+//! redraws the monomials (with the caller's random stream, so runs stay reproducible); this
+//! module only evaluates and fits them, in one call per iteration.
+//!
+//! The fit minimises `mean((phi theta - y)^2) + ridge |theta[1..]|^2` (the constant is not
+//! penalised) through its normal equations, with `y` centred first so the solve carries only the
+//! variations. Every penalised column makes the system positive definite, so a Cholesky
+//! factorisation solves it; LU and then an SVD pseudo-inverse guard against round-off on extreme
+//! inputs.
+//!
+//! ```
+//! use uavcov::surrogate::{fit, Regressors};
+//! // y = 1 + 2 u0 - u1 + 3 u0 u1 on a 4 x 4 grid of points, fitted with every term it needs.
+//! let reg = Regressors::new(2, vec![[0, 1, 2]])?;
+//! let points: Vec<f64> = (0..16).flat_map(|k| [f64::from(k % 4) - 1.5, f64::from(k / 4) - 1.5]).collect();
+//! let y: Vec<f64> = points.chunks(2).map(|u| 1.0 + 2.0 * u[0] - u[1] + 3.0 * u[0] * u[1]).collect();
+//! let model = fit(&reg, &points, &y, 1e-12, None)?;
+//! let score = reg.scores(&model.theta, &[0.5, 0.5])?;
+//! assert!((score[0] - (1.0 + 1.0 - 0.5 + 0.75)).abs() < 1e-6);
+//! # Ok::<(), uavcov::Error>(())
+//! ```
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::error::{try_filled, Error, Result};
+
+/// Pivots below this share of the largest singular value count as zero in the pseudo-inverse.
+const PSEUDO_INVERSE_EPS: f64 = 1e-13;
+
+/// The regressors of one estimator: the dimension of its points and its nonlinear monomials.
+#[derive(Debug, Clone)]
+pub struct Regressors {
+    dim: usize,
+    terms: Vec<[usize; 3]>,
+}
+
+/// A fitted estimator: its coefficients and what each nonlinear monomial contributed.
+#[derive(Debug, Clone)]
+pub struct Fit {
+    /// `1 + dim + terms` coefficients: the constant, the linear terms, the monomials.
+    pub theta: Vec<f64>,
+    /// Per monomial, `|theta_j|` times the root-mean-square of its column over the window (what
+    /// it contributes to the fit; the optimiser keeps the strongest). Zero on an empty window.
+    pub strength: Vec<f64>,
+}
+
+impl Regressors {
+    /// Regressors of `dim`-coordinate points with the monomials `terms`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when `dim` is 0 or an index exceeds `dim` (the one).
+    pub fn new(dim: usize, terms: Vec<[usize; 3]>) -> Result<Self> {
+        if dim == 0 {
+            return Err(Error::InvalidInput("the estimator's points need at least one coordinate".into()));
+        }
+        if let Some(t) = terms.iter().find(|t| t.iter().any(|&i| i > dim)) {
+            return Err(Error::InvalidInput(format!("monomial {t:?} has an index beyond {dim} (the coordinates and the one)")));
+        }
+        Ok(Self { dim, terms })
+    }
+
+    /// Number of regressors, `1 + dim + terms`.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        1 + self.dim + self.terms.len()
+    }
+
+    /// Always false: the constant is a regressor.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Coordinates per point.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Number of points in `points` (row-major, `dim` values each).
+    fn count(&self, points: &[f64], what: &str) -> Result<usize> {
+        if points.len() % self.dim != 0 {
+            return Err(Error::InvalidInput(format!("{what} hold {} values, not a multiple of {} coordinates", points.len(), self.dim)));
+        }
+        if points.iter().any(|v| !v.is_finite()) {
+            return Err(Error::InvalidInput(format!("{what} contain NaN or infinite values")));
+        }
+        Ok(points.len() / self.dim)
+    }
+
+    /// Writes the regressors of `u` into `row` (`self.len()` values).
+    fn row(&self, u: &[f64], row: &mut [f64]) {
+        let one = |i: usize| if i == self.dim { 1.0 } else { u[i] };
+        row[0] = 1.0;
+        row[1..=self.dim].copy_from_slice(u);
+        for (out, t) in row[1 + self.dim..].iter_mut().zip(&self.terms) {
+            *out = one(t[0]) * one(t[1]) * one(t[2]);
+        }
+    }
+
+    /// The design matrix `(n, len)` of `n` points given row-major.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a ragged or non-finite input, [`Error::TooLarge`] when the
+    /// matrix cannot be allocated.
+    pub fn design(&self, points: &[f64]) -> Result<DMatrix<f64>> {
+        let n = self.count(points, "the points")?;
+        let width = self.len();
+        let size = n.checked_mul(width).ok_or_else(|| Error::TooLarge("a design matrix beyond the address space".into()))?;
+        let mut matrix = DMatrix::from_vec(n, width, try_filled(0.0, size, "the design matrix")?);
+        let mut row = vec![0.0; width];
+        for (r, u) in points.chunks_exact(self.dim).enumerate() {
+            self.row(u, &mut row);
+            for (c, &v) in row.iter().enumerate() {
+                matrix[(r, c)] = v;
+            }
+        }
+        Ok(matrix)
+    }
+
+    /// `theta . phi(u)` for each of the points (row-major), without building their design matrix.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a ragged or non-finite input or a `theta` of the wrong length.
+    pub fn scores(&self, theta: &[f64], points: &[f64]) -> Result<Vec<f64>> {
+        if theta.len() != self.len() {
+            return Err(Error::InvalidInput(format!("theta has {} coefficients, the estimator {}", theta.len(), self.len())));
+        }
+        let n = self.count(points, "the candidates")?;
+        let mut out = try_filled(0.0, n, "the candidates' scores")?;
+        let mut row = vec![0.0; self.len()];
+        for (score, u) in out.iter_mut().zip(points.chunks_exact(self.dim)) {
+            self.row(u, &mut row);
+            *score = row.iter().zip(theta).map(|(a, b)| a * b).sum();
+        }
+        Ok(out)
+    }
+}
+
+/// Fits `regressors` to the values `y` measured at `points` (row-major), ridge-regularised.
+///
+/// `active`, when given, marks which monomials take part (one flag per monomial): the others
+/// are zero columns, whose coefficients a ridge fit sets to exactly zero, so this is the fit on
+/// the active columns alone. An empty window gives a flat estimator (all coefficients zero).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for inputs of mismatched sizes, non-finite values, or a `ridge` that
+/// is not positive and finite.
+pub fn fit(regressors: &Regressors, points: &[f64], y: &[f64], ridge: f64, active: Option<&[bool]>) -> Result<Fit> {
+    if !(ridge.is_finite() && ridge > 0.0) {
+        return Err(Error::InvalidInput(format!("ridge must be positive and finite, got {ridge}")));
+    }
+    if let Some(a) = active {
+        if a.len() != regressors.terms.len() {
+            return Err(Error::InvalidInput(format!("{} active flags for {} monomials", a.len(), regressors.terms.len())));
+        }
+    }
+    let mut phi = regressors.design(points)?;
+    let n = phi.nrows();
+    if y.len() != n {
+        return Err(Error::InvalidInput(format!("{} values for {n} points", y.len())));
+    }
+    if y.iter().any(|v| !v.is_finite()) {
+        return Err(Error::InvalidInput("the measured values contain NaN or infinite values".into()));
+    }
+    let first = 1 + regressors.dim;
+    if let Some(a) = active {
+        for (j, _) in a.iter().enumerate().filter(|(_, on)| !**on) {
+            phi.column_mut(first + j).fill(0.0);
+        }
+    }
+    let width = phi.ncols();
+    if n == 0 {
+        return Ok(Fit { theta: vec![0.0; width], strength: vec![0.0; width - first] });
+    }
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let centred = DVector::from_iterator(n, y.iter().map(|v| v - mean));
+    let mut gram = phi.tr_mul(&phi);
+    let rhs = phi.tr_mul(&centred);
+    let penalty = ridge * n as f64;
+    for j in 1..width {
+        gram[(j, j)] += penalty;
+    }
+    let mut theta = solve(gram, &rhs);
+    theta[0] += mean;
+    let strength = (first..width)
+        .map(|j| {
+            let rms = (phi.column(j).iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+            theta[j].abs() * rms
+        })
+        .collect();
+    Ok(Fit { theta: theta.iter().copied().collect(), strength })
+}
+
+/// Solves the symmetric positive (semi-)definite system `gram theta = rhs`.
+fn solve(gram: DMatrix<f64>, rhs: &DVector<f64>) -> DVector<f64> {
+    if let Some(chol) = gram.clone().cholesky() {
+        let theta = chol.solve(rhs);
+        if theta.iter().all(|v| v.is_finite()) {
+            return theta;
+        }
+    }
+    if let Some(theta) = gram.clone().lu().solve(rhs) {
+        if theta.iter().all(|v| v.is_finite()) {
+            return theta;
+        }
+    }
+    match gram.svd(true, true).pseudo_inverse(PSEUDO_INVERSE_EPS) {
+        Ok(inverse) => inverse * rhs,
+        Err(_) => DVector::zeros(rhs.len()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn random(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
+        (0..n).map(|_| rng.random::<f64>() * 2.0 - 1.0).collect()
+    }
+
+    #[test]
+    fn design_rows_are_the_products_of_their_monomials() {
+        let reg = Regressors::new(3, vec![[0, 0, 3], [0, 1, 2], [2, 2, 2], [1, 3, 3]]).unwrap();
+        let phi = reg.design(&[2.0, 3.0, 5.0, -1.0, 0.5, 4.0]).unwrap();
+        let expected = [[1.0, 2.0, 3.0, 5.0, 4.0, 30.0, 125.0, 3.0], [1.0, -1.0, 0.5, 4.0, 1.0, -2.0, 64.0, 0.5]];
+        for (r, row) in expected.iter().enumerate() {
+            for (c, v) in row.iter().enumerate() {
+                assert_eq!(phi[(r, c)], *v, "row {r} column {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn an_exact_polynomial_is_recovered_and_scored() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let reg = Regressors::new(4, vec![[0, 1, 4], [2, 2, 3], [1, 3, 4], [0, 0, 0]]).unwrap();
+        let truth: Vec<f64> = random(&mut rng, reg.len());
+        let points = random(&mut rng, 60 * 4);
+        let y = reg.scores(&truth, &points).unwrap();
+        let model = fit(&reg, &points, &y, 1e-12, None).unwrap();
+        for (a, b) in model.theta.iter().zip(&truth) {
+            assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+        }
+        let again = reg.scores(&model.theta, &points).unwrap();
+        for (a, b) in again.iter().zip(&y) {
+            assert!((a - b).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn inactive_monomials_get_zero_coefficients_and_leave_the_fit_unchanged() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let full = Regressors::new(3, vec![[0, 1, 3], [1, 2, 2], [0, 0, 3]]).unwrap();
+        let kept = Regressors::new(3, vec![[0, 1, 3], [0, 0, 3]]).unwrap();
+        let points = random(&mut rng, 20 * 3);
+        let y = random(&mut rng, 20);
+        let masked = fit(&full, &points, &y, 1e-2, Some(&[true, false, true])).unwrap();
+        let direct = fit(&kept, &points, &y, 1e-2, None).unwrap();
+        assert_eq!(masked.theta[5], 0.0);
+        assert_eq!(masked.strength[1], 0.0);
+        let pairs = [(0, 0), (1, 1), (2, 2), (3, 3), (4, 4), (6, 5)];
+        for (m, d) in pairs {
+            assert!((masked.theta[m] - direct.theta[d]).abs() < 1e-10);
+        }
+    }
+
+    #[test]
+    fn an_empty_window_is_flat_and_a_huge_ridge_leaves_the_mean() {
+        let reg = Regressors::new(2, vec![[0, 1, 2]]).unwrap();
+        let flat = fit(&reg, &[], &[], 1e-3, None).unwrap();
+        assert!(flat.theta.iter().all(|&v| v == 0.0) && flat.strength == vec![0.0]);
+        let points = [0.0, 1.0, 1.0, 0.0, -1.0, 2.0];
+        let shrunk = fit(&reg, &points, &[1.0, 2.0, 6.0], 1e12, None).unwrap();
+        assert!((shrunk.theta[0] - 3.0).abs() < 1e-9 && shrunk.theta[1..].iter().all(|v| v.abs() < 1e-9));
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        assert!(Regressors::new(0, vec![]).is_err());
+        assert!(Regressors::new(2, vec![[0, 3, 1]]).is_err());
+        let reg = Regressors::new(2, vec![]).unwrap();
+        assert!(reg.design(&[1.0, 2.0, 3.0]).is_err());
+        assert!(reg.design(&[1.0, f64::NAN]).is_err());
+        assert!(reg.scores(&[1.0], &[1.0, 2.0]).is_err());
+        assert!(fit(&reg, &[1.0, 2.0], &[1.0, 2.0], 1e-3, None).is_err());
+        assert!(fit(&reg, &[1.0, 2.0], &[f64::INFINITY], 1e-3, None).is_err());
+        assert!(fit(&reg, &[1.0, 2.0], &[1.0], 0.0, None).is_err());
+        assert!(fit(&reg, &[1.0, 2.0], &[1.0], 1e-3, Some(&[true])).is_err());
+    }
+}
