@@ -45,6 +45,18 @@ fn copy_of<T>(values: impl Iterator<Item = T>, n: usize, what: &str) -> Result<V
     Ok(out)
 }
 
+/// [`copy_of`] a whole array: one memcpy when it is C-contiguous.
+fn copy_array<T: numpy::Element + Copy, D: numpy::ndarray::Dimension>(
+    array: &numpy::PyReadonlyArray<'_, T, D>,
+    what: &str,
+) -> Result<Vec<T>> {
+    let view = array.as_array();
+    match view.as_slice() {
+        Some(values) => copy_of(values.iter().copied(), values.len(), what),
+        None => copy_of(view.iter().copied(), view.len(), what),
+    }
+}
+
 fn to_2d(rows: usize, cols: usize, values: Vec<f64>) -> Result<Array2<f64>> {
     Array2::from_shape_vec((rows, cols), values).map_err(|e| Error::Internal(format!("a result of unexpected shape: {e}")))
 }
@@ -69,10 +81,10 @@ impl PySurrogate {
         let terms = terms_of(py, &terms)?;
         let (theta, scores, strength) = held(py, || {
             let reg = Regressors::new(dim, terms)?;
-            let points = copy_of(window.as_array().iter().copied(), window.len(), "a copy of the window")?;
-            let y = copy_of(values.as_array().iter().copied(), values.len(), "a copy of the values")?;
+            let points = copy_array(&window, "a copy of the window")?;
+            let y = copy_array(&values, "a copy of the values")?;
             let model = fit(&reg, &points, &y, ridge, None)?;
-            let cand = copy_of(candidates.as_array().iter().copied(), candidates.len(), "a copy of the candidates")?;
+            let cand = copy_array(&candidates, "a copy of the candidates")?;
             let scores = reg.scores(&model.theta, &cand)?;
             Ok((model.theta, scores, model.strength))
         })?;
