@@ -725,6 +725,63 @@ def _first_feasible(candidates: np.ndarray, current: np.ndarray, check: _Feasibi
     return None, checked, 0
 
 
+_SOLO_POINTS = 1 << 20
+"""Most UAV positions one call of :func:`_solo_choices` asks the feasibility test about."""
+
+
+def _solo_choices(moves: np.ndarray, current: np.ndarray, check: _Feasibility, batch: int | None) -> tuple[np.ndarray, int, int]:
+    """Each UAV's best-ranked move that is admissible when it alone moves.
+
+    ``moves`` ``(N, M, 3)`` holds every UAV's perturbed positions, best-ranked first, its
+    unperturbed position among them (admissible, since ``current`` is). Ranks are checked in
+    doubling batches for the UAVs still undecided, each as the configuration ``current`` with that
+    UAV moved. Returns the rank per UAV ``(N,)`` (-1 where none is admissible: that UAV stays),
+    and the configurations checked and found admissible.
+    """
+    n_uavs, n_moves = moves.shape[:2]
+    rank = np.zeros(n_uavs, dtype=np.int64)
+    pending = np.arange(n_uavs)
+    start = checked = found = 0
+    width = n_moves if batch is None else batch
+    while pending.size and start < n_moves:
+        width = max(1, min(width, _SOLO_POINTS // (pending.size * n_uavs)))
+        ranks = np.arange(start, min(n_moves, start + width))
+        configs = np.broadcast_to(current, (pending.size, ranks.size, n_uavs, 3)).copy()
+        configs[np.arange(pending.size)[:, None], np.arange(ranks.size)[None, :], pending[:, None]] = moves[
+            pending[:, None], ranks[None, :]
+        ]
+        ok = check(current, configs.reshape(-1, n_uavs, 3)).reshape(pending.size, ranks.size)
+        checked += ok.size
+        found += int(ok.sum())
+        decided = ok.any(axis=1)
+        rank[pending[decided]] = ranks[np.argmax(ok[decided], axis=1)]
+        pending = pending[~decided]
+        start += ranks.size
+        width *= 2
+    rank[pending] = -1  # none admissible, not even staying (a test that refuses everything): it stays
+    return rank, checked, found
+
+
+def _team_move(chosen: np.ndarray, gain: np.ndarray, current: np.ndarray, check: _Feasibility) -> tuple[np.ndarray, int, int]:
+    """The team on every UAV's own move ``chosen`` ``(N, 3)``, or, when those clash, with the
+    movers of least predicted ``gain`` ``(N,)`` held back: a quarter of them, a half, three
+    quarters, all. One feasibility call; returns the new positions, configurations checked and
+    found admissible.
+    """
+    movers = np.flatnonzero((chosen != current).any(axis=1))
+    if movers.size == 0:
+        return current.copy(), 0, 0
+    movers = movers[np.argsort(gain[movers], kind="stable")]  # least promising first
+    teams = np.empty((5, *current.shape))
+    for t, share in enumerate((0.0, 0.25, 0.5, 0.75, 1.0)):
+        teams[t] = chosen
+        held = movers[: math.ceil(share * movers.size)]
+        teams[t, held] = current[held]
+    ok = check(current, teams)
+    first = int(np.argmax(ok)) if ok.any() else teams.shape[0] - 1
+    return teams[first].copy(), int(ok.size), int(ok.sum())
+
+
 def _finish(
     kind: str,
     traj: np.ndarray,
@@ -915,10 +972,12 @@ def per_robot_cao(
     the team objective using only its own estimate. The others' moves act on ``m_i`` as noise.
 
     Selection: each UAV ranks its ``M`` perturbations (the unperturbed one included) by its own
-    surrogate. Candidate ``r`` of the team puts every UAV on its rank-``r`` perturbation, and an
-    extra candidate keeps the whole team in place; the team moves to the best-ranked feasible one.
-    This keeps every UAV's own choice whenever the joint constraints (the safety distance couples
-    UAVs) allow it, with a single joint feasibility call per iteration.
+    surrogate and takes the best-ranked one that is admissible when it alone moves, the others
+    where they are (:func:`_solo_choices`); the team then makes all these moves at once, or,
+    when they clash (the safety distance couples the UAVs that move), holds back its least
+    promising movers a quarter at a time (:func:`_team_move`). So each UAV's constraints bind
+    only its own move: a team of 100 keeps moving where asking all of them to find admissible
+    perturbations of the same rank would leave it in place.
 
     Parameters
     ----------
@@ -992,12 +1051,15 @@ def per_robot_cao(
         flat = score.max(axis=1) - score.min(axis=1) <= 1e-12 * np.maximum(1.0, top)
         if flat.any():
             order[flat] = rng.permuted(np.tile(np.arange(n_cand), (int(flat.sum()), 1)), axis=1)
-        team_cand = np.empty((n_cand + 1, n_uavs, 3))
-        team_cand[:n_cand] = x[None] + alpha * zeta[order.T, robots[None, :]]
-        team_cand[n_cand] = x
-        choice, n_checked[k], n_feasible[k] = _first_feasible(team_cand, x, check, settings.check_batch)
-        if choice is not None:
-            x = team_cand[choice].copy()
+        moves = x[:, None] + alpha * zeta[order.T, robots[None, :]].swapaxes(0, 1)  # (N, M, 3), best first
+        rank, solo_checked, solo_feasible = _solo_choices(moves, x, check, settings.check_batch)
+        stays = rank < 0
+        rank[stays] = 0
+        picked = order[robots, rank]  # the perturbation each UAV takes (0: the unperturbed one)
+        picked[stays] = 0
+        chosen = np.where(stays[:, None], x, moves[robots, rank])
+        x, team_checked, team_feasible = _team_move(chosen, score[robots, picked] - score[:, 0], x, check)
+        n_checked[k], n_feasible[k] = solo_checked + team_checked, solo_feasible + team_feasible
         if n_terms and k > lo:
             terms = _refresh_robot_terms(terms, strength, settings.keep_fraction, rng)
 
