@@ -10,6 +10,8 @@
 //! - [`grid`]: the elevation grid itself (shape, spacing, heights, node numbering).
 //! - [`geometry`]: [`Point`] and what a line of sight is.
 //! - [`sampling`]: coverage targets on a surface.
+//! - [`sensor`]: what one UAV's sensor reaches before occlusion: its range and, for a camera,
+//!   its pinhole field of view.
 //! - [`visibility`]: the coverage objective, parallel over targets.
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
 //! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
@@ -22,7 +24,7 @@
 //! (cached thread pools, so results never depend on their size).
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
-//! <- `sampling` <- `visibility`, and `mesh` <- `cvt`, `mesh` <- `flight`; `surrogate` stands
+//! <- `sampling` <- `visibility` (which also imports `sensor`), and `mesh` <- `cvt`, `mesh` <- `flight`; `surrogate` stands
 //! alone.
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
@@ -68,6 +70,7 @@ pub mod grid;
 pub mod heightfield;
 pub mod mesh;
 pub mod sampling;
+pub mod sensor;
 mod skyline;
 pub mod surrogate;
 mod threads;

@@ -35,6 +35,7 @@ use crate::geometry::{in_bounds, Point, MAX_COORDINATE, UNLIMITED_RANGE};
 use crate::heightfield::{HeightField, Horizon};
 use crate::mesh::{Surface, TriangleMesh};
 use crate::sampling::default_targets;
+use crate::sensor::Sensor;
 use crate::skyline::{ChunkSkylines, Skyline, Skylines};
 use crate::threads;
 
@@ -246,6 +247,35 @@ fn squared_distance(a: Point, b: Point) -> f64 {
     (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
 }
 
+/// Which targets each UAV can reach before occlusion: the one range of the [`Visibility`], or a
+/// sensor per UAV.
+#[derive(Clone, Copy)]
+enum Reach<'a> {
+    /// Squared range.
+    Range(f64),
+    Sensors(&'a [Sensor]),
+}
+
+impl Reach<'_> {
+    /// Whether UAV `u` at `uav` reaches `target` (before occlusion).
+    #[inline]
+    fn accepts(&self, u: usize, uav: Point, target: Point) -> bool {
+        match self {
+            Reach::Range(d2) => squared_distance(uav, target) <= *d2,
+            Reach::Sensors(sensors) => sensors[u].accepts(uav, target),
+        }
+    }
+
+    /// The squared range of UAV `u`.
+    #[inline]
+    fn range2(&self, u: usize) -> f64 {
+        match self {
+            Reach::Range(d2) => *d2,
+            Reach::Sensors(sensors) => sensors[u].range().powi(2),
+        }
+    }
+}
+
 /// How many targets each UAV sees, and how many only it sees.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UavCounts {
@@ -377,11 +407,10 @@ impl Visibility {
     /// The UAVs (indices) within range of any point of a chunk's bounding box, nearest first:
     /// the nearest UAV is the likeliest to see a target, and a target stops at the first UAV that
     /// does.
-    fn in_range_of(&self, chunk: usize, uavs: &[Point], into: &mut Vec<usize>) {
+    fn in_range_of(&self, chunk: usize, uavs: &[Point], reach: Reach<'_>, into: &mut Vec<usize>) {
         into.clear();
-        let d2 = self.range * self.range;
         let b = self.targets.chunk_bounds[chunk];
-        into.extend((0..uavs.len()).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2));
+        into.extend((0..uavs.len()).filter(|&i| squared_distance_to_box(uavs[i], b) <= reach.range2(i)));
         let centre = [0, 1, 2].map(|k| 0.5 * (b.0[k] + b.1[k]));
         into.sort_by(|&u, &w| squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre)));
     }
@@ -398,11 +427,16 @@ impl Visibility {
 
     /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
     /// horizon here, in parallel, within [`HORIZON_BUDGET`] bounds in all).
-    fn engine(&self, uavs: &[Point]) -> Result<Engine<'_>> {
+    fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
         Ok(match (self.grid_path, self.surface.heightfield()) {
             (true, Some(field)) => {
                 let per_uav = HORIZON_BUDGET / uavs.len();
-                let horizons: Result<Vec<Horizon>> = uavs.par_iter().map(|&u| field.horizon(u, self.range, per_uav)).collect();
+                let radius = |i: usize| match reach {
+                    Reach::Range(_) => self.range,
+                    Reach::Sensors(sensors) => sensors[i].range(),
+                };
+                let horizons: Result<Vec<Horizon>> =
+                    uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, radius(i), per_uav)).collect();
                 Engine::Grid(field, horizons?)
             }
             _ => Engine::Mesh(self.surface.triangle_mesh()?, uavs.to_vec()),
@@ -414,17 +448,26 @@ impl Visibility {
     /// # Errors
     /// [`Error::InvalidInput`] when there is no UAV or a UAV coordinate is not finite.
     pub fn seen(&self, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
+        self.seen_by(uavs, None, n_threads)
+    }
+
+    /// [`Visibility::seen`] with a sensor per UAV (`None`: every UAV omnidirectional up to the
+    /// objective's `d_max`), each reaching what [`Sensor::accepts`] says before occlusion.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen`]; [`Error::InvalidInput`] when there are not as many sensors as UAVs.
+    pub fn seen_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
-        let d2 = self.range * self.range;
+        let reach = self.reach(uavs, sensors)?;
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
-            let engine = self.engine(uavs)?;
+            let engine = self.engine(uavs, reach)?;
             Ok::<_, Error>(
                 (0..self.targets.n_chunks())
                     .into_par_iter()
                     .map_init(
                         || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
                         |(near, points, nodes), c| {
-                            self.in_range_of(c, uavs, near);
+                            self.in_range_of(c, uavs, reach, near);
                             if near.is_empty() {
                                 return vec![false; self.targets.chunk_len(c)];
                             }
@@ -442,7 +485,7 @@ impl Visibility {
                                     let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
                                     for k in order {
                                         let u = near[k];
-                                        if squared_distance(uavs[u], q) > d2 {
+                                        if !reach.accepts(u, uavs[u], q) {
                                             continue;
                                         }
                                         if sky.is_none() {
@@ -477,6 +520,25 @@ impl Visibility {
         Ok(self.share(&seen))
     }
 
+    /// [`Visibility::coverage`] with a sensor per UAV (see [`Visibility::seen_by`]).
+    ///
+    /// # Errors
+    /// As [`Visibility::seen_by`].
+    pub fn coverage_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<f64> {
+        let seen = self.seen_by(uavs, sensors, n_threads)?;
+        Ok(self.share(&seen))
+    }
+
+    fn reach<'s>(&self, uavs: &[Point], sensors: Option<&'s [Sensor]>) -> Result<Reach<'s>> {
+        match sensors {
+            None => Ok(Reach::Range(self.range * self.range)),
+            Some(list) => {
+                ensure!(list.len() == uavs.len(), "{} sensors for {} UAVs: give one per UAV", list.len(), uavs.len());
+                Ok(Reach::Sensors(list))
+            }
+        }
+    }
+
     /// The weighted share of the targets flagged in `mask`.
     #[must_use]
     pub fn share(&self, mask: &[bool]) -> f64 {
@@ -491,16 +553,24 @@ impl Visibility {
     /// # Errors
     /// As [`Visibility::seen`].
     pub fn per_uav(&self, uavs: &[Point], n_threads: usize) -> Result<UavCounts> {
+        self.per_uav_by(uavs, None, n_threads)
+    }
+
+    /// [`Visibility::per_uav`] with a sensor per UAV (see [`Visibility::seen_by`]).
+    ///
+    /// # Errors
+    /// As [`Visibility::seen_by`].
+    pub fn per_uav_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<UavCounts> {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
-        let d2 = self.range * self.range;
+        let reach = self.reach(uavs, sensors)?;
         let mut total = UavCounts::zeros(n, self.targets.total_weight)?;
         let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
         // Chunks in batches whose counters fit in COUNTS_BUDGET, each batch summed in chunk order
         // into the total: the same sums, in the same order, as one batch of every chunk.
         let batch = (COUNTS_BUDGET / n).max(1);
         threads::run(n_threads, || {
-            let engine = self.engine(uavs)?;
+            let engine = self.engine(uavs, reach)?;
             let mut first = 0;
             while first < self.targets.n_chunks() {
                 let last = (first + batch).min(self.targets.n_chunks());
@@ -512,7 +582,7 @@ impl Visibility {
                             let mut out = UavCounts::zeros(n, 0.0)?;
                             let mut seen = vec![false; self.targets.chunk_len(c)];
                             let b = self.targets.chunk_bounds[c];
-                            let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= d2).collect();
+                            let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= reach.range2(i)).collect();
                             if near.is_empty() {
                                 return Ok((out, seen));
                             }
@@ -521,7 +591,7 @@ impl Visibility {
                             let mut skylines = self.skylines_of(c, nodes);
                             for (k, &q) in points.iter().enumerate() {
                                 let w = self.targets.weights[c * CHUNK + k];
-                                let in_range = |i: &usize| squared_distance(uavs[*i], q) <= d2;
+                                let in_range = |i: &usize| reach.accepts(*i, uavs[*i], q);
                                 let sky = match &mut skylines {
                                     Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
                                     _ => None,
@@ -695,6 +765,59 @@ mod tests {
             let count = seen.iter().filter(|&&v| v).count();
             assert!(count > 0 && count < seen.len());
         }
+    }
+
+    /// A camera looking along heading `yaw` (degrees clockwise from +y) with gimbal pitch
+    /// `pitch` (degrees, -90 straight down), `h` x `v` degrees wide.
+    fn camera(yaw: f64, pitch: f64, h: f64, v: f64) -> crate::sensor::Frustum {
+        let (sy, cy) = yaw.to_radians().sin_cos();
+        let (sp, cp) = pitch.to_radians().sin_cos();
+        let forward = [sy * cp, cy * cp, sp];
+        let right = [cy, -sy, 0.0];
+        let up = [
+            right[1] * forward[2] - right[2] * forward[1],
+            right[2] * forward[0] - right[0] * forward[2],
+            right[0] * forward[1] - right[1] * forward[0],
+        ];
+        crate::sensor::Frustum::new(forward, right, up, (h / 2.0).to_radians().tan(), (v / 2.0).to_radians().tan()).unwrap()
+    }
+
+    #[test]
+    fn sensors_give_each_uavs_sight_lines_within_its_reach_on_both_paths() {
+        let s = rugged(50);
+        let targets = Targets::of_surface(&s, 1.0).unwrap();
+        let points = targets.points().into_owned();
+        let grid = Visibility::with_path(s.clone(), targets.clone(), 9.0, Path::Auto).unwrap();
+        let mesh = Visibility::with_path(s.clone(), targets, 9.0, Path::Mesh).unwrap();
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 9.0).unwrap();
+        let uavs: Vec<Point> = (0..6).map(|k| [103.0 + 4.0 * f64::from(k), -5.0 + 3.5 * f64::from(k), 6.0 + f64::from(k)]).collect();
+        let sensors = [
+            Sensor::omnidirectional(9.0).unwrap(),
+            Sensor::new(2.0, 12.0, Some(camera(0.0, -90.0, 84.0, 60.0))).unwrap(),
+            Sensor::new(0.0, 15.0, Some(camera(359.0, -45.0, 60.0, 45.0))).unwrap(),
+            Sensor::new(1.0, 7.0, Some(camera(90.0, 0.0, 120.0, 90.0))).unwrap(),
+            Sensor::new(0.0, 20.0, Some(camera(200.0, -60.0, 30.0, 20.0))).unwrap(),
+            Sensor::new(0.0, 10.0, None).unwrap(),
+        ];
+        // The reference: each UAV alone, omnidirectional with an ample range (its sight lines),
+        // kept where its own sensor reaches.
+        let wide = Visibility::with_path(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 25.0, Path::Mesh).unwrap();
+        let alone: Vec<Vec<bool>> = uavs.iter().map(|&u| wide.seen(&[u], 1).unwrap()).collect();
+        for n in 1..=uavs.len() {
+            let (u, sens) = (&uavs[..n], &sensors[..n]);
+            let expected: Vec<bool> = (0..points.len()).map(|t| (0..n).any(|i| alone[i][t] && sens[i].accepts(u[i], points[t]))).collect();
+            assert_eq!(mesh.seen_by(u, Some(sens), 1).unwrap(), expected, "{n} UAVs");
+            assert_eq!(grid.seen_by(u, Some(sens), 2).unwrap(), expected);
+            assert_eq!(nodes.seen_by(u, Some(sens), 2).unwrap(), expected);
+            assert_eq!(grid.per_uav_by(u, Some(sens), 1).unwrap(), mesh.per_uav_by(u, Some(sens), 2).unwrap());
+            assert_eq!(nodes.coverage_by(u, Some(sens), 1).unwrap(), mesh.coverage_by(u, Some(sens), 1).unwrap());
+            let count = expected.iter().filter(|&&v| v).count();
+            assert!(count > 0 && count < expected.len());
+        }
+        // the paper's sensor given explicitly is the objective's own
+        let omni = vec![Sensor::omnidirectional(9.0).unwrap(); 6];
+        assert_eq!(grid.seen_by(&uavs, Some(&omni), 1).unwrap(), grid.seen(&uavs, 1).unwrap());
+        assert!(grid.seen_by(&uavs, Some(&omni[..5]), 1).is_err());
     }
 
     #[test]

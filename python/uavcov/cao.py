@@ -21,6 +21,11 @@ approximation conditions (``alpha_k -> 0``, ``sum alpha_k = inf``, ``sum alpha_k
 ``0.5 < decay <= 1``. Coverage can fall between iterations (there is no acceptance test), so the
 trace records the best configuration measured, not only the last one.
 
+Steps 2 and 3's surrogate (the design matrix, the ridge fit, the scores of the ``M``
+candidates) runs in Rust, one call per iteration (``uavcov._core.Surrogate``, nalgebra); the
+random draws stay here, so runs are reproducible from ``rng`` alone. ``_fit_and_score_numpy`` is
+the same maths in numpy, the reference the tests hold the kernel to.
+
 Two optimisers share one interface (:class:`Optimizer`): :func:`cao`, centralised over the joint
 ``3N`` state, and :func:`per_robot_cao`, where every UAV fits its own estimator on its own three
 coordinates from its marginal contribution to the coverage.

@@ -1,0 +1,172 @@
+//! What one UAV's sensor can see before occlusion: a range (at least `d_min`, at most `d_max`)
+//! and, for a camera, a pinhole frustum.
+//!
+//! The paper's sensor is omnidirectional up to `d_max` (every UAV the same); a team may mix
+//! sensors, and a camera sees a target only inside its field of view. The frustum is given by
+//! the camera's axes in the world frame (unit vectors: `forward` along the optical axis, `right`
+//! along the image's width, `up` along its height) and the tangents of its half-angles; a target
+//! at offset `d` from the camera is inside when `d . forward > 0`, `|d . right| <=
+//! tan_h (d . forward)` and `|d . up| <= tan_v (d . forward)`, each dot product summed x, then
+//! y, then z (so an independent reference written the same way finds the same boundary targets).
+//! The axes come from the caller (the Python side turns heading and gimbal pitch into them), so
+//! this module holds no trigonometry whose last bit could differ from the reference's.
+//!
+//! ```
+//! use uavcov::sensor::{Frustum, Sensor};
+//! // A nadir camera (looking down, image top to the north), 90 deg x 60 deg, 2 m to 30 m range.
+//! let nadir = Frustum::new([0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 1.0, 0.5773502691896257)?;
+//! let sensor = Sensor::new(2.0, 30.0, Some(nadir))?;
+//! let uav = [0.0, 0.0, 10.0];
+//! assert!(sensor.accepts(uav, [5.0, 0.0, 0.0])); // 45 deg off the axis, across the width
+//! assert!(!sensor.accepts(uav, [0.0, 7.0, 0.0])); // 35 deg off the axis along the height: outside
+//! assert!(!sensor.accepts(uav, [0.0, 0.0, 9.0])); // 1 m away: under d_min
+//! # Ok::<(), uavcov::Error>(())
+//! ```
+
+use crate::error::{ensure, Result};
+use crate::geometry::{Point, UNLIMITED_RANGE};
+
+/// A pinhole camera's field of view in the world frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frustum {
+    forward: Point,
+    right: Point,
+    up: Point,
+    tan_h: f64,
+    tan_v: f64,
+}
+
+/// One UAV's sensor: its range and, for a camera, its field of view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sensor {
+    /// Least distance at which a target is seen, m (0: none).
+    pub d_min: f64,
+    /// Greatest distance at which a target is seen, m.
+    pub d_max: f64,
+    d_min2: f64,
+    d_max2: f64,
+    camera: Option<Frustum>,
+}
+
+fn dot(a: Point, b: Point) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn is_unit(a: Point) -> bool {
+    a.iter().all(|c| c.is_finite()) && (dot(a, a) - 1.0).abs() <= 1e-9
+}
+
+impl Frustum {
+    /// A frustum from the camera's unit axes and the tangents of its half fields of view.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] when an axis is not a finite unit vector, the axes are not
+    /// orthogonal (to 1e-9), or a tangent is not finite and positive (a field of view in
+    /// `(0, 180)` degrees).
+    pub fn new(forward: Point, right: Point, up: Point, tan_h: f64, tan_v: f64) -> Result<Self> {
+        ensure!(is_unit(forward) && is_unit(right) && is_unit(up), "the camera's axes must be finite unit vectors");
+        ensure!(
+            dot(forward, right).abs() <= 1e-9 && dot(forward, up).abs() <= 1e-9 && dot(right, up).abs() <= 1e-9,
+            "the camera's axes must be orthogonal"
+        );
+        ensure!(
+            tan_h.is_finite() && tan_h > 0.0 && tan_v.is_finite() && tan_v > 0.0,
+            "a field of view must be in (0, 180) degrees: its half-angle tangents must be finite and > 0, got {tan_h} and {tan_v}"
+        );
+        Ok(Self { forward, right, up, tan_h, tan_v })
+    }
+
+    /// Whether the offset `d` (target minus camera) lies inside the field of view, its boundary
+    /// included.
+    #[must_use]
+    pub fn contains(&self, d: Point) -> bool {
+        let depth = dot(d, self.forward);
+        depth > 0.0 && dot(d, self.right).abs() <= self.tan_h * depth && dot(d, self.up).abs() <= self.tan_v * depth
+    }
+}
+
+impl Sensor {
+    /// The paper's omnidirectional sensor of range `d_max`.
+    ///
+    /// # Errors
+    /// As [`Sensor::new`].
+    pub fn omnidirectional(d_max: f64) -> Result<Self> {
+        Self::new(0.0, d_max, None)
+    }
+
+    /// A sensor seeing from `d_min` to `d_max` metres, through `camera` when given.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] unless `0 <= d_min < d_max`, both finite (a `d_max` of
+    /// [`UNLIMITED_RANGE`] or more is an unlimited range, as for [`crate::Visibility`]).
+    pub fn new(d_min: f64, d_max: f64, camera: Option<Frustum>) -> Result<Self> {
+        ensure!(d_max.is_finite() && d_max > 0.0, "d_max must be finite and > 0, got {d_max}");
+        ensure!(d_min.is_finite() && d_min >= 0.0 && d_min < d_max, "d_min must be in [0, d_max), got {d_min}");
+        let range = d_max.min(UNLIMITED_RANGE);
+        Ok(Self { d_min, d_max, d_min2: d_min * d_min, d_max2: range * range, camera })
+    }
+
+    /// The range the tests use: `d_max`, at most [`UNLIMITED_RANGE`].
+    #[must_use]
+    pub fn range(&self) -> f64 {
+        self.d_max2.sqrt()
+    }
+
+    /// Whether a target at `target` is within this sensor's reach from `uav`, before occlusion:
+    /// within range (squared distances, summed x, y, z) and inside the camera's field of view.
+    #[must_use]
+    pub fn accepts(&self, uav: Point, target: Point) -> bool {
+        let d = [target[0] - uav[0], target[1] - uav[1], target[2] - uav[2]];
+        let d2 = dot(d, d);
+        d2 <= self.d_max2 && d2 >= self.d_min2 && self.camera.is_none_or(|c| c.contains(d))
+    }
+
+    /// The camera, when the sensor is one.
+    #[must_use]
+    pub fn camera(&self) -> Option<&Frustum> {
+        self.camera.as_ref()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const X: Point = [1.0, 0.0, 0.0];
+    const Y: Point = [0.0, 1.0, 0.0];
+    const Z: Point = [0.0, 0.0, 1.0];
+    const DOWN: Point = [0.0, 0.0, -1.0];
+
+    #[test]
+    fn an_omnidirectional_sensor_is_a_ball_and_a_minimum_range_a_shell() {
+        let ball = Sensor::omnidirectional(10.0).unwrap();
+        assert!(ball.accepts([0.0; 3], [10.0, 0.0, 0.0]) && !ball.accepts([0.0; 3], [10.001, 0.0, 0.0]));
+        assert!(ball.accepts([0.0; 3], [0.0; 3]));
+        let shell = Sensor::new(3.0, 10.0, None).unwrap();
+        assert!(!shell.accepts([0.0; 3], [0.0, 2.9, 0.0]) && shell.accepts([0.0; 3], [0.0, 3.0, 0.0]));
+    }
+
+    #[test]
+    fn the_frustum_boundary_is_inside_and_behind_is_outside() {
+        // forward +y, 90 deg wide (tan 1), 2 * atan(0.5) high
+        let f = Frustum::new(Y, X, Z, 1.0, 0.5).unwrap();
+        assert!(f.contains([2.0, 2.0, 0.0]) && f.contains([-2.0, 2.0, 1.0]));
+        assert!(!f.contains([2.5, 2.0, 0.0]) && !f.contains([0.0, 2.0, 1.5]));
+        assert!(!f.contains([0.0, -1.0, 0.0]) && !f.contains([0.0; 3]));
+        let nadir = Frustum::new(DOWN, X, Y, 1.0, 1.0).unwrap();
+        assert!(nadir.contains([1.0, -1.0, -1.0]) && !nadir.contains([0.0, 0.0, 1.0]));
+    }
+
+    #[test]
+    fn bad_sensors_are_errors() {
+        assert!(Frustum::new([0.0, 2.0, 0.0], X, Z, 1.0, 1.0).is_err()); // not unit
+        assert!(Frustum::new(Y, Y, Z, 1.0, 1.0).is_err()); // not orthogonal
+        assert!(Frustum::new(Y, X, Z, 0.0, 1.0).is_err());
+        assert!(Frustum::new(Y, X, Z, f64::INFINITY, 1.0).is_err());
+        assert!(Frustum::new(Y, X, [f64::NAN, 0.0, 1.0], 1.0, 1.0).is_err());
+        assert!(Sensor::new(0.0, 0.0, None).is_err());
+        assert!(Sensor::new(-1.0, 5.0, None).is_err());
+        assert!(Sensor::new(5.0, 5.0, None).is_err());
+        assert!(Sensor::new(0.0, f64::NAN, None).is_err());
+    }
+}
