@@ -46,6 +46,7 @@ from .prior import (
     sample_prior,
 )
 from .records import load_mission, save_mission
+from .sensors import Camera, Sensor, camera_axes
 from .starts import StartSpec, initial_positions, start_configuration
 from .surface import GridInfo, Terrain
 from .targets import Targets
@@ -60,6 +61,10 @@ __all__ = [
     "UavCounts",
     "Visibility",
     "coverage",
+    # sensors
+    "Camera",
+    "Sensor",
+    "camera_axes",
     # surfaces
     "Building",
     "GaussianMixture",

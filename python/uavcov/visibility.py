@@ -7,6 +7,7 @@ the weighted share of targets seen by at least one UAV.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -15,6 +16,7 @@ import numpy as np
 from . import _core
 from ._validate import as_n_threads, as_points, as_positive_float
 from .errors import InvalidTypeError
+from .sensors import Sensor, pack_sensors
 from .surface import Terrain
 from .targets import Targets
 
@@ -127,32 +129,40 @@ class Visibility:
         """The sensing range, metres."""
         return self._d_max
 
-    def _uavs(self, uavs: Any) -> np.ndarray:
-        return as_points(uavs, "uavs")
+    def _uavs(self, uavs: Any, sensors: Sequence[Sensor] | None) -> tuple[np.ndarray, np.ndarray | None]:
+        if sensors is None:
+            return as_points(uavs, "uavs"), None
+        return pack_sensors(sensors, uavs)
 
-    def coverage(self, uavs: Any) -> float:
+    def coverage(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> float:
         """Weighted share of targets seen by at least one UAV.
 
         Parameters
         ----------
-        uavs : (N, 3) array_like of float
-            UAV positions, metres.
+        uavs : (N, 3) or (N, 5) array_like of float
+            UAV positions, metres; with ``sensors`` that hold a camera, poses ``(x, y, z, yaw,
+            pitch)`` (degrees, see :mod:`uavcov.sensors`).
+        sensors : sequence of Sensor, optional
+            One per UAV. ``None``: every UAV omnidirectional up to :attr:`d_max` (the paper's).
 
         Returns
         -------
         float
             In [0, 1].
         """
-        return float(self._core.coverage(self._uavs(uavs), self._n_threads))
+        points, packed = self._uavs(uavs, sensors)
+        return float(self._core.coverage(points, self._n_threads, packed))
 
-    def seen(self, uavs: Any) -> np.ndarray:
-        """``(T,)`` bool: whether at least one UAV sees each target."""
-        return self._core.seen(self._uavs(uavs), self._n_threads)
+    def seen(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> np.ndarray:
+        """``(T,)`` bool: whether at least one UAV sees each target (arguments as :meth:`coverage`)."""
+        points, packed = self._uavs(uavs, sensors)
+        return self._core.seen(points, self._n_threads, packed)
 
-    def per_uav(self, uavs: Any) -> UavCounts:
+    def per_uav(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> UavCounts:
         """How many targets each UAV sees and how many only it sees, and the team's coverage, in
-        one pass (see :class:`UavCounts`)."""
-        seen, exclusive, seen_w, exclusive_w, total, coverage = self._core.per_uav(self._uavs(uavs), self._n_threads)
+        one pass (see :class:`UavCounts`; arguments as :meth:`coverage`)."""
+        points, packed = self._uavs(uavs, sensors)
+        seen, exclusive, seen_w, exclusive_w, total, coverage = self._core.per_uav(points, self._n_threads, packed)
         return UavCounts(
             seen.astype(np.int64),
             exclusive.astype(np.int64),

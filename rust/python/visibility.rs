@@ -4,8 +4,33 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use super::surface::PySurface;
-use super::{detached, held, points, to_py_err};
+use super::{detached, held, invalid, points, to_py_err};
+use crate::error::Result;
+use crate::sensor::{Frustum, Sensor};
 use crate::visibility;
+
+/// Columns of a packed sensor row: `d_min, d_max`, then a camera's `forward (3), right (3),
+/// up (3), tan_h, tan_v`, all NaN for an omnidirectional sensor.
+const SENSOR_COLUMNS: usize = 13;
+
+/// The sensors packed by `uavcov.sensors` (one row per UAV), copied and checked.
+fn sensors(py: Python<'_>, packed: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Vec<Sensor>>> {
+    let Some(packed) = packed else { return Ok(None) };
+    let a = packed.as_array();
+    if a.ncols() != SENSOR_COLUMNS {
+        return Err(invalid(py, format!("sensors must have shape (N, {SENSOR_COLUMNS}), got {:?}", a.shape())));
+    }
+    let parse = |r: numpy::ndarray::ArrayView1<'_, f64>| -> Result<Sensor> {
+        let camera = if r.iter().skip(2).all(|v| v.is_nan()) {
+            None
+        } else {
+            let axis = |k: usize| [r[k], r[k + 1], r[k + 2]];
+            Some(Frustum::new(axis(2), axis(5), axis(8), r[11], r[12])?)
+        };
+        Sensor::new(r[0], r[1], camera)
+    };
+    a.rows().into_iter().map(parse).collect::<Result<Vec<_>>>().map(Some).map_err(|e| to_py_err(py, e))
+}
 
 /// `(seen (U,), exclusive (U,), seen_weight (U,), exclusive_weight (U,), total_weight, coverage)`.
 type PerUavOutput<'py> =
@@ -71,26 +96,47 @@ impl PyVisibility {
     }
 
     /// `(T,)` bool: whether at least one UAV sees each target.
-    #[pyo3(signature = (uavs, n_threads=0))]
-    fn seen<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<bool>>> {
+    #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
+    fn seen<'py>(
+        &self,
+        py: Python<'py>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+        sensors: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let u = points(py, &uavs, "uavs")?;
-        let mask = detached(py, || self.inner.seen(&u, n_threads))?;
+        let sensors = self::sensors(py, sensors)?;
+        let mask = detached(py, || self.inner.seen_by(&u, sensors.as_deref(), n_threads))?;
         Ok(mask.into_pyarray(py))
     }
 
     /// Weighted share of targets seen, in [0, 1].
-    #[pyo3(signature = (uavs, n_threads=0))]
-    fn coverage(&self, py: Python<'_>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<f64> {
+    #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
+    fn coverage(
+        &self,
+        py: Python<'_>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+        sensors: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<f64> {
         let u = points(py, &uavs, "uavs")?;
-        detached(py, || self.inner.coverage(&u, n_threads))
+        let sensors = self::sensors(py, sensors)?;
+        detached(py, || self.inner.coverage_by(&u, sensors.as_deref(), n_threads))
     }
 
     /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
     /// then `total_weight` and the team's `coverage` (equal to `coverage()` to the last bit).
-    #[pyo3(signature = (uavs, n_threads=0))]
-    fn per_uav<'py>(&self, py: Python<'py>, uavs: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<PerUavOutput<'py>> {
+    #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
+    fn per_uav<'py>(
+        &self,
+        py: Python<'py>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+        sensors: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<PerUavOutput<'py>> {
         let u = points(py, &uavs, "uavs")?;
-        let c = detached(py, || self.inner.per_uav(&u, n_threads))?;
+        let sensors = self::sensors(py, sensors)?;
+        let c = detached(py, || self.inner.per_uav_by(&u, sensors.as_deref(), n_threads))?;
         Ok((
             c.seen.into_pyarray(py),
             c.exclusive.into_pyarray(py),

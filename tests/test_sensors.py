@@ -1,0 +1,189 @@
+"""Sensors per UAV (range, minimum range, pinhole camera) against an independent numpy reference.
+
+The reference: the brute-force sight lines of ``reference.py`` for every UAV-target pair, kept
+where a frustum test written here by dot products (and a range test) says the sensor reaches the
+target. The camera's axes come from ``uavcov.camera_axes``, itself checked against rotation
+matrices, so that both sides test the same floating-point frustum: targets placed exactly on its
+edges must get the same answer.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import random_grid_case, uavs_above
+from reference import visibility_reference
+from uavcov import Camera, Sensor, Terrain, Visibility, camera_axes
+from uavcov.errors import InvalidInputError, InvalidTypeError
+from uavcov.targets import Targets
+
+
+def _rotation(yaw_deg: float, pitch_deg: float) -> np.ndarray:
+    """World-from-camera rotation, columns (right, forward, up), by composing two rotations:
+    pitch about the camera's right (x) axis, then the heading about z (clockwise from north)."""
+    p, y = math.radians(pitch_deg), math.radians(yaw_deg)
+    pitch = np.array([[1, 0, 0], [0, math.cos(p), -math.sin(p)], [0, math.sin(p), math.cos(p)]])
+    heading = np.array([[math.cos(y), math.sin(y), 0], [-math.sin(y), math.cos(y), 0], [0, 0, 1]])
+    return heading @ pitch
+
+
+@pytest.mark.parametrize(("yaw", "pitch"), [(0, -90), (0, 0), (90, 0), (359.9, -30), (0.1, -30), (-45, -60), (720 + 10, -5)])
+def test_camera_axes_are_the_rotated_camera_frame(yaw, pitch):
+    forward, right, up = camera_axes([yaw], [pitch])
+    r = _rotation(yaw, pitch)
+    np.testing.assert_allclose(right[0], r[:, 0], atol=1e-12)
+    np.testing.assert_allclose(forward[0], r[:, 1], atol=1e-12)
+    np.testing.assert_allclose(up[0], r[:, 2], atol=1e-12)
+    if pitch == -90:
+        np.testing.assert_allclose(forward[0], [0, 0, -1], atol=1e-15)
+        np.testing.assert_allclose(up[0], [math.sin(math.radians(yaw)), math.cos(math.radians(yaw)), 0], atol=1e-12)
+
+
+def _reach(uavs, packed_axes, sensors, targets):
+    """(N, T) bool: range and frustum, dot products summed x, y, z (the order the docs state)."""
+    out = np.zeros((len(sensors), targets.shape[0]), dtype=bool)
+    for i, s in enumerate(sensors):
+        d = targets - uavs[i]
+        d2 = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2]
+        ok = (d2 <= s.reach_m * s.reach_m) & (d2 >= s.d_min * s.d_min)
+        if s.camera is not None:
+            f, r, u = (packed_axes[k][i] for k in range(3))
+            th, tv = s.camera.tan_half_fov
+            depth = d[:, 0] * f[0] + d[:, 1] * f[1] + d[:, 2] * f[2]
+            across = d[:, 0] * r[0] + d[:, 1] * r[1] + d[:, 2] * r[2]
+            along = d[:, 0] * u[0] + d[:, 1] * u[1] + d[:, 2] * u[2]
+            ok &= (depth > 0) & (np.abs(across) <= th * depth) & (np.abs(along) <= tv * depth)
+        out[i] = ok
+    return out
+
+
+def _team(rng: np.random.Generator, n: int) -> list[Sensor]:
+    kinds = [
+        Sensor(6.0),
+        Sensor(9.0, d_min=1.5, camera=Camera.from_fov(84.0, 62.0)),
+        Sensor(12.0, camera=Camera.from_fov(60.0, 45.0)),
+        Sensor(20.0, camera=Camera(13.2, 8.8, 8.8, 5472, 3648), max_gsd_m=0.002),
+        Sensor(8.0, d_min=0.5, camera=Camera.from_fov(120.0, 90.0)),
+    ]
+    return [kinds[k] for k in rng.integers(0, len(kinds), size=n)]
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("method", ["grid", "mesh"])
+def test_seen_matches_the_reference_with_mixed_sensors(seed, method):
+    case = random_grid_case(seed, nx=21, ny=17)
+    terrain = Terrain.from_grid(case.z, case.spacing, origin=case.origin)
+    targets = terrain.default_targets()
+    rng = np.random.default_rng(100 + seed)
+    n = 6
+    uavs = uavs_above(case, n, rng, low=1.0, high=6.0)
+    yaw = rng.choice([0.0, 359.95, 0.05, 90.0, 181.0, 270.0, -30.0], size=n)
+    pitch = rng.choice([-90.0, 0.0, -45.0, -89.9, -10.0], size=n)
+    poses = np.column_stack([uavs, yaw, pitch])
+    sensors = _team(rng, n)
+    vis = Visibility(terrain, 5.0, targets=targets, method=method)
+    seen = vis.seen(poses, sensors=sensors)
+    ref = visibility_reference(case.vertices, case.faces, uavs, targets.points, 50.0)
+    reach = _reach(uavs, camera_axes(yaw, pitch), sensors, targets.points)
+    visible = ref.visible & reach
+    certain_seen = (visible & ~ref.uncertain).any(axis=0)
+    undecided = ~certain_seen & (ref.uncertain & reach).any(axis=0)
+    np.testing.assert_array_equal(seen[~undecided], certain_seen[~undecided])
+    assert 0 < seen.sum() < seen.size and (reach.any(axis=0) & ~seen).any()  # occlusion and reach both bite
+    counts = vis.per_uav(poses, sensors=sensors)
+    assert counts.coverage == vis.coverage(poses, sensors=sensors)
+    assert np.all(np.abs(counts.seen - visible.sum(axis=1)) <= (ref.uncertain & reach).sum(axis=1))
+
+
+@pytest.mark.parametrize("method", ["grid", "mesh"])
+def test_targets_on_the_frustums_edges_get_the_references_answer(method):
+    # nothing occludes (the ground is 50 m below): the answer is the frustum test alone
+    terrain = Terrain.from_grid(np.full((11, 11), -50.0), (10.0, 10.0))
+    uav = np.array([50.0, 50.0, 0.0])
+    cameras = [Camera.from_fov(60.0, 45.0), Camera.from_fov(84.0, 84.0), Camera(13.2, 8.8, 8.8, 5472, 3648)]
+    rng = np.random.default_rng(3)
+    for camera in cameras:
+        for yaw, pitch in [(0.0, -90.0), (359.99, -45.0), (0.01, 0.0), (123.4, -67.8)]:
+            (f,), (r,), (u,) = camera_axes([yaw], [pitch])
+            th, tv = camera.tan_half_fov
+            depth = rng.uniform(1.0, 30.0, size=200)
+            a = rng.choice([-1.0, 1.0], size=200) * th * rng.choice([1.0, rng.uniform(0, 1)], size=200)
+            b = rng.choice([-1.0, 1.0], size=200) * tv * rng.choice([1.0, rng.uniform(0, 1)], size=200)
+            points = uav + depth[:, None] * (f + a[:, None] * r + b[:, None] * u)
+            targets = Targets.from_points(points, np.ones(200))
+            vis = Visibility(terrain, 100.0, targets=targets, method=method)
+            sensors = [Sensor(100.0, camera=camera)]
+            seen = vis.seen([[*uav, yaw, pitch]], sensors=sensors)
+            expected = _reach(uav[None], camera_axes([yaw], [pitch]), sensors, points)[0]
+            np.testing.assert_array_equal(seen, expected)
+            assert 0 < expected.sum() < expected.size  # edges fall on both sides
+
+
+def test_the_papers_sensor_given_explicitly_changes_nothing(hill_terrain):
+    vis = Visibility(hill_terrain, 8.0)
+    rng = np.random.default_rng(0)
+    lo, hi = hill_terrain.bounds
+    uavs = rng.uniform(lo + [0, 0, 3.0], hi + [0, 0, 6.0], size=(5, 3))
+    sensors = [Sensor(8.0)] * 5
+    assert vis.coverage(uavs, sensors=sensors) == vis.coverage(uavs)
+    np.testing.assert_array_equal(vis.seen(uavs, sensors=sensors), vis.seen(uavs))
+    a, b = vis.per_uav(uavs, sensors=sensors), vis.per_uav(uavs)
+    np.testing.assert_array_equal(a.seen, b.seen)
+    # a narrower camera never sees more than the omnidirectional sensor of the same range
+    narrow = [Sensor(8.0, camera=Camera.from_fov(60.0, 45.0))] * 5
+    poses = np.column_stack([uavs, np.zeros(5), np.full(5, -90.0)])
+    assert not (vis.seen(poses, sensors=narrow) & ~vis.seen(uavs)).any()
+
+
+def test_camera_vocabulary():
+    c = Camera(13.2, 8.8, 8.8, 5472, 3648)
+    assert c.hfov_deg == pytest.approx(2 * math.degrees(math.atan(13.2 / 17.6)))
+    assert c.gsd_m(100.0) == pytest.approx(100.0 * 13.2 / (8.8 * 5472))
+    wide = Camera.from_fov(84.0, 60.0)
+    assert (wide.hfov_deg, wide.vfov_deg) == (pytest.approx(84.0), pytest.approx(60.0))
+    assert Sensor(500.0, camera=c, max_gsd_m=0.01).reach_m == pytest.approx(0.01 * 8.8 * 5472 / 13.2)
+    assert Sensor(5.0, camera=c, max_gsd_m=0.01).reach_m == 5.0
+
+
+def test_bad_sensors_and_poses_are_clear_errors(hill_terrain):
+    vis = Visibility(hill_terrain, 8.0)
+    cam = Camera.from_fov(60.0, 45.0)
+    pose = [[5.0, 5.0, 20.0, 0.0, -90.0]]
+    for fov in (0.0, 180.0, 200.0, -10.0, math.nan, math.inf):
+        with pytest.raises(InvalidInputError):
+            Camera.from_fov(fov, 45.0)
+    with pytest.raises(InvalidInputError):
+        Camera(13.2, 8.8, -8.8, 5472, 3648)  # a negative focal length
+    with pytest.raises(InvalidInputError):
+        Camera(13.2, 8.8, 8.8, 0, 3648)
+    with pytest.raises(InvalidInputError):
+        Sensor(5.0, d_min=5.0)
+    with pytest.raises(InvalidInputError):
+        Sensor(5.0, max_gsd_m=0.01)  # a GSD needs a camera
+    with pytest.raises(InvalidTypeError):
+        Sensor(5.0, camera="wide")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="point up"):
+        vis.coverage([[5.0, 5.0, 20.0, 0.0, 10.0]], sensors=[Sensor(8.0, camera=cam)])  # a camera pointing up
+    for bad in (math.nan, math.inf):
+        with pytest.raises(InvalidInputError):
+            vis.coverage([[5.0, 5.0, 20.0, bad, -90.0]], sensors=[Sensor(8.0, camera=cam)])
+    with pytest.raises(InvalidInputError, match="one per UAV"):
+        vis.coverage(pose * 2, sensors=[Sensor(8.0, camera=cam)])
+    with pytest.raises(InvalidInputError, match=r"\(N, 5\)"):
+        vis.coverage([[5.0, 5.0, 20.0]], sensors=[Sensor(8.0, camera=cam)])
+    with pytest.raises(InvalidTypeError):
+        vis.coverage(pose, sensors=Sensor(8.0, camera=cam))  # type: ignore[arg-type]
+    # the engine's own checks, behind the Python ones
+    from uavcov import _core
+
+    packed = np.full((1, 13), np.nan)
+    packed[0, :2] = [0.0, 8.0]
+    packed[0, 2:5] = [0.0, 0.0, -1.0]  # a partial camera
+    with pytest.raises(InvalidInputError):
+        vis._core.coverage(np.array([[5.0, 5.0, 20.0]]), 1, packed)
+    with pytest.raises(InvalidInputError):
+        vis._core.coverage(np.array([[5.0, 5.0, 20.0]]), 1, np.zeros((1, 12)))
+    assert isinstance(_core.available_threads(), int)
