@@ -30,7 +30,7 @@ def _rotation(yaw_deg: float, pitch_deg: float) -> np.ndarray:
     return heading @ pitch
 
 
-@pytest.mark.parametrize(("yaw", "pitch"), [(0, -90), (0, 0), (90, 0), (359.9, -30), (0.1, -30), (-45, -60), (720 + 10, -5)])
+@pytest.mark.parametrize("yaw, pitch", [(0, -90), (0, 0), (90, 0), (359.9, -30), (0.1, -30), (-45, -60), (720 + 10, -5)])
 def test_camera_axes_are_the_rotated_camera_frame(yaw, pitch):
     forward, right, up = camera_axes([yaw], [pitch])
     r = _rotation(yaw, pitch)
