@@ -85,7 +85,47 @@ impl Frustum {
     }
 }
 
+impl Frustum {
+    /// Whether no point of the box `[lo, hi]` can lie inside the field of view seen from `apex`
+    /// (a conservative test: `false` says nothing). Each of the five planes bounding the view
+    /// (the four sides and the plane through the apex across the optical axis) is tried against
+    /// the box's eight corners; a box entirely on the outer side of one, by more than a margin
+    /// far wider than the rounding of [`Frustum::contains`], holds no point it accepts.
+    #[must_use]
+    pub fn misses_box(&self, apex: Point, lo: Point, hi: Point) -> bool {
+        let (f, r, u) = (self.forward, self.right, self.up);
+        let planes = [
+            f,
+            [self.tan_h * f[0] - r[0], self.tan_h * f[1] - r[1], self.tan_h * f[2] - r[2]],
+            [self.tan_h * f[0] + r[0], self.tan_h * f[1] + r[1], self.tan_h * f[2] + r[2]],
+            [self.tan_v * f[0] - u[0], self.tan_v * f[1] - u[1], self.tan_v * f[2] - u[2]],
+            [self.tan_v * f[0] + u[0], self.tan_v * f[1] + u[1], self.tan_v * f[2] + u[2]],
+        ];
+        let offsets: Vec<Point> = (0..8)
+            .map(|k| {
+                let corner = [
+                    if k & 1 == 0 { lo[0] } else { hi[0] },
+                    if k & 2 == 0 { lo[1] } else { hi[1] },
+                    if k & 4 == 0 { lo[2] } else { hi[2] },
+                ];
+                [corner[0] - apex[0], corner[1] - apex[1], corner[2] - apex[2]]
+            })
+            .collect();
+        let size = offsets.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let margin = 1e-9 * size * (1.0 + self.tan_h + self.tan_v);
+        planes.iter().any(|n| offsets.iter().all(|&d| dot(d, *n) < -margin))
+    }
+}
+
 impl Sensor {
+    /// Whether this sensor reaches no point of the box `[lo, hi]` from `uav` (conservative, like
+    /// [`Frustum::misses_box`]): the box is out of range, or outside the camera's view.
+    #[must_use]
+    pub fn misses_box(&self, uav: Point, lo: Point, hi: Point) -> bool {
+        let d2: f64 = (0..3).map(|k| (lo[k] - uav[k]).max(0.0).max(uav[k] - hi[k]).powi(2)).sum();
+        d2 > self.d_max2 || self.camera.is_some_and(|c| c.misses_box(uav, lo, hi))
+    }
+
     /// The paper's omnidirectional sensor of range `d_max`.
     ///
     /// # Errors
@@ -155,6 +195,39 @@ mod tests {
         assert!(!f.contains([0.0, -1.0, 0.0]) && !f.contains([0.0; 3]));
         let nadir = Frustum::new(DOWN, X, Y, 1.0, 1.0).unwrap();
         assert!(nadir.contains([1.0, -1.0, -1.0]) && !nadir.contains([0.0, 0.0, 1.0]));
+    }
+
+    #[test]
+    fn a_box_the_frustum_misses_holds_no_point_it_contains() {
+        let cams = [Frustum::new(Y, X, Z, 1.0, 0.5).unwrap(), Frustum::new(DOWN, X, Y, 0.6, 0.4).unwrap()];
+        let mut state = 7u64;
+        let mut next = || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0
+        };
+        let (mut culled, mut kept) = (0, 0);
+        for cam in cams {
+            for _ in 0..400 {
+                let c = [next(), next(), next()];
+                let h = [next().abs() / 4.0, next().abs() / 4.0, next().abs() / 4.0];
+                let (lo, hi) = ([c[0] - h[0], c[1] - h[1], c[2] - h[2]], [c[0] + h[0], c[1] + h[1], c[2] + h[2]]);
+                if cam.misses_box([0.0; 3], lo, hi) {
+                    culled += 1;
+                    for k in 0..=10 {
+                        for m in 0..=10 {
+                            for n in 0..=10 {
+                                let t = [f64::from(k) / 10.0, f64::from(m) / 10.0, f64::from(n) / 10.0];
+                                let p = [lo[0] + t[0] * (hi[0] - lo[0]), lo[1] + t[1] * (hi[1] - lo[1]), lo[2] + t[2] * (hi[2] - lo[2])];
+                                assert!(!cam.contains(p), "{p:?} in a culled box");
+                            }
+                        }
+                    }
+                } else {
+                    kept += 1;
+                }
+            }
+        }
+        assert!(culled > 100 && kept > 100, "{culled} culled, {kept} kept");
     }
 
     #[test]

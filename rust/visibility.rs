@@ -266,12 +266,12 @@ impl Reach<'_> {
         }
     }
 
-    /// The squared range of UAV `u`.
+    /// Whether UAV `u` at `uav` may reach a point of the box `b` (conservative).
     #[inline]
-    fn range2(&self, u: usize) -> f64 {
+    fn may_reach_box(&self, u: usize, uav: Point, b: (Point, Point)) -> bool {
         match self {
-            Reach::Range(d2) => *d2,
-            Reach::Sensors(sensors) => sensors[u].range().powi(2),
+            Reach::Range(d2) => squared_distance_to_box(uav, b) <= *d2,
+            Reach::Sensors(sensors) => !sensors[u].misses_box(uav, b.0, b.1),
         }
     }
 }
@@ -410,7 +410,7 @@ impl Visibility {
     fn in_range_of(&self, chunk: usize, uavs: &[Point], reach: Reach<'_>, into: &mut Vec<usize>) {
         into.clear();
         let b = self.targets.chunk_bounds[chunk];
-        into.extend((0..uavs.len()).filter(|&i| squared_distance_to_box(uavs[i], b) <= reach.range2(i)));
+        into.extend((0..uavs.len()).filter(|&i| reach.may_reach_box(i, uavs[i], b)));
         let centre = [0, 1, 2].map(|k| 0.5 * (b.0[k] + b.1[k]));
         into.sort_by(|&u, &w| squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre)));
     }
@@ -582,7 +582,7 @@ impl Visibility {
                             let mut out = UavCounts::zeros(n, 0.0)?;
                             let mut seen = vec![false; self.targets.chunk_len(c)];
                             let b = self.targets.chunk_bounds[c];
-                            let near: Vec<usize> = (0..n).filter(|&i| squared_distance_to_box(uavs[i], b) <= reach.range2(i)).collect();
+                            let near: Vec<usize> = (0..n).filter(|&i| reach.may_reach_box(i, uavs[i], b)).collect();
                             if near.is_empty() {
                                 return Ok((out, seen));
                             }
