@@ -13,6 +13,9 @@
 //! assert_eq!(g.cell_nodes(0, 1), [1, 2, 5, 4]);
 //! let [upper, lower] = g.cell_triangles(0, 0);
 //! assert!(upper.is_some() && lower.is_some());
+//! // the heights rise 1 m per metre along x and 3 m per metre along y: normal (-1, -3, 1) / |.|
+//! let n = g.node_normal(1).unwrap();
+//! assert!((n[0] + 1.0 / 11f64.sqrt()).abs() < 1e-12 && (n[2] - 1.0 / 11f64.sqrt()).abs() < 1e-12);
 //! ```
 
 use parry3d_f64::math::Vector;
@@ -72,6 +75,42 @@ impl Grid {
     pub fn cell_nodes(&self, i: usize, j: usize) -> [usize; 4] {
         let a = i * self.nx + j;
         [a, a + 1, a + self.nx + 1, a + self.nx]
+    }
+
+    /// The unit normal of the surface at node `k` (pointing up): the sum of the normals of the
+    /// (up to six) triangles around it, each weighted by its area (the cross product of two
+    /// edges), normalised. `None` when no triangle around the node is whole.
+    #[must_use]
+    pub fn node_normal(&self, k: usize) -> Option<Point> {
+        let (i, j) = (k / self.nx, k % self.nx);
+        let mut sum = [0.0f64; 3];
+        let mut add = |t: Option<[Vector; 3]>| {
+            if let Some([a, b, c]) = t {
+                let (e, f) = (b - a, c - a);
+                sum[0] += e.y * f.z - e.z * f.y;
+                sum[1] += e.z * f.x - e.x * f.z;
+                sum[2] += e.x * f.y - e.y * f.x;
+            }
+        };
+        // node (i, j) is corner a of cell (i, j), b of (i, j - 1), c of (i - 1, j - 1), d of (i - 1, j)
+        if i + 1 < self.ny && j + 1 < self.nx {
+            let [t0, t1] = self.cell_triangles(i, j);
+            add(t0);
+            add(t1);
+        }
+        if i + 1 < self.ny && j > 0 {
+            add(self.cell_triangles(i, j - 1)[0]);
+        }
+        if i > 0 && j > 0 {
+            let [t0, t1] = self.cell_triangles(i - 1, j - 1);
+            add(t0);
+            add(t1);
+        }
+        if i > 0 && j + 1 < self.nx {
+            add(self.cell_triangles(i - 1, j)[1]);
+        }
+        let norm = (sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]).sqrt();
+        (norm > 0.0 && norm.is_finite()).then(|| [sum[0] / norm, sum[1] / norm, sum[2] / norm])
     }
 
     /// The corners of the two triangles of cell `(i, j)`, `[a, b, c]` and `[a, c, d]`, or `None`

@@ -46,6 +46,11 @@ pub struct Sensor {
     d_min2: f64,
     d_max2: f64,
     camera: Option<Frustum>,
+    /// Cosine of the largest incidence angle accepted (between the target's normal and the
+    /// direction to the UAV), and its square.
+    incidence: Option<(f64, f64)>,
+    /// `(gsd per metre of distance, the GSD of full quality)`, m per pixel.
+    resolution: Option<(f64, f64)>,
 }
 
 fn dot(a: Point, b: Point) -> f64 {
@@ -143,7 +148,64 @@ impl Sensor {
         ensure!(d_max.is_finite() && d_max > 0.0, "d_max must be finite and > 0, got {d_max}");
         ensure!(d_min.is_finite() && d_min >= 0.0 && d_min < d_max, "d_min must be in [0, d_max), got {d_min}");
         let range = d_max.min(UNLIMITED_RANGE);
-        Ok(Self { d_min, d_max, d_min2: d_min * d_min, d_max2: range * range, camera })
+        Ok(Self { d_min, d_max, d_min2: d_min * d_min, d_max2: range * range, camera, incidence: None, resolution: None })
+    }
+
+    /// This sensor, reaching only targets seen at most `acos(cos_max)` off their surface normal
+    /// (either side of the surface: a mesh's winding says nothing of its outside).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] unless `cos_max` is in `[0, 1]` (an angle of 0 to 90 deg).
+    pub fn with_incidence_limit(mut self, cos_max: f64) -> Result<Self> {
+        ensure!((0.0..=1.0).contains(&cos_max), "the incidence limit's cosine must be in [0, 1], got {cos_max}");
+        self.incidence = Some((cos_max, cos_max * cos_max));
+        Ok(self)
+    }
+
+    /// This sensor, rating each target it sees by resolution: full quality where the ground
+    /// sample distance `gsd_per_metre * distance` is at most `good_gsd`, `good_gsd / gsd`
+    /// beyond.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] unless both are finite and positive.
+    pub fn with_resolution(mut self, gsd_per_metre: f64, good_gsd: f64) -> Result<Self> {
+        ensure!(gsd_per_metre.is_finite() && gsd_per_metre > 0.0, "the GSD per metre must be finite and > 0, got {gsd_per_metre}");
+        ensure!(good_gsd.is_finite() && good_gsd > 0.0, "the GSD of full quality must be finite and > 0, got {good_gsd}");
+        self.resolution = Some((gsd_per_metre, good_gsd));
+        Ok(self)
+    }
+
+    /// The cosine of the largest accepted incidence angle, when the sensor limits it.
+    #[must_use]
+    pub fn max_incidence_cos(&self) -> Option<f64> {
+        self.incidence.map(|(c, _)| c)
+    }
+
+    /// Whether `target` (surface normal `normal`) is seen steeply enough from `uav`: true
+    /// without a limit; false with a limit and no normal. Squared, so no root is taken:
+    /// `(v . n)^2 >= cos^2 |v|^2`.
+    #[must_use]
+    pub fn incidence_ok(&self, uav: Point, target: Point, normal: Option<Point>) -> bool {
+        let Some((_, cos2)) = self.incidence else { return true };
+        let Some(n) = normal else { return false };
+        let v = [uav[0] - target[0], uav[1] - target[1], uav[2] - target[2]];
+        let along = dot(v, n);
+        along * along >= cos2 * dot(v, v)
+    }
+
+    /// The quality of a view of `target` from `uav`, in `[0, 1]`: resolution (see
+    /// [`Sensor::with_resolution`]; 1 without) times the cosine of the incidence angle (1 without
+    /// a normal). Only meaningful for a target the sensor reaches and sees.
+    #[must_use]
+    pub fn quality(&self, uav: Point, target: Point, normal: Option<Point>) -> f64 {
+        let v = [uav[0] - target[0], uav[1] - target[1], uav[2] - target[2]];
+        let distance = dot(v, v).sqrt();
+        let resolution = self.resolution.map_or(1.0, |(per_metre, good)| (good / (per_metre * distance)).min(1.0));
+        let incidence = match normal {
+            Some(n) if distance > 0.0 => (dot(v, n).abs() / distance).min(1.0),
+            _ => 1.0,
+        };
+        resolution * incidence
     }
 
     /// The range the tests use: `d_max`, at most [`UNLIMITED_RANGE`].

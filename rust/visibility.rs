@@ -61,6 +61,8 @@ pub struct Targets {
     total_weight: f64,
     /// Bounding box `(mins, maxs)` of each chunk of `CHUNK` consecutive targets.
     chunk_bounds: Vec<(Point, Point)>,
+    /// Unit surface normals of given points, when known (grid nodes compute theirs).
+    normals: Option<Vec<Point>>,
 }
 
 #[derive(Debug, Clone)]
@@ -92,7 +94,47 @@ impl Targets {
         ensure!(weights.iter().all(|w| w.is_finite() && *w >= 0.0), "target weights must be finite and >= 0");
         let total_weight: f64 = weights.iter().sum();
         ensure!(total_weight.is_finite() && total_weight > 0.0, "target weights are all zero or sum to infinity");
-        Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds })
+        Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds, normals: None })
+    }
+
+    /// These targets with their unit surface normals (one per point, for incidence limits and
+    /// view quality); grid-node targets compute theirs from the grid.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for grid-node targets, a count other than one per target, or a
+    /// normal that is not a finite unit vector (to 1e-6).
+    pub fn with_normals(mut self, normals: Vec<Point>) -> Result<Self> {
+        ensure!(matches!(self.points, Points::Given(_)), "grid-node targets compute their own normals");
+        ensure!(normals.len() == self.len, "{} normals for {} targets", normals.len(), self.len);
+        ensure!(
+            normals.iter().all(|n| n.iter().all(|c| c.is_finite()) && ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1.0).abs() <= 1e-6),
+            "target normals must be finite unit vectors"
+        );
+        self.normals = Some(normals);
+        Ok(self)
+    }
+
+    /// Whether every target has a normal (given, or a grid node's).
+    #[must_use]
+    pub fn has_normals(&self) -> bool {
+        self.normals.is_some() || self.is_grid_nodes()
+    }
+
+    /// The normals of chunk `c`'s targets (`None` where unknown), into `out`.
+    fn chunk_normals(&self, c: usize, out: &mut Vec<Option<Point>>) {
+        out.clear();
+        match &self.points {
+            Points::GridNodes { surface, .. } => {
+                let g = surface.grid().expect("grid-node targets hold a grid surface");
+                let mut nodes = Vec::with_capacity(CHUNK);
+                self.chunk_nodes(c, &mut nodes);
+                out.extend(nodes.into_iter().map(|k| g.node_normal(k)));
+            }
+            Points::Given(_) => match &self.normals {
+                Some(n) => out.extend(n[c * CHUNK..c * CHUNK + self.chunk_len(c)].iter().map(|&v| Some(v))),
+                None => out.resize(self.chunk_len(c), None),
+            },
+        }
     }
 
     /// The surface's default targets (see [`default_targets`]).
@@ -257,12 +299,13 @@ enum Reach<'a> {
 }
 
 impl Reach<'_> {
-    /// Whether UAV `u` at `uav` reaches `target` (before occlusion).
+    /// Whether UAV `u` at `uav` reaches `target` (before occlusion); `normal` is the target's
+    /// surface normal, which only a sensor with an incidence limit reads.
     #[inline]
-    fn accepts(&self, u: usize, uav: Point, target: Point) -> bool {
+    fn accepts(&self, u: usize, uav: Point, target: Point, normal: Option<Point>) -> bool {
         match self {
             Reach::Range(d2) => squared_distance(uav, target) <= *d2,
-            Reach::Sensors(sensors) => sensors[u].accepts(uav, target),
+            Reach::Sensors(sensors) => sensors[u].accepts(uav, target) && sensors[u].incidence_ok(uav, target, normal),
         }
     }
 
@@ -459,14 +502,15 @@ impl Visibility {
     pub fn seen_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
         let reach = self.reach(uavs, sensors)?;
+        let want_normals = self.normals_for(reach, false)?;
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
             let engine = self.engine(uavs, reach)?;
             Ok::<_, Error>(
                 (0..self.targets.n_chunks())
                     .into_par_iter()
                     .map_init(
-                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                        |(near, points, nodes), c| {
+                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new()),
+                        |(near, points, nodes, normals), c| {
                             self.in_range_of(c, uavs, reach, near);
                             if near.is_empty() {
                                 return vec![false; self.targets.chunk_len(c)];
@@ -474,6 +518,10 @@ impl Visibility {
                             points.clear();
                             self.targets.chunk_points(c, points);
                             let mut skylines = self.skylines_of(c, nodes);
+                            if want_normals {
+                                self.targets.chunk_normals(c, normals);
+                            }
+                            let normal = |t: usize| normals.get(t).copied().flatten();
                             // Neighbouring targets are mostly seen by the same UAV: try the last
                             // one that saw a target first (the answer does not depend on the order).
                             let mut last = 0;
@@ -485,7 +533,7 @@ impl Visibility {
                                     let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
                                     for k in order {
                                         let u = near[k];
-                                        if !reach.accepts(u, uavs[u], q) {
+                                        if !reach.accepts(u, uavs[u], q, normal(t)) {
                                             continue;
                                         }
                                         if sky.is_none() {
@@ -529,6 +577,101 @@ impl Visibility {
         Ok(self.share(&seen))
     }
 
+    /// Whether the targets' normals are to be read: for an incidence limit (an error when the
+    /// targets have none) and, where known, for view quality.
+    fn normals_for(&self, reach: Reach<'_>, quality: bool) -> Result<bool> {
+        let Reach::Sensors(sensors) = reach else { return Ok(false) };
+        if sensors.iter().any(|s| s.max_incidence_cos().is_some()) {
+            ensure!(
+                self.targets.has_normals(),
+                "a sensor limits the incidence angle, but these targets carry no surface normals (give them with the targets)"
+            );
+            return Ok(true);
+        }
+        Ok(quality && self.targets.has_normals())
+    }
+
+    /// The best view quality of each target over the UAVs that see it ([`Sensor::quality`]), 0
+    /// where none does; with the objective's one range (`sensors` `None`) every seen target has
+    /// quality 1. UAVs are tried best quality first, and one whose quality cannot beat the best
+    /// found is not tested for its line of sight.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen_by`].
+    pub fn quality_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<f64>> {
+        Self::check_uavs(uavs)?;
+        let reach = self.reach(uavs, sensors)?;
+        let want_normals = self.normals_for(reach, true)?;
+        let chunks: Vec<Vec<f64>> = threads::run(n_threads, || {
+            let engine = self.engine(uavs, reach)?;
+            Ok::<_, Error>(
+                (0..self.targets.n_chunks())
+                    .into_par_iter()
+                    .map_init(
+                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new(), Vec::new()),
+                        |(near, points, nodes, normals, rated), c| {
+                            self.in_range_of(c, uavs, reach, near);
+                            if near.is_empty() {
+                                return vec![0.0; self.targets.chunk_len(c)];
+                            }
+                            points.clear();
+                            self.targets.chunk_points(c, points);
+                            let mut skylines = self.skylines_of(c, nodes);
+                            if want_normals {
+                                self.targets.chunk_normals(c, normals);
+                            }
+                            points
+                                .iter()
+                                .enumerate()
+                                .map(|(t, &q)| {
+                                    let normal = normals.get(t).copied().flatten();
+                                    rated.clear();
+                                    rated.extend(near.iter().filter(|&&u| reach.accepts(u, uavs[u], q, normal)).map(|&u| {
+                                        let quality = match reach {
+                                            Reach::Range(_) => 1.0,
+                                            Reach::Sensors(s) => s[u].quality(uavs[u], q, normal),
+                                        };
+                                        (quality, u)
+                                    }));
+                                    rated.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+                                    let mut sky = None;
+                                    for &(quality, u) in rated.iter() {
+                                        if quality <= 0.0 {
+                                            break;
+                                        }
+                                        if sky.is_none() {
+                                            sky = skylines.as_mut().map(|s| s.get(t, nodes[t]));
+                                        }
+                                        if engine.line_of_sight(u, q, sky.as_ref()) {
+                                            return quality; // the best of those that see it
+                                        }
+                                    }
+                                    0.0
+                                })
+                                .collect()
+                        },
+                    )
+                    .collect(),
+            )
+        })?;
+        let mut out = try_with_capacity(self.targets.len(), "the targets' quality")?;
+        for chunk in chunks {
+            out.extend(chunk);
+        }
+        Ok(out)
+    }
+
+    /// The quality-weighted coverage: the weighted mean over all targets of
+    /// [`Visibility::quality_by`], in `[0, 1]` (the coverage when every view has quality 1).
+    ///
+    /// # Errors
+    /// As [`Visibility::seen_by`].
+    pub fn quality_coverage_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<f64> {
+        let quality = self.quality_by(uavs, sensors, n_threads)?;
+        let total = quality.iter().zip(&self.targets.weights).fold(0.0, |acc, (q, w)| acc + q * w);
+        Ok((total / self.targets.total_weight).min(1.0))
+    }
+
     fn reach<'s>(&self, uavs: &[Point], sensors: Option<&'s [Sensor]>) -> Result<Reach<'s>> {
         match sensors {
             None => Ok(Reach::Range(self.range * self.range)),
@@ -564,6 +707,7 @@ impl Visibility {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
         let reach = self.reach(uavs, sensors)?;
+        let want_normals = self.normals_for(reach, false)?;
         let mut total = UavCounts::zeros(n, self.targets.total_weight)?;
         let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
         // Chunks in batches whose counters fit in COUNTS_BUDGET, each batch summed in chunk order
@@ -577,8 +721,8 @@ impl Visibility {
                 let partials: Result<Vec<(UavCounts, Vec<bool>)>> = (first..last)
                     .into_par_iter()
                     .map_init(
-                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                        |(seers, points, nodes), c| {
+                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new()),
+                        |(seers, points, nodes, normals), c| {
                             let mut out = UavCounts::zeros(n, 0.0)?;
                             let mut seen = vec![false; self.targets.chunk_len(c)];
                             let b = self.targets.chunk_bounds[c];
@@ -589,9 +733,13 @@ impl Visibility {
                             points.clear();
                             self.targets.chunk_points(c, points);
                             let mut skylines = self.skylines_of(c, nodes);
+                            if want_normals {
+                                self.targets.chunk_normals(c, normals);
+                            }
                             for (k, &q) in points.iter().enumerate() {
                                 let w = self.targets.weights[c * CHUNK + k];
-                                let in_range = |i: &usize| reach.accepts(*i, uavs[*i], q);
+                                let normal = normals.get(k).copied().flatten();
+                                let in_range = |i: &usize| reach.accepts(*i, uavs[*i], q, normal);
                                 let sky = match &mut skylines {
                                     Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
                                     _ => None,
@@ -818,6 +966,75 @@ mod tests {
         let omni = vec![Sensor::omnidirectional(9.0).unwrap(); 6];
         assert_eq!(grid.seen_by(&uavs, Some(&omni), 1).unwrap(), grid.seen(&uavs, 1).unwrap());
         assert!(grid.seen_by(&uavs, Some(&omni[..5]), 1).is_err());
+    }
+
+    #[test]
+    fn incidence_and_quality_on_a_flat_plane_follow_their_formulas() {
+        let s = flat(41); // 40 m x 40 m at 1 m, z = 0
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 100.0).unwrap();
+        let given = Targets::of_surface(&s, 1.0).unwrap();
+        let up = vec![[0.0, 0.0, 1.0]; given.len()];
+        let given = Visibility::with_path(s.clone(), given.with_normals(up).unwrap(), 100.0, Path::Mesh).unwrap();
+        let uav = [20.0, 20.0, 10.0];
+        // at most 45 deg off the normal: the disk of radius 10 m under the UAV
+        let steep = [Sensor::omnidirectional(100.0).unwrap().with_incidence_limit(std::f64::consts::FRAC_1_SQRT_2).unwrap()];
+        let points = nodes.targets().points().into_owned();
+        let seen = nodes.seen_by(&[uav], Some(&steep), 1).unwrap();
+        for (q, &v) in points.iter().zip(&seen) {
+            let r2 = (q[0] - 20.0).powi(2) + (q[1] - 20.0).powi(2);
+            if (r2 - 100.0).abs() > 1e-6 {
+                assert_eq!(v, r2 < 100.0, "{q:?}");
+            }
+        }
+        assert_eq!(given.seen_by(&[uav], Some(&steep), 1).unwrap(), seen);
+        // quality: resolution good up to 12 m (0.001 m/px per metre, 0.012 m/px), times cos
+        let rated = [Sensor::omnidirectional(100.0).unwrap().with_resolution(0.001, 0.012).unwrap()];
+        let quality = nodes.quality_by(&[uav], Some(&rated), 2).unwrap();
+        for (q, &got) in points.iter().zip(&quality) {
+            let d = ((q[0] - 20.0).powi(2) + (q[1] - 20.0).powi(2) + 100.0).sqrt();
+            let expected = (0.012 / (0.001 * d)).min(1.0) * (10.0 / d);
+            assert!((got - expected).abs() < 1e-12, "{q:?}: {got} vs {expected}");
+        }
+        assert_eq!(given.quality_by(&[uav], Some(&rated), 1).unwrap(), quality);
+        let mean = nodes.quality_coverage_by(&[uav], Some(&rated), 1).unwrap();
+        assert!(mean > 0.2 && mean < nodes.coverage(&[uav], 1).unwrap());
+        // the objective's own range: every seen target has quality 1
+        let plain = nodes.quality_by(&[uav], None, 1).unwrap();
+        assert!(plain.iter().zip(nodes.seen(&[uav], 1).unwrap()).all(|(&q, v)| q == if v { 1.0 } else { 0.0 }));
+        // targets without normals cannot take an incidence limit
+        let bare = Visibility::new(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 100.0).unwrap();
+        assert!(bare.seen_by(&[uav], Some(&steep), 1).is_err());
+        assert!(bare.quality_by(&[uav], Some(&rated), 1).is_ok()); // quality without incidence
+    }
+
+    #[test]
+    fn incidence_and_quality_are_the_same_on_both_paths() {
+        let s = rugged(50);
+        let g = s.grid().unwrap();
+        let normals: Vec<Point> =
+            (0..g.nx * g.ny).filter(|&k| g.vertex_of_node[k] != u32::MAX).map(|k| g.node_normal(k).unwrap()).collect();
+        let targets = Targets::of_surface(&s, 1.0).unwrap().with_normals(normals).unwrap();
+        let grid = Visibility::with_path(s.clone(), targets.clone(), 9.0, Path::Auto).unwrap();
+        let mesh = Visibility::with_path(s.clone(), targets, 9.0, Path::Mesh).unwrap();
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 9.0).unwrap();
+        let uavs: Vec<Point> = (0..5).map(|k| [103.0 + 4.0 * f64::from(k), -5.0 + 3.5 * f64::from(k), 6.0 + f64::from(k)]).collect();
+        let sensors: Vec<Sensor> = (0..5)
+            .map(|k| {
+                let s = Sensor::new(0.0, 8.0 + f64::from(k), (k % 2 == 1).then(|| camera(72.0 * f64::from(k), -60.0, 90.0, 70.0))).unwrap();
+                s.with_incidence_limit(0.3 + 0.1 * f64::from(k)).unwrap().with_resolution(0.0005, 0.003).unwrap()
+            })
+            .collect();
+        for n in 1..=5 {
+            let (u, sens) = (&uavs[..n], &sensors[..n]);
+            let seen = mesh.seen_by(u, Some(sens), 1).unwrap();
+            assert_eq!(grid.seen_by(u, Some(sens), 2).unwrap(), seen);
+            assert_eq!(nodes.seen_by(u, Some(sens), 2).unwrap(), seen);
+            let quality = mesh.quality_by(u, Some(sens), 2).unwrap();
+            assert_eq!(grid.quality_by(u, Some(sens), 1).unwrap(), quality);
+            assert_eq!(nodes.quality_by(u, Some(sens), 1).unwrap(), quality);
+            assert!(quality.iter().zip(&seen).all(|(&q, &v)| (q > 0.0) == v && q <= 1.0));
+            assert_eq!(nodes.per_uav_by(u, Some(sens), 1).unwrap(), mesh.per_uav_by(u, Some(sens), 2).unwrap());
+        }
     }
 
     #[test]

@@ -42,13 +42,20 @@ def test_camera_axes_are_the_rotated_camera_frame(yaw, pitch):
         np.testing.assert_allclose(up[0], [math.sin(math.radians(yaw)), math.cos(math.radians(yaw)), 0], atol=1e-12)
 
 
-def _reach(uavs, packed_axes, sensors, targets):
-    """(N, T) bool: range and frustum, dot products summed x, y, z (the order the docs state)."""
+def _reach(uavs, packed_axes, sensors, targets, normals=None, uncertain=None):
+    """(N, T) bool: range, frustum and incidence, dot products summed x, y, z (the order the
+    docs state). Pairs within 1e-9 of the incidence limit are flagged in ``uncertain``."""
     out = np.zeros((len(sensors), targets.shape[0]), dtype=bool)
     for i, s in enumerate(sensors):
         d = targets - uavs[i]
         d2 = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2]
         ok = (d2 <= s.reach_m * s.reach_m) & (d2 >= s.d_min * s.d_min)
+        if s.max_incidence_deg is not None:
+            cos = np.abs(np.einsum("tk,tk->t", -d, normals)) / np.sqrt(d2)
+            limit = math.cos(math.radians(s.max_incidence_deg))
+            ok &= cos >= limit
+            if uncertain is not None:
+                uncertain[i] |= np.abs(cos - limit) <= 1e-9
         if s.camera is not None:
             f, r, u = (packed_axes[k][i] for k in range(3))
             th, tv = s.camera.tan_half_fov
@@ -179,11 +186,105 @@ def test_bad_sensors_and_poses_are_clear_errors(hill_terrain):
     # the engine's own checks, behind the Python ones
     from uavcov import _core
 
-    packed = np.full((1, 13), np.nan)
+    packed = np.full((1, 16), np.nan)
     packed[0, :2] = [0.0, 8.0]
     packed[0, 2:5] = [0.0, 0.0, -1.0]  # a partial camera
+    with pytest.raises(InvalidInputError):
+        vis._core.coverage(np.array([[5.0, 5.0, 20.0]]), 1, packed)
+    packed[0, 2:] = np.nan
+    packed[0, 13] = 1.5  # an incidence cosine beyond 1
     with pytest.raises(InvalidInputError):
         vis._core.coverage(np.array([[5.0, 5.0, 20.0]]), 1, packed)
     with pytest.raises(InvalidInputError):
         vis._core.coverage(np.array([[5.0, 5.0, 20.0]]), 1, np.zeros((1, 12)))
     assert isinstance(_core.available_threads(), int)
+
+
+def _grid_normals(case) -> np.ndarray:
+    """Unit vertex normals of a grid's triangles: the area-weighted sum of the face normals."""
+    vertices, faces = case.vertices, case.faces
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    face = np.cross(b - a, c - a)
+    face *= np.sign(face[:, 2:3])  # upward, whatever the winding
+    normals = np.zeros_like(vertices)
+    for k in range(3):
+        np.add.at(normals, faces[:, k], face)
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def _best_quality(uavs, sensors, points, normals, visible):
+    """(T,) best view quality over the pairs in ``visible`` (N, T): resolution x |cos incidence|."""
+    best = np.zeros(points.shape[0])
+    for i, s in enumerate(sensors):
+        v = uavs[i] - points
+        dist = np.linalg.norm(v, axis=1)
+        q = np.abs(np.einsum("tk,tk->t", v, normals)) / dist
+        if s.good_gsd_m is not None:
+            q = q * np.minimum(1.0, s.good_gsd_m / (s.camera.gsd_m(1.0) * dist))
+        best = np.maximum(best, np.where(visible[i], q, 0.0))
+    return best
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("method", ["grid", "mesh"])
+def test_incidence_limits_and_view_quality_match_the_reference(seed, method):
+    case = random_grid_case(seed, nx=21, ny=17)
+    terrain = Terrain.from_grid(case.z, case.spacing, origin=case.origin)
+    rng = np.random.default_rng(200 + seed)
+    n = 5
+    uavs = uavs_above(case, n, rng, low=1.0, high=6.0)
+    yaw, pitch = rng.uniform(0, 360, size=n), rng.choice([-90.0, -45.0, -20.0], size=n)
+    poses = np.column_stack([uavs, yaw, pitch])
+    cam = Camera(13.2, 8.8, 8.8, 5472, 3648)
+    sensors = [
+        Sensor(9.0, max_incidence_deg=60.0),
+        Sensor(12.0, camera=cam, max_incidence_deg=45.0, good_gsd_m=0.0008),
+        Sensor(10.0, camera=Camera.from_fov(84.0, 62.0), good_gsd_m=0.002),
+        Sensor(8.0, max_incidence_deg=80.0),
+        Sensor(15.0, camera=cam, max_incidence_deg=70.0, good_gsd_m=0.0012),
+    ]
+    normals = _grid_normals(case)
+    points = case.vertices
+    # the grid's own targets (normals from the engine) and the same points with given normals
+    grid_nodes = Visibility(terrain, 5.0, method=method)
+    given = Visibility(terrain, 5.0, targets=Targets.from_points(points, terrain.default_targets().weights, normals), method=method)
+    np.testing.assert_array_equal(grid_nodes.targets.points, points)
+    ref = visibility_reference(case.vertices, case.faces, uavs, points, 50.0)
+    uncertain = ref.uncertain.copy()
+    reach = _reach(uavs, camera_axes(yaw, pitch), sensors, points, normals, uncertain)
+    visible = ref.visible & reach
+    decided = ~(uncertain & (reach | ref.visible)).any(axis=0)
+    expected_seen = visible.any(axis=0)
+    for vis in (grid_nodes, given):
+        seen = vis.seen(poses, sensors=sensors)
+        np.testing.assert_array_equal(seen[decided], expected_seen[decided])
+        quality = vis.quality(poses, sensors=sensors)
+        np.testing.assert_allclose(quality[decided], _best_quality(uavs, sensors, points, normals, visible)[decided], rtol=1e-9, atol=1e-12)
+        assert np.all((quality > 0) == seen)
+        w = vis.targets.weights
+        assert vis.quality_coverage(poses, sensors=sensors) == pytest.approx(float(quality @ w / w.sum()), rel=1e-12)
+    assert decided.mean() > 0.9 and 0 < expected_seen[decided].sum() < decided.sum()
+    # the limit binds: without it more targets are reached
+    loose = [Sensor(s.d_max, camera=s.camera) for s in sensors]
+    assert grid_nodes.seen(poses, sensors=loose).sum() > grid_nodes.seen(poses, sensors=sensors).sum()
+
+
+def test_incidence_needs_normals_and_bad_quality_settings_are_errors(hill_terrain):
+    bare = Visibility(hill_terrain, 8.0, targets=hill_terrain.default_targets())
+    with pytest.raises(InvalidInputError, match="normals"):
+        bare.seen([[5.0, 5.0, 20.0]], sensors=[Sensor(8.0, max_incidence_deg=45.0)])
+    assert bare.quality([[5.0, 5.0, 20.0]]).max() <= 1.0  # without sensors: 1 where seen
+    for bad in (-1.0, 91.0, math.nan):
+        with pytest.raises(InvalidInputError):
+            Sensor(8.0, max_incidence_deg=bad)
+    with pytest.raises(InvalidInputError):
+        Sensor(8.0, good_gsd_m=0.01)  # needs a camera
+    pts = hill_terrain.default_targets().points[:3]
+    with pytest.raises(InvalidInputError):
+        Targets.from_points(pts, None, np.zeros((3, 3)))  # not unit
+    with pytest.raises(InvalidInputError):
+        Targets.from_points(pts, None, np.tile([0.0, 0.0, 1.0], (2, 1)))  # one short
+    import pickle
+
+    t = Targets.from_points(pts, None, np.tile([0.0, 0.0, 1.0], (3, 1)))
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(t)).normals, t.normals)

@@ -54,6 +54,7 @@ class Visibility:
         weights: npt.NDArray[np.float64] | None,
         d_max: float,
         method: str = "auto",
+        normals: npt.NDArray[np.float64] | None = None,
     ) -> Visibility: ...
     @property
     def path(self) -> str: ...
@@ -65,6 +66,12 @@ class Visibility:
         self, uavs: npt.NDArray[np.float64], n_threads: int = 0, sensors: npt.NDArray[np.float64] | None = None
     ) -> npt.NDArray[np.bool_]: ...
     def coverage(self, uavs: npt.NDArray[np.float64], n_threads: int = 0, sensors: npt.NDArray[np.float64] | None = None) -> float: ...
+    def quality(
+        self, uavs: npt.NDArray[np.float64], n_threads: int = 0, sensors: npt.NDArray[np.float64] | None = None
+    ) -> npt.NDArray[np.float64]: ...
+    def quality_coverage(
+        self, uavs: npt.NDArray[np.float64], n_threads: int = 0, sensors: npt.NDArray[np.float64] | None = None
+    ) -> float: ...
     def per_uav(
         self, uavs: npt.NDArray[np.float64], n_threads: int = 0, sensors: npt.NDArray[np.float64] | None = None
     ) -> tuple[

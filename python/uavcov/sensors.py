@@ -42,8 +42,10 @@ from .errors import InvalidInputError, InvalidTypeError
 __all__ = ["Camera", "Sensor", "camera_axes", "pack_sensors"]
 
 # Columns of a packed sensor row (``uavcov._core``): d_min, d_max, forward (3), right (3), up (3),
-# tan(hfov / 2), tan(vfov / 2); the camera's eleven are NaN for an omnidirectional sensor.
-_COLUMNS = 13
+# tan(hfov / 2), tan(vfov / 2) (the camera's eleven NaN for an omnidirectional sensor), the cosine
+# of the largest incidence angle, the GSD per metre of distance and the GSD of full quality (NaN
+# where not set).
+_COLUMNS = 16
 
 
 @dataclass(frozen=True)
@@ -126,12 +128,21 @@ class Sensor:
     max_gsd_m : float, optional
         The coarsest useful ground sample distance, metres per pixel: targets farther than the
         distance at which the camera's GSD reaches it are not reached (needs ``camera``).
+    max_incidence_deg : float, optional
+        The largest angle, degrees in ``[0, 90]``, between a target's surface normal and the
+        direction to the UAV: targets seen more obliquely are not reached (the targets need
+        normals, which a grid terrain's own targets have).
+    good_gsd_m : float, optional
+        The GSD of full view quality, metres per pixel: :meth:`~uavcov.Visibility.quality` rates
+        a view ``min(1, good_gsd_m / gsd)`` times the cosine of its incidence (needs ``camera``).
     """
 
     d_max: float
     d_min: float = 0.0
     camera: Camera | None = None
     max_gsd_m: float | None = None
+    max_incidence_deg: float | None = None
+    good_gsd_m: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "d_max", as_positive_float(self.d_max, "d_max"))
@@ -145,6 +156,15 @@ class Sensor:
             if self.camera is None:
                 raise InvalidInputError("max_gsd_m needs a camera (the GSD comes from its lens and sensor)")
             object.__setattr__(self, "max_gsd_m", as_positive_float(self.max_gsd_m, "max_gsd_m"))
+        if self.max_incidence_deg is not None:
+            angle = as_non_negative_float(self.max_incidence_deg, "max_incidence_deg")
+            if angle > 90.0:
+                raise InvalidInputError(f"max_incidence_deg must be in [0, 90], got {angle}")
+            object.__setattr__(self, "max_incidence_deg", angle)
+        if self.good_gsd_m is not None:
+            if self.camera is None:
+                raise InvalidInputError("good_gsd_m needs a camera (the GSD comes from its lens and sensor)")
+            object.__setattr__(self, "good_gsd_m", as_positive_float(self.good_gsd_m, "good_gsd_m"))
 
     @property
     def reach_m(self) -> float:
@@ -190,7 +210,7 @@ def camera_axes(yaw_deg: Any, pitch_deg: Any) -> tuple[np.ndarray, np.ndarray, n
 
 
 def pack_sensors(sensors: Sequence[Sensor], poses: Any) -> tuple[np.ndarray, np.ndarray]:
-    """The UAVs' positions ``(N, 3)`` and their sensors packed for ``uavcov._core`` ``(N, 13)``.
+    """The UAVs' positions ``(N, 3)`` and their sensors packed for ``uavcov._core`` ``(N, 16)``.
 
     ``poses`` is ``(N, 3)`` positions when no sensor is a camera, else ``(N, 5)``
     ``(x, y, z, yaw, pitch)`` (yaw and pitch in degrees; ignored for an omnidirectional sensor).
@@ -216,4 +236,9 @@ def pack_sensors(sensors: Sequence[Sensor], poses: Any) -> tuple[np.ndarray, np.
         packed[cameras, 5:8] = right
         packed[cameras, 8:11] = up
         packed[cameras, 11:13] = [sensors[i].camera.tan_half_fov for i in cameras]  # type: ignore[union-attr]
+    for i, s in enumerate(sensors):
+        if s.max_incidence_deg is not None:
+            packed[i, 13] = math.cos(math.radians(s.max_incidence_deg))
+        if s.good_gsd_m is not None and s.camera is not None:
+            packed[i, 14:16] = (s.camera.gsd_m(1.0), s.good_gsd_m)
     return np.ascontiguousarray(array[:, :3]), packed

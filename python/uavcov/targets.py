@@ -24,6 +24,10 @@ class Targets:
     weights : (T,) array_like of float, optional
         The area each point stands for (m^2) or any non-negative importance; 1 each by default.
         Coverage is the weighted share of targets seen, so only ratios matter.
+    normals : (T, 3) array_like of float, optional
+        Unit surface normals at the points, for sensors that limit the incidence angle or rate
+        view quality (:mod:`uavcov.sensors`). A grid terrain's own grid-node targets (the default
+        of :class:`~uavcov.Visibility`) need none: the engine computes theirs.
 
     Raises
     ------
@@ -40,8 +44,9 @@ class Targets:
 
     points: np.ndarray
     weights: np.ndarray
+    normals: np.ndarray | None
 
-    def __init__(self, points: Any, weights: Any = None) -> None:
+    def __init__(self, points: Any, weights: Any = None, normals: Any = None) -> None:
         p = as_points(points, "targets")
         if weights is None:
             w = np.ones(p.shape[0])
@@ -57,19 +62,29 @@ class Targets:
         w = w.copy()
         p.setflags(write=False)
         w.setflags(write=False)
+        n = None
+        if normals is not None:
+            n = as_points(normals, "normals").copy()
+            if n.shape != p.shape:
+                raise InvalidInputError(f"{n.shape[0]} normals for {p.shape[0]} targets")
+            if (np.abs(np.einsum("ij,ij->i", n, n) - 1.0) > 1e-6).any():
+                raise InvalidInputError("target normals must be unit vectors")
+            n.setflags(write=False)
         object.__setattr__(self, "points", p)
         object.__setattr__(self, "weights", w)
+        object.__setattr__(self, "normals", n)
 
     @classmethod
-    def from_points(cls, points: Any, weights: Any = None) -> Targets:
+    def from_points(cls, points: Any, weights: Any = None, normals: Any = None) -> Targets:
         """Same as the constructor; reads better at call sites."""
-        return cls(points, weights)
+        return cls(points, weights, normals)
 
     def __len__(self) -> int:
         return int(self.points.shape[0])
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return (Targets, (np.array(self.points), np.array(self.weights)))
+        normals = None if self.normals is None else np.array(self.normals)
+        return (Targets, (np.array(self.points), np.array(self.weights), normals))
 
     @property
     def total_weight(self) -> float:

@@ -106,7 +106,8 @@ class Visibility:
         self._n_threads = as_n_threads(n_threads)
         self._method = method
         points, weights = (None, None) if targets is None else (targets.points, targets.weights)
-        self._core = _core.Visibility(terrain.core, points, weights, self._d_max, method)
+        normals = None if targets is None else targets.normals
+        self._core = _core.Visibility(terrain.core, points, weights, self._d_max, method, normals)
 
     def __reduce__(self) -> tuple[Any, ...]:
         n_threads = self._n_threads or None
@@ -157,6 +158,20 @@ class Visibility:
         """``(T,)`` bool: whether at least one UAV sees each target (arguments as :meth:`coverage`)."""
         points, packed = self._uavs(uavs, sensors)
         return self._core.seen(points, self._n_threads, packed)
+
+    def quality(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> np.ndarray:
+        """``(T,)`` float in [0, 1]: each target's best view quality over the UAVs that see it, 0
+        where none does (:attr:`Sensor.good_gsd_m` rates resolution, the targets' normals the
+        incidence; without ``sensors`` every seen target has quality 1). Arguments as
+        :meth:`coverage`."""
+        points, packed = self._uavs(uavs, sensors)
+        return self._core.quality(points, self._n_threads, packed)
+
+    def quality_coverage(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> float:
+        """Quality-weighted coverage: the weighted mean of :meth:`quality` over the targets, in
+        [0, 1] (:meth:`coverage` when every view has quality 1)."""
+        points, packed = self._uavs(uavs, sensors)
+        return float(self._core.quality_coverage(points, self._n_threads, packed))
 
     def per_uav(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> UavCounts:
         """How many targets each UAV sees and how many only it sees, and the team's coverage, in

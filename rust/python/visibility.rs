@@ -9,9 +9,10 @@ use crate::error::Result;
 use crate::sensor::{Frustum, Sensor};
 use crate::visibility;
 
-/// Columns of a packed sensor row: `d_min, d_max`, then a camera's `forward (3), right (3),
-/// up (3), tan_h, tan_v`, all NaN for an omnidirectional sensor.
-const SENSOR_COLUMNS: usize = 13;
+/// Columns of a packed sensor row: `d_min, d_max`, a camera's `forward (3), right (3), up (3),
+/// tan_h, tan_v` (all NaN for an omnidirectional sensor), the cosine of the largest incidence
+/// angle (NaN: no limit), and `gsd per metre, GSD of full quality` (NaN: no resolution rating).
+const SENSOR_COLUMNS: usize = 16;
 
 /// The sensors packed by `uavcov.sensors` (one row per UAV), copied and checked.
 fn sensors(py: Python<'_>, packed: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Vec<Sensor>>> {
@@ -21,13 +22,20 @@ fn sensors(py: Python<'_>, packed: Option<PyReadonlyArray2<'_, f64>>) -> PyResul
         return Err(invalid(py, format!("sensors must have shape (N, {SENSOR_COLUMNS}), got {:?}", a.shape())));
     }
     let parse = |r: numpy::ndarray::ArrayView1<'_, f64>| -> Result<Sensor> {
-        let camera = if r.iter().skip(2).all(|v| v.is_nan()) {
+        let camera = if r.iter().skip(2).take(11).all(|v| v.is_nan()) {
             None
         } else {
             let axis = |k: usize| [r[k], r[k + 1], r[k + 2]];
             Some(Frustum::new(axis(2), axis(5), axis(8), r[11], r[12])?)
         };
-        Sensor::new(r[0], r[1], camera)
+        let mut sensor = Sensor::new(r[0], r[1], camera)?;
+        if !r[13].is_nan() {
+            sensor = sensor.with_incidence_limit(r[13])?;
+        }
+        if !(r[14].is_nan() && r[15].is_nan()) {
+            sensor = sensor.with_resolution(r[14], r[15])?;
+        }
+        Ok(sensor)
     };
     a.rows().into_iter().map(parse).collect::<Result<Vec<_>>>().map(Some).map_err(|e| to_py_err(py, e))
 }
@@ -49,7 +57,7 @@ impl PyVisibility {
     /// `targets` and `weights` both `None`: the grid surface's vertices, generated in Rust.
     /// `method`: "auto" (the grid path for a grid surface), "mesh" or "grid".
     #[new]
-    #[pyo3(signature = (surface, targets, weights, d_max, method="auto"))]
+    #[pyo3(signature = (surface, targets, weights, d_max, method="auto", normals=None))]
     fn new(
         py: Python<'_>,
         surface: &PySurface,
@@ -57,13 +65,24 @@ impl PyVisibility {
         weights: Option<PyReadonlyArray1<'_, f64>>,
         d_max: f64,
         method: &str,
+        normals: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<Self> {
         let path: visibility::Path = method.parse().map_err(|e| to_py_err(py, e))?;
+        let normals = match normals {
+            Some(n) => Some(points(py, &n, "normals")?),
+            None => None,
+        };
         let t = match (targets, weights) {
             (Some(targets), Some(weights)) => {
                 let pts = points(py, &targets, "targets")?;
                 let w = weights.as_array().to_vec();
-                detached(py, || visibility::Targets::new(pts, Some(w)))?
+                detached(py, || {
+                    let t = visibility::Targets::new(pts, Some(w))?;
+                    match normals {
+                        Some(n) => t.with_normals(n),
+                        None => Ok(t),
+                    }
+                })?
             }
             (None, None) => {
                 let s = surface.inner.clone();
@@ -126,6 +145,34 @@ impl PyVisibility {
 
     /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
     /// then `total_weight` and the team's `coverage` (equal to `coverage()` to the last bit).
+    /// `(T,)` float: each target's best view quality over the UAVs that see it (0: unseen).
+    #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
+    fn quality<'py>(
+        &self,
+        py: Python<'py>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+        sensors: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let u = points(py, &uavs, "uavs")?;
+        let sensors = self::sensors(py, sensors)?;
+        Ok(detached(py, || self.inner.quality_by(&u, sensors.as_deref(), n_threads))?.into_pyarray(py))
+    }
+
+    /// Quality-weighted coverage, in [0, 1].
+    #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
+    fn quality_coverage(
+        &self,
+        py: Python<'_>,
+        uavs: PyReadonlyArray2<'_, f64>,
+        n_threads: usize,
+        sensors: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<f64> {
+        let u = points(py, &uavs, "uavs")?;
+        let sensors = self::sensors(py, sensors)?;
+        detached(py, || self.inner.quality_coverage_by(&u, sensors.as_deref(), n_threads))
+    }
+
     #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
     fn per_uav<'py>(
         &self,
