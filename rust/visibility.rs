@@ -26,7 +26,7 @@
 //! assert_eq!(vis.coverage(&[[5.0, 5.0, 20.0]], 1).unwrap(), 1.0);
 //! ```
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
@@ -63,6 +63,9 @@ pub struct Targets {
     chunk_bounds: Vec<(Point, Point)>,
     /// Unit surface normals of given points, when known (grid nodes compute theirs).
     normals: Option<Vec<Point>>,
+    /// Grid-node targets' normals (NaN where no triangle around the node is whole), computed
+    /// the first time a sensor needs them.
+    node_normals: OnceLock<Vec<Point>>,
 }
 
 #[derive(Debug, Clone)]
@@ -94,7 +97,7 @@ impl Targets {
         ensure!(weights.iter().all(|w| w.is_finite() && *w >= 0.0), "target weights must be finite and >= 0");
         let total_weight: f64 = weights.iter().sum();
         ensure!(total_weight.is_finite() && total_weight > 0.0, "target weights are all zero or sum to infinity");
-        Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds, normals: None })
+        Ok(Self { points, len: weights.len(), weights, total_weight, chunk_bounds, normals: None, node_normals: OnceLock::new() })
     }
 
     /// These targets with their unit surface normals (one per point, for incidence limits and
@@ -120,20 +123,20 @@ impl Targets {
         self.normals.is_some() || self.is_grid_nodes()
     }
 
-    /// The normals of chunk `c`'s targets (`None` where unknown), into `out`.
-    fn chunk_normals(&self, c: usize, out: &mut Vec<Option<Point>>) {
-        out.clear();
+    /// Every target's unit normal (NaN where unknown), when the targets have normals; a grid's
+    /// are computed on the first call.
+    fn normals(&self) -> Option<&[Point]> {
         match &self.points {
             Points::GridNodes { surface, .. } => {
                 let g = surface.grid().expect("grid-node targets hold a grid surface");
-                let mut nodes = Vec::with_capacity(CHUNK);
-                self.chunk_nodes(c, &mut nodes);
-                out.extend(nodes.into_iter().map(|k| g.node_normal(k)));
+                Some(self.node_normals.get_or_init(|| {
+                    (0..g.nx * g.ny)
+                        .filter(|&k| g.vertex_of_node[k] != u32::MAX)
+                        .map(|k| g.node_normal(k).unwrap_or([f64::NAN; 3]))
+                        .collect()
+                }))
             }
-            Points::Given(_) => match &self.normals {
-                Some(n) => out.extend(n[c * CHUNK..c * CHUNK + self.chunk_len(c)].iter().map(|&v| Some(v))),
-                None => out.resize(self.chunk_len(c), None),
-            },
+            Points::Given(_) => self.normals.as_deref(),
         }
     }
 
@@ -502,15 +505,15 @@ impl Visibility {
     pub fn seen_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
         let reach = self.reach(uavs, sensors)?;
-        let want_normals = self.normals_for(reach, false)?;
+        let normals = if self.normals_for(reach, false)? { self.targets.normals() } else { None };
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
             let engine = self.engine(uavs, reach)?;
             Ok::<_, Error>(
                 (0..self.targets.n_chunks())
                     .into_par_iter()
                     .map_init(
-                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new()),
-                        |(near, points, nodes, normals), c| {
+                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                        |(near, points, nodes), c| {
                             self.in_range_of(c, uavs, reach, near);
                             if near.is_empty() {
                                 return vec![false; self.targets.chunk_len(c)];
@@ -518,10 +521,7 @@ impl Visibility {
                             points.clear();
                             self.targets.chunk_points(c, points);
                             let mut skylines = self.skylines_of(c, nodes);
-                            if want_normals {
-                                self.targets.chunk_normals(c, normals);
-                            }
-                            let normal = |t: usize| normals.get(t).copied().flatten();
+                            let normal = |t: usize| normals.map(|n| n[c * CHUNK + t]);
                             // Neighbouring targets are mostly seen by the same UAV: try the last
                             // one that saw a target first (the answer does not depend on the order).
                             let mut last = 0;
@@ -601,15 +601,15 @@ impl Visibility {
     pub fn quality_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<f64>> {
         Self::check_uavs(uavs)?;
         let reach = self.reach(uavs, sensors)?;
-        let want_normals = self.normals_for(reach, true)?;
+        let normals = if self.normals_for(reach, true)? { self.targets.normals() } else { None };
         let chunks: Vec<Vec<f64>> = threads::run(n_threads, || {
             let engine = self.engine(uavs, reach)?;
             Ok::<_, Error>(
                 (0..self.targets.n_chunks())
                     .into_par_iter()
                     .map_init(
-                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new(), Vec::new()),
-                        |(near, points, nodes, normals, rated), c| {
+                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new()),
+                        |(near, points, nodes, rated), c| {
                             self.in_range_of(c, uavs, reach, near);
                             if near.is_empty() {
                                 return vec![0.0; self.targets.chunk_len(c)];
@@ -617,14 +617,11 @@ impl Visibility {
                             points.clear();
                             self.targets.chunk_points(c, points);
                             let mut skylines = self.skylines_of(c, nodes);
-                            if want_normals {
-                                self.targets.chunk_normals(c, normals);
-                            }
                             points
                                 .iter()
                                 .enumerate()
                                 .map(|(t, &q)| {
-                                    let normal = normals.get(t).copied().flatten();
+                                    let normal = normals.map(|n| n[c * CHUNK + t]);
                                     rated.clear();
                                     rated.extend(near.iter().filter(|&&u| reach.accepts(u, uavs[u], q, normal)).map(|&u| {
                                         let quality = match reach {
@@ -707,7 +704,7 @@ impl Visibility {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
         let reach = self.reach(uavs, sensors)?;
-        let want_normals = self.normals_for(reach, false)?;
+        let normals = if self.normals_for(reach, false)? { self.targets.normals() } else { None };
         let mut total = UavCounts::zeros(n, self.targets.total_weight)?;
         let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
         // Chunks in batches whose counters fit in COUNTS_BUDGET, each batch summed in chunk order
@@ -721,8 +718,8 @@ impl Visibility {
                 let partials: Result<Vec<(UavCounts, Vec<bool>)>> = (first..last)
                     .into_par_iter()
                     .map_init(
-                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new()),
-                        |(seers, points, nodes, normals), c| {
+                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                        |(seers, points, nodes), c| {
                             let mut out = UavCounts::zeros(n, 0.0)?;
                             let mut seen = vec![false; self.targets.chunk_len(c)];
                             let b = self.targets.chunk_bounds[c];
@@ -733,12 +730,9 @@ impl Visibility {
                             points.clear();
                             self.targets.chunk_points(c, points);
                             let mut skylines = self.skylines_of(c, nodes);
-                            if want_normals {
-                                self.targets.chunk_normals(c, normals);
-                            }
                             for (k, &q) in points.iter().enumerate() {
                                 let w = self.targets.weights[c * CHUNK + k];
-                                let normal = normals.get(k).copied().flatten();
+                                let normal = normals.map(|n| n[c * CHUNK + k]);
                                 let in_range = |i: &usize| reach.accepts(*i, uavs[*i], q, normal);
                                 let sky = match &mut skylines {
                                     Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
