@@ -665,3 +665,31 @@ def test_saving_to_a_path(hills_run, tmp_path):
     buffer = io.BytesIO()
     plotting.plot_coverage_curves(hills_run).savefig(buffer, format="png")
     assert buffer.getvalue()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_camera_views_draw_each_footprint_and_the_quality_map(tmp_path):
+    terrain = uavcov.gaussian_hills(spacing=2.0, rng=3)
+    xy = np.array([[25.0, 25.0], [70.0, 30.0], [50.0, 75.0]])
+    poses = np.column_stack([xy, terrain.ground_height(xy) + 25.0, [0.0, 45.0, 200.0], [-90.0, -60.0, -40.0]])
+    camera = uavcov.Camera(13.2, 8.8, 8.8, 5472, 3648)
+    sensors = [uavcov.Sensor(60.0, camera=camera, good_gsd_m=0.006, max_incidence_deg=75.0)] * 3
+    fig = plotting.plot_camera_views(terrain, poses, sensors, out=tmp_path / "cameras.png")
+    assert (tmp_path / "cameras.png").stat().st_size > 10_000
+    left, right = fig.axes[:2]
+    # each footprint's outline is the hull of what that camera sees on its own
+    outlines = plotting.footprints(terrain, poses, sensors)
+    vis = uavcov.Visibility(terrain, 60.0)
+    for i, outline in enumerate(outlines):
+        seen = vis.targets.points[vis.seen(poses[i : i + 1], sensors=[sensors[i]]), :2]
+        assert outline.shape[0] >= 3 and seen.shape[0] > 10
+        assert np.isin(outline, seen).all()  # hull corners are seen points
+    drawn = [line for line in left.lines if len(line.get_xdata()) > 2]
+    assert len(drawn) == 3
+    # the quality panel shows vis.quality where seen, nothing elsewhere
+    image = right.images[0].get_array()
+    quality = vis.quality(poses, sensors=sensors)
+    assert np.nanmax(np.ma.filled(image.astype(float), np.nan)) == pytest.approx(quality.max())
+    assert right.get_title().endswith(f"{vis.quality_coverage(poses, sensors=sensors):.3f}")
+    mesh = uavcov.Terrain(terrain.vertices, terrain.faces)
+    with pytest.raises(InvalidInputError, match="grid"):
+        plotting.plot_camera_views(mesh, poses, sensors)

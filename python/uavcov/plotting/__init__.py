@@ -40,6 +40,7 @@ from ._canvas import START_COLOUR as START_COLOUR
 from ._canvas import TRUE_SURFACE_COLOUR as TRUE_SURFACE_COLOUR
 from ._canvas import UNSEEN_COLOUR as UNSEEN_COLOUR
 from .animation import animate_mission
+from .cameras import footprints, plot_camera_views
 from .directory import plot_directory
 from .figures import (
     plot_approximation,
@@ -57,6 +58,8 @@ from .writers import write_ply
 
 __all__ = [
     "animate_mission",
+    "footprints",
+    "plot_camera_views",
     "plot_approximation",
     "plot_coverage_curves",
     "plot_coverage_map",
