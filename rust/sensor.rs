@@ -43,6 +43,8 @@ pub struct Sensor {
     pub d_min: f64,
     /// Greatest distance at which a target is seen, m.
     pub d_max: f64,
+    /// `d_max`, at most [`UNLIMITED_RANGE`]: the range the tests use, and its square.
+    range: f64,
     d_min2: f64,
     d_max2: f64,
     camera: Option<Frustum>,
@@ -148,7 +150,7 @@ impl Sensor {
         ensure!(d_max.is_finite() && d_max > 0.0, "d_max must be finite and > 0, got {d_max}");
         ensure!(d_min.is_finite() && d_min >= 0.0 && d_min < d_max, "d_min must be in [0, d_max), got {d_min}");
         let range = d_max.min(UNLIMITED_RANGE);
-        Ok(Self { d_min, d_max, d_min2: d_min * d_min, d_max2: range * range, camera, incidence: None, resolution: None })
+        Ok(Self { d_min, d_max, range, d_min2: d_min * d_min, d_max2: range * range, camera, incidence: None, resolution: None })
     }
 
     /// This sensor, reaching only targets seen at most `acos(cos_max)` off their surface normal
@@ -211,7 +213,7 @@ impl Sensor {
     /// The range the tests use: `d_max`, at most [`UNLIMITED_RANGE`].
     #[must_use]
     pub fn range(&self) -> f64 {
-        self.d_max2.sqrt()
+        self.range
     }
 
     /// Whether a target at `target` is within this sensor's reach from `uav`, before occlusion:

@@ -170,6 +170,8 @@ def test_bad_sensors_and_poses_are_clear_errors(hill_terrain):
         Sensor(5.0, d_min=5.0)
     with pytest.raises(InvalidInputError):
         Sensor(5.0, max_gsd_m=0.01)  # a GSD needs a camera
+    with pytest.raises(InvalidInputError, match="nothing is in range"):
+        Sensor(50.0, d_min=10.0, camera=Camera(13.2, 8.8, 8.8, 5472, 3648), max_gsd_m=0.001)  # fine enough only within 3.6 m
     with pytest.raises(InvalidTypeError):
         Sensor(5.0, camera="wide")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="point up"):

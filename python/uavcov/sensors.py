@@ -156,6 +156,11 @@ class Sensor:
             if self.camera is None:
                 raise InvalidInputError("max_gsd_m needs a camera (the GSD comes from its lens and sensor)")
             object.__setattr__(self, "max_gsd_m", as_positive_float(self.max_gsd_m, "max_gsd_m"))
+            if self.reach_m <= self.d_min:
+                raise InvalidInputError(
+                    f"max_gsd_m = {self.max_gsd_m} m/px is reached {self.reach_m:.4g} m away, "
+                    f"within d_min = {self.d_min} m: nothing is in range"
+                )
         if self.max_incidence_deg is not None:
             angle = as_non_negative_float(self.max_incidence_deg, "max_incidence_deg")
             if angle > 90.0:
