@@ -713,23 +713,6 @@ def _best_feasible(
     return _pick_best(score, allowed, rng), checked, int(allowed.sum())
 
 
-def _first_feasible(candidates: np.ndarray, current: np.ndarray, check: _Feasibility, batch: int | None) -> tuple[int | None, int, int]:
-    """Index of the first feasible candidate in the given order, checking in doubling batches."""
-    n = candidates.shape[0]
-    checked = 0
-    size = n if batch is None else batch
-    found = 0
-    while checked < n:
-        mask = check(current, candidates[checked : checked + size])
-        hits = np.flatnonzero(mask)
-        found += hits.size
-        if hits.size:
-            return checked + int(hits[0]), checked + mask.size, found
-        checked += mask.size
-        size *= 2
-    return None, checked, 0
-
-
 _SOLO_POINTS = 1 << 20
 """Most UAV positions one call of :func:`_solo_choices` asks the feasibility test about."""
 
