@@ -124,19 +124,24 @@ impl Targets {
     }
 
     /// Every target's unit normal (NaN where unknown), when the targets have normals; a grid's
-    /// are computed on the first call.
-    fn normals(&self) -> Option<&[Point]> {
+    /// are computed on the first call (24 bytes a target).
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when the system refuses the memory for a grid's normals.
+    fn normals(&self) -> Result<Option<&[Point]>> {
         match &self.points {
             Points::GridNodes { surface, .. } => {
+                if let Some(done) = self.node_normals.get() {
+                    return Ok(Some(done));
+                }
                 let g = surface.grid().expect("grid-node targets hold a grid surface");
-                Some(self.node_normals.get_or_init(|| {
-                    (0..g.nx * g.ny)
-                        .filter(|&k| g.vertex_of_node[k] != u32::MAX)
-                        .map(|k| g.node_normal(k).unwrap_or([f64::NAN; 3]))
-                        .collect()
-                }))
+                let mut all = try_with_capacity(self.len, "the grid targets' normals")?;
+                all.extend(
+                    (0..g.nx * g.ny).filter(|&k| g.vertex_of_node[k] != u32::MAX).map(|k| g.node_normal(k).unwrap_or([f64::NAN; 3])),
+                );
+                Ok(Some(self.node_normals.get_or_init(|| all)))
             }
-            Points::Given(_) => self.normals.as_deref(),
+            Points::Given(_) => Ok(self.normals.as_deref()),
         }
     }
 
@@ -505,7 +510,7 @@ impl Visibility {
     pub fn seen_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<bool>> {
         Self::check_uavs(uavs)?;
         let reach = self.reach(uavs, sensors)?;
-        let normals = if self.normals_for(reach, false)? { self.targets.normals() } else { None };
+        let normals = if self.normals_for(reach, false)? { self.targets.normals()? } else { None };
         let chunks: Vec<Vec<bool>> = threads::run(n_threads, || {
             let engine = self.engine(uavs, reach)?;
             Ok::<_, Error>(
@@ -601,7 +606,7 @@ impl Visibility {
     pub fn quality_by(&self, uavs: &[Point], sensors: Option<&[Sensor]>, n_threads: usize) -> Result<Vec<f64>> {
         Self::check_uavs(uavs)?;
         let reach = self.reach(uavs, sensors)?;
-        let normals = if self.normals_for(reach, true)? { self.targets.normals() } else { None };
+        let normals = if self.normals_for(reach, true)? { self.targets.normals()? } else { None };
         let chunks: Vec<Vec<f64>> = threads::run(n_threads, || {
             let engine = self.engine(uavs, reach)?;
             Ok::<_, Error>(
@@ -704,7 +709,7 @@ impl Visibility {
         Self::check_uavs(uavs)?;
         let n = uavs.len();
         let reach = self.reach(uavs, sensors)?;
-        let normals = if self.normals_for(reach, false)? { self.targets.normals() } else { None };
+        let normals = if self.normals_for(reach, false)? { self.targets.normals()? } else { None };
         let mut total = UavCounts::zeros(n, self.targets.total_weight)?;
         let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
         // Chunks in batches whose counters fit in COUNTS_BUDGET, each batch summed in chunk order
