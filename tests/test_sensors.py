@@ -290,3 +290,65 @@ def test_incidence_needs_normals_and_bad_quality_settings_are_errors(hill_terrai
 
     t = Targets.from_points(pts, None, np.tile([0.0, 0.0, 1.0], (3, 1)))
     np.testing.assert_array_equal(pickle.loads(pickle.dumps(t)).normals, t.normals)
+
+
+def test_a_mission_flies_cameras_and_maximises_the_objective_it_is_given(tmp_path):
+    import json
+
+    from uavcov import Constraints, MissionSpec, StartSpec, gaussian_hills, load_mission, run_mission, save_mission
+
+    terrain = gaussian_hills(spacing=2.0, rng=1)
+    camera = Camera.from_fov(84.0, 62.0)
+    base = MissionSpec(
+        n_uavs=4,
+        d_max=40.0,
+        iterations=40,
+        start=StartSpec(altitude=20.0),
+        constraints=Constraints(h_min=5.0, z_max=80.0),
+        sensor=Sensor(40.0, camera=camera, good_gsd_m=0.01),
+        attitude=(30.0, -80.0),
+    )
+    vis = Visibility(terrain, 40.0)
+    sensors = [base.sensor] * 4
+    for objective in ("coverage", "quality"):
+        spec = base.with_changes(objective=objective)
+        result = run_mission(terrain, spec, rng=2)
+        for k in (0, 17, 40):  # every value is the objective at that configuration, cameras posed
+            poses = np.column_stack([result.trajectory[k], np.full(4, 30.0), np.full(4, -80.0)])
+            measure = vis.quality_coverage if objective == "quality" else vis.coverage
+            assert result.coverage[k] == measure(poses, sensors=sensors)
+        save_mission(result, tmp_path / f"{objective}.npz")
+        assert load_mission(tmp_path / f"{objective}.npz").spec == result.spec
+        assert MissionSpec.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
+    omni = run_mission(terrain, base.with_changes(sensor=None), rng=2)
+    assert omni.initial_coverage > result.initial_coverage  # the cameras see less than the paper's sensor
+
+
+def test_missions_refuse_bad_sensor_settings():
+    from uavcov import MissionSpec
+
+    with pytest.raises(InvalidInputError):
+        MissionSpec(n_uavs=2, d_max=10.0, objective="area")
+    with pytest.raises(InvalidInputError, match="centralised"):
+        MissionSpec(n_uavs=2, d_max=10.0, objective="quality", optimizer="per_robot")
+    with pytest.raises(InvalidInputError, match="point up"):
+        MissionSpec(n_uavs=2, d_max=10.0, attitude=(0.0, 15.0))
+    with pytest.raises(InvalidInputError):
+        MissionSpec(n_uavs=2, d_max=10.0, attitude=(0.0,))
+    with pytest.raises(InvalidTypeError):
+        MissionSpec(n_uavs=2, d_max=10.0, sensor="camera")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError):
+        MissionSpec.from_dict({"n_uavs": 2, "d_max": 10.0, "sensor": {"d_max": 5.0, "lens": 3}})
+
+
+def test_the_papers_settings_hashes_do_not_see_the_new_sensor_fields():
+    from uavcov import paper
+    from uavcov.sweep import experiment_settings, settings_hash
+
+    for experiment in paper.EXPERIMENTS.values():
+        assert not {"sensor", "attitude", "objective"} & set(experiment_settings(experiment)["mission"])
+    table1 = paper.TABLE1
+    camera = table1.with_changes(sensor=Sensor(25.0, camera=Camera.from_fov(60.0, 45.0)))
+    assert settings_hash(camera) != settings_hash(table1)
+    assert settings_hash(table1.with_changes(objective="quality")) != settings_hash(table1)
+    assert settings_hash(table1.with_changes(attitude=(0.0, -90.0))) == settings_hash(table1)  # the default

@@ -43,11 +43,12 @@ from ._validate import (
     as_positive_float,
     is_int,
 )
-from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
+from .cao import MARGINAL_OPTIMIZERS, CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility
 from .cvt import CVTResult, CVTSettings
 from .errors import InvalidInputError, InvalidTypeError
 from .prior import Prior, approximate_surface, sample_prior
+from .sensors import Camera, Sensor, camera_axes
 from .starts import StartSpec, start_configuration
 from .surface import Terrain
 from .targets import Targets
@@ -62,6 +63,9 @@ _Settings = TypeVar("_Settings", bound="DataclassInstance")
 
 OPTIMIZERS = ("cao", "per_robot")
 """The optimisers :func:`run_mission` knows: centralised CAO, or one estimator per UAV."""
+
+OBJECTIVES = ("coverage", "quality")
+"""What a mission maximises: the seen share, or the quality-weighted coverage."""
 
 PRIOR_KINDS = ("random", "pyramid")
 """What :class:`MissionSpec` can sample as the prior (anything else is passed as ``known``)."""
@@ -101,6 +105,16 @@ class MissionSpec:
         Centralised CAO or one estimator per UAV.
     iterations : int, default 500
         Optimiser iterations (measurements minus one); 0 measures the start only.
+    sensor : Sensor, optional
+        Every UAV's sensor (:mod:`uavcov.sensors`); ``None`` is the paper's omnidirectional one
+        of range ``d_max``.
+    attitude : (float, float), default (0.0, -90.0)
+        ``(yaw, pitch)`` in degrees of every UAV's camera (heading clockwise from north, gimbal
+        pitch from -90, nadir, to 0, level), fixed during the mission; read when ``sensor`` has a
+        camera.
+    objective : {"coverage", "quality"}, default "coverage"
+        What the optimiser maximises: the seen share, or the quality-weighted coverage
+        (:meth:`uavcov.Visibility.quality_coverage`, centralised CAO only).
 
     Examples
     --------
@@ -119,6 +133,9 @@ class MissionSpec:
     cao: CAOSettings = field(default_factory=CAOSettings)
     optimizer: str = "cao"
     iterations: int = 500
+    sensor: Sensor | None = None
+    attitude: tuple[float, float] = (0.0, -90.0)
+    objective: str = "coverage"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "n_uavs", as_count(self.n_uavs, "n_uavs", MAX_UAVS))
@@ -133,6 +150,17 @@ class MissionSpec:
             value = getattr(self, name)
             if not isinstance(value, kind):
                 raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+        if self.sensor is not None and not isinstance(self.sensor, Sensor):
+            raise InvalidTypeError(f"sensor must be a uavcov.Sensor or None, got {type(self.sensor).__name__}")
+        attitude = np.asarray(self.attitude, dtype=np.float64) if not isinstance(self.attitude, (str, bytes)) else None
+        if attitude is None or attitude.shape != (2,):
+            raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
+        camera_axes([attitude[0]], [attitude[1]])  # finite, pitch in [-90, 0]
+        object.__setattr__(self, "attitude", (float(attitude[0]), float(attitude[1])))
+        if self.objective not in OBJECTIVES:
+            raise InvalidInputError(f"objective must be one of {OBJECTIVES}, got {self.objective!r}")
+        if self.objective == "quality" and self.optimizer in MARGINAL_OPTIMIZERS:
+            raise InvalidInputError("the quality objective needs the centralised optimizer 'cao' (per-robot marginals are coverage's)")
         self._check_size()
 
     def _check_size(self) -> None:
@@ -185,6 +213,23 @@ class MissionSpec:
         return spec
 
 
+def _sensor_from_dict(raw: Any, where: str) -> Sensor | None:
+    if raw is None:
+        return None
+    if not isinstance(raw, dict):
+        raise InvalidTypeError(f"{where} must be a mapping or null, got {type(raw).__name__}")
+    values = dict(raw)
+    camera = values.get("camera")
+    if camera is not None:
+        if not isinstance(camera, dict):
+            raise InvalidTypeError(f"{where}.camera must be a mapping or null, got {type(camera).__name__}")
+        values["camera"] = Camera(**camera)
+    try:
+        return Sensor(**values)
+    except TypeError as exc:
+        raise InvalidInputError(f"{where}: {exc}") from None
+
+
 def _build(cls: type, data: dict[str, Any], where: str) -> Any:
     nested = {"start": StartSpec, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings}
     names = {f.name for f in fields(cls)}
@@ -193,7 +238,9 @@ def _build(cls: type, data: dict[str, Any], where: str) -> Any:
         raise InvalidInputError(f"{where}: unknown field(s) {unknown}; the fields are {sorted(names)}")
     values: dict[str, Any] = {}
     for key, raw in data.items():
-        if cls is MissionSpec and key in nested:
+        if cls is MissionSpec and key == "sensor":
+            values[key] = _sensor_from_dict(raw, f"{where}.sensor")
+        elif cls is MissionSpec and key in nested:
             if not isinstance(raw, dict):
                 raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(raw).__name__}")
             values[key] = _build(nested[key], raw, f"{where}.{key}")
@@ -434,12 +481,23 @@ def run_mission(
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
 
     feasible = feasibility(constraints, terrain, n_threads=n_threads)
+    sensors = None if spec.sensor is None else [spec.sensor] * spec.n_uavs
+    attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
+
+    def poses(x: np.ndarray) -> np.ndarray:
+        return x if spec.sensor is None or spec.sensor.camera is None else np.column_stack([x, attitudes])
+
     if spec.optimizer == "cao":
-        trace = cao(vis.coverage, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
+        objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
+
+        def value(x: np.ndarray) -> float:
+            return objective(poses(x), sensors=sensors)
+
+        trace = cao(value, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
     else:
 
         def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
-            counts = vis.per_uav(x)  # the coverage and the marginals in one pass
+            counts = vis.per_uav(poses(x), sensors=sensors)  # the coverage and the marginals in one pass
             return counts.coverage, counts.exclusive_share
 
         trace = per_robot_cao(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)

@@ -80,7 +80,10 @@ FLIGHT_KEYS: Mapping[str, str] = {
 """Where each key of the deprecated ``flight`` group now lives in the :class:`MissionSpec`."""
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
-_MISSION_SHORTCUTS = frozenset({"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"})
+_MISSION_SHORTCUTS = frozenset(
+    {"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao", "sensor", "attitude", "objective"}
+)
+_LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective"})
 
 
 # ---------------------------------------------------------------------------------------------
@@ -220,6 +223,12 @@ def experiment_settings(experiment: Experiment) -> dict[str, Any]:
         settings.pop(key)
     settings["mission"].pop("n_uavs")
     settings["mission"]["start"].pop("kind")
+    # Mission fields added after the paper's experiments were published leave the settings (and
+    # so the run ids of every earlier sweep) as they were while they keep their defaults.
+    defaults = {f.name: f.default for f in dataclasses.fields(MissionSpec) if f.name in _LATER_MISSION_FIELDS}
+    for name, default in defaults.items():
+        if getattr(experiment.mission, name) == default:
+            settings["mission"].pop(name)
     settings["terrain_kind"] = type(experiment.terrain).__name__
     return settings
 
