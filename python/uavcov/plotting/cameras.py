@@ -19,20 +19,9 @@ from ..sensors import Sensor, camera_axes, pack_sensors
 from ..surface import Terrain
 from ..visibility import Visibility
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR, _finish, _line, _matplotlib, _patch
+from .views import _grid_node_mask
 
 __all__ = ["plot_camera_views", "footprints"]
-
-
-def _node_values(terrain: Terrain, values: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Per grid node, the value of the target standing on it (NaN where none: nodata)."""
-    grid = terrain.grid
-    assert grid is not None
-    (ox, oy), (dx, dy) = grid.origin, grid.spacing
-    j = np.rint((points[:, 0] - ox) / dx).astype(np.int64)
-    i = np.rint((points[:, 1] - oy) / dy).astype(np.int64)
-    out = np.full(grid.shape, np.nan)
-    out[i, j] = values
-    return out
 
 
 def footprints(terrain: Terrain, poses: Any, sensors: Sequence[Sensor]) -> list[np.ndarray]:
@@ -101,8 +90,8 @@ def plot_camera_views(
     points = vis.targets.points
     seen = vis.seen(poses_array, sensors=sensors)
     quality = vis.quality(poses_array, sensors=sensors)
-    seen_grid = _node_values(terrain, seen.astype(np.float64), points)
-    quality_grid = _node_values(terrain, np.where(seen, quality, np.nan), points)
+    seen_grid = _grid_node_mask(terrain, seen, points)
+    quality_grid = _grid_node_mask(terrain, np.where(seen, quality, np.nan), points)
     grid = terrain.grid
     (ox, oy), (dx, dy) = grid.origin, grid.spacing
     ny, nx = grid.shape

@@ -279,7 +279,8 @@ def _outline_edges(surface: Terrain, max_all: int = 600) -> tuple[np.ndarray, st
 
 
 def _grid_node_mask(terrain: Terrain, seen: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Per grid node: 1.0 seen, 0.0 not seen, NaN where no target stands (nodata)."""
+    """Per grid node the value of the target on it (``seen``: bool gives 1.0 seen, 0.0 not seen,
+    or any float per target), NaN where no target stands (nodata)."""
     grid = terrain.grid
     assert grid is not None
     (ox, oy), (dx, dy) = grid.origin, grid.spacing
