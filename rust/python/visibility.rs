@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use super::surface::PySurface;
 use super::{detached, held, invalid, points, to_py_err};
 use crate::error::Result;
+use crate::geometry::Point;
 use crate::sensor::{Frustum, Sensor};
 use crate::visibility;
 
@@ -50,6 +51,15 @@ type PerUavOutput<'py> =
 #[pyclass(module = "uavcov._core", frozen, name = "Visibility")]
 pub struct PyVisibility {
     inner: visibility::Visibility,
+}
+
+/// The UAVs' positions and their sensors (`None`: the objective's one range), copied and checked.
+fn team(
+    py: Python<'_>,
+    uavs: &PyReadonlyArray2<'_, f64>,
+    packed: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<(Vec<Point>, Option<Vec<Sensor>>)> {
+    Ok((points(py, uavs, "uavs")?, sensors(py, packed)?))
 }
 
 #[pymethods]
@@ -123,8 +133,7 @@ impl PyVisibility {
         n_threads: usize,
         sensors: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let u = points(py, &uavs, "uavs")?;
-        let sensors = self::sensors(py, sensors)?;
+        let (u, sensors) = team(py, &uavs, sensors)?;
         let mask = detached(py, || self.inner.seen_by(&u, sensors.as_deref(), n_threads))?;
         Ok(mask.into_pyarray(py))
     }
@@ -138,13 +147,10 @@ impl PyVisibility {
         n_threads: usize,
         sensors: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<f64> {
-        let u = points(py, &uavs, "uavs")?;
-        let sensors = self::sensors(py, sensors)?;
+        let (u, sensors) = team(py, &uavs, sensors)?;
         detached(py, || self.inner.coverage_by(&u, sensors.as_deref(), n_threads))
     }
 
-    /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
-    /// then `total_weight` and the team's `coverage` (equal to `coverage()` to the last bit).
     /// `(T,)` float: each target's best view quality over the UAVs that see it (0: unseen).
     #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
     fn quality<'py>(
@@ -154,8 +160,7 @@ impl PyVisibility {
         n_threads: usize,
         sensors: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let u = points(py, &uavs, "uavs")?;
-        let sensors = self::sensors(py, sensors)?;
+        let (u, sensors) = team(py, &uavs, sensors)?;
         Ok(detached(py, || self.inner.quality_by(&u, sensors.as_deref(), n_threads))?.into_pyarray(py))
     }
 
@@ -168,11 +173,12 @@ impl PyVisibility {
         n_threads: usize,
         sensors: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<f64> {
-        let u = points(py, &uavs, "uavs")?;
-        let sensors = self::sensors(py, sensors)?;
+        let (u, sensors) = team(py, &uavs, sensors)?;
         detached(py, || self.inner.quality_coverage_by(&u, sensors.as_deref(), n_threads))
     }
 
+    /// Per UAV, `(seen (U,) uint64, exclusive (U,) uint64, seen_weight (U,), exclusive_weight (U,))`,
+    /// then `total_weight` and the team's `coverage` (equal to `coverage()` to the last bit).
     #[pyo3(signature = (uavs, n_threads=0, sensors=None))]
     fn per_uav<'py>(
         &self,
@@ -181,8 +187,7 @@ impl PyVisibility {
         n_threads: usize,
         sensors: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<PerUavOutput<'py>> {
-        let u = points(py, &uavs, "uavs")?;
-        let sensors = self::sensors(py, sensors)?;
+        let (u, sensors) = team(py, &uavs, sensors)?;
         let c = detached(py, || self.inner.per_uav_by(&u, sensors.as_deref(), n_threads))?;
         Ok((
             c.seen.into_pyarray(py),
