@@ -297,6 +297,15 @@ fn squared_distance(a: Point, b: Point) -> f64 {
     (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
 }
 
+/// The per-chunk answers of one evaluation, in target order (`len` values in all).
+fn concatenate<T>(chunks: Vec<Vec<T>>, len: usize, what: &str) -> Result<Vec<T>> {
+    let mut out = try_with_capacity(len, what)?;
+    for chunk in chunks {
+        out.extend(chunk);
+    }
+    Ok(out)
+}
+
 /// Which targets each UAV can reach before occlusion: the one range of the [`Visibility`], or a
 /// sensor per UAV.
 #[derive(Clone, Copy)]
@@ -557,11 +566,7 @@ impl Visibility {
                     .collect(),
             )
         })?;
-        let mut mask = try_with_capacity(self.targets.len(), "the seen mask")?;
-        for chunk in chunks {
-            mask.extend(chunk);
-        }
-        Ok(mask)
+        concatenate(chunks, self.targets.len(), "the seen mask")
     }
 
     /// The weighted share of targets seen by at least one UAV, in `[0, 1]`.
@@ -656,11 +661,7 @@ impl Visibility {
                     .collect(),
             )
         })?;
-        let mut out = try_with_capacity(self.targets.len(), "the targets' quality")?;
-        for chunk in chunks {
-            out.extend(chunk);
-        }
-        Ok(out)
+        concatenate(chunks, self.targets.len(), "the targets' quality")
     }
 
     /// The quality-weighted coverage: the weighted mean over all targets of
