@@ -46,7 +46,7 @@ from .prior import (
     sample_prior,
 )
 from .records import load_mission, save_mission
-from .sensors import Camera, Sensor, camera_axes
+from .sensors import Camera, Gimbal, Sensor, camera_axes
 from .starts import StartSpec, initial_positions, start_configuration
 from .surface import GridInfo, Terrain
 from .targets import Targets
@@ -64,6 +64,7 @@ __all__ = [
     # sensors
     "Camera",
     "Sensor",
+    "Gimbal",
     "camera_axes",
     # surfaces
     "Building",

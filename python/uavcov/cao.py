@@ -72,6 +72,7 @@ import numpy as np
 
 from . import _core
 from ._validate import (
+    as_float_array,
     as_non_negative_float,
     as_non_negative_int,
     as_points,
@@ -107,9 +108,9 @@ class CAOSettings:
     Parameters
     ----------
     n_regressors : int or None, default None
-        ``L``, regressors of the centralised surrogate: 1 constant + ``3N`` linear terms + the rest
-        random 2nd/3rd-order monomials. ``None`` means ``1 + 3N + max(10, N)``. Must be at least
-        ``1 + 3N``.
+        ``L``, regressors of the centralised surrogate: 1 constant + ``dN`` linear terms (``d = 3``
+        coordinates per UAV, more when camera angles are optimised) + the rest random 2nd/3rd-order
+        monomials. ``None`` means ``1 + dN + max(10, N)``. Must be at least ``1 + dN``.
     history : int, default 10
         ``T_h``: iteration ``k`` fits the ``L + T_h`` measurements ``l_k ... k - 1`` (eq. 4).
     n_candidates : int, default 200
@@ -191,14 +192,19 @@ class CAOSettings:
         if self.perturbation not in _PERTURBATIONS:
             raise InvalidInputError(f"perturbation must be one of {_PERTURBATIONS}, got {self.perturbation!r}")
 
-    def regressors_for(self, n_uavs: int) -> int:
-        """Return ``L`` for a team of ``n_uavs``, checking it against ``1 + 3N`` and the monomial count."""
+    def regressors_for(self, n_uavs: int, n_coordinates: int = 3) -> int:
+        """Return ``L`` for a team of ``n_uavs``, checking it against ``1 + dN`` and the monomial count.
+
+        ``n_coordinates`` is ``d``, the decision variables per UAV: 3 for a position, more when
+        a camera's heading or pitch is optimised too (:class:`uavcov.sensors.Gimbal`).
+        """
         n_uavs = as_positive_int(n_uavs, "number of UAVs")
-        dim = 3 * n_uavs
+        d = as_positive_int(n_coordinates, "coordinates per UAV")
+        dim = d * n_uavs
         value = 1 + dim + max(10, n_uavs) if self.n_regressors is None else self.n_regressors
         if value < 1 + dim:
             raise InvalidInputError(
-                f"n_regressors must be at least 1 + 3N = {1 + dim} for N = {n_uavs} (the constant and every linear term), got {value}"
+                f"n_regressors must be at least 1 + {d}N = {1 + dim} for N = {n_uavs} (the constant and every linear term), got {value}"
             )
         if value - 1 - dim > _n_distinct_monomials(dim):
             raise InvalidInputError(
@@ -224,11 +230,11 @@ class CAOSettings:
         result = self.alpha0 * ratio**self.decay
         return float(result) if np.ndim(result) == 0 else result
 
-    def resolved(self, n_uavs: int) -> CAOSettings:
+    def resolved(self, n_uavs: int, n_coordinates: int = 3) -> CAOSettings:
         """These settings with every ``None`` replaced by the value used for ``n_uavs`` UAVs."""
         return replace(
             self,
-            n_regressors=self.regressors_for(n_uavs),
+            n_regressors=self.regressors_for(n_uavs, n_coordinates),
             robot_regressors=self.robot_regressors_value(),
         )
 
@@ -256,8 +262,9 @@ class OptimizerTrace:
     ----------
     kind : str
         ``"cao"`` or ``"per_robot"``.
-    trajectory : ndarray, shape (K + 1, N, 3)
-        Positions in metres; ``trajectory[0]`` is the start.
+    trajectory : ndarray, shape (K + 1, N, d)
+        The decision variables at every iteration, positions in metres first (``d = 3`` unless
+        :func:`cao` was given more per UAV); ``trajectory[0]`` is the start.
     values : ndarray, shape (K + 1,)
         Objective at each configuration, noise-free (what ``measure`` returned).
     measured : ndarray, shape (K + 1,)
@@ -269,7 +276,7 @@ class OptimizerTrace:
         ``settings.check_batch`` is None; see there).
     n_feasible : ndarray, shape (K,), int64
         Feasible candidates among those checked (0 means the team stayed: none was feasible).
-    best_positions : ndarray, shape (N, 3)
+    best_positions : ndarray, shape (N, d)
         The configuration with the highest noise-free value (the first one on ties).
     best_value : float
     best_iteration : int
@@ -613,10 +620,15 @@ def _one_blas_thread() -> contextlib.AbstractContextManager[Any]:
     return limited
 
 
-def _check_common(x0: Any, feasible: Any, iterations: Any, settings: Any) -> tuple[np.ndarray, int]:
+def _check_common(x0: Any, feasible: Any, iterations: Any, settings: Any, *, positions_only: bool = True) -> tuple[np.ndarray, int]:
     if not isinstance(settings, CAOSettings):
         raise InvalidTypeError(f"settings must be a CAOSettings, got {type(settings).__name__}")
-    x0 = as_points(x0, "x0")
+    if positions_only:
+        x0 = as_points(x0, "x0")
+    else:
+        x0 = as_float_array(x0, "x0")
+        if x0.ndim != 2 or x0.shape[0] == 0 or x0.shape[1] < 3:
+            raise InvalidInputError(f"x0 must have shape (N, d) with N >= 1 and d >= 3 (a position, then any angles), got {x0.shape}")
     iterations = as_non_negative_int(iterations, "iterations")
     if feasible is not None and not callable(feasible):
         raise InvalidTypeError(f"feasible must be callable or None, got {type(feasible).__name__}")
@@ -817,18 +829,22 @@ def cao(
     settings: CAOSettings = CAOSettings(),
     rng: Any = None,
 ) -> OptimizerTrace:
-    """Maximise ``measure`` over the joint ``3N`` positions with centralised CAO.
+    """Maximise ``measure`` over the joint ``dN`` decision variables with centralised CAO.
 
     Parameters
     ----------
     measure : callable
-        ``measure(x)`` with ``x`` of shape ``(N, 3)`` (metres) returns the objective (a finite
-        float, e.g. the coverage share). Called exactly once per visited configuration.
-    x0 : array_like, shape (N, 3)
-        Start, metres. Must be feasible (see :func:`uavcov.constraints.closest_admissible`).
+        ``measure(x)`` with ``x`` of shape ``(N, d)`` returns the objective (a finite float, e.g.
+        the coverage share). Called exactly once per visited configuration.
+    x0 : array_like, shape (N, d), d >= 3
+        Start: each UAV's position in metres, then any further variables (``d = 3`` for
+        positions alone; a mission that optimises camera angles appends them, scaled so that one
+        unit of the step is :attr:`uavcov.sensors.Gimbal.degrees_per_metre` degrees). Every
+        coordinate is perturbed by the same ``alpha_k`` (eq. 5). Must be feasible (see
+        :func:`uavcov.constraints.closest_admissible`).
     feasible : callable or None
-        ``feasible(current, candidates)`` with ``current`` ``(N, 3)`` and ``candidates``
-        ``(M, N, 3)`` returns an ``(M,)`` bool mask of admissible candidates (see
+        ``feasible(current, candidates)`` with ``current`` ``(N, d)`` and ``candidates``
+        ``(M, N, d)`` returns an ``(M,)`` bool mask of admissible candidates (see
         :func:`uavcov.constraints.feasibility`). ``None`` means unconstrained.
     iterations : int
         ``K >= 0`` moves; the run measures ``K + 1`` configurations.
@@ -858,12 +874,12 @@ def cao(
     >>> trace.evaluations, bool(np.abs(trace.best_positions - top).max() < 0.1)  # within 10 cm of the top
     (201, True)
     """
-    x0, n_iter = _check_common(x0, feasible, iterations, settings)
+    x0, n_iter = _check_common(x0, feasible, iterations, settings, positions_only=False)
     if not callable(measure):
         raise InvalidTypeError(f"measure must be callable, got {type(measure).__name__}")
-    n_uavs = x0.shape[0]
-    dim = 3 * n_uavs
-    settings = settings.resolved(n_uavs)
+    n_uavs, n_coords = x0.shape
+    dim = n_coords * n_uavs
+    settings = settings.resolved(n_uavs, n_coords)
     n_reg = int(settings.n_regressors)  # type: ignore[arg-type]
     n_terms = n_reg - 1 - dim
     n_window = n_reg + settings.history
@@ -887,7 +903,7 @@ def cao(
     for k in range(n_iter + 1):
         traj[k] = x
         t0 = time.perf_counter()
-        value = _as_value(measure(x.reshape(n_uavs, 3).copy()), "measure", k)
+        value = _as_value(measure(x.reshape(n_uavs, n_coords).copy()), "measure", k)
         t_measure += time.perf_counter() - t0
         values[k] = value
         measured[k] = value + settings.measurement_noise * rng.standard_normal() if settings.measurement_noise else value
@@ -903,7 +919,7 @@ def cao(
         _, predicted, strength = _fit_and_score((window - x) / scale, measured[lo:k], terms, zeta * (alpha / scale), settings.ridge)
         candidates = x + alpha * zeta
         choice, n_checked[k], n_feasible[k] = _best_feasible(
-            predicted, candidates.reshape(n_cand, n_uavs, 3), x.reshape(n_uavs, 3), check, settings.check_batch, rng
+            predicted, candidates.reshape(n_cand, n_uavs, n_coords), x.reshape(n_uavs, n_coords), check, settings.check_batch, rng
         )
         if choice is not None:
             x = candidates[choice].copy()
@@ -913,7 +929,7 @@ def cao(
     t_total = time.perf_counter() - t_start
     return _finish(
         "cao",
-        traj.reshape(n_iter + 1, n_uavs, 3),
+        traj.reshape(n_iter + 1, n_uavs, n_coords),
         values,
         measured,
         steps,

@@ -47,8 +47,9 @@ from .cao import MARGINAL_OPTIMIZERS, CAOSettings, OptimizerTrace, cao, per_robo
 from .constraints import Constraints, closest_admissible, feasibility
 from .cvt import CVTResult, CVTSettings
 from .errors import InvalidInputError, InvalidTypeError
+from .footprints import fit_footprints
 from .prior import Prior, approximate_surface, sample_prior
-from .sensors import Camera, Sensor, camera_axes
+from .sensors import Camera, Gimbal, Sensor, camera_axes
 from .starts import StartSpec, start_configuration
 from .surface import Terrain
 from .targets import Targets
@@ -115,6 +116,14 @@ class MissionSpec:
     objective : {"coverage", "quality"}, default "coverage"
         What the optimiser maximises: the seen share, or the quality-weighted coverage
         (:meth:`uavcov.Visibility.quality_coverage`, centralised CAO only).
+    gimbal : Gimbal, optional
+        Camera angles the optimiser moves beside the positions (heading, pitch within a range;
+        centralised CAO only); ``attitude`` is then where they start. ``None``: fixed angles.
+    footprint_start : bool, default False
+        Lift each start position (any start kind) to the height above S' at which its camera's
+        view of S' best matches its Voronoi cell, and turn the free angles likewise
+        (:func:`uavcov.footprints.fit_footprints`, between the flight band's ``h_min`` and
+        ``h_max``, or the camera's range without a ceiling). Needs a camera.
 
     Examples
     --------
@@ -136,6 +145,8 @@ class MissionSpec:
     sensor: Sensor | None = None
     attitude: tuple[float, float] = (0.0, -90.0)
     objective: str = "coverage"
+    gimbal: Gimbal | None = None
+    footprint_start: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "n_uavs", as_count(self.n_uavs, "n_uavs", MAX_UAVS))
@@ -161,7 +172,31 @@ class MissionSpec:
             raise InvalidInputError(f"objective must be one of {OBJECTIVES}, got {self.objective!r}")
         if self.objective == "quality" and self.optimizer in MARGINAL_OPTIMIZERS:
             raise InvalidInputError("the quality objective needs the centralised optimizer 'cao' (per-robot marginals are coverage's)")
+        self._check_camera_options()
         self._check_size()
+
+    def _check_camera_options(self) -> None:
+        has_camera = self.sensor is not None and self.sensor.camera is not None
+        if self.gimbal is not None:
+            if not isinstance(self.gimbal, Gimbal):
+                raise InvalidTypeError(f"gimbal must be a uavcov.Gimbal or None, got {type(self.gimbal).__name__}")
+            if self.gimbal.free_angles and not has_camera:
+                raise InvalidInputError("a gimbal's free angles need a sensor with a camera (sensor=Sensor(..., camera=...))")
+            if self.gimbal.free_angles and self.optimizer != "cao":
+                raise InvalidInputError("optimising camera angles needs the centralised optimizer 'cao'")
+            bounds = self.gimbal.pitch_range
+            if bounds is not None and not bounds[0] <= self.attitude[1] <= bounds[1]:
+                raise InvalidInputError(f"attitude's pitch {self.attitude[1]} lies outside the gimbal's pitch_range {bounds}")
+        if not isinstance(self.footprint_start, (bool, np.bool_)):
+            raise InvalidTypeError(f"footprint_start must be a bool, got {type(self.footprint_start).__name__}")
+        object.__setattr__(self, "footprint_start", bool(self.footprint_start))
+        if self.footprint_start and not has_camera:
+            raise InvalidInputError("footprint_start needs a sensor with a camera")
+
+    @property
+    def free_angles(self) -> tuple[str, ...]:
+        """The camera angles the optimiser moves (``"yaw"``, ``"pitch"``), in their state order."""
+        return () if self.gimbal is None else self.gimbal.free_angles
 
     def _check_size(self) -> None:
         """Refuse a mission whose records or optimiser steps would not fit in memory (the size limits
@@ -240,6 +275,10 @@ def _build(cls: type, data: dict[str, Any], where: str) -> Any:
     for key, raw in data.items():
         if cls is MissionSpec and key == "sensor":
             values[key] = _sensor_from_dict(raw, f"{where}.sensor")
+        elif cls is MissionSpec and key == "gimbal" and raw is not None:
+            if not isinstance(raw, dict):
+                raise InvalidTypeError(f"{where}.gimbal must be a mapping or null, got {type(raw).__name__}")
+            values[key] = _build(Gimbal, raw, f"{where}.gimbal")
         elif cls is MissionSpec and key in nested:
             if not isinstance(raw, dict):
                 raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(raw).__name__}")
@@ -307,7 +346,9 @@ class MissionResult:
     cvt : CVTResult or None
         The CVT run, for the "cvt" start.
     trajectory : (K + 1, N, 3) ndarray
-        Positions at every iteration; ``trajectory[0]`` is the admissible start.
+        Positions at every iteration; ``trajectory[0]`` is the admissible start (the camera
+        angles, fixed or free, are :attr:`attitudes`; ``trace.trajectory`` holds the optimiser's
+        whole state).
     coverage : (K + 1,) ndarray
         True coverage at every iteration, in [0, 1].
     best_positions : (N, 3) ndarray
@@ -353,6 +394,32 @@ class MissionResult:
         """Deprecated: the :attr:`spec` (the flat ``MissionSettings`` record it replaced is gone)."""
         warnings.warn("MissionResult.settings is deprecated; use MissionResult.spec", DeprecationWarning, stacklevel=2)
         return self.spec
+
+    @property
+    def attitudes(self) -> np.ndarray | None:
+        """``(K + 1, N, 2)`` ``(yaw, pitch)`` of every camera at every iteration, degrees.
+
+        Yaw in ``[0, 360)``. The fixed angles are the spec's ``attitude``, the free ones
+        (``spec.gimbal``) the optimiser's. ``None`` for a sensor without a camera.
+        """
+        spec = self.spec
+        if spec.sensor is None or spec.sensor.camera is None:
+            return None
+        state = np.asarray(self.trace.trajectory)
+        angles = np.empty((*state.shape[:2], 2))
+        angles[...] = spec.attitude
+        scale = spec.gimbal.degrees_per_metre if spec.gimbal is not None else 1.0
+        for column, name in enumerate(spec.free_angles, start=3):
+            angles[..., 0 if name == "yaw" else 1] = state[..., column] * scale
+        angles[..., 0] %= 360.0
+        angles.flags.writeable = False
+        return angles
+
+    @property
+    def best_attitudes(self) -> np.ndarray | None:
+        """``(N, 2)`` ``(yaw, pitch)`` at :attr:`best_iteration`, degrees; ``None`` without a camera."""
+        angles = self.attitudes
+        return None if angles is None else angles[self.best_iteration]
 
     @property
     def initial_positions(self) -> np.ndarray:
@@ -478,14 +545,18 @@ def run_mission(
         flying, tessellation = start_configuration(
             spec.start, approximation, terrain, spec.n_uavs, cvt_settings=spec.cvt, rng=start_rng, n_threads=n_threads
         )
+    attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
+    if spec.footprint_start and given is None:
+        flying, attitudes = _footprint_start(spec, approximation, flying, attitudes, n_threads)
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
 
     feasible = feasibility(constraints, terrain, n_threads=n_threads)
     sensors = None if spec.sensor is None else [spec.sensor] * spec.n_uavs
-    attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
+    camera = spec.sensor is not None and spec.sensor.camera is not None
+    state = _CameraState(spec, attitudes)
 
     def poses(x: np.ndarray) -> np.ndarray:
-        return x if spec.sensor is None or spec.sensor.camera is None else np.column_stack([x, attitudes])
+        return state.poses(x) if camera else x
 
     if spec.optimizer == "cao":
         objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
@@ -493,7 +564,9 @@ def run_mission(
         def value(x: np.ndarray) -> float:
             return objective(poses(x), sensors=sensors)
 
-        trace = cao(value, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
+        trace = cao(
+            value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng
+        )
     else:
 
         def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
@@ -512,9 +585,9 @@ def run_mission(
         approximation=approximation,
         start_positions=flying,
         cvt=tessellation,
-        trajectory=trace.trajectory,
+        trajectory=_frozen_positions(trace.trajectory),
         coverage=values,
-        best_positions=trace.best_positions,
+        best_positions=_frozen_positions(trace.best_positions),
         best_coverage=float(trace.best_value),
         initial_coverage=float(values[0]),
         final_coverage=float(values[-1]),
@@ -526,6 +599,77 @@ def run_mission(
         time_optimizer_s=float(trace.time_optimizer_s),
         trace=trace,
     )
+
+
+def _frozen_positions(state: np.ndarray) -> np.ndarray:
+    """The positions of an optimiser's state ``(..., N, d)``: its first three columns, read-only."""
+    positions = np.ascontiguousarray(state[..., :3])
+    positions.flags.writeable = False
+    return positions
+
+
+class _CameraState:
+    """The optimiser's state for a camera team: positions, then each free angle over its scale.
+
+    An angle enters CAO's state in units of the step (``gimbal.degrees_per_metre`` degrees per
+    unit), so one ``alpha_k`` perturbs positions and angles alike; yaw stays unwrapped in the
+    state (the surrogate is local: a wrap would be a jump) and wraps in the poses.
+    """
+
+    def __init__(self, spec: MissionSpec, attitudes: np.ndarray) -> None:
+        self.fixed = np.array(attitudes, dtype=np.float64)
+        self.free = spec.free_angles
+        self.columns = [0 if name == "yaw" else 1 for name in self.free]
+        self.scale = spec.gimbal.degrees_per_metre if spec.gimbal is not None else 1.0
+        self.pitch_range = spec.gimbal.pitch_range if spec.gimbal is not None else None
+
+    def initial(self, x0: np.ndarray) -> np.ndarray:
+        return np.column_stack([x0, self.fixed[:, self.columns] / self.scale]) if self.free else x0
+
+    def poses(self, x: np.ndarray) -> np.ndarray:
+        angles = self.fixed.copy()
+        if self.free:
+            angles[:, self.columns] = x[:, 3:] * self.scale
+        return np.column_stack([x[:, :3], angles])
+
+    def feasible(self, positions_ok: Any) -> Any:
+        """``positions_ok`` on the positions, and every free pitch within the gimbal's range."""
+        if not self.free:
+            return positions_ok
+        pitch_column = 3 + self.free.index("pitch") if "pitch" in self.free else None
+
+        def ok(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+            mask: np.ndarray = np.ones(candidates.shape[0], dtype=bool)
+            if pitch_column is not None and self.pitch_range is not None:
+                pitch = candidates[:, :, pitch_column] * self.scale
+                mask = np.asarray(((pitch >= self.pitch_range[0]) & (pitch <= self.pitch_range[1])).all(axis=1))
+            if mask.any():
+                mask[mask] = positions_ok(np.ascontiguousarray(current[:, :3]), np.ascontiguousarray(candidates[mask][:, :, :3]))
+            return mask
+
+        return ok
+
+
+def _footprint_start(
+    spec: MissionSpec, approximation: Terrain, flying: np.ndarray, attitudes: np.ndarray, n_threads: int | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The start lifted (and its free angles turned) so each camera's view of S' matches its cell."""
+    if spec.sensor is None:
+        raise InvalidInputError("footprint_start needs a sensor with a camera")
+    constraints = spec.constraints
+    lowest = max(constraints.h_min, 0.5)
+    highest = constraints.h_max if constraints.h_max is not None else spec.sensor.reach_m
+    fit = fit_footprints(
+        approximation,
+        flying,
+        spec.sensor,
+        attitudes,
+        heights=(lowest, max(lowest, highest)),
+        gimbal=spec.gimbal,
+        bounds=constraints.bounds,
+        n_threads=n_threads,
+    )
+    return fit.positions, fit.attitudes
 
 
 _LEGACY_START = {"start_altitude": "altitude", "climb": "climb"}

@@ -24,7 +24,7 @@ import numpy as np
 from .cao import OptimizerTrace
 from .cvt import CVTResult
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
-from .mission import MissionResult, MissionSpec
+from .mission import MissionResult, MissionSpec, _frozen_positions
 from .results import widen_mode
 from .starts import START_KINDS
 from .surface import Terrain
@@ -104,14 +104,16 @@ def _check_fields(record: Any, types: Mapping[str, tuple[type, ...]], where: str
             raise ResultsFormatError(f"{path}: {where}.{name} = {value!r} is not {'an integer' if kinds is _INT else 'a number'}")
 
 
-def _check_arrays(arrays: dict[str, np.ndarray], n_uavs: int, path: Path) -> None:
+def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSpec, path: Path) -> None:
     """The arrays' shapes agree with each other and with the spec (a corrupt file is refused)."""
+    n_uavs = spec.n_uavs
+    state = 3 + len(spec.free_angles)  # the optimiser's variables per UAV: a position, then free camera angles
     expected = {
         "prior_points": (None, 3),
         "start_positions": (n_uavs, 3),
         "coverage": (None,),
-        "trace_trajectory": (None, n_uavs, 3),
-        "trace_best_positions": (n_uavs, 3),
+        "trace_trajectory": (None, n_uavs, state),
+        "trace_best_positions": (n_uavs, state),
     }
     for name, shape in expected.items():
         array = arrays[name]
@@ -243,7 +245,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             raise ResultsFormatError(f"{path}: seed = {seed!r} is not an integer")
         if not isinstance(prior_kind, str):
             raise ResultsFormatError(f"{path}: prior_kind = {prior_kind!r} is not a string")
-        _check_arrays(arrays, spec.n_uavs, path)
+        _check_arrays(arrays, spec, path)
         t = header["trace"]
         trace = OptimizerTrace(
             kind=t["kind"],
@@ -268,9 +270,9 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             approximation=_surface("approximation", arrays, path),
             start_positions=arrays["start_positions"],
             cvt=cvt,
-            trajectory=trace.trajectory,
+            trajectory=_frozen_positions(trace.trajectory),
             coverage=arrays["coverage"],
-            best_positions=trace.best_positions,
+            best_positions=_frozen_positions(trace.best_positions),
             trace=trace,
             **s,
         )

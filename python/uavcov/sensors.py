@@ -39,7 +39,7 @@ import numpy as np
 from ._validate import as_float_array, as_non_negative_float, as_positive_float, as_positive_int
 from .errors import InvalidInputError, InvalidTypeError
 
-__all__ = ["Camera", "Sensor", "camera_axes", "pack_sensors"]
+__all__ = ["Camera", "Sensor", "Gimbal", "camera_axes", "pack_sensors"]
 
 # Columns of a packed sensor row (``uavcov._core``): d_min, d_max, forward (3), right (3), up (3),
 # tan(hfov / 2), tan(vfov / 2) (the camera's eleven NaN for an omnidirectional sensor), the cosine
@@ -178,6 +178,55 @@ class Sensor:
             return self.d_max
         per_metre = self.camera.gsd_m(1.0)
         return min(self.d_max, self.max_gsd_m / per_metre)
+
+
+@dataclass(frozen=True)
+class Gimbal:
+    """Which camera angles a mission optimises beside the positions, and within what bounds.
+
+    The optimiser (centralised CAO) perturbs every decision variable by the same step
+    ``alpha_k`` (metres for a position); an angle enters its state divided by
+    ``degrees_per_metre``, so one metre of step turns the camera by that many degrees.
+
+    Parameters
+    ----------
+    free_yaw : bool, default False
+        Optimise each UAV's heading (any value: it wraps; results report it in ``[0, 360)``).
+    pitch_range : (float, float), optional
+        ``(lowest, highest)`` gimbal pitch in degrees within ``[-90, 0]``: optimise each UAV's
+        pitch within it (a candidate outside is infeasible, as a position outside its band is).
+        ``None`` keeps the pitch fixed.
+    degrees_per_metre : float, default 10.0
+        Degrees of heading or pitch that one metre of CAO's step stands for (> 0).
+
+    Examples
+    --------
+    >>> Gimbal(free_yaw=True, pitch_range=(-90.0, -30.0)).free_angles
+    ('yaw', 'pitch')
+    """
+
+    free_yaw: bool = False
+    pitch_range: tuple[float, float] | None = None
+    degrees_per_metre: float = 10.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.free_yaw, (bool, np.bool_)):
+            raise InvalidTypeError(f"free_yaw must be a bool, got {type(self.free_yaw).__name__}")
+        object.__setattr__(self, "free_yaw", bool(self.free_yaw))
+        if self.pitch_range is not None:
+            bounds = as_float_array(self.pitch_range, "pitch_range") if not isinstance(self.pitch_range, (str, bytes)) else None
+            if bounds is None or bounds.shape != (2,):
+                raise InvalidInputError(f"pitch_range must be (lowest, highest) in degrees, got {self.pitch_range!r}")
+            low, high = float(bounds[0]), float(bounds[1])
+            if not -90.0 <= low <= high <= 0.0:
+                raise InvalidInputError(f"pitch_range must satisfy -90 <= lowest <= highest <= 0 degrees, got ({low}, {high})")
+            object.__setattr__(self, "pitch_range", (low, high))
+        object.__setattr__(self, "degrees_per_metre", as_positive_float(self.degrees_per_metre, "degrees_per_metre"))
+
+    @property
+    def free_angles(self) -> tuple[str, ...]:
+        """The angles optimised, in the order they follow the position: ``"yaw"``, ``"pitch"``."""
+        return (("yaw",) if self.free_yaw else ()) + (("pitch",) if self.pitch_range is not None else ())
 
 
 def _fov(value: Any, name: str) -> float:

@@ -80,10 +80,8 @@ FLIGHT_KEYS: Mapping[str, str] = {
 """Where each key of the deprecated ``flight`` group now lives in the :class:`MissionSpec`."""
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
-_MISSION_SHORTCUTS = frozenset(
-    {"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao", "sensor", "attitude", "objective"}
-)
-_LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective"})
+_LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start"})
+_MISSION_SHORTCUTS = _LATER_MISSION_FIELDS | {"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"}
 
 
 # ---------------------------------------------------------------------------------------------
