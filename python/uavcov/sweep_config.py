@@ -22,9 +22,21 @@ and start. See ``examples/sweep.toml``::
     [cao]                         # any field of uavcov.cao.CAOSettings
     [cvt]                         # any field of uavcov.cvt.CVTSettings
 
+    objective = "quality"         # coverage (the paper's) or quality (needs a camera)
+    attitude = [0.0, -60.0]       # every camera's (yaw, pitch), degrees
+    footprint_start = true        # lift each start until its camera's view matches its cell
+    [sensor]                      # uavcov.Sensor's fields; d_max is the top-level d_max unless set
+    good_gsd_m = 0.02
+    [sensor.camera]               # uavcov.Camera's fields, or hfov_deg and vfov_deg
+    hfov_deg = 84.0
+    vfov_deg = 62.0
+    [gimbal]                      # uavcov.Gimbal: free_yaw, pitch_range, degrees_per_metre
+    free_yaw = true
+
     [sweep]                       # every combination of these lists
     "cao.alpha0" = [1.0, 1.5]
     d_max = [20.0, 25.0]
+    "sensor.camera.hfov_deg" = [60.0, 84.0]
 
 A setting whose default is "none" (for example ``cao.n_regressors``) takes the string
 ``"none"`` for that default. The ``[flight]`` table of earlier releases is still read (its keys
@@ -52,8 +64,9 @@ from .cao import CAOSettings
 from .constraints import Constraints
 from .cvt import PRESETS, CVTSettings
 from .errors import ConfigError, InvalidInputError, InvalidTypeError
-from .mission import MissionSpec
+from .mission import OBJECTIVES, MissionSpec
 from .scenarios import BuildingsTerrain, HillsTerrain
+from .sensors import Camera, Gimbal, Sensor
 from .starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSpec
 from .sweep import FLIGHT_KEYS, Experiment, RunSpec, experiment_specs, parse_seeds
 
@@ -65,7 +78,7 @@ STARTS: tuple[str, ...] = START_KINDS
 PRIORS: tuple[str, ...] = ("random", "pyramid", "map")
 """Priors: random samples plus the corners, the pyramid (corners and centre), a buildings map."""
 
-_TOP_SCALARS = ("d_max", "prior", "n_prior", "iterations")
+_TOP_SCALARS = ("d_max", "prior", "n_prior", "iterations", "objective", "attitude", "footprint_start")
 _TOP_KEYS = (
     ("name", "base", "description", "seeds", "team_sizes", "starts")
     + _TOP_SCALARS
@@ -76,6 +89,8 @@ _TOP_KEYS = (
         "constraints",
         "cao",
         "cvt",
+        "sensor",
+        "gimbal",
         "sweep",
     )
 )
@@ -167,8 +182,98 @@ def _coerce_type(value: Any, default: Any, key: str, source: _Source) -> Any:  #
     return value
 
 
+# The camera tables: a Sensor (its d_max the sweep's unless set), its Camera (by sensor and lens,
+# or by fields of view), and a Gimbal. Their values are checked by the objects themselves.
+_SENSOR_KEYS: Mapping[str, Any] = {"d_max": None, "d_min": 0.0, "max_gsd_m": None, "max_incidence_deg": None, "good_gsd_m": None}
+_CAMERA_KEYS: Mapping[str, Any] = {
+    "sensor_width_mm": 1.0,
+    "sensor_height_mm": 1.0,
+    "focal_length_mm": 1.0,
+    "image_width_px": 1,
+    "image_height_px": 1,
+    "hfov_deg": 1.0,
+    "vfov_deg": 1.0,
+}
+_GIMBAL_KEYS: Mapping[str, Any] = {"free_yaw": False, "pitch_range": (0.0, 0.0), "degrees_per_metre": 1.0}
+_CAMERA_AXES = tuple(f"sensor.{k}" for k in _SENSOR_KEYS) + tuple(f"sensor.camera.{k}" for k in _CAMERA_KEYS)
+_CAMERA_AXES += tuple(f"gimbal.{k}" for k in _GIMBAL_KEYS)
+
+
+def _camera_key_default(key: str) -> Any:
+    group, _, name = key.rpartition(".")
+    table = {"sensor": _SENSOR_KEYS, "sensor.camera": _CAMERA_KEYS, "gimbal": _GIMBAL_KEYS}[group]
+    return table[name]
+
+
+def _camera_tables(data: Mapping[str, Any], source: _Source) -> dict[str, Any]:
+    """The ``[sensor]``, ``[sensor.camera]`` and ``[gimbal]`` tables as flat dotted keys."""
+    flat: dict[str, Any] = {}
+    for group, keys in (("sensor", _SENSOR_KEYS), ("gimbal", _GIMBAL_KEYS)):
+        if group not in data:
+            continue
+        table = data[group]
+        if not isinstance(table, dict):
+            raise source.error(group, f"expected a table [{group}], got {table!r}")
+        for key, value in table.items():
+            if group == "sensor" and key == "camera":
+                if not isinstance(value, dict):
+                    raise source.error("sensor.camera", f"expected a table [sensor.camera], got {value!r}")
+                for name, raw in value.items():
+                    if name not in _CAMERA_KEYS:
+                        raise source.error(f"sensor.camera.{name}", f"unknown key{_suggest(name, tuple(_CAMERA_KEYS))}")
+                    flat[f"sensor.camera.{name}"] = _coerce_camera_value(raw, f"sensor.camera.{name}", source)
+                flat.setdefault("sensor.camera", True)
+            elif key not in keys:
+                valid = (*keys, "camera") if group == "sensor" else tuple(keys)
+                raise source.error(f"{group}.{key}", f"unknown key{_suggest(key, valid)}")
+            else:
+                flat[f"{group}.{key}"] = _coerce_camera_value(value, f"{group}.{key}", source)
+        flat.setdefault(group, True)
+    return flat
+
+
+def _coerce_camera_value(value: Any, key: str, source: _Source) -> Any:
+    default = _camera_key_default(key.removeprefix("sweep."))
+    if isinstance(value, str) and value.lower() == "none":
+        return None
+    return _coerce_type(value, 0.0 if default is None else default, key, source)
+
+
+def _camera_objects(flat: Mapping[str, Any], d_max: float, source: _Source) -> dict[str, Any]:
+    """The mission's ``sensor`` and ``gimbal`` from the flat camera keys (none: no change)."""
+    changes: dict[str, Any] = {}
+    if "sensor" in flat:
+        sensor_values = {k.split(".", 1)[1]: v for k, v in flat.items() if k.split(".", 1)[0] == "sensor" and k.count(".") == 1}
+        sensor_values.pop("camera", None)
+        if sensor_values.get("d_max") is None:
+            sensor_values["d_max"] = d_max
+        camera = None
+        lens = {k.rsplit(".", 1)[1]: v for k, v in flat.items() if k.startswith("sensor.camera.")}
+        if "sensor.camera" in flat or lens:
+            try:
+                if "hfov_deg" in lens or "vfov_deg" in lens:
+                    if {"sensor_width_mm", "sensor_height_mm", "focal_length_mm"} & set(lens):
+                        raise InvalidInputError("give the fields of view or the sensor and lens, not both")
+                    camera = Camera.from_fov(lens.pop("hfov_deg", None), lens.pop("vfov_deg", None), **lens)
+                else:
+                    camera = Camera(**lens)
+            except (InvalidInputError, InvalidTypeError, TypeError) as exc:
+                raise source.error("sensor.camera", str(exc)) from None
+        try:
+            changes["sensor"] = Sensor(camera=camera, **sensor_values)
+        except (InvalidInputError, InvalidTypeError, TypeError) as exc:
+            raise source.error("sensor", str(exc)) from None
+    if "gimbal" in flat:
+        try:
+            changes["gimbal"] = Gimbal(**{k.split(".", 1)[1]: v for k, v in flat.items() if k.startswith("gimbal.")})
+        except (InvalidInputError, InvalidTypeError, TypeError) as exc:
+            raise source.error("gimbal", str(exc)) from None
+    return changes
+
+
 # Settings that take one of a few names, so a typo gets the closest one.
 _CHOICES: Mapping[str, tuple[str, ...]] = {
+    "objective": OBJECTIVES,
     "cvt.preset": tuple(PRESETS),
     "start.altitude_reference": ALTITUDE_REFERENCES,
     "start.corner": CORNERS,
@@ -341,10 +446,15 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
         "prior": base.prior,
         "n_prior": base.mission.n_prior,
         "iterations": base.mission.iterations,
+        "objective": base.mission.objective,
+        "attitude": base.mission.attitude,
+        "footprint_start": base.mission.footprint_start,
     }
     for key in _TOP_SCALARS:
         if key in data:
             changes[key] = _coerce(data[key], top_defaults[key], key, src)
+    cameras = _camera_tables(data, src)
+    changes.update(_camera_objects(cameras, changes.get("d_max", base.mission.d_max), src))
 
     starts_default = tuple(s for s in base.starts if s in STARTS)
     starts = _string_list(data.get("starts", list(starts_default)), "starts", STARTS, src)
@@ -362,6 +472,7 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
         raise src.error("sweep", f"expected a table [sweep], got {sweep!r}")
     valid_axes = list(_TOP_SCALARS) + [f"terrain.{k}" for k in _field_names(terrain_cls)]
     valid_axes += [f"{g}.{k}" for g, defaults in _GROUPS.items() for k in defaults]
+    valid_axes += list(_CAMERA_AXES)
     axes: list[str] = []
     values: list[list[Any]] = []
     for key, options in sweep.items():
@@ -372,13 +483,18 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
         if not isinstance(options, list) or not options:
             raise src.error(f"sweep.{key}", f"expected a non-empty list of values, got {options!r}")
         group, _, field_name = key.rpartition(".")
-        if group == "terrain":
-            default = _defaults(terrain_cls)[field_name]
-        elif group:
-            default = _GROUPS[group][field_name]
+        if key in _CAMERA_AXES:
+            if key.partition(".")[0] not in cameras:
+                raise src.error(f"sweep.{key}", f"sweeps a field of [{key.partition('.')[0]}]: give that table first")
+            coerced = [_coerce_camera_value(v, f"sweep.{key}", src) for v in options]
         else:
-            default = top_defaults[key]
-        coerced = [_coerce(v, default, f"sweep.{key}", src) for v in options]
+            if group == "terrain":
+                default = _defaults(terrain_cls)[field_name]
+            elif group:
+                default = _GROUPS[group][field_name]
+            else:
+                default = top_defaults[key]
+            coerced = [_coerce(v, default, f"sweep.{key}", src) for v in options]
         if len(set(map(repr, coerced))) != len(coerced):
             raise src.error(f"sweep.{key}", "a value is listed twice")
         axes.append(key)
@@ -390,7 +506,11 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     variants = []
     for combination in itertools.product(*values):
         extra = tuple(zip(axes, combination, strict=True))
-        variants.append((_build(common, dict(extra), src) if extra else common, extra))
+        plain = {k: v for k, v in extra if k not in _CAMERA_AXES}
+        swept_cameras = {k: v for k, v in extra if k in _CAMERA_AXES}
+        if swept_cameras or ("d_max" in plain and "sensor" in cameras):  # rebuild the sensor: its range follows d_max
+            plain.update(_camera_objects({**cameras, **swept_cameras}, plain.get("d_max", common.mission.d_max), src))
+        variants.append((_build(common, plain, src) if plain else common, extra))
     return SweepConfig(
         name=name.strip(),
         base=base_name,

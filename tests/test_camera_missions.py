@@ -1,4 +1,5 @@
-"""Camera angles as decision variables (``MissionSpec.gimbal``) and the footprint start.
+"""Camera missions: angles as decision variables (``MissionSpec.gimbal``), the footprint start,
+and cameras in sweep files.
 
 References: a closed form for the optimiser (a concave quadratic over positions and angles), a
 flat plane whose best heading is known (it extends on one side only), and the area of a nadir
@@ -28,8 +29,10 @@ from uavcov import (
     save_mission,
 )
 from uavcov.cao import CAOSettings, cao
-from uavcov.errors import InvalidInputError, InvalidTypeError
+from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
 from uavcov.footprints import fit_footprints
+from uavcov.sweep import settings_hash
+from uavcov.sweep_config import parse_sweep_config
 
 
 def test_cao_optimises_any_number_of_variables_per_uav():
@@ -175,3 +178,77 @@ def test_a_footprint_start_sees_more_of_the_hills_than_the_papers_low_start():
     np.testing.assert_array_equal(fitted.start_positions[:, :2], low.start_positions[:, :2])  # the same cells
     assert fitted.initial_coverage > 2.0 * low.initial_coverage
     assert (fitted.start_positions[:, 2] > low.start_positions[:, 2]).all()
+
+
+CAMERA_SWEEP = {
+    "seeds": [1000],
+    "team_sizes": [3],
+    "starts": ["cvt"],
+    "iterations": 2,
+    "terrain": {"spacing": 5.0},
+    "objective": "quality",
+    "attitude": [10.0, -60.0],
+    "footprint_start": True,
+    "constraints": {"h_max": 30.0},
+    "sensor": {"good_gsd_m": 0.02, "camera": {"hfov_deg": 84.0, "vfov_deg": 62.0}},
+    "gimbal": {"free_yaw": True, "pitch_range": [-90.0, -30.0]},
+    "sweep": {"sensor.camera.hfov_deg": [60.0, 84.0], "d_max": [25.0, 40.0]},
+}
+
+
+def test_a_sweep_file_sets_and_sweeps_cameras():
+    config = parse_sweep_config(CAMERA_SWEEP)
+    assert len(config.variants) == 4 and len(config.specs()) == 4
+    hashes = set()
+    for experiment, extra in config.variants:
+        swept = dict(extra)
+        mission = experiment.mission
+        assert mission.objective == "quality" and mission.attitude == (10.0, -60.0) and mission.footprint_start
+        assert mission.gimbal == Gimbal(free_yaw=True, pitch_range=(-90.0, -30.0))
+        assert mission.sensor is not None and mission.sensor.camera is not None
+        assert mission.sensor.d_max == swept["d_max"] == mission.d_max  # the sensor's range follows d_max
+        assert mission.sensor.good_gsd_m == 0.02
+        assert mission.sensor.camera == Camera.from_fov(swept["sensor.camera.hfov_deg"], 62.0)
+        hashes.add(settings_hash(experiment))
+    assert len(hashes) == 4
+    names = ("sensor_width_mm", "sensor_height_mm", "focal_length_mm", "image_width_px", "image_height_px")
+    camera = dict(zip(names, (13.2, 8.8, 8.8, 5472, 3648), strict=True))
+    lens = {**CAMERA_SWEEP, "sweep": {}, "sensor": {"d_max": 30.0, "camera": camera}}
+    ((experiment, _),) = parse_sweep_config(lens).variants
+    assert experiment.mission.sensor == Sensor(30.0, camera=Camera(13.2, 8.8, 8.8, 5472, 3648))
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"sensor": {"rnage": 3.0}}, "sensor.rnage"),
+        ({"sensor": {"camera": {"hfov": 60.0}}}, "hfov_deg"),
+        ({"sensor": {"camera": {"hfov_deg": 200.0, "vfov_deg": 60.0}}}, "sensor.camera"),
+        ({"sensor": {"camera": {"hfov_deg": 60.0, "vfov_deg": 60.0, "focal_length_mm": 8.0}}}, "not both"),
+        ({"sensor": {"d_min": 90.0}}, "sensor"),
+        ({"gimbal": {"pitch_range": [-10.0, -60.0]}}, "gimbal"),
+        ({"gimbal": {"free_yaw": "yes"}}, "gimbal.free_yaw"),
+        ({"objective": "area"}, "objective"),
+        ({"attitude": [0.0]}, "attitude"),
+        ({"sensor": 3}, "sensor"),
+    ],
+)
+def test_bad_camera_tables_are_config_errors_naming_the_key(change, message):
+    with pytest.raises(ConfigError, match=message):
+        parse_sweep_config({**CAMERA_SWEEP, "sweep": {}, **change})
+
+
+def test_sweeping_a_camera_field_needs_its_table():
+    plain = {k: v for k, v in CAMERA_SWEEP.items() if k not in ("sensor", "gimbal", "objective", "footprint_start")}
+    with pytest.raises(ConfigError, match="give that table first"):
+        parse_sweep_config({**plain, "sweep": {"sensor.camera.hfov_deg": [60.0]}})
+
+
+def test_the_example_camera_sweep_parses():
+    from pathlib import Path
+
+    from uavcov.sweep_config import load_sweep_config
+
+    config = load_sweep_config(Path(__file__).parents[1] / "examples" / "camera_sweep.toml")
+    assert config.axes == ("sensor.camera.hfov_deg",) and len(config.specs()) == 2 * 5 * 2
+    assert all(e.mission.footprint_start and e.mission.gimbal == Gimbal(free_yaw=True) for e, _ in config.variants)
