@@ -1,5 +1,9 @@
 """The animation of a mission: the top-view coverage map and the coverage curve, frame by frame.
 
+A camera team's frames also outline each camera's footprint (what it sees, occlusion included)
+and its heading, at every shown iteration: the footprints move as CAO moves the UAVs and turns
+their gimbals.
+
 Frames are drawn on one Agg canvas and handed as RGB arrays to the GIF or MP4 writer of
 :mod:`uavcov.plotting.writers`.
 """
@@ -14,8 +18,9 @@ import numpy as np
 
 from .._validate import as_positive_float, as_positive_int
 from ..errors import InvalidInputError
-from ._canvas import END_COLOUR, INIT_COLOURS, SEEN_COLOUR, START_COLOUR, UNSEEN_COLOUR, _marker, _matplotlib, _patch
+from ._canvas import END_COLOUR, INIT_COLOURS, SEEN_COLOUR, START_COLOUR, UNSEEN_COLOUR, _line, _marker, _matplotlib, _patch
 from ._inputs import _as_result, _curve, _d_max, _setting, _trajectory
+from .cameras import footprints
 from .views import _TopView
 from .writers import _write_gif, _write_mp4
 
@@ -32,7 +37,8 @@ def animate_mission(
     """An animation of a run: the top-view coverage map, the UAVs and their paths, the curve.
 
     Left: the surface from above coloured by what the team sees at each shown iteration, the
-    UAVs (green) and their paths so far; right: coverage per iteration up to that point.
+    UAVs (green) and their paths so far, and for cameras each one's footprint and heading;
+    right: coverage per iteration up to that point.
 
     Parameters
     ----------
@@ -68,6 +74,12 @@ def animate_mission(
     )
     d = _d_max(result)
     view = _TopView(result.terrain, d, as_positive_int(raster, "raster"))
+    sensor = _setting(result, "sensor")
+    attitudes = getattr(result, "attitudes", None) if sensor is not None and sensor.camera is not None else None
+    sensors = None if sensor is None else [sensor] * traj.shape[1]
+
+    def poses(k: int) -> np.ndarray:
+        return traj[k] if attitudes is None else np.column_stack([traj[k], attitudes[k]])
 
     _matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -78,24 +90,30 @@ def animate_mission(
     grid = fig.add_gridspec(1, 2, width_ratios=(1.15, 1.0), left=0.07, right=0.98, bottom=0.24, top=0.9, wspace=0.28)
     ax_map = fig.add_subplot(grid[0])
     ax_curve = fig.add_subplot(grid[1])
-    picture = ax_map.imshow(view.image(traj[0]), extent=view.extent, origin="lower", interpolation="nearest")
+    picture = ax_map.imshow(view.image(poses(0), sensors=sensors), extent=view.extent, origin="lower", interpolation="nearest")
     ax_map.set_xlabel("x (m)")
     ax_map.set_ylabel("y (m)")
     ax_map.set_aspect("equal")
     ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=14, c=START_COLOUR, zorder=3)
     paths = [ax_map.plot([], [], color="0.1", linewidth=0.8)[0] for _ in range(traj.shape[1])]
     uavs = ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=36, c=[END_COLOUR], edgecolors="black", linewidths=0.6, zorder=4)
+    outlines = (
+        [ax_map.plot([], [], color="#d62728", linewidth=0.9, zorder=3)[0] for _ in range(traj.shape[1])] if attitudes is not None else []
+    )
+    headings = [ax_map.plot([], [], color="black", linewidth=1.0, zorder=4)[0] for _ in outlines]
+    arrow = 0.05 * max(view.extent[1] - view.extent[0], view.extent[3] - view.extent[2])
     ax_map.legend(
         handles=[
             _patch(SEEN_COLOUR, "seen"),
             _patch(UNSEEN_COLOUR, "not seen"),
             _marker("start", marker="o", color=START_COLOUR, markersize=4),
             _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6),
+            *([_line("footprint", color="#d62728")] if outlines else []),
         ],
         fontsize=7,
         loc="upper center",
         bbox_to_anchor=(0.5, -0.17),
-        ncol=4,
+        ncol=5 if outlines else 4,
         framealpha=0.9,
     )
     ax_curve.set_xlim(0, max(1, curve.shape[0] - 1))
@@ -110,7 +128,15 @@ def animate_mission(
 
     images = []
     for k in frames:
-        picture.set_data(view.image(traj[k]))
+        picture.set_data(view.image(poses(k), sensors=sensors))
+        if attitudes is not None and sensors is not None:
+            for outline, heading, shape, (yaw, _), position in zip(
+                outlines, headings, footprints(result.terrain, poses(k), sensors), attitudes[k], traj[k], strict=True
+            ):
+                closed = np.vstack([shape, shape[:1]]) if shape.shape[0] else shape
+                outline.set_data(closed[:, 0], closed[:, 1])
+                ahead = arrow * np.array([np.sin(np.radians(yaw)), np.cos(np.radians(yaw))])
+                heading.set_data([position[0], position[0] + ahead[0]], [position[1], position[1] + ahead[1]])
         for i, p in enumerate(paths):
             p.set_data(traj[: k + 1, i, 0], traj[: k + 1, i, 1])
         uavs.set_offsets(traj[k, :, :2])

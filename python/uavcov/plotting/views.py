@@ -19,6 +19,7 @@ import numpy as np
 
 from .._validate import as_positive_int
 from ..errors import InvalidInputError
+from ..sensors import Sensor
 from ..surface import Terrain
 from ..targets import Targets
 from ..visibility import Visibility
@@ -396,9 +397,10 @@ class _TopView:
         self.nodata = ~np.isfinite(z)
         self.visibility = Visibility(terrain, d_max, self.targets)
 
-    def fraction(self, positions: np.ndarray) -> np.ndarray:
-        """``self.shape`` shares seen from ``positions`` ``(N, 3)``; NaN off the surface."""
-        seen = self.visibility.seen(positions)
+    def fraction(self, positions: np.ndarray, sensors: Sequence[Sensor] | None = None) -> np.ndarray:
+        """``self.shape`` shares seen from ``positions`` ``(N, 3)`` (poses ``(N, 5)`` with cameras
+        among ``sensors``); NaN off the surface."""
+        seen = self.visibility.seen(positions, sensors=sensors)
         if self.terrain.grid is not None:
             nodes = _grid_node_mask(self.terrain, seen, self.targets.points)
             return _block_means(nodes, self.blocks).reshape(self.shape)
@@ -406,9 +408,9 @@ class _TopView:
         out[self.valid] = seen
         return out.reshape(self.shape)
 
-    def image(self, positions: np.ndarray, *, shade: bool = True) -> np.ndarray:
+    def image(self, positions: np.ndarray, *, shade: bool = True, sensors: Sequence[Sensor] | None = None) -> np.ndarray:
         """``(*self.shape, 4)`` RGBA, transparent off the surface, row 0 at the south (``origin="lower"``)."""
-        f = self.fraction(positions)
+        f = self.fraction(positions, sensors)
         rgb = _blend(f.ravel(), UNSEEN_COLOUR, SEEN_COLOUR).reshape(*self.shape, 3)
         if shade:
             rgb = rgb * self.light[:, :, None]
