@@ -693,3 +693,67 @@ def test_camera_views_draw_each_footprint_and_the_quality_map(tmp_path):
     mesh = uavcov.Terrain(terrain.vertices, terrain.faces)
     with pytest.raises(InvalidInputError, match="grid"):
         plotting.plot_camera_views(mesh, poses, sensors)
+
+
+def test_a_camera_run_animates_what_its_cameras_see(tmp_path, monkeypatch):
+    from uavcov.plotting import animation
+
+    terrain = uavcov.gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=5)
+    sensor = uavcov.Sensor(40.0, camera=uavcov.Camera.from_fov(60.0, 45.0))
+    spec = uavcov.MissionSpec(
+        n_uavs=3,
+        d_max=40.0,
+        iterations=6,
+        sensor=sensor,
+        attitude=(0.0, -60.0),
+        gimbal=uavcov.Gimbal(free_yaw=True),
+        start=uavcov.StartSpec(altitude=15.0),
+        constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
+    )
+    run = uavcov.run_mission(terrain, spec, rng=1)
+    path = save_mission(run, tmp_path / "camera.npz")
+    shown = []  # the coverage fractions each frame draws, and the footprints outlined
+    fraction, outline = views._TopView.fraction, animation.footprints
+    monkeypatch.setattr(views._TopView, "fraction", lambda self, p, s=None: shown.append((p, s)) or fraction(self, p, s))
+    drawn = []
+    monkeypatch.setattr(animation, "footprints", lambda *a: drawn.append(outline(*a)) or drawn[-1])
+    gif = plotting.animate_mission(path, tmp_path / "camera.gif", max_frames=7, raster=40, dpi=50)
+    assert gif.stat().st_size > 0 and len(drawn) == 7
+    poses, sensors = shown[-1]  # the last frame: the final poses, cameras posed as the run left them
+    np.testing.assert_array_equal(poses, np.column_stack([run.trajectory[-1], run.attitudes[-1]]))
+    assert sensors == [sensor] * 3
+    vis = Visibility(terrain, 40.0)
+    assert vis.coverage(poses, sensors=sensors) == run.final_coverage  # what the frame shows is what the run measured
+    assert all(shape.shape[0] >= 3 for shape in drawn[-1])
+
+
+def test_coverage_maps_and_seen_points_of_a_camera_run_are_what_its_cameras_see():
+    terrain = uavcov.gaussian_hills(size=40.0, spacing=1.0, n_hills=3, rng=2)
+    sensor = uavcov.Sensor(30.0, camera=uavcov.Camera.from_fov(50.0, 40.0))
+    spec = uavcov.MissionSpec(
+        n_uavs=2,
+        d_max=30.0,
+        iterations=4,
+        sensor=sensor,
+        attitude=(30.0, -50.0),
+        gimbal=uavcov.Gimbal(free_yaw=True),
+        start=uavcov.StartSpec(altitude=12.0),
+        constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
+    )
+    run = uavcov.run_mission(terrain, spec, rng=4)
+    poses = np.column_stack([run.trajectory[-1], run.attitudes[-1]])
+    vis = Visibility(terrain, 30.0)
+    nodes = vis.seen(poses, sensors=[sensor] * 2).reshape(terrain.grid.shape)
+    assert 0 < nodes.sum() < 0.9 * nodes.size and not np.array_equal(nodes, vis.seen(run.trajectory[-1]).reshape(nodes.shape))
+    fig = plotting.plot_coverage_map(run, view="top", shade=False)
+    image = np.asarray(fig.axes[0].images[0].get_array())
+    np.testing.assert_allclose(image[nodes][:, :3], np.broadcast_to(plotting.SEEN_COLOUR, (nodes.sum(), 3)))
+    np.testing.assert_allclose(image[~nodes][:, :3], np.broadcast_to(plotting.UNSEEN_COLOUR, ((~nodes).sum(), 3)))
+    assert fig.axes[0].get_title().startswith(f"Coverage {run.final_coverage:.3f}")
+    fig3d = plotting.plot_coverage_map(run, view="3d", max_polygons=100_000)
+    surface = next(c for c in fig3d.axes[0].collections if hasattr(c, "uavcov_seen_fraction"))
+    assert surface.uavcov_seen_fraction.mean() == pytest.approx(nodes.mean(), abs=0.05)
+    union = np.zeros(len(vis.targets), dtype=bool)
+    for k in range(run.trajectory.shape[0]):
+        union |= vis.seen(np.column_stack([run.trajectory[k], run.attitudes[k]]), sensors=[sensor] * 2)
+    np.testing.assert_array_equal(plotting.seen_points(run), vis.targets.points[union])

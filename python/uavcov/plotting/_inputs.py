@@ -139,3 +139,22 @@ def _configuration(result: Any, configuration: Any) -> tuple[np.ndarray, str, in
             return best, f"best positions (iteration {int(it)})", int(it)
         return best, "best positions", None
     raise InvalidInputError(f"configuration must be 'final', 'best', 'initial' or an iteration, got {configuration!r}")
+
+
+def _sight(result: Any, positions: np.ndarray, iteration: int | None) -> tuple[np.ndarray, list[Any] | None]:
+    """What a run's UAVs see through at ``positions``: ``(positions, None)`` for the paper's
+    sensor, else the poses ``(N, 5)`` (the run's camera angles at ``iteration``, or its spec's
+    when the iteration is unknown) and the run's sensor once per UAV."""
+    spec = getattr(result, "spec", None)
+    sensor = getattr(spec, "sensor", None)
+    if spec is None or sensor is None:
+        return positions, None
+    sensors = [sensor] * positions.shape[0]
+    if sensor.camera is None:
+        return positions, sensors
+    attitudes = getattr(result, "attitudes", None)
+    if attitudes is not None and iteration is not None and attitudes.shape[1] == positions.shape[0]:
+        angles = np.asarray(attitudes[iteration])
+    else:
+        angles = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (positions.shape[0], 2))
+    return np.column_stack([positions, angles]), sensors

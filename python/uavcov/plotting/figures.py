@@ -47,8 +47,9 @@ from ._canvas import (
     _new_axes,
     _patch,
 )
-from ._inputs import _as_result, _configuration, _curve, _d_max, _points, _setting, _terrain, _trajectory
+from ._inputs import _as_result, _configuration, _curve, _d_max, _points, _setting, _sight, _terrain, _trajectory
 from ._runs import _number
+from .cameras import footprints
 from .views import (
     DEFAULT_MAX_POLYGONS,
     _coverage_3d,
@@ -305,6 +306,7 @@ def plot_coverage_map(
     start: np.ndarray | None = None
     label = "UAV positions"
     coverage_value: float | None = None
+    sensors = None
     if isinstance(source, Terrain):
         terrain = source
         if positions is None or d_max is None:
@@ -321,13 +323,16 @@ def plot_coverage_map(
         path = _trajectory(result.trajectory if trajectory is None else trajectory)
         if trajectory is None and positions is None and iteration is not None:
             path = path[: iteration + 1]  # the paths end where the configuration shown is
+        sight, sensors = _sight(result, pts, iteration if positions is None else None)  # a camera run's cameras, posed
     d = as_positive_float(d_max, "d_max")
     if path is not None:
         start = path[0]
-    coverage_value = Visibility(terrain, d).coverage(pts)
+    if sensors is None:
+        sight = pts
+    coverage_value = Visibility(terrain, d).coverage(sight, sensors=sensors)
     if view == "3d":
         fig, ax = _new_axes(ax, three_d=True, figsize=(7.2, 5.8))
-        _coverage_3d(ax, terrain, pts, d, path, max_polygons=max_polygons, shade=shade)
+        _coverage_3d(ax, terrain, sight, d, path, max_polygons=max_polygons, shade=shade, sensors=sensors)
         _style_3d(
             ax,
             _scene_bounds(terrain.bounds, pts, path if path is not None else pts),
@@ -337,8 +342,13 @@ def plot_coverage_map(
         )
     elif view == "top":
         fig, ax = _new_axes(ax, three_d=False, figsize=(6.6, 6.0))
-        image, extent = _top_view(terrain, pts, d, as_positive_int(raster, "raster"), shade=shade)
+        image, extent = _top_view(terrain, sight, d, as_positive_int(raster, "raster"), shade=shade, sensors=sensors)
         ax.imshow(image, extent=extent, origin="lower", interpolation="nearest")
+        if sensors is not None and sight.shape[1] == 5:
+            for outline in footprints(terrain, sight, sensors):
+                if outline.shape[0]:
+                    closed = np.vstack([outline, outline[:1]])
+                    ax.plot(closed[:, 0], closed[:, 1], color="#d62728", linewidth=0.9)
         if path is not None:
             for i in range(path.shape[1]):
                 ax.plot(path[:, i, 0], path[:, i, 1], color="0.1", linewidth=0.8, alpha=0.8)
@@ -664,7 +674,8 @@ def seen_points(result: Any, *, max_configurations: int = 50, targets: Targets |
     vis = Visibility(result.terrain, _d_max(result), targets)
     seen = np.zeros(len(vis.targets), dtype=bool)
     for k in picks:
-        seen |= vis.seen(traj[k])
+        poses, sensors = _sight(result, traj[k], int(k))
+        seen |= vis.seen(poses, sensors=sensors)
     return np.array(vis.targets.points[seen])
 
 

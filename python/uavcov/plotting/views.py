@@ -292,7 +292,9 @@ def _grid_node_mask(terrain: Terrain, seen: np.ndarray, points: np.ndarray) -> n
     return nodes
 
 
-def _coverage_fraction(terrain: Terrain, polys: _Polygons, positions: np.ndarray, d_max: float) -> np.ndarray:
+def _coverage_fraction(
+    terrain: Terrain, polys: _Polygons, positions: np.ndarray, d_max: float, sensors: Sequence[Sensor] | None = None
+) -> np.ndarray:
     """Share of each drawn polygon that is seen, from the engine's mask.
 
     Grid: the polygon's grid targets (nodes), averaged. Mesh: the polygon's probe point.
@@ -300,21 +302,31 @@ def _coverage_fraction(terrain: Terrain, polys: _Polygons, positions: np.ndarray
     if terrain.grid is not None:
         assert polys.blocks is not None
         targets = terrain.default_targets()
-        seen = Visibility(terrain, d_max, targets).seen(positions)
+        seen = Visibility(terrain, d_max, targets).seen(positions, sensors=sensors)
         return _block_means(_grid_node_mask(terrain, seen, targets.points), polys.blocks)
-    seen = Visibility(terrain, d_max, Targets(polys.probes)).seen(positions)
+    seen = Visibility(terrain, d_max, Targets(polys.probes)).seen(positions, sensors=sensors)
     return seen.astype(np.float64)
 
 
 def _coverage_3d(
-    ax: Any, terrain: Terrain, pts: np.ndarray, d_max: float, path: np.ndarray | None, *, max_polygons: int, shade: bool
+    ax: Any,
+    terrain: Terrain,
+    pts: np.ndarray,
+    d_max: float,
+    path: np.ndarray | None,
+    *,
+    max_polygons: int,
+    shade: bool,
+    sensors: Sequence[Sensor] | None = None,
 ) -> Any:
-    """Draw the coverage of positions ``pts`` ``(N, 3)`` on 3D axes: the surface blended from
-    not seen to seen, the paths ``(K + 1, N, 3)`` (metres) when given, a drop line under each
-    UAV. Returns the surface's collection."""
+    """Draw the coverage of positions ``pts`` ``(N, 3)`` (poses ``(N, 5)`` with cameras among
+    ``sensors``) on 3D axes: the surface blended from not seen to seen, the paths
+    ``(K + 1, N, 3)`` (metres) when given, a drop line under each UAV. Returns the surface's
+    collection."""
     ax.computed_zorder = False  # paths and UAVs stay in front of the surface
     polys = _surface_polygons(terrain, max_polygons)
-    fraction = _coverage_fraction(terrain, polys, pts, d_max)
+    fraction = _coverage_fraction(terrain, polys, pts, d_max, sensors)
+    pts = pts[:, :3]
     coll = _draw_polygons(ax, polys.polys, _blend(fraction, UNSEEN_COLOUR, SEEN_COLOUR), shade=shade, zorder=1)
     # Kept on the artist so a test (or a curious user) can compare colours with the engine.
     coll.uavcov_seen_fraction = fraction
@@ -419,7 +431,9 @@ class _TopView:
         return rgba
 
 
-def _top_view(terrain: Terrain, pts: np.ndarray, d_max: float, raster: int, *, shade: bool) -> tuple[np.ndarray, tuple[float, ...]]:
+def _top_view(
+    terrain: Terrain, pts: np.ndarray, d_max: float, raster: int, *, shade: bool, sensors: Sequence[Sensor] | None = None
+) -> tuple[np.ndarray, tuple[float, ...]]:
     """An ``(H, W, 4)`` RGBA image of what positions ``pts`` see, and its ``imshow`` extent (m)."""
     view = _TopView(terrain, d_max, raster)
-    return view.image(pts, shade=shade), view.extent
+    return view.image(pts, shade=shade, sensors=sensors), view.extent
