@@ -737,3 +737,34 @@ def test_each_fit_uses_the_window_of_eq_4(monkeypatch, optimizer):
         assert y.shape[-1] == min(k, n_window), k
         if seen[k] is not None:
             np.testing.assert_array_equal(y, seen[k])  # noisy values, and never x_k's own
+
+
+def test_holding_an_inadmissible_uav_lets_the_others_move():
+    # UAV 0 may never leave its start; UAV 1 may go anywhere. Dropping whole candidates freezes
+    # the team (every candidate perturbs UAV 0); holding UAV 0 lets UAV 1 climb to its target.
+    target = np.array([[5.0, 5.0, 5.0], [4.0, -3.0, 2.0]])
+    x0 = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]])
+
+    def uav0_stays(current, candidates):
+        if candidates.shape[1] == 1 and not np.array_equal(current[0], x0[0]):
+            return np.ones(len(candidates), dtype=bool)  # UAV 1 judged alone: anywhere is fine
+        return np.all(candidates[:, 0] == x0[0], axis=1)  # the team, or UAV 0 alone
+
+    settings = CAOSettings(check_batch=None)
+    dropped = cao(quadratic(target), x0, feasible=uav0_stays, iterations=150, settings=settings, rng=3)
+    np.testing.assert_array_equal(dropped.trajectory, np.broadcast_to(x0, dropped.trajectory.shape))
+    held = cao(quadratic(target), x0, feasible=uav0_stays, iterations=150, settings=CAOSettings(check_batch=None, infeasible="hold"), rng=3)
+    np.testing.assert_array_equal(held.trajectory[:, 0], np.zeros((151, 3)))  # UAV 0 held every time
+    assert np.abs(held.best_positions[1] - target[1]).max() < 0.3  # UAV 1 reached its optimum
+    with pytest.raises(InvalidInputError, match="infeasible"):
+        CAOSettings(infeasible="clip")
+
+
+def test_the_hold_rule_stays_out_of_the_papers_settings_hashes():
+    from uavcov import paper
+    from uavcov.sweep import experiment_settings, settings_hash
+
+    for experiment in paper.EXPERIMENTS.values():
+        assert "infeasible" not in experiment_settings(experiment)["mission"]["cao"]
+    assert settings_hash(paper.TABLE1) == "01a23448"
+    assert settings_hash(paper.TABLE1.with_changes(**{"cao.infeasible": "hold"})) != settings_hash(paper.TABLE1)

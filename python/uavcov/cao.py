@@ -94,6 +94,8 @@ __all__ = [
 FeasibleFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 _PERTURBATIONS = ("gaussian", "uniform")
+INFEASIBLE_RULES = ("drop", "hold")
+"""How centralised CAO treats a candidate in which some UAVs' perturbed positions are inadmissible."""
 
 
 # --------------------------------------------------------------------------------------------
@@ -145,6 +147,15 @@ class CAOSettings:
         batch settles it, which spares the clearance queries of the other ``M - 16``. ``None``
         checks all ``M`` at once. The choice is the same either way (feasibility is judged per
         candidate); only ``OptimizerTrace.n_feasible`` counts fewer.
+    infeasible : {"drop", "hold"}, default "drop"
+        What centralised CAO does with a candidate in which some UAV's perturbed position is
+        inadmissible on its own (out of the flight band or the region, in the ground, a move
+        through it). ``"drop"``, the paper's eq. 6 as written: the whole candidate configuration
+        is neglected. ``"hold"``: those UAVs keep their current positions within it (their
+        perturbation is zeroed before the surrogate rates the candidate) and the others still
+        move; the repaired candidate must then pass the team check (separation). ``feasible``
+        is called once per UAV on one-UAV slices ``(1, d)`` and ``(M, 1, d)`` to judge the
+        positions alone.
     """
 
     n_regressors: int | None = None
@@ -159,6 +170,7 @@ class CAOSettings:
     perturbation: str = "gaussian"
     robot_regressors: int | None = None
     check_batch: int | None = 16
+    infeasible: str = "drop"
 
     def __post_init__(self) -> None:
         def put(name: str, value: Any) -> None:
@@ -191,6 +203,8 @@ class CAOSettings:
             raise InvalidTypeError(f"perturbation must be a string, got {type(self.perturbation).__name__}")
         if self.perturbation not in _PERTURBATIONS:
             raise InvalidInputError(f"perturbation must be one of {_PERTURBATIONS}, got {self.perturbation!r}")
+        if self.infeasible not in INFEASIBLE_RULES:
+            raise InvalidInputError(f"infeasible must be one of {INFEASIBLE_RULES}, got {self.infeasible!r}")
 
     def regressors_for(self, n_uavs: int, n_coordinates: int = 3) -> int:
         """Return ``L`` for a team of ``n_uavs``, checking it against ``1 + dN`` and the monomial count.
@@ -675,6 +689,22 @@ class _Feasibility:
         return mask
 
 
+def _hold_inadmissible(zeta: np.ndarray, alpha: float, current: np.ndarray, check: _Feasibility) -> np.ndarray:
+    """``zeta`` ``(M, N * d)`` with the perturbation of every UAV whose perturbed position is
+    inadmissible on its own set to zero (that UAV holds its position in that candidate)."""
+    n_cand = zeta.shape[0]
+    n_uavs, n_coords = current.shape
+    steps = zeta.reshape(n_cand, n_uavs, n_coords)
+    held = steps.copy()
+    for i in range(n_uavs):
+        moved = np.flatnonzero((steps[:, i] != 0.0).any(axis=1))
+        if moved.size:
+            ends = current[i] + alpha * steps[moved, i]
+            alone = check(current[i : i + 1], ends[:, None, :])
+            held[moved[~alone], i] = 0.0
+    return held.reshape(n_cand, n_uavs * n_coords)
+
+
 def _check_start(check: _Feasibility, x0: np.ndarray) -> None:
     if not check(x0, x0[None])[0]:
         raise InfeasibleError("the start configuration is infeasible; move it first with uavcov.constraints.closest_admissible")
@@ -916,6 +946,8 @@ def cao(
         scale = float(_scale(window, x, alpha))
         zeta = _draw_zeta(settings, (n_cand, dim), rng)
         zeta[0] = 0.0
+        if settings.infeasible == "hold":
+            zeta = _hold_inadmissible(zeta, alpha, x.reshape(n_uavs, n_coords), check)
         _, predicted, strength = _fit_and_score((window - x) / scale, measured[lo:k], terms, zeta * (alpha / scale), settings.ridge)
         candidates = x + alpha * zeta
         choice, n_checked[k], n_feasible[k] = _best_feasible(

@@ -81,6 +81,8 @@ FLIGHT_KEYS: Mapping[str, str] = {
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
 _LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start"})
+_LATER_NESTED_FIELDS = (("cao", "infeasible"),)
+"""Fields of the mission's settings objects added later, left out of the settings hash at their defaults."""
 _MISSION_SHORTCUTS = _LATER_MISSION_FIELDS | {"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"}
 
 
@@ -227,8 +229,16 @@ def experiment_settings(experiment: Experiment) -> dict[str, Any]:
     for name, default in defaults.items():
         if getattr(experiment.mission, name) == default:
             settings["mission"].pop(name)
+    for group, name in _LATER_NESTED_FIELDS:
+        value = getattr(getattr(experiment.mission, group), name)
+        if value == _field_default(type(getattr(experiment.mission, group)), name):
+            settings["mission"][group].pop(name)
     settings["terrain_kind"] = type(experiment.terrain).__name__
     return settings
+
+
+def _field_default(cls: type, name: str) -> Any:
+    return next(f.default for f in dataclasses.fields(cls) if f.name == name)
 
 
 def settings_hash(experiment: Experiment) -> str:
