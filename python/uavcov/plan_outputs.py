@@ -566,8 +566,7 @@ def _map_png(fp: FlightPlan) -> bytes:
     if grid is not None and raster is not None:
         a, _, c, _, e, f = raster.transform
         rows, cols = raster.shape
-        heights = dem.to_crs(np.column_stack([np.zeros(grid.z.size), np.zeros(grid.z.size), grid.z.ravel()]))[:, 2]
-        image = heights.reshape(grid.shape)
+        image = grid.z / dem.frame.factors[2] + dem.frame.origin[2]  # NaN (nodata) stays NaN
         image = image[::-1] if e < 0 else image
         extent = (c, c + cols * a, f + rows * e, f) if e < 0 else (c, c + cols * a, f, f + rows * e)
         shown = axes.imshow(image, extent=extent, cmap="terrain", origin="upper" if e < 0 else "lower", interpolation="nearest")
@@ -604,6 +603,7 @@ def _map_png(fp: FlightPlan) -> bytes:
         mid = float(np.mean(positions[:, 1]))
         axes.set_aspect(1.0 / max(math.cos(math.radians(mid)), 1e-6))
         axes.set_xlabel("longitude (deg)")
+        axes.tick_params(axis="x", labelrotation=30)
         axes.set_ylabel("latitude (deg)")
     else:
         axes.set_aspect("equal")
