@@ -13,10 +13,9 @@ import pickle
 from pathlib import Path
 
 import numpy as np
+import pyproj
 import pytest
-
-pyproj = pytest.importorskip("pyproj")
-rasterio = pytest.importorskip("rasterio")
+import rasterio
 from rasterio.transform import Affine
 
 from uavcov import Visibility
@@ -171,7 +170,7 @@ def test_outputs_round_trip(tmp_path: Path, utm_tif: Path, utm_plan: FlightPlan)
         lat_home, lon_home, alt_home = document["home"]
         assert (lon_home, lat_home, alt_home) == tuple(fp.takeoff_wgs84)
         items = document["items"]
-        assert [i["command"] for i in items][0] == MAV_CMD_NAV_TAKEOFF and items[-1]["command"] == MAV_CMD_NAV_LOITER_TIME
+        assert items[0]["command"] == MAV_CMD_NAV_TAKEOFF and items[-1]["command"] == MAV_CMD_NAV_LOITER_TIME
         assert {i["frame"] for i in items} == {MAV_FRAME_GLOBAL_RELATIVE_ALT}
         hold = items[-1]
         assert (hold["lon"], hold["lat"]) == tuple(fp.positions_wgs84[k])
@@ -277,7 +276,9 @@ def test_a_bbox_in_the_dem_crs_and_a_sparse_prior(utm_tif: Path):
 def test_a_nadir_camera_footprint_over_flat_ground():
     dem = dem_from_array(np.full((21, 21), 250.0), (10.0, 0.0, EAST, 0.0, -10.0, NORTH), UTM33)
     camera = Camera.from_fov(60.0, 40.0)
-    settings = PlanSettings(n_uavs=1, d_max=200.0, h_min=40.0, h_max=50.0, separation=0.0, iterations=3, sensor=Sensor(200.0, camera=camera))
+    settings = PlanSettings(
+        n_uavs=1, d_max=200.0, h_min=40.0, h_max=50.0, separation=0.0, iterations=3, sensor=Sensor(200.0, camera=camera)
+    )
     result = plan(dem, settings, rng=0, n_threads=1)
     outline = result.footprints_local()[0] - result.positions_local[0, :2]
     h = result.altitude_agl[0]
@@ -301,7 +302,11 @@ def test_bad_input_raises_clear_errors(tmp_path: Path, utm_tif: Path):
     with pytest.raises(InvalidInputError, match="outside the DEM"):
         plan(dem, SETTINGS, area=bbox_area(10.0, 10.0, 10.1, 10.1))
     with pytest.raises(InfeasibleError, match="cannot fit"):
-        plan(dem, PlanSettings(n_uavs=50, d_max=100.0, h_min=10, h_max=11, separation=60.0), area=bbox_area(EAST, NORTH, EAST + 100, NORTH + 100, frame="dem"))
+        plan(
+            dem,
+            PlanSettings(n_uavs=50, d_max=100.0, h_min=10, h_max=11, separation=60.0),
+            area=bbox_area(EAST, NORTH, EAST + 100, NORTH + 100, frame="dem"),
+        )
     with pytest.raises(InvalidInputError, match="take-off"):
         plan(dem, PlanSettings(n_uavs=2, d_max=100.0, takeoff=(16.0, 45.0)))
     everywhere = write_geotiff(tmp_path / "nodata.tif", np.full((5, 5), -9999.0), EAST, NORTH)
@@ -333,7 +338,18 @@ def test_the_cli_answers_bad_input_with_one_line_and_writes_nothing(tmp_path: Pa
     elif case == "outside":
         extra = ["--bbox", "10,10,10.1,10.1"]
     elif case == "crowded":
-        extra = ["--uavs", "50", "--separation", "60", "--h-max", "11", "--coords", "dem", "--bbox", f"{EAST},{NORTH},{EAST + 100},{NORTH + 100}"]
+        extra = [
+            "--uavs",
+            "50",
+            "--separation",
+            "60",
+            "--h-max",
+            "11",
+            "--coords",
+            "dem",
+            "--bbox",
+            f"{EAST},{NORTH},{EAST + 100},{NORTH + 100}",
+        ]
     elif case == "nodata":
         dem = str(write_geotiff(tmp_path / "nodata.tif", np.full((5, 5), -9999.0), EAST, NORTH))
     elif case == "fake":

@@ -95,7 +95,9 @@ class AreaOfInterest:
         """The polygons in WGS84 (longitude, latitude), for the files a plan writes."""
         if self.frame == "wgs84":
             return [list(rings) for rings in self.polygons]
-        return [[dem.to_wgs84(np.column_stack([dem.crs_to_local_xy(r), np.zeros(r.shape[0])]))[:, :2] for r in rings] for rings in self.polygons]
+        return [
+            [dem.to_wgs84(np.column_stack([dem.crs_to_local_xy(r), np.zeros(r.shape[0])]))[:, :2] for r in rings] for rings in self.polygons
+        ]
 
     def contains(self, xy: Any, dem: GeoDem) -> np.ndarray:
         """``(n, 2)`` local metres -> ``(n,)`` bool: inside the area (even-odd over every ring)."""
@@ -161,10 +163,7 @@ def read_area(path: Any) -> AreaOfInterest:
             text = handle.read()
     except (OSError, UnicodeDecodeError) as exc:
         raise InvalidInputError(f"cannot read {text_path!r}: {exc}") from None
-    if text.lstrip().startswith("<"):
-        polygons = _kml_polygons(text, text_path)
-    else:
-        polygons = _geojson_polygons(text, text_path)
+    polygons = _kml_polygons(text, text_path) if text.lstrip().startswith("<") else _geojson_polygons(text, text_path)
     if not polygons:
         raise InvalidInputError(f"{text_path!r} holds no polygon")
     return AreaOfInterest(tuple(tuple(rings) for rings in polygons), frame="wgs84", source=text_path)
@@ -219,8 +218,7 @@ def _kml_polygons(text: str, where: str) -> list[list[Any]]:
         rings: list[Any] = []
         for boundary_name in ("outerBoundaryIs", "innerBoundaryIs"):
             for boundary in (e for e in polygon if local(e.tag) == boundary_name):
-                for coordinates in (e for e in boundary.iter() if local(e.tag) == "coordinates"):
-                    rings.append(_kml_coordinates(coordinates.text or "", where))
+                rings.extend(_kml_coordinates(c.text or "", where) for c in boundary.iter() if local(c.tag) == "coordinates")
         if rings:
             polygons.append(rings)
     return polygons

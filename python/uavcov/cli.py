@@ -427,8 +427,10 @@ def _plan(args: argparse.Namespace) -> int:
     flight_plan = plan(dem, settings, area=area, rng=args.seed, n_threads=args.threads)
     command = "uavcov plan " + " ".join(sys.argv[1:][1:]) if sys.argv[1:2] == ["plan"] else None
     written = write_plan(flight_plan, args.out, command=command, runtime_s=time.perf_counter() - started)
-    print(f"uavcov plan: {settings.n_uavs} UAVs over {dem.crs_name}: coverage {flight_plan.coverage:.3f} of the area "
-          f"(start {flight_plan.initial_coverage:.3f}), {flight_plan.area_m2 / 1e6:.3f} km^2")
+    print(
+        f"uavcov plan: {settings.n_uavs} UAVs over {dem.crs_name}: coverage {flight_plan.coverage:.3f} of the area "
+        f"(start {flight_plan.initial_coverage:.3f}), {flight_plan.area_m2 / 1e6:.3f} km^2"
+    )
     for k in range(flight_plan.n_uavs):
         lon, lat = flight_plan.positions_wgs84[k]
         print(
@@ -491,9 +493,13 @@ def _parser() -> argparse.ArgumentParser:
     plot.set_defaults(run=_plot)
 
     planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
-    planning.add_argument("dem", nargs="?", metavar="DEM", help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)")
+    planning.add_argument(
+        "dem", nargs="?", metavar="DEM", help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)"
+    )
     planning.add_argument("--sample", action="store_true", help="plan on the bundled sample: matplotlib's Jacksboro DEM (WGS 84)")
-    planning.add_argument("--window", type=_int_list, metavar="R0,R1,C0,C1", help="with --sample: rows and columns kept (default 150,190,150,190)")
+    planning.add_argument(
+        "--window", type=_int_list, metavar="R0,R1,C0,C1", help="with --sample: rows and columns kept (default 150,190,150,190)"
+    )
     planning.add_argument("--stride", type=_positive_int, default=1, help="with --sample: keep every n-th row and column (default 1)")
     planning.add_argument("--crs", help="the DEM's CRS when its file states none (e.g. EPSG:32633)")
     planning.add_argument("--uavs", type=_positive_int, required=True, help="team size")
@@ -501,13 +507,19 @@ def _parser() -> argparse.ArgumentParser:
     planning.add_argument("--h-min", type=float, default=10.0, help="least height above ground, metres (default 10)")
     planning.add_argument("--h-max", type=_positive_float, default=60.0, help="most height above ground, metres (default 60)")
     planning.add_argument("--separation", type=float, default=5.0, help="least distance between UAVs, metres (default 5)")
-    planning.add_argument("--takeoff", type=_floats(2, "LON,LAT or X,Y"), metavar="LON,LAT", help="take-off point (default: the area's centre)")
-    planning.add_argument("--coords", choices=("wgs84", "dem"), default="wgs84", help="--takeoff and --bbox in WGS 84 (default) or the DEM's CRS")
+    planning.add_argument(
+        "--takeoff", type=_floats(2, "LON,LAT or X,Y"), metavar="LON,LAT", help="take-off point (default: the area's centre)"
+    )
+    planning.add_argument(
+        "--coords", choices=("wgs84", "dem"), default="wgs84", help="--takeoff and --bbox in WGS 84 (default) or the DEM's CRS"
+    )
     where = planning.add_mutually_exclusive_group()
     where.add_argument("--aoi", metavar="AREA", help="area of interest: a GeoJSON or KML polygon file (WGS 84)")
     where.add_argument("--bbox", type=_floats(4, "XMIN,YMIN,XMAX,YMAX"), metavar="XMIN,YMIN,XMAX,YMAX", help="area of interest: a box")
     planning.add_argument("--prior", type=_prior, default="full", help="what is known beforehand: full (the DEM) or N sparse points")
-    planning.add_argument("--camera", type=_floats(2, "HFOV,VFOV in degrees"), metavar="HFOV,VFOV", help="a nadir camera (default: omnidirectional)")
+    planning.add_argument(
+        "--camera", type=_floats(2, "HFOV,VFOV in degrees"), metavar="HFOV,VFOV", help="a nadir camera (default: omnidirectional)"
+    )
     planning.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
     planning.add_argument("--hold", type=float, default=60.0, help="seconds each UAV holds its position (default 60)")
     planning.add_argument("--seed", type=_non_negative_int, default=0, help="the random streams (default 0)")

@@ -334,7 +334,7 @@ def read_dem(path: Any, *, crs: Any = None, band: int = 1) -> GeoDem:
             file_crs = dataset.crs
     except InvalidInputError:
         raise
-    except Exception as exc:  # rasterio raises its own hierarchy for unreadable files
+    except Exception as exc:  # noqa: BLE001 - rasterio raises its own hierarchy (and GDAL's) for unreadable files
         raise InvalidInputError(f"cannot read {text} as a raster: {exc}") from None
     if file_crs is None:
         if crs is None:

@@ -368,10 +368,8 @@ def _takeoff(dem: GeoDem, settings: PlanSettings, targets: Targets) -> np.ndarra
         centroid = np.average(targets.points[:, :2], axis=0, weights=targets.weights)
         nearest = int(np.argmin(np.sum((targets.points[:, :2] - centroid) ** 2, axis=1)))
         return np.array(targets.points[nearest], dtype=np.float64)
-    if settings.takeoff_frame == "wgs84":
-        xy = dem.from_wgs84([settings.takeoff])[0, :2]
-    else:
-        xy = dem.crs_to_local_xy([settings.takeoff])[0]
+    wgs84 = settings.takeoff_frame == "wgs84"
+    xy = dem.from_wgs84([settings.takeoff])[0, :2] if wgs84 else dem.crs_to_local_xy([settings.takeoff])[0]
     ground = float(dem.terrain.ground_height(xy.reshape(1, 2))[0])
     if not math.isfinite(ground):
         raise InvalidInputError(

@@ -223,21 +223,20 @@ def _csv(rows: Sequence[Sequence[Any]], header: Sequence[str]) -> bytes:
 
 
 def _positions_csv(fp: FlightPlan) -> bytes:
-    rows = []
-    for k in range(fp.n_uavs):
-        rows.append(
-            [
-                k + 1,
-                *(float(v) for v in fp.positions_local[k]),
-                *(float(v) for v in fp.positions_crs[k, :2]),
-                *(float(v) for v in fp.positions_wgs84[k]),
-                float(fp.altitude_amsl[k]),
-                float(fp.altitude_agl[k]),
-                float(fp.altitude_home[k]),
-                float(fp.ground_amsl[k]),
-                float(fp.transit_amsl[k]),
-            ]
-        )
+    rows = [
+        [
+            k + 1,
+            *(float(v) for v in fp.positions_local[k]),
+            *(float(v) for v in fp.positions_crs[k, :2]),
+            *(float(v) for v in fp.positions_wgs84[k]),
+            float(fp.altitude_amsl[k]),
+            float(fp.altitude_agl[k]),
+            float(fp.altitude_home[k]),
+            float(fp.ground_amsl[k]),
+            float(fp.transit_amsl[k]),
+        ]
+        for k in range(fp.n_uavs)
+    ]
     return _csv(rows, _POSITION_COLUMNS)
 
 
@@ -323,14 +322,10 @@ def _geojson(fp: FlightPlan) -> bytes:
                     "properties": {"kind": "footprint", "uav": k + 1},
                 }
             )
-    for rings in _area_wgs84(fp):
-        features.append(
-            {
-                "type": "Feature",
-                "geometry": {"type": "Polygon", "coordinates": [_ring_list(r) for r in rings]},
-                "properties": {"kind": "area"},
-            }
-        )
+    features.extend(
+        {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [_ring_list(r) for r in rings]}, "properties": {"kind": "area"}}
+        for rings in _area_wgs84(fp)
+    )
     home_lon, home_lat, home = (float(v) for v in fp.takeoff_wgs84)
     features.append(
         {"type": "Feature", "geometry": {"type": "Point", "coordinates": [home_lon, home_lat, home]}, "properties": {"kind": "takeoff"}}
@@ -433,7 +428,8 @@ def _kml(fp: FlightPlan) -> bytes:
     home_lon, home_lat, home = (float(v) for v in fp.takeoff_wgs84)
     _sub(point, "coordinates", f"{home_lon!r},{home_lat!r},{home!r}")
     ET.indent(root)
-    return ET.tostring(root, encoding="utf-8", xml_declaration=True) + b"\n"
+    text: bytes = ET.tostring(root, encoding="utf-8", xml_declaration=True)
+    return text + b"\n"
 
 
 def read_plan_kml(path: Any) -> np.ndarray:
@@ -639,7 +635,9 @@ def _report_md(fp: FlightPlan, document: dict[str, Any]) -> bytes:
         f"| at the CVT start (admissible) | {r['initial_coverage']:.3f} |",
         f"| area | {r['area_m2'] / 1e6:.3f} km^2, {r['targets']} DEM cells ({r['seen_targets']} seen) |",
         f"| best configuration at CAO iteration | {r['best_iteration']} of {s['iterations']} |",
-        f"| take-off (home) | {r['takeoff']['longitude']:.7f}, {r['takeoff']['latitude']:.7f}, ground {r['takeoff']['ground_amsl_m']:.1f} m |",
+        (
+            f"| take-off (home) | {r['takeoff']['longitude']:.7f}, {r['takeoff']['latitude']:.7f}, ground {r['takeoff']['ground_amsl_m']:.1f} m |"
+        ),
     ]
     if document["runtime_s"] is not None:
         lines.append(f"| runtime (plan and files) | {document['runtime_s']:.1f} s |")
@@ -663,21 +661,29 @@ def _report_md(fp: FlightPlan, document: dict[str, Any]) -> bytes:
         "- Longitude, latitude: WGS 84 (EPSG:4326) in every file (GeoJSON, KML, .plan, CSV).",
         "- AMSL: above the DEM's datum; above ground: above the DEM under the UAV; above home: above the take-off point's DEM ground.",
         f"- `.plan` altitudes: {_ALTITUDE_FRAME}.",
-        "- Transit: each UAV climbs at home, flies straight at h_min above the highest ground of its path, descends and holds. "
-        "Transit paths are not deconflicted between UAVs: stagger the take-offs.",
-        "- Footprints: what each sensor reaches on the horizontal plane through the ground under it (reach, not sight); "
-        "`coverage.tif` holds what is seen.",
+        (
+            "- Transit: each UAV climbs at home, flies straight at h_min above the highest ground of its path, descends and "
+            "holds. Transit paths are not deconflicted between UAVs: stagger the take-offs."
+        ),
+        (
+            "- Footprints: what each sensor reaches on the horizontal plane through the ground under it (reach, not sight); "
+            "`coverage.tif` holds what is seen."
+        ),
         "",
         "## Settings",
         "",
         f"- area: {document['area']}",
         f"- team: {s['n_uavs']} UAVs, range d_max = {s['d_max_m']:g} m"
         + ("" if s["camera"] is None else f", camera {s['camera']}, attitude {s['attitude_deg']}"),
-        f"- flight limits: {s['h_min_m']:g} to {s['h_max_m']:g} m above ground, {s['separation_m']:g} m apart, "
-        "inside the area's bounding box",
+        (
+            f"- flight limits: {s['h_min_m']:g} to {s['h_max_m']:g} m above ground, {s['separation_m']:g} m apart, "
+            "inside the area's bounding box"
+        ),
         f"- known beforehand: {'the full DEM' if s['prior'] == 'full' else str(s['prior']) + ' sparse points (+ the area hull)'}",
-        f"- method: CVT start on S' (paper Table 1 CVT), then {s['iterations']} CAO iterations on the DEM "
-        f"(paper Table 1 constants, alpha0 = {s['cao_alpha0_m']:.4g} m), seed {s['seed']}",
+        (
+            f"- method: CVT start on S' (paper Table 1 CVT), then {s['iterations']} CAO iterations on the DEM "
+            f"(paper Table 1 constants, alpha0 = {s['cao_alpha0_m']:.4g} m), seed {s['seed']}"
+        ),
         "",
     ]
     return "\n".join(lines).encode("utf-8")
