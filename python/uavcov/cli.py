@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import shlex
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -425,7 +426,7 @@ def _plan(args: argparse.Namespace) -> int:
         hold_s=args.hold,
     )
     flight_plan = plan(dem, settings, area=area, rng=args.seed, n_threads=args.threads)
-    command = "uavcov plan " + " ".join(sys.argv[1:][1:]) if sys.argv[1:2] == ["plan"] else None
+    command = "uavcov " + shlex.join(args.argv)
     written = write_plan(flight_plan, args.out, command=command, runtime_s=time.perf_counter() - started)
     print(
         f"uavcov plan: {settings.n_uavs} UAVs over {dem.crs_name}: coverage {flight_plan.coverage:.3f} of the area "
@@ -534,6 +535,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .errors import UavcovError
 
     args = _parser().parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # the report states the command that made it
     try:
         return int(args.run(args))
     except UavcovError as exc:

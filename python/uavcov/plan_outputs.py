@@ -620,6 +620,7 @@ def _map_png(fp: FlightPlan) -> bytes:
 def _report_md(fp: FlightPlan, document: dict[str, Any]) -> bytes:
     s = document["settings"]
     r = document["results"]
+    home = r["takeoff"]
     lines = [
         "# uavcov plan",
         "",
@@ -635,12 +636,10 @@ def _report_md(fp: FlightPlan, document: dict[str, Any]) -> bytes:
         f"| at the CVT start (admissible) | {r['initial_coverage']:.3f} |",
         f"| area | {r['area_m2'] / 1e6:.3f} km^2, {r['targets']} DEM cells ({r['seen_targets']} seen) |",
         f"| best configuration at CAO iteration | {r['best_iteration']} of {s['iterations']} |",
-        (
-            f"| take-off (home) | {r['takeoff']['longitude']:.7f}, {r['takeoff']['latitude']:.7f}, ground {r['takeoff']['ground_amsl_m']:.1f} m |"
-        ),
+        f"| take-off (home) | {home['longitude']:.7f}, {home['latitude']:.7f}, ground {home['ground_amsl_m']:.1f} m |",
     ]
     if document["runtime_s"] is not None:
-        lines.append(f"| runtime (plan and files) | {document['runtime_s']:.1f} s |")
+        lines.append(f"| runtime (reading the DEM and planning; files not included) | {document['runtime_s']:.1f} s |")
     lines += [
         "",
         "| UAV | longitude | latitude | AMSL (m) | above ground (m) | above home (m) | transit AMSL (m) |",
