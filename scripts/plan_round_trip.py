@@ -1,8 +1,10 @@
 #!/usr/bin/env python
 """Round-trip errors of the plan frames: local -> WGS84 -> local on a UTM DEM and on the Jacksboro sample (docs/plan.md)."""
 
-import numpy as np, uavcov
+import numpy as np
+
 from uavcov.geo import dem_from_array, sample_geo_dem
+
 z = np.full((20, 24), 400.0)
 utm = dem_from_array(z, (30.0, 0.0, 500000.0, 0.0, -30.0, 5000600.0), "EPSG:32633")
 geo = sample_geo_dem((0, 30, 0, 30))

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from . import errors
 from ._core import __version__
+from .area import AreaOfInterest, bbox_area, read_area
 from .buildings import (
     Building,
     buildings_scene,
@@ -17,7 +18,6 @@ from .buildings import (
 )
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility, feasible_mask, trajectory_feasible
-from .area import AreaOfInterest, bbox_area, read_area
 from .cvt import CVTResult, CVTSettings, cvt
 from .geo import GeoDem, dem_from_array, read_dem, sample_geo_dem
 from .hills import (
