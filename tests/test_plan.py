@@ -22,7 +22,7 @@ from uavcov import Visibility
 from uavcov.area import bbox_area, points_in_rings, read_area
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
 from uavcov.errors import InfeasibleError, InvalidInputError
-from uavcov.geo import dem_from_array, read_dem, sample_geo_dem
+from uavcov.geo import dem_from_array, read_dem, read_mesh_dem, sample_geo_dem
 from uavcov.plan import FlightPlan, PlanSettings, plan
 from uavcov.plan_outputs import (
     COVERAGE_NODATA,
@@ -391,3 +391,19 @@ def test_the_cli_plans_on_the_bundled_sample(tmp_path: Path, capsys):
     assert document["dem"]["crs"] == "WGS 84 (EPSG:4326)" and "unknown vertical datum" in document["dem"]["vertical_datum"]
     assert 0.0 < document["results"]["coverage"] <= 1.0
     assert (out / "report.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_a_mesh_with_its_crs_plans_without_a_coverage_raster(tmp_path: Path):
+    trimesh = pytest.importorskip("trimesh")
+    x, y = np.meshgrid(np.arange(0.0, 300.0, 30.0), np.arange(0.0, 300.0, 30.0))
+    vertices = np.column_stack([x.ravel() + EAST, y.ravel() + NORTH, 400.0 + 20.0 * np.sin(x.ravel() / 60.0)])
+    corners = np.arange(100).reshape(10, 10)[:-1, :-1].ravel()
+    faces = np.concatenate([np.column_stack([corners, corners + 1, corners + 11]), np.column_stack([corners, corners + 11, corners + 10])])
+    trimesh.Trimesh(vertices, faces, process=False).export(tmp_path / "ground.ply")
+    with pytest.raises(InvalidInputError, match="projected CRS in metres"):
+        read_mesh_dem(tmp_path / "ground.ply", "EPSG:4326")
+    result = plan(read_mesh_dem(tmp_path / "ground.ply", UTM33), PlanSettings(n_uavs=2, d_max=120.0, iterations=3), rng=0, n_threads=1)
+    names = {p.name for p in write_plan(result, tmp_path / "out")}
+    assert "coverage.tif" not in names and {"uav_01.plan", "plan.geojson"} <= names
+    inside = (result.positions_crs[:, :2] >= [EAST, NORTH]) & (result.positions_crs[:, :2] <= [EAST + 270, NORTH + 270])
+    assert inside.all()
