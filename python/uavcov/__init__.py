@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from . import errors
 from ._core import __version__
+from .area import AreaOfInterest, bbox_area, read_area
 from .buildings import (
     Building,
     buildings_scene,
@@ -18,6 +19,7 @@ from .buildings import (
 from .cao import CAOSettings, OptimizerTrace, cao, per_robot_cao
 from .constraints import Constraints, closest_admissible, feasibility, feasible_mask, trajectory_feasible
 from .cvt import CVTResult, CVTSettings, cvt
+from .geo import GeoDem, dem_from_array, read_dem, sample_geo_dem
 from .hills import (
     GaussianMixture,
     gaussian_hills,
@@ -36,6 +38,8 @@ from .loaders import (
     sample_dem,
 )
 from .mission import MissionResult, MissionSpec, run_mission
+from .plan import FlightPlan, PlanSettings
+from .plan_outputs import write_plan
 from .prior import (
     ApproximationError,
     Prior,
@@ -116,6 +120,17 @@ __all__ = [
     "run_mission",
     "load_mission",
     "save_mission",
+    # real ground: geo-referenced DEMs, areas of interest, flight plans (uavcov.plan.plan)
+    "GeoDem",
+    "dem_from_array",
+    "read_dem",
+    "sample_geo_dem",
+    "AreaOfInterest",
+    "bbox_area",
+    "read_area",
+    "FlightPlan",
+    "PlanSettings",
+    "write_plan",
 ]
 
 

@@ -11,6 +11,9 @@ Commands
     Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
 ``uavcov plot DIR``
     Redraws every figure from the runs stored in DIR (needs ``uavcov[plot]``).
+``uavcov plan DEM.tif|--sample``
+    A flight plan on a real DEM (needs ``uavcov[geo]``): the paper's CVT start and CAO, then
+    QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and a report in ``--out``.
 
 Exit codes: 0 done; 1 done, but some runs failed (their errors are in runs.csv); 2 bad input
 (nothing already in ``--out`` was changed); 130 interrupted (every finished run is in runs.csv;
@@ -21,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import shlex
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -347,6 +351,97 @@ def _plot(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _floats(count: int, what: str) -> Callable[[str], tuple[float, ...]]:
+    """An argparse type: ``count`` numbers separated by commas."""
+
+    def parse(text: str) -> tuple[float, ...]:
+        try:
+            values = tuple(float(v) for v in text.split(","))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
+        if len(values) != count or not all(abs(v) < float("inf") for v in values):
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
+        return values
+
+    return parse
+
+
+def _prior(text: str) -> str | int:
+    if text == "full":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected 'full' or a number of sparse points, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected 'full' or a number of sparse points >= 1, got {value}")
+    return value
+
+
+_MESH_SUFFIXES = (".obj", ".stl", ".ply")
+
+
+def _plan(args: argparse.Namespace) -> int:
+    from .area import bbox_area, read_area
+    from .errors import ConfigError
+    from .geo import read_dem, read_mesh_dem, sample_geo_dem
+    from .plan import PlanSettings, plan
+    from .plan_outputs import write_plan
+    from .sensors import Camera, Sensor
+
+    started = time.perf_counter()
+    if (args.dem is None) == (not args.sample):
+        raise ConfigError("give either a DEM file or the bundled sample (--sample), not both and not neither")
+    if args.sample:
+        if args.crs is not None:
+            raise ConfigError("the sample's CRS is known (WGS 84): --crs is for DEM files")
+        dem = sample_geo_dem(args.window or (150, 190, 150, 190), args.stride)
+    elif Path(args.dem).suffix.lower() in _MESH_SUFFIXES:
+        if args.crs is None:
+            raise ConfigError(f"a mesh file states no CRS: give it with --crs (e.g. EPSG:32633) for {args.dem}")
+        dem = read_mesh_dem(args.dem, args.crs)
+    else:
+        dem = read_dem(args.dem, crs=args.crs)
+    if args.window is not None and not args.sample:
+        raise ConfigError("--window crops the bundled sample (--sample) only")
+    area = None
+    if args.aoi is not None:
+        area = read_area(args.aoi)
+    elif args.bbox is not None:
+        area = bbox_area(*args.bbox, frame=args.coords)
+    sensor = None
+    if args.camera is not None:
+        sensor = Sensor(args.d_max, camera=Camera.from_fov(*args.camera))
+    settings = PlanSettings(
+        n_uavs=args.uavs,
+        d_max=args.d_max,
+        h_min=args.h_min,
+        h_max=args.h_max,
+        separation=args.separation,
+        takeoff=args.takeoff,
+        takeoff_frame=args.coords,
+        prior=args.prior,
+        iterations=args.iterations,
+        sensor=sensor,
+        hold_s=args.hold,
+    )
+    flight_plan = plan(dem, settings, area=area, rng=args.seed, n_threads=args.threads)
+    command = "uavcov " + shlex.join(args.argv)
+    written = write_plan(flight_plan, args.out, command=command, runtime_s=time.perf_counter() - started)
+    print(
+        f"uavcov plan: {settings.n_uavs} UAVs over {dem.crs_name}: coverage {flight_plan.coverage:.3f} of the area "
+        f"(start {flight_plan.initial_coverage:.3f}), {flight_plan.area_m2 / 1e6:.3f} km^2"
+    )
+    for k in range(flight_plan.n_uavs):
+        lon, lat = flight_plan.positions_wgs84[k]
+        print(
+            f"  UAV {k + 1}: {lon:.7f}, {lat:.7f}  {flight_plan.altitude_amsl[k]:.1f} m AMSL, "
+            f"{flight_plan.altitude_agl[k]:.1f} m above ground, {flight_plan.altitude_home[k]:.1f} m above home"
+        )
+    print(f"  wrote {len(written)} files to {args.out}/ in {time.perf_counter() - started:.1f} s: " + ", ".join(p.name for p in written))
+    return EXIT_OK
+
+
 # ---------------------------------------------------------------------------------------------
 # Parser
 
@@ -397,6 +492,41 @@ def _parser() -> argparse.ArgumentParser:
     plot.add_argument("--max-runs", type=_non_negative_int, default=6, help="runs drawn one by one (default 6)")
     plot.add_argument("--no-animation", action="store_true", help="skip the animation of the first run")
     plot.set_defaults(run=_plot)
+
+    planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
+    planning.add_argument(
+        "dem", nargs="?", metavar="DEM", help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)"
+    )
+    planning.add_argument("--sample", action="store_true", help="plan on the bundled sample: matplotlib's Jacksboro DEM (WGS 84)")
+    planning.add_argument(
+        "--window", type=_int_list, metavar="R0,R1,C0,C1", help="with --sample: rows and columns kept (default 150,190,150,190)"
+    )
+    planning.add_argument("--stride", type=_positive_int, default=1, help="with --sample: keep every n-th row and column (default 1)")
+    planning.add_argument("--crs", help="the DEM's CRS when its file states none (e.g. EPSG:32633)")
+    planning.add_argument("--uavs", type=_positive_int, required=True, help="team size")
+    planning.add_argument("--d-max", type=_positive_float, required=True, help="sensing range, metres")
+    planning.add_argument("--h-min", type=float, default=10.0, help="least height above ground, metres (default 10)")
+    planning.add_argument("--h-max", type=_positive_float, default=60.0, help="most height above ground, metres (default 60)")
+    planning.add_argument("--separation", type=float, default=5.0, help="least distance between UAVs, metres (default 5)")
+    planning.add_argument(
+        "--takeoff", type=_floats(2, "LON,LAT or X,Y"), metavar="LON,LAT", help="take-off point (default: the area's centre)"
+    )
+    planning.add_argument(
+        "--coords", choices=("wgs84", "dem"), default="wgs84", help="--takeoff and --bbox in WGS 84 (default) or the DEM's CRS"
+    )
+    where = planning.add_mutually_exclusive_group()
+    where.add_argument("--aoi", metavar="AREA", help="area of interest: a GeoJSON or KML polygon file (WGS 84)")
+    where.add_argument("--bbox", type=_floats(4, "XMIN,YMIN,XMAX,YMAX"), metavar="XMIN,YMIN,XMAX,YMAX", help="area of interest: a box")
+    planning.add_argument("--prior", type=_prior, default="full", help="what is known beforehand: full (the DEM) or N sparse points")
+    planning.add_argument(
+        "--camera", type=_floats(2, "HFOV,VFOV in degrees"), metavar="HFOV,VFOV", help="a nadir camera (default: omnidirectional)"
+    )
+    planning.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
+    planning.add_argument("--hold", type=float, default=60.0, help="seconds each UAV holds its position (default 60)")
+    planning.add_argument("--seed", type=_non_negative_int, default=0, help="the random streams (default 0)")
+    planning.add_argument("--threads", type=_positive_int, help="Rust threads (default: every core)")
+    planning.add_argument("--out", default="out/plan", help="output folder (default out/plan)")
+    planning.set_defaults(run=_plan)
     return parser
 
 
@@ -405,6 +535,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .errors import UavcovError
 
     args = _parser().parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # the report states the command that made it
     try:
         return int(args.run(args))
     except UavcovError as exc:
