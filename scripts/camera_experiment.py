@@ -14,8 +14,9 @@ round choice for a camera survey, made once, and the scenarios are 0-9.
 ``--starts`` picks the rules compared (each applied to the CVT and the random start alike):
 ``fixed``, every camera flown as set, 20 m above S'; ``footprint``, each start position lifted to
 the height above S' whose view of S' best matches its Voronoi cell (``footprint_start``);
-``gimbal``, the footprint start with the heading and the pitch (-90 to -30 deg) free, searched
-by the start and moved by CAO beside the positions (``uavcov.Gimbal``, 10 deg per metre of step).
+``heading``, the footprint start with the heading free, searched by the start and moved by CAO
+beside the positions; ``gimbal``, the same with the pitch free too (-90 to -30 deg)
+(``uavcov.Gimbal``: the angles' first CAO step ``--angle-step`` degrees, 10 by default).
 Prints, per rule, sensor and N, the mean initial and best coverage of each start and the paired
 CVT-over-random gain in best coverage with its 95 % interval (docs/cameras.md quotes the tables).
 """
@@ -45,13 +46,24 @@ SENSORS: dict[str, tuple[uavcov.Sensor, tuple[float, float]]] = {
 RULES: dict[str, dict[str, object]] = {
     "fixed": {},
     "footprint": {"footprint_start": True},
+    "heading": {"footprint_start": True, "gimbal": uavcov.Gimbal(free_yaw=True)},
     "gimbal": {"footprint_start": True, "gimbal": uavcov.Gimbal(free_yaw=True, pitch_range=(-90.0, -30.0))},
 }
 
 
-def experiment(sensor: uavcov.Sensor, attitude: tuple[float, float], iterations: int, rule: str = "fixed") -> Experiment:
+def _rules(alpha0_deg: float) -> dict[str, dict[str, object]]:
+    """:data:`RULES` with every gimbal's first angle step set to ``alpha0_deg``."""
+    return {
+        name: {k: replace(v, alpha0_deg=alpha0_deg) if isinstance(v, uavcov.Gimbal) else v for k, v in rule.items()}
+        for name, rule in RULES.items()
+    }
+
+
+def experiment(
+    sensor: uavcov.Sensor, attitude: tuple[float, float], iterations: int, rule: str = "fixed", alpha0_deg: float = 10.0
+) -> Experiment:
     """The camera envelope on Table 1's terrains, for one sensor and start rule."""
-    changes = RULES[rule] if sensor.camera is not None else {}
+    changes = _rules(alpha0_deg)[rule] if sensor.camera is not None else {}
     mission = replace(
         paper.TABLE1.mission,
         d_max=40.0,
@@ -65,9 +77,11 @@ def experiment(sensor: uavcov.Sensor, attitude: tuple[float, float], iterations:
     return replace(paper.TABLE1, name="cameras", mission=mission, team_sizes=(8, 12), starts=("cvt", "random"))
 
 
-def run_one(rule: str, name: str, seed: int, n: int, start: str, iterations: int) -> tuple[tuple[str, str, int, str], int, float, float]:
+def run_one(
+    rule: str, name: str, seed: int, n: int, start: str, iterations: int, alpha0_deg: float
+) -> tuple[tuple[str, str, int, str], int, float, float]:
     sensor, attitude = SENSORS[name]
-    result = RunSpec(experiment(sensor, attitude, iterations, rule), seed, n, start).run(n_threads=1)
+    result = RunSpec(experiment(sensor, attitude, iterations, rule, alpha0_deg), seed, n, start).run(n_threads=1)
     return (rule, name, n, start), seed, result.initial_coverage, result.best_coverage
 
 
@@ -82,6 +96,9 @@ def main() -> None:
     parser.add_argument("--iterations", type=int, default=300)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--starts", default="fixed", help="comma-separated start rules: " + ", ".join(RULES))
+    parser.add_argument(
+        "--angle-step", dest="alpha0_deg", type=float, default=10.0, help="the angles' first CAO step, degrees (uavcov.Gimbal.alpha0_deg)"
+    )
     args = parser.parse_args()
     rules = args.starts.split(",")
     unknown = sorted(set(rules) - set(RULES))
@@ -100,11 +117,11 @@ def main() -> None:
     best: dict[tuple[str, str, int, str], dict[int, float]] = defaultdict(dict)
     context = multiprocessing.get_context("spawn")
     with cf.ProcessPoolExecutor(args.workers, mp_context=context) as pool:
-        futures = [pool.submit(run_one, *job, args.iterations) for job in jobs]
+        futures = [pool.submit(run_one, *job, args.iterations, args.alpha0_deg) for job in jobs]
         for future in cf.as_completed(futures):
             key, seed, first, top = future.result()
             initial[key][seed], best[key][seed] = first, top
-    print(f"seeds {args.seeds}, {args.iterations} iterations, 10-40 m above the ground, 40 m range")
+    print(f"seeds {args.seeds}, {args.iterations} iterations, 10-40 m above the ground, 40 m range, angle step {args.alpha0_deg:g} deg")
     for rule in rules:
         print(f"\nstart rule: {rule}\n")
         print("| sensor | N | CVT initial / max | random initial / max | CVT over random, max (95 % interval of the paired difference) |")

@@ -60,7 +60,7 @@ def test_a_free_heading_turns_the_camera_to_where_the_surface_is():
         iterations=150,
         sensor=sensor,
         attitude=(0.0, -30.0),  # facing north, off the plane's edge
-        gimbal=Gimbal(free_yaw=True, degrees_per_metre=30.0),
+        gimbal=Gimbal(free_yaw=True, alpha0_deg=45.0),
         # the position is all but pinned (a 1 m box, 9-11 m up): what moves the view is the heading
         constraints=Constraints(bounds=(39.5, 39.5, 40.5, 40.5), h_min=9.0, h_max=11.0, z_max=50.0, d_safe=0.0),
     )
@@ -83,7 +83,7 @@ def test_a_free_heading_turns_the_camera_to_where_the_surface_is():
 
 def test_a_free_pitch_stays_in_its_range_at_every_iteration(tmp_path):
     terrain = gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=4)
-    gimbal = Gimbal(free_yaw=True, pitch_range=(-80.0, -40.0), degrees_per_metre=20.0)
+    gimbal = Gimbal(free_yaw=True, pitch_range=(-80.0, -40.0), alpha0_deg=40.0)
     spec = MissionSpec(
         n_uavs=3,
         d_max=40.0,
@@ -101,7 +101,7 @@ def test_a_free_pitch_stays_in_its_range_at_every_iteration(tmp_path):
     pitch = result.attitudes[..., 1]
     assert (pitch >= -80.0).all() and (pitch <= -40.0).all()
     assert np.ptp(pitch) > 1.0 and np.ptp(state[..., 3]) > 0.0  # both angles moved
-    np.testing.assert_allclose(result.attitudes[..., 0], (state[..., 3] * 20.0) % 360.0)
+    np.testing.assert_allclose(result.attitudes[..., 0], (state[..., 3] * 20.0) % 360.0)  # 40 deg over alpha0 2 m
     assert result.trajectory.shape == (61, 3, 3) and not result.trajectory.flags.writeable
     path = save_mission(result, tmp_path / "gimbal.npz")
     again = load_mission(path)
@@ -121,7 +121,7 @@ def test_bad_gimbal_settings_are_clear_errors():
     with pytest.raises(InvalidInputError, match="pitch_range"):
         Gimbal(pitch_range=(-60.0,))  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError):
-        Gimbal(degrees_per_metre=0.0)
+        Gimbal(alpha0_deg=0.0)
     with pytest.raises(InvalidTypeError):
         Gimbal(free_yaw="yes")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="camera"):

@@ -407,3 +407,64 @@ def test_a_mesh_with_its_crs_plans_without_a_coverage_raster(tmp_path: Path):
     assert "coverage.tif" not in names and {"uav_01.plan", "plan.geojson"} <= names
     inside = (result.positions_crs[:, :2] >= [EAST, NORTH]) & (result.positions_crs[:, :2] <= [EAST + 270, NORTH + 270])
     assert inside.all()
+
+
+# ---------------------------------------------------------------------------------------------
+# Cameras: headings from true north, the gimbal's pitch, in every output
+
+
+def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
+    pyproj = pytest.importorskip("pyproj")
+    from uavcov import Gimbal
+    from uavcov.plan_outputs import MAV_CMD_DO_MOUNT_CONTROL
+
+    # 300 km east of the central meridian (about 18.8 deg E at 45 deg N): grid north is not true north
+    west, north = EAST + 300_000.0, NORTH
+    dem = dem_from_array(np.where(heights() < 0, 450.0, heights()), (CELL, 0.0, west, 0.0, -CELL, north), UTM33)
+    camera = Sensor(150.0, camera=Camera.from_fov(60.0, 45.0))
+    settings = PlanSettings(
+        n_uavs=3,
+        d_max=150.0,
+        h_min=20.0,
+        h_max=80.0,
+        separation=5.0,
+        iterations=20,
+        sensor=camera,
+        attitude=(30.0, -60.0),
+        gimbal=Gimbal(free_yaw=True, pitch_range=(-90.0, -40.0)),
+        footprint_start=True,
+    )
+    fp = plan(dem, settings, rng=1, n_threads=1)
+    assert fp.attitudes is not None and fp.attitudes_local is not None
+    np.testing.assert_array_equal(fp.attitudes_local, fp.mission.best_attitudes)
+    np.testing.assert_array_equal(fp.attitudes[:, 1], fp.attitudes_local[:, 1])
+    # the reference: pyproj's geodesic azimuth from each UAV to a point 1 m ahead along its grid heading
+    to_wgs84 = pyproj.Transformer.from_crs(UTM33, "EPSG:4326", always_xy=True)
+    geod = pyproj.Geod(ellps="WGS84")
+    for k in range(3):
+        x, y = fp.positions_crs[k, :2]
+        yaw = np.radians(fp.attitudes_local[k, 0])
+        lon0, lat0 = to_wgs84.transform(x, y)
+        lon1, lat1 = to_wgs84.transform(x + np.sin(yaw), y + np.cos(yaw))
+        azimuth = geod.inv(lon0, lat0, lon1, lat1)[0] % 360.0
+        assert abs((fp.attitudes[k, 0] - azimuth + 180.0) % 360.0 - 180.0) < 1e-3
+        convergence = (fp.attitudes[k, 0] - fp.attitudes_local[k, 0] + 180.0) % 360.0 - 180.0
+        assert 2.0 < abs(convergence) < 3.0  # about (18.8 - 15) sin(45 deg) = 2.7 deg
+    # the coverage is what the cameras see, posed as the plan says
+    vis = Visibility(dem.terrain, 150.0, fp.targets)
+    poses = np.column_stack([fp.positions_local, fp.attitudes_local])
+    np.testing.assert_array_equal(fp.seen, vis.seen(poses, sensors=[camera] * 3))
+    assert fp.coverage == vis.coverage(poses, sensors=[camera] * 3)
+    # and every output reads back the same angles
+    write_plan(fp, tmp_path / "out")
+    for k in range(3):
+        items = read_qgc_plan(tmp_path / "out" / f"uav_{k + 1:02d}.plan")["items"]
+        position = next(i for i in items if i["command"] == 16 and i["params"][3] is not None)
+        mount = next(i for i in items if i["command"] == MAV_CMD_DO_MOUNT_CONTROL)
+        assert position["params"][3] == fp.attitudes[k, 0] and mount["params"][0] == fp.attitudes[k, 1]
+        assert items.index(mount) == len(items) - 2  # the gimbal is set before the hold
+    columns = read_positions_csv(tmp_path / "out" / "positions.csv")
+    np.testing.assert_array_equal(np.column_stack([columns["heading_deg"], columns["pitch_deg"]]), fp.attitudes)
+    document = json.loads((tmp_path / "out" / "plan.geojson").read_text())
+    points = [f["properties"] for f in document["features"] if f["properties"]["kind"] == "position"]
+    assert [(p["heading_deg"], p["pitch_deg"]) for p in points] == [tuple(a) for a in fp.attitudes.tolist()]

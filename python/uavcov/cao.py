@@ -869,7 +869,7 @@ def cao(
     x0 : array_like, shape (N, d), d >= 3
         Start: each UAV's position in metres, then any further variables (``d = 3`` for
         positions alone; a mission that optimises camera angles appends them, scaled so that one
-        unit of the step is :attr:`uavcov.sensors.Gimbal.degrees_per_metre` degrees). Every
+        unit of the step is ``Gimbal.alpha0_deg / alpha0`` degrees, :class:`uavcov.Gimbal`). Every
         coordinate is perturbed by the same ``alpha_k`` (eq. 5). Must be feasible (see
         :func:`uavcov.constraints.closest_admissible`).
     feasible : callable or None

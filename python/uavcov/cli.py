@@ -387,7 +387,7 @@ def _plan(args: argparse.Namespace) -> int:
     from .geo import read_dem, read_mesh_dem, sample_geo_dem
     from .plan import PlanSettings, plan
     from .plan_outputs import write_plan
-    from .sensors import Camera, Sensor
+    from .sensors import Camera, Gimbal, Sensor
 
     started = time.perf_counter()
     if (args.dem is None) == (not args.sample):
@@ -412,6 +412,9 @@ def _plan(args: argparse.Namespace) -> int:
     sensor = None
     if args.camera is not None:
         sensor = Sensor(args.d_max, camera=Camera.from_fov(*args.camera))
+    elif args.free_heading or args.pitch_range is not None or args.footprint_start:
+        raise ConfigError("--free-heading, --pitch-range and --footprint-start need a camera (--camera HFOV,VFOV)")
+    gimbal = Gimbal(free_yaw=args.free_heading, pitch_range=args.pitch_range) if args.free_heading or args.pitch_range else None
     settings = PlanSettings(
         n_uavs=args.uavs,
         d_max=args.d_max,
@@ -423,6 +426,9 @@ def _plan(args: argparse.Namespace) -> int:
         prior=args.prior,
         iterations=args.iterations,
         sensor=sensor,
+        attitude=args.attitude,
+        gimbal=gimbal,
+        footprint_start=args.footprint_start,
         hold_s=args.hold,
     )
     flight_plan = plan(dem, settings, area=area, rng=args.seed, n_threads=args.threads)
@@ -519,7 +525,24 @@ def _parser() -> argparse.ArgumentParser:
     where.add_argument("--bbox", type=_floats(4, "XMIN,YMIN,XMAX,YMAX"), metavar="XMIN,YMIN,XMAX,YMAX", help="area of interest: a box")
     planning.add_argument("--prior", type=_prior, default="full", help="what is known beforehand: full (the DEM) or N sparse points")
     planning.add_argument(
-        "--camera", type=_floats(2, "HFOV,VFOV in degrees"), metavar="HFOV,VFOV", help="a nadir camera (default: omnidirectional)"
+        "--camera", type=_floats(2, "HFOV,VFOV in degrees"), metavar="HFOV,VFOV", help="a camera (default: omnidirectional)"
+    )
+    planning.add_argument(
+        "--attitude",
+        type=_floats(2, "YAW,PITCH in degrees"),
+        metavar="YAW,PITCH",
+        default=(0.0, -90.0),
+        help="the camera's heading (from the DEM's grid north) and gimbal pitch (default 0,-90: nadir)",
+    )
+    planning.add_argument("--free-heading", action="store_true", help="optimise each camera's heading beside its position")
+    planning.add_argument(
+        "--pitch-range",
+        type=_floats(2, "LOWEST,HIGHEST pitch in degrees"),
+        metavar="LO,HI",
+        help="optimise the gimbal pitch within this range",
+    )
+    planning.add_argument(
+        "--footprint-start", action="store_true", help="lift each CVT generator until its camera's view of S' matches its cell"
     )
     planning.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
     planning.add_argument("--hold", type=float, default=60.0, help="seconds each UAV holds its position (default 60)")

@@ -408,7 +408,7 @@ class MissionResult:
         state = np.asarray(self.trace.trajectory)
         angles = np.empty((*state.shape[:2], 2))
         angles[...] = spec.attitude
-        scale = spec.gimbal.degrees_per_metre if spec.gimbal is not None else 1.0
+        scale = _degrees_per_unit(spec)
         for column, name in enumerate(spec.free_angles, start=3):
             angles[..., 0 if name == "yaw" else 1] = state[..., column] * scale
         angles[..., 0] %= 360.0
@@ -601,6 +601,11 @@ def run_mission(
     )
 
 
+def _degrees_per_unit(spec: MissionSpec) -> float:
+    """Degrees of camera angle per unit of CAO's state: the angles' first step over the positions'."""
+    return spec.gimbal.alpha0_deg / spec.cao.alpha0 if spec.gimbal is not None else 1.0
+
+
 def _frozen_positions(state: np.ndarray) -> np.ndarray:
     """The positions of an optimiser's state ``(..., N, d)``: its first three columns, read-only."""
     positions = np.ascontiguousarray(state[..., :3])
@@ -611,8 +616,8 @@ def _frozen_positions(state: np.ndarray) -> np.ndarray:
 class _CameraState:
     """The optimiser's state for a camera team: positions, then each free angle over its scale.
 
-    An angle enters CAO's state in units of the step (``gimbal.degrees_per_metre`` degrees per
-    unit), so one ``alpha_k`` perturbs positions and angles alike; yaw stays unwrapped in the
+    An angle enters CAO's state in units of the step (``gimbal.alpha0_deg / cao.alpha0`` degrees
+    per unit), so one ``alpha_k`` perturbs positions and angles alike; yaw stays unwrapped in the
     state (the surrogate is local: a wrap would be a jump) and wraps in the poses.
     """
 
@@ -620,7 +625,7 @@ class _CameraState:
         self.fixed = np.array(attitudes, dtype=np.float64)
         self.free = spec.free_angles
         self.columns = [0 if name == "yaw" else 1 for name in self.free]
-        self.scale = spec.gimbal.degrees_per_metre if spec.gimbal is not None else 1.0
+        self.scale = _degrees_per_unit(spec)
         self.pitch_range = spec.gimbal.pitch_range if spec.gimbal is not None else None
 
     def initial(self, x0: np.ndarray) -> np.ndarray:

@@ -51,9 +51,10 @@ from .constraints import Constraints
 from .cvt import CVTSettings
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from .geo import GeoDem
+from .loaders import metres_per_degree
 from .mission import MissionResult, MissionSpec, run_mission
 from .prior import approximate_surface
-from .sensors import Sensor, camera_axes
+from .sensors import Gimbal, Sensor, camera_axes
 from .starts import StartSpec
 from .surface import Terrain
 from .targets import Targets
@@ -111,7 +112,13 @@ class PlanSettings:
         the omnidirectional sensor of range ``d_max``. Its range must equal ``d_max``; incidence
         and quality limits are not supported in plans (they need target normals).
     attitude : (float, float)
-        The camera's (yaw, pitch), degrees (see :mod:`uavcov.sensors`).
+        The camera's (yaw, pitch), degrees (see :mod:`uavcov.sensors`); yaw is the heading in the
+        DEM's local frame (its +y), where a free heading starts.
+    gimbal : Gimbal, optional
+        Camera angles CAO optimises beside the positions (heading; pitch within a range).
+    footprint_start : bool
+        Lift each CVT generator to the height whose camera view of S' matches its cell (and turn
+        its free angles), :func:`uavcov.footprints.fit_footprints`. Needs a camera.
     cao : CAOSettings, optional
         ``None``: :func:`default_cao` of ``d_max``.
     cvt : CVTSettings, optional
@@ -133,6 +140,8 @@ class PlanSettings:
     iterations: int = 300
     sensor: Sensor | None = None
     attitude: tuple[float, float] = (0.0, -90.0)
+    gimbal: Gimbal | None = None
+    footprint_start: bool = False
     cao: CAOSettings | None = None
     cvt: CVTSettings | None = None
     hold_s: float = 60.0
@@ -171,6 +180,16 @@ class PlanSettings:
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
         camera_axes([attitude[0]], [attitude[1]])
         object.__setattr__(self, "attitude", (float(attitude[0]), float(attitude[1])))
+        has_camera = self.sensor is not None and self.sensor.camera is not None
+        if self.gimbal is not None:
+            if not isinstance(self.gimbal, Gimbal):
+                raise InvalidTypeError(f"gimbal must be a uavcov.Gimbal or None, got {type(self.gimbal).__name__}")
+            if self.gimbal.free_angles and not has_camera:
+                raise InvalidInputError("a gimbal's free angles need a camera sensor")
+        if not isinstance(self.footprint_start, bool):
+            raise InvalidTypeError(f"footprint_start must be a bool, got {type(self.footprint_start).__name__}")
+        if self.footprint_start and not has_camera:
+            raise InvalidInputError("footprint_start needs a camera sensor")
         for name, kind in (("cao", CAOSettings), ("cvt", CVTSettings)):
             value = getattr(self, name)
             if value is not None and not isinstance(value, kind):
@@ -226,6 +245,12 @@ class FlightPlan:
         Ground area of the targets (sum of their weights), square metres.
     prior_points : (n, 3) float64
         The known points S' was built from (empty for ``prior="full"``).
+    attitudes : (N, 2) float64 or None
+        Each camera's heading (degrees clockwise from true north, in ``[0, 360)``) and gimbal
+        pitch (degrees, -90 nadir); ``None`` for the omnidirectional sensor.
+    attitudes_local : (N, 2) float64 or None
+        The same with the heading from the local frame's +y (the DEM's grid north), as the
+        engine poses the cameras.
     """
 
     settings: PlanSettings
@@ -250,6 +275,8 @@ class FlightPlan:
     initial_coverage: float
     area_m2: float
     prior_points: np.ndarray
+    attitudes: np.ndarray | None = None
+    attitudes_local: np.ndarray | None = None
 
     @property
     def n_uavs(self) -> int:
@@ -268,7 +295,7 @@ class FlightPlan:
         out of range. This is reach, not sight: the coverage raster has what is seen."""
         sensor = self.settings.sensor
         outlines: list[np.ndarray] = []
-        for position, agl in zip(self.positions_local, self.altitude_agl, strict=True):
+        for k, (position, agl) in enumerate(zip(self.positions_local, self.altitude_agl, strict=True)):
             reach = self.settings.d_max
             if sensor is None or sensor.camera is None:
                 if agl >= reach:
@@ -278,7 +305,8 @@ class FlightPlan:
                 angle = np.linspace(0.0, 2.0 * math.pi, _FOOTPRINT_VERTICES, endpoint=False)
                 outlines.append(np.column_stack([position[0] + radius * np.cos(angle), position[1] + radius * np.sin(angle)]))
                 continue
-            forward, right, up = (axis[0] for axis in camera_axes([self.settings.attitude[0]], [self.settings.attitude[1]]))
+            yaw, pitch = self.settings.attitude if self.attitudes_local is None else self.attitudes_local[k]
+            forward, right, up = (axis[0] for axis in camera_axes([yaw], [pitch]))
             th, tv = sensor.camera.tan_half_fov
             corners = []
             for sx, sy in ((-1, 1), (1, 1), (1, -1), (-1, -1)):
@@ -462,13 +490,16 @@ def plan(
         iterations=settings.iterations,
         sensor=settings.sensor,
         attitude=settings.attitude,
+        gimbal=settings.gimbal,
+        footprint_start=settings.footprint_start,
     )
     mission = run_mission(terrain, spec, known=approximation, targets=targets, rng=mission_rng, n_threads=n_threads)
     positions = np.array(mission.best_positions, dtype=np.float64)
 
     vis = Visibility(terrain, settings.d_max, targets, n_threads=n_threads)
     sensors = None if settings.sensor is None else [settings.sensor] * settings.n_uavs
-    poses = positions if sensors is None else np.column_stack([positions, np.tile(settings.attitude, (settings.n_uavs, 1))])
+    local_attitudes = mission.best_attitudes
+    poses = positions if local_attitudes is None else np.column_stack([positions, local_attitudes])
     seen = np.asarray(vis.seen(poses, sensors=sensors), dtype=bool)
     count = np.zeros(len(targets), dtype=np.int64)
     for k in range(settings.n_uavs):
@@ -488,6 +519,10 @@ def plan(
         i, j = _nodes(grid.origin, grid.spacing, targets.points)
         rows, cols = raster.pixel_of_node(i, j)
         pixels = np.column_stack([rows, cols]).astype(np.int64)
+
+    attitudes = None
+    if local_attitudes is not None:
+        attitudes = np.column_stack([_true_headings(dem, positions, local_attitudes[:, 0]), local_attitudes[:, 1]])
 
     def frozen(array: Any) -> np.ndarray:
         out = np.array(array, dtype=np.float64)
@@ -517,4 +552,24 @@ def plan(
         initial_coverage=float(mission.initial_coverage),
         area_m2=float(targets.total_weight),
         prior_points=frozen(known.reshape(-1, 3)),
+        attitudes=None if attitudes is None else frozen(attitudes),
+        attitudes_local=None if local_attitudes is None else frozen(local_attitudes),
     )
+
+
+def _true_headings(dem: GeoDem, positions: np.ndarray, local_yaw: np.ndarray) -> np.ndarray:
+    """Compass headings from true north (degrees in [0, 360)) of headings ``local_yaw`` measured
+    from the local frame's +y: a projected CRS's grid north is not true north (meridian
+    convergence), so each heading is carried to WGS84 by a point 1 m ahead of its UAV."""
+    yaw = np.radians(local_yaw)
+    ahead = positions.copy()
+    ahead[:, 0] += np.sin(yaw)
+    ahead[:, 1] += np.cos(yaw)
+    here, there = dem.to_wgs84(positions)[:, :2], dem.to_wgs84(ahead)[:, :2]
+    out = np.empty(positions.shape[0])
+    for k in range(positions.shape[0]):
+        east_per_degree, north_per_degree = metres_per_degree(float(here[k, 1]))
+        east = (there[k, 0] - here[k, 0]) * east_per_degree
+        north = (there[k, 1] - here[k, 1]) * north_per_degree
+        out[k] = math.degrees(math.atan2(east, north)) % 360.0
+    return out

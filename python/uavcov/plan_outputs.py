@@ -63,12 +63,17 @@ __all__ = [
     "MAV_CMD_NAV_TAKEOFF",
     "MAV_CMD_NAV_WAYPOINT",
     "MAV_CMD_NAV_LOITER_TIME",
+    "MAV_CMD_DO_MOUNT_CONTROL",
     "MAV_FRAME_GLOBAL_RELATIVE_ALT",
 ]
 
 MAV_CMD_NAV_WAYPOINT = 16
 MAV_CMD_NAV_LOITER_TIME = 19
 MAV_CMD_NAV_TAKEOFF = 22
+MAV_CMD_DO_MOUNT_CONTROL = 205
+"""MAVLink: point the gimbal (param1 pitch, param3 yaw relative to the vehicle, degrees; param7 the mount mode)."""
+MAV_MOUNT_MODE_MAVLINK_TARGETING = 2
+MAV_FRAME_MISSION = 2
 MAV_FRAME_GLOBAL_RELATIVE_ALT = 3
 """MAVLink: altitude relative to the home position (QGroundControl's AltitudeMode 1)."""
 COVERAGE_NODATA = 65535
@@ -115,13 +120,30 @@ def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
 
     Items: take-off at home to the transit altitude, transit to above the position, descent to
     the position, loiter there ``hold_s`` seconds; every altitude relative to home (frame 3).
+    With a camera, the descent's waypoint turns the vehicle to the camera's heading (param 4,
+    degrees from true north) and a ``DO_MOUNT_CONTROL`` item before the loiter sets the gimbal's
+    pitch (param 1, degrees, -90 straight down; yaw 0: the camera looks along the vehicle).
     """
     fp = _check(flight_plan)
     if not 0 <= uav < fp.n_uavs:
         raise InvalidInputError(f"uav must be in [0, {fp.n_uavs}), got {uav}")
-    items = []
-    for jump, (command, _, lat, lon, alt) in enumerate(_items(fp, uav), start=1):
+    items: list[dict[str, Any]] = []
+    heading = None if fp.attitudes is None else float(fp.attitudes[uav, 0])
+    for command, name, lat, lon, alt in _items(fp, uav):
         p1 = fp.settings.hold_s if command == MAV_CMD_NAV_LOITER_TIME else 0.0
+        if command == MAV_CMD_NAV_LOITER_TIME and fp.attitudes is not None:
+            pitch = float(fp.attitudes[uav, 1])
+            items.append(
+                {
+                    "autoContinue": True,
+                    "command": MAV_CMD_DO_MOUNT_CONTROL,
+                    "doJumpId": len(items) + 1,
+                    "frame": MAV_FRAME_MISSION,
+                    "params": [pitch, 0.0, 0.0, None, None, None, MAV_MOUNT_MODE_MAVLINK_TARGETING],
+                    "type": "SimpleItem",
+                }
+            )
+        p4 = heading if name == "position" else None
         items.append(
             {
                 "AMSLAltAboveTerrain": None,
@@ -129,9 +151,9 @@ def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
                 "AltitudeMode": 1,
                 "autoContinue": True,
                 "command": command,
-                "doJumpId": jump,
+                "doJumpId": len(items) + 1,
                 "frame": MAV_FRAME_GLOBAL_RELATIVE_ALT,
-                "params": [p1, 0.0, 0.0, None, lat, lon, alt],
+                "params": [p1, 0.0, 0.0, p4, lat, lon, alt],
                 "type": "SimpleItem",
             }
         )
@@ -157,6 +179,11 @@ def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
             "altitude_frame": _ALTITUDE_FRAME,
             "home_altitude": f"the DEM's height at the take-off point: {fp.dem.vertical_datum}",
             "horizontal_crs": "WGS 84 (EPSG:4326), latitude and longitude in degrees",
+            **(
+                {}
+                if fp.attitudes is None
+                else {"camera": "heading: degrees clockwise from true north (position waypoint, param 4); gimbal pitch: degrees, -90 nadir"}
+            ),
         },
     }
 
@@ -177,7 +204,16 @@ def read_qgc_plan(path: Any) -> dict[str, Any]:
     items = []
     for item in mission.get("items", []):
         params = item["params"]
-        items.append({"command": int(item["command"]), "frame": int(item["frame"]), "lat": params[4], "lon": params[5], "alt": params[6]})
+        items.append(
+            {
+                "command": int(item["command"]),
+                "frame": int(item["frame"]),
+                "lat": params[4],
+                "lon": params[5],
+                "alt": params[6],
+                "params": list(params),
+            }
+        )
     home = mission.get("plannedHomePosition")
     return {"home": tuple(home) if home else None, "items": items}
 
@@ -211,7 +247,10 @@ _POSITION_COLUMNS = (
     "altitude_home_m",
     "ground_amsl_m",
     "transit_amsl_m",
+    "heading_deg",
+    "pitch_deg",
 )
+"""``heading_deg`` (clockwise from true north) and ``pitch_deg`` are the camera's; NaN for the omnidirectional sensor."""
 
 
 def _csv(rows: Sequence[Sequence[Any]], header: Sequence[str]) -> bytes:
@@ -234,6 +273,7 @@ def _positions_csv(fp: FlightPlan) -> bytes:
             float(fp.altitude_home[k]),
             float(fp.ground_amsl[k]),
             float(fp.transit_amsl[k]),
+            *((math.nan, math.nan) if fp.attitudes is None else (float(v) for v in fp.attitudes[k])),
         ]
         for k in range(fp.n_uavs)
     ]
@@ -310,6 +350,7 @@ def _geojson(fp: FlightPlan) -> bytes:
                     "altitude_home_m": float(fp.altitude_home[k]),
                     "x_crs": float(fp.positions_crs[k, 0]),
                     "y_crs": float(fp.positions_crs[k, 1]),
+                    **({} if fp.attitudes is None else {"heading_deg": float(fp.attitudes[k, 0]), "pitch_deg": float(fp.attitudes[k, 1])}),
                 },
             }
         )

@@ -184,9 +184,10 @@ class Sensor:
 class Gimbal:
     """Which camera angles a mission optimises beside the positions, and within what bounds.
 
-    The optimiser (centralised CAO) perturbs every decision variable by the same step
-    ``alpha_k`` (metres for a position); an angle enters its state divided by
-    ``degrees_per_metre``, so one metre of step turns the camera by that many degrees.
+    The optimiser (centralised CAO) perturbs every decision variable by the same relative step:
+    a position by ``alpha_k`` metres, an angle by ``alpha_k / alpha_0 * alpha0_deg`` degrees (its
+    state is the angle over ``alpha0_deg / alpha_0`` degrees per metre), so the angles' step starts
+    at ``alpha0_deg`` and decays as the positions' does.
 
     Parameters
     ----------
@@ -196,8 +197,9 @@ class Gimbal:
         ``(lowest, highest)`` gimbal pitch in degrees within ``[-90, 0]``: optimise each UAV's
         pitch within it (a candidate outside is infeasible, as a position outside its band is).
         ``None`` keeps the pitch fixed.
-    degrees_per_metre : float, default 10.0
-        Degrees of heading or pitch that one metre of CAO's step stands for (> 0).
+    alpha0_deg : float, default 10.0
+        The angles' first step, degrees (> 0): the standard deviation of a heading's or pitch's
+        perturbation at iteration 0 (chosen on development seeds: docs/cameras.md).
 
     Examples
     --------
@@ -207,7 +209,7 @@ class Gimbal:
 
     free_yaw: bool = False
     pitch_range: tuple[float, float] | None = None
-    degrees_per_metre: float = 10.0
+    alpha0_deg: float = 10.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.free_yaw, (bool, np.bool_)):
@@ -221,7 +223,7 @@ class Gimbal:
             if not -90.0 <= low <= high <= 0.0:
                 raise InvalidInputError(f"pitch_range must satisfy -90 <= lowest <= highest <= 0 degrees, got ({low}, {high})")
             object.__setattr__(self, "pitch_range", (low, high))
-        object.__setattr__(self, "degrees_per_metre", as_positive_float(self.degrees_per_metre, "degrees_per_metre"))
+        object.__setattr__(self, "alpha0_deg", as_positive_float(self.alpha0_deg, "alpha0_deg"))
 
     @property
     def free_angles(self) -> tuple[str, ...]:

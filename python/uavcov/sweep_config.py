@@ -30,7 +30,7 @@ and start. See ``examples/sweep.toml``::
     [sensor.camera]               # uavcov.Camera's fields, or hfov_deg and vfov_deg
     hfov_deg = 84.0
     vfov_deg = 62.0
-    [gimbal]                      # uavcov.Gimbal: free_yaw, pitch_range, degrees_per_metre
+    [gimbal]                      # uavcov.Gimbal: free_yaw, pitch_range, alpha0_deg
     free_yaw = true
 
     [sweep]                       # every combination of these lists
@@ -194,7 +194,7 @@ _CAMERA_KEYS: Mapping[str, Any] = {
     "hfov_deg": 1.0,
     "vfov_deg": 1.0,
 }
-_GIMBAL_KEYS: Mapping[str, Any] = {"free_yaw": False, "pitch_range": (0.0, 0.0), "degrees_per_metre": 1.0}
+_GIMBAL_KEYS: Mapping[str, Any] = {"free_yaw": False, "pitch_range": (0.0, 0.0), "alpha0_deg": 1.0}
 _CAMERA_AXES = tuple(f"sensor.{k}" for k in _SENSOR_KEYS) + tuple(f"sensor.camera.{k}" for k in _CAMERA_KEYS)
 _CAMERA_AXES += tuple(f"gimbal.{k}" for k in _GIMBAL_KEYS)
 
