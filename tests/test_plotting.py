@@ -757,3 +757,33 @@ def test_coverage_maps_and_seen_points_of_a_camera_run_are_what_its_cameras_see(
     for k in range(run.trajectory.shape[0]):
         union |= vis.seen(np.column_stack([run.trajectory[k], run.attitudes[k]]), sensors=[sensor] * 2)
     np.testing.assert_array_equal(plotting.seen_points(run), vis.targets.points[union])
+
+
+def test_a_quality_run_animates_and_plots_its_objective(tmp_path, monkeypatch):
+    terrain = uavcov.gaussian_hills(size=40.0, spacing=1.0, n_hills=3, rng=6)
+    sensor = uavcov.Sensor(30.0, camera=uavcov.Camera.from_fov(60.0, 45.0), good_gsd_m=0.005)
+    spec = uavcov.MissionSpec(
+        n_uavs=2,
+        d_max=30.0,
+        iterations=3,
+        sensor=sensor,
+        objective="quality",
+        start=uavcov.StartSpec(altitude=12.0),
+        constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
+    )
+    run = uavcov.run_mission(terrain, spec, rng=0)
+    poses = np.column_stack([run.trajectory[-1], run.attitudes[-1]])
+    view = views._TopView(terrain, 30.0, 400)  # one pixel per node: no decimation
+    image = view.quality_image(poses, [sensor] * 2, shade=False)
+    vis = Visibility(terrain, 30.0)
+    seen = vis.seen(poses, sensors=[sensor] * 2).reshape(terrain.grid.shape)
+    quality = vis.quality(poses, sensors=[sensor] * 2).reshape(terrain.grid.shape)
+    import matplotlib as mpl
+
+    np.testing.assert_allclose(image[seen][:, :3], mpl.colormaps["viridis"](quality[seen])[:, :3])
+    np.testing.assert_allclose(image[~seen][:, :3], np.broadcast_to(plotting.UNSEEN_COLOUR, ((~seen).sum(), 3)))
+    drawn = []
+    monkeypatch.setattr(views._TopView, "quality_image", lambda self, p, s, shade=True: drawn.append(p) or image)
+    plotting.animate_mission(run, tmp_path / "quality.gif", max_frames=2, raster=40, dpi=50)
+    assert len(drawn) == 1 + 2  # the first picture, then every frame: quality maps
+    assert plotting.plot_coverage_curves(run).axes[0].get_ylabel() == "quality-weighted coverage"

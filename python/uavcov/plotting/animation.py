@@ -37,8 +37,9 @@ def animate_mission(
     """An animation of a run: the top-view coverage map, the UAVs and their paths, the curve.
 
     Left: the surface from above coloured by what the team sees at each shown iteration, the
-    UAVs (green) and their paths so far, and for cameras each one's footprint and heading;
-    right: coverage per iteration up to that point.
+    UAVs (green) and their paths so far, and for cameras each one's footprint and heading (a
+    run that maximised the quality-weighted coverage colours the map by the best view quality);
+    right: the objective per iteration up to that point.
 
     Parameters
     ----------
@@ -81,6 +82,13 @@ def animate_mission(
     def poses(k: int) -> np.ndarray:
         return traj[k] if attitudes is None else np.column_stack([traj[k], attitudes[k]])
 
+    quality = _setting(result, "objective") == "quality" and sensors is not None  # colour by what the run maximised
+
+    def picture_of(k: int) -> np.ndarray:
+        if quality and sensors is not None:
+            return view.quality_image(poses(k), sensors)
+        return view.image(poses(k), sensors=sensors)
+
     _matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -90,7 +98,7 @@ def animate_mission(
     grid = fig.add_gridspec(1, 2, width_ratios=(1.15, 1.0), left=0.07, right=0.98, bottom=0.24, top=0.9, wspace=0.28)
     ax_map = fig.add_subplot(grid[0])
     ax_curve = fig.add_subplot(grid[1])
-    picture = ax_map.imshow(view.image(poses(0), sensors=sensors), extent=view.extent, origin="lower", interpolation="nearest")
+    picture = ax_map.imshow(picture_of(0), extent=view.extent, origin="lower", interpolation="nearest")
     ax_map.set_xlabel("x (m)")
     ax_map.set_ylabel("y (m)")
     ax_map.set_aspect("equal")
@@ -104,7 +112,7 @@ def animate_mission(
     arrow = 0.05 * max(view.extent[1] - view.extent[0], view.extent[3] - view.extent[2])
     ax_map.legend(
         handles=[
-            _patch(SEEN_COLOUR, "seen"),
+            _patch("#fde725" if quality else SEEN_COLOUR, "view quality 1 (viridis)" if quality else "seen"),
             _patch(UNSEEN_COLOUR, "not seen"),
             _marker("start", marker="o", color=START_COLOUR, markersize=4),
             _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6),
@@ -120,7 +128,7 @@ def animate_mission(
     low = float(curve.min())
     ax_curve.set_ylim(max(0.0, low - 0.05), min(1.0, float(curve.max()) + 0.03) + 1e-3)
     ax_curve.set_xlabel("iteration")
-    ax_curve.set_ylabel("coverage")
+    ax_curve.set_ylabel("quality-weighted coverage" if quality else "coverage")
     ax_curve.grid(True, linewidth=0.4, alpha=0.5)
     line = ax_curve.plot([], [], color=INIT_COLOURS.get(_setting(result, "start") or "", "#1f77b4"), linewidth=1.5)[0]
     dot = ax_curve.plot([], [], "o", color="black", markersize=4)[0]
@@ -128,7 +136,7 @@ def animate_mission(
 
     images = []
     for k in frames:
-        picture.set_data(view.image(poses(k), sensors=sensors))
+        picture.set_data(picture_of(k))
         if attitudes is not None and sensors is not None:
             for outline, heading, shape, (yaw, _), position in zip(
                 outlines, headings, footprints(result.terrain, poses(k), sensors), attitudes[k], traj[k], strict=True
@@ -142,7 +150,8 @@ def animate_mission(
         uavs.set_offsets(traj[k, :, :2])
         line.set_data(np.arange(k + 1), curve[: k + 1])
         dot.set_data([k], [curve[k]])
-        title.set_text(f"iteration {k} of {traj.shape[0] - 1}: coverage {curve[k]:.3f} (d_max = {d:g} m)")
+        what = "quality-weighted coverage" if quality else "coverage"
+        title.set_text(f"iteration {k} of {traj.shape[0] - 1}: {what} {curve[k]:.3f} (d_max = {d:g} m)")
         canvas.draw()
         images.append(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -492,7 +492,11 @@ def plot_coverage_curves(
             ax.axhline(value, color=colour, linewidth=1.0, linestyle="--")
             handles.append(_line(f"{key}: the paper's max ({value:.2f})", color=colour, linewidth=1.0, linestyle="--"))
     ax.set_xlabel("iteration")
-    ax.set_ylabel("best coverage so far" if running_max else "coverage (share of the surface seen)")
+    quality = all(_setting(r, "objective") == "quality" for runs in groups.values() for r in runs)  # what the curves measure
+    if quality:
+        ax.set_ylabel("best quality-weighted coverage so far" if running_max else "quality-weighted coverage")
+    else:
+        ax.set_ylabel("best coverage so far" if running_max else "coverage (share of the surface seen)")
     ax.grid(True, linewidth=0.4, alpha=0.5)
     ax.set_title(title or "Coverage during the optimisation", fontsize=10)
     ax.legend(handles=handles, fontsize=8, loc="lower right", framealpha=0.9)

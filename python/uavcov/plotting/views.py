@@ -407,7 +407,8 @@ class _TopView:
         self.z = z
         self.light = 0.45 + 0.55 * _hillshade(z, *pixel)
         self.nodata = ~np.isfinite(z)
-        self.visibility = Visibility(terrain, d_max, self.targets)
+        # a grid's own targets (None) carry the node normals a camera's view quality needs
+        self.visibility = Visibility(terrain, d_max, None if grid is not None else self.targets)
 
     def fraction(self, positions: np.ndarray, sensors: Sequence[Sensor] | None = None) -> np.ndarray:
         """``self.shape`` shares seen from ``positions`` ``(N, 3)`` (poses ``(N, 5)`` with cameras
@@ -419,6 +420,28 @@ class _TopView:
         out = np.full(self.valid.shape, np.nan)
         out[self.valid] = seen
         return out.reshape(self.shape)
+
+    def quality_image(self, poses: np.ndarray, sensors: Sequence[Sensor], *, shade: bool = True) -> np.ndarray:
+        """``(*self.shape, 4)`` RGBA of the best view quality (viridis, 0-1) where something is seen,
+        the not-seen colour elsewhere (:meth:`uavcov.Visibility.quality`)."""
+        import matplotlib as mpl
+
+        seen = self.visibility.seen(poses, sensors=sensors)
+        value = np.where(seen, self.visibility.quality(poses, sensors=sensors), np.nan)
+        if self.terrain.grid is not None:
+            per_pixel = _block_means(_grid_node_mask(self.terrain, value, self.targets.points), self.blocks).reshape(self.shape)
+        else:
+            per_pixel = np.full(self.valid.shape, np.nan)
+            per_pixel[self.valid] = value
+            per_pixel = per_pixel.reshape(self.shape)
+        rgb = np.where(
+            np.isnan(per_pixel)[..., None], np.asarray(UNSEEN_COLOUR), mpl.colormaps["viridis"](np.nan_to_num(per_pixel))[..., :3]
+        )
+        if shade:
+            rgb = rgb * self.light[:, :, None]
+        rgba = np.concatenate([np.clip(rgb, 0, 1), np.ones((*self.shape, 1))], axis=2)
+        rgba[self.nodata] = (1.0, 1.0, 1.0, 0.0)
+        return rgba
 
     def image(self, positions: np.ndarray, *, shade: bool = True, sensors: Sequence[Sensor] | None = None) -> np.ndarray:
         """``(*self.shape, 4)`` RGBA, transparent off the surface, row 0 at the south (``origin="lower"``)."""
