@@ -421,7 +421,7 @@ def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
     # 300 km east of the central meridian (about 18.8 deg E at 45 deg N): grid north is not true north
     west, north = EAST + 300_000.0, NORTH
     dem = dem_from_array(np.where(heights() < 0, 450.0, heights()), (CELL, 0.0, west, 0.0, -CELL, north), UTM33)
-    camera = Sensor(150.0, camera=Camera.from_fov(60.0, 45.0))
+    camera = Sensor(150.0, camera=Camera.from_fov(60.0, 45.0), max_incidence_deg=75.0, good_gsd_m=0.02)
     settings = PlanSettings(
         n_uavs=3,
         d_max=150.0,
@@ -455,6 +455,11 @@ def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
     poses = np.column_stack([fp.positions_local, fp.attitudes_local])
     np.testing.assert_array_equal(fp.seen, vis.seen(poses, sensors=[camera] * 3))
     assert fp.coverage == vis.coverage(poses, sensors=[camera] * 3)
+    # incidence and quality on the plan's targets are the whole grid's (the DEM's node normals)
+    whole = Visibility(dem.terrain, 150.0)
+    inside = np.isin(whole.targets.points.view("f8,f8,f8"), fp.targets.points.view("f8,f8,f8")).ravel()
+    np.testing.assert_array_equal(fp.quality, whole.quality(poses, sensors=[camera] * 3)[inside])
+    assert 0.0 < fp.quality.max() <= 1.0 and (fp.quality[~fp.seen] == 0.0).all()
     # and every output reads back the same angles
     write_plan(fp, tmp_path / "out")
     for k in range(3):
@@ -465,6 +470,12 @@ def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
         assert items.index(mount) == len(items) - 2  # the gimbal is set before the hold
     columns = read_positions_csv(tmp_path / "out" / "positions.csv")
     np.testing.assert_array_equal(np.column_stack([columns["heading_deg"], columns["pitch_deg"]]), fp.attitudes)
+    band, transform, _ = read_coverage_geotiff(tmp_path / "out" / "quality.tif")
+    rows, cols = fp.target_pixels.T
+    np.testing.assert_array_equal(band[0, rows, cols], fp.quality.astype(np.float32))
+    outside = np.ones(band.shape[1:], dtype=bool)
+    outside[rows, cols] = False
+    assert np.isnan(band[0][outside]).all() and transform == dem.raster.transform
     document = json.loads((tmp_path / "out" / "plan.geojson").read_text())
     points = [f["properties"] for f in document["features"] if f["properties"]["kind"] == "position"]
     assert [(p["heading_deg"], p["pitch_deg"]) for p in points] == [tuple(a) for a in fp.attitudes.tolist()]

@@ -271,6 +271,29 @@ def test_incidence_limits_and_view_quality_match_the_reference(seed, method):
     assert grid_nodes.seen(poses, sensors=loose).sum() > grid_nodes.seen(poses, sensors=sensors).sum()
 
 
+def test_vertex_normals_are_the_engines_and_carry_incidence_to_a_subset_of_targets():
+    case = random_grid_case(3, nx=19, ny=15)
+    z = case.z.copy()
+    z[4:6, 7:9] = np.nan  # nodata: the vertices are the valid nodes only
+    terrain = Terrain.from_grid(z, case.spacing, origin=case.origin)
+    normals = terrain.vertex_normals()
+    full = terrain.default_targets()
+    assert normals.shape == full.points.shape and np.isfinite(normals).all()
+    flat = Terrain.from_grid(case.z, case.spacing, origin=case.origin)
+    np.testing.assert_allclose(flat.vertex_normals(), _grid_normals(case), rtol=0, atol=1e-12)  # the numpy reference
+    rng = np.random.default_rng(9)
+    poses = np.column_stack([uavs_above(case, 4, rng, low=2.0, high=6.0), rng.uniform(0, 360, 4), [-90.0, -60.0, -45.0, -30.0]])
+    sensors = [Sensor(12.0, camera=Camera.from_fov(84.0, 62.0), max_incidence_deg=55.0, good_gsd_m=0.002)] * 4
+    whole = Visibility(terrain, 12.0)  # the grid's own targets: normals made in Rust
+    keep = rng.random(full.points.shape[0]) < 0.4
+    part = Visibility(terrain, 12.0, targets=Targets(full.points[keep], full.weights[keep], normals[keep]))
+    np.testing.assert_array_equal(part.seen(poses, sensors=sensors), whole.seen(poses, sensors=sensors)[keep])
+    np.testing.assert_array_equal(part.quality(poses, sensors=sensors), whole.quality(poses, sensors=sensors)[keep])
+    mesh = Terrain(terrain.vertices, terrain.faces)
+    with pytest.raises(InvalidInputError, match="grid"):
+        mesh.vertex_normals()
+
+
 def test_incidence_needs_normals_and_bad_quality_settings_are_errors(hill_terrain):
     bare = Visibility(hill_terrain, 8.0, targets=hill_terrain.default_targets())
     with pytest.raises(InvalidInputError, match="normals"):

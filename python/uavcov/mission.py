@@ -123,7 +123,8 @@ class MissionSpec:
         Lift each start position (any start kind) to the height above S' at which its camera's
         view of S' best matches its Voronoi cell, and turn the free angles likewise
         (:func:`uavcov.footprints.fit_footprints`, between the flight band's ``h_min`` and
-        ``h_max``, or the camera's range without a ceiling). Needs a camera.
+        ``h_max``, or the camera's range without a ceiling; positions given to
+        :func:`run_mission` are flown as given). Needs a camera.
 
     Examples
     --------

@@ -109,8 +109,9 @@ class PlanSettings:
         CAO iterations (0 keeps the start).
     sensor : Sensor, optional
         A camera sensor (``Sensor(d_max, camera=...)``, pointed by ``attitude``); ``None`` is
-        the omnidirectional sensor of range ``d_max``. Its range must equal ``d_max``; incidence
-        and quality limits are not supported in plans (they need target normals).
+        the omnidirectional sensor of range ``d_max``. Its range must equal ``d_max``. Incidence
+        limits and view quality use the DEM's node normals (:meth:`uavcov.Terrain.vertex_normals`;
+        a mesh DEM takes neither).
     attitude : (float, float)
         The camera's (yaw, pitch), degrees (see :mod:`uavcov.sensors`); yaw is the heading in the
         DEM's local frame (its +y), where a free heading starts.
@@ -173,8 +174,6 @@ class PlanSettings:
                 raise InvalidTypeError(f"sensor must be a uavcov.Sensor or None, got {type(self.sensor).__name__}")
             if self.sensor.d_max != self.d_max:
                 raise InvalidInputError(f"sensor.d_max = {self.sensor.d_max} m differs from d_max = {self.d_max} m")
-            if self.sensor.max_incidence_deg is not None or self.sensor.good_gsd_m is not None:
-                raise InvalidInputError("plans do not support incidence or quality limits yet (they need target normals)")
         attitude = as_float_array(self.attitude, "attitude", ndim=1)
         if attitude.shape != (2,):
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
@@ -237,6 +236,10 @@ class FlightPlan:
         Targets seen by at least one UAV (the engine's seen mask).
     seen_count : (T,) int64
         How many UAVs see each target.
+    quality : (T,) float64 or None
+        The best view quality of each target over the team (:meth:`uavcov.Visibility.quality`:
+        resolution against the sensor's ``good_gsd_m``, times the cosine of the incidence), 0
+        where nobody sees it; ``None`` on a mesh DEM (no node normals).
     coverage : float
         Weighted share of the area's targets seen, in [0, 1].
     initial_coverage : float
@@ -277,6 +280,7 @@ class FlightPlan:
     prior_points: np.ndarray
     attitudes: np.ndarray | None = None
     attitudes_local: np.ndarray | None = None
+    quality: np.ndarray | None = None
 
     @property
     def n_uavs(self) -> int:
@@ -330,6 +334,7 @@ def _check_inputs(dem: Any, settings: Any, area: Any) -> None:
 def _area_targets(dem: GeoDem, area: AreaOfInterest | None) -> tuple[Targets, np.ndarray]:
     """The targets inside the area, and the mask of the DEM's targets they are."""
     every = dem.terrain.default_targets()
+    normals = dem.terrain.vertex_normals() if dem.terrain.grid is not None else None  # incidence and quality on a subset
     inside = np.ones(len(every), dtype=bool) if area is None else area.contains(every.points[:, :2], dem)
     if not inside.any():
         low, high = dem.to_wgs84(dem.terrain.bounds)[:, :2]
@@ -337,7 +342,7 @@ def _area_targets(dem: GeoDem, area: AreaOfInterest | None) -> tuple[Targets, np
             f"the area of interest ({area.source if area else ''}) holds no valid DEM cell: it lies outside the DEM "
             f"(longitudes {low[0]:.6f}..{high[0]:.6f}, latitudes {low[1]:.6f}..{high[1]:.6f}) or over nodata"
         )
-    return Targets(every.points[inside], every.weights[inside]), inside
+    return Targets(every.points[inside], every.weights[inside], None if normals is None else normals[inside]), inside
 
 
 def _approximation(dem: GeoDem, settings: PlanSettings, targets: Targets, rng: np.random.Generator) -> tuple[Terrain, np.ndarray]:
@@ -554,6 +559,7 @@ def plan(
         prior_points=frozen(known.reshape(-1, 3)),
         attitudes=None if attitudes is None else frozen(attitudes),
         attitudes_local=None if local_attitudes is None else frozen(local_attitudes),
+        quality=None if targets.normals is None else frozen(vis.quality(poses, sensors=sensors)),
     )
 
 

@@ -529,8 +529,40 @@ def _coverage_geotiff(fp: FlightPlan) -> bytes | None:
         return bytes(memory.read())
 
 
+def _quality_geotiff(fp: FlightPlan) -> bytes | None:
+    raster = fp.dem.raster
+    if raster is None or fp.target_pixels is None or fp.quality is None:
+        return None
+    try:
+        import rasterio
+        from rasterio.io import MemoryFile
+        from rasterio.transform import Affine
+    except ImportError as exc:
+        raise MissingExtraError("writing the quality GeoTIFF needs rasterio: pip install 'uavcov[geo]'") from exc
+    rows, cols = raster.shape
+    band = np.full((1, rows, cols), np.nan, dtype=np.float32)
+    band[0, fp.target_pixels[:, 0], fp.target_pixels[:, 1]] = fp.quality.astype(np.float32)
+    profile = {
+        "driver": "GTiff",
+        "height": rows,
+        "width": cols,
+        "count": 1,
+        "dtype": "float32",
+        "crs": rasterio.crs.CRS.from_user_input(fp.dem.crs),
+        "transform": Affine(*raster.transform),
+        "nodata": float("nan"),
+        "compress": "deflate",
+    }
+    with MemoryFile() as memory:
+        with memory.open(**profile) as dataset:
+            dataset.write(band)
+            dataset.set_band_description(1, "best view quality over the team, 0-1 (0: not seen; resolution x cos incidence)")
+        return bytes(memory.read())
+
+
 def read_coverage_geotiff(path: Any) -> tuple[np.ndarray, tuple[float, ...], str]:
-    """``coverage.tif`` -> (bands ``(2, rows, cols)`` uint16, transform ``(a, b, c, d, e, f)``, CRS WKT)."""
+    """``coverage.tif`` -> (bands ``(2, rows, cols)`` uint16, transform ``(a, b, c, d, e, f)``, CRS WKT);
+    ``quality.tif`` the same with one float32 band (NaN outside the area)."""
     try:
         import rasterio
     except ImportError as exc:
@@ -742,6 +774,9 @@ def render_plan(flight_plan: FlightPlan, *, command: str | None = None, runtime_
     coverage = _coverage_geotiff(fp)
     if coverage is not None:
         files["coverage.tif"] = coverage
+    quality = _quality_geotiff(fp)
+    if quality is not None:
+        files["quality.tif"] = quality
     document = _document(fp, command, runtime_s)
     files["plan.json"] = (json.dumps(document, indent=2, default=str) + "\n").encode("utf-8")
     files["report.png"] = _map_png(fp)

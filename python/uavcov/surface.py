@@ -255,6 +255,37 @@ class Terrain:
             points, weights = self._surface.area_targets(rate)
         return Targets(points, weights)
 
+    def vertex_normals(self) -> np.ndarray:
+        """Unit surface normals at a grid terrain's vertices, the points of its default targets.
+
+        Each is the area-weighted sum of the normals of the (up to six) triangles around the
+        node, normalised, pointing up: the normal the engine rates incidence with when it makes
+        the grid's own targets. Give them to a subset of those targets
+        (``Targets(points[keep], weights[keep], normals[keep])``) and incidence limits and view
+        quality come out as on the whole grid.
+
+        Returns
+        -------
+        (V, 3) float64 ndarray
+            In the order of :meth:`default_targets` (and :attr:`vertices`).
+
+        Raises
+        ------
+        InvalidInputError
+            The terrain is a general mesh (its normals are the caller's to give).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> slope = Terrain.from_grid(np.add.outer(np.zeros(3), np.arange(3.0)), spacing=1.0)  # z = x
+        >>> np.round(slope.vertex_normals()[4], 4).tolist()  # (-1, 0, 1) / sqrt(2)
+        [-0.7071, 0.0, 0.7071]
+        """
+        if self._grid is None:
+            raise InvalidInputError("vertex_normals is for grid terrains (Terrain.from_grid); a mesh's targets take the normals you give")
+        normals: np.ndarray = self._surface.vertex_normals()
+        return normals
+
     # -- geometric queries ---------------------------------------------------------------------
 
     def ground_height(self, xy: Any, *, n_threads: int | None = None) -> np.ndarray:

@@ -119,6 +119,29 @@ impl PySurface {
         Ok((points_to_py(py, pts), w.into_pyarray(py)))
     }
 
+    /// The unit normal at each vertex of a grid surface (its default targets, in their order):
+    /// `Grid::node_normal`, the one the engine rates incidence with; NaN where no whole triangle
+    /// surrounds the vertex.
+    fn vertex_normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let surface = &self.inner;
+        let Some(grid) = surface.grid() else {
+            return Err(invalid(py, "vertex normals are computed for elevation grids (Terrain.from_grid)".to_owned()));
+        };
+        let normals = detached(py, || {
+            let n = surface.n_vertices();
+            let mut out: Vec<Point> = try_with_capacity(n, "the vertex normals")?;
+            out.resize(n, [f64::NAN; 3]);
+            for k in 0..grid.ny * grid.nx {
+                let v = if grid.vertex_of_node.is_empty() { k } else { grid.vertex_of_node[k] as usize };
+                if let Some(slot) = out.get_mut(v) {
+                    *slot = grid.node_normal(k).unwrap_or([f64::NAN; 3]);
+                }
+            }
+            Ok(out)
+        })?;
+        Ok(points_to_py(py, normals))
+    }
+
     /// Highest surface height under each `(x, y)`; NaN where there is none.
     #[pyo3(signature = (xy, n_threads=0))]
     fn ground_height<'py>(&self, py: Python<'py>, xy: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
