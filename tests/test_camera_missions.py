@@ -252,3 +252,39 @@ def test_the_example_camera_sweep_parses():
     config = load_sweep_config(Path(__file__).parents[1] / "examples" / "camera_sweep.toml")
     assert config.axes == ("sensor.camera.hfov_deg",) and len(config.specs()) == 2 * 5 * 2
     assert all(e.mission.footprint_start and e.mission.gimbal == Gimbal(free_yaw=True) for e, _ in config.variants)
+
+
+def test_a_mixed_team_flies_each_uavs_own_sensor(tmp_path):
+    terrain = gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=8)
+    team = (
+        Sensor(40.0, camera=Camera.from_fov(84.0, 62.0)),
+        Sensor(25.0),  # an omnidirectional UAV of shorter range
+        Sensor(35.0, camera=Camera.from_fov(50.0, 40.0), d_min=2.0),
+    )
+    spec = MissionSpec(
+        n_uavs=3,
+        d_max=40.0,
+        iterations=25,
+        sensor=team,
+        attitude=(20.0, -70.0),
+        gimbal=Gimbal(free_yaw=True),
+        footprint_start=True,
+        start=StartSpec(altitude=8.0),
+        constraints=Constraints(h_min=4.0, h_max=30.0, z_max=200.0, d_safe=1.0),
+    )
+    assert spec.team_sensors() == list(team) and spec.has_camera
+    result = run_mission(terrain, spec, rng=2)
+    vis = Visibility(terrain, 40.0)
+    for k in (0, 12, 25):
+        poses = np.column_stack([result.trajectory[k], result.attitudes[k]])
+        assert result.coverage[k] == vis.coverage(poses, sensors=list(team))
+    plain = run_mission(terrain, spec.with_changes(footprint_start=False), rng=2)
+    np.testing.assert_array_equal(result.start_positions[1], plain.start_positions[1])  # the omnidirectional UAV is not lifted
+    assert (result.start_positions[[0, 2], 2] > plain.start_positions[[0, 2], 2]).all()
+    path = save_mission(result, tmp_path / "mixed.npz")
+    assert load_mission(path).spec == result.spec
+    assert MissionSpec.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
+    with pytest.raises(InvalidInputError, match="one per UAV"):
+        spec.with_changes(n_uavs=4)
+    with pytest.raises(InvalidTypeError):
+        MissionSpec(n_uavs=2, d_max=10.0, sensor=(Sensor(10.0), "camera"))  # type: ignore[arg-type]

@@ -479,3 +479,25 @@ def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
     document = json.loads((tmp_path / "out" / "plan.geojson").read_text())
     points = [f["properties"] for f in document["features"] if f["properties"]["kind"] == "position"]
     assert [(p["heading_deg"], p["pitch_deg"]) for p in points] == [tuple(a) for a in fp.attitudes.tolist()]
+
+
+def test_a_mixed_team_plans_with_each_uavs_sensor(tmp_path: Path, utm_tif: Path):
+    team = (Sensor(150.0, camera=Camera.from_fov(84.0, 62.0)), Sensor(100.0), Sensor(120.0, camera=Camera.from_fov(60.0, 45.0)))
+    settings = PlanSettings(
+        n_uavs=3, d_max=150.0, h_min=20.0, h_max=80.0, separation=5.0, iterations=10, sensor=team, attitude=(0.0, -80.0)
+    )
+    fp = plan(read_dem(utm_tif), settings, rng=0, n_threads=1)
+    poses = np.column_stack([fp.positions_local, fp.attitudes_local])
+    vis = Visibility(fp.dem.terrain, 150.0, fp.targets)
+    assert fp.coverage == vis.coverage(poses, sensors=list(team))
+    np.testing.assert_array_equal(fp.seen_count, sum(vis.seen(poses[k : k + 1], sensors=[team[k]]).astype(int) for k in range(3)))
+    outlines = fp.footprints_local()
+    assert outlines[0].shape == (4, 2) and outlines[2].shape == (4, 2) and outlines[1].shape[0] > 4  # two frusta, one range circle
+    write_plan(fp, tmp_path / "out")
+    document = json.loads((tmp_path / "out" / "plan.json").read_text())
+    assert [r["d_max_m"] for r in document["settings"]["sensors"]] == [150.0, 100.0, 120.0]
+    assert document["settings"]["sensors"][1]["camera"] is None
+    with pytest.raises(InvalidInputError, match="longest range"):
+        PlanSettings(n_uavs=3, d_max=200.0, sensor=team)
+    with pytest.raises(InvalidInputError, match="one per UAV"):
+        PlanSettings(n_uavs=2, d_max=150.0, sensor=team)

@@ -57,7 +57,8 @@ class FootprintFit:
     attitudes : (N, 2) float64
         ``(yaw, pitch)`` in degrees.
     match : (N,) float64
-        Each UAV's weighted Jaccard index between what it sees of S' and its cell, in [0, 1].
+        Each UAV's weighted Jaccard index between what it sees of S' and its cell, in [0, 1]
+        (NaN for a UAV without a camera, left where it was).
     """
 
     positions: np.ndarray
@@ -80,7 +81,7 @@ def _principal_yaw(points: np.ndarray, weights: np.ndarray) -> float:
 def fit_footprints(
     surface: Terrain,
     generators: Any,
-    sensor: Sensor,
+    sensor: Sensor | Sequence[Sensor],
     attitudes: Any,
     *,
     heights: tuple[float, float],
@@ -98,8 +99,9 @@ def fit_footprints(
         S', the surface known before the flight; its default targets define the cells.
     generators : (N, 3) array_like
         The start's positions (CVT generators or any start), metres; their x-y define the cells.
-    sensor : Sensor
-        Every UAV's sensor; it must have a camera.
+    sensor : Sensor or sequence of Sensor
+        Every UAV's sensor, or one per UAV; a UAV without a camera keeps its position and
+        angles (its ``match`` is NaN), and at least one must have a camera.
     attitudes : (N, 2) array_like
         ``(yaw, pitch)`` degrees: the angles a fixed gimbal keeps, and where a free angle starts.
     heights : (float, float)
@@ -125,14 +127,19 @@ def fit_footprints(
     """
     if not isinstance(surface, Terrain):
         raise InvalidTypeError(f"surface must be a uavcov.Terrain, got {type(surface).__name__}")
-    if not isinstance(sensor, Sensor):
-        raise InvalidTypeError(f"sensor must be a uavcov.Sensor, got {type(sensor).__name__}")
-    if sensor.camera is None:
+    team = [sensor] if isinstance(sensor, Sensor) else list(sensor) if isinstance(sensor, (list, tuple)) else None
+    if team is None or not all(isinstance(s, Sensor) for s in team):
+        raise InvalidTypeError(f"sensor must be a uavcov.Sensor or a sequence of them, got {type(sensor).__name__}")
+    if all(s.camera is None for s in team):
         raise InvalidInputError("fitting footprints needs a sensor with a camera (an omnidirectional sensor has none)")
     if gimbal is not None and not isinstance(gimbal, Gimbal):
         raise InvalidTypeError(f"gimbal must be a uavcov.Gimbal or None, got {type(gimbal).__name__}")
     points = as_points(generators, "generators")
     n = points.shape[0]
+    if len(team) == 1:
+        team = team * n
+    if len(team) != n:
+        raise InvalidInputError(f"{len(team)} sensors for {n} generators: give one per UAV, or one for all")
     angles = as_float_array(attitudes, "attitudes")
     if angles.shape != (n, 2):
         raise InvalidInputError(f"attitudes must have shape ({n}, 2) (yaw, pitch per UAV), got {angles.shape}")
@@ -145,7 +152,7 @@ def fit_footprints(
         b = surface.bounds
         bounds = (float(b[0, 0]), float(b[0, 1]), float(b[1, 0]), float(b[1, 1]))
 
-    vis = Visibility(surface, sensor.d_max, n_threads=n_threads)
+    vis = Visibility(surface, max(s.d_max for s in team), n_threads=n_threads)
     targets = vis.targets
     target_xy = np.asarray(targets.points)[:, :2]
     weights = np.asarray(targets.weights)
@@ -153,12 +160,13 @@ def fit_footprints(
     free_yaw = gimbal is not None and gimbal.free_yaw
     pitch_range = None if gimbal is None else gimbal.pitch_range
     height_options = np.linspace(band[0], band[1], n_heights)
-    sensors: Sequence[Sensor] = [sensor]
-
-    positions = np.empty((n, 3))
-    chosen = np.empty((n, 2))
-    match = np.empty(n)
+    positions = points.copy()
+    chosen = angles.copy()
+    match = np.full(n, np.nan)
     for i in range(n):
+        if team[i].camera is None:
+            continue
+        sensors: Sequence[Sensor] = [team[i]]
         cell = cell_of == i
         cell_weight = float(weights[cell].sum())
         pitches = np.linspace(pitch_range[0], pitch_range[1], n_pitches) if pitch_range is not None else angles[i, 1:2]
@@ -175,7 +183,7 @@ def fit_footprints(
                     xy = points[i, :2].copy()
                     if pitch > -89.9:  # an oblique camera looks ahead: stand back so its axis meets the cell's generator
                         back = height / math.tan(math.radians(-pitch)) if pitch < 0.0 else 0.0
-                        back = min(back, sensor.d_max)
+                        back = min(back, team[i].d_max)
                         heading = math.radians(yaw)
                         xy -= back * np.array([math.sin(heading), math.cos(heading)])
                         xy = np.clip(xy, [bounds[0], bounds[1]], [bounds[2], bounds[3]])

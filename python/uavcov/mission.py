@@ -106,9 +106,10 @@ class MissionSpec:
         Centralised CAO or one estimator per UAV.
     iterations : int, default 500
         Optimiser iterations (measurements minus one); 0 measures the start only.
-    sensor : Sensor, optional
-        Every UAV's sensor (:mod:`uavcov.sensors`); ``None`` is the paper's omnidirectional one
-        of range ``d_max``.
+    sensor : Sensor or sequence of Sensor, optional
+        Every UAV's sensor (:mod:`uavcov.sensors`), or one per UAV (``n_uavs`` of them: a team
+        that mixes ranges and cameras); ``None`` is the paper's omnidirectional one of range
+        ``d_max``.
     attitude : (float, float), default (0.0, -90.0)
         ``(yaw, pitch)`` in degrees of every UAV's camera (heading clockwise from north, gimbal
         pitch from -90, nadir, to 0, level), fixed during the mission; read when ``sensor`` has a
@@ -143,7 +144,7 @@ class MissionSpec:
     cao: CAOSettings = field(default_factory=CAOSettings)
     optimizer: str = "cao"
     iterations: int = 500
-    sensor: Sensor | None = None
+    sensor: Sensor | tuple[Sensor, ...] | None = None
     attitude: tuple[float, float] = (0.0, -90.0)
     objective: str = "coverage"
     gimbal: Gimbal | None = None
@@ -162,8 +163,14 @@ class MissionSpec:
             value = getattr(self, name)
             if not isinstance(value, kind):
                 raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
-        if self.sensor is not None and not isinstance(self.sensor, Sensor):
-            raise InvalidTypeError(f"sensor must be a uavcov.Sensor or None, got {type(self.sensor).__name__}")
+        if isinstance(self.sensor, (list, tuple)):
+            if not all(isinstance(s, Sensor) for s in self.sensor):
+                raise InvalidTypeError("every sensor of a team's sensor list must be a uavcov.Sensor")
+            if len(self.sensor) != self.n_uavs:
+                raise InvalidInputError(f"{len(self.sensor)} sensors for {self.n_uavs} UAVs: give one per UAV, or one for all")
+            object.__setattr__(self, "sensor", tuple(self.sensor))
+        elif self.sensor is not None and not isinstance(self.sensor, Sensor):
+            raise InvalidTypeError(f"sensor must be a uavcov.Sensor, one per UAV, or None, got {type(self.sensor).__name__}")
         attitude = np.asarray(self.attitude, dtype=np.float64) if not isinstance(self.attitude, (str, bytes)) else None
         if attitude is None or attitude.shape != (2,):
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
@@ -176,8 +183,20 @@ class MissionSpec:
         self._check_camera_options()
         self._check_size()
 
+    def team_sensors(self) -> list[Sensor] | None:
+        """Each UAV's sensor (``n_uavs`` of them), or ``None`` for the paper's sensor."""
+        if self.sensor is None:
+            return None
+        return list(self.sensor) if isinstance(self.sensor, tuple) else [self.sensor] * self.n_uavs
+
+    @property
+    def has_camera(self) -> bool:
+        """Whether some UAV sees through a camera (poses then carry yaw and pitch)."""
+        sensors = self.team_sensors()
+        return sensors is not None and any(s.camera is not None for s in sensors)
+
     def _check_camera_options(self) -> None:
-        has_camera = self.sensor is not None and self.sensor.camera is not None
+        has_camera = self.has_camera
         if self.gimbal is not None:
             if not isinstance(self.gimbal, Gimbal):
                 raise InvalidTypeError(f"gimbal must be a uavcov.Gimbal or None, got {type(self.gimbal).__name__}")
@@ -249,9 +268,14 @@ class MissionSpec:
         return spec
 
 
-def _sensor_from_dict(raw: Any, where: str) -> Sensor | None:
+def _sensor_from_dict(raw: Any, where: str) -> Sensor | tuple[Sensor, ...] | None:
     if raw is None:
         return None
+    if isinstance(raw, list):  # one per UAV
+        team = tuple(_sensor_from_dict(one, f"{where}[{k}]") for k, one in enumerate(raw))
+        if any(s is None for s in team):
+            raise InvalidTypeError(f"{where}: a team's sensor list holds a null")
+        return team  # type: ignore[return-value]
     if not isinstance(raw, dict):
         raise InvalidTypeError(f"{where} must be a mapping or null, got {type(raw).__name__}")
     values = dict(raw)
@@ -404,7 +428,7 @@ class MissionResult:
         (``spec.gimbal``) the optimiser's. ``None`` for a sensor without a camera.
         """
         spec = self.spec
-        if spec.sensor is None or spec.sensor.camera is None:
+        if not spec.has_camera:
             return None
         state = np.asarray(self.trace.trajectory)
         angles = np.empty((*state.shape[:2], 2))
@@ -552,8 +576,8 @@ def run_mission(
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
 
     feasible = feasibility(constraints, terrain, n_threads=n_threads)
-    sensors = None if spec.sensor is None else [spec.sensor] * spec.n_uavs
-    camera = spec.sensor is not None and spec.sensor.camera is not None
+    sensors = spec.team_sensors()
+    camera = spec.has_camera
     state = _CameraState(spec, attitudes)
 
     def poses(x: np.ndarray) -> np.ndarray:
@@ -660,15 +684,16 @@ def _footprint_start(
     spec: MissionSpec, approximation: Terrain, flying: np.ndarray, attitudes: np.ndarray, n_threads: int | None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The start lifted (and its free angles turned) so each camera's view of S' matches its cell."""
-    if spec.sensor is None:
+    sensors = spec.team_sensors()
+    if sensors is None:
         raise InvalidInputError("footprint_start needs a sensor with a camera")
     constraints = spec.constraints
     lowest = max(constraints.h_min, 0.5)
-    highest = constraints.h_max if constraints.h_max is not None else spec.sensor.reach_m
+    highest = constraints.h_max if constraints.h_max is not None else max(s.reach_m for s in sensors)
     fit = fit_footprints(
         approximation,
         flying,
-        spec.sensor,
+        sensors,
         attitudes,
         heights=(lowest, max(lowest, highest)),
         gimbal=spec.gimbal,

@@ -107,9 +107,10 @@ class PlanSettings:
         What is known beforehand: the whole DEM, or that many sparse points (see the module).
     iterations : int
         CAO iterations (0 keeps the start).
-    sensor : Sensor, optional
-        A camera sensor (``Sensor(d_max, camera=...)``, pointed by ``attitude``); ``None`` is
-        the omnidirectional sensor of range ``d_max``. Its range must equal ``d_max``. Incidence
+    sensor : Sensor or sequence of Sensor, optional
+        Every UAV's sensor (``Sensor(d_max, camera=...)``, pointed by ``attitude``), or one per
+        UAV (a mixed team: ``d_max`` is then its longest range); ``None`` is the omnidirectional
+        sensor of range ``d_max``. A single sensor's range must equal ``d_max``. Incidence
         limits and view quality use the DEM's node normals (:meth:`uavcov.Terrain.vertex_normals`;
         a mesh DEM takes neither).
     attitude : (float, float)
@@ -139,7 +140,7 @@ class PlanSettings:
     takeoff_frame: str = "wgs84"
     prior: str | int = "full"
     iterations: int = 300
-    sensor: Sensor | None = None
+    sensor: Sensor | tuple[Sensor, ...] | None = None
     attitude: tuple[float, float] = (0.0, -90.0)
     gimbal: Gimbal | None = None
     footprint_start: bool = False
@@ -169,9 +170,15 @@ class PlanSettings:
         elif self.prior != "full":
             raise InvalidInputError(f"prior must be 'full' or a number of sparse points, got {self.prior!r}")
         object.__setattr__(self, "iterations", as_count(self.iterations, "iterations", MAX_ITERATIONS, minimum=0))
-        if self.sensor is not None:
+        if isinstance(self.sensor, (list, tuple)):
+            if len(self.sensor) != self.n_uavs or not all(isinstance(s, Sensor) for s in self.sensor):
+                raise InvalidInputError(f"a team's sensors are {self.n_uavs} uavcov.Sensor values, one per UAV")
+            object.__setattr__(self, "sensor", tuple(self.sensor))
+            if max(s.d_max for s in self.sensor) != self.d_max:
+                raise InvalidInputError(f"d_max = {self.d_max} m must be the team's longest range, {max(s.d_max for s in self.sensor)} m")
+        elif self.sensor is not None:
             if not isinstance(self.sensor, Sensor):
-                raise InvalidTypeError(f"sensor must be a uavcov.Sensor or None, got {type(self.sensor).__name__}")
+                raise InvalidTypeError(f"sensor must be a uavcov.Sensor, one per UAV, or None, got {type(self.sensor).__name__}")
             if self.sensor.d_max != self.d_max:
                 raise InvalidInputError(f"sensor.d_max = {self.sensor.d_max} m differs from d_max = {self.d_max} m")
         attitude = as_float_array(self.attitude, "attitude", ndim=1)
@@ -179,7 +186,7 @@ class PlanSettings:
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
         camera_axes([attitude[0]], [attitude[1]])
         object.__setattr__(self, "attitude", (float(attitude[0]), float(attitude[1])))
-        has_camera = self.sensor is not None and self.sensor.camera is not None
+        has_camera = any(s.camera is not None for s in self.team_sensors() or [])
         if self.gimbal is not None:
             if not isinstance(self.gimbal, Gimbal):
                 raise InvalidTypeError(f"gimbal must be a uavcov.Gimbal or None, got {type(self.gimbal).__name__}")
@@ -196,6 +203,12 @@ class PlanSettings:
         object.__setattr__(self, "hold_s", as_non_negative_float(self.hold_s, "hold_s"))
         object.__setattr__(self, "cruise_speed", as_positive_float(self.cruise_speed, "cruise_speed"))
         object.__setattr__(self, "hover_speed", as_positive_float(self.hover_speed, "hover_speed"))
+
+    def team_sensors(self) -> list[Sensor] | None:
+        """Each UAV's sensor, or ``None`` for the omnidirectional sensor of range ``d_max``."""
+        if self.sensor is None:
+            return None
+        return list(self.sensor) if isinstance(self.sensor, tuple) else [self.sensor] * self.n_uavs
 
 
 @dataclass(frozen=True, eq=False)
@@ -297,10 +310,11 @@ class FlightPlan:
         through the ground under it: the range circle for the omnidirectional sensor, the image's
         four corner rays (each cut at the range) for a camera; an empty array when the ground is
         out of range. This is reach, not sight: the coverage raster has what is seen."""
-        sensor = self.settings.sensor
+        team = self.settings.team_sensors()
         outlines: list[np.ndarray] = []
         for k, (position, agl) in enumerate(zip(self.positions_local, self.altitude_agl, strict=True)):
-            reach = self.settings.d_max
+            sensor = None if team is None else team[k]
+            reach = self.settings.d_max if sensor is None else sensor.d_max
             if sensor is None or sensor.camera is None:
                 if agl >= reach:
                     outlines.append(np.empty((0, 2)))
@@ -502,13 +516,13 @@ def plan(
     positions = np.array(mission.best_positions, dtype=np.float64)
 
     vis = Visibility(terrain, settings.d_max, targets, n_threads=n_threads)
-    sensors = None if settings.sensor is None else [settings.sensor] * settings.n_uavs
+    sensors = settings.team_sensors()
     local_attitudes = mission.best_attitudes
     poses = positions if local_attitudes is None else np.column_stack([positions, local_attitudes])
     seen = np.asarray(vis.seen(poses, sensors=sensors), dtype=bool)
     count = np.zeros(len(targets), dtype=np.int64)
     for k in range(settings.n_uavs):
-        count += vis.seen(poses[k : k + 1], sensors=None if sensors is None else sensors[:1])
+        count += vis.seen(poses[k : k + 1], sensors=None if sensors is None else sensors[k : k + 1])
     coverage = vis.coverage(poses, sensors=sensors)
 
     ground = terrain.ground_height(positions[:, :2])

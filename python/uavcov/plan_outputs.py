@@ -575,6 +575,28 @@ def read_coverage_geotiff(path: Any) -> tuple[np.ndarray, tuple[float, ...], str
 # The report
 
 
+def _sensor_record(sensor: Any) -> dict[str, Any]:
+    """One UAV's sensor for plan.json: its range, limits and camera (QGroundControl's fields)."""
+    return {
+        "d_max_m": sensor.d_max,
+        "d_min_m": sensor.d_min,
+        "camera": None if sensor.camera is None else vars(sensor.camera),
+        "max_gsd_m": sensor.max_gsd_m,
+        "max_incidence_deg": sensor.max_incidence_deg,
+        "good_gsd_m": sensor.good_gsd_m,
+    }
+
+
+def _sensors_line(sensors: list[dict[str, Any]] | None, attitude: list[float]) -> str:
+    """The report's words for the team's sensors (nothing for the omnidirectional one)."""
+    if not sensors:
+        return ""
+    kinds = sorted({"omnidirectional" if r["camera"] is None else "camera" for r in sensors})
+    cameras = [r["camera"] for r in sensors if r["camera"] is not None]
+    words = f", sensors: {' and '.join(kinds)} ({len(cameras)} of {len(sensors)} with a camera)"
+    return words + (f", first camera {cameras[0]}, attitude {attitude}" if cameras else "")
+
+
 def _document(fp: FlightPlan, command: str | None, runtime_s: float | None) -> dict[str, Any]:
     settings = fp.settings
     return {
@@ -602,7 +624,7 @@ def _document(fp: FlightPlan, command: str | None, runtime_s: float | None) -> d
             "separation_m": settings.separation,
             "prior": settings.prior,
             "iterations": settings.iterations,
-            "camera": None if settings.sensor is None or settings.sensor.camera is None else vars(settings.sensor.camera),
+            "sensors": None if settings.sensor is None else [_sensor_record(s) for s in settings.team_sensors() or []],
             "attitude_deg": list(settings.attitude),
             "cao_alpha0_m": fp.mission.spec.cao.alpha0,
             "hold_s": settings.hold_s,
@@ -745,8 +767,7 @@ def _report_md(fp: FlightPlan, document: dict[str, Any]) -> bytes:
         "## Settings",
         "",
         f"- area: {document['area']}",
-        f"- team: {s['n_uavs']} UAVs, range d_max = {s['d_max_m']:g} m"
-        + ("" if s["camera"] is None else f", camera {s['camera']}, attitude {s['attitude_deg']}"),
+        f"- team: {s['n_uavs']} UAVs, range d_max = {s['d_max_m']:g} m" + _sensors_line(s["sensors"], s["attitude_deg"]),
         (
             f"- flight limits: {s['h_min_m']:g} to {s['h_max_m']:g} m above ground, {s['separation_m']:g} m apart, "
             "inside the area's bounding box"

@@ -144,13 +144,12 @@ def _configuration(result: Any, configuration: Any) -> tuple[np.ndarray, str, in
 def _sight(result: Any, positions: np.ndarray, iteration: int | None) -> tuple[np.ndarray, list[Any] | None]:
     """What a run's UAVs see through at ``positions``: ``(positions, None)`` for the paper's
     sensor, else the poses ``(N, 5)`` (the run's camera angles at ``iteration``, or its spec's
-    when the iteration is unknown) and the run's sensor once per UAV."""
+    when the iteration is unknown) and each UAV's sensor."""
     spec = getattr(result, "spec", None)
-    sensor = getattr(spec, "sensor", None)
-    if spec is None or sensor is None:
+    sensors = spec.team_sensors() if spec is not None and getattr(spec, "sensor", None) is not None else None
+    if spec is None or sensors is None or len(sensors) != positions.shape[0]:
         return positions, None
-    sensors = [sensor] * positions.shape[0]
-    if sensor.camera is None:
+    if not spec.has_camera:
         return positions, sensors
     attitudes = getattr(result, "attitudes", None)
     if attitudes is not None and iteration is not None and attitudes.shape[1] == positions.shape[0]:

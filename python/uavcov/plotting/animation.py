@@ -75,9 +75,9 @@ def animate_mission(
     )
     d = _d_max(result)
     view = _TopView(result.terrain, d, as_positive_int(raster, "raster"))
-    sensor = _setting(result, "sensor")
-    attitudes = getattr(result, "attitudes", None) if sensor is not None and sensor.camera is not None else None
-    sensors = None if sensor is None else [sensor] * traj.shape[1]
+    spec = result.spec
+    sensors = spec.team_sensors() if getattr(spec, "sensor", None) is not None else None
+    attitudes = getattr(result, "attitudes", None) if sensors is not None and spec.has_camera else None
 
     def poses(k: int) -> np.ndarray:
         return traj[k] if attitudes is None else np.column_stack([traj[k], attitudes[k]])
