@@ -197,6 +197,11 @@ ABLATIONS: tuple[Ablation, ...] = (
     Ablation("prior-100", "100 prior samples instead of 30", {"n_prior": 100}),
     Ablation("corner-launch", "the corner team launched 8 m above S' (a start-specific height)", {"start.corner_altitude": 8.0}),
     Ablation(
+        "hold",
+        "an inadmissible UAV holds its position within a candidate, the others move (eq. 6 neglects the whole candidate)",
+        {"cao.infeasible": "hold"},
+    ),
+    Ablation(
         "per-robot",
         "per-robot CAO: each UAV fits its own estimator and keeps its own admissible move (the paper's CAO is centralised)",
         {"optimizer": "per_robot"},
