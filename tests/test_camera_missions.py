@@ -162,6 +162,10 @@ def test_the_footprint_start_picks_the_height_of_the_hand_computed_best_match():
         fit_footprints(flat, starts, sensor, [[0.0, -90.0]] * 3, heights=(10.0, 100.0))
     with pytest.raises(InvalidInputError, match="heights"):
         fit_footprints(flat, starts, sensor, [[0.0, -90.0]] * 4, heights=(50.0, 10.0))
+    with pytest.raises(InvalidInputError, match="poses per UAV"):
+        fit_footprints(flat, starts, sensor, [[0.0, -90.0]] * 4, heights=(10.0, 100.0), n_heights=10**9)
+    with pytest.raises(InvalidInputError, match="beyond"):
+        fit_footprints(flat, starts, sensor, [[0.0, -90.0]] * 4, heights=(1e300, 1e300))
 
 
 def test_a_footprint_start_sees_more_of_the_hills_than_the_papers_low_start():

@@ -327,6 +327,9 @@ def test_bad_input_raises_clear_errors(tmp_path: Path, utm_tif: Path):
         ("nodata", "four valid corners"),
         ("fake", "cannot read"),
         ("both", "not both"),
+        ("heading without a camera", "need a camera"),
+        ("pitch out of range", "pitch_range"),
+        ("camera pointing up", "point up"),
     ],
 )
 def test_the_cli_answers_bad_input_with_one_line_and_writes_nothing(tmp_path: Path, capsys, utm_tif: Path, case: str, message: str):
@@ -357,6 +360,12 @@ def test_the_cli_answers_bad_input_with_one_line_and_writes_nothing(tmp_path: Pa
         dem = str(tmp_path / "fake.tif")
     elif case == "both":
         extra = ["--sample"]
+    elif case == "heading without a camera":
+        extra = ["--free-heading"]
+    elif case == "pitch out of range":
+        extra = ["--camera", "60,45", "--pitch-range=-120,0"]
+    elif case == "camera pointing up":
+        extra = ["--camera", "60,45", "--attitude=0,30"]
     code = main(["plan", dem, "--uavs", "3", "--d-max", "100", "--iterations", "2", "--out", str(out), *extra])
     err = capsys.readouterr().err
     assert code == EXIT_BAD_INPUT

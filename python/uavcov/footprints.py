@@ -45,6 +45,11 @@ from .visibility import Visibility
 
 __all__ = ["FootprintFit", "fit_footprints"]
 
+_MAX_HEIGHT = 1e6
+"""The highest height above S' :func:`fit_footprints` searches, metres (far beyond any camera's use)."""
+_MAX_POSES_PER_UAV = 10_000
+"""Most heights x pitches :func:`fit_footprints` tries per UAV (each heading counts once more)."""
+
 
 @dataclass(frozen=True, eq=False)
 class FootprintFit:
@@ -146,8 +151,12 @@ def fit_footprints(
     band = as_float_array(heights, "heights")
     if band.shape != (2,) or not 0.0 < band[0] <= band[1]:
         raise InvalidInputError(f"heights must be (lowest, highest) with 0 < lowest <= highest, got {heights!r}")
+    if band[1] > _MAX_HEIGHT:
+        raise InvalidInputError(f"heights above S' of {band[1]:g} m are beyond the {_MAX_HEIGHT:g} m a camera start considers")
     n_heights = as_positive_int(n_heights, "n_heights")
     n_pitches = as_positive_int(n_pitches, "n_pitches")
+    if n_heights * n_pitches > _MAX_POSES_PER_UAV:  # each is a visibility query: refuse a search that would not end
+        raise InvalidInputError(f"n_heights x n_pitches = {n_heights * n_pitches:,} poses per UAV; at most {_MAX_POSES_PER_UAV:,}")
     if bounds is None:
         b = surface.bounds
         bounds = (float(b[0, 0]), float(b[0, 1]), float(b[1, 0]), float(b[1, 1]))
