@@ -18,7 +18,18 @@ import numpy as np
 
 from .._validate import as_positive_float, as_positive_int
 from ..errors import InvalidInputError
-from ._canvas import END_COLOUR, INIT_COLOURS, SEEN_COLOUR, START_COLOUR, UNSEEN_COLOUR, _line, _marker, _matplotlib, _patch
+from ._canvas import (
+    END_COLOUR,
+    FOOTPRINT_COLOUR,
+    INIT_COLOURS,
+    SEEN_COLOUR,
+    START_COLOUR,
+    UNSEEN_COLOUR,
+    _line,
+    _marker,
+    _matplotlib,
+    _patch,
+)
 from ._inputs import _as_result, _curve, _d_max, _setting, _trajectory
 from .cameras import footprints
 from .views import _TopView
@@ -106,7 +117,9 @@ def animate_mission(
     paths = [ax_map.plot([], [], color="0.1", linewidth=0.8)[0] for _ in range(traj.shape[1])]
     uavs = ax_map.scatter(traj[0, :, 0], traj[0, :, 1], s=36, c=[END_COLOUR], edgecolors="black", linewidths=0.6, zorder=4)
     outlines = (
-        [ax_map.plot([], [], color="#d62728", linewidth=0.9, zorder=3)[0] for _ in range(traj.shape[1])] if attitudes is not None else []
+        [ax_map.plot([], [], color=FOOTPRINT_COLOUR, linewidth=1.0, zorder=3)[0] for _ in range(traj.shape[1])]
+        if attitudes is not None
+        else []
     )
     headings = [ax_map.plot([], [], color="black", linewidth=1.0, zorder=4)[0] for _ in outlines]
     arrow = 0.05 * max(view.extent[1] - view.extent[0], view.extent[3] - view.extent[2])
@@ -116,7 +129,7 @@ def animate_mission(
             _patch(UNSEEN_COLOUR, "not seen"),
             _marker("start", marker="o", color=START_COLOUR, markersize=4),
             _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6),
-            *([_line("footprint", color="#d62728")] if outlines else []),
+            *([_line("footprint", color=FOOTPRINT_COLOUR)] if outlines else []),
         ],
         fontsize=7,
         loc="upper center",

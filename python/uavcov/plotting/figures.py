@@ -35,6 +35,7 @@ from ..visibility import Visibility
 from . import _runs
 from ._canvas import (
     END_COLOUR,
+    FOOTPRINT_COLOUR,
     INIT_COLOURS,
     SEEN_COLOUR,
     START_COLOUR,
@@ -348,7 +349,7 @@ def plot_coverage_map(
             for outline in footprints(terrain, sight, sensors):
                 if outline.shape[0]:
                     closed = np.vstack([outline, outline[:1]])
-                    ax.plot(closed[:, 0], closed[:, 1], color="#d62728", linewidth=0.9)
+                    ax.plot(closed[:, 0], closed[:, 1], color=FOOTPRINT_COLOUR, linewidth=1.0)
         if path is not None:
             for i in range(path.shape[1]):
                 ax.plot(path[:, i, 0], path[:, i, 1], color="0.1", linewidth=0.8, alpha=0.8)
