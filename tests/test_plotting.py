@@ -695,22 +695,27 @@ def test_camera_views_draw_each_footprint_and_the_quality_map(tmp_path):
         plotting.plot_camera_views(mesh, poses, sensors)
 
 
+def _camera_run(terrain, sensor, n_uavs, attitude, iterations, altitude, rng):
+    """A short mission of a camera team whose heading CAO moves (5-30 m above the ground)."""
+    spec = uavcov.MissionSpec(
+        n_uavs=n_uavs,
+        d_max=sensor.d_max,
+        iterations=iterations,
+        sensor=sensor,
+        attitude=attitude,
+        gimbal=uavcov.Gimbal(free_yaw=True),
+        start=uavcov.StartSpec(altitude=altitude),
+        constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
+    )
+    return uavcov.run_mission(terrain, spec, rng=rng)
+
+
 def test_a_camera_run_animates_what_its_cameras_see(tmp_path, monkeypatch):
     from uavcov.plotting import animation
 
     terrain = uavcov.gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=5)
     sensor = uavcov.Sensor(40.0, camera=uavcov.Camera.from_fov(60.0, 45.0))
-    spec = uavcov.MissionSpec(
-        n_uavs=3,
-        d_max=40.0,
-        iterations=6,
-        sensor=sensor,
-        attitude=(0.0, -60.0),
-        gimbal=uavcov.Gimbal(free_yaw=True),
-        start=uavcov.StartSpec(altitude=15.0),
-        constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
-    )
-    run = uavcov.run_mission(terrain, spec, rng=1)
+    run = _camera_run(terrain, sensor, 3, (0.0, -60.0), iterations=6, altitude=15.0, rng=1)
     path = save_mission(run, tmp_path / "camera.npz")
     shown = []  # the coverage fractions each frame draws, and the footprints outlined
     fraction, outline = views._TopView.fraction, animation.footprints
@@ -730,17 +735,7 @@ def test_a_camera_run_animates_what_its_cameras_see(tmp_path, monkeypatch):
 def test_coverage_maps_and_seen_points_of_a_camera_run_are_what_its_cameras_see():
     terrain = uavcov.gaussian_hills(size=40.0, spacing=1.0, n_hills=3, rng=2)
     sensor = uavcov.Sensor(30.0, camera=uavcov.Camera.from_fov(50.0, 40.0))
-    spec = uavcov.MissionSpec(
-        n_uavs=2,
-        d_max=30.0,
-        iterations=4,
-        sensor=sensor,
-        attitude=(30.0, -50.0),
-        gimbal=uavcov.Gimbal(free_yaw=True),
-        start=uavcov.StartSpec(altitude=12.0),
-        constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
-    )
-    run = uavcov.run_mission(terrain, spec, rng=4)
+    run = _camera_run(terrain, sensor, 2, (30.0, -50.0), iterations=4, altitude=12.0, rng=4)
     poses = np.column_stack([run.trajectory[-1], run.attitudes[-1]])
     vis = Visibility(terrain, 30.0)
     nodes = vis.seen(poses, sensors=[sensor] * 2).reshape(terrain.grid.shape)
