@@ -338,3 +338,25 @@ def test_format_1_run_files_still_load(short_run, tmp_path):
     old = load_mission(tmp_path / "old.npz")
     assert old.spec.start.kind == "cvt" and old.seed == 7 and old.spec.constraints.h_min == 2.0
     np.testing.assert_array_equal(old.coverage, short_run.coverage)
+
+
+def test_a_team_that_stays_is_not_measured_again(hills, monkeypatch):
+    calls = []
+    for name in ("coverage", "per_uav"):
+        original = getattr(uavcov.Visibility, name)
+        monkeypatch.setattr(uavcov.Visibility, name, lambda self, *a, _f=original, **k: calls.append(1) or _f(self, *a, **k))
+    # a big first step in a narrow band: many iterations find nothing admissible and stay
+    spec = _spec(
+        5,
+        iterations=60,
+        cao=CAOSettings(alpha0=20.0, stability=5.0, decay=1.0),
+        **{"start.altitude": 2.0, "start.climb": 1.0},
+        constraints=Constraints(h_min=1.0, h_max=3.0, z_max=80.0, d_safe=1.0),
+    )
+    r = run_mission(hills, spec, rng=3)
+    moves = int((r.trajectory[1:] != r.trajectory[:-1]).any(axis=(1, 2)).sum())
+    assert r.evaluations == 61 and moves < 60  # the optimiser counts every measurement, some repeated
+    assert len(calls) == 1 + moves  # the engine ran once per new configuration
+    monkeypatch.undo()
+    vis = uavcov.Visibility(hills, 25.0)
+    assert [vis.coverage(x) for x in r.trajectory] == r.coverage.tolist()  # every value is its configuration's
