@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InvalidInputError, InvalidTypeError, MissingExtraError, ResultsFolderError
+from .geo import RasterGrid
 from .plan import FlightPlan
 
 __all__ = [
@@ -494,70 +495,69 @@ def read_plan_kml(path: Any) -> np.ndarray:
 # The coverage GeoTIFF
 
 
-def _coverage_geotiff(fp: FlightPlan) -> bytes | None:
-    raster = fp.dem.raster
-    if raster is None or fp.target_pixels is None:
-        return None  # a mesh has no grid
+def _target_geotiff(
+    fp: FlightPlan,
+    raster: RasterGrid,
+    pixels: np.ndarray,
+    values: Sequence[np.ndarray],
+    dtype: str,
+    nodata: float,
+    descriptions: Sequence[str],
+    **tags: str,
+) -> bytes:
+    """A GeoTIFF in the DEM's grid (``raster``) and CRS with one band per ``values`` (one value per
+    target, at its ``pixels``; ``nodata`` in every other cell), written in memory."""
     try:
         import rasterio
         from rasterio.io import MemoryFile
         from rasterio.transform import Affine
     except ImportError as exc:
-        raise MissingExtraError("writing the coverage GeoTIFF needs rasterio: pip install 'uavcov[geo]'") from exc
+        raise MissingExtraError("writing GeoTIFFs needs rasterio: pip install 'uavcov[geo]'") from exc
     rows, cols = raster.shape
-    bands = np.full((2, rows, cols), COVERAGE_NODATA, dtype=np.uint16)
-    r, c = fp.target_pixels[:, 0], fp.target_pixels[:, 1]
-    bands[0, r, c] = fp.seen.astype(np.uint16)
-    bands[1, r, c] = fp.seen_count.astype(np.uint16)
+    bands = np.full((len(values), rows, cols), nodata, dtype=dtype)
+    r, c = pixels[:, 0], pixels[:, 1]
+    for band, value in zip(bands, values, strict=True):
+        band[r, c] = value.astype(dtype)
     profile = {
         "driver": "GTiff",
         "height": rows,
         "width": cols,
-        "count": 2,
-        "dtype": "uint16",
+        "count": len(values),
+        "dtype": dtype,
         "crs": rasterio.crs.CRS.from_user_input(fp.dem.crs),
         "transform": Affine(*raster.transform),
-        "nodata": COVERAGE_NODATA,
+        "nodata": nodata,
         "compress": "deflate",
     }
     with MemoryFile() as memory:
         with memory.open(**profile) as dataset:
             dataset.write(bands)
-            dataset.set_band_description(1, "seen by at least one UAV (1) or not (0)")
-            dataset.set_band_description(2, "number of UAVs that see the cell")
-            dataset.update_tags(vertical_datum=fp.dem.vertical_datum, coverage=f"{fp.coverage:.6f}")
+            for k, text in enumerate(descriptions, start=1):
+                dataset.set_band_description(k, text)
+            dataset.update_tags(vertical_datum=fp.dem.vertical_datum, **tags)
         return bytes(memory.read())
+
+
+def _coverage_geotiff(fp: FlightPlan) -> bytes | None:
+    if fp.dem.raster is None or fp.target_pixels is None:
+        return None  # a mesh has no grid
+    return _target_geotiff(
+        fp,
+        fp.dem.raster,
+        fp.target_pixels,
+        [fp.seen, fp.seen_count],
+        "uint16",
+        COVERAGE_NODATA,
+        ["seen by at least one UAV (1) or not (0)", "number of UAVs that see the cell"],
+        coverage=f"{fp.coverage:.6f}",
+    )
 
 
 def _quality_geotiff(fp: FlightPlan) -> bytes | None:
-    raster = fp.dem.raster
-    if raster is None or fp.target_pixels is None or fp.quality is None:
+    if fp.dem.raster is None or fp.target_pixels is None or fp.quality is None:
         return None
-    try:
-        import rasterio
-        from rasterio.io import MemoryFile
-        from rasterio.transform import Affine
-    except ImportError as exc:
-        raise MissingExtraError("writing the quality GeoTIFF needs rasterio: pip install 'uavcov[geo]'") from exc
-    rows, cols = raster.shape
-    band = np.full((1, rows, cols), np.nan, dtype=np.float32)
-    band[0, fp.target_pixels[:, 0], fp.target_pixels[:, 1]] = fp.quality.astype(np.float32)
-    profile = {
-        "driver": "GTiff",
-        "height": rows,
-        "width": cols,
-        "count": 1,
-        "dtype": "float32",
-        "crs": rasterio.crs.CRS.from_user_input(fp.dem.crs),
-        "transform": Affine(*raster.transform),
-        "nodata": float("nan"),
-        "compress": "deflate",
-    }
-    with MemoryFile() as memory:
-        with memory.open(**profile) as dataset:
-            dataset.write(band)
-            dataset.set_band_description(1, "best view quality over the team, 0-1 (0: not seen; resolution x cos incidence)")
-        return bytes(memory.read())
+    description = "best view quality over the team, 0-1 (0: not seen; resolution x cos incidence)"
+    return _target_geotiff(fp, fp.dem.raster, fp.target_pixels, [fp.quality], "float32", float("nan"), [description])
 
 
 def read_coverage_geotiff(path: Any) -> tuple[np.ndarray, tuple[float, ...], str]:
