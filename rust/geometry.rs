@@ -1,9 +1,12 @@
 //! The vocabulary every surface shares: [`Point`], the conversions to and from parry's vectors,
-//! the area of a triangle, and what a line of sight is ([`SIGHT_FRACTION`]).
+//! the area of a triangle, the ray-triangle test, and what a line of sight is
+//! ([`SIGHT_FRACTION`]).
 //!
 //! A leaf: it imports nothing from the rest of the crate.
 
 use parry3d_f64::math::Vector;
+use parry3d_f64::query::details::local_ray_intersection_with_triangle;
+use parry3d_f64::query::Ray;
 
 /// A point or vector in metres, Z up.
 pub type Point = [f64; 3];
@@ -32,6 +35,46 @@ pub fn in_bounds(q: Point) -> bool {
 /// target's own triangles never count as an obstruction.
 pub const SIGHT_FRACTION: f64 = 0.999;
 
+/// Time of impact of `ray` on the triangle `[a, b, c]` (in units of its direction), if any:
+/// parry's test, the leaf test of every path, but for one case where it errs.
+///
+/// From an origin exactly in the triangle's plane, parry's test reports a hit at time 0 for a
+/// ray leaving towards the back of the triangle whenever the origin's mirror image lies in it
+/// (its sign convention assumes the origin in front); that ray meets the plane at its origin
+/// only, so it hits the triangle when the origin lies in the closed triangle, and that is the
+/// answer given. (A UAV right above a vertical wall's corner, its `x, y` those of the corner,
+/// is in the plane of both walls: it saw nothing through half of its directions.)
+#[inline(always)]
+pub(crate) fn triangle_hit(a: Vector, b: Vector, c: Vector, ray: &Ray) -> Option<f64> {
+    let toi = local_ray_intersection_with_triangle(a, b, c, ray)?.0.time_of_impact;
+    if toi == 0.0 && !in_closed_triangle(a, b, c, ray.origin) {
+        return None;
+    }
+    Some(toi)
+}
+
+/// Whether `p`, a point of the plane of `[a, b, c]` (to rounding), lies in the closed
+/// triangle: the signs of the three edge functions in the projection along the normal's
+/// largest component.
+#[cold]
+fn in_closed_triangle(a: Vector, b: Vector, c: Vector, p: Vector) -> bool {
+    let n = (b - a).cross(c - a);
+    let (ax, ay, az) = (n.x.abs(), n.y.abs(), n.z.abs());
+    let flat = |q: Vector| {
+        if az >= ax && az >= ay {
+            (q.x, q.y)
+        } else if ay >= ax {
+            (q.z, q.x)
+        } else {
+            (q.y, q.z)
+        }
+    };
+    let (a, b, c, p) = (flat(a), flat(b), flat(c), flat(p));
+    let edge = |u: (f64, f64), w: (f64, f64)| (w.0 - u.0) * (p.1 - u.1) - (w.1 - u.1) * (p.0 - u.0);
+    let s = [edge(a, b), edge(b, c), edge(c, a)];
+    s.iter().all(|&e| e >= 0.0) || s.iter().all(|&e| e <= 0.0)
+}
+
 /// `p` as a parry vector.
 #[inline]
 pub(crate) fn v(p: Point) -> Vector {
@@ -47,4 +90,32 @@ pub(crate) fn p(v: Vector) -> Point {
 /// Area of the triangle `abc`.
 pub(crate) fn triangle_area(a: Vector, b: Vector, c: Vector) -> f64 {
     0.5 * (b - a).cross(c - a).length()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ray_from_a_triangles_plane_hits_it_only_from_inside_it() {
+        // A vertical triangle, and a ray from a point of its plane right above its top corner
+        // `a` (same x, y), leaving the plane at once: it meets the plane only at its origin,
+        // outside the triangle. Parry's test calls it a hit at time 0 (it measures the origin
+        // from `a` with the sign flipped); `triangle_hit` does not.
+        let (a, b, c) = (
+            Vector::new(10.91595018664934, 6.123088340634646, 4.7868969177249445),
+            Vector::new(10.91595018664934, 6.123088340634646, 2.631536630843179),
+            Vector::new(11.663302429626496, 5.2652655850301, 2.363414226843859),
+        );
+        let origin = Vector::new(10.91595018664934, 6.123088340634646, 6.7447541791176535);
+        let target = Vector::new(11.002785818594196, 3.9867476533539756, 1.4879664395704932);
+        let ray = Ray::new(origin, target - origin);
+        assert_eq!(local_ray_intersection_with_triangle(a, b, c, &ray).map(|h| h.0.time_of_impact), Some(0.0));
+        assert_eq!(triangle_hit(a, b, c, &ray), None);
+        // Ordinary hits pass unchanged.
+        let n = (b - a).cross(c - a).normalize();
+        let front = Ray::new((a + b + c) / 3.0 + n * 2.0, n * -4.0);
+        assert_eq!(triangle_hit(a, b, c, &front), local_ray_intersection_with_triangle(a, b, c, &front).map(|h| h.0.time_of_impact));
+        assert!(triangle_hit(a, b, c, &front).is_some_and(|t| t > 0.0));
+    }
 }

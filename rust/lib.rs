@@ -68,6 +68,7 @@ pub mod flight;
 pub mod geometry;
 pub mod grid;
 pub mod heightfield;
+mod horizon;
 pub mod mesh;
 pub mod sampling;
 pub mod sensor;

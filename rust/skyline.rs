@@ -15,9 +15,10 @@
 //! gradient over the sector. Each bound is rounded up to one of 256 levels, so a skyline is 32
 //! bytes. The geometry shared by all nodes of a grid (which triangles, how far, which sectors)
 //! is computed once, in a [`Stencil`]; [`Skylines`] keeps them per chunk of targets, computed
-//! on demand.
+//! on demand. The mesh path builds the skylines of its targets the same way, from the triangles
+//! of its BVH ([`SkylineBounds`]).
 //!
-//! Internal to the grid path of [`crate::visibility`]; it reads only [`crate::grid`].
+//! Internal to [`crate::visibility`]; it reads only [`crate::grid`].
 //!
 //! [`HeightField::line_of_sight_to_node`]: crate::heightfield::HeightField::line_of_sight_to_node
 
@@ -61,6 +62,9 @@ pub(crate) fn sector_of(a: f64) -> usize {
 }
 
 impl Skyline {
+    /// Every bound `+inf`: clears nothing.
+    pub(crate) const UNBOUNDED: Self = Self([255; SECTORS]);
+
     /// The upper bound on the slope from the node towards sector `k`, for every point of the
     /// surface within [`REACH`] cells whose direction lies within one sector of `k`; `+inf` when
     /// nothing is known, `LEVELS[0]` (about -64) where there is no surface.
@@ -76,8 +80,7 @@ impl Skyline {
 #[derive(Debug, Clone)]
 pub(crate) struct Stencil {
     cells: Vec<Cell>,
-    /// Unit vectors along the sector boundaries: `edges[k]` at pseudo-angle `4k / SECTORS`.
-    edges: [(f64, f64); SECTORS + 1],
+    edges: SectorEdges,
     /// Cell size, metres.
     dx: f64,
     dy: f64,
@@ -103,9 +106,94 @@ enum Shape {
 
 /// Sectors `first..=last`, or across +x when `first > last` (`first..SECTORS`, then `0..=last`).
 #[derive(Debug, Clone, Copy)]
-struct Span {
+pub(crate) struct Span {
     first: usize,
     last: usize,
+}
+
+impl Span {
+    /// Sectors `first..=last`, across +x when `first > last`.
+    pub(crate) fn new(first: usize, last: usize) -> Self {
+        debug_assert!(first < SECTORS && last < SECTORS);
+        Self { first, last }
+    }
+
+    /// How many sectors.
+    fn len(self) -> usize {
+        if self.first <= self.last {
+            self.last - self.first + 1
+        } else {
+            SECTORS - self.first + self.last + 1
+        }
+    }
+}
+
+/// Every sector.
+pub(crate) const ALL_SECTORS: Span = Span { first: 0, last: SECTORS - 1 };
+
+/// The unit vectors along the sector boundaries: `edges[k]` at pseudo-angle `4k / SECTORS`.
+pub(crate) type SectorEdges = [(f64, f64); SECTORS + 1];
+
+/// The [`SectorEdges`].
+pub(crate) fn sector_edges() -> SectorEdges {
+    let mut edges = [(0.0, 0.0); SECTORS + 1];
+    for (k, e) in edges.iter_mut().enumerate() {
+        *e = direction(4.0 * k as f64 / SECTORS as f64);
+    }
+    edges
+}
+
+/// A [`Skyline`] while the surface around its point is entered: a bound per sector.
+pub(crate) struct SkylineBounds<'a> {
+    bound: [f64; SECTORS],
+    edges: &'a SectorEdges,
+}
+
+impl<'a> SkylineBounds<'a> {
+    /// Nothing entered yet: no surface in any direction.
+    pub(crate) fn new(edges: &'a SectorEdges) -> Self {
+        Self { bound: [f64::NEG_INFINITY; SECTORS], edges }
+    }
+
+    /// Enters a plane of gradient `(gx, gy)` over the sectors of `span`: its slope from the
+    /// point is at most `lift + g . u` in direction `u`.
+    pub(crate) fn add_plane(&mut self, lift: f64, (gx, gy): (f64, f64), span: Span) {
+        // The largest value of g . u over the unit vectors u of a sector: a sinusoid in the
+        // angle, so |g| when g points into the sector, else its value at an end.
+        let steepest = (gx * gx + gy * gy).sqrt();
+        let (ex, ey) = self.edges[span.first];
+        let (mut dot, mut right_of) = (gx * ex + gy * ey, ex * gy - ey * gx >= 0.0);
+        for t in 0..span.len() {
+            let k = (span.first + t) % SECTORS;
+            let (fx, fy) = self.edges[k + 1];
+            let (next_dot, next_right_of) = (gx * fx + gy * fy, fx * gy - fy * gx >= 0.0);
+            let top = lift + if right_of && !next_right_of { steepest } else { dot.max(next_dot) };
+            self.bound[k] = self.bound[k].max(top);
+            (dot, right_of) = (next_dot, next_right_of);
+        }
+    }
+
+    /// Enters a slope of at most `slope` (NaN: unknown, `+inf`) over the sectors of `span`.
+    pub(crate) fn add_slope(&mut self, slope: f64, span: Span) {
+        let slope = if slope.is_nan() { f64::INFINITY } else { slope };
+        for t in 0..span.len() {
+            let k = (span.first + t) % SECTORS;
+            self.bound[k] = self.bound[k].max(slope);
+        }
+    }
+
+    /// The skyline: each sector also answers for its neighbours' directions, which absorbs the
+    /// rounding of every pseudo-angle, then every bound is rounded up to a level (with a margin
+    /// of 1e-9).
+    pub(crate) fn finish(&self) -> Skyline {
+        let bound = &self.bound;
+        let mut codes = [0u8; SECTORS];
+        for (k, code) in codes.iter_mut().enumerate() {
+            let wide = bound[(k + SECTORS - 1) % SECTORS].max(bound[k]).max(bound[(k + 1) % SECTORS]);
+            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(&LEVELS, wide + 1e-9 * (1.0 + wide.abs())) };
+        }
+        Skyline(codes)
+    }
 }
 
 impl Stencil {
@@ -142,11 +230,7 @@ impl Stencil {
                 cells.push(Cell { di, dj, tris: [shape([a, b, c]), shape([a, c, d])] });
             }
         }
-        let mut edges = [(0.0, 0.0); SECTORS + 1];
-        for (k, e) in edges.iter_mut().enumerate() {
-            *e = direction(4.0 * k as f64 / SECTORS as f64);
-        }
-        Self { cells, edges, dx, dy }
+        Self { cells, edges: sector_edges(), dx, dy }
     }
 
     /// The stencil of `grid`.
@@ -164,7 +248,7 @@ impl Stencil {
         debug_assert!(zt.is_finite());
         let (inv_dx, inv_dy) = (1.0 / self.dx, 1.0 / self.dy);
         let (rows, cols) = ((grid.ny - 1) as isize, (nx - 1) as isize);
-        let mut bound = [f64::NEG_INFINITY; SECTORS];
+        let mut bounds = SkylineBounds::new(&self.edges);
         for cell in &self.cells {
             let (ci, cj) = (i as isize + cell.di, j as isize + cell.dj);
             if ci < 0 || cj < 0 || ci >= rows || cj >= cols {
@@ -189,40 +273,19 @@ impl Stencil {
                         (if h0 > 0.0 { h0 * inv_near } else { h0 * inv_far }, span)
                     }
                 };
-                // The largest value of g . u over the unit vectors u of a sector: a sinusoid in
-                // the angle, so |g| when g points into the sector, else its value at an end.
-                let steepest = (gx * gx + gy * gy).sqrt();
-                let len = if span.first <= span.last { span.last - span.first + 1 } else { SECTORS - span.first + span.last + 1 };
-                let (ex, ey) = self.edges[span.first];
-                let (mut dot, mut right_of) = (gx * ex + gy * ey, ex * gy - ey * gx >= 0.0);
-                for t in 0..len {
-                    let k = (span.first + t) % SECTORS;
-                    let (fx, fy) = self.edges[k + 1];
-                    let (next_dot, next_right_of) = (gx * fx + gy * fy, fx * gy - fy * gx >= 0.0);
-                    let top = lift + if right_of && !next_right_of { steepest } else { dot.max(next_dot) };
-                    bound[k] = bound[k].max(top);
-                    (dot, right_of) = (next_dot, next_right_of);
-                }
+                bounds.add_plane(lift, (gx, gy), span);
             }
         }
-        // Each sector also answers for its neighbours' directions, which absorbs the rounding of
-        // every pseudo-angle, then every bound is rounded up to a level (with a margin of 1e-9).
-        let mut codes = [0u8; SECTORS];
-        for (k, code) in codes.iter_mut().enumerate() {
-            let wide = bound[(k + SECTORS - 1) % SECTORS].max(bound[k]).max(bound[(k + 1) % SECTORS]);
-            *code = if wide == f64::NEG_INFINITY { 0 } else { level_above(&LEVELS, wide + 1e-9 * (1.0 + wide.abs())) };
-        }
-        Skyline(codes)
+        bounds.finish()
     }
 }
 
-/// The skylines of a set of grid-node targets split into chunks, computed when a sight line to
-/// a target first needs one, from a chunk's second evaluation on: a chunk evaluated once (a
-/// one-off coverage, the edge of a large map) is not worth the cost, while one evaluated again
-/// most likely will be, many times over (an optimiser's loop). Answers never depend on it.
+/// The skylines of a set of targets split into chunks, computed when a sight line to a target
+/// first needs one, from a chunk's second evaluation on: a chunk evaluated once (a one-off
+/// coverage, the edge of a large map) is not worth the cost, while one evaluated again most
+/// likely will be, many times over (an optimiser's loop). Answers never depend on it.
 #[derive(Debug)]
 pub(crate) struct Skylines {
-    stencil: Stencil,
     chunks: Vec<Mutex<Slot>>,
 }
 
@@ -230,28 +293,23 @@ pub(crate) struct Skylines {
 enum Slot {
     Untouched,
     Touched,
-    /// One per target of the chunk, [`UNKNOWN`] until computed.
-    Kept(Box<[Skyline]>),
+    /// One per target of the chunk, `None` until computed.
+    Kept(Box<[Option<Skyline>]>),
 }
-
-/// A skyline not computed yet (all bounds `+inf`, which clears nothing).
-const UNKNOWN: Skyline = Skyline([255; SECTORS]);
 
 /// The skylines of one chunk, held for one evaluation of it.
 pub(crate) struct ChunkSkylines<'a> {
     slot: MutexGuard<'a, Slot>,
-    stencil: &'a Stencil,
-    grid: &'a Grid,
 }
 
 impl Skylines {
-    /// An empty store for the targets of `grid`, in `n_chunks` chunks.
-    pub(crate) fn new(grid: &Grid, n_chunks: usize) -> Self {
-        Self { stencil: Stencil::of_grid(grid), chunks: (0..n_chunks).map(|_| Mutex::new(Slot::Untouched)).collect() }
+    /// An empty store for targets in `n_chunks` chunks.
+    pub(crate) fn new(n_chunks: usize) -> Self {
+        Self { chunks: (0..n_chunks).map(|_| Mutex::new(Slot::Untouched)).collect() }
     }
 
-    /// The skylines of chunk `c` (`len` targets of `grid`), or `None` on its first evaluation.
-    pub(crate) fn chunk<'a>(&'a self, c: usize, len: usize, grid: &'a Grid) -> Option<ChunkSkylines<'a>> {
+    /// The skylines of chunk `c` (`len` targets), or `None` on its first evaluation.
+    pub(crate) fn chunk(&self, c: usize, len: usize) -> Option<ChunkSkylines<'_>> {
         // A panic elsewhere cannot leave a slot half-written: every write is a whole value.
         let mut slot = self.chunks[c].lock().unwrap_or_else(PoisonError::into_inner);
         match *slot {
@@ -259,21 +317,18 @@ impl Skylines {
                 *slot = Slot::Touched;
                 return None;
             }
-            Slot::Touched => *slot = Slot::Kept(vec![UNKNOWN; len].into_boxed_slice()),
+            Slot::Touched => *slot = Slot::Kept(vec![None; len].into_boxed_slice()),
             Slot::Kept(_) => {}
         }
-        Some(ChunkSkylines { slot, stencil: &self.stencil, grid })
+        Some(ChunkSkylines { slot })
     }
 }
 
 impl ChunkSkylines<'_> {
-    /// The skyline of target `t` of the chunk, grid node `node` (row-major index).
-    pub(crate) fn get(&mut self, t: usize, node: usize) -> Skyline {
+    /// The skyline of target `t` of the chunk, from `compute` the first time it is asked for.
+    pub(crate) fn get(&mut self, t: usize, compute: impl FnOnce() -> Skyline) -> Skyline {
         let Slot::Kept(kept) = &mut *self.slot else { unreachable!("a chunk is handed out only once kept") };
-        if kept[t] == UNKNOWN {
-            kept[t] = self.stencil.skyline(self.grid, node / self.grid.nx, node % self.grid.nx);
-        }
-        kept[t]
+        *kept[t].get_or_insert_with(compute)
     }
 }
 
@@ -305,7 +360,7 @@ fn wedge_span(p: (f64, f64), q: (f64, f64)) -> Span {
 }
 
 /// The sectors of the directions of a polygon clear of the node, from its corners.
-fn corner_span(corners: &[(f64, f64)]) -> Span {
+pub(crate) fn corner_span(corners: &[(f64, f64)]) -> Span {
     // The polygon lies in a half-plane through the node; one below the x axis has its
     // directions along +x at pseudo-angle 4, not 0, so that its range does not wrap.
     let below = corners.iter().all(|p| p.1 <= 0.0);

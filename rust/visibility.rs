@@ -36,7 +36,7 @@ use crate::heightfield::{HeightField, Horizon};
 use crate::mesh::{Surface, TriangleMesh};
 use crate::sampling::default_targets;
 use crate::sensor::Sensor;
-use crate::skyline::{ChunkSkylines, Skyline, Skylines};
+use crate::skyline::{sector_edges, ChunkSkylines, SectorEdges, Skyline, Skylines, Stencil};
 use crate::threads;
 
 /// Targets per chunk: small enough to balance very unequal UAV footprints, large enough that
@@ -389,7 +389,7 @@ pub struct Visibility {
     range: f64,
     grid_path: bool,
     /// For grid-node targets on the grid path.
-    skylines: Option<Skylines>,
+    skylines: Option<(Skylines, SkylineSource)>,
 }
 
 impl Visibility {
@@ -423,8 +423,12 @@ impl Visibility {
                 false
             }
         };
-        let grid = surface.grid().filter(|_| grid_path && targets.is_grid_nodes());
-        let skylines = grid.map(|g| Skylines::new(g, targets.n_chunks()));
+        let source = if grid_path {
+            surface.grid().filter(|_| targets.is_grid_nodes()).map(|g| SkylineSource::Grid(Stencil::of_grid(g)))
+        } else {
+            Some(SkylineSource::Mesh(sector_edges()))
+        };
+        let skylines = source.map(|s| (Skylines::new(targets.n_chunks()), s));
         let range = d_max.min(UNLIMITED_RANGE);
         Ok(Self { surface, targets, d_max, range, grid_path, skylines })
     }
@@ -475,31 +479,49 @@ impl Visibility {
         into.sort_by(|&u, &w| squared_distance(uavs[u], centre).total_cmp(&squared_distance(uavs[w], centre)));
     }
 
-    /// The skylines of chunk `c`'s targets and their grid nodes (into `nodes`), from the chunk's
-    /// second evaluation on.
+    /// The skylines of chunk `c`'s targets, from the chunk's second evaluation on, and the grid
+    /// nodes of its targets (into `nodes`) on the grid path.
     fn skylines_of(&self, c: usize, nodes: &mut Vec<usize>) -> Option<ChunkSkylines<'_>> {
-        let grid = self.surface.grid()?;
-        let view = self.skylines.as_ref()?.chunk(c, self.targets.chunk_len(c), grid)?;
+        let view = self.skylines.as_ref()?.0.chunk(c, self.targets.chunk_len(c))?;
         nodes.clear();
-        self.targets.chunk_nodes(c, nodes);
+        if let Some((_, SkylineSource::Grid(_))) = &self.skylines {
+            self.targets.chunk_nodes(c, nodes);
+        }
         Some(view)
     }
 
-    /// The engine the tests run on, resolved once per call (the grid path builds each UAV's
-    /// horizon here, in parallel, within [`HORIZON_BUDGET`] bounds in all).
+    /// The skyline of target `q` (grid node `node` on the grid path).
+    fn skyline(&self, q: Point, node: Option<usize>) -> Skyline {
+        match (&self.skylines, node, self.surface.grid()) {
+            (Some((_, SkylineSource::Grid(stencil))), Some(k), Some(grid)) => stencil.skyline(grid, k / grid.nx, k % grid.nx),
+            (Some((_, SkylineSource::Mesh(edges))), _, _) => match self.surface.triangle_mesh() {
+                Ok(mesh) => mesh.skyline(q, edges),
+                Err(_) => Skyline::UNBOUNDED,
+            },
+            _ => Skyline::UNBOUNDED,
+        }
+    }
+
+    /// The engine the tests run on, resolved once per call (each UAV's horizon is built here,
+    /// in parallel, within [`HORIZON_BUDGET`] bounds in all).
     fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
+        let per_uav = HORIZON_BUDGET / uavs.len();
+        let radius = |i: usize| match reach {
+            Reach::Range(_) => self.range,
+            Reach::Sensors(sensors) => sensors[i].range(),
+        };
         Ok(match (self.grid_path, self.surface.heightfield()) {
             (true, Some(field)) => {
-                let per_uav = HORIZON_BUDGET / uavs.len();
-                let radius = |i: usize| match reach {
-                    Reach::Range(_) => self.range,
-                    Reach::Sensors(sensors) => sensors[i].range(),
-                };
                 let horizons: Result<Vec<Horizon>> =
                     uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, radius(i), per_uav)).collect();
                 Engine::Grid(field, horizons?)
             }
-            _ => Engine::Mesh(self.surface.triangle_mesh()?, uavs.to_vec()),
+            _ => {
+                let mesh = self.surface.triangle_mesh()?;
+                let horizons: Result<Vec<Horizon>> =
+                    uavs.par_iter().enumerate().map(|(i, &u)| mesh.horizon(u, radius(i), per_uav)).collect();
+                Engine::Mesh(mesh, horizons?)
+            }
         })
     }
 
@@ -551,7 +573,7 @@ impl Visibility {
                                             continue;
                                         }
                                         if sky.is_none() {
-                                            sky = skylines.as_mut().map(|s| s.get(t, nodes[t]));
+                                            sky = skylines.as_mut().map(|s| s.get(t, || self.skyline(q, nodes.get(t).copied())));
                                         }
                                         if engine.line_of_sight(u, q, sky.as_ref()) {
                                             last = k;
@@ -647,7 +669,7 @@ impl Visibility {
                                             break;
                                         }
                                         if sky.is_none() {
-                                            sky = skylines.as_mut().map(|s| s.get(t, nodes[t]));
+                                            sky = skylines.as_mut().map(|s| s.get(t, || self.skyline(q, nodes.get(t).copied())));
                                         }
                                         if engine.line_of_sight(u, q, sky.as_ref()) {
                                             return quality; // the best of those that see it
@@ -741,7 +763,7 @@ impl Visibility {
                                 let normal = normals.map(|n| n[c * CHUNK + k]);
                                 let in_range = |i: &usize| reach.accepts(*i, uavs[*i], q, normal);
                                 let sky = match &mut skylines {
-                                    Some(s) if near.iter().any(in_range) => Some(s.get(k, nodes[k])),
+                                    Some(s) if near.iter().any(in_range) => Some(s.get(k, || self.skyline(q, nodes.get(k).copied()))),
                                     _ => None,
                                 };
                                 seers.clear();
@@ -779,9 +801,26 @@ impl Visibility {
     }
 }
 
+/// How the targets' skylines are computed.
+enum SkylineSource {
+    /// From the grid's heights around each grid-node target.
+    Grid(Stencil),
+    /// From the triangles of the mesh around each target.
+    Mesh(SectorEdges),
+}
+
+impl std::fmt::Debug for SkylineSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Grid(_) => "SkylineSource::Grid",
+            Self::Mesh(_) => "SkylineSource::Mesh",
+        })
+    }
+}
+
 /// The geometry one evaluation runs on, with what it knows of each UAV.
 enum Engine<'a> {
-    Mesh(&'a TriangleMesh, Vec<Point>),
+    Mesh(&'a TriangleMesh, Vec<Horizon>),
     Grid(&'a HeightField, Vec<Horizon>),
 }
 
@@ -790,7 +829,8 @@ impl Engine<'_> {
     #[inline]
     fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>) -> bool {
         match (self, skyline) {
-            (Engine::Mesh(mesh, uavs), _) => mesh.line_of_sight(uavs[uav], target),
+            (Engine::Mesh(mesh, horizons), Some(sky)) => mesh.line_of_sight_to_target(&horizons[uav], target, sky),
+            (Engine::Mesh(mesh, horizons), None) => mesh.line_of_sight_from(&horizons[uav], target),
             (Engine::Grid(field, horizons), Some(sky)) => field.line_of_sight_to_node(&horizons[uav], target, sky),
             (Engine::Grid(field, horizons), None) => field.line_of_sight_from(&horizons[uav], target),
         }

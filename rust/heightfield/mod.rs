@@ -8,7 +8,7 @@
 //! # Why the answers are identical to the mesh path
 //!
 //! The mesh path walks parry's BVH: a triangle counts for a ray when the ray passes the slab test
-//! of the triangle's bounding box and then `local_ray_intersection_with_triangle`. Here the
+//! of the triangle's bounding box and then the leaf test (parry's, `geometry::triangle_hit`). Here the
 //! bounding volume hierarchy is a quadtree of grid tiles instead: each tile's box spans exactly
 //! the node coordinates it covers and the lowest and highest node heights in it, so it contains
 //! the bounding box of every triangle of its cells, bit for bit. The slab test is monotone under
@@ -60,7 +60,7 @@ use crate::error::{ensure, try_filled, try_with_capacity, Error, Result};
 use crate::geometry::{triangle_area, Point, MAX_COORDINATE, SIGHT_FRACTION};
 use crate::grid::Grid;
 
-pub(crate) use horizon::Horizon;
+pub(crate) use crate::horizon::Horizon;
 use quadtree::{build_levels, Level};
 use walk::{build_tops, TopLevel};
 

@@ -7,13 +7,12 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use parry3d_f64::math::Vector;
-use parry3d_f64::query::details::local_ray_intersection_with_triangle;
 use parry3d_f64::query::{PointQuery, Ray};
 use parry3d_f64::shape::Triangle;
 
 use super::slab::{axis, Cast};
 use super::HeightField;
-use crate::geometry::{p, v, Point};
+use crate::geometry::{p, triangle_hit, v, Point};
 use crate::grid::Grid;
 
 /// The smallest stored tiles are `2^FIRST_SHIFT` cells on a side; below them, cell boxes are
@@ -210,9 +209,9 @@ impl HeightField {
                     if enter_xy.max(nz) > best.min(fx).min(fy).min(fz) {
                         continue;
                     }
-                    if let Some((inter, _)) = local_ray_intersection_with_triangle(p0, p1, p2, &cast.ray) {
-                        if inter.time_of_impact <= *best {
-                            *best = inter.time_of_impact;
+                    if let Some(toi) = triangle_hit(p0, p1, p2, &cast.ray) {
+                        if toi <= *best {
+                            *best = toi;
                             *found = true;
                             if ANY {
                                 return true;

@@ -4,12 +4,11 @@
 //! test.
 
 use parry3d_f64::math::Vector;
-use parry3d_f64::query::details::local_ray_intersection_with_triangle;
 use parry3d_f64::query::Ray;
 
 use super::slab::{axis, max, min, Cast};
 use super::HeightField;
-use crate::geometry::{v, Point};
+use crate::geometry::{triangle_hit, v, Point};
 use crate::grid::Grid;
 
 /// Pieces of segment whose footprint box spans at most this many cells a side are tested cell
@@ -52,20 +51,16 @@ impl HeightField {
         if !zb.is_nan() {
             let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), oz, cast.inv[2]);
             if max(enter_xy, nz) <= min(exit_xy, fz) {
-                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, Vector::new(xb, ya, zb), c, &cast.ray) {
-                    if inter.time_of_impact <= t_max {
-                        return true;
-                    }
+                if triangle_hit(a, Vector::new(xb, ya, zb), c, &cast.ray).is_some_and(|toi| toi <= t_max) {
+                    return true;
                 }
             }
         }
         if !zd.is_nan() {
             let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), oz, cast.inv[2]);
             if max(enter_xy, nz) <= min(exit_xy, fz) {
-                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, c, Vector::new(xa, yc, zd), &cast.ray) {
-                    if inter.time_of_impact <= t_max {
-                        return true;
-                    }
+                if triangle_hit(a, c, Vector::new(xa, yc, zd), &cast.ray).is_some_and(|toi| toi <= t_max) {
+                    return true;
                 }
             }
         }

@@ -17,16 +17,17 @@
 
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::TraversalAction;
-use parry3d_f64::query::details::local_ray_intersection_with_triangle;
 use parry3d_f64::query::{PointQuery, Ray};
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
 use std::sync::OnceLock;
 
 use crate::error::{Error, Result};
-use crate::geometry::{in_bounds, p, triangle_area, v, Point, MAX_COORDINATE, SIGHT_FRACTION};
+use crate::geometry::{in_bounds, p, triangle_area, triangle_hit, v, Point, MAX_COORDINATE, SIGHT_FRACTION};
 use crate::grid::Grid;
 use crate::heightfield::HeightField;
+
+mod sight;
 
 /// Most triangles the general mesh path accepts: about 300 bytes each with the BVH, so this caps
 /// the mesh at a few gigabytes; larger maps belong on the elevation-grid path.
@@ -50,6 +51,12 @@ pub struct TriangleMesh {
     corners: Vec<[Vector; 3]>,
     areas: Vec<f64>,
     total_area: f64,
+    /// The horizons' distance bin, metres: about a triangle's width (the square root of twice
+    /// the mean horizontal area of a triangle; a grid's cell size on the mesh of a grid).
+    horizon_bin: f64,
+    /// Magnitude of the coordinates plus the extent, and of the heights plus their range,
+    /// metres: the scale of the horizons' margins.
+    scales: (f64, f64),
 }
 
 /// A surface to cover: a general triangle mesh, or an elevation grid answered by its
@@ -418,7 +425,16 @@ impl TriangleMesh {
         }
         let mesh = TriMesh::with_flags(points, faces, TriMeshFlags::empty())
             .map_err(|e| Error::Mesh(format!("cannot build the triangle mesh: {e}")))?;
-        Ok(Self { mesh, corners, areas, total_area })
+        let aabb = mesh.local_aabb();
+        let (lo, hi) = (aabb.mins, aabb.maxs);
+        let extent = (hi.x - lo.x).max(hi.y - lo.y);
+        let flat_area: f64 = corners.iter().map(|&[a, b, c]| 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)).abs()).sum();
+        let per_triangle = if flat_area > 0.0 { flat_area } else { total_area } / corners.len() as f64;
+        // At least a 4096th of the extent: finer bins could not reach across it.
+        let horizon_bin = (2.0 * per_triangle).sqrt().max(extent / 4096.0).max(1e-300);
+        let xy = lo.x.abs().max(lo.y.abs()).max(hi.x.abs()).max(hi.y.abs()) + extent;
+        let scales = (xy, lo.z.abs() + hi.z.abs() + (hi.z - lo.z));
+        Ok(Self { mesh, corners, areas, total_area, horizon_bin, scales })
     }
 
     /// The parry triangle mesh.
@@ -439,20 +455,24 @@ impl TriangleMesh {
     /// Any-hit: the traversal stops at the first triangle found, since visibility needs no more.
     #[must_use]
     pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
+        self.ray_hits_between(origin, dir, 0.0, t_max, t_max)
+    }
+
+    /// [`TriangleMesh::ray_hits`] with the limit `t_leaf` for the triangles in BVH nodes the
+    /// ray passes at parameters in `[t_min, t_max]` (`t_max <= t_leaf`).
+    fn ray_hits_between(&self, origin: Point, dir: Point, t_min: f64, t_max: f64, t_leaf: f64) -> bool {
         let ray = Ray::new(v(origin), v(dir));
         let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
         let mut hit = false;
         self.mesh.bvh().traverse(|node| {
-            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, t_max) {
+            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, t_min, t_max) {
                 return TraversalAction::Prune;
             }
             if let Some(f) = node.leaf_data() {
                 let [a, b, c] = self.corners[f as usize];
-                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
-                    if inter.time_of_impact <= t_max {
-                        hit = true;
-                        return TraversalAction::EarlyExit;
-                    }
+                if triangle_hit(a, b, c, &ray).is_some_and(|toi| toi <= t_leaf) {
+                    hit = true;
+                    return TraversalAction::EarlyExit;
                 }
             }
             TraversalAction::Continue
@@ -468,14 +488,14 @@ impl TriangleMesh {
         let mut best = t_max;
         let mut found = false;
         self.mesh.bvh().traverse(|node| {
-            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, best) {
+            if !slab_test(node.mins(), node.maxs(), ray.origin, inv, 0.0, best) {
                 return TraversalAction::Prune;
             }
             if let Some(f) = node.leaf_data() {
                 let [a, b, c] = self.corners[f as usize];
-                if let Some((inter, _)) = local_ray_intersection_with_triangle(a, b, c, &ray) {
-                    if inter.time_of_impact <= best {
-                        best = inter.time_of_impact;
+                if let Some(toi) = triangle_hit(a, b, c, &ray) {
+                    if toi <= best {
+                        best = toi;
                         found = true;
                     }
                 }
@@ -537,8 +557,8 @@ fn footprint_height(a: Vector, b: Vector, c: Vector, x: f64, y: f64, tol: f64) -
 /// product `0 * inf` would otherwise give NaN and prune boxes the ray runs along the face of,
 /// which is what a vertical ray through a grid node does.
 #[inline(always)]
-fn slab_test(mins: Vector, maxs: Vector, o: Vector, inv: Vector, t_max: f64) -> bool {
-    let mut enter = 0.0_f64;
+fn slab_test(mins: Vector, maxs: Vector, o: Vector, inv: Vector, t_min: f64, t_max: f64) -> bool {
+    let mut enter = t_min;
     let mut exit = t_max;
     for axis in 0..3 {
         let (lo, hi, origin, inv_d) = (mins[axis], maxs[axis], o[axis], inv[axis]);

@@ -1,0 +1,413 @@
+//! The mesh path's sight lines, as the grid path's: a UAV's [`Horizon`] from the small boxes of
+//! the BVH, a target's [`Skyline`] from the triangles around it, and the BVH's own exact test
+//! for the stretch of a line that neither clears.
+//!
+//! Both bounds only ever skip triangles that the plain test ([`TriangleMesh::ray_hits`]) would
+//! not count, and every triangle not skipped gets that test: the answers are the same, to the
+//! last bit (`tests` below compare them on terrains, boxes and overhangs).
+
+use parry3d_f64::partitioning::TraversalAction;
+
+use super::TriangleMesh;
+use crate::error::Result;
+use crate::geometry::{Point, SIGHT_FRACTION};
+use crate::grid::pseudo_angle;
+use crate::horizon::{first_unclear, Horizon, HorizonBuilder};
+use crate::skyline::{sector_of, SectorEdges, Skyline, SkylineBounds, Span, ALL_SECTORS, REACH};
+
+impl TriangleMesh {
+    /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally,
+    /// in at most `max_values` bounds: from the boxes of the BVH's nodes within reach, each
+    /// entered whole once it is a leaf or at most two bins wide.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory.
+    pub(crate) fn horizon(&self, uav: Point, radius: f64, max_values: usize) -> Result<Horizon> {
+        let bin = self.horizon_bin;
+        let mut h = HorizonBuilder::new(uav, radius, max_values, bin, self.bounds(), self.scales.0, self.scales.1)?;
+        let reach2 = h.reach * h.reach;
+        let (px, py) = (uav[0], uav[1]);
+        self.mesh.bvh().traverse(|node| {
+            let (lo, hi) = (node.mins(), node.maxs());
+            let (x, y) = ((lo.x - px, hi.x - px), (lo.y - py, hi.y - py));
+            let (nx, ny) = (x.0.max(-x.1).max(0.0), y.0.max(-y.1).max(0.0));
+            if nx * nx + ny * ny >= reach2 {
+                return TraversalAction::Prune; // nothing in it is within reach
+            }
+            if node.leaf_data().is_none() && (hi.x - lo.x).max(hi.y - lo.y) > 2.0 * bin {
+                return TraversalAction::Continue;
+            }
+            let angle = HorizonBuilder::corner_angle;
+            h.put_box(hi.z, x, y, [angle(x.0, y.0), angle(x.1, y.0), angle(x.0, y.1), angle(x.1, y.1)]);
+            TraversalAction::Prune
+        });
+        Ok(h.finish())
+    }
+
+    /// How far (metres, horizontally) a target's [`Skyline`] reaches on this mesh.
+    fn skyline_reach(&self) -> f64 {
+        REACH as f64 * self.horizon_bin
+    }
+
+    /// The [`Skyline`] of the point `q`: for each sector, an upper bound on the slope from `q`
+    /// to every point of the surface within [`TriangleMesh::skyline_reach`] of it horizontally.
+    ///
+    /// Each triangle within reach is bounded by its plane (`h0 / rho + g . u`, `h0` the plane's
+    /// height over `q`, as on the grid) or, when that is looser (steep and vertical triangles),
+    /// by its highest corner over its nearest distance; a triangle whose footprint holds `q`
+    /// counts in every direction, and one that rises above `q` there clears nothing.
+    pub(crate) fn skyline(&self, q: Point, edges: &SectorEdges) -> Skyline {
+        let reach = self.skyline_reach();
+        let (qx, qy, qz) = (q[0], q[1], q[2]);
+        // A point this close to a footprint is in it, and a plane this close to `q` is through
+        // it: far below the sight lines' margins (1e-9 of the coordinates).
+        let tol_xy = 1e-12 * self.scales.0;
+        let tol_z = 1e-12 * (self.scales.1 + qz.abs());
+        let mut bounds = SkylineBounds::new(edges);
+        self.mesh.bvh().traverse(|node| {
+            let (lo, hi) = (node.mins(), node.maxs());
+            if lo.x > qx + reach || hi.x < qx - reach || lo.y > qy + reach || hi.y < qy - reach {
+                return TraversalAction::Prune;
+            }
+            let Some(f) = node.leaf_data() else { return TraversalAction::Continue };
+            let [a, b, c] = self.corners[f as usize];
+            let xy = [(a.x - qx, a.y - qy), (b.x - qx, b.y - qy), (c.x - qx, c.y - qy)];
+            let z = [a.z - qz, b.z - qz, c.z - qz];
+            let far = xy.iter().map(|p| p.0.hypot(p.1)).fold(0.0, f64::max);
+            if !(far > 0.0) {
+                return TraversalAction::Prune; // all of it straight above or below q
+            }
+            let near = footprint_distance(xy);
+            if near > reach {
+                return TraversalAction::Prune;
+            }
+            let inside = near <= tol_xy;
+            let span = if inside { ALL_SECTORS } else { arc_of(xy) };
+            let top = z[0].max(z[1]).max(z[2]);
+            let by_box = if top <= 0.0 { top / far } else if inside { f64::INFINITY } else { top / near };
+            let plane = plane(xy, z);
+            if inside && plane.is_none() && top > 0.0 {
+                // A wall through q: its points rise from q only along the wall's line, so only
+                // those two directions are unbounded. (A sight line looks no nearer q than
+                // 100 margins, 1e-7 of the coordinates, where a wall within 1e-9 of vertical
+                // departs from that line by under 0.01 rad, which the neighbouring sectors
+                // every bound also answers for absorb.)
+                let (ex, ey) = longest_side(xy);
+                for (x, y) in [(ex, ey), (-ex, -ey)] {
+                    let k = sector_of(pseudo_angle(x, y));
+                    bounds.add_slope(f64::INFINITY, Span::new(k, k));
+                }
+                return TraversalAction::Prune;
+            }
+            match plane {
+                Some((h0, g)) => {
+                    let lift = if inside {
+                        if h0.abs() <= tol_z {
+                            0.0 // through q
+                        } else if h0 > 0.0 {
+                            f64::INFINITY // over q
+                        } else {
+                            h0 / far
+                        }
+                    } else if h0 > 0.0 {
+                        h0 / near
+                    } else {
+                        h0 / far
+                    };
+                    if lift + g.0.hypot(g.1) <= by_box {
+                        bounds.add_plane(lift, g, span);
+                    } else {
+                        bounds.add_slope(by_box, span);
+                    }
+                }
+                None => bounds.add_slope(by_box, span),
+            }
+            TraversalAction::Prune
+        });
+        bounds.finish()
+    }
+
+    /// [`TriangleMesh::line_of_sight`] from the UAV of `horizon`, the same answer to the last
+    /// bit: the horizon clears the sight line up to some distance (see [`crate::horizon`]), and
+    /// the BVH tests the rest.
+    ///
+    /// Exactness: a triangle the plain test counts has a point within a few ulps of the ray at
+    /// its time of impact, which the horizon puts beyond the cleared stretch; every box that
+    /// holds that point is then passed by the ray at parameters from the stretch's end on (to
+    /// rounding, and the search starts `2 delta` earlier still), so the traversal reaches the
+    /// triangle and gives it the same leaf test.
+    pub(crate) fn line_of_sight_from(&self, horizon: &Horizon, target: Point) -> bool {
+        let Some(t_from) = horizon.uncleared_from(target) else { return true };
+        let p = horizon.uav;
+        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
+        let t_min = if t_from > 0.0 { (t_from - 2.0 * horizon.delta / d[0].hypot(d[1])).max(0.0) } else { 0.0 };
+        !self.ray_hits_between(p, d, t_min, SIGHT_FRACTION, SIGHT_FRACTION)
+    }
+
+    /// [`TriangleMesh::line_of_sight_from`] with the target's [`Skyline`] (see
+    /// [`TriangleMesh::skyline`]): the same answer to the last bit, usually without the BVH.
+    ///
+    /// As on the grid (`HeightField::line_of_sight_to_node`, whose argument this follows step
+    /// by step): a sight line that arrives more steeply than the skyline's bound for its
+    /// direction passes above every triangle within the skyline's reach of the target, so the
+    /// horizon only has to clear it up to that distance from the target, and what neither
+    /// clears goes to the BVH.
+    pub(crate) fn line_of_sight_to_target(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
+        let p = horizon.uav;
+        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
+        let r2 = d[0] * d[0] + d[1] * d[1];
+        if r2 == 0.0 {
+            return self.line_of_sight_from(horizon, target);
+        }
+        let r = r2.sqrt();
+        let inv_r = 1.0 / r;
+        let rho_end = (1.0 - SIGHT_FRACTION) * r;
+        let eps = 4.0 * horizon.delta + 1e-9 * (p[2].abs() + target[2].abs() + self.scales.1);
+        let line = -d[2] * inv_r;
+        let a = pseudo_angle(d[0], d[1]);
+        let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
+        if !(rho_end > 100.0 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
+            return self.line_of_sight_from(horizon, target);
+        }
+        let reach = self.skyline_reach() - eps;
+        let far = r - reach + eps;
+        if far <= 0.0 {
+            return true;
+        }
+        let need = ((far + 2.0 * horizon.delta) * horizon.inv_bin).ceil();
+        let row = horizon.column(a);
+        let sigma = -line * line.abs();
+        let s = sigma - 1e-9 * sigma.abs() - 1e-300;
+        if need < 1.0 || (need <= row.len as f64 && s > row.at(need as usize - 1)) {
+            return true;
+        }
+        let lo = first_unclear(row, s);
+        let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
+        // The BVH's search runs `2 delta` wider on both sides than the stretch to clear.
+        let t_from = if cleared > 0.0 { ((cleared - 2.0 * horizon.delta) * inv_r).max(0.0) } else { 0.0 };
+        let t_to = ((far + 2.0 * horizon.delta) * inv_r).min(SIGHT_FRACTION);
+        if t_from >= t_to {
+            return true;
+        }
+        !self.ray_hits_between(p, d, t_from, t_to, SIGHT_FRACTION)
+    }
+}
+
+/// The horizontal distance from the origin to the triangle with corners `xy`, `0` inside it.
+fn footprint_distance(xy: [(f64, f64); 3]) -> f64 {
+    let cross = |p: (f64, f64), q: (f64, f64)| p.0 * q.1 - p.1 * q.0;
+    let sides = [cross(xy[0], xy[1]), cross(xy[1], xy[2]), cross(xy[2], xy[0])];
+    if sides.iter().all(|&s| s >= 0.0) || sides.iter().all(|&s| s <= 0.0) {
+        return 0.0;
+    }
+    let to_edge = |p: (f64, f64), q: (f64, f64)| {
+        let (ex, ey) = (q.0 - p.0, q.1 - p.1);
+        let len2 = ex * ex + ey * ey;
+        let t = if len2 > 0.0 { (-(p.0 * ex + p.1 * ey) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        (p.0 + t * ex).hypot(p.1 + t * ey)
+    };
+    to_edge(xy[0], xy[1]).min(to_edge(xy[1], xy[2])).min(to_edge(xy[2], xy[0]))
+}
+
+/// The longest side of a triangle's footprint, as a vector.
+fn longest_side(xy: [(f64, f64); 3]) -> (f64, f64) {
+    let sides = [(xy[1].0 - xy[0].0, xy[1].1 - xy[0].1), (xy[2].0 - xy[1].0, xy[2].1 - xy[1].1), (xy[0].0 - xy[2].0, xy[0].1 - xy[2].1)];
+    sides.into_iter().max_by(|p, q| p.0.hypot(p.1).total_cmp(&q.0.hypot(q.1))).unwrap_or((1.0, 0.0))
+}
+
+/// The sectors of the directions of a triangle clear of the origin: the arc its corners span,
+/// which is less than a half-turn and lies opposite the widest gap between their directions.
+fn arc_of(xy: [(f64, f64); 3]) -> Span {
+    let mut a = xy.map(|p| pseudo_angle(p.0, p.1));
+    a.sort_by(f64::total_cmp);
+    let gaps = [a[1] - a[0], a[2] - a[1], 4.0 - a[2] + a[0]];
+    let (first, last) = if gaps[2] >= gaps[0] && gaps[2] >= gaps[1] {
+        (a[0], a[2])
+    } else if gaps[0] >= gaps[1] {
+        (a[1], a[0]) // across +x: from a[1] up through a[2] and 4 = 0 to a[0]
+    } else {
+        (a[2], a[1])
+    };
+    Span::new(sector_of(first), sector_of(last))
+}
+
+/// The plane through corners `xy` (relative to the point) at heights `z` (relative to it): its
+/// height over the point and its gradient, or `None` for a triangle too steep to bound that way
+/// (vertical, or within rounding of it).
+fn plane(xy: [(f64, f64); 3], z: [f64; 3]) -> Option<(f64, (f64, f64))> {
+    let (e1, e2) = ((xy[1].0 - xy[0].0, xy[1].1 - xy[0].1), (xy[2].0 - xy[0].0, xy[2].1 - xy[0].1));
+    let (dz1, dz2) = (z[1] - z[0], z[2] - z[0]);
+    let cross = e1.0 * e2.1 - e1.1 * e2.0;
+    let size = (e1.0.abs() + e1.1.abs()) * (e2.0.abs() + e2.1.abs());
+    if !(cross.abs() > 1e-9 * size) {
+        return None;
+    }
+    let gx = (dz1 * e2.1 - dz2 * e1.1) / cross;
+    let gy = (dz2 * e1.0 - dz1 * e2.0) / cross;
+    let h0 = z[0] - gx * xy[0].0 - gy * xy[0].1;
+    (gx.is_finite() && gy.is_finite() && h0.is_finite()).then_some((h0, (gx, gy)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Surface;
+    use crate::skyline::sector_edges;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A test scene of one of four kinds: a rough terrain grid, a ground with boxes (vertical
+    /// walls, flat roofs), the terrain with a floating slab over part of it (an overhang), and a
+    /// soup of random triangles of every tilt.
+    fn scene(rng: &mut ChaCha8Rng, kind: usize) -> Surface {
+        let mut v: Vec<Point> = Vec::new();
+        let mut f: Vec<[u32; 3]> = Vec::new();
+        let n = 14;
+        let ground = |v: &mut Vec<Point>, f: &mut Vec<[u32; 3]>, rng: &mut ChaCha8Rng, rough: f64| {
+            let base = v.len() as u32;
+            for i in 0..n {
+                for j in 0..n {
+                    let z = rough * ((0.5 * i as f64).sin() + (0.4 * j as f64).cos()) + rough * rng.random::<f64>();
+                    v.push([j as f64, i as f64, z]);
+                }
+            }
+            for i in 0..n - 1 {
+                for j in 0..n - 1 {
+                    let k = base + (i * n + j) as u32;
+                    let n = n as u32;
+                    f.push([k, k + 1, k + n + 1]);
+                    f.push([k, k + n + 1, k + n]);
+                }
+            }
+        };
+        match kind {
+            0 => ground(&mut v, &mut f, rng, 1.5),
+            1 => {
+                ground(&mut v, &mut f, rng, 0.0);
+                for _ in 0..4 {
+                    let (x, y) = (rng.random_range(1.0..9.0), rng.random_range(1.0..9.0));
+                    let (w, d, h) = (rng.random_range(1.0..3.0), rng.random_range(1.0..3.0), rng.random_range(1.0..5.0));
+                    let b = v.len() as u32;
+                    for &(px, py) in &[(x, y), (x + w, y), (x + w, y + d), (x, y + d)] {
+                        v.push([px, py, 0.0]);
+                        v.push([px, py, h]);
+                    }
+                    for s in 0..4u32 {
+                        let (a0, a1, b0, b1) = (b + 2 * s, b + 2 * s + 1, b + 2 * ((s + 1) % 4), b + 2 * ((s + 1) % 4) + 1);
+                        f.push([a0, b0, b1]);
+                        f.push([a0, b1, a1]);
+                    }
+                    f.push([b + 1, b + 3, b + 5]);
+                    f.push([b + 1, b + 5, b + 7]);
+                }
+            }
+            2 => {
+                ground(&mut v, &mut f, rng, 1.0);
+                let b = v.len() as u32;
+                for &(px, py) in &[(3.0, 3.0), (9.0, 3.5), (8.5, 9.0), (3.5, 8.0)] {
+                    v.push([px, py, 5.0 + rng.random::<f64>()]);
+                }
+                f.push([b, b + 1, b + 2]);
+                f.push([b, b + 2, b + 3]);
+            }
+            _ => {
+                for _ in 0..60 {
+                    let b = v.len() as u32;
+                    let c = [rng.random_range(0.0..12.0), rng.random_range(0.0..12.0), rng.random_range(0.0..4.0)];
+                    for _ in 0..3 {
+                        v.push([c[0] + rng.random_range(-1.5..1.5), c[1] + rng.random_range(-1.5..1.5), c[2] + rng.random_range(-1.5..1.5)]);
+                    }
+                    if rng.random::<f64>() < 0.3 {
+                        let (x, y) = (v[b as usize][0], v[b as usize][1]);
+                        v[b as usize + 1][0] = x; // a vertical triangle
+                        v[b as usize + 1][1] = y;
+                    }
+                    f.push([b, b + 1, b + 2]);
+                }
+            }
+        }
+        Surface::new(v, f).unwrap()
+    }
+
+    /// Points on the triangles (at corners, on edges, inside), and random points.
+    fn on_surface(rng: &mut ChaCha8Rng, corners: &[[parry3d_f64::math::Vector; 3]]) -> Point {
+        let [a, b, c] = corners[rng.random_range(0..corners.len())];
+        let (mut u, mut w) = (rng.random::<f64>(), rng.random::<f64>());
+        match rng.random_range(0..6) {
+            0 => (u, w) = (0.0, 0.0),
+            1 => w = 0.0,
+            2 => w = 1.0 - u,
+            _ if u + w > 1.0 => (u, w) = (1.0 - u, 1.0 - w),
+            _ => {}
+        }
+        let p = a + (b - a) * u + (c - a) * w;
+        [p.x, p.y, p.z]
+    }
+
+    #[test]
+    fn skylines_bound_every_point_of_the_surface_within_reach() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let edges = sector_edges();
+        let mut checked = 0;
+        for case in 0..40 {
+            let s = scene(&mut rng, case % 4);
+            let mesh = s.triangle_mesh().unwrap();
+            let reach = mesh.skyline_reach();
+            for _ in 0..30 {
+                let q = on_surface(&mut rng, &mesh.corners);
+                let sky = mesh.skyline(q, &edges);
+                for _ in 0..400 {
+                    let p = on_surface(&mut rng, &mesh.corners);
+                    let (x, y) = (p[0] - q[0], p[1] - q[1]);
+                    let rho = x.hypot(y);
+                    if rho > reach || rho < 1e-6 {
+                        continue;
+                    }
+                    let slope = (p[2] - q[2]) / rho;
+                    let bound = sky.slope(sector_of(pseudo_angle(x, y)));
+                    assert!(slope <= bound, "case {case}: {q:?} -> {p:?}: slope {slope} above {bound}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100_000, "{checked}");
+    }
+
+    #[test]
+    fn horizons_and_skylines_give_the_plain_tests_answer() {
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        let edges = sector_edges();
+        let (mut seen, mut total, mut settled) = (0, 0, 0);
+        for case in 0..80 {
+            let s = scene(&mut rng, case % 4);
+            let mesh = s.triangle_mesh().unwrap();
+            let (lo, hi) = mesh.bounds();
+            for _ in 0..10 {
+                let uav = if rng.random::<f64>() < 0.5 {
+                    let g = on_surface(&mut rng, &mesh.corners);
+                    [g[0], g[1], g[2] + rng.random_range(0.0..3.0)]
+                } else {
+                    [rng.random_range(lo[0] - 2.0..hi[0] + 2.0), rng.random_range(lo[1] - 2.0..hi[1] + 2.0), rng.random_range(lo[2]..hi[2] + 8.0)]
+                };
+                let radius = rng.random_range(0.0..25.0);
+                let horizon = mesh.horizon(uav, radius, usize::MAX).unwrap();
+                for _ in 0..150 {
+                    let q = on_surface(&mut rng, &mesh.corners);
+                    let expect = mesh.line_of_sight(uav, q);
+                    assert_eq!(mesh.line_of_sight_from(&horizon, q), expect, "case {case}: {uav:?} -> {q:?}");
+                    let sky = mesh.skyline(q, &edges);
+                    assert_eq!(mesh.line_of_sight_to_target(&horizon, q, &sky), expect, "case {case}: {uav:?} -> {q:?} with its skyline");
+                    let (ex, ey) = (uav[0] - q[0], uav[1] - q[1]);
+                    let r = ex.hypot(ey);
+                    if r > 0.0 && (uav[2] - q[2]) / r > sky.slope(sector_of(pseudo_angle(ex, ey))) {
+                        settled += 1;
+                    }
+                    seen += usize::from(expect);
+                    total += 1;
+                }
+            }
+        }
+        assert!(seen > total / 5 && seen < 4 * total / 5, "{seen} of {total}");
+        assert!(settled > total / 8, "the skylines decided too rarely to be tested: {settled} of {total}");
+    }
+}
