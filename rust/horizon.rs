@@ -100,7 +100,15 @@ impl HorizonBuilder {
     ///
     /// # Errors
     /// [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory.
-    pub(crate) fn new(uav: Point, radius: f64, max_values: usize, bin: f64, bounds: (Point, Point), xy_scale: f64, z_scale: f64) -> Result<Self> {
+    pub(crate) fn new(
+        uav: Point,
+        radius: f64,
+        max_values: usize,
+        bin: f64,
+        bounds: (Point, Point),
+        xy_scale: f64,
+        z_scale: f64,
+    ) -> Result<Self> {
         let radius = if radius.is_finite() { radius.max(0.0) } else { 0.0 };
         // No box is farther than the surface's farthest corner (plus two bins for rounding).
         let (lo, hi) = bounds;

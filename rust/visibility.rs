@@ -510,19 +510,13 @@ impl Visibility {
             Reach::Range(_) => self.range,
             Reach::Sensors(sensors) => sensors[i].range(),
         };
-        Ok(match (self.grid_path, self.surface.heightfield()) {
-            (true, Some(field)) => {
-                let horizons: Result<Vec<Horizon>> =
-                    uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, radius(i), per_uav)).collect();
-                Engine::Grid(field, horizons?)
-            }
-            _ => {
-                let mesh = self.surface.triangle_mesh()?;
-                let horizons: Result<Vec<Horizon>> =
-                    uavs.par_iter().enumerate().map(|(i, &u)| mesh.horizon(u, radius(i), per_uav)).collect();
-                Engine::Mesh(mesh, horizons?)
-            }
-        })
+        if let (true, Some(field)) = (self.grid_path, self.surface.heightfield()) {
+            let horizons: Result<Vec<Horizon>> = uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, radius(i), per_uav)).collect();
+            return Ok(Engine::Grid(field, horizons?));
+        }
+        let mesh = self.surface.triangle_mesh()?;
+        let horizons: Result<Vec<Horizon>> = uavs.par_iter().enumerate().map(|(i, &u)| mesh.horizon(u, radius(i), per_uav)).collect();
+        Ok(Engine::Mesh(mesh, horizons?))
     }
 
     /// For each target, whether at least one UAV sees it.

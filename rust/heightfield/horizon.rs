@@ -23,7 +23,6 @@ impl HeightField {
     ///
     /// # Errors
     /// [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory.
-    #[expect(clippy::too_many_lines, reason = "one pass over the cells near the UAV; its steps share a dozen locals")]
     pub(crate) fn horizon(&self, uav: Point, radius: f64, max_values: usize) -> Result<Horizon> {
         let g = &self.grid;
         let w = g.dx.min(g.dy);

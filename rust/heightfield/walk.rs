@@ -50,18 +50,18 @@ impl HeightField {
         // [a, b, c] and [a, c, d], as the mesh stores them.
         if !zb.is_nan() {
             let (nz, fz) = axis(min(lo_ac, zb), max(hi_ac, zb), oz, cast.inv[2]);
-            if max(enter_xy, nz) <= min(exit_xy, fz) {
-                if triangle_hit(a, Vector::new(xb, ya, zb), c, &cast.ray).is_some_and(|toi| toi <= t_max) {
-                    return true;
-                }
+            if max(enter_xy, nz) <= min(exit_xy, fz)
+                && triangle_hit(a, Vector::new(xb, ya, zb), c, &cast.ray).is_some_and(|toi| toi <= t_max)
+            {
+                return true;
             }
         }
         if !zd.is_nan() {
             let (nz, fz) = axis(min(lo_ac, zd), max(hi_ac, zd), oz, cast.inv[2]);
-            if max(enter_xy, nz) <= min(exit_xy, fz) {
-                if triangle_hit(a, c, Vector::new(xa, yc, zd), &cast.ray).is_some_and(|toi| toi <= t_max) {
-                    return true;
-                }
+            if max(enter_xy, nz) <= min(exit_xy, fz)
+                && triangle_hit(a, c, Vector::new(xa, yc, zd), &cast.ray).is_some_and(|toi| toi <= t_max)
+            {
+                return true;
             }
         }
         false

@@ -74,7 +74,7 @@ impl TriangleMesh {
             let xy = [(a.x - qx, a.y - qy), (b.x - qx, b.y - qy), (c.x - qx, c.y - qy)];
             let z = [a.z - qz, b.z - qz, c.z - qz];
             let far = xy.iter().map(|p| p.0.hypot(p.1)).fold(0.0, f64::max);
-            if !(far > 0.0) {
+            if far <= 0.0 || far.is_nan() {
                 return TraversalAction::Prune; // all of it straight above or below q
             }
             let near = footprint_distance(xy);
@@ -84,7 +84,13 @@ impl TriangleMesh {
             let inside = near <= tol_xy;
             let span = if inside { ALL_SECTORS } else { arc_of(xy) };
             let top = z[0].max(z[1]).max(z[2]);
-            let by_box = if top <= 0.0 { top / far } else if inside { f64::INFINITY } else { top / near };
+            let by_box = if top <= 0.0 {
+                top / far
+            } else if inside {
+                f64::INFINITY
+            } else {
+                top / near
+            };
             let plane = plane(xy, z);
             if inside && plane.is_none() && top > 0.0 {
                 // A wall through q: its points rise from q only along the wall's line, so only
@@ -239,7 +245,7 @@ fn plane(xy: [(f64, f64); 3], z: [f64; 3]) -> Option<(f64, (f64, f64))> {
     let (dz1, dz2) = (z[1] - z[0], z[2] - z[0]);
     let cross = e1.0 * e2.1 - e1.1 * e2.0;
     let size = (e1.0.abs() + e1.1.abs()) * (e2.0.abs() + e2.1.abs());
-    if !(cross.abs() > 1e-9 * size) {
+    if cross.abs() <= 1e-9 * size || cross.is_nan() {
         return None;
     }
     let gx = (dz1 * e2.1 - dz2 * e1.1) / cross;
@@ -262,19 +268,19 @@ mod tests {
     fn scene(rng: &mut ChaCha8Rng, kind: usize) -> Surface {
         let mut v: Vec<Point> = Vec::new();
         let mut f: Vec<[u32; 3]> = Vec::new();
-        let n = 14;
+        let n: u32 = 14;
         let ground = |v: &mut Vec<Point>, f: &mut Vec<[u32; 3]>, rng: &mut ChaCha8Rng, rough: f64| {
             let base = v.len() as u32;
             for i in 0..n {
                 for j in 0..n {
-                    let z = rough * ((0.5 * i as f64).sin() + (0.4 * j as f64).cos()) + rough * rng.random::<f64>();
-                    v.push([j as f64, i as f64, z]);
+                    let (y, x) = (f64::from(i), f64::from(j));
+                    let z = rough * ((0.5 * y).sin() + (0.4 * x).cos()) + rough * rng.random::<f64>();
+                    v.push([x, y, z]);
                 }
             }
             for i in 0..n - 1 {
                 for j in 0..n - 1 {
-                    let k = base + (i * n + j) as u32;
-                    let n = n as u32;
+                    let k = base + i * n + j;
                     f.push([k, k + 1, k + n + 1]);
                     f.push([k, k + n + 1, k + n]);
                 }
@@ -315,7 +321,11 @@ mod tests {
                     let b = v.len() as u32;
                     let c = [rng.random_range(0.0..12.0), rng.random_range(0.0..12.0), rng.random_range(0.0..4.0)];
                     for _ in 0..3 {
-                        v.push([c[0] + rng.random_range(-1.5..1.5), c[1] + rng.random_range(-1.5..1.5), c[2] + rng.random_range(-1.5..1.5)]);
+                        v.push([
+                            c[0] + rng.random_range(-1.5..1.5),
+                            c[1] + rng.random_range(-1.5..1.5),
+                            c[2] + rng.random_range(-1.5..1.5),
+                        ]);
                     }
                     if rng.random::<f64>() < 0.3 {
                         let (x, y) = (v[b as usize][0], v[b as usize][1]);
@@ -387,7 +397,11 @@ mod tests {
                     let g = on_surface(&mut rng, &mesh.corners);
                     [g[0], g[1], g[2] + rng.random_range(0.0..3.0)]
                 } else {
-                    [rng.random_range(lo[0] - 2.0..hi[0] + 2.0), rng.random_range(lo[1] - 2.0..hi[1] + 2.0), rng.random_range(lo[2]..hi[2] + 8.0)]
+                    [
+                        rng.random_range(lo[0] - 2.0..hi[0] + 2.0),
+                        rng.random_range(lo[1] - 2.0..hi[1] + 2.0),
+                        rng.random_range(lo[2]..hi[2] + 8.0),
+                    ]
                 };
                 let radius = rng.random_range(0.0..25.0);
                 let horizon = mesh.horizon(uav, radius, usize::MAX).unwrap();
