@@ -128,6 +128,10 @@ def ratio(a: float, b: float) -> str:
     return f"{a / b:.2f}x"
 
 
+def _ms(ms: dict, key: str) -> str:
+    return f"{ms[key]:.2f} ms" if key in ms else "-"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--spacing", type=float, nargs="+", default=[1.0, 0.5, 0.25])
@@ -148,7 +152,9 @@ def main() -> None:
         "| mesh 2 thr / Open3D queries |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    cases = [(f"terrain {seed}, {spacing} m", 25.0, *reference_case(spacing, seed)) for seed in args.terrain_seeds for spacing in args.spacing]
+    cases = [
+        (f"terrain {seed}, {spacing} m", 25.0, *reference_case(spacing, seed)) for seed in args.terrain_seeds for spacing in args.spacing
+    ]
     cases += [(f"buildings {seed}", 8.0, *buildings_case(seed)) for seed in args.buildings]
     for name, d_max, terrain, uavs in cases:
         is_grid = terrain.grid is not None
@@ -172,17 +178,16 @@ def main() -> None:
             calls["o3d_queries"] = functools.partial(query, rays)
         ms = interleaved_medians(calls, args.repeat, args.block)
         dash = "-"
-        fmt = lambda key: f"{ms[key]:.2f} ms" if key in ms else dash  # noqa: E731
         row = [
             name,
             str(len(targets)),
             str(n_rays),
             f"{ours if is_grid else dash} / {ours} / {theirs}",
-            fmt("grid1"),
-            fmt("grid2"),
-            fmt("mesh2"),
-            fmt("o3d_full"),
-            fmt("o3d_queries"),
+            _ms(ms, "grid1"),
+            _ms(ms, "grid2"),
+            _ms(ms, "mesh2"),
+            _ms(ms, "o3d_full"),
+            _ms(ms, "o3d_queries"),
             ratio(ms["grid2"], ms["o3d_queries"]) if is_grid and o3d else dash,
             ratio(ms["mesh2"], ms["o3d_full"]) if o3d else dash,
             ratio(ms["mesh2"], ms["o3d_queries"]) if o3d else dash,

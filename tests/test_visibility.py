@@ -138,6 +138,9 @@ def _check_against_reference(vis: Visibility, vertices, faces, uavs, targets: Ta
     assert np.all(np.abs(counts.seen - ref.per_uav_seen()) <= per_pair_slack)
     target_slack = ref.target_uncertain.sum()
     assert np.all(np.abs(counts.exclusive - ref.exclusive()) <= target_slack)
+    # From a target chunk's second evaluation on, sight lines also go through the targets'
+    # skylines (both methods): the answers stay the first evaluation's.
+    assert np.array_equal(vis.seen(uavs), seen)
     # Consistency of the counts with the engine's own mask.
     assert counts.seen.max() <= seen.sum() and counts.exclusive.sum() <= seen.sum()
 
