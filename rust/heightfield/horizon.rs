@@ -114,7 +114,7 @@ impl HeightField {
     /// least `rho_end = (1 - SIGHT_FRACTION) r` from the target horizontally. If `P` is within
     /// [`REACH`] cells of the node, its direction is within `eps / rho_end < 0.01` radians of
     /// the line's (the test asks `rho_end > 100 eps`), so inside the sectors the bound covers
-    /// (the line's and its neighbours, 0.1 radians or more each), and `z_P - z_T <= slope rho_P`,
+    /// (the line's and its neighbours, 0.06 radians or more each), and `z_P - z_T <= slope rho_P`,
     /// while the ray there is `line rho` above `z_T` (to `eps`): then
     /// `(line - slope) rho <= eps (2 + |slope|)`, which the test below rules out. Otherwise the
     /// ray point is farther than the cleared reach from the target, i.e. nearer the UAV than
