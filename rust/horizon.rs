@@ -20,6 +20,7 @@
 use crate::error::{try_filled, Result};
 use crate::geometry::{Point, SIGHT_FRACTION};
 use crate::grid::pseudo_angle;
+use crate::skyline::{sector_of, Skyline};
 
 /// At most this many distance bins and this many sectors in one horizon.
 const MAX_SIDE: f64 = 4096.0;
@@ -235,6 +236,49 @@ impl HorizonBuilder {
 }
 
 impl Horizon {
+    /// What the skyline of `target` (reaching `reach` metres around it) and this horizon leave
+    /// of the sight line to it; `z_scale` is the magnitude of the surface's heights. Both
+    /// methods' sight lines to targets with skylines (`HeightField::line_of_sight_to_node`
+    /// gives the argument).
+    #[inline(always)]
+    pub(crate) fn beside_skyline(&self, target: Point, skyline: &Skyline, reach: f64, z_scale: f64) -> Rest {
+        let p = self.uav;
+        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
+        let r2 = d[0] * d[0] + d[1] * d[1];
+        if r2 == 0.0 {
+            return Rest::Unsettled;
+        }
+        let r = r2.sqrt();
+        let rho_end = (1.0 - SIGHT_FRACTION) * r;
+        let eps = 4.0 * self.delta + 1e-9 * (p[2].abs() + target[2].abs() + z_scale);
+        // Slope of the line from the target towards the UAV, and the skyline's bound that way
+        // (the opposite pseudo-angle of the UAV-to-target direction).
+        let line = -d[2] * (1.0 / r);
+        let a = pseudo_angle(d[0], d[1]);
+        let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
+        if !(rho_end > 100.0 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
+            return Rest::Unsettled;
+        }
+        // The ray is clear within `reach` of the target; the horizon must clear it up to `far`
+        // from the UAV: every bin before `need` (the stretch cleared by `lo` bins ends `2 delta`
+        // short of `lo` bins).
+        let far = r - (reach - eps) + eps;
+        if far <= 0.0 {
+            return Rest::Clear;
+        }
+        let need = ((far + 2.0 * self.delta) * self.inv_bin).ceil();
+        let row = self.column(a);
+        // The horizon's signed squared slope, from the UAV (the line's, negated), less the margin
+        // of the comparison (the stored bounds hold theirs).
+        let sigma = -line * line.abs();
+        let s = sigma - 1e-9 * sigma.abs() - 1e-300;
+        if need < 1.0 || (need <= row.len as f64 && s > row.at(need as usize - 1)) {
+            return Rest::Clear;
+        }
+        let cleared = first_unclear(row, s) as f64 * self.bin - 2.0 * self.delta;
+        Rest::Stretch { cleared, far, r }
+    }
+
     /// The bounds of the sector with pseudo-angle `a`, bin by bin.
     #[inline(always)]
     pub(crate) fn column(&self, a: f64) -> Column<'_> {
@@ -270,6 +314,18 @@ impl Horizon {
         }
         Some(if cleared > 0.0 { cleared / r } else { 0.0 })
     }
+}
+
+/// What a target's [`Skyline`] and a [`Horizon`] leave of a sight line (see
+/// [`Horizon::beside_skyline`]).
+pub(crate) enum Rest {
+    /// Nothing: the line is clear.
+    Clear,
+    /// The skyline does not settle the line's last stretch: test it without the skyline.
+    Unsettled,
+    /// The horizon clears the line up to `cleared` metres from the UAV (horizontally) and the
+    /// skyline from `far` on; `r` is the line's horizontal length.
+    Stretch { cleared: f64, far: f64, r: f64 },
 }
 
 /// The first distance bin of a horizon column whose bound reaches the signed squared slope `s`

@@ -5,9 +5,8 @@
 use super::HeightField;
 use crate::error::Result;
 use crate::geometry::{Point, SIGHT_FRACTION};
-use crate::grid::pseudo_angle;
-use crate::horizon::{first_unclear, Horizon, HorizonBuilder};
-use crate::skyline::{sector_of, Skyline, REACH};
+use crate::horizon::{Horizon, HorizonBuilder, Rest};
+use crate::skyline::{Skyline, REACH};
 
 /// The horizon is built from tiles of `2^HORIZON_SHIFT` cells a side.
 const HORIZON_SHIFT: u32 = 1;
@@ -123,48 +122,18 @@ impl HeightField {
     ///
     /// [`REACH`]: crate::skyline::REACH
     pub(crate) fn line_of_sight_to_node(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
-        let p = horizon.uav;
-        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
-        let r2 = d[0] * d[0] + d[1] * d[1];
-        if r2 == 0.0 {
-            return self.line_of_sight_from(horizon, target);
-        }
-        let r = r2.sqrt();
-        let inv_r = 1.0 / r;
-        let rho_end = (1.0 - SIGHT_FRACTION) * r;
-        let eps = 4.0 * horizon.delta + 1e-9 * (p[2].abs() + target[2].abs() + self.scales.z);
-        // Slope of the line from the target towards the UAV, and the skyline's bound that way
-        // (the opposite pseudo-angle of the UAV-to-target direction).
-        let line = -d[2] * inv_r;
-        let a = pseudo_angle(d[0], d[1]);
-        let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
-        if !(rho_end > 100.0 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
-            return self.line_of_sight_from(horizon, target);
-        }
-        // The ray is clear within `reach` of the target; the horizon must clear it up to `far`
-        // from the UAV: every bin before `need` (the stretch cleared by `lo` bins ends `2 delta`
-        // short of `lo` bins).
-        let reach = REACH as f64 * horizon.bin - eps;
-        let far = r - reach + eps;
-        if far <= 0.0 {
-            return true;
-        }
-        let need = ((far + 2.0 * horizon.delta) * horizon.inv_bin).ceil();
-        let row = horizon.column(a);
-        // The horizon's signed squared slope, from the UAV (the line's, negated), less the margin
-        // of the comparison (the stored bounds hold theirs).
-        let sigma = -line * line.abs();
-        let s = sigma - 1e-9 * sigma.abs() - 1e-300;
-        if need < 1.0 || (need <= row.len as f64 && s > row.at(need as usize - 1)) {
-            return true;
-        }
-        let lo = first_unclear(row, s);
-        let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
-        let t_from = if cleared > 0.0 { cleared * inv_r } else { 0.0 };
-        let t_to = (far * inv_r).min(SIGHT_FRACTION);
+        let (cleared, far, r) = match horizon.beside_skyline(target, skyline, REACH as f64 * horizon.bin, self.scales.z) {
+            Rest::Clear => return true,
+            Rest::Unsettled => return self.line_of_sight_from(horizon, target),
+            Rest::Stretch { cleared, far, r } => (cleared, far, r),
+        };
+        let t_from = if cleared > 0.0 { cleared / r } else { 0.0 };
+        let t_to = (far / r).min(SIGHT_FRACTION);
         if t_from >= t_to {
             return true;
         }
+        let p = horizon.uav;
+        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
         !self.walk_hits_from(p, d, t_from, t_to, SIGHT_FRACTION)
     }
 }

@@ -12,7 +12,7 @@ use super::TriangleMesh;
 use crate::error::Result;
 use crate::geometry::{Point, SIGHT_FRACTION};
 use crate::grid::pseudo_angle;
-use crate::horizon::{first_unclear, Horizon, HorizonBuilder};
+use crate::horizon::{Horizon, HorizonBuilder, Rest};
 use crate::skyline::{sector_of, SectorEdges, Skyline, SkylineBounds, Span, ALL_SECTORS, REACH};
 
 impl TriangleMesh {
@@ -159,42 +159,19 @@ impl TriangleMesh {
     /// horizon only has to clear it up to that distance from the target, and what neither
     /// clears goes to the BVH.
     pub(crate) fn line_of_sight_to_target(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
-        let p = horizon.uav;
-        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
-        let r2 = d[0] * d[0] + d[1] * d[1];
-        if r2 == 0.0 {
-            return self.line_of_sight_from(horizon, target);
-        }
-        let r = r2.sqrt();
-        let inv_r = 1.0 / r;
-        let rho_end = (1.0 - SIGHT_FRACTION) * r;
-        let eps = 4.0 * horizon.delta + 1e-9 * (p[2].abs() + target[2].abs() + self.scales.1);
-        let line = -d[2] * inv_r;
-        let a = pseudo_angle(d[0], d[1]);
-        let bound = skyline.slope(sector_of(if a < 2.0 { a + 2.0 } else { a - 2.0 }));
-        if !(rho_end > 100.0 * eps && (line - bound) * rho_end > 2.0 * eps * (1.0 + bound.abs() + line.abs())) {
-            return self.line_of_sight_from(horizon, target);
-        }
-        let reach = self.skyline_reach() - eps;
-        let far = r - reach + eps;
-        if far <= 0.0 {
-            return true;
-        }
-        let need = ((far + 2.0 * horizon.delta) * horizon.inv_bin).ceil();
-        let row = horizon.column(a);
-        let sigma = -line * line.abs();
-        let s = sigma - 1e-9 * sigma.abs() - 1e-300;
-        if need < 1.0 || (need <= row.len as f64 && s > row.at(need as usize - 1)) {
-            return true;
-        }
-        let lo = first_unclear(row, s);
-        let cleared = lo as f64 * horizon.bin - 2.0 * horizon.delta;
+        let (cleared, far, r) = match horizon.beside_skyline(target, skyline, self.skyline_reach(), self.scales.1) {
+            Rest::Clear => return true,
+            Rest::Unsettled => return self.line_of_sight_from(horizon, target),
+            Rest::Stretch { cleared, far, r } => (cleared, far, r),
+        };
         // The BVH's search runs `2 delta` wider on both sides than the stretch to clear.
-        let t_from = if cleared > 0.0 { ((cleared - 2.0 * horizon.delta) * inv_r).max(0.0) } else { 0.0 };
-        let t_to = ((far + 2.0 * horizon.delta) * inv_r).min(SIGHT_FRACTION);
+        let t_from = if cleared > 0.0 { ((cleared - 2.0 * horizon.delta) / r).max(0.0) } else { 0.0 };
+        let t_to = ((far + 2.0 * horizon.delta) / r).min(SIGHT_FRACTION);
         if t_from >= t_to {
             return true;
         }
+        let p = horizon.uav;
+        let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
         !self.ray_hits_between(p, d, t_from, t_to, SIGHT_FRACTION)
     }
 }
