@@ -72,6 +72,23 @@ def _sweep(config: Path, out: Path, *extra: str) -> subprocess.Popen[bytes]:
     )
 
 
+def _rows_on_disk(out: Path) -> int:
+    path = out / "runs.csv"
+    return len(read_runs(path)) if path.exists() else 0
+
+
+def _wait_for_rows(out: Path, rows: int, process: subprocess.Popen[bytes], timeout: float = 60.0) -> None:
+    """Return once ``out/runs.csv`` holds ``rows`` rows, or the sweep has ended, or at ``timeout``."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and process.poll() is None:
+        try:
+            if _rows_on_disk(out) >= rows:
+                return
+        except (OSError, ValueError):
+            pass  # caught mid-write: look again
+        time.sleep(0.01)
+
+
 def test_pool_workers_and_resource_tracker_die_with_a_killed_parent(tmp_path):
     config = tmp_path / "long.toml"
     config.write_text(SWEEP.format(last_seed=5, iterations=2000), encoding="utf-8")
@@ -116,8 +133,13 @@ def test_a_sweep_killed_at_random_moments_resumes_to_the_same_rows(tmp_path):
     kills = 0
     for round_number in range(6):
         workers = ["--workers", "2", "--threads", "1"] if round_number % 2 else ["--workers", "1"]
+        done = _rows_on_disk(out)
         process = _sweep(config, out, *workers, *(["--resume"] if out.exists() else []))
-        time.sleep(rng.uniform(0.3, 1.5))  # from before the first run (imports) to mid-sweep
+        # The moment is set by progress, not by the clock, so a faster engine still dies mid-sweep:
+        # 0 more rows is a kill during start-up, k rows a kill after the k-th, plus a random slice
+        # of the next run (so some kills fall while a row is being written).
+        _wait_for_rows(out, done + rng.randint(0, 2), process)
+        time.sleep(rng.uniform(0.0, 0.1))
         if process.poll() is None:
             process.send_signal(signal.SIGKILL)
             kills += 1
@@ -125,7 +147,7 @@ def test_a_sweep_killed_at_random_moments_resumes_to_the_same_rows(tmp_path):
         if (out / "runs.csv").exists():
             rows = read_runs(out / "runs.csv")  # readable after every kill: a cut last line is ignored
             assert len({r["run_id"] for r in rows}) == len(rows)
-    assert kills >= 2  # most rounds are cut short (on a slow machine a late round may finish first)
+    assert kills == 6  # every round dies mid-sweep: it stops after at most a few new rows of the 20
     finish = _sweep(config, out, "--workers", "1", *(["--resume"] if out.exists() else []))
     assert finish.wait(timeout=120) == EXIT_OK
 
