@@ -33,7 +33,7 @@ use rayon::prelude::*;
 use crate::error::{ensure, try_filled, try_with_capacity, Error, Result};
 use crate::geometry::{in_bounds, Point, MAX_COORDINATE, UNLIMITED_RANGE};
 use crate::heightfield::{HeightField, Horizon};
-use crate::mesh::{Surface, TriangleMesh};
+use crate::mesh::{Blockers, Surface, TriangleMesh};
 use crate::sampling::default_targets;
 use crate::sensor::Sensor;
 use crate::skyline::{sector_edges, ChunkSkylines, SectorEdges, Skyline, Skylines, Stencil};
@@ -542,8 +542,8 @@ impl Visibility {
                 (0..self.targets.n_chunks())
                     .into_par_iter()
                     .map_init(
-                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                        |(near, points, nodes), c| {
+                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), vec![Blockers::default(); uavs.len()]),
+                        |(near, points, nodes, blockers), c| {
                             self.in_range_of(c, uavs, reach, near);
                             if near.is_empty() {
                                 return vec![false; self.targets.chunk_len(c)];
@@ -569,7 +569,7 @@ impl Visibility {
                                         if sky.is_none() {
                                             sky = skylines.as_mut().map(|s| s.get(t, || self.skyline(q, nodes.get(t).copied())));
                                         }
-                                        if engine.line_of_sight(u, q, sky.as_ref()) {
+                                        if engine.line_of_sight(u, q, sky.as_ref(), blockers) {
                                             last = k;
                                             return true;
                                         }
@@ -634,8 +634,16 @@ impl Visibility {
                 (0..self.targets.n_chunks())
                     .into_par_iter()
                     .map_init(
-                        || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), Vec::new()),
-                        |(near, points, nodes, rated), c| {
+                        || {
+                            (
+                                Vec::new(),
+                                Vec::with_capacity(CHUNK),
+                                Vec::with_capacity(CHUNK),
+                                Vec::new(),
+                                vec![Blockers::default(); uavs.len()],
+                            )
+                        },
+                        |(near, points, nodes, rated, blockers), c| {
                             self.in_range_of(c, uavs, reach, near);
                             if near.is_empty() {
                                 return vec![0.0; self.targets.chunk_len(c)];
@@ -665,7 +673,7 @@ impl Visibility {
                                         if sky.is_none() {
                                             sky = skylines.as_mut().map(|s| s.get(t, || self.skyline(q, nodes.get(t).copied())));
                                         }
-                                        if engine.line_of_sight(u, q, sky.as_ref()) {
+                                        if engine.line_of_sight(u, q, sky.as_ref(), blockers) {
                                             return quality; // the best of those that see it
                                         }
                                     }
@@ -740,8 +748,8 @@ impl Visibility {
                 let partials: Result<Vec<(UavCounts, Vec<bool>)>> = (first..last)
                     .into_par_iter()
                     .map_init(
-                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                        |(seers, points, nodes), c| {
+                        || (Vec::with_capacity(n), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK), vec![Blockers::default(); n]),
+                        |(seers, points, nodes, blockers), c| {
                             let mut out = UavCounts::zeros(n, 0.0)?;
                             let mut seen = vec![false; self.targets.chunk_len(c)];
                             let b = self.targets.chunk_bounds[c];
@@ -761,7 +769,9 @@ impl Visibility {
                                     _ => None,
                                 };
                                 seers.clear();
-                                seers.extend(near.iter().copied().filter(|i| in_range(i) && engine.line_of_sight(*i, q, sky.as_ref())));
+                                seers.extend(
+                                    near.iter().copied().filter(|i| in_range(i) && engine.line_of_sight(*i, q, sky.as_ref(), blockers)),
+                                );
                                 for &i in seers.iter() {
                                     out.seen[i] += 1;
                                     out.seen_weight[i] += w;
@@ -819,12 +829,14 @@ enum Engine<'a> {
 }
 
 impl Engine<'_> {
-    /// Whether UAV `uav` (an index) sees `target` (with its skyline when it is a grid node).
+    /// Whether UAV `uav` (an index) sees `target` (with its skyline when it is a grid node);
+    /// `blockers[uav]` is the triangle that last blocked one of its lines on the mesh path (see
+    /// [`TriangleMesh::ray_hits_between`]), `None` at first.
     #[inline]
-    fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>) -> bool {
+    fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>, blockers: &mut [Blockers]) -> bool {
         match (self, skyline) {
-            (Engine::Mesh(mesh, horizons), Some(sky)) => mesh.line_of_sight_to_target(&horizons[uav], target, sky),
-            (Engine::Mesh(mesh, horizons), None) => mesh.line_of_sight_from(&horizons[uav], target),
+            (Engine::Mesh(mesh, horizons), Some(sky)) => mesh.line_of_sight_to_target(&horizons[uav], target, sky, &mut blockers[uav]),
+            (Engine::Mesh(mesh, horizons), None) => mesh.line_of_sight_from(&horizons[uav], target, &mut blockers[uav]),
             (Engine::Grid(field, horizons), Some(sky)) => field.line_of_sight_to_node(&horizons[uav], target, sky),
             (Engine::Grid(field, horizons), None) => field.line_of_sight_from(&horizons[uav], target),
         }

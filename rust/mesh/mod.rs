@@ -455,29 +455,50 @@ impl TriangleMesh {
     /// Any-hit: the traversal stops at the first triangle found, since visibility needs no more.
     #[must_use]
     pub fn ray_hits(&self, origin: Point, dir: Point, t_max: f64) -> bool {
-        self.ray_hits_between(origin, dir, 0.0, t_max, t_max)
+        self.ray_hits_between(origin, dir, 0.0, t_max, t_max, &mut Blockers::default())
     }
 
     /// [`TriangleMesh::ray_hits`] with the limit `t_leaf` for the triangles in BVH nodes the
     /// ray passes at parameters in `[t_min, t_max]` (`t_max <= t_leaf`).
-    fn ray_hits_between(&self, origin: Point, dir: Point, t_min: f64, t_max: f64, t_leaf: f64) -> bool {
+    ///
+    /// `blocker` holds triangles to try before the traversal (those that blocked the last lines
+    /// of the same UAV: neighbouring targets hide behind the same wall), and comes back with the
+    /// triangle found first. Trying them changes no answer: when the ray passes one's box within
+    /// `[t_min, t_max]`, it passes every box of the BVH that holds it (each contains the
+    /// triangle's box, and the slab test is monotone in the box's bounds, rounding included),
+    /// so the traversal would reach it and give it this same leaf test.
+    pub(crate) fn ray_hits_between(&self, origin: Point, dir: Point, t_min: f64, t_max: f64, t_leaf: f64, blocker: &mut Blockers) -> bool {
         let ray = Ray::new(v(origin), v(dir));
         let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
-        let mut hit = false;
+        let hits = |f: u32| {
+            let [a, b, c] = self.corners[f as usize];
+            triangle_hit(a, b, c, &ray).is_some_and(|toi| toi <= t_leaf)
+        };
+        let recent = *blocker;
+        for f in recent.iter().copied() {
+            let [a, b, c] = self.corners[f as usize];
+            if slab_test(a.min(b).min(c), a.max(b).max(c), ray.origin, inv, t_min, t_max) && hits(f) {
+                blocker.remember(f);
+                return true;
+            }
+        }
+        let mut found = None;
         self.mesh.bvh().traverse(|node| {
             if !slab_test(node.mins(), node.maxs(), ray.origin, inv, t_min, t_max) {
                 return TraversalAction::Prune;
             }
             if let Some(f) = node.leaf_data() {
-                let [a, b, c] = self.corners[f as usize];
-                if triangle_hit(a, b, c, &ray).is_some_and(|toi| toi <= t_leaf) {
-                    hit = true;
+                if hits(f) {
+                    found = Some(f);
                     return TraversalAction::EarlyExit;
                 }
             }
             TraversalAction::Continue
         });
-        hit
+        if let Some(f) = found {
+            blocker.remember(f);
+        }
+        found.is_some()
     }
 
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
@@ -574,6 +595,32 @@ fn slab_test(mins: Vector, maxs: Vector, o: Vector, inv: Vector, t_min: f64, t_m
         exit = exit.min(far);
     }
     enter <= exit
+}
+
+/// The last few triangles that blocked a UAV's sight lines, most recent first, to try before
+/// the BVH (see [`TriangleMesh::ray_hits_between`]); four hold 60 % of the blocked lines' blockers
+/// on the buildings scenes (one 50 %, eight 65 %).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Blockers([u32; Blockers::LEN]);
+
+impl Default for Blockers {
+    fn default() -> Self {
+        Self([u32::MAX; Self::LEN])
+    }
+}
+
+impl Blockers {
+    const LEN: usize = 4;
+
+    fn iter(&self) -> impl Iterator<Item = &u32> {
+        self.0.iter().take_while(|&&f| f != u32::MAX)
+    }
+
+    fn remember(&mut self, f: u32) {
+        let at = self.0.iter().position(|&g| g == f).unwrap_or(Self::LEN - 1);
+        self.0.copy_within(0..at, 1);
+        self.0[0] = f;
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 
 use parry3d_f64::partitioning::TraversalAction;
 
+use super::Blockers;
 use super::TriangleMesh;
 use crate::error::Result;
 use crate::geometry::{Point, SIGHT_FRACTION};
@@ -58,6 +59,7 @@ impl TriangleMesh {
     /// counts in every direction, and one that rises above `q` there clears nothing.
     pub(crate) fn skyline(&self, q: Point, edges: &SectorEdges) -> Skyline {
         let reach = self.skyline_reach();
+        let reach2 = reach * reach;
         let (qx, qy, qz) = (q[0], q[1], q[2]);
         // A point this close to a footprint is in it, and a plane this close to `q` is through
         // it: far below the sight lines' margins (1e-9 of the coordinates).
@@ -66,20 +68,23 @@ impl TriangleMesh {
         let mut bounds = SkylineBounds::new(edges);
         self.mesh.bvh().traverse(|node| {
             let (lo, hi) = (node.mins(), node.maxs());
-            if lo.x > qx + reach || hi.x < qx - reach || lo.y > qy + reach || hi.y < qy - reach {
-                return TraversalAction::Prune;
+            let (nx, ny) = ((lo.x - qx).max(qx - hi.x).max(0.0), (lo.y - qy).max(qy - hi.y).max(0.0));
+            if nx * nx + ny * ny > reach2 {
+                return TraversalAction::Prune; // the box is out of reach (its nearest point is)
             }
             let Some(f) = node.leaf_data() else { return TraversalAction::Continue };
             let [a, b, c] = self.corners[f as usize];
             let xy = [(a.x - qx, a.y - qy), (b.x - qx, b.y - qy), (c.x - qx, c.y - qy)];
-            let z = [a.z - qz, b.z - qz, c.z - qz];
-            let far = xy.iter().map(|p| p.0.hypot(p.1)).fold(0.0, f64::max);
-            if far <= 0.0 || far.is_nan() {
-                return TraversalAction::Prune; // all of it straight above or below q
-            }
             let near = footprint_distance(xy);
             if near > reach {
                 return TraversalAction::Prune;
+            }
+            let z = [a.z - qz, b.z - qz, c.z - qz];
+            // Squares, then one root: coordinates are at most 1e15 m, so nothing overflows, and
+            // the rounding (an ulp or two, as `hypot`'s) is far inside the margins.
+            let far = xy.iter().map(|p| p.0 * p.0 + p.1 * p.1).fold(0.0, f64::max).sqrt();
+            if far <= 0.0 || far.is_nan() {
+                return TraversalAction::Prune; // all of it straight above or below q
             }
             let inside = near <= tol_xy;
             let span = if inside { ALL_SECTORS } else { arc_of(xy) };
@@ -120,7 +125,7 @@ impl TriangleMesh {
                     } else {
                         h0 / far
                     };
-                    if lift + g.0.hypot(g.1) <= by_box {
+                    if lift + (g.0 * g.0 + g.1 * g.1).sqrt() <= by_box {
                         bounds.add_plane(lift, g, span);
                     } else {
                         bounds.add_slope(by_box, span);
@@ -142,12 +147,12 @@ impl TriangleMesh {
     /// holds that point is then passed by the ray at parameters from the stretch's end on (to
     /// rounding, and the search starts `2 delta` earlier still), so the traversal reaches the
     /// triangle and gives it the same leaf test.
-    pub(crate) fn line_of_sight_from(&self, horizon: &Horizon, target: Point) -> bool {
+    pub(crate) fn line_of_sight_from(&self, horizon: &Horizon, target: Point, blocker: &mut Blockers) -> bool {
         let Some(t_from) = horizon.uncleared_from(target) else { return true };
         let p = horizon.uav;
         let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
         let t_min = if t_from > 0.0 { (t_from - 2.0 * horizon.delta / d[0].hypot(d[1])).max(0.0) } else { 0.0 };
-        !self.ray_hits_between(p, d, t_min, SIGHT_FRACTION, SIGHT_FRACTION)
+        !self.ray_hits_between(p, d, t_min, SIGHT_FRACTION, SIGHT_FRACTION, blocker)
     }
 
     /// [`TriangleMesh::line_of_sight_from`] with the target's [`Skyline`] (see
@@ -158,10 +163,10 @@ impl TriangleMesh {
     /// direction passes above every triangle within the skyline's reach of the target, so the
     /// horizon only has to clear it up to that distance from the target, and what neither
     /// clears goes to the BVH.
-    pub(crate) fn line_of_sight_to_target(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
+    pub(crate) fn line_of_sight_to_target(&self, horizon: &Horizon, target: Point, skyline: &Skyline, blocker: &mut Blockers) -> bool {
         let (cleared, far, r) = match horizon.beside_skyline(target, skyline, self.skyline_reach(), self.scales.1) {
             Rest::Clear => return true,
-            Rest::Unsettled => return self.line_of_sight_from(horizon, target),
+            Rest::Unsettled => return self.line_of_sight_from(horizon, target, blocker),
             Rest::Stretch { cleared, far, r } => (cleared, far, r),
         };
         // The BVH's search runs `2 delta` wider on both sides than the stretch to clear.
@@ -172,7 +177,7 @@ impl TriangleMesh {
         }
         let p = horizon.uav;
         let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
-        !self.ray_hits_between(p, d, t_from, t_to, SIGHT_FRACTION)
+        !self.ray_hits_between(p, d, t_from, t_to, SIGHT_FRACTION, blocker)
     }
 }
 
@@ -187,9 +192,10 @@ fn footprint_distance(xy: [(f64, f64); 3]) -> f64 {
         let (ex, ey) = (q.0 - p.0, q.1 - p.1);
         let len2 = ex * ex + ey * ey;
         let t = if len2 > 0.0 { (-(p.0 * ex + p.1 * ey) / len2).clamp(0.0, 1.0) } else { 0.0 };
-        (p.0 + t * ex).hypot(p.1 + t * ey)
+        let (x, y) = (p.0 + t * ex, p.1 + t * ey);
+        x * x + y * y
     };
-    to_edge(xy[0], xy[1]).min(to_edge(xy[1], xy[2])).min(to_edge(xy[2], xy[0]))
+    to_edge(xy[0], xy[1]).min(to_edge(xy[1], xy[2])).min(to_edge(xy[2], xy[0])).sqrt()
 }
 
 /// The longest side of a triangle's footprint, as a vector.
@@ -364,7 +370,7 @@ mod tests {
     fn horizons_and_skylines_give_the_plain_tests_answer() {
         let mut rng = ChaCha8Rng::seed_from_u64(12);
         let edges = sector_edges();
-        let (mut seen, mut total, mut settled) = (0, 0, 0);
+        let (mut seen, mut total, mut settled, mut reused) = (0, 0, 0, 0);
         for case in 0..80 {
             let s = scene(&mut rng, case % 4);
             let mesh = s.triangle_mesh().unwrap();
@@ -382,12 +388,23 @@ mod tests {
                 };
                 let radius = rng.random_range(0.0..25.0);
                 let horizon = mesh.horizon(uav, radius, usize::MAX).unwrap();
+                // Blockers carried from line to line, as an evaluation does, and none.
+                let (mut blocker, mut blocker_sky) = (Blockers::default(), Blockers::default());
                 for _ in 0..150 {
                     let q = on_surface(&mut rng, &mesh.corners);
                     let expect = mesh.line_of_sight(uav, q);
-                    assert_eq!(mesh.line_of_sight_from(&horizon, q), expect, "case {case}: {uav:?} -> {q:?}");
+                    let tried = blocker;
+                    assert_eq!(mesh.line_of_sight_from(&horizon, q, &mut Blockers::default()), expect, "case {case}: {uav:?} -> {q:?}");
+                    assert_eq!(
+                        mesh.line_of_sight_from(&horizon, q, &mut blocker),
+                        expect,
+                        "case {case}: {uav:?} -> {q:?}, {tried:?} first"
+                    );
+                    reused += usize::from(!expect && tried != Blockers::default() && blocker.0[0] == tried.0[0]);
                     let sky = mesh.skyline(q, &edges);
-                    assert_eq!(mesh.line_of_sight_to_target(&horizon, q, &sky), expect, "case {case}: {uav:?} -> {q:?} with its skyline");
+                    let why = format!("case {case}: {uav:?} -> {q:?} with its skyline");
+                    assert_eq!(mesh.line_of_sight_to_target(&horizon, q, &sky, &mut Blockers::default()), expect, "{why}");
+                    assert_eq!(mesh.line_of_sight_to_target(&horizon, q, &sky, &mut blocker_sky), expect, "{why}, {blocker_sky:?} first");
                     let (ex, ey) = (uav[0] - q[0], uav[1] - q[1]);
                     let r = ex.hypot(ey);
                     if r > 0.0 && (uav[2] - q[2]) / r > sky.slope(sector_of(pseudo_angle(ex, ey))) {
@@ -400,5 +417,6 @@ mod tests {
         }
         assert!(seen > total / 5 && seen < 4 * total / 5, "{seen} of {total}");
         assert!(settled > total / 8, "the skylines decided too rarely to be tested: {settled} of {total}");
+        assert!(reused > total / 50, "the last blocker decided too rarely to be tested: {reused} of {total}");
     }
 }
