@@ -8,7 +8,7 @@ and of its parts, as recorded by the optimiser's trace: coverage measurements, f
     python benches/mission_split.py [--seeds 3] [--n-threads 1] [--paper]
 
 ``--paper`` runs the paper's Table 1 mission instead (``uavcov.paper.TABLE1``: its terrains, 12
-UAVs 1-6 m above the ground, every move checked).
+UAVs 1-8 m above the ground, every move checked).
 """
 
 from __future__ import annotations

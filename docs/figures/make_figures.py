@@ -1,7 +1,7 @@
 """Make the example figures of docs/figures.md (and the README) from real runs.
 
 Run from the repository root: ``python docs/figures/make_figures.py`` (needs ``uavcov[plot]``;
-about three minutes on two cores). Every mission is one of the paper's experiments as
+about a minute on two cores). Every mission is one of the paper's experiments as
 ``uavcov reproduce`` runs it (settings from :mod:`uavcov.paper`); the Table 1 preview is a
 short sweep (5 terrains, 150 iterations), not the published table, which
 ``uavcov reproduce table1`` makes. PNGs are written at a modest resolution and stored with a
