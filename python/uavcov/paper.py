@@ -197,7 +197,11 @@ ABLATIONS: tuple[Ablation, ...] = (
         "paper-setup.md's starting step: alpha0 = 1.5 m, A = 50, decay 0.602",
         {"cao.alpha0": 1.5, "cao.stability": 50.0, "cao.decay": 0.602},
     ),
-    Ablation("plateau-step", "a plateau of large steps: alpha0 = 5 m, A = 5 (alpha_k = 30 m / (k + 6))", {"cao.alpha0": 5.0, "cao.stability": 5.0}),
+    Ablation(
+        "plateau-step",
+        "a plateau of large steps: alpha0 = 5 m, A = 5 (alpha_k = 30 m / (k + 6))",
+        {"cao.alpha0": 5.0, "cao.stability": 5.0},
+    ),
     Ablation("candidates-50", "M = 50 candidates", {"cao.n_candidates": 50}),
     Ablation("prior-10", "10 prior samples instead of 30", {"n_prior": 10}),
     Ablation("prior-100", "100 prior samples instead of 30", {"n_prior": 100}),

@@ -24,8 +24,9 @@ Defaults scaled from the paper (``uavcov.paper``): the CVT is Table 1's; CAO's c
 Table 1's with the step of its ``plateau-step`` ablation, scaled with the sensing range
 (``alpha_k = alpha0 (1 + A) / (k + 1 + A)``, ``alpha0 = 0.2 d_max``, ``A = 5``): a plan keeps the
 best configuration seen, so it takes the larger step budget, which reaches higher coverage,
-where Table 1 takes the smaller one its runs settle with by iteration 500; the start flies at the middle of ``[h_min, h_max]`` above the ground and
-a UAV forced up by the ground is put ``min(1 m, (h_max - h_min) / 4)`` above ``h_min``.
+where Table 1 takes the smaller one its runs settle with by iteration 500; the start flies at
+the middle of ``[h_min, h_max]`` above the ground and a UAV forced up by the ground is put
+``min(1 m, (h_max - h_min) / 4)`` above ``h_min``.
 """
 
 from __future__ import annotations
