@@ -23,7 +23,7 @@ from uavcov.area import bbox_area, points_in_rings, read_area
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
 from uavcov.errors import InfeasibleError, InvalidInputError
 from uavcov.geo import dem_from_array, read_dem, read_mesh_dem, sample_geo_dem
-from uavcov.plan import FlightPlan, PlanSettings, plan
+from uavcov.plan import FlightPlan, PlanSettings, default_cao, plan
 from uavcov.plan_outputs import (
     COVERAGE_NODATA,
     MAV_CMD_NAV_LOITER_TIME,
@@ -510,3 +510,16 @@ def test_a_mixed_team_plans_with_each_uavs_sensor(tmp_path: Path, utm_tif: Path)
         PlanSettings(n_uavs=3, d_max=200.0, sensor=team)
     with pytest.raises(InvalidInputError, match="one per UAV"):
         PlanSettings(n_uavs=2, d_max=150.0, sensor=team)
+
+
+def test_plans_default_cao_is_table1_with_the_plateau_step_scaled_to_the_range():
+    from uavcov import paper
+
+    table1 = paper.TABLE1.mission.cao
+    cao = default_cao(800.0)
+    assert (cao.alpha0, cao.stability) == pytest.approx((5.0 * 800.0 / 25.0, 5.0))
+    assert (cao.decay, cao.n_candidates, cao.history, cao.ridge) == (table1.decay, table1.n_candidates, table1.history, table1.ridge)
+    plateau = next(a for a in paper.ABLATIONS if a.name == "plateau-step")
+    assert default_cao(25.0) == paper.TABLE1.with_changes(**plateau.changes).mission.cao
+    with pytest.raises(InvalidInputError):
+        default_cao(-1.0)
