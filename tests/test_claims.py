@@ -77,7 +77,7 @@ def test_the_papers_cao_converges_on_a_fixed_set_of_runs_and_a_plateau_step_does
     under the plateau-step ablation (a step budget 3.75x larger) is still spreading, so it can fail."""
     folder = ResultsFolder(tmp_path)
     spread = experiment_specs(paper.TABLE1, seeds=[1000, 1001, 1002], team_sizes=[5], starts=["cvt", "random", "corner"])
-    plateau = next(a for a in paper.ABLATIONS if a.name == "plateau-step")
+    plateau = paper.ABLATIONS_BY_NAME["plateau-step"]
     corner = experiment_specs(paper.TABLE1.with_changes(**plateau.changes), seeds=[1000], team_sizes=[12], starts=["corner"])
     rows = run_specs([*spread, *corner], out=folder, workers=1, n_threads=1)
     settled = claims.convergence(folder, [r for r in rows if r["n_uavs"] == 5])

@@ -273,3 +273,8 @@ def test_paper_module_runs_nothing():
     with pytest.warns(DeprecationWarning, match="RunSpec"):
         old = paper.run_paper_mission(_TINY, seed=1000, n_uavs=5, start="corner", iterations=2)
     np.testing.assert_array_equal(old.trajectory, _run(_TINY, 1000, 5, "corner", iterations=2).trajectory)
+
+
+def test_every_ablation_is_found_by_its_own_unique_name():
+    assert list(paper.ABLATIONS_BY_NAME) == [a.name for a in paper.ABLATIONS]
+    assert all(paper.ABLATIONS_BY_NAME[a.name] is a for a in paper.ABLATIONS)

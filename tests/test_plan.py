@@ -519,7 +519,7 @@ def test_plans_default_cao_is_table1_with_the_plateau_step_scaled_to_the_range()
     cao = default_cao(800.0)
     assert (cao.alpha0, cao.stability) == pytest.approx((5.0 * 800.0 / 25.0, 5.0))
     assert (cao.decay, cao.n_candidates, cao.history, cao.ridge) == (table1.decay, table1.n_candidates, table1.history, table1.ridge)
-    plateau = next(a for a in paper.ABLATIONS if a.name == "plateau-step")
+    plateau = paper.ABLATIONS_BY_NAME["plateau-step"]
     assert default_cao(25.0) == paper.TABLE1.with_changes(**plateau.changes).mission.cao
     with pytest.raises(InvalidInputError):
         default_cao(-1.0)

@@ -48,6 +48,7 @@ __all__ = [
     "Ablation",
     "ABLATION_BASE",
     "ABLATIONS",
+    "ABLATIONS_BY_NAME",
     "PUBLISHED_TABLE1",
     "PUBLISHED_PYRAMID",
     "PUBLISHED_FIG6_MAX",
@@ -218,6 +219,9 @@ ABLATIONS: tuple[Ablation, ...] = (
     ),
 )
 """The ablations ``uavcov reproduce ablation`` runs beside :data:`ABLATION_BASE` (and ``reproduce all``)."""
+
+ABLATIONS_BY_NAME: Mapping[str, Ablation] = MappingProxyType({a.name: a for a in ABLATIONS})
+"""Every ablation by its name (``ABLATIONS_BY_NAME["plateau-step"]``)."""
 
 EXPERIMENTS: Mapping[str, Experiment] = MappingProxyType({e.name: e for e in (TABLE1, PYRAMID, EXAMPLE, COMPARISON, BUILDINGS)})
 """Every experiment by name."""

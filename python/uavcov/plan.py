@@ -77,7 +77,7 @@ def default_cao(d_max: float) -> CAOSettings:
     from . import paper  # floor 6 data, read only here: the plan's defaults are the paper's
 
     base = paper.TABLE1.mission
-    plateau = next(a for a in paper.ABLATIONS if a.name == "plateau-step").changes
+    plateau = paper.ABLATIONS_BY_NAME["plateau-step"].changes
     alpha0 = plateau["cao.alpha0"] * as_positive_float(d_max, "d_max") / base.d_max
     return replace(base.cao, alpha0=alpha0, stability=plateau["cao.stability"])
 
