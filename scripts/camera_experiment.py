@@ -53,8 +53,8 @@ RULES: dict[str, dict[str, object]] = {
 }
 
 
-CAMERA_CAO = replace(paper.TABLE1.mission.cao, alpha0=5.0, stability=5.0)
-"""CAO's constants of this experiment: Table 1's, with the first step 5 m and A = 5."""
+CAMERA_CAO = paper.TABLE1.with_changes(**paper.ABLATIONS_BY_NAME["plateau-step"].changes).mission.cao
+"""CAO's constants of this experiment: Table 1's with the plateau step (first step 5 m, A = 5)."""
 
 
 def _rules(alpha0_deg: float) -> dict[str, dict[str, object]]:
