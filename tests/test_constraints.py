@@ -555,6 +555,9 @@ def test_the_fused_rust_check_gives_the_python_checks_answers(scene, h_max, chec
     np.testing.assert_array_equal(fused, separate)
     assert 30 < fused.sum() < 570 and fused[:3].all() and not fused[3]
     np.testing.assert_array_equal(feasible_mask(c, world, current, cands, n_threads=2), fused)
+    # the optimisers' callable: the limits bound once, the same answers
+    np.testing.assert_array_equal(feasibility(c, world, n_threads=1)(current, cands), fused)
+    np.testing.assert_array_equal(feasibility(c, _Unfused(world), n_threads=1)(current, cands), fused)
 
 
 def test_the_fused_check_refuses_bad_limits_with_clear_errors():
@@ -577,3 +580,13 @@ def test_the_fused_check_refuses_bad_limits_with_clear_errors():
         world.admissible_mask(current, np.zeros((3, 2)), **good)
     with pytest.raises(InvalidInputError):
         world.admissible_mask([[50.0, 50.0, math.nan]], [[50.0, 50.0, 60.0]], **good)
+    # bound once: bad limits fail at binding, bad positions at each call
+    with pytest.raises(InvalidInputError):
+        world.admissible_check(**(good | {"d_safe": -math.inf}))
+    check = world.admissible_check(**good)
+    assert check(current, [[50.0, 50.0, 60.0], [50.0, 50.0, 200.0]]).tolist() == [True, False]
+    for cur, cand in (([[50.0, 50.0, 60.0]], [[50.0, math.nan, 60.0]]), ([], [[50.0, 50.0, 60.0]]), (current, np.zeros((1, 2, 3)))):
+        with pytest.raises(InvalidInputError):
+            check(cur, cand)
+    with pytest.raises(InvalidTypeError):
+        check(current, "candidates")

@@ -261,7 +261,7 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     constraints : Constraints
     world : World
         The real surface. A ``Terrain`` judges the whole batch in one Rust pass
-        (``Terrain.admissible_mask``); any other world is queried once for the clearance of the
+        (``Terrain.admissible_check``); any other world is queried once for the clearance of the
         candidates that pass the bounds and separation, and once for their moves when
         ``check_moves`` is set, with the same answers.
     current : (N, 3) array_like
@@ -284,20 +284,9 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     cur = as_points(current, "current")
     cand = _as_candidates(candidates, cur.shape[0])
     n_uavs = cur.shape[0]
-    fused = getattr(world, "admissible_mask", None)
+    fused = _fused_check(constraints, world, n_threads)
     if fused is not None:  # a Terrain: every check below in one Rust pass, with the same answers
-        mask = fused(
-            cur,
-            cand.reshape(-1, 3),
-            bounds=constraints.flight_box,
-            h_min=constraints.h_min,
-            h_max=constraints.h_max,
-            z_max=constraints.z_max,
-            d_safe=constraints.d_safe,
-            check_moves=bool(constraints.check_moves),
-            n_threads=n_threads,
-        )
-        return np.asarray(mask, dtype=bool)
+        return np.asarray(fused(cur, cand), dtype=bool)
     threads: dict[str, Any] = {} if n_threads is None else {"n_threads": n_threads}
     # cheap checks first, so the surface is only queried for candidates still in the running
     ok = _static_ok(constraints, cand)
@@ -331,11 +320,31 @@ def feasibility(constraints: Constraints, world: World, *, n_threads: int | None
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world)
     constraints = constraints.resolve(world)
+    fused = _fused_check(constraints, world, n_threads)
+    if fused is not None:  # the limits checked once, not on each of a mission's hundreds of calls
+        return fused
 
     def feasible(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
         return feasible_mask(constraints, world, current, candidates, n_threads=n_threads)
 
     return feasible
+
+
+def _fused_check(constraints: Constraints, world: World, n_threads: int | None) -> Callable[[Any, Any], np.ndarray] | None:
+    """``world``'s one-pass check of ``constraints`` (resolved), when it has one (a Terrain)."""
+    bind = getattr(world, "admissible_check", None)
+    if bind is None:
+        return None
+    check: Callable[[Any, Any], np.ndarray] = bind(
+        bounds=constraints.flight_box,
+        h_min=constraints.h_min,
+        h_max=constraints.h_max,
+        z_max=constraints.z_max,
+        d_safe=constraints.d_safe,
+        check_moves=bool(constraints.check_moves),
+        n_threads=n_threads,
+    )
+    return check
 
 
 def trajectory_feasible(constraints: Constraints, world: World, trajectory: Any) -> np.ndarray:

@@ -8,6 +8,7 @@ GIL.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -422,25 +423,52 @@ class Terrain:
         -------
         (M,) bool array
         """
-        cur = as_points(current, "current")
-        cand = as_float_array(candidates, "candidates")
-        if cand.ndim == 3 and cand.shape[1:] == cur.shape:
-            cand = cand.reshape(-1, 3)
-        if cand.ndim != 2 or cand.shape[1] != 3 or cand.shape[0] % cur.shape[0]:
-            raise InvalidInputError(f"candidates must have shape (M, {cur.shape[0]}, 3), got {cand.shape}")
+        check = self.admissible_check(
+            bounds=bounds, h_min=h_min, h_max=h_max, z_max=z_max, d_safe=d_safe, check_moves=check_moves, n_threads=n_threads
+        )
+        return check(current, candidates)
+
+    def admissible_check(
+        self,
+        *,
+        bounds: tuple[float, float, float, float],
+        h_min: float,
+        h_max: float | None,
+        z_max: float,
+        d_safe: float,
+        check_moves: bool,
+        n_threads: int | None = None,
+    ) -> Callable[[Any, Any], np.ndarray]:
+        """:meth:`admissible_mask` with these limits checked once: ``check(current, candidates)``.
+
+        An optimiser asks for a mask hundreds of times a mission with the same limits; the
+        callable checks only the positions on each call.
+        """
         box = as_float_array(bounds, "bounds")
         if box.shape != (4,):
             raise InvalidInputError(f"bounds must be (xmin, ymin, xmax, ymax), got shape {box.shape}")
         xmin, ymin, xmax, ymax = (float(v) for v in box)
-        ceiling = None if h_max is None else as_finite_float(h_max, "h_max")
         limits = (
             as_finite_float(h_min, "h_min"),
-            ceiling,
+            None if h_max is None else as_finite_float(h_max, "h_max"),
             as_finite_float(z_max, "z_max"),
             as_finite_float(d_safe, "d_safe"),
             bool(check_moves),
         )
-        return self._surface.admissible_mask(cur, np.ascontiguousarray(cand), (xmin, ymin, xmax, ymax), *limits, as_n_threads(n_threads))
+        threads = as_n_threads(n_threads)
+        rust = self._surface.admissible_mask
+
+        def check(current: Any, candidates: Any) -> np.ndarray:
+            cur = as_points(current, "current")
+            cand = as_float_array(candidates, "candidates")
+            n_uavs = cur.shape[0]
+            if cand.ndim == 3 and cand.shape[1:] == cur.shape:
+                cand = cand.reshape(-1, 3)
+            if n_uavs == 0 or cand.ndim != 2 or cand.shape[1] != 3 or cand.shape[0] % n_uavs:
+                raise InvalidInputError(f"candidates must have shape (M, {n_uavs}, 3), got {cand.shape}")
+            return rust(cur, cand, (xmin, ymin, xmax, ymax), *limits, threads)
+
+        return check
 
 
 def _pair(value: Any, name: str, *, positive: bool) -> tuple[float, float]:
