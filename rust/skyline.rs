@@ -310,6 +310,11 @@ impl Skylines {
         Self { chunks: (0..n_chunks).map(|_| Mutex::new(Slot::Untouched)).collect() }
     }
 
+    /// Number of chunks.
+    pub(crate) fn n_chunks(&self) -> usize {
+        self.chunks.len()
+    }
+
     /// The skylines of chunk `c` (`len` targets), or `None` on its first evaluation.
     pub(crate) fn chunk(&self, c: usize, len: usize) -> Option<ChunkSkylines<'_>> {
         // A panic elsewhere cannot leave a slot half-written: every write is a whole value.

@@ -389,7 +389,7 @@ pub struct Visibility {
     range: f64,
     grid_path: bool,
     /// For grid-node targets on the grid path.
-    skylines: Option<(Skylines, SkylineSource)>,
+    skylines: Option<(Arc<Skylines>, SkylineSource)>,
 }
 
 impl Visibility {
@@ -428,7 +428,15 @@ impl Visibility {
         } else {
             Some(SkylineSource::Mesh(sector_edges()))
         };
-        let skylines = source.map(|s| (Skylines::new(targets.n_chunks()), s));
+        let skylines = source.map(|s| {
+            // A grid node's skyline depends on the heights alone: the surface keeps them for
+            // every objective over its nodes. Other targets' skylines are this objective's own.
+            let store = match s {
+                SkylineSource::Grid(_) => surface.node_skylines(targets.n_chunks()),
+                SkylineSource::Mesh(_) => Arc::new(Skylines::new(targets.n_chunks())),
+            };
+            (store, s)
+        });
         let range = d_max.min(UNLIMITED_RANGE);
         Ok(Self { surface, targets, d_max, range, grid_path, skylines })
     }
@@ -959,6 +967,37 @@ mod tests {
             let count = seen.iter().filter(|&&v| v).count();
             assert!(count > 0 && count < seen.len());
         }
+    }
+
+    #[test]
+    fn objectives_over_one_grids_nodes_share_its_skylines_with_the_same_answers() {
+        let s = rugged(40);
+        let nodes = || Targets::grid_nodes(s.clone()).unwrap();
+        let first = Visibility::new(s.clone(), nodes(), 9.0).unwrap();
+        let second = Visibility::new(s.clone(), nodes(), 6.0).unwrap();
+        let store = |v: &Visibility| Arc::clone(&v.skylines.as_ref().expect("grid-node skylines").0);
+        assert!(Arc::ptr_eq(&store(&first), &store(&second)));
+        // Another surface with the same heights has its own store and, skylines or not, the
+        // same answers: fill the shared store through `first`, then ask `second`.
+        let alone = rugged(40);
+        let fresh = Visibility::new(alone.clone(), Targets::grid_nodes(alone).unwrap(), 6.0).unwrap();
+        assert!(!Arc::ptr_eq(&store(&first), &store(&fresh)));
+        let configs: Vec<Vec<Point>> = (0..4)
+            .map(|k| (0..3).map(|u| [103.0 + 5.0 * f64::from(u + k), -4.0 + 4.0 * f64::from(u), 5.0 + f64::from(k)]).collect())
+            .collect();
+        for uavs in &configs {
+            first.seen(uavs, 2).unwrap();
+            first.seen(uavs, 1).unwrap();
+        }
+        for uavs in &configs {
+            for _ in 0..2 {
+                assert_eq!(second.seen(uavs, 2).unwrap(), fresh.seen(uavs, 1).unwrap());
+                assert_eq!(second.per_uav(uavs, 1).unwrap(), fresh.per_uav(uavs, 2).unwrap());
+            }
+        }
+        // Given points are not grid nodes: their store is the objective's own.
+        let given = Visibility::new(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 9.0).unwrap();
+        assert!(given.skylines.is_none() || !Arc::ptr_eq(&store(&first), &store(&given)));
     }
 
     /// A camera looking along heading `yaw` (degrees clockwise from +y) with gimbal pitch

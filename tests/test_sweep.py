@@ -369,6 +369,21 @@ def test_experiment_checks_its_fields():
     assert paper.BUILDINGS.known(0) is not None
 
 
+def test_a_workers_runs_on_one_terrain_share_it_and_answer_as_on_a_fresh_one():
+    """Runs keep the last terrains they made (the objectives of one surface share its skylines)."""
+    from uavcov import run_mission
+
+    experiment = paper.TABLE1.with_changes(**{"terrain.spacing": 2.0, "iterations": 12})
+    specs = experiment_specs(experiment, seeds=[7], team_sizes=[5], starts=["cvt", "random", "corner"])
+    kept = [spec.run(n_threads=1) for spec in specs]
+    assert kept[0].terrain is kept[1].terrain is kept[2].terrain
+    for spec, result in zip(specs, kept, strict=True):
+        fresh = run_mission(experiment.terrain.make(7), spec.mission, n_threads=1, rng=7)
+        assert fresh.terrain is not result.terrain
+        np.testing.assert_array_equal(fresh.coverage, result.coverage)
+        np.testing.assert_array_equal(fresh.trajectory, result.trajectory)
+
+
 def test_run_spec_rows_and_ids():
     spec = RunSpec(TINY, seed=3, n_uavs=2, start="random", extra=(("cao.alpha0", 1.0),))
     row = spec.row_template()

@@ -28,6 +28,7 @@ from __future__ import annotations
 import collections
 import concurrent.futures as cf
 import dataclasses
+import functools
 import hashlib
 import json
 import os
@@ -343,8 +344,27 @@ class RunSpec:
 
     def run(self, n_threads: int | None = 1) -> MissionResult:
         """Run the mission: terrain ``seed``, then :func:`uavcov.mission.run_mission` with ``rng=seed``."""
-        terrain = self.experiment.terrain.make(self.seed)
+        terrain = _scenario(self.experiment.terrain, self.seed)
         return run_mission(terrain, self.mission, known=self.experiment.known(self.seed), n_threads=n_threads, rng=self.seed)
+
+
+def _scenario(terrain: HillsTerrain | BuildingsTerrain, seed: int) -> Terrain:
+    """``terrain.make(seed)``, kept for the next runs of a worker.
+
+    Runs are listed seed by seed, so a worker's next run is most often on the same surface (other
+    team sizes and starts). A Terrain is immutable, and the objectives of one surface share its
+    grid nodes' skylines (``uavcov.Visibility``), which those runs then compute once.
+    """
+    try:
+        hash(terrain)
+    except TypeError:  # a generator given lists instead of tuples: made anew each time
+        return terrain.make(seed)
+    return _kept_scenario(terrain, seed)
+
+
+@functools.lru_cache(maxsize=2)
+def _kept_scenario(terrain: HillsTerrain | BuildingsTerrain, seed: int) -> Terrain:
+    return terrain.make(seed)
 
 
 def run_paper_mission(

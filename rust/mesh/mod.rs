@@ -20,12 +20,13 @@ use parry3d_f64::partitioning::TraversalAction;
 use parry3d_f64::query::{PointQuery, Ray};
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use crate::error::{Error, Result};
 use crate::geometry::{in_bounds, p, triangle_area, triangle_hit, v, Point, MAX_COORDINATE, SIGHT_FRACTION};
 use crate::grid::Grid;
 use crate::heightfield::HeightField;
+use crate::skyline::Skylines;
 
 mod sight;
 
@@ -65,6 +66,9 @@ pub struct TriangleMesh {
 #[derive(Clone)]
 pub struct Surface {
     body: Body,
+    /// The skylines of a grid's nodes, shared by every objective over its grid nodes (they
+    /// depend on the heights alone), kept as long as the surface.
+    node_skylines: OnceLock<Arc<Skylines>>,
 }
 
 #[derive(Clone)]
@@ -100,7 +104,7 @@ impl Surface {
     /// usually means the mesh was not what the caller thinks); [`Error::TooLarge`] beyond
     /// [`MAX_TRIANGLES`].
     pub fn new(vertices: Vec<Point>, faces: Vec<[u32; 3]>) -> Result<Self> {
-        Ok(Self { body: Body::Mesh(TriangleMesh::build(vertices, faces, true)?) })
+        Ok(Self { body: Body::Mesh(TriangleMesh::build(vertices, faces, true)?), node_skylines: OnceLock::new() })
     }
 
     /// Builds the surface of an elevation grid.
@@ -117,7 +121,20 @@ impl Surface {
     /// not finite and positive, infinite heights; [`Error::Mesh`] when nodata leaves no triangle.
     pub fn from_grid(z: Vec<f64>, ny: usize, nx: usize, dx: f64, dy: f64, x0: f64, y0: f64) -> Result<Self> {
         let field = HeightField::new(z, ny, nx, dx, dy, x0, y0)?;
-        Ok(Self { body: Body::Grid(Box::new(field), OnceLock::new()) })
+        Ok(Self { body: Body::Grid(Box::new(field), OnceLock::new()), node_skylines: OnceLock::new() })
+    }
+
+    /// The store of the skylines of this grid's nodes, in `n_chunks` chunks of targets: one per
+    /// surface, so that every objective over the grid nodes (a sweep's runs on one terrain)
+    /// computes each node's skyline once. A store of another chunk count (never the case for
+    /// the grid-node targets of one surface) is a fresh one.
+    pub(crate) fn node_skylines(&self, n_chunks: usize) -> Arc<Skylines> {
+        let shared = self.node_skylines.get_or_init(|| Arc::new(Skylines::new(n_chunks)));
+        if shared.n_chunks() == n_chunks {
+            Arc::clone(shared)
+        } else {
+            Arc::new(Skylines::new(n_chunks))
+        }
     }
 
     /// The triangle mesh with its BVH: the surface itself for a general mesh; for a grid, built
