@@ -349,11 +349,12 @@ class RunSpec:
 
 
 def _scenario(terrain: HillsTerrain | BuildingsTerrain, seed: int) -> Terrain:
-    """``terrain.make(seed)``, kept for the next runs of a worker.
+    """``terrain.make(seed)``, the last one kept for a worker's next runs.
 
     Runs are listed seed by seed, so a worker's next run is most often on the same surface (other
     team sizes and starts). A Terrain is immutable, and the objectives of one surface share its
-    grid nodes' skylines (``uavcov.Visibility``), which those runs then compute once.
+    grid nodes' skylines (``uavcov.Visibility``), which those runs then compute once. Only the
+    last terrain is kept, so a worker of a sweep over large maps holds one map at a time.
     """
     try:
         hash(terrain)
@@ -362,7 +363,7 @@ def _scenario(terrain: HillsTerrain | BuildingsTerrain, seed: int) -> Terrain:
     return _kept_scenario(terrain, seed)
 
 
-@functools.lru_cache(maxsize=2)
+@functools.lru_cache(maxsize=1)
 def _kept_scenario(terrain: HillsTerrain | BuildingsTerrain, seed: int) -> Terrain:
     return terrain.make(seed)
 
