@@ -995,9 +995,9 @@ mod tests {
                 assert_eq!(second.per_uav(uavs, 1).unwrap(), fresh.per_uav(uavs, 2).unwrap());
             }
         }
-        // Given points are not grid nodes: their store is the objective's own.
-        let given = Visibility::new(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 9.0).unwrap();
-        assert!(given.skylines.is_none() || !Arc::ptr_eq(&store(&first), &store(&given)));
+        // The mesh path's skylines of the same nodes come from the triangles: its own store.
+        let mesh = Visibility::with_path(s.clone(), nodes(), 9.0, Path::Mesh).unwrap();
+        assert!(!Arc::ptr_eq(&store(&first), &store(&mesh)));
     }
 
     /// A camera looking along heading `yaw` (degrees clockwise from +y) with gimbal pitch

@@ -370,7 +370,7 @@ def test_experiment_checks_its_fields():
 
 
 def test_a_workers_runs_on_one_terrain_share_it_and_answer_as_on_a_fresh_one():
-    """Runs keep the last terrains they made (the objectives of one surface share its skylines)."""
+    """Runs keep the last terrain made (the objectives of one surface share its skylines)."""
     from uavcov import run_mission
 
     experiment = paper.TABLE1.with_changes(**{"terrain.spacing": 2.0, "iterations": 12})
