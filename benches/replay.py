@@ -6,8 +6,12 @@ holds its terrain grid and its whole trajectory. This loads every ``--every``-th
 value equals the one stored in the run, and prints the mean time per evaluation. Alternate it
 between two builds to compare them on exactly the sight lines a sweep measures.
 
+With ``--tracker MARGIN`` it also measures each run along its path with
+``Visibility.tracker(MARGIN)`` (what ``run_mission`` does), run by run alternating with the plain
+objective, checks those values too, and prints both times and their ratio.
+
     uavcov reproduce table1 --seeds 0-9 --out out/table1 --no-plots
-    python benches/replay.py out/table1 [--every 10] [--d-max 25]
+    python benches/replay.py out/table1 [--every 10] [--d-max 25] [--tracker 1.0]
 """
 
 from __future__ import annotations
@@ -26,11 +30,12 @@ def main() -> None:
     parser.add_argument("folder", type=pathlib.Path, help="a results folder with runs/*.npz")
     parser.add_argument("--every", type=int, default=10, help="replay every k-th run (sorted by name)")
     parser.add_argument("--d-max", type=float, default=25.0, help="sensing range of the runs, metres")
+    parser.add_argument("--tracker", type=float, default=None, metavar="MARGIN", help="also measure with a CoverageTracker of this margin")
     args = parser.parse_args()
     files = sorted((args.folder / "runs").glob("*.npz"))[:: args.every]
     if not files:
         raise SystemExit(f"no runs/*.npz under {args.folder}")
-    seconds, evaluations, worst = 0.0, 0, 0.0
+    seconds, tracked, evaluations, worst = 0.0, 0.0, 0, 0.0
     for f in files:
         with np.load(f, allow_pickle=False) as run:
             z, spacing, origin = run["terrain_grid_z"], run["terrain_grid_spacing"], run["terrain_grid_origin"]
@@ -42,8 +47,17 @@ def main() -> None:
         seconds += time.perf_counter() - t0
         evaluations += len(values)
         worst = max(worst, float(np.abs(np.asarray(values) - stored).max()))
+        if args.tracker is not None:
+            tracker = vis.tracker(args.tracker)
+            t0 = time.perf_counter()
+            along = [tracker.coverage(p) for p in trajectory]
+            tracked += time.perf_counter() - t0
+            worst = max(worst, float(np.abs(np.asarray(along) - stored).max()))
     per = 1e3 * seconds / evaluations
     print(f"{len(files)} runs, {evaluations} evaluations, {per:.3f} ms each; largest difference from the stored coverage {worst:.1e}")
+    if args.tracker is not None:
+        per_tracked = 1e3 * tracked / evaluations
+        print(f"tracker (margin {args.tracker} m): {per_tracked:.3f} ms each, {per_tracked / per:.2f}x the plain objective")
     if worst != 0.0:
         raise SystemExit("the replay differs from the stored runs")
 

@@ -113,6 +113,47 @@ impl Grid {
         (norm > 0.0 && norm.is_finite()).then(|| [sum[0] / norm, sum[1] / norm, sum[2] / norm])
     }
 
+    /// The steepest slope of the surface (rise over horizontal run, the largest gradient norm of
+    /// its triangles), or `None` when there is nodata. A bound for how much the height under a
+    /// point changes when the point moves: `|h(a) - h(b)| <= slope |a - b|` on the whole grid.
+    ///
+    /// ```
+    /// use uavcov::grid::Grid;
+    /// // Rising 1 m per metre along x and 3 m per metre along y: every triangle has slope sqrt(10).
+    /// let g = Grid { ny: 2, nx: 3, dx: 1.0, dy: 1.0, x0: 0.0, y0: 0.0, z: vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], vertex_of_node: vec![] };
+    /// assert!((g.max_slope().unwrap() - 10f64.sqrt()).abs() < 1e-12);
+    /// ```
+    #[must_use]
+    pub fn max_slope(&self) -> Option<f64> {
+        if self.z.iter().any(|h| h.is_nan()) {
+            return None;
+        }
+        let mut steepest = 0.0f64;
+        for i in 0..self.ny - 1 {
+            for j in 0..self.nx - 1 {
+                steepest = steepest.max(self.cell_slope(i, j));
+            }
+        }
+        Some(steepest)
+    }
+
+    /// The steeper slope of cell `(i, j)`'s two triangles (NaN with nodata at a corner).
+    #[inline]
+    #[must_use]
+    pub fn cell_slope(&self, i: usize, j: usize) -> f64 {
+        let [a, b, c, d] = self.cell_nodes(i, j).map(|k| self.z[k]);
+        let (inv_dx, inv_dy) = (1.0 / self.dx, 1.0 / self.dy);
+        // [a, b, c] rises along x from a to b and along y from b to c; [a, c, d] along x from d
+        // to c and along y from a to d.
+        let upper = ((b - a) * inv_dx).hypot((c - b) * inv_dy);
+        let lower = ((c - d) * inv_dx).hypot((d - a) * inv_dy);
+        if upper.is_nan() || lower.is_nan() {
+            f64::NAN
+        } else {
+            upper.max(lower)
+        }
+    }
+
     /// The corners of the two triangles of cell `(i, j)`, `[a, b, c]` and `[a, c, d]`, or `None`
     /// for a triangle with a nodata corner.
     #[inline(always)]

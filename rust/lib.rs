@@ -13,6 +13,8 @@
 //! - [`sensor`]: what one UAV's sensor reaches before occlusion: its range and, for a camera,
 //!   its pinhole field of view.
 //! - [`visibility`]: the coverage objective, parallel over targets.
+//! - [`tracking`]: coverage of a moving team, each evaluation reusing what the last ones proved
+//!   about its sight lines.
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
 //! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
 //!   candidates in one pass.
@@ -24,7 +26,7 @@
 //! (cached thread pools, so results never depend on their size).
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
-//! <- `sampling` <- `visibility` (which also imports `sensor`), and `mesh` <- `cvt`, `mesh` <- `flight`; `surrogate` stands
+//! <- `sampling` <- `visibility` <- `tracking` (`visibility` also imports `sensor`), and `mesh` <- `cvt`, `mesh` <- `flight`; `surrogate` stands
 //! alone.
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
@@ -75,6 +77,7 @@ pub mod sensor;
 mod skyline;
 pub mod surrogate;
 mod threads;
+pub mod tracking;
 pub mod visibility;
 
 #[cfg(feature = "python")]

@@ -41,11 +41,11 @@ use crate::threads;
 
 /// Targets per chunk: small enough to balance very unequal UAV footprints, large enough that
 /// the per-chunk culling and rayon's ~1 us per task stay negligible.
-const CHUNK: usize = 256;
+pub(crate) const CHUNK: usize = 256;
 
 /// Most horizon bounds kept at once for one evaluation (4 bytes each: 256 MiB), shared by its
 /// UAVs; a horizon's size changes how much of a sight line it clears, never an answer.
-const HORIZON_BUDGET: usize = 1 << 26;
+pub(crate) const HORIZON_BUDGET: usize = 1 << 26;
 
 /// Most per-UAV counters (`UavCounts`, 32 bytes per UAV) held at once by [`Visibility::per_uav`]
 /// (128 MiB): its chunks are evaluated in batches of this many counters and summed in chunk
@@ -211,7 +211,7 @@ impl Targets {
     }
 
     /// Appends the points of chunk `c` to `out`.
-    fn chunk_points(&self, c: usize, out: &mut Vec<Point>) {
+    pub(crate) fn chunk_points(&self, c: usize, out: &mut Vec<Point>) {
         match &self.points {
             Points::Given(p) => out.extend_from_slice(&p[c * CHUNK..((c + 1) * CHUNK).min(p.len())]),
             Points::GridNodes { surface, chunk_start } => {
@@ -267,11 +267,11 @@ impl Targets {
         self.len == 0
     }
 
-    fn chunk_len(&self, c: usize) -> usize {
+    pub(crate) fn chunk_len(&self, c: usize) -> usize {
         CHUNK.min(self.len - c * CHUNK)
     }
 
-    fn n_chunks(&self) -> usize {
+    pub(crate) fn n_chunks(&self) -> usize {
         self.chunk_bounds.len()
     }
 }
@@ -298,7 +298,7 @@ fn squared_distance(a: Point, b: Point) -> f64 {
 }
 
 /// The per-chunk answers of one evaluation, in target order (`len` values in all).
-fn concatenate<T>(chunks: Vec<Vec<T>>, len: usize, what: &str) -> Result<Vec<T>> {
+pub(crate) fn concatenate<T>(chunks: Vec<Vec<T>>, len: usize, what: &str) -> Result<Vec<T>> {
     let mut out = try_with_capacity(len, what)?;
     for chunk in chunks {
         out.extend(chunk);
@@ -309,7 +309,7 @@ fn concatenate<T>(chunks: Vec<Vec<T>>, len: usize, what: &str) -> Result<Vec<T>>
 /// Which targets each UAV can reach before occlusion: the one range of the [`Visibility`], or a
 /// sensor per UAV.
 #[derive(Clone, Copy)]
-enum Reach<'a> {
+pub(crate) enum Reach<'a> {
     /// Squared range.
     Range(f64),
     Sensors(&'a [Sensor]),
@@ -319,7 +319,7 @@ impl Reach<'_> {
     /// Whether UAV `u` at `uav` reaches `target` (before occlusion); `normal` is the target's
     /// surface normal, which only a sensor with an incidence limit reads.
     #[inline]
-    fn accepts(&self, u: usize, uav: Point, target: Point, normal: Option<Point>) -> bool {
+    pub(crate) fn accepts(&self, u: usize, uav: Point, target: Point, normal: Option<Point>) -> bool {
         match self {
             Reach::Range(d2) => squared_distance(uav, target) <= *d2,
             Reach::Sensors(sensors) => sensors[u].accepts(uav, target) && sensors[u].incidence_ok(uav, target, normal),
@@ -459,6 +459,16 @@ impl Visibility {
         self.d_max
     }
 
+    /// The height field the tests walk, on the grid path.
+    pub(crate) fn grid_field(&self) -> Option<&HeightField> {
+        self.surface.heightfield().filter(|_| self.grid_path)
+    }
+
+    /// The range the tests use (`d_max`, at most [`UNLIMITED_RANGE`]), m.
+    pub(crate) fn range(&self) -> f64 {
+        self.range
+    }
+
     /// The path the line-of-sight tests take ([`Path::Grid`] or [`Path::Mesh`]).
     #[must_use]
     pub fn path(&self) -> Path {
@@ -469,7 +479,7 @@ impl Visibility {
         }
     }
 
-    fn check_uavs(uavs: &[Point]) -> Result<()> {
+    pub(crate) fn check_uavs(uavs: &[Point]) -> Result<()> {
         ensure!(!uavs.is_empty(), "there must be at least one UAV");
         ensure!(uavs.iter().all(|q| q.iter().all(|c| c.is_finite())), "UAV coordinates must be finite");
         ensure!(uavs.iter().all(|&q| in_bounds(q)), "UAV coordinates must be at most {MAX_COORDINATE:e} m in magnitude");
@@ -479,7 +489,7 @@ impl Visibility {
     /// The UAVs (indices) within range of any point of a chunk's bounding box, nearest first:
     /// the nearest UAV is the likeliest to see a target, and a target stops at the first UAV that
     /// does.
-    fn in_range_of(&self, chunk: usize, uavs: &[Point], reach: Reach<'_>, into: &mut Vec<usize>) {
+    pub(crate) fn in_range_of(&self, chunk: usize, uavs: &[Point], reach: Reach<'_>, into: &mut Vec<usize>) {
         into.clear();
         let b = self.targets.chunk_bounds[chunk];
         into.extend((0..uavs.len()).filter(|&i| reach.may_reach_box(i, uavs[i], b)));
@@ -489,7 +499,7 @@ impl Visibility {
 
     /// The skylines of chunk `c`'s targets, from the chunk's second evaluation on, and the grid
     /// nodes of its targets (into `nodes`) on the grid path.
-    fn skylines_of(&self, c: usize, nodes: &mut Vec<usize>) -> Option<ChunkSkylines<'_>> {
+    pub(crate) fn skylines_of(&self, c: usize, nodes: &mut Vec<usize>) -> Option<ChunkSkylines<'_>> {
         let view = self.skylines.as_ref()?.0.chunk(c, self.targets.chunk_len(c))?;
         nodes.clear();
         if let Some((_, SkylineSource::Grid(_))) = &self.skylines {
@@ -499,7 +509,7 @@ impl Visibility {
     }
 
     /// The skyline of target `q` (grid node `node` on the grid path).
-    fn skyline(&self, q: Point, node: Option<usize>) -> Skyline {
+    pub(crate) fn skyline(&self, q: Point, node: Option<usize>) -> Skyline {
         match (&self.skylines, node, self.surface.grid()) {
             (Some((_, SkylineSource::Grid(stencil))), Some(k), Some(grid)) => stencil.skyline(grid, k / grid.nx, k % grid.nx),
             (Some((_, SkylineSource::Mesh(edges))), _, _) => match self.surface.triangle_mesh() {
@@ -512,7 +522,7 @@ impl Visibility {
 
     /// The engine the tests run on, resolved once per call (each UAV's horizon is built here,
     /// in parallel, within [`HORIZON_BUDGET`] bounds in all).
-    fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
+    pub(crate) fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
         let per_uav = HORIZON_BUDGET / uavs.len();
         let radius = |i: usize| match reach {
             Reach::Range(_) => self.range,
@@ -707,7 +717,7 @@ impl Visibility {
         Ok((total / self.targets.total_weight).min(1.0))
     }
 
-    fn reach<'s>(&self, uavs: &[Point], sensors: Option<&'s [Sensor]>) -> Result<Reach<'s>> {
+    pub(crate) fn reach<'s>(&self, uavs: &[Point], sensors: Option<&'s [Sensor]>) -> Result<Reach<'s>> {
         match sensors {
             None => Ok(Reach::Range(self.range * self.range)),
             Some(list) => {
@@ -831,7 +841,7 @@ impl std::fmt::Debug for SkylineSource {
 }
 
 /// The geometry one evaluation runs on, with what it knows of each UAV.
-enum Engine<'a> {
+pub(crate) enum Engine<'a> {
     Mesh(&'a TriangleMesh, Vec<Horizon>),
     Grid(&'a HeightField, Vec<Horizon>),
 }
@@ -841,7 +851,7 @@ impl Engine<'_> {
     /// `blockers[uav]` is the triangle that last blocked one of its lines on the mesh path (see
     /// [`TriangleMesh::ray_hits_between`]), `None` at first.
     #[inline]
-    fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>, blockers: &mut [Blockers]) -> bool {
+    pub(crate) fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>, blockers: &mut [Blockers]) -> bool {
         match (self, skyline) {
             (Engine::Mesh(mesh, horizons), Some(sky)) => mesh.line_of_sight_to_target(&horizons[uav], target, sky, &mut blockers[uav]),
             (Engine::Mesh(mesh, horizons), None) => mesh.line_of_sight_from(&horizons[uav], target, &mut blockers[uav]),

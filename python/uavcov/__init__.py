@@ -54,7 +54,7 @@ from .sensors import Camera, Gimbal, Sensor, camera_axes
 from .starts import StartSpec, initial_positions, start_configuration
 from .surface import GridInfo, Terrain
 from .targets import Targets
-from .visibility import UavCounts, Visibility, coverage
+from .visibility import CoverageTracker, UavCounts, Visibility, coverage
 
 __all__ = [
     "__version__",
@@ -62,6 +62,7 @@ __all__ = [
     "GridInfo",
     "Terrain",
     "Targets",
+    "CoverageTracker",
     "UavCounts",
     "Visibility",
     "coverage",

@@ -5,7 +5,7 @@ from typing import final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Surface", "Visibility", "CVT", "Surrogate", "available_threads", "__version__"]
+__all__ = ["Surface", "Visibility", "CoverageTracker", "CVT", "Surrogate", "available_threads", "__version__"]
 
 __version__: str
 
@@ -83,6 +83,18 @@ class Visibility:
         float,
         float,
     ]: ...
+
+@final
+class CoverageTracker:
+    def __new__(cls, visibility: Visibility, margin: float) -> CoverageTracker: ...
+    @property
+    def margin(self) -> float: ...
+    @property
+    def certifies(self) -> bool: ...
+    @property
+    def settled(self) -> int: ...
+    def seen(self, uavs: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.bool_]: ...
+    def coverage(self, uavs: npt.NDArray[np.float64], n_threads: int = 0) -> float: ...
 
 @final
 class CVT:

@@ -585,11 +585,20 @@ def run_mission(
         return state.poses(x) if camera else x
 
     if spec.optimizer == "cao":
-        objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
+        if spec.objective == "coverage" and sensors is None:
+            # One team's measurements along its path: the tracker reuses what each proved.
+            along = vis.tracker()
 
-        @_repeats_the_last
-        def value(x: np.ndarray) -> float:
-            return objective(poses(x), sensors=sensors)
+            @_repeats_the_last
+            def value(x: np.ndarray) -> float:
+                return along.coverage(x)
+
+        else:
+            objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
+
+            @_repeats_the_last
+            def value(x: np.ndarray) -> float:
+                return objective(poses(x), sensors=sensors)
 
         trace = cao(
             value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng

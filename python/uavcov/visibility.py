@@ -20,7 +20,7 @@ from .sensors import Sensor, pack_sensors
 from .surface import Terrain
 from .targets import Targets
 
-__all__ = ["Visibility", "UavCounts", "coverage"]
+__all__ = ["Visibility", "CoverageTracker", "UavCounts", "coverage"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,6 +173,19 @@ class Visibility:
         points, packed = self._uavs(uavs, sensors)
         return float(self._core.quality_coverage(points, self._n_threads, packed))
 
+    def tracker(self, margin: float = 1.0) -> CoverageTracker:
+        """A :class:`CoverageTracker` of this objective: :meth:`coverage` of one team measured
+        again and again as it moves, each measurement reusing what the last ones proved.
+
+        Parameters
+        ----------
+        margin : float, default 1.0
+            Metres each UAV may move (height change plus the terrain's steepest slope times the
+            horizontal move) before its certificates are made anew. It changes the work only,
+            never an answer.
+        """
+        return CoverageTracker(self, margin)
+
     def per_uav(self, uavs: Any, *, sensors: Sequence[Sensor] | None = None) -> UavCounts:
         """How many targets each UAV sees and how many only it sees, and the team's coverage, in
         one pass (see :class:`UavCounts`; arguments as :meth:`coverage`)."""
@@ -185,6 +198,74 @@ class Visibility:
             exclusive_w / total,
             float(coverage),
         )
+
+
+class CoverageTracker:
+    """:meth:`Visibility.coverage` and :meth:`Visibility.seen` of one team, measured again and
+    again as it moves (an optimiser's loop): the same answers to the last bit, with most sight
+    lines settled by what earlier measurements proved.
+
+    For each target it keeps a certificate: a UAV that sees it with room to spare (the line from
+    the target to the UAV's *anchor* lowered by ``margin`` is clear), or UAVs that cannot see it
+    with room to spare (the line to the anchor raised by ``margin`` is blocked). While a UAV has
+    moved less than ``margin`` from its anchor (height change plus the terrain's steepest slope
+    times the horizontal move), its certificates hold; beyond it the anchor moves to the UAV.
+    Only targets without a certificate that holds are tested. Certificates need the grid
+    method on a terrain without nodata and the objective's one range; elsewhere a tracker
+    measures like its :class:`Visibility`. Build it with :meth:`Visibility.tracker`; it is one
+    team's (not thread-safe, not picklable); a different team size starts afresh.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> t = uavcov.Terrain.from_grid(np.add.outer(np.arange(41.0), np.arange(41.0)) % 7, spacing=1.0)
+    >>> vis = uavcov.Visibility(t, d_max=20.0)
+    >>> tracker = vis.tracker(margin=1.0)
+    >>> team = np.array([[10.0, 10.0, 9.0], [30.0, 25.0, 8.0]])
+    >>> all(tracker.coverage(team + 0.01 * k) == vis.coverage(team + 0.01 * k) for k in range(20))
+    True
+    >>> tracker.settled > 0  # targets the last measurement took from a certificate
+    True
+    """
+
+    __slots__ = ("_core", "_visibility")
+
+    def __init__(self, visibility: Visibility, margin: float = 1.0) -> None:
+        if not isinstance(visibility, Visibility):
+            raise InvalidTypeError(f"visibility must be a uavcov.Visibility, got {type(visibility).__name__}")
+        self._visibility = visibility
+        self._core = _core.CoverageTracker(visibility._core, as_positive_float(margin, "margin"))
+
+    def __reduce__(self) -> Any:
+        raise TypeError("a CoverageTracker belongs to one team's run and is not pickled; make one with Visibility.tracker()")
+
+    @property
+    def visibility(self) -> Visibility:
+        """The objective it measures."""
+        return self._visibility
+
+    @property
+    def margin(self) -> float:
+        """How far (metres) a UAV moves before its certificates are made anew."""
+        return float(self._core.margin)
+
+    @property
+    def certifies(self) -> bool:
+        """Whether certificates are in use (grid method, no nodata)."""
+        return bool(self._core.certifies)
+
+    @property
+    def settled(self) -> int:
+        """Targets the last measurement found seen from a certificate, without a sight line."""
+        return int(self._core.settled)
+
+    def coverage(self, uavs: Any) -> float:
+        """:meth:`Visibility.coverage` of the team at ``uavs`` ((N, 3) metres), to the last bit."""
+        return float(self._core.coverage(as_points(uavs, "uavs"), self._visibility._n_threads))
+
+    def seen(self, uavs: Any) -> np.ndarray:
+        """:meth:`Visibility.seen` of the team at ``uavs`` ((N, 3) metres): ``(T,)`` bool."""
+        return self._core.seen(as_points(uavs, "uavs"), self._visibility._n_threads)
 
 
 def _rebuild(terrain: Terrain, d_max: float, targets: Targets | None, n_threads: int | None, method: str = "auto") -> Visibility:

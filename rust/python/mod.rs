@@ -16,6 +16,7 @@
 mod cvt;
 mod surface;
 mod surrogate;
+mod tracking;
 mod visibility;
 
 use numpy::ndarray::Array2;
@@ -102,6 +103,7 @@ fn available_threads() -> usize {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<surface::PySurface>()?;
     m.add_class::<visibility::PyVisibility>()?;
+    m.add_class::<tracking::PyCoverageTracker>()?;
     m.add_class::<cvt::PyCvt>()?;
     m.add_class::<surrogate::PySurrogate>()?;
     m.add_function(wrap_pyfunction!(available_threads, m)?)?;

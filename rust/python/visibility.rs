@@ -1,5 +1,7 @@
 //! `uavcov._core.Visibility`: the coverage objective.
 
+use std::sync::Arc;
+
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
@@ -50,7 +52,7 @@ type PerUavOutput<'py> =
 #[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "Visibility")]
 pub struct PyVisibility {
-    inner: visibility::Visibility,
+    pub(super) inner: Arc<visibility::Visibility>,
 }
 
 /// The UAVs' positions and their sensors (`None`: the objective's one range), copied and checked.
@@ -102,7 +104,7 @@ impl PyVisibility {
         };
         let s = surface.inner.clone();
         let inner = detached(py, || visibility::Visibility::with_path(s, t, d_max, path))?;
-        Ok(Self { inner })
+        Ok(Self { inner: Arc::new(inner) })
     }
 
     /// The path the line-of-sight tests take: "grid" or "mesh".

@@ -1,0 +1,592 @@
+//! Coverage along a team's path: what one evaluation proves about its sight lines, carried to
+//! the next ones, so that a team that moves a little retests only the lines its moves may change.
+//!
+//! An optimiser measures coverage at a configuration that differs from the last one by small
+//! moves. A [`CoverageTracker`] keeps, for each target, a *certificate*: the UAV that sees it
+//! with room to spare, or the UAVs that cannot see it with room to spare. Each UAV has an
+//! *anchor* (where it was when its certificates were made) and a *margin* `D`. With `L` the
+//! steepest slope of the surface within the range plus `D` of the anchor (horizontally), a UAV
+//! displaced by `(dx, dy, dz)` from its anchor has moved a *distance* `|dz| + L hypot(dx, dy)`,
+//! and its certificates hold while that distance stays below `D` (less a rounding allowance)
+//! and `hypot(dx, dy)` at most `D`, so that every sight line involved stays where `L` holds;
+//! beyond it the anchor moves to the UAV and its certificates are made anew.
+//!
+//! - *Seen with room to spare*: the sight line from the target to the anchor lowered by `D` is
+//!   clear. A point of the new line at the fraction `s` of the way from the target lies
+//!   `s (dx, dy, dz + D)` from the lowered line's: it is higher by `s (dz + D)`, and the surface
+//!   under it higher by at most `L s hypot(dx, dy)`, so it clears the surface by at least
+//!   `s (D - distance)` more than the lowered line did, which is positive on the whole tested
+//!   stretch (`s >= 1 - SIGHT_FRACTION`). The lowered anchor must be above the surface, or a
+//!   line starting below it and never crossing it would pass.
+//! - *Blocked with room to spare*: the sight line to the anchor raised by `D` meets the surface
+//!   at some `s`. The new line there is at least `s (D - distance)` below the surface; it starts
+//!   above the surface (the UAV is checked to be), so it crosses it before: blocked.
+//!
+//! Both arguments need the surface's height on the straight path between the two points, which
+//! the grid's interpolant gives when both UAV positions are over the grid (the targets are) and
+//! the grid has no nodata. The allowance: the exact test decides to within `1e-9` of the
+//! coordinates; certificates ask `1e-7` of them, times `1 + L`, and twice that at the fraction
+//! `1 - SIGHT_FRACTION`, so every answer a certificate gives is the exact test's, to the last
+//! bit. Where a certificate does not hold, the target is tested exactly, as
+//! [`Visibility::seen`] does.
+//!
+//! The answers never depend on the margin, the order of the UAVs, the thread count or the
+//! configurations seen before: only the work does. A point from which few lines are tested
+//! (the UAVs and their lowered and raised anchors) walks them without a horizon.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use uavcov::tracking::CoverageTracker;
+//! use uavcov::{Surface, Targets, Visibility};
+//! // A ridge across a 40 m x 40 m grid; two UAVs drift a few centimetres per step.
+//! let z: Vec<f64> = (0..41 * 41).map(|k| if (k % 41) == 20 { 6.0 } else { 0.0 }).collect();
+//! let surface = Arc::new(Surface::from_grid(z, 41, 41, 1.0, 1.0, 0.0, 0.0)?);
+//! let vis = Arc::new(Visibility::new(surface.clone(), Targets::grid_nodes(surface)?, 30.0)?);
+//! let mut tracker = CoverageTracker::new(vis.clone(), 1.0)?;
+//! for step in 0..20 {
+//!     let drift = 0.05 * f64::from(step);
+//!     let team = [[10.0 + drift, 10.0, 8.0], [30.0, 30.0 - drift, 4.0]];
+//!     assert_eq!(tracker.seen(&team, 1)?, vis.seen(&team, 1)?);
+//! }
+//! # Ok::<(), uavcov::Error>(())
+//! ```
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
+
+use rayon::prelude::*;
+
+use crate::error::{ensure, try_filled, Result};
+use crate::geometry::{Point, SIGHT_FRACTION};
+use crate::grid::Grid;
+use crate::heightfield::{HeightField, Horizon};
+use crate::skyline::Skyline;
+use crate::threads;
+use crate::visibility::{concatenate, Reach, Visibility, CHUNK, HORIZON_BUDGET};
+
+/// Certificates ask this much of the coordinates' magnitude (the exact test's margins are 1e-9).
+const ALLOWANCE: f64 = 1e-7;
+
+/// No UAV certifies the target as seen.
+const NO_SEER: u32 = u32::MAX;
+
+/// Coverage of one team, evaluated again and again as it moves: [`Visibility::seen`] and
+/// [`Visibility::coverage`] to the last bit, with most sight lines settled by what earlier
+/// evaluations proved (see the [module documentation](self)).
+///
+/// Certificates apply on the grid path over a grid without nodata, with the objective's one
+/// range; elsewhere every call is a plain [`Visibility::seen`]. A different team size starts
+/// afresh.
+#[derive(Debug)]
+pub struct CoverageTracker {
+    vis: Arc<Visibility>,
+    margin: f64,
+    /// The surface's steepest slope, `None` when certificates cannot be used.
+    slope: Option<f64>,
+    /// The steepest slope by tile of the grid, for each anchor's own.
+    tiles: SlopeTiles,
+    /// Magnitude of the surface's coordinates plus its extent, metres.
+    scale: f64,
+    /// Evaluations made (the next one is `now + 1`).
+    now: u32,
+    anchors: Vec<Anchor>,
+    certificates: Vec<Certificate>,
+    /// Targets the last evaluation settled by a certificate.
+    settled: usize,
+    /// An evaluation is under way (still set after a panic: the state is then made afresh).
+    busy: bool,
+}
+
+/// Where a UAV's certificates were made, and the horizons that make them.
+#[derive(Debug, Default)]
+struct Anchor {
+    at: Point,
+    /// The steepest slope within the objective's range plus the margin of it (horizontally).
+    slope: f64,
+    /// The evaluation that set it (0: never).
+    set_at: u32,
+    /// The anchor lowered by the margin (`None`: no "seen" certificate).
+    lowered: Option<Viewpoint>,
+    /// The anchor raised by the margin (`None`: no "blocked" certificate).
+    raised: Option<Viewpoint>,
+}
+
+/// Sight lines from one point: the first [`WALKS_FIRST`] walked alone, the others through a
+/// horizon built then (a horizon costs about as much as that many walks, and most points of an
+/// evaluation test only a few lines).
+#[derive(Debug, Default)]
+struct Viewpoint {
+    at: Point,
+    tested: AtomicUsize,
+    horizon: OnceLock<Option<Horizon>>,
+}
+
+/// Sight lines from a point walked without its horizon.
+const WALKS_FIRST: usize = 32;
+
+impl Viewpoint {
+    fn new(at: Point) -> Self {
+        Self { at, tested: AtomicUsize::new(0), horizon: OnceLock::new() }
+    }
+
+    /// The exact test of the sight line from this point to `q` (with `q`'s skyline `sky`); the
+    /// horizon reaches `radius` metres in at most `budget` bounds.
+    #[inline]
+    fn sees(&self, field: &HeightField, (radius, budget): (f64, usize), q: Point, sky: Option<&Skyline>) -> bool {
+        let horizon = match self.horizon.get() {
+            Some(h) => h,
+            None if self.tested.fetch_add(1, Ordering::Relaxed) < WALKS_FIRST => &None,
+            None => self.horizon.get_or_init(|| field.horizon(self.at, radius, budget).ok()),
+        };
+        match horizon {
+            Some(h) => match sky {
+                Some(s) => field.line_of_sight_to_node(h, q, s),
+                None => field.line_of_sight_from(h, q),
+            },
+            // Not built (or refused by the system): the walk alone, the same answer.
+            None => field.line_of_sight(self.at, q),
+        }
+    }
+}
+
+/// What the UAVs' anchors prove about one target.
+#[derive(Debug, Clone, Copy)]
+struct Certificate {
+    /// The UAV whose lowered anchor sees the target, or [`NO_SEER`].
+    seer: u32,
+    /// The evaluation that made this certificate: it holds for UAVs whose anchor is older.
+    stamp: u32,
+    /// UAVs (the first 64) whose raised anchor does not see the target.
+    blocked: u64,
+}
+
+const NONE: Certificate = Certificate { seer: NO_SEER, stamp: 0, blocked: 0 };
+
+/// A UAV in the current evaluation.
+#[derive(Debug, Clone, Copy, Default)]
+struct Status {
+    /// Over the grid: its certificates may be used.
+    over: bool,
+    /// Over the grid and above the surface: its "blocked" certificates may be used.
+    above: bool,
+}
+
+impl CoverageTracker {
+    /// A tracker of `vis` whose certificates allow each UAV to move `margin` metres (see the
+    /// [module documentation](self)) before they are made anew. The margin changes the work,
+    /// never an answer.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`](crate::Error::InvalidInput) when `margin` is not finite and
+    /// positive; [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory
+    /// (16 bytes per target).
+    pub fn new(vis: Arc<Visibility>, margin: f64) -> Result<Self> {
+        ensure!(margin.is_finite() && margin > 0.0, "margin must be finite and > 0, got {margin}");
+        let field = vis.grid_field();
+        let slope = field.and_then(|f| f.grid().max_slope()).filter(|s| s.is_finite());
+        let (lo, hi) = vis.surface().bounds();
+        let xy = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs()) + (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let scale = xy + lo[2].abs() + hi[2].abs() + (hi[2] - lo[2]);
+        let n = if slope.is_some() { vis.targets().len() } else { 0 };
+        let certificates = try_filled(NONE, n, "the tracker's certificates")?;
+        let tiles = match (slope, field) {
+            (Some(_), Some(f)) => SlopeTiles::new(f.grid())?,
+            _ => SlopeTiles::default(),
+        };
+        Ok(Self { vis, margin, slope, tiles, scale, now: 0, anchors: Vec::new(), certificates, settled: 0, busy: false })
+    }
+
+    /// The objective this tracker evaluates.
+    #[must_use]
+    pub fn visibility(&self) -> &Arc<Visibility> {
+        &self.vis
+    }
+
+    /// The margin, metres.
+    #[must_use]
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+
+    /// Whether certificates are in use (grid path, no nodata).
+    #[must_use]
+    pub fn certifies(&self) -> bool {
+        self.slope.is_some()
+    }
+
+    /// How many targets the last evaluation found seen from a certificate, without a sight line.
+    #[must_use]
+    pub fn settled(&self) -> usize {
+        self.settled
+    }
+
+    /// [`Visibility::coverage`] for the team at `uavs`.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen`].
+    pub fn coverage(&mut self, uavs: &[Point], n_threads: usize) -> Result<f64> {
+        let seen = self.seen(uavs, n_threads)?;
+        Ok(self.vis.share(&seen))
+    }
+
+    /// [`Visibility::seen`] for the team at `uavs`.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen`].
+    pub fn seen(&mut self, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
+        Visibility::check_uavs(uavs)?;
+        let vis = Arc::clone(&self.vis);
+        self.settled = 0;
+        let (Some(slope), Some(field)) = (self.slope, vis.grid_field()) else {
+            return vis.seen(uavs, n_threads);
+        };
+        if self.busy || uavs.len() != self.anchors.len() || self.now == u32::MAX {
+            self.anchors = uavs.iter().map(|_| Anchor::default()).collect();
+            self.certificates.fill(NONE);
+            self.now = 0;
+        }
+        self.now += 1;
+        self.busy = true;
+        let result = self.evaluate(field, slope, uavs, n_threads);
+        // After an error (a refused horizon) the anchors may be half made: start afresh.
+        self.busy = result.is_err();
+        result
+    }
+
+    /// The UAVs' status, with the anchors of those that moved their margin set anew.
+    fn move_anchors(&mut self, slope: f64, uavs: &[Point]) -> Vec<Status> {
+        let (now, margin, scale) = (self.now, self.margin, self.scale);
+        let surface = self.vis.surface();
+        let grid = self.vis.grid_field().map(HeightField::grid);
+        let around = self.vis.range() + margin;
+        let mut status = vec![Status::default(); uavs.len()];
+        for (u, (&p, anchor)) in uavs.iter().zip(&mut self.anchors).enumerate() {
+            let ground = surface.ground_height(p[0], p[1]);
+            let tol = ALLOWANCE * (scale + anchor.at[2].abs() + p[2].abs() + margin) * (1.0 + slope);
+            status[u] = Status { over: ground.is_some(), above: ground.is_some_and(|g| p[2] - g > tol) };
+            let need = 2.0 * tol / (1.0 - SIGHT_FRACTION);
+            let drift = (p[0] - anchor.at[0]).hypot(p[1] - anchor.at[1]);
+            let moved = (p[2] - anchor.at[2]).abs() + anchor.slope * drift;
+            let holds =
+                anchor.set_at > 0 && (anchor.lowered.is_some() || anchor.raised.is_some()) && drift <= margin && moved <= margin - need;
+            if holds {
+                continue;
+            }
+            let local = grid.map_or(slope, |g| self.tiles.around(g, p, around).min(slope));
+            *anchor = Anchor { at: p, slope: local, set_at: now, lowered: None, raised: None };
+            let tol = ALLOWANCE * (scale + 2.0 * p[2].abs() + margin) * (1.0 + slope);
+            if let Some(g) = ground.filter(|_| margin > 2.0 * tol / (1.0 - SIGHT_FRACTION)) {
+                anchor.raised = Some(Viewpoint::new([p[0], p[1], p[2] + margin]));
+                if p[2] - margin - g > tol {
+                    anchor.lowered = Some(Viewpoint::new([p[0], p[1], p[2] - margin]));
+                }
+            }
+        }
+        status
+    }
+
+    fn evaluate(&mut self, field: &HeightField, slope: f64, uavs: &[Point], n_threads: usize) -> Result<Vec<bool>> {
+        let status = self.move_anchors(slope, uavs);
+        let n = uavs.len();
+        let reach = self.vis.reach(uavs, None)?;
+        // Each horizon within a third of the budget of one evaluation's (current, lowered, raised).
+        let budget = HORIZON_BUDGET / (3 * n);
+        let current: Vec<Viewpoint> = uavs.iter().map(|&p| Viewpoint::new(p)).collect();
+        let team = Team {
+            uavs,
+            reach,
+            status: &status,
+            anchors: &self.anchors,
+            current: &current,
+            field,
+            own: (self.vis.range(), budget),
+            anchored: (self.vis.range() + self.margin, budget),
+            now: self.now,
+        };
+        let vis: &Visibility = &self.vis;
+        let chunks: Vec<(Vec<bool>, usize)> = threads::run(n_threads, || {
+            self.certificates
+                .par_chunks_mut(CHUNK)
+                .enumerate()
+                .map_init(
+                    || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
+                    |(near, points, nodes), (c, chunk)| {
+                        vis.in_range_of(c, uavs, reach, near);
+                        if near.is_empty() {
+                            return (vec![false; chunk.len()], 0);
+                        }
+                        points.clear();
+                        vis.targets().chunk_points(c, points);
+                        let mut skylines = vis.skylines_of(c, nodes);
+                        let mut last = 0;
+                        let mut settled = 0;
+                        let seen = points
+                            .iter()
+                            .zip(chunk.iter_mut())
+                            .enumerate()
+                            .map(|(t, (&q, certificate))| {
+                                if team.certified_seen(certificate, q) {
+                                    settled += 1;
+                                    return true;
+                                }
+                                let sky = skylines.as_mut().map(|s| s.get(t, || vis.skyline(q, nodes.get(t).copied())));
+                                team.retest(certificate, q, near, &mut last, sky.as_ref())
+                            })
+                            .collect::<Vec<bool>>();
+                        (seen, settled)
+                    },
+                )
+                .collect()
+        });
+        self.settled = chunks.iter().map(|c| c.1).sum();
+        concatenate(chunks.into_iter().map(|c| c.0).collect(), self.vis.targets().len(), "the seen mask")
+    }
+}
+
+/// The steepest slope of each tile of `TILE x TILE` cells of a grid without nodata.
+#[derive(Debug, Default)]
+struct SlopeTiles {
+    cols: usize,
+    steepest: Vec<f64>,
+}
+
+/// Cells a side of a [`SlopeTiles`] tile.
+const TILE: usize = 8;
+
+impl SlopeTiles {
+    fn new(g: &Grid) -> Result<Self> {
+        let (rows, cols) = ((g.ny - 1).div_ceil(TILE), (g.nx - 1).div_ceil(TILE));
+        let mut steepest = try_filled(0.0f64, rows * cols, "the tracker's slope tiles")?;
+        for i in 0..g.ny - 1 {
+            for j in 0..g.nx - 1 {
+                let tile = &mut steepest[(i / TILE) * cols + j / TILE];
+                *tile = tile.max(g.cell_slope(i, j));
+            }
+        }
+        Ok(Self { cols, steepest })
+    }
+
+    /// The steepest slope of the cells within `r` metres of `p` along x and along y (and a cell
+    /// more each way, for rounding).
+    fn around(&self, g: &Grid, p: Point, r: f64) -> f64 {
+        let span = |c: f64, start: f64, step: f64, cells: usize| {
+            let lo = ((c - r - start) / step).floor() - 1.0;
+            let hi = ((c + r - start) / step).floor() + 1.0;
+            let last = (cells - 1) as f64;
+            (lo.clamp(0.0, last) as usize / TILE, hi.clamp(0.0, last) as usize / TILE)
+        };
+        let (i0, i1) = span(p[1], g.y0, g.dy, g.ny - 1);
+        let (j0, j1) = span(p[0], g.x0, g.dx, g.nx - 1);
+        (i0..=i1).flat_map(|i| &self.steepest[i * self.cols + j0..=i * self.cols + j1]).fold(0.0, |m, &s| m.max(s))
+    }
+}
+
+/// What one evaluation knows of the team, for the targets' certificates.
+struct Team<'a> {
+    uavs: &'a [Point],
+    reach: Reach<'a>,
+    status: &'a [Status],
+    anchors: &'a [Anchor],
+    /// The UAVs where they are.
+    current: &'a [Viewpoint],
+    field: &'a HeightField,
+    /// Horizons' radius and budget, from the UAVs and from their anchors.
+    own: (f64, usize),
+    anchored: (f64, usize),
+    now: u32,
+}
+
+impl Team<'_> {
+    /// Whether the target's certificate says it is seen, and still holds.
+    #[inline]
+    fn certified_seen(&self, certificate: &Certificate, q: Point) -> bool {
+        let u = certificate.seer as usize;
+        certificate.seer != NO_SEER
+            && u < self.uavs.len()
+            && self.status[u].over
+            && self.anchors[u].set_at <= certificate.stamp
+            && self.reach.accepts(u, self.uavs[u], q, None)
+    }
+
+    /// Whether any UAV sees target `q` (with its skyline `sky`), trying the UAVs in range
+    /// (`near`) from `last` on, its certificate made anew.
+    fn retest(&self, certificate: &mut Certificate, q: Point, near: &[usize], last: &mut usize, sky: Option<&Skyline>) -> bool {
+        // "Blocked" certificates made before an anchor moved are void.
+        let stale =
+            self.anchors.iter().take(64).enumerate().filter(|(_, a)| a.set_at > certificate.stamp).fold(0u64, |m, (u, _)| m | (1 << u));
+        let mut blocked = certificate.blocked & !stale;
+        let mut seer = NO_SEER;
+        let mut seen = false;
+        let order = std::iter::once(*last).chain((0..near.len()).filter(|&k| k != *last));
+        for k in order {
+            let u = near[k];
+            if !self.reach.accepts(u, self.uavs[u], q, None) {
+                continue;
+            }
+            let bit = if u < 64 { 1u64 << u } else { 0 };
+            let status = self.status[u];
+            if blocked & bit != 0 && status.above {
+                continue;
+            }
+            let anchor = &self.anchors[u];
+            if let (true, Some(lowered)) = (status.over, &anchor.lowered) {
+                if lowered.sees(self.field, self.anchored, q, sky) {
+                    seer = u32::try_from(u).unwrap_or(NO_SEER);
+                    seen = true;
+                    *last = k;
+                    break;
+                }
+            }
+            if self.current[u].sees(self.field, self.own, q, sky) {
+                seen = true;
+                *last = k;
+                break;
+            }
+            if let (true, Some(raised)) = (bit != 0, &anchor.raised) {
+                if !raised.sees(self.field, self.anchored, q, sky) {
+                    blocked |= bit;
+                }
+            }
+        }
+        *certificate = Certificate { seer, stamp: self.now, blocked };
+        seen
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Surface;
+    use crate::visibility::{Path, Targets};
+
+    /// A deterministic stream in [0, 1).
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Hills, a ridge and 20 cm of noise on a `n x n` grid of 1 m cells: sight lines of every kind.
+    fn hills(n: usize, nodata: bool) -> Arc<Surface> {
+        let mut rng = Lcg(7);
+        let z: Vec<f64> = (0..n * n)
+            .map(|k| {
+                let (x, y) = ((k % n) as f64, (k / n) as f64);
+                let h = 6.0 * (x / 7.0).sin() * (y / 9.0).cos() + if (x - 20.0).abs() < 1.5 { 5.0 } else { 0.0 } + 0.2 * rng.next();
+                if nodata && k == n + 3 {
+                    f64::NAN
+                } else {
+                    h
+                }
+            })
+            .collect();
+        Arc::new(Surface::from_grid(z, n, n, 1.0, 1.0, 0.0, 0.0).unwrap())
+    }
+
+    fn objective(surface: &Arc<Surface>, path: Path) -> Arc<Visibility> {
+        let targets = Targets::grid_nodes(surface.clone()).unwrap();
+        Arc::new(Visibility::with_path(surface.clone(), targets, 25.0, path).unwrap())
+    }
+
+    /// A team's random walk: steps shrinking from 2 m to 2 cm, some UAVs grazing the surface,
+    /// one diving under it and one leaving the grid for a while.
+    fn walk(surface: &Surface, n_uavs: usize, steps: usize, seed: u64) -> Vec<Vec<Point>> {
+        let mut rng = Lcg(seed);
+        let side = surface.bounds().1[0];
+        let mut team: Vec<Point> = (0..n_uavs).map(|_| [side * (0.1 + 0.8 * rng.next()), side * (0.1 + 0.8 * rng.next()), 0.0]).collect();
+        let mut out = Vec::new();
+        for step in 0..steps {
+            let size = 2.0 / (1.0 + step as f64 / 3.0);
+            for (u, p) in team.iter_mut().enumerate() {
+                p[0] = (p[0] + size * (rng.next() - 0.5)).clamp(0.0, side);
+                p[1] = (p[1] + size * (rng.next() - 0.5)).clamp(0.0, side);
+                let ground = surface.ground_height(p[0], p[1]).unwrap();
+                let height = match u {
+                    0 => 0.05 + 0.1 * rng.next(),
+                    1 => -0.5,
+                    _ => 1.0 + 6.0 * (u as f64 / n_uavs as f64),
+                };
+                p[2] = ground + height;
+            }
+            let mut at = team.clone();
+            if (20..40).contains(&step) {
+                at[n_uavs - 1][0] = -3.0;
+            }
+            out.push(at);
+        }
+        out
+    }
+
+    #[test]
+    fn a_walking_team_is_seen_as_the_exact_test_sees_it() {
+        let surface = hills(61, false);
+        let vis = objective(&surface, Path::Auto);
+        // The smallest margin is below the rounding allowance here: no certificate, same answers.
+        for margin in [0.02, 0.5, 1.0, 4.0] {
+            let mut tracker = CoverageTracker::new(vis.clone(), margin).unwrap();
+            assert!(tracker.certifies());
+            let mut settled = 0;
+            for team in walk(&surface, 6, 120, 3) {
+                assert_eq!(tracker.seen(&team, 2).unwrap(), vis.seen(&team, 1).unwrap(), "margin {margin}");
+                assert_eq!(tracker.coverage(&team, 1).unwrap().to_bits(), vis.coverage(&team, 1).unwrap().to_bits());
+                settled += tracker.settled();
+            }
+            // Certificates settle most targets once the steps are small.
+            if margin > 0.1 {
+                assert!(settled > 120 * 61 * 61 / 5, "margin {margin}: {settled} settled");
+            } else {
+                assert_eq!(settled, 0);
+            }
+        }
+    }
+
+    #[test]
+    fn answers_do_not_depend_on_threads_or_on_what_came_before() {
+        let surface = hills(61, false);
+        let vis = objective(&surface, Path::Auto);
+        let (mut one, mut three) = (CoverageTracker::new(vis.clone(), 0.5).unwrap(), CoverageTracker::new(vis.clone(), 0.5).unwrap());
+        let path = walk(&surface, 4, 60, 11);
+        for team in &path {
+            assert_eq!(one.seen(team, 1).unwrap(), three.seen(team, 3).unwrap());
+            assert_eq!(one.settled(), three.settled());
+        }
+        // Another team size starts afresh; jumping back along the path changes nothing.
+        let pair = &path[5][..2];
+        assert_eq!(one.seen(pair, 1).unwrap(), vis.seen(pair, 1).unwrap());
+        assert_eq!(one.settled(), 0);
+        for team in path.iter().rev().step_by(7) {
+            assert_eq!(one.seen(team, 1).unwrap(), vis.seen(team, 1).unwrap());
+        }
+    }
+
+    #[test]
+    fn without_certificates_it_is_the_plain_objective() {
+        let with_nodata = hills(41, true);
+        let plain = hills(41, false);
+        for vis in [objective(&with_nodata, Path::Auto), objective(&plain, Path::Mesh)] {
+            let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+            assert!(!tracker.certifies());
+            for team in walk(&plain, 3, 10, 5) {
+                let team: Vec<Point> = team.into_iter().map(|p| [p[0], p[1], p[2] + 1.0]).collect();
+                assert_eq!(tracker.seen(&team, 1).unwrap(), vis.seen(&team, 1).unwrap());
+                assert_eq!(tracker.settled(), 0);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let vis = objective(&hills(21, false), Path::Auto);
+        for margin in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(CoverageTracker::new(vis.clone(), margin).is_err());
+        }
+        let mut tracker = CoverageTracker::new(vis, 1.0).unwrap();
+        assert!(tracker.seen(&[], 1).is_err());
+        assert!(tracker.seen(&[[1.0, f64::NAN, 3.0]], 1).is_err());
+        assert!(tracker.seen(&[[1.0, 2.0, 1e300]], 1).is_err());
+        assert!(tracker.seen(&[[1.0, 2.0, 30.0]], 1).is_ok());
+    }
+}
