@@ -342,9 +342,9 @@ def test_format_1_run_files_still_load(short_run, tmp_path):
 
 def test_a_team_that_stays_is_not_measured_again(hills, monkeypatch):
     calls = []
-    for name in ("coverage", "per_uav"):
-        original = getattr(uavcov.Visibility, name)
-        monkeypatch.setattr(uavcov.Visibility, name, lambda self, *a, _f=original, **k: calls.append(1) or _f(self, *a, **k))
+    for cls, name in ((uavcov.Visibility, "coverage"), (uavcov.Visibility, "per_uav"), (uavcov.CoverageTracker, "coverage")):
+        original = getattr(cls, name)
+        monkeypatch.setattr(cls, name, lambda self, *a, _f=original, **k: calls.append(1) or _f(self, *a, **k))
     # a big first step in a narrow band: many iterations find nothing admissible and stay
     spec = _spec(
         5,
