@@ -24,15 +24,16 @@
 //!
 //! Both arguments need the surface's height on the straight path between the two points, which
 //! the grid's interpolant gives when both UAV positions are over the grid (the targets are) and
-//! the grid has no nodata. The allowance: the exact test decides to within `1e-9` of the
-//! coordinates; certificates ask `1e-7` of them, times `1 + L`, and twice that at the fraction
-//! `1 - SIGHT_FRACTION`, so every answer a certificate gives is the exact test's, to the last
-//! bit. Where a certificate does not hold, the target is tested exactly, as
-//! [`Visibility::seen`] does.
+//! the grid has no nodata. The allowance: the exact test is parry's triangle test to a few ulps
+//! (its shortcuts clear a line only by margins of `1e-9` of the coordinates); the arguments ask
+//! a clearance of `1e-8` of the coordinates' magnitude, times `1 + L`, at every point of the new
+//! line, which the margin left at the fraction `1 - SIGHT_FRACTION` provides. So every answer a
+//! certificate gives is the exact test's, to the last bit; where no certificate holds, the
+//! target is tested exactly, as [`Visibility::seen`] does.
 //!
 //! The answers never depend on the margin, the order of the UAVs, the thread count or the
-//! configurations seen before: only the work does. A point from which few lines are tested
-//! (the UAVs and their lowered and raised anchors) walks them without a horizon.
+//! configurations seen before: only the work does. A point from which only a few lines are
+//! tested (most UAVs and anchors in an evaluation) tests them without building its horizon.
 //!
 //! ```
 //! use std::sync::Arc;
@@ -64,8 +65,9 @@ use crate::skyline::Skyline;
 use crate::threads;
 use crate::visibility::{concatenate, Reach, Visibility, CHUNK, HORIZON_BUDGET};
 
-/// Certificates ask this much of the coordinates' magnitude (the exact test's margins are 1e-9).
-const ALLOWANCE: f64 = 1e-7;
+/// The clearance certificates ask, as a share of the coordinates' magnitude (the exact test's
+/// shortcuts clear lines by margins of 1e-9 of it).
+const ALLOWANCE: f64 = 1e-8;
 
 /// No UAV certifies the target as seen.
 const NO_SEER: u32 = u32::MAX;
@@ -111,39 +113,43 @@ struct Anchor {
     raised: Option<Viewpoint>,
 }
 
-/// Sight lines from one point: the first [`WALKS_FIRST`] walked alone, the others through a
-/// horizon built then (a horizon costs about as much as that many walks, and most points of an
-/// evaluation test only a few lines).
+/// Sight lines from one point: the first [`FEW_LINES`] through a horizon of the cells right
+/// around it (built at once: the target's skyline settles a line's end, the walk the rest), the
+/// others through a horizon of its whole range, built then (it costs about as much as that many
+/// walks, and most points of an evaluation test only a few lines).
 #[derive(Debug, Default)]
 struct Viewpoint {
     at: Point,
     tested: AtomicUsize,
-    horizon: OnceLock<Option<Horizon>>,
+    small: OnceLock<Option<Horizon>>,
+    full: OnceLock<Option<Horizon>>,
 }
 
-/// Sight lines from a point walked without its horizon.
-const WALKS_FIRST: usize = 32;
+/// Sight lines from a point tested before its full horizon is built.
+const FEW_LINES: usize = 64;
 
 impl Viewpoint {
     fn new(at: Point) -> Self {
-        Self { at, tested: AtomicUsize::new(0), horizon: OnceLock::new() }
+        Self { at, tested: AtomicUsize::new(0), small: OnceLock::new(), full: OnceLock::new() }
     }
 
     /// The exact test of the sight line from this point to `q` (with `q`'s skyline `sky`); the
-    /// horizon reaches `radius` metres in at most `budget` bounds.
+    /// full horizon reaches `radius` metres in at most `budget` bounds.
     #[inline]
     fn sees(&self, field: &HeightField, (radius, budget): (f64, usize), q: Point, sky: Option<&Skyline>) -> bool {
-        let horizon = match self.horizon.get() {
+        let horizon = match self.full.get() {
             Some(h) => h,
-            None if self.tested.fetch_add(1, Ordering::Relaxed) < WALKS_FIRST => &None,
-            None => self.horizon.get_or_init(|| field.horizon(self.at, radius, budget).ok()),
+            None if self.tested.fetch_add(1, Ordering::Relaxed) < FEW_LINES => {
+                self.small.get_or_init(|| field.horizon(self.at, 0.0, budget).ok())
+            }
+            None => self.full.get_or_init(|| field.horizon(self.at, radius, budget).ok()),
         };
         match horizon {
             Some(h) => match sky {
                 Some(s) => field.line_of_sight_to_node(h, q, s),
                 None => field.line_of_sight_from(h, q),
             },
-            // Not built (or refused by the system): the walk alone, the same answer.
+            // Refused by the system: the walk alone, the same answer.
             None => field.line_of_sight(self.at, q),
         }
     }
@@ -525,7 +531,7 @@ mod tests {
         let surface = hills(61, false);
         let vis = objective(&surface, Path::Auto);
         // The smallest margin is below the rounding allowance here: no certificate, same answers.
-        for margin in [0.02, 0.5, 1.0, 4.0] {
+        for margin in [0.005, 0.5, 1.0, 4.0] {
             let mut tracker = CoverageTracker::new(vis.clone(), margin).unwrap();
             assert!(tracker.certifies());
             let mut settled = 0;
