@@ -33,7 +33,7 @@
 //!
 //! The answers never depend on the margin, the order of the UAVs, the thread count or the
 //! configurations seen before: only the work does. Certificates cost lines to make and pay only
-//! while their anchor holds: a UAV makes them once its last anchor held for [`LASTING`]
+//! while their anchor holds: a UAV makes them once its last anchor held for three
 //! evaluations, and an evaluation where no UAV has any is [`Visibility::seen`] itself. A point
 //! from which only a few lines are tested (most UAVs and anchors of an evaluation, when
 //! certificates settle the rest) tests them without building its whole horizon.
