@@ -66,7 +66,7 @@ use crate::grid::Grid;
 use crate::heightfield::{HeightField, Horizon};
 use crate::skyline::Skyline;
 use crate::threads;
-use crate::visibility::{concatenate, Reach, Visibility, CHUNK, HORIZON_BUDGET};
+use crate::visibility::{Reach, Visibility, CHUNK, HORIZON_BUDGET};
 
 /// The clearance certificates ask, as a share of the coordinates' magnitude (the exact test's
 /// shortcuts clear lines by margins of 1e-9 of it).
@@ -329,42 +329,40 @@ impl CoverageTracker {
             now: self.now,
         };
         let vis: &Visibility = &self.vis;
-        let chunks: Vec<(Vec<bool>, usize)> = threads::run(n_threads, || {
+        let mut seen = try_filled(false, vis.targets().len(), "the seen mask")?;
+        let settled: Vec<usize> = threads::run(n_threads, || {
             self.certificates
                 .par_chunks_mut(CHUNK)
+                .zip(seen.par_chunks_mut(CHUNK))
                 .enumerate()
                 .map_init(
                     || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                    |(near, points, nodes), (c, chunk)| {
+                    |(near, points, nodes), (c, (chunk, out))| {
                         vis.in_range_of(c, uavs, reach, near);
                         if near.is_empty() {
-                            return (vec![false; chunk.len()], 0);
+                            return 0;
                         }
                         points.clear();
                         vis.targets().chunk_points(c, points);
                         let mut skylines = vis.skylines_of(c, nodes);
                         let mut last = 0;
                         let mut settled = 0;
-                        let seen = points
-                            .iter()
-                            .zip(chunk.iter_mut())
-                            .enumerate()
-                            .map(|(t, (&q, certificate))| {
-                                if team.certified_seen(certificate, q) {
-                                    settled += 1;
-                                    return true;
-                                }
+                        for (t, ((&q, certificate), seen)) in points.iter().zip(chunk.iter_mut()).zip(out.iter_mut()).enumerate() {
+                            *seen = if team.certified_seen(certificate, q) {
+                                settled += 1;
+                                true
+                            } else {
                                 let sky = skylines.as_mut().map(|s| s.get(t, || vis.skyline(q, nodes.get(t).copied())));
                                 team.retest(certificate, q, near, &mut last, sky.as_ref())
-                            })
-                            .collect::<Vec<bool>>();
-                        (seen, settled)
+                            };
+                        }
+                        settled
                     },
                 )
                 .collect()
         });
-        self.settled = chunks.iter().map(|c| c.1).sum();
-        concatenate(chunks.into_iter().map(|c| c.0).collect(), self.vis.targets().len(), "the seen mask")
+        self.settled = settled.iter().sum();
+        Ok(seen)
     }
 }
 

@@ -298,7 +298,7 @@ fn squared_distance(a: Point, b: Point) -> f64 {
 }
 
 /// The per-chunk answers of one evaluation, in target order (`len` values in all).
-pub(crate) fn concatenate<T>(chunks: Vec<Vec<T>>, len: usize, what: &str) -> Result<Vec<T>> {
+fn concatenate<T>(chunks: Vec<Vec<T>>, len: usize, what: &str) -> Result<Vec<T>> {
     let mut out = try_with_capacity(len, what)?;
     for chunk in chunks {
         out.extend(chunk);
