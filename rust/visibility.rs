@@ -267,11 +267,11 @@ impl Targets {
         self.len == 0
     }
 
-    pub(crate) fn chunk_len(&self, c: usize) -> usize {
+    fn chunk_len(&self, c: usize) -> usize {
         CHUNK.min(self.len - c * CHUNK)
     }
 
-    pub(crate) fn n_chunks(&self) -> usize {
+    fn n_chunks(&self) -> usize {
         self.chunk_bounds.len()
     }
 }
@@ -522,7 +522,7 @@ impl Visibility {
 
     /// The engine the tests run on, resolved once per call (each UAV's horizon is built here,
     /// in parallel, within [`HORIZON_BUDGET`] bounds in all).
-    pub(crate) fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
+    fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
         let per_uav = HORIZON_BUDGET / uavs.len();
         let radius = |i: usize| match reach {
             Reach::Range(_) => self.range,
@@ -841,7 +841,7 @@ impl std::fmt::Debug for SkylineSource {
 }
 
 /// The geometry one evaluation runs on, with what it knows of each UAV.
-pub(crate) enum Engine<'a> {
+enum Engine<'a> {
     Mesh(&'a TriangleMesh, Vec<Horizon>),
     Grid(&'a HeightField, Vec<Horizon>),
 }
@@ -851,7 +851,7 @@ impl Engine<'_> {
     /// `blockers[uav]` is the triangle that last blocked one of its lines on the mesh path (see
     /// [`TriangleMesh::ray_hits_between`]), `None` at first.
     #[inline]
-    pub(crate) fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>, blockers: &mut [Blockers]) -> bool {
+    fn line_of_sight(&self, uav: usize, target: Point, skyline: Option<&Skyline>, blockers: &mut [Blockers]) -> bool {
         match (self, skyline) {
             (Engine::Mesh(mesh, horizons), Some(sky)) => mesh.line_of_sight_to_target(&horizons[uav], target, sky, &mut blockers[uav]),
             (Engine::Mesh(mesh, horizons), None) => mesh.line_of_sight_from(&horizons[uav], target, &mut blockers[uav]),
