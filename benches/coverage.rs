@@ -1,7 +1,9 @@
 //! The reference case of `benches/README.md`: a 7-Gaussian terrain on 100 m x 100 m, all grid
 //! nodes as targets, 12 UAVs 5-30 m above the ground, `d_max` = 25 m; one full coverage
 //! evaluation at 1 m, 0.5 m and 0.25 m spacing, on 1 and 2 threads, on the grid path (the
-//! default for a grid surface) and on the mesh path of the same grid (parry's BVH).
+//! default for a grid surface) and on the mesh path of the same grid (parry's BVH). And the same
+//! team along a 200-step random walk (steps of up to 10 cm per coordinate) at 1 m, measured at
+//! every step by `Visibility::coverage` afresh and by a `CoverageTracker` (one thread).
 //!
 //! `cargo bench --bench coverage`
 
@@ -11,6 +13,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use uavcov::mesh::Surface;
+use uavcov::tracking::CoverageTracker;
 use uavcov::visibility::{Path, Targets, Visibility};
 
 /// Heights of a sum of 7 Gaussian hills (heights 5-25 m, sigma 10 m) on a `spacing` grid.
@@ -58,5 +61,32 @@ fn coverage(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, coverage);
+fn along_a_path(c: &mut Criterion) {
+    let (vis, uavs) = reference_case(1.0, Path::Auto);
+    let vis = Arc::new(vis);
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let mut team = uavs;
+    let path: Vec<Vec<[f64; 3]>> = (0..200)
+        .map(|_| {
+            for p in &mut team {
+                for x in p.iter_mut() {
+                    *x += 0.2 * (rng.random::<f64>() - 0.5);
+                }
+            }
+            team.clone()
+        })
+        .collect();
+    let mut group = c.benchmark_group("along_a_path");
+    group.sample_size(10);
+    group.bench_function("plain_1.0m_200_steps", |b| b.iter(|| path.iter().map(|t| vis.coverage(t, 1).unwrap()).sum::<f64>()));
+    group.bench_function("tracker_1.0m_200_steps", |b| {
+        b.iter(|| {
+            let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+            path.iter().map(|t| tracker.coverage(t, 1).unwrap()).sum::<f64>()
+        });
+    });
+    group.finish();
+}
+
+criterion_group!(benches, coverage, along_a_path);
 criterion_main!(benches);
