@@ -120,7 +120,7 @@ struct Anchor {
 /// around it (built at once: the target's skyline settles a line's end, the walk the rest), the
 /// others through a horizon of its whole range, built then (it costs about as much as that many
 /// walks, and most points of an evaluation test only a few lines).
-#[derive(Debug, Default)]
+#[derive(Debug)]
 struct Viewpoint {
     at: Point,
     /// Lines tested before the full horizon is built.
