@@ -66,7 +66,7 @@ use crate::grid::Grid;
 use crate::heightfield::{HeightField, Horizon};
 use crate::skyline::Skyline;
 use crate::threads;
-use crate::visibility::{Reach, Visibility, CHUNK, HORIZON_BUDGET};
+use crate::visibility::{squared_distance, Reach, Visibility, CHUNK, HORIZON_BUDGET};
 
 /// The clearance certificates ask, as a share of the coordinates' magnitude (the exact test's
 /// shortcuts clear lines by margins of 1e-9 of it).
@@ -74,6 +74,10 @@ const ALLOWANCE: f64 = 1e-8;
 
 /// No UAV certifies the target as seen.
 const NO_SEER: u32 = u32::MAX;
+
+/// Set in a seer when the target lies so deep in its anchor's range that every position the
+/// anchor allows reaches it: the certificate then holds without the target's coordinates.
+const DEEP: u32 = 1 << 31;
 
 /// Coverage of one team, evaluated again and again as it moves: [`Visibility::seen`] and
 /// [`Visibility::coverage`] to the last bit, with most sight lines settled by what earlier
@@ -166,7 +170,8 @@ impl Viewpoint {
 /// What the UAVs' anchors prove about one target.
 #[derive(Debug, Clone, Copy)]
 struct Certificate {
-    /// The UAV whose lowered anchor sees the target, or [`NO_SEER`].
+    /// The UAV whose lowered anchor sees the target (with [`DEEP`] set when the target is deep
+    /// in range), or [`NO_SEER`].
     seer: u32,
     /// The evaluation that made this certificate: it holds for UAVs whose anchor is older.
     stamp: u32,
@@ -197,7 +202,7 @@ impl CoverageTracker {
     pub fn new(vis: Arc<Visibility>, margin: f64) -> Result<Self> {
         ensure!(margin.is_finite() && margin > 0.0, "margin must be finite and > 0, got {margin}");
         let field = vis.grid_field();
-        let slope = field.and_then(|f| f.grid().max_slope()).filter(|s| s.is_finite());
+        let slope = field.and_then(|f| f.grid().max_slope()).filter(|s| s.is_finite() && vis.targets().addressable());
         let (lo, hi) = vis.surface().bounds();
         let xy = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs()) + (hi[0] - lo[0]).max(hi[1] - lo[1]);
         let scale = xy + lo[2].abs() + hi[2].abs() + (hi[2] - lo[2]);
@@ -317,7 +322,10 @@ impl CoverageTracker {
             .zip(&self.anchors)
             .map(|(&p, a)| Viewpoint::new(p, if a.lowered.is_some() || a.raised.is_some() { FEW_LINES } else { 0 }))
             .collect();
+        // A UAV whose anchor holds is within 2 D of it (`hypot(dx, dy) <= D`, `|dz| <= D`).
+        let deep = self.vis.range() - 2.0 * self.margin - ALLOWANCE * self.scale;
         let team = Team {
+            deep: if deep > 0.0 { deep * deep } else { -1.0 },
             uavs,
             reach,
             status: &status,
@@ -336,23 +344,29 @@ impl CoverageTracker {
                 .zip(seen.par_chunks_mut(CHUNK))
                 .enumerate()
                 .map_init(
-                    || (Vec::new(), Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK)),
-                    |(near, points, nodes), (c, (chunk, out))| {
+                    Vec::new,
+                    |near, (c, (chunk, out))| {
                         vis.in_range_of(c, uavs, reach, near);
                         if near.is_empty() {
                             return 0;
                         }
-                        points.clear();
-                        vis.targets().chunk_points(c, points);
-                        let mut skylines = vis.skylines_of(c, nodes);
+                        // The chunk's skylines are locked only once a target needs a sight line.
+                        let mut skylines = None;
                         let mut last = 0;
                         let mut settled = 0;
-                        for (t, ((&q, certificate), seen)) in points.iter().zip(chunk.iter_mut()).zip(out.iter_mut()).enumerate() {
+                        for (t, (certificate, seen)) in chunk.iter_mut().zip(out.iter_mut()).enumerate() {
+                            if team.certified_deep(certificate) {
+                                settled += 1;
+                                *seen = true;
+                                continue;
+                            }
+                            let Some((q, node)) = vis.targets().chunk_target(c, t) else { unreachable!("the tracker certifies addressable targets only") };
                             *seen = if team.certified_seen(certificate, q) {
                                 settled += 1;
                                 true
                             } else {
-                                let sky = skylines.as_mut().map(|s| s.get(t, || vis.skyline(q, nodes.get(t).copied())));
+                                let view = skylines.get_or_insert_with(|| vis.skylines_of(c, &mut Vec::new()));
+                                let sky = view.as_mut().map(|s| s.get(t, || vis.skyline(q, node)));
                                 team.retest(certificate, q, near, &mut last, sky.as_ref())
                             };
                         }
@@ -406,6 +420,9 @@ impl SlopeTiles {
 
 /// What one evaluation knows of the team, for the targets' certificates.
 struct Team<'a> {
+    /// Squared distance from an anchor within which its seen targets stay in range (negative:
+    /// none does).
+    deep: f64,
     uavs: &'a [Point],
     reach: Reach<'a>,
     status: &'a [Status],
@@ -420,15 +437,23 @@ struct Team<'a> {
 }
 
 impl Team<'_> {
+    /// Whether the target's certificate says it is seen deep in range, and still holds.
+    #[inline]
+    fn certified_deep(&self, certificate: &Certificate) -> bool {
+        certificate.seer != NO_SEER && certificate.seer & DEEP != 0 && self.holds(certificate, (certificate.seer & !DEEP) as usize)
+    }
+
     /// Whether the target's certificate says it is seen, and still holds.
     #[inline]
     fn certified_seen(&self, certificate: &Certificate, q: Point) -> bool {
-        let u = certificate.seer as usize;
-        certificate.seer != NO_SEER
-            && u < self.uavs.len()
-            && self.status[u].over
-            && self.anchors[u].set_at <= certificate.stamp
-            && self.reach.accepts(u, self.uavs[u], q, None)
+        let u = (certificate.seer & !DEEP) as usize;
+        certificate.seer != NO_SEER && self.holds(certificate, u) && self.reach.accepts(u, self.uavs[u], q, None)
+    }
+
+    /// Whether UAV `u`'s anchor is still the one that made the certificate.
+    #[inline]
+    fn holds(&self, certificate: &Certificate, u: usize) -> bool {
+        u < self.uavs.len() && self.status[u].over && self.anchors[u].set_at <= certificate.stamp
     }
 
     /// Whether any UAV sees target `q` (with its skyline `sky`), trying the UAVs in range
@@ -446,18 +471,16 @@ impl Team<'_> {
         let order = std::iter::once(*last).chain((0..near.len()).filter(|&k| k != *last));
         for k in order {
             let u = near[k];
-            if !self.reach.accepts(u, self.uavs[u], q, None) {
-                continue;
-            }
             let bit = if u < 64 { 1u64 << u } else { 0 };
             let status = self.status[u];
-            if blocked & bit != 0 && status.above {
+            if (blocked & bit != 0 && status.above) || !self.reach.accepts(u, self.uavs[u], q, None) {
                 continue;
             }
             let anchor = &self.anchors[u];
             if let (true, Some(lowered)) = (status.over, &anchor.lowered) {
                 if lowered.sees(self.field, self.anchored, q, sky) {
-                    seer = u32::try_from(u).unwrap_or(NO_SEER);
+                    let deep = if squared_distance(anchor.at, q) <= self.deep { DEEP } else { 0 };
+                    seer = u32::try_from(u).ok().filter(|&u| u < DEEP).map_or(NO_SEER, |u| u | deep);
                     seen = true;
                     *last = k;
                     break;

@@ -210,6 +210,28 @@ impl Targets {
         }
     }
 
+    /// Target `t` of chunk `c` and its grid node, computed alone; `None` for grid-node targets
+    /// of a grid with unused nodes, whose chunks are only walked whole.
+    #[inline]
+    pub(crate) fn chunk_target(&self, c: usize, t: usize) -> Option<(Point, Option<usize>)> {
+        match &self.points {
+            Points::Given(p) => Some((p[c * CHUNK + t], None)),
+            Points::GridNodes { surface, .. } => {
+                let g = surface.grid().expect("grid-node targets hold a grid surface");
+                let k = c * CHUNK + t;
+                (self.len == g.vertex_of_node.len()).then(|| (g.node_point(k), Some(k)))
+            }
+        }
+    }
+
+    /// Whether [`Targets::chunk_target`] answers for every target.
+    pub(crate) fn addressable(&self) -> bool {
+        match &self.points {
+            Points::Given(_) => true,
+            Points::GridNodes { surface, .. } => surface.grid().is_some_and(|g| self.len == g.vertex_of_node.len()),
+        }
+    }
+
     /// Appends the points of chunk `c` to `out`.
     pub(crate) fn chunk_points(&self, c: usize, out: &mut Vec<Point>) {
         match &self.points {
@@ -293,7 +315,7 @@ fn squared_distance_to_box(q: Point, (lo, hi): (Point, Point)) -> f64 {
 }
 
 #[inline]
-fn squared_distance(a: Point, b: Point) -> f64 {
+pub(crate) fn squared_distance(a: Point, b: Point) -> f64 {
     (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
 }
 
