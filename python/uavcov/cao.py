@@ -404,7 +404,10 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
     """
     if count == 0:
         return np.empty((0, 3), dtype=np.int64)
-    taken = {tuple(row) for row in existing.tolist()}
+    # a sorted index triple as one integer, so that membership is a set of ints
+    base = dim + 1
+    places = np.array([base * base, base, 1], dtype=np.int64)
+    taken = set((existing @ places).tolist())
     total = _n_distinct_monomials(dim)
     if total - len(taken) < count:  # guarded by regressors_for; kept as an internal check
         raise InvalidInputError(f"cannot draw {count} new monomials of {dim} variables")
@@ -412,20 +415,21 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
         pool = [row for row in _all_monomials(dim).tolist() if tuple(row) not in taken]
         chosen = rng.choice(len(pool), size=count, replace=False)
         return np.array([pool[c] for c in chosen], dtype=np.int64)
-    out: list[tuple[int, ...]] = []
+    out: list[int] = []
     while len(out) < count:
         need = count - len(out)
         idx = rng.integers(0, dim, size=(2 * need + 4, 3))
         quadratic = rng.random(2 * need + 4) < 0.5
         idx[quadratic, 2] = dim
         idx.sort(axis=1)
-        for row in map(tuple, idx.tolist()):
-            if row not in taken:
-                taken.add(row)
-                out.append(row)
+        for key in (idx @ places).tolist():
+            if key not in taken:
+                taken.add(key)
+                out.append(key)
                 if len(out) == count:
                     break
-    return np.array(out, dtype=np.int64)
+    keys = np.array(out, dtype=np.int64)
+    return np.stack([keys // (base * base), keys // base % base, keys % base], axis=1)
 
 
 def _design(u: np.ndarray, terms: np.ndarray) -> np.ndarray:
@@ -542,6 +546,10 @@ def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
     """
     if window.shape[0] == 0:
         return np.broadcast_to(np.float64(alpha), centre.shape[:-1]).copy()
+    if window.ndim == 2:  # one estimator: np.mean's own reduction, without its dispatch (same bits)
+        squares = window - centre
+        squares *= squares
+        return np.maximum(alpha, np.sqrt(np.add.reduce(squares, axis=None) / squares.size))
     spread = np.sqrt(np.mean((window - centre) ** 2, axis=(0, -1)))
     scale: np.ndarray = np.maximum(alpha, spread)
     return scale
