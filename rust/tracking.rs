@@ -36,7 +36,11 @@
 //! while their anchor holds: a UAV makes them once its last anchor held for three
 //! evaluations, and an evaluation where no UAV has any is [`Visibility::seen`] itself. A point
 //! from which only a few lines are tested (most UAVs and anchors of an evaluation, when
-//! certificates settle the rest) tests them without building its whole horizon.
+//! certificates settle the rest) tests them without building its whole horizon. A target seen
+//! within `range - 2 D` of its seer's anchor is in range of every position the anchor allows
+//! (`hypot(dx, dy) <= D` and `|dz| <= D`), so its certificate is checked without computing the
+//! target's coordinates, and a chunk's skylines are locked only when one of its targets needs a
+//! sight line.
 //!
 //! ```
 //! use std::sync::Arc;
@@ -343,36 +347,35 @@ impl CoverageTracker {
                 .par_chunks_mut(CHUNK)
                 .zip(seen.par_chunks_mut(CHUNK))
                 .enumerate()
-                .map_init(
-                    Vec::new,
-                    |near, (c, (chunk, out))| {
-                        vis.in_range_of(c, uavs, reach, near);
-                        if near.is_empty() {
-                            return 0;
+                .map_init(Vec::new, |near, (c, (chunk, out))| {
+                    vis.in_range_of(c, uavs, reach, near);
+                    if near.is_empty() {
+                        return 0;
+                    }
+                    // The chunk's skylines are locked only once a target needs a sight line.
+                    let mut skylines = None;
+                    let mut last = 0;
+                    let mut settled = 0;
+                    for (t, (certificate, seen)) in chunk.iter_mut().zip(out.iter_mut()).enumerate() {
+                        if team.certified_deep(certificate) {
+                            settled += 1;
+                            *seen = true;
+                            continue;
                         }
-                        // The chunk's skylines are locked only once a target needs a sight line.
-                        let mut skylines = None;
-                        let mut last = 0;
-                        let mut settled = 0;
-                        for (t, (certificate, seen)) in chunk.iter_mut().zip(out.iter_mut()).enumerate() {
-                            if team.certified_deep(certificate) {
-                                settled += 1;
-                                *seen = true;
-                                continue;
-                            }
-                            let Some((q, node)) = vis.targets().chunk_target(c, t) else { unreachable!("the tracker certifies addressable targets only") };
-                            *seen = if team.certified_seen(certificate, q) {
-                                settled += 1;
-                                true
-                            } else {
-                                let view = skylines.get_or_insert_with(|| vis.skylines_of(c, &mut Vec::new()));
-                                let sky = view.as_mut().map(|s| s.get(t, || vis.skyline(q, node)));
-                                team.retest(certificate, q, near, &mut last, sky.as_ref())
-                            };
-                        }
-                        settled
-                    },
-                )
+                        let Some((q, node)) = vis.targets().chunk_target(c, t) else {
+                            unreachable!("the tracker certifies addressable targets only")
+                        };
+                        *seen = if team.certified_seen(certificate, q) {
+                            settled += 1;
+                            true
+                        } else {
+                            let view = skylines.get_or_insert_with(|| vis.skylines_of(c, &mut Vec::new()));
+                            let sky = view.as_mut().map(|s| s.get(t, || vis.skyline(q, node)));
+                            team.retest(certificate, q, near, &mut last, sky.as_ref())
+                        };
+                    }
+                    settled
+                })
                 .collect()
         });
         self.settled = settled.iter().sum();
