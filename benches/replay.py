@@ -8,10 +8,12 @@ between two builds to compare them on exactly the sight lines a sweep measures.
 
 With ``--tracker MARGIN`` it also measures each run along its path with
 ``Visibility.tracker(MARGIN)`` (what ``run_mission`` does), run by run alternating with the plain
-objective, checks those values too, and prints both times and their ratio.
+objective, checks those values too, and prints both times and their ratio. ``--from K`` times
+only the measurements of iterations ``K`` on (every configuration is still measured, in order):
+the late part of a mission, where the steps are small.
 
     uavcov reproduce table1 --seeds 0-9 --out out/table1 --no-plots
-    python benches/replay.py out/table1 [--every 10] [--d-max 25] [--tracker 1.0]
+    python benches/replay.py out/table1 [--every 10] [--d-max 25] [--tracker 1.0] [--from 200]
 """
 
 from __future__ import annotations
@@ -25,12 +27,21 @@ import numpy as np
 import uavcov
 
 
+def timed(measure, trajectory: np.ndarray, start: int) -> tuple[float, list[float]]:
+    """Every configuration measured in order; the seconds spent on those from ``start`` on."""
+    values = [measure(p) for p in trajectory[:start]]
+    t0 = time.perf_counter()
+    values += [measure(p) for p in trajectory[start:]]
+    return time.perf_counter() - t0, values
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder", type=pathlib.Path, help="a results folder with runs/*.npz")
     parser.add_argument("--every", type=int, default=10, help="replay every k-th run (sorted by name)")
     parser.add_argument("--d-max", type=float, default=25.0, help="sensing range of the runs, metres")
     parser.add_argument("--tracker", type=float, default=None, metavar="MARGIN", help="also measure with a CoverageTracker of this margin")
+    parser.add_argument("--from", dest="start", type=int, default=0, metavar="K", help="time only the measurements of iterations K on")
     args = parser.parse_args()
     files = sorted((args.folder / "runs").glob("*.npz"))[:: args.every]
     if not files:
@@ -42,19 +53,16 @@ def main() -> None:
             trajectory, stored = run["trace_trajectory"], run["coverage"]
         terrain = uavcov.Terrain.from_grid(z, spacing, origin)
         vis = uavcov.Visibility(terrain, args.d_max, n_threads=1)
-        t0 = time.perf_counter()
-        values = [vis.coverage(p) for p in trajectory]
-        seconds += time.perf_counter() - t0
-        evaluations += len(values)
+        spent, values = timed(vis.coverage, trajectory, args.start)
+        seconds += spent
+        evaluations += len(values[args.start :])
         worst = max(worst, float(np.abs(np.asarray(values) - stored).max()))
         if args.tracker is not None:
-            tracker = vis.tracker(args.tracker)
-            t0 = time.perf_counter()
-            along = [tracker.coverage(p) for p in trajectory]
-            tracked += time.perf_counter() - t0
+            spent, along = timed(vis.tracker(args.tracker).coverage, trajectory, args.start)
+            tracked += spent
             worst = max(worst, float(np.abs(np.asarray(along) - stored).max()))
     per = 1e3 * seconds / evaluations
-    print(f"{len(files)} runs, {evaluations} evaluations, {per:.3f} ms each; largest difference from the stored coverage {worst:.1e}")
+    print(f"{len(files)} runs, {evaluations} timed evaluations, {per:.3f} ms each; largest difference from the stored coverage {worst:.1e}")
     if args.tracker is not None:
         per_tracked = 1e3 * tracked / evaluations
         print(f"tracker (margin {args.tracker} m): {per_tracked:.3f} ms each, {per_tracked / per:.2f}x the plain objective")

@@ -206,7 +206,7 @@ impl CoverageTracker {
     pub fn new(vis: Arc<Visibility>, margin: f64) -> Result<Self> {
         ensure!(margin.is_finite() && margin > 0.0, "margin must be finite and > 0, got {margin}");
         let field = vis.grid_field();
-        let slope = field.and_then(|f| f.grid().max_slope()).filter(|s| s.is_finite() && vis.targets().addressable());
+        let slope = field.and_then(|f| f.grid().max_slope()).filter(|s| s.is_finite());
         let (lo, hi) = vis.surface().bounds();
         let xy = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs()) + (hi[0] - lo[0]).max(hi[1] - lo[1]);
         let scale = xy + lo[2].abs() + hi[2].abs() + (hi[2] - lo[2]);
@@ -362,9 +362,7 @@ impl CoverageTracker {
                             *seen = true;
                             continue;
                         }
-                        let Some((q, node)) = vis.targets().chunk_target(c, t) else {
-                            unreachable!("the tracker certifies addressable targets only")
-                        };
+                        let (q, node) = vis.targets().chunk_target(c, t);
                         *seen = if team.certified_seen(certificate, q) {
                             settled += 1;
                             true
@@ -611,6 +609,31 @@ mod tests {
         assert_eq!(one.settled(), 0);
         for team in path.iter().rev().step_by(7) {
             assert_eq!(one.seen(team, 1).unwrap(), vis.seen(team, 1).unwrap());
+        }
+    }
+
+    #[test]
+    fn targets_at_the_edge_of_range_are_measured_as_the_uav_circles() {
+        // A flat grid seen from 2 m: every target in range is seen, so only the range decides,
+        // and as the UAV circles within its margin targets cross the edge of its 10 m range.
+        let surface = Arc::new(Surface::from_grid(vec![0.0; 61 * 61], 61, 61, 1.0, 1.0, 0.0, 0.0).unwrap());
+        let given: Vec<Point> = (0..900).map(|k| [20.0 + f64::from(k % 30) * 0.7, 20.0 + f64::from(k / 30) * 0.7, 0.0]).collect();
+        for targets in [Targets::grid_nodes(surface.clone()).unwrap(), Targets::new(given, None).unwrap()] {
+            let vis = Arc::new(Visibility::with_path(surface.clone(), targets, 10.0, Path::Auto).unwrap());
+            let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+            // Still for four measurements, then a jump past the margin: certificates are made there.
+            let mut path = vec![[30.0, 30.0, 2.0]; 4];
+            path.extend((0..40).map(|k| {
+                let angle = f64::from(k) * 0.3;
+                [31.5 + 0.9 * angle.cos(), 30.0 + 0.9 * angle.sin(), 2.0]
+            }));
+            for p in &path {
+                assert_eq!(tracker.seen(&[*p], 1).unwrap(), vis.seen(&[*p], 1).unwrap());
+            }
+            assert!(tracker.settled() > 0);
+            let deep = tracker.certificates.iter().filter(|c| c.seer != NO_SEER && c.seer & DEEP != 0).count();
+            let shallow = tracker.certificates.iter().filter(|c| c.seer != NO_SEER && c.seer & DEEP == 0).count();
+            assert!(deep > 0 && shallow > 0, "deep {deep}, shallow {shallow}");
         }
     }
 

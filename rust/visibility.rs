@@ -210,25 +210,21 @@ impl Targets {
         }
     }
 
-    /// Target `t` of chunk `c` and its grid node, computed alone; `None` for grid-node targets
-    /// of a grid with unused nodes, whose chunks are only walked whole.
+    /// Target `t` of chunk `c` and its grid node (grid-node targets), computed alone: at once
+    /// when every node is a target, by counting the chunk's nodes up to it otherwise.
     #[inline]
-    pub(crate) fn chunk_target(&self, c: usize, t: usize) -> Option<(Point, Option<usize>)> {
+    pub(crate) fn chunk_target(&self, c: usize, t: usize) -> (Point, Option<usize>) {
         match &self.points {
-            Points::Given(p) => Some((p[c * CHUNK + t], None)),
-            Points::GridNodes { surface, .. } => {
+            Points::Given(p) => (p[c * CHUNK + t], None),
+            Points::GridNodes { surface, chunk_start } => {
                 let g = surface.grid().expect("grid-node targets hold a grid surface");
-                let k = c * CHUNK + t;
-                (self.len == g.vertex_of_node.len()).then(|| (g.node_point(k), Some(k)))
+                let k = if self.len == g.vertex_of_node.len() {
+                    c * CHUNK + t
+                } else {
+                    (chunk_start[c]..).filter(|&k| g.vertex_of_node[k] != u32::MAX).nth(t).expect("a chunk holds its targets")
+                };
+                (g.node_point(k), Some(k))
             }
-        }
-    }
-
-    /// Whether [`Targets::chunk_target`] answers for every target.
-    pub(crate) fn addressable(&self) -> bool {
-        match &self.points {
-            Points::Given(_) => true,
-            Points::GridNodes { surface, .. } => surface.grid().is_some_and(|g| self.len == g.vertex_of_node.len()),
         }
     }
 
@@ -902,6 +898,27 @@ mod tests {
 
     fn flat(n: usize) -> Arc<Surface> {
         Arc::new(Surface::from_grid(vec![0.0; n * n], n, n, 1.0, 1.0, 0.0, 0.0).unwrap())
+    }
+
+    #[test]
+    fn a_target_computed_alone_is_the_one_its_chunk_lists() {
+        // A grid with a nodata block, whose unused nodes the chunks skip, and one without.
+        let z = |k: usize| if (300..340).contains(&k) || k % 97 == 5 { f64::NAN } else { (k % 13) as f64 };
+        for holes in [false, true] {
+            let heights: Vec<f64> = (0..41 * 41).map(|k| if holes { z(k) } else { (k % 13) as f64 }).collect();
+            let targets = Targets::grid_nodes(Arc::new(Surface::from_grid(heights, 41, 41, 1.0, 1.0, 0.0, 0.0).unwrap())).unwrap();
+            let mut all = Vec::new();
+            for c in 0..targets.n_chunks() {
+                let (mut points, mut nodes) = (Vec::new(), Vec::new());
+                targets.chunk_points(c, &mut points);
+                targets.chunk_nodes(c, &mut nodes);
+                for (t, (q, k)) in points.iter().zip(&nodes).enumerate() {
+                    assert_eq!(targets.chunk_target(c, t), (*q, Some(*k)));
+                }
+                all.extend(points);
+            }
+            assert_eq!(all.len() < 41 * 41, holes);
+        }
     }
 
     #[test]
