@@ -367,7 +367,7 @@ impl CoverageTracker {
                             settled += 1;
                             true
                         } else {
-                            let view = skylines.get_or_insert_with(|| vis.skylines_of(c, &mut Vec::new()));
+                            let view = skylines.get_or_insert_with(|| vis.chunk_skylines(c));
                             let sky = view.as_mut().map(|s| s.get(t, || vis.skyline(q, node)));
                             team.retest(certificate, q, near, &mut last, sky.as_ref())
                         };

@@ -518,12 +518,17 @@ impl Visibility {
     /// The skylines of chunk `c`'s targets, from the chunk's second evaluation on, and the grid
     /// nodes of its targets (into `nodes`) on the grid path.
     pub(crate) fn skylines_of(&self, c: usize, nodes: &mut Vec<usize>) -> Option<ChunkSkylines<'_>> {
-        let view = self.skylines.as_ref()?.0.chunk(c, self.targets.chunk_len(c))?;
+        let view = self.chunk_skylines(c)?;
         nodes.clear();
         if let Some((_, SkylineSource::Grid(_))) = &self.skylines {
             self.targets.chunk_nodes(c, nodes);
         }
         Some(view)
+    }
+
+    /// The skylines of chunk `c`'s targets, from the chunk's second evaluation on.
+    pub(crate) fn chunk_skylines(&self, c: usize) -> Option<ChunkSkylines<'_>> {
+        self.skylines.as_ref()?.0.chunk(c, self.targets.chunk_len(c))
     }
 
     /// The skyline of target `q` (grid node `node` on the grid path).
