@@ -549,8 +549,9 @@ def _scale(window: np.ndarray, centre: np.ndarray, alpha: float) -> np.ndarray:
     if window.ndim == 2:  # one estimator: np.mean's own reduction, without its dispatch (same bits)
         squares = window - centre
         squares *= squares
-        return np.maximum(alpha, np.sqrt(np.add.reduce(squares, axis=None) / squares.size))
-    spread = np.sqrt(np.mean((window - centre) ** 2, axis=(0, -1)))
+        spread = np.sqrt(np.add.reduce(squares, axis=None) / squares.size)
+    else:
+        spread = np.sqrt(np.mean((window - centre) ** 2, axis=(0, -1)))
     scale: np.ndarray = np.maximum(alpha, spread)
     return scale
 
