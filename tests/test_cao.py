@@ -144,6 +144,13 @@ def test_monomials_are_distinct_and_of_degree_two_or_three():
     # every distinct monomial of 3 variables, when all are asked for
     all3 = _draw_monomials(16, 3, np.empty((0, 3), int), rng)
     assert {tuple(r) for r in all3.tolist()} == {tuple(r) for r in _all_monomials(3).tolist()}
+    # new ones never repeat those kept, whether drawn from the full list (few variables) or by rejection
+    for dim, n_kept, count in ((3, 8, 8), (3, 10, 3), (6, 20, 10), (30, 20, 20)):
+        for _ in range(20):
+            kept = _all_monomials(dim)[rng.choice(_n_distinct_monomials(dim), n_kept, replace=False)]
+            fresh = _draw_monomials(count, dim, kept, rng)
+            rows = {tuple(r) for r in fresh.tolist()}
+            assert len(rows) == count and not rows & {tuple(r) for r in kept.tolist()}
 
 
 def test_design_matrix_matches_explicit_products():

@@ -412,7 +412,8 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
     if total - len(taken) < count:  # guarded by regressors_for; kept as an internal check
         raise InvalidInputError(f"cannot draw {count} new monomials of {dim} variables")
     if 4 * (len(taken) + count) > total:
-        pool = [row for row in _all_monomials(dim).tolist() if tuple(row) not in taken]
+        every = _all_monomials(dim)
+        pool = [row for row, key in zip(every.tolist(), (every @ places).tolist(), strict=True) if key not in taken]
         chosen = rng.choice(len(pool), size=count, replace=False)
         return np.array([pool[c] for c in chosen], dtype=np.int64)
     out: list[int] = []
