@@ -61,6 +61,8 @@ def main() -> None:
             spent, along = timed(vis.tracker(args.tracker).coverage, trajectory, args.start)
             tracked += spent
             worst = max(worst, float(np.abs(np.asarray(along) - stored).max()))
+    if evaluations == 0:
+        raise SystemExit(f"no run has an iteration {args.start} or later to time")
     per = 1e3 * seconds / evaluations
     print(f"{len(files)} runs, {evaluations} timed evaluations, {per:.3f} ms each; largest difference from the stored coverage {worst:.1e}")
     if args.tracker is not None:
