@@ -40,7 +40,10 @@
 //! within `range - 2 D` of its seer's anchor is in range of every position the anchor allows
 //! (`hypot(dx, dy) <= D` and `|dz| <= D`), so its certificate is checked without computing the
 //! target's coordinates, and a chunk's skylines are locked only when one of its targets needs a
-//! sight line.
+//! sight line. A target at the edge of what a UAV sees, which neither certificate settles, is
+//! tested from the UAV's own position at every evaluation; what its anchor's two lines showed
+//! (the lowered anchor misses it, the raised one sees it) is kept while the anchor holds, so
+//! those lines are tested once.
 //!
 //! ```
 //! use std::sync::Arc;
@@ -181,9 +184,15 @@ struct Certificate {
     stamp: u32,
     /// UAVs (the first 64) whose raised anchor does not see the target.
     blocked: u64,
+    /// UAVs (the first 64) whose lowered anchor does not see the target: a target near the
+    /// edge of what a UAV sees is tested from where the UAV is at every evaluation, and the
+    /// anchor's own lines, which give no certificate there, need not be tested again.
+    lowered_misses: u64,
+    /// UAVs (the first 64) whose raised anchor sees the target (no "blocked" certificate).
+    raised_sees: u64,
 }
 
-const NONE: Certificate = Certificate { seer: NO_SEER, stamp: 0, blocked: 0 };
+const NONE: Certificate = Certificate { seer: NO_SEER, stamp: 0, blocked: 0, lowered_misses: 0, raised_sees: 0 };
 
 /// A UAV in the current evaluation.
 #[derive(Debug, Clone, Copy, Default)]
@@ -202,7 +211,7 @@ impl CoverageTracker {
     /// # Errors
     /// [`Error::InvalidInput`](crate::Error::InvalidInput) when `margin` is not finite and
     /// positive; [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory
-    /// (16 bytes per target).
+    /// (32 bytes per target).
     pub fn new(vis: Arc<Visibility>, margin: f64) -> Result<Self> {
         ensure!(margin.is_finite() && margin > 0.0, "margin must be finite and > 0, got {margin}");
         let field = vis.grid_field();
@@ -460,13 +469,16 @@ impl Team<'_> {
     /// Whether any UAV sees target `q` (with its skyline `sky`), trying the UAVs in range
     /// (`near`) from `last` on, its certificate made anew.
     fn retest(&self, certificate: &mut Certificate, q: Point, near: &[usize], last: &mut usize, sky: Option<&Skyline>) -> bool {
-        // "Blocked" certificates made before an anchor moved are void.
-        let stale = if certificate.blocked == 0 {
+        // What anchors that moved since proved is void.
+        let known = certificate.blocked | certificate.lowered_misses | certificate.raised_sees;
+        let stale = if known == 0 {
             0
         } else {
             self.anchors.iter().take(64).enumerate().filter(|(_, a)| a.set_at > certificate.stamp).fold(0u64, |m, (u, _)| m | (1 << u))
         };
         let mut blocked = certificate.blocked & !stale;
+        let mut lowered_misses = certificate.lowered_misses & !stale;
+        let mut raised_sees = certificate.raised_sees & !stale;
         let mut seer = NO_SEER;
         let mut seen = false;
         let order = std::iter::once(*last).chain((0..near.len()).filter(|&k| k != *last));
@@ -478,7 +490,7 @@ impl Team<'_> {
                 continue;
             }
             let anchor = &self.anchors[u];
-            if let (true, Some(lowered)) = (status.over, &anchor.lowered) {
+            if let (true, false, Some(lowered)) = (status.over, lowered_misses & bit != 0, &anchor.lowered) {
                 if lowered.sees(self.field, self.anchored, q, sky) {
                     let deep = if squared_distance(anchor.at, q) <= self.deep { DEEP } else { 0 };
                     seer = u32::try_from(u).ok().filter(|&u| u < DEEP).map_or(NO_SEER, |u| u | deep);
@@ -486,19 +498,22 @@ impl Team<'_> {
                     *last = k;
                     break;
                 }
+                lowered_misses |= bit;
             }
             if self.current[u].sees(self.field, self.own, q, sky) {
                 seen = true;
                 *last = k;
                 break;
             }
-            if let (true, Some(raised)) = (bit != 0, &anchor.raised) {
-                if !raised.sees(self.field, self.anchored, q, sky) {
+            if let (true, false, Some(raised)) = (bit != 0, raised_sees & bit != 0, &anchor.raised) {
+                if raised.sees(self.field, self.anchored, q, sky) {
+                    raised_sees |= bit;
+                } else {
                     blocked |= bit;
                 }
             }
         }
-        *certificate = Certificate { seer, stamp: self.now, blocked };
+        *certificate = Certificate { seer, stamp: self.now, blocked, lowered_misses, raised_sees };
         seen
     }
 }
@@ -635,6 +650,32 @@ mod tests {
             let shallow = tracker.certificates.iter().filter(|c| c.seer != NO_SEER && c.seer & DEEP == 0).count();
             assert!(deep > 0 && shallow > 0, "deep {deep}, shallow {shallow}");
         }
+    }
+
+    #[test]
+    fn what_an_anchor_showed_is_forgotten_when_it_moves() {
+        // Flat ground with a wall 3 m high along x = 30: from x = 27 at 2 m the ground past the
+        // wall is hidden, from x = 40 every target in range is in plain view.
+        let z: Vec<f64> = (0..61 * 61).map(|k| if k % 61 == 30 { 3.0 } else { 0.0 }).collect();
+        let surface = Arc::new(Surface::from_grid(z, 61, 61, 1.0, 1.0, 0.0, 0.0).unwrap());
+        let targets = Targets::grid_nodes(surface.clone()).unwrap();
+        let vis = Arc::new(Visibility::with_path(surface, targets, 10.0, Path::Auto).unwrap());
+        let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+        // Certificates are made where an anchor moves after holding: behind the wall, then past it.
+        let path: Vec<Point> = [[20.0, 30.0, 2.0], [27.0, 30.0, 2.0], [40.0, 30.0, 2.0]].iter().flat_map(|p| [*p; 5]).collect();
+        let mut seen = 0;
+        for (k, p) in path.iter().enumerate() {
+            let mask = tracker.seen(&[*p], 1).unwrap();
+            assert_eq!(mask, vis.seen(&[*p], 1).unwrap());
+            seen = mask.iter().filter(|s| **s).count();
+            if k == 9 {
+                // Behind the wall the lowered anchor misses the targets past it.
+                assert!(tracker.certificates.iter().any(|c| c.lowered_misses != 0));
+            }
+        }
+        // Past the wall it sees them: every target seen is settled by a certificate.
+        assert!(seen > 200);
+        assert_eq!(tracker.settled(), seen);
     }
 
     #[test]
