@@ -429,8 +429,7 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
                 out.append(key)
                 if len(out) == count:
                     break
-    keys = np.array(out, dtype=np.int64)
-    return np.stack([keys // (base * base), keys // base % base, keys % base], axis=1)
+    return np.array([(key // (base * base), key // base % base, key % base) for key in out], dtype=np.int64)
 
 
 def _design(u: np.ndarray, terms: np.ndarray) -> np.ndarray:
@@ -723,15 +722,16 @@ def _check_start(check: _Feasibility, x0: np.ndarray) -> None:
 def _pick_best(score: np.ndarray, allowed: np.ndarray, rng: np.random.Generator) -> int:
     """Index of the best allowed score; near-ties (1e-12 relative) are broken at random."""
     idx = np.flatnonzero(allowed)
-    top = score[idx].max()
+    allowed_scores = score[idx]
+    top = float(allowed_scores.max())
     tol = 1e-12 * max(1.0, abs(top))
-    ties = idx[score[idx] >= top - tol]
+    ties = idx[allowed_scores >= top - tol]
     return int(ties[0] if ties.size == 1 else ties[rng.integers(ties.size)])
 
 
 def _best_feasible(
     score: np.ndarray,
-    candidates: np.ndarray,
+    candidates: Callable[[Any], np.ndarray],
     current: np.ndarray,
     check: _Feasibility,
     batch: int | None,
@@ -741,11 +741,13 @@ def _best_feasible(
 
     Candidates are checked best score first, in doubling batches, until every candidate that
     could tie with the best feasible one has been judged; the result, and the random draw for
-    ties, are then those of checking all of them. Returns ``(index or None, checked, feasible)``.
+    ties, are then those of checking all of them. ``candidates(idx)`` gives the configurations
+    ``(len(idx), N, d)`` of the candidates ``idx`` (an index array or a slice), so only those
+    checked are made. Returns ``(index or None, checked, feasible)``.
     """
     n = score.shape[0]
     if batch is None or batch >= n:
-        mask = check(current, candidates)
+        mask = check(current, candidates(slice(None)))
         return (_pick_best(score, mask, rng) if mask.any() else None), n, int(mask.sum())
     order = np.argsort(-score, kind="stable")
     allowed = np.zeros(n, dtype=bool)
@@ -753,7 +755,7 @@ def _best_feasible(
     top = None
     while checked < n:
         idx = order[checked : checked + batch]
-        allowed[idx] = check(current, candidates[idx])
+        allowed[idx] = check(current, candidates(idx))
         checked += idx.size
         batch *= 2
         if top is None and allowed[idx].any():
@@ -959,12 +961,16 @@ def cao(
         if settings.infeasible == "hold":
             zeta = _hold_inadmissible(zeta, alpha, x.reshape(n_uavs, n_coords), check)
         _, predicted, strength = _fit_and_score((window - x) / scale, measured[lo:k], terms, zeta * (alpha / scale), settings.ridge)
-        candidates = x + alpha * zeta
+
+        def candidates(idx: Any, x: np.ndarray = x, alpha: float = alpha, zeta: np.ndarray = zeta) -> np.ndarray:
+            moved: np.ndarray = (x + alpha * zeta[idx]).reshape(-1, n_uavs, n_coords)
+            return moved
+
         choice, n_checked[k], n_feasible[k] = _best_feasible(
-            predicted, candidates.reshape(n_cand, n_uavs, n_coords), x.reshape(n_uavs, n_coords), check, settings.check_batch, rng
+            predicted, candidates, x.reshape(n_uavs, n_coords), check, settings.check_batch, rng
         )
         if choice is not None:
-            x = candidates[choice].copy()
+            x = x + alpha * zeta[choice]
         if n_terms and k > lo:
             terms = _refresh_terms(terms, strength, settings.keep_fraction, dim, rng)
 
