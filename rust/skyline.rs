@@ -170,7 +170,11 @@ impl<'a> SkylineBounds<'a> {
             let (fx, fy) = self.edges[k + 1];
             let (next_dot, next_right_of) = (gx * fx + gy * fy, fx * gy - fy * gx >= 0.0);
             let top = lift + if right_of && !next_right_of { steepest } else { dot.max(next_dot) };
-            self.bound[k] = self.bound[k].max(top);
+            // `f64::max` without its NaN test on the bound, which is never NaN (a NaN top leaves
+            // it as it is, as `max` would).
+            if top > self.bound[k] {
+                self.bound[k] = top;
+            }
             (dot, right_of) = (next_dot, next_right_of);
         }
     }
