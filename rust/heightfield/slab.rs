@@ -1,7 +1,8 @@
 //! The slab test of the mesh path (`mesh::slab_test`), taken apart so that the height field's
 //! tiles and cells can share its pieces: the prepared ray ([`Cast`]), one axis's parameter
-//! interval ([`axis`]), and NaN-free `min` and `max`. Every box test of the grid path is built
-//! from these, which is what makes its answers the mesh path's to the last bit.
+//! interval ([`axis`]), `min` and `max` of values never NaN, and the two that skip a NaN second
+//! value. Every box test of the grid path is built from these, which is what makes its answers
+//! the mesh path's to the last bit.
 
 use parry3d_f64::query::Ray;
 
@@ -48,5 +49,26 @@ pub(super) fn max(a: f64, b: f64) -> f64 {
         a
     } else {
         b
+    }
+}
+
+/// `a.min(b)` for `a` never NaN and `b` perhaps NaN (then `a`, as `f64::min` gives): one
+/// comparison, where `f64::min` also tests `a`.
+#[inline(always)]
+pub(super) fn min_skip_nan(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `a.max(b)` for `a` never NaN and `b` perhaps NaN (then `a`).
+#[inline(always)]
+pub(super) fn max_skip_nan(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
     }
 }

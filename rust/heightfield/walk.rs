@@ -6,7 +6,7 @@
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::Ray;
 
-use super::slab::{axis, max, min, Cast};
+use super::slab::{axis, max, max_skip_nan, min, min_skip_nan, Cast};
 use super::HeightField;
 use crate::geometry::{triangle_hit, v, Point};
 use crate::grid::Grid;
@@ -98,7 +98,7 @@ impl HeightField {
                 }
                 let (lo_ac, hi_ac) = (min(za, zc), max(za, zc));
                 // The cell box: NaN corners ignored (their triangle is left out below).
-                let (lo, hi) = (lo_ac.min(zb).min(zd), hi_ac.max(zb).max(zd));
+                let (lo, hi) = (min_skip_nan(min_skip_nan(lo_ac, zb), zd), max_skip_nan(max_skip_nan(hi_ac, zb), zd));
                 let (nz, fz) = axis(lo, hi, o.z, cast.inv[2]);
                 if max(enter_xy, nz) > min(exit_xy, fz) {
                     continue;
