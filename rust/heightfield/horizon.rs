@@ -11,6 +11,10 @@ use crate::skyline::{Skyline, REACH};
 /// The horizon is built from tiles of `2^HORIZON_SHIFT` cells a side.
 const HORIZON_SHIFT: u32 = 1;
 
+/// Length, in cells, of the stretch where a sight line goes under the surface that
+/// [`HeightField::hits_where_it_goes_under`] tests.
+const CROSSING_CELLS: f64 = 1.0;
+
 impl HeightField {
     /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally,
     /// in at most `max_values` bounds (at least one bin of 64 sectors).
@@ -100,6 +104,55 @@ impl HeightField {
         !self.walk_hits_from(p, d, t_from, SIGHT_FRACTION, SIGHT_FRACTION)
     }
 
+    /// Whether the sight line from `uav` to `target` hits a triangle where it goes under the
+    /// surface: when it starts above the surface and ends below it (at `SIGHT_FRACTION`), a
+    /// bisection on the heights along it finds a stretch of [`CROSSING_CELLS`] cells where it
+    /// crosses, and that stretch alone gets the exact test. The heights only choose where to
+    /// look: `true` is a hit of the same leaf test within the same limit, so the whole line's
+    /// answer; `false` says nothing.
+    pub(super) fn hits_where_it_goes_under(&self, uav: Point, target: Point) -> bool {
+        let d = [target[0] - uav[0], target[1] - uav[1], target[2] - uav[2]];
+        let r = d[0].hypot(d[1]);
+        if r == 0.0 {
+            return false;
+        }
+        // Height of the line over the surface at parameter t (None off the grid or over nodata).
+        let over = |t: f64| self.height_at(uav[0] + d[0] * t, uav[1] + d[1] * t).map(|h| uav[2] + d[2] * t - h);
+        let (Some(start), Some(end)) = (over(0.0), over(SIGHT_FRACTION)) else { return false };
+        if !(start > 0.0 && end < 0.0) {
+            return false;
+        }
+        let step = CROSSING_CELLS / (r * self.scales.inv_cell);
+        let (mut above, mut below) = (0.0, SIGHT_FRACTION);
+        while below - above > step {
+            let mid = 0.5 * (above + below);
+            match over(mid) {
+                Some(h) if h > 0.0 => above = mid,
+                Some(_) => below = mid,
+                None => return false,
+            }
+        }
+        let pad = 0.5 * step;
+        self.walk_hits_from(uav, d, (above - pad).max(0.0), (below + pad).min(SIGHT_FRACTION), SIGHT_FRACTION)
+    }
+
+    /// The surface's height at `(x, y)` from the two triangles of its cell (`None` off the
+    /// grid or where a corner it needs is nodata).
+    fn height_at(&self, x: f64, y: f64) -> Option<f64> {
+        let g = &self.grid;
+        let (u, w) = ((x - g.x0) * self.scales.inv_dx, (y - g.y0) * self.scales.inv_dy);
+        if !(u >= 0.0 && w >= 0.0 && u <= (g.nx - 1) as f64 && w <= (g.ny - 1) as f64) {
+            return None;
+        }
+        // Truncation is the floor here (both are at least 0); the last cell takes its far edge.
+        let (j, i) = ((u as usize).min(g.nx - 2), (w as usize).min(g.ny - 2));
+        let (fx, fy) = (u - j as f64, w - i as f64);
+        let row = i * g.nx + j;
+        let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+        let h = if fx >= fy { za + (zb - za) * fx + (zc - zb) * fy } else { za + (zc - zd) * fx + (zd - za) * fy };
+        h.is_finite().then_some(h)
+    }
+
     /// [`HeightField::line_of_sight_from`] for a target at a grid node, with the node's
     /// [`Skyline`]: the same answer to the last bit, usually without walking at all.
     ///
@@ -124,7 +177,15 @@ impl HeightField {
     pub(crate) fn line_of_sight_to_node(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
         let (cleared, far, r) = match horizon.beside_skyline(target, skyline, REACH as f64 * horizon.bin, self.scales.z) {
             Rest::Clear => return true,
-            Rest::Unsettled => return self.line_of_sight_from(horizon, target),
+            Rest::Unsettled => {
+                // Most of these are blocked, and end below the surface around the target (98 % of
+                // the blocked ones in the paper's missions): the stretch where such a line goes
+                // under is tested first.
+                if self.hits_where_it_goes_under(horizon.uav, target) {
+                    return false;
+                }
+                return self.line_of_sight_from(horizon, target);
+            }
             Rest::Stretch { cleared, far, r } => (cleared, far, r),
         };
         let t_from = if cleared > 0.0 { cleared / r } else { 0.0 };

@@ -161,7 +161,7 @@ fn horizons_give_the_mesh_paths_sight_lines() {
 #[test]
 fn skylines_give_the_mesh_paths_sight_lines_to_nodes() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let (mut seen, mut total, mut steep) = (0, 0, 0);
+    let (mut seen, mut total, mut steep, mut under) = (0, 0, 0, 0);
     for case in 0..40 {
         let (ny, nx) = if case % 4 == 3 {
             (rng.random_range(30..80), rng.random_range(30..80))
@@ -190,6 +190,11 @@ fn skylines_give_the_mesh_paths_sight_lines_to_nodes() {
                 let sky = stencil.skyline(&g, k / nx, k % nx);
                 let expect = mesh.line_of_sight(uav, q);
                 assert_eq!(field.line_of_sight_to_node(&horizon, q, &sky), expect, "case {case}: {uav:?} -> {q:?}, radius {radius}");
+                // Where the line goes under the surface, the stretch tested alone finds its hit.
+                if field.hits_where_it_goes_under(uav, q) {
+                    assert!(!expect, "case {case}: {uav:?} -> {q:?} is seen");
+                    under += 1;
+                }
                 // How often the skyline settles the last cells (the line arrives more steeply).
                 let (ex, ey) = (uav[0] - q[0], uav[1] - q[1]);
                 let r = (ex * ex + ey * ey).sqrt();
@@ -203,6 +208,7 @@ fn skylines_give_the_mesh_paths_sight_lines_to_nodes() {
     }
     assert!(seen > total / 5 && seen < 4 * total / 5, "{seen} of {total}");
     assert!(steep > total / 8, "the skylines decided too rarely to be tested: {steep} of {total}");
+    assert!(under > total / 20, "lines going under the surface were found too rarely to be tested: {under} of {total}");
 }
 
 #[test]
