@@ -1,0 +1,70 @@
+"""A fixed workload of the coverage engine, to be counted in instructions under valgrind.
+
+This machine's timings move by 10-30 % from run to run; the instructions a workload executes do
+not, so a change to the engine can be weighed exactly, function by function:
+
+    valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py paper DIR/table1
+    valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py reference
+    callgrind_annotate --inclusive=yes OUT | grep -E "Engine::line_of_sight|Stencil::skyline|walk_hits_from"
+
+``paper``: the first ``--evaluations`` configurations (default 50) of one stored Table 1 run with
+N = 12 and the CVT start (``--run``: its index among those of ``DIR/runs``, sorted by name; ``DIR``
+from ``uavcov reproduce table1 --seeds 0 --out DIR/table1 --no-plots``), measured with the plain
+objective on one thread: the first one without skylines, the second building them, the others
+as CAO's first iterations see them (UAVs 1-8 m above the ground). ``reference``: the reference
+case of ``coverage_vs_open3d.py`` on its terrains 0, 7001 and 7002 at ``--spacing`` (default
+0.5 m), each evaluated ``--evaluations`` times (default 6) on one thread.
+"""
+
+from __future__ import annotations
+
+import argparse
+import pathlib
+import sys
+
+import numpy as np
+
+import uavcov
+
+
+def paper(folder: pathlib.Path, run: int, evaluations: int) -> None:
+    files = sorted((folder / "runs").glob("*cvt-n12*.npz"))
+    if not files:
+        sys.exit(f"no Table 1 run with N = 12 and the CVT start in {folder / 'runs'}")
+    with np.load(files[run]) as stored:
+        z, spacing, origin = stored["terrain_grid_z"], stored["terrain_grid_spacing"], stored["terrain_grid_origin"]
+        trajectory = stored["trace_trajectory"]
+    vis = uavcov.Visibility(uavcov.Terrain.from_grid(z, spacing, origin), 25.0, n_threads=1)
+    for uavs in trajectory[:evaluations]:
+        vis.coverage(uavs)
+
+
+def reference(spacing: float, evaluations: int) -> None:
+    sys.path.insert(0, str(pathlib.Path(__file__).parent))
+    from coverage_vs_open3d import reference_case
+
+    for seed in (0, 7001, 7002):
+        terrain, uavs = reference_case(spacing, seed)
+        vis = uavcov.Visibility(terrain, 25.0, n_threads=1)
+        for _ in range(evaluations):
+            vis.coverage(uavs)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("workload", choices=["paper", "reference"])
+    parser.add_argument("folder", nargs="?", type=pathlib.Path, help="a Table 1 results folder (paper)")
+    parser.add_argument("--run", type=int, default=0)
+    parser.add_argument("--evaluations", type=int, default=None)
+    parser.add_argument("--spacing", type=float, default=0.5)
+    args = parser.parse_args()
+    if args.workload == "paper":
+        if args.folder is None:
+            parser.error("paper needs the Table 1 results folder")
+        paper(args.folder, args.run, args.evaluations or 50)
+    else:
+        reference(args.spacing, args.evaluations or 6)
+
+
+if __name__ == "__main__":
+    main()
