@@ -1,8 +1,7 @@
 //! The slab test of the mesh path (`mesh::slab_test`), taken apart so that the height field's
 //! tiles and cells can share its pieces: the prepared ray ([`Cast`]), one axis's parameter
-//! interval ([`axis`]), `min` and `max` of values never NaN, and the two that skip a NaN second
-//! value. Every box test of the grid path is built from these, which is what makes its answers
-//! the mesh path's to the last bit.
+//! interval ([`axis`]), and NaN-free `min` and `max`. Every box test of the grid path is built
+//! from these, which is what makes its answers the mesh path's to the last bit.
 
 use parry3d_f64::query::Ray;
 
@@ -33,6 +32,7 @@ pub(super) fn axis(lo: f64, hi: f64, origin: f64, inv: f64) -> (f64, f64) {
 }
 
 /// `a.min(b)` for values that are never NaN: one instruction instead of a NaN-aware sequence.
+/// A NaN `a` gives `b` (the comparison fails), which is `f64::min`'s answer too.
 #[inline(always)]
 pub(super) fn min(a: f64, b: f64) -> f64 {
     if a < b {
@@ -42,33 +42,12 @@ pub(super) fn min(a: f64, b: f64) -> f64 {
     }
 }
 
-/// `a.max(b)` for values that are never NaN.
+/// `a.max(b)` for values that are never NaN; a NaN `a` gives `b`, as for `min`.
 #[inline(always)]
 pub(super) fn max(a: f64, b: f64) -> f64 {
     if a > b {
         a
     } else {
         b
-    }
-}
-
-/// `a.min(b)` for `a` never NaN and `b` perhaps NaN (then `a`, as `f64::min` gives): one
-/// comparison, where `f64::min` also tests `a`.
-#[inline(always)]
-pub(super) fn min_skip_nan(a: f64, b: f64) -> f64 {
-    if b < a {
-        b
-    } else {
-        a
-    }
-}
-
-/// `a.max(b)` for `a` never NaN and `b` perhaps NaN (then `a`).
-#[inline(always)]
-pub(super) fn max_skip_nan(a: f64, b: f64) -> f64 {
-    if b > a {
-        b
-    } else {
-        a
     }
 }

@@ -6,7 +6,7 @@
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::Ray;
 
-use super::slab::{axis, max, max_skip_nan, min, min_skip_nan, Cast};
+use super::slab::{axis, max, min, Cast};
 use super::HeightField;
 use crate::geometry::{triangle_hit, v, Point};
 use crate::grid::Grid;
@@ -97,8 +97,10 @@ impl HeightField {
                     continue; // both triangles use the diagonal a-c
                 }
                 let (lo_ac, hi_ac) = (min(za, zc), max(za, zc));
-                // The cell box: NaN corners ignored (their triangle is left out below).
-                let (lo, hi) = (min_skip_nan(min_skip_nan(lo_ac, zb), zd), max_skip_nan(max_skip_nan(hi_ac, zb), zd));
+                // The cell box: NaN corners ignored (their triangle is left out below). `min` and
+                // `max` give their second value when the comparison fails, so a NaN first one
+                // leaves the box as it is: one comparison each, where `f64::min` takes two.
+                let (lo, hi) = (min(zd, min(zb, lo_ac)), max(zd, max(zb, hi_ac)));
                 let (nz, fz) = axis(lo, hi, o.z, cast.inv[2]);
                 if max(enter_xy, nz) > min(exit_xy, fz) {
                     continue;
