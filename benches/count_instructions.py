@@ -5,7 +5,10 @@ not, so a change to the engine can be weighed exactly, function by function:
 
     valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py paper DIR/table1
     valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py reference
+    valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py along DIR/table1
+    valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py mission
     callgrind_annotate --inclusive=yes OUT | grep -E "Engine::line_of_sight|Stencil::skyline|walk_hits_from"
+    callgrind_annotate --inclusive=yes OUT | grep -E "__pymethod_coverage__ \\["
 
 ``paper``: the first ``--evaluations`` configurations (default 50) of one stored Table 1 run with
 N = 12 and the CVT start (``--run``: its index among those of ``DIR/runs``, sorted by name; ``DIR``
@@ -13,7 +16,11 @@ from ``uavcov reproduce table1 --seeds 0 --out DIR/table1 --no-plots``), measure
 objective on one thread: the first one without skylines, the second building them, the others
 as CAO's first iterations see them (UAVs 1-8 m above the ground). ``reference``: the reference
 case of ``coverage_vs_open3d.py`` on its terrains 0, 7001 and 7002 at ``--spacing`` (default
-0.5 m), each evaluated ``--evaluations`` times (default 6) on one thread.
+0.5 m), each evaluated ``--evaluations`` times (default 6) on one thread. ``along``: every
+``--every``-th stored run of ``DIR/runs`` (default 96: 5 of Table 1's 480) measured along its
+whole path through ``Visibility.tracker()`` (``--margin`` for a fixed one), as ``run_mission``
+measures it. ``mission``: ``benches/mission_split.py``'s reference mission (seed 1000), CAO
+included; its measurements are the calls of ``CoverageTracker.coverage``.
 """
 
 from __future__ import annotations
@@ -39,6 +46,25 @@ def paper(folder: pathlib.Path, run: int, evaluations: int) -> None:
         vis.coverage(uavs)
 
 
+def along(folder: pathlib.Path, every: int, margin: float | None) -> None:
+    files = sorted((folder / "runs").glob("*.npz"))[::every]
+    if not files:
+        sys.exit(f"no stored runs in {folder / 'runs'}")
+    for f in files:
+        with np.load(f) as stored:
+            z, spacing, origin = stored["terrain_grid_z"], stored["terrain_grid_spacing"], stored["terrain_grid_origin"]
+            trajectory = stored["trace_trajectory"]
+        tracker = uavcov.Visibility(uavcov.Terrain.from_grid(z, spacing, origin), 25.0, n_threads=1).tracker(margin)
+        for uavs in trajectory:
+            tracker.coverage(uavs)
+
+
+def mission() -> None:
+    terrain = uavcov.gaussian_hills(spacing=1.0, rng=1000)
+    spec = uavcov.MissionSpec(n_uavs=12, d_max=25.0, iterations=500)
+    uavcov.run_mission(terrain, spec, rng=1000, n_threads=1)
+
+
 def reference(spacing: float, evaluations: int) -> None:
     sys.path.insert(0, str(pathlib.Path(__file__).parent))
     from coverage_vs_open3d import reference_case
@@ -52,16 +78,22 @@ def reference(spacing: float, evaluations: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("workload", choices=["paper", "reference"])
-    parser.add_argument("folder", nargs="?", type=pathlib.Path, help="a Table 1 results folder (paper)")
+    parser.add_argument("workload", choices=["paper", "reference", "along", "mission"])
+    parser.add_argument("folder", nargs="?", type=pathlib.Path, help="a Table 1 results folder (paper, along)")
     parser.add_argument("--run", type=int, default=0)
     parser.add_argument("--evaluations", type=int, default=None)
     parser.add_argument("--spacing", type=float, default=0.5)
+    parser.add_argument("--every", type=int, default=96)
+    parser.add_argument("--margin", type=float, default=None)
     args = parser.parse_args()
+    if args.workload in ("paper", "along") and args.folder is None:
+        parser.error(f"{args.workload} needs the Table 1 results folder")
     if args.workload == "paper":
-        if args.folder is None:
-            parser.error("paper needs the Table 1 results folder")
         paper(args.folder, args.run, args.evaluations or 50)
+    elif args.workload == "along":
+        along(args.folder, args.every, args.margin)
+    elif args.workload == "mission":
+        mission()
     else:
         reference(args.spacing, args.evaluations or 6)
 

@@ -13,7 +13,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use uavcov::mesh::Surface;
-use uavcov::tracking::CoverageTracker;
+use uavcov::tracking::{CoverageTracker, Margin};
 use uavcov::visibility::{Path, Targets, Visibility};
 
 /// Heights of a sum of 7 Gaussian hills (heights 5-25 m, sigma 10 m) on a `spacing` grid.
@@ -81,7 +81,7 @@ fn along_a_path(c: &mut Criterion) {
     group.bench_function("plain_1.0m_200_steps", |b| b.iter(|| path.iter().map(|t| vis.coverage(t, 1).unwrap()).sum::<f64>()));
     group.bench_function("tracker_1.0m_200_steps", |b| {
         b.iter(|| {
-            let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+            let mut tracker = CoverageTracker::new(vis.clone(), Margin::Adaptive).unwrap();
             path.iter().map(|t| tracker.coverage(t, 1).unwrap()).sum::<f64>()
         });
     });

@@ -33,7 +33,7 @@ class _Plain:
         return self.vis.coverage(uavs)
 
 
-def _plain_tracker(vis: uavcov.Visibility, margin: float = 1.0) -> _Plain:
+def _plain_tracker(vis: uavcov.Visibility, margin: float | None = None) -> _Plain:
     """Takes ``Visibility.tracker``'s arguments; the margin has nothing to change here."""
     return _Plain(vis)
 

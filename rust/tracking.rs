@@ -9,7 +9,10 @@
 //! displaced by `(dx, dy, dz)` from its anchor has moved a *distance* `|dz| + L hypot(dx, dy)`,
 //! and its certificates hold while that distance stays below `D` (less a rounding allowance)
 //! and `hypot(dx, dy)` at most `D`, so that every sight line involved stays where `L` holds;
-//! beyond it the anchor moves to the UAV and its certificates are made anew.
+//! beyond it the anchor moves to the UAV and its certificates are made anew. The margin is
+//! fixed, or each anchor's own ([`Margin::Adaptive`]): a few of its UAV's recent steps, so
+//! that an anchor holds for a few measurements whatever the optimiser's step, and a share of
+//! its height above the surface, so that the lowered anchor still sees what the UAV sees.
 //!
 //! - *Seen with room to spare*: the sight line from the target to the anchor lowered by `D` is
 //!   clear. A point of the new line at the fraction `s` of the way from the target lies
@@ -33,8 +36,9 @@
 //!
 //! The answers never depend on the margin, the order of the UAVs, the thread count or the
 //! configurations seen before: only the work does. Certificates cost lines to make and pay only
-//! while their anchor holds: a UAV makes them once its last anchor held for three
-//! evaluations, and an evaluation where no UAV has any is [`Visibility::seen`] itself. A point
+//! while their anchor holds: a UAV makes them at a new anchor when its last one held for three
+//! evaluations, or once the new one has held three itself, and an evaluation where no UAV has
+//! any is [`Visibility::seen`] itself. A point
 //! from which only a few lines are tested (most UAVs and anchors of an evaluation, when
 //! certificates settle the rest) tests them without building its whole horizon. A target seen
 //! within `range - 2 D` of its seer's anchor is in range of every position the anchor allows
@@ -47,13 +51,13 @@
 //!
 //! ```
 //! use std::sync::Arc;
-//! use uavcov::tracking::CoverageTracker;
+//! use uavcov::tracking::{CoverageTracker, Margin};
 //! use uavcov::{Surface, Targets, Visibility};
 //! // A ridge across a 40 m x 40 m grid; two UAVs drift a few centimetres per step.
 //! let z: Vec<f64> = (0..41 * 41).map(|k| if (k % 41) == 20 { 6.0 } else { 0.0 }).collect();
 //! let surface = Arc::new(Surface::from_grid(z, 41, 41, 1.0, 1.0, 0.0, 0.0)?);
 //! let vis = Arc::new(Visibility::new(surface.clone(), Targets::grid_nodes(surface)?, 30.0)?);
-//! let mut tracker = CoverageTracker::new(vis.clone(), 1.0)?;
+//! let mut tracker = CoverageTracker::new(vis.clone(), Margin::Adaptive)?;
 //! for step in 0..20 {
 //!     let drift = 0.05 * f64::from(step);
 //!     let team = [[10.0 + drift, 10.0, 8.0], [30.0, 30.0 - drift, 4.0]];
@@ -86,6 +90,29 @@ const NO_SEER: u32 = u32::MAX;
 /// anchor allows reaches it: the certificate then holds without the target's coordinates.
 const DEEP: u32 = 1 << 31;
 
+/// How far a UAV may move from its anchor before its certificates are made anew (see the
+/// [module documentation](self)). It changes the work, never an answer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Margin {
+    /// The same distance for every anchor, metres.
+    Fixed(f64),
+    /// Each anchor its own: [`STEPS_HELD`] times its UAV's recent step, within
+    /// [`ADAPTIVE_MARGINS`], and at most [`HEIGHT_SHARE`] of its height above the surface.
+    Adaptive,
+}
+
+/// An adaptive margin is this many of the UAV's recent steps (a step being the anchor's
+/// distance: height change plus slope times horizontal move; recent: each step weighs half,
+/// the earlier ones the other half): an anchor then holds for a few evaluations of a random walk.
+pub const STEPS_HELD: f64 = 2.5;
+
+/// The range of adaptive margins, metres (the least before a step is known).
+pub const ADAPTIVE_MARGINS: (f64, f64) = (1.0, 4.0);
+
+/// An adaptive margin is at most this share of the UAV's height above the surface: the lowered
+/// anchor keeps most of the UAV's view, and its "seen" certificates most of the UAV's targets.
+pub const HEIGHT_SHARE: f64 = 0.3;
+
 /// Coverage of one team, evaluated again and again as it moves: [`Visibility::seen`] and
 /// [`Visibility::coverage`] to the last bit, with most sight lines settled by what earlier
 /// evaluations proved (see the [module documentation](self)).
@@ -96,7 +123,7 @@ const DEEP: u32 = 1 << 31;
 #[derive(Debug)]
 pub struct CoverageTracker {
     vis: Arc<Visibility>,
-    margin: f64,
+    margin: Margin,
     /// The surface's steepest slope, `None` when certificates cannot be used.
     slope: Option<f64>,
     /// The steepest slope by tile of the grid, for each anchor's own.
@@ -106,6 +133,8 @@ pub struct CoverageTracker {
     /// Evaluations made (the next one is `now + 1`).
     now: u32,
     anchors: Vec<Anchor>,
+    /// Each UAV's last position and recent step, for adaptive margins.
+    paces: Vec<Pace>,
     certificates: Vec<Certificate>,
     /// Targets the last evaluation settled by a certificate.
     settled: usize,
@@ -121,10 +150,39 @@ struct Anchor {
     slope: f64,
     /// The evaluation that set it (0: never).
     set_at: u32,
+    /// Its margin, metres.
+    margin: f64,
+    /// Squared horizontal distance from it within which the targets it sees stay in range of
+    /// every position it allows (negative: none does).
+    deep: f64,
     /// The anchor lowered by the margin (`None`: no "seen" certificate).
     lowered: Option<Viewpoint>,
     /// The anchor raised by the margin (`None`: no "blocked" certificate).
     raised: Option<Viewpoint>,
+}
+
+impl Anchor {
+    /// Its raised and lowered viewpoints, which make its certificates: the raised one when the
+    /// margin clears the rounding allowance, the lowered one when it is also above the surface
+    /// (`ground`, under the anchor) by the allowance. `scale` and `slope` are the tracker's.
+    fn arm(&mut self, ground: Option<f64>, scale: f64, slope: f64) {
+        let (p, margin) = (self.at, self.margin);
+        let tol = ALLOWANCE * (scale + 2.0 * p[2].abs() + margin) * (1.0 + slope);
+        if let Some(g) = ground.filter(|_| margin > 2.0 * tol / (1.0 - SIGHT_FRACTION)) {
+            self.raised = Some(Viewpoint::new([p[0], p[1], p[2] + margin], FEW_LINES));
+            if p[2] - margin - g > tol {
+                self.lowered = Some(Viewpoint::new([p[0], p[1], p[2] - margin], FEW_LINES));
+            }
+        }
+    }
+}
+
+/// Where a UAV was at the last evaluation and how far it moves from one to the next.
+#[derive(Debug, Clone, Copy)]
+struct Pace {
+    last: Point,
+    /// The recent step, metres (`None` before the second evaluation).
+    step: Option<f64>,
 }
 
 /// Sight lines from one point: the first [`FEW_LINES`] through a horizon of the cells right
@@ -204,16 +262,18 @@ struct Status {
 }
 
 impl CoverageTracker {
-    /// A tracker of `vis` whose certificates allow each UAV to move `margin` metres (see the
+    /// A tracker of `vis` whose certificates allow each UAV to move `margin` (see the
     /// [module documentation](self)) before they are made anew. The margin changes the work,
     /// never an answer.
     ///
     /// # Errors
-    /// [`Error::InvalidInput`](crate::Error::InvalidInput) when `margin` is not finite and
-    /// positive; [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the memory
-    /// (32 bytes per target).
-    pub fn new(vis: Arc<Visibility>, margin: f64) -> Result<Self> {
-        ensure!(margin.is_finite() && margin > 0.0, "margin must be finite and > 0, got {margin}");
+    /// [`Error::InvalidInput`](crate::Error::InvalidInput) when a fixed margin is not finite
+    /// and positive; [`Error::TooLarge`](crate::Error::TooLarge) when the system refuses the
+    /// memory (32 bytes per target).
+    pub fn new(vis: Arc<Visibility>, margin: Margin) -> Result<Self> {
+        if let Margin::Fixed(m) = margin {
+            ensure!(m.is_finite() && m > 0.0, "margin must be finite and > 0, got {m}");
+        }
         let field = vis.grid_field();
         let slope = field.and_then(|f| f.grid().max_slope()).filter(|s| s.is_finite());
         let (lo, hi) = vis.surface().bounds();
@@ -225,7 +285,7 @@ impl CoverageTracker {
             (Some(_), Some(f)) => SlopeTiles::new(f.grid())?,
             _ => SlopeTiles::default(),
         };
-        Ok(Self { vis, margin, slope, tiles, scale, now: 0, anchors: Vec::new(), certificates, settled: 0, busy: false })
+        Ok(Self { vis, margin, slope, tiles, scale, now: 0, anchors: Vec::new(), paces: Vec::new(), certificates, settled: 0, busy: false })
     }
 
     /// The objective this tracker evaluates.
@@ -234,9 +294,9 @@ impl CoverageTracker {
         &self.vis
     }
 
-    /// The margin, metres.
+    /// The margin.
     #[must_use]
-    pub fn margin(&self) -> f64 {
+    pub fn margin(&self) -> Margin {
         self.margin
     }
 
@@ -274,6 +334,7 @@ impl CoverageTracker {
         };
         if self.busy || uavs.len() != self.anchors.len() || self.now == u32::MAX {
             self.anchors = uavs.iter().map(|_| Anchor::default()).collect();
+            self.paces = uavs.iter().map(|&p| Pace { last: p, step: None }).collect();
             self.certificates.fill(NONE);
             self.now = 0;
         }
@@ -287,32 +348,46 @@ impl CoverageTracker {
 
     /// The UAVs' status, with the anchors of those that moved their margin set anew.
     fn move_anchors(&mut self, slope: f64, uavs: &[Point]) -> Vec<Status> {
-        let (now, margin, scale) = (self.now, self.margin, self.scale);
+        let (now, scale, range) = (self.now, self.scale, self.vis.range());
         let surface = self.vis.surface();
         let grid = self.vis.grid_field().map(HeightField::grid);
-        let around = self.vis.range() + margin;
         let mut status = vec![Status::default(); uavs.len()];
-        for (u, (&p, anchor)) in uavs.iter().zip(&mut self.anchors).enumerate() {
+        for (u, ((&p, anchor), pace)) in uavs.iter().zip(&mut self.anchors).zip(&mut self.paces).enumerate() {
             let ground = surface.ground_height(p[0], p[1]);
-            let tol = ALLOWANCE * (scale + anchor.at[2].abs() + p[2].abs() + margin) * (1.0 + slope);
+            let step = (p[2] - pace.last[2]).abs() + anchor.slope * (p[0] - pace.last[0]).hypot(p[1] - pace.last[1]);
+            *pace = Pace { last: p, step: Some(pace.step.map_or(step, |s| 0.5 * (s + step))) };
+            let tol = ALLOWANCE * (scale + anchor.at[2].abs() + p[2].abs() + anchor.margin) * (1.0 + slope);
             status[u] = Status { over: ground.is_some(), above: ground.is_some_and(|g| p[2] - g > tol) };
             let need = 2.0 * tol / (1.0 - SIGHT_FRACTION);
             let drift = (p[0] - anchor.at[0]).hypot(p[1] - anchor.at[1]);
             let moved = (p[2] - anchor.at[2]).abs() + anchor.slope * drift;
-            if anchor.set_at > 0 && drift <= margin && moved <= margin - need {
+            if anchor.set_at > 0 && drift <= anchor.margin && moved <= anchor.margin - need {
+                // An anchor made without certificates gets them once it has held LASTING
+                // evaluations itself.
+                if now - anchor.set_at == LASTING && anchor.lowered.is_none() && anchor.raised.is_none() {
+                    anchor.arm(surface.ground_height(anchor.at[0], anchor.at[1]), scale, slope);
+                }
                 continue;
             }
             // Certificates cost lines to make and pay only while their anchor holds: they are
-            // made when the UAV's last anchor held for LASTING evaluations.
+            // made at once when the UAV's last anchor held for LASTING evaluations.
             let lasted = anchor.set_at > 0 && now - anchor.set_at >= LASTING;
-            let local = grid.map_or(slope, |g| self.tiles.around(g, p, around).min(slope));
-            *anchor = Anchor { at: p, slope: local, set_at: now, lowered: None, raised: None };
-            let tol = ALLOWANCE * (scale + 2.0 * p[2].abs() + margin) * (1.0 + slope);
-            if let Some(g) = ground.filter(|_| lasted && margin > 2.0 * tol / (1.0 - SIGHT_FRACTION)) {
-                anchor.raised = Some(Viewpoint::new([p[0], p[1], p[2] + margin], FEW_LINES));
-                if p[2] - margin - g > tol {
-                    anchor.lowered = Some(Viewpoint::new([p[0], p[1], p[2] - margin], FEW_LINES));
+            let margin = match self.margin {
+                Margin::Fixed(m) => m,
+                Margin::Adaptive => {
+                    let (least, most) = ADAPTIVE_MARGINS;
+                    let m = pace.step.filter(|_| anchor.set_at > 0).map_or(least, |s| (STEPS_HELD * s).clamp(least, most));
+                    ground.map_or(m, |g| m.min(HEIGHT_SHARE * (p[2] - g)).max(0.0))
                 }
+            };
+            let local = grid.map_or(slope, |g| self.tiles.around(g, p, range + margin).min(slope));
+            // Within `range - 2 margin` of the anchor a target is within range of every position
+            // the anchor allows (`hypot(dx, dy) <= margin`, `|dz| <= margin`).
+            let deep = range - 2.0 * margin - ALLOWANCE * scale;
+            let deep = if deep > 0.0 { deep * deep } else { -1.0 };
+            *anchor = Anchor { at: p, slope: local, set_at: now, margin, deep, lowered: None, raised: None };
+            if lasted {
+                anchor.arm(ground, scale, slope);
             }
         }
         status
@@ -335,10 +410,7 @@ impl CoverageTracker {
             .zip(&self.anchors)
             .map(|(&p, a)| Viewpoint::new(p, if a.lowered.is_some() || a.raised.is_some() { FEW_LINES } else { 0 }))
             .collect();
-        // A UAV whose anchor holds is within 2 D of it (`hypot(dx, dy) <= D`, `|dz| <= D`).
-        let deep = self.vis.range() - 2.0 * self.margin - ALLOWANCE * self.scale;
         let team = Team {
-            deep: if deep > 0.0 { deep * deep } else { -1.0 },
             uavs,
             reach,
             status: &status,
@@ -346,7 +418,6 @@ impl CoverageTracker {
             current: &current,
             field,
             own: (self.vis.range(), budget),
-            anchored: (self.vis.range() + self.margin, budget),
             now: self.now,
         };
         let vis: &Visibility = &self.vis;
@@ -430,9 +501,6 @@ impl SlopeTiles {
 
 /// What one evaluation knows of the team, for the targets' certificates.
 struct Team<'a> {
-    /// Squared distance from an anchor within which its seen targets stay in range (negative:
-    /// none does).
-    deep: f64,
     uavs: &'a [Point],
     reach: Reach<'a>,
     status: &'a [Status],
@@ -440,13 +508,18 @@ struct Team<'a> {
     /// The UAVs where they are.
     current: &'a [Viewpoint],
     field: &'a HeightField,
-    /// Horizons' radius and budget, from the UAVs and from their anchors.
+    /// Horizons' radius and budget, from the UAVs (an anchor's reach its margin farther).
     own: (f64, usize),
-    anchored: (f64, usize),
     now: u32,
 }
 
 impl Team<'_> {
+    /// The radius and budget of an anchor's horizons.
+    #[inline]
+    fn anchored(&self, anchor: &Anchor) -> (f64, usize) {
+        (self.own.0 + anchor.margin, self.own.1)
+    }
+
     /// Whether the target's certificate says it is seen deep in range, and still holds.
     #[inline]
     fn certified_deep(&self, certificate: &Certificate) -> bool {
@@ -491,8 +564,8 @@ impl Team<'_> {
             }
             let anchor = &self.anchors[u];
             if let (true, false, Some(lowered)) = (status.over, lowered_misses & bit != 0, &anchor.lowered) {
-                if lowered.sees(self.field, self.anchored, q, sky) {
-                    let deep = if squared_distance(anchor.at, q) <= self.deep { DEEP } else { 0 };
+                if lowered.sees(self.field, self.anchored(anchor), q, sky) {
+                    let deep = if squared_distance(anchor.at, q) <= anchor.deep { DEEP } else { 0 };
                     seer = u32::try_from(u).ok().filter(|&u| u < DEEP).map_or(NO_SEER, |u| u | deep);
                     seen = true;
                     *last = k;
@@ -506,7 +579,7 @@ impl Team<'_> {
                 break;
             }
             if let (true, false, Some(raised)) = (bit != 0, raised_sees & bit != 0, &anchor.raised) {
-                if raised.sees(self.field, self.anchored, q, sky) {
+                if raised.sees(self.field, self.anchored(anchor), q, sky) {
                     raised_sees |= bit;
                 } else {
                     blocked |= bit;
@@ -590,20 +663,20 @@ mod tests {
         let surface = hills(61, false);
         let vis = objective(&surface, Path::Auto);
         // The smallest margin is below the rounding allowance here: no certificate, same answers.
-        for margin in [0.005, 0.5, 1.0, 4.0] {
+        for margin in [Margin::Fixed(0.005), Margin::Fixed(0.5), Margin::Fixed(1.0), Margin::Fixed(4.0), Margin::Adaptive] {
             let mut tracker = CoverageTracker::new(vis.clone(), margin).unwrap();
             assert!(tracker.certifies());
             let mut settled = 0;
             for team in walk(&surface, 6, 120, 3) {
-                assert_eq!(tracker.seen(&team, 2).unwrap(), vis.seen(&team, 1).unwrap(), "margin {margin}");
+                assert_eq!(tracker.seen(&team, 2).unwrap(), vis.seen(&team, 1).unwrap(), "margin {margin:?}");
                 assert_eq!(tracker.coverage(&team, 1).unwrap().to_bits(), vis.coverage(&team, 1).unwrap().to_bits());
                 settled += tracker.settled();
             }
             // Certificates settle most targets once the steps are small.
-            if margin > 0.1 {
-                assert!(settled > 120 * 61 * 61 / 10, "margin {margin}: {settled} settled");
-            } else {
+            if margin == Margin::Fixed(0.005) {
                 assert_eq!(settled, 0);
+            } else {
+                assert!(settled > 120 * 61 * 61 / 10, "margin {margin:?}: {settled} settled");
             }
         }
     }
@@ -612,7 +685,8 @@ mod tests {
     fn answers_do_not_depend_on_threads_or_on_what_came_before() {
         let surface = hills(61, false);
         let vis = objective(&surface, Path::Auto);
-        let (mut one, mut three) = (CoverageTracker::new(vis.clone(), 0.5).unwrap(), CoverageTracker::new(vis.clone(), 0.5).unwrap());
+        let (mut one, mut three) =
+            (CoverageTracker::new(vis.clone(), Margin::Adaptive).unwrap(), CoverageTracker::new(vis.clone(), Margin::Adaptive).unwrap());
         let path = walk(&surface, 4, 60, 11);
         for team in &path {
             assert_eq!(one.seen(team, 1).unwrap(), three.seen(team, 3).unwrap());
@@ -635,7 +709,7 @@ mod tests {
         let given: Vec<Point> = (0..900).map(|k| [20.0 + f64::from(k % 30) * 0.7, 20.0 + f64::from(k / 30) * 0.7, 0.0]).collect();
         for targets in [Targets::grid_nodes(surface.clone()).unwrap(), Targets::new(given, None).unwrap()] {
             let vis = Arc::new(Visibility::with_path(surface.clone(), targets, 10.0, Path::Auto).unwrap());
-            let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+            let mut tracker = CoverageTracker::new(vis.clone(), Margin::Fixed(1.0)).unwrap();
             // Still for four measurements, then a jump past the margin: certificates are made there.
             let mut path = vec![[30.0, 30.0, 2.0]; 4];
             path.extend((0..40).map(|k| {
@@ -660,7 +734,7 @@ mod tests {
         let surface = Arc::new(Surface::from_grid(z, 61, 61, 1.0, 1.0, 0.0, 0.0).unwrap());
         let targets = Targets::grid_nodes(surface.clone()).unwrap();
         let vis = Arc::new(Visibility::with_path(surface, targets, 10.0, Path::Auto).unwrap());
-        let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+        let mut tracker = CoverageTracker::new(vis.clone(), Margin::Fixed(1.0)).unwrap();
         // Certificates are made where an anchor moves after holding: behind the wall, then past it.
         let path: Vec<Point> = [[20.0, 30.0, 2.0], [27.0, 30.0, 2.0], [40.0, 30.0, 2.0]].iter().flat_map(|p| [*p; 5]).collect();
         let mut seen = 0;
@@ -679,11 +753,42 @@ mod tests {
     }
 
     #[test]
+    fn an_adaptive_margin_follows_the_steps_of_its_uav() {
+        // Hills seen from 6 m: a UAV that bobs 1.5 m up and down at every evaluation leaves a
+        // fixed 1 m margin each time (no anchor ever holds), while its adaptive margin grows to
+        // the steps it takes and its anchors hold.
+        let surface = hills(61, false);
+        let vis = objective(&surface, Path::Auto);
+        let ground = surface.ground_height(30.0, 30.0).unwrap();
+        let path: Vec<Point> = (0..30).map(|k| [30.0, 30.0, ground + if k % 2 == 0 { 6.0 } else { 7.5 }]).collect();
+        let mut settled = Vec::new();
+        for margin in [Margin::Fixed(1.0), Margin::Adaptive] {
+            let mut tracker = CoverageTracker::new(vis.clone(), margin).unwrap();
+            let mut total = 0;
+            for p in &path {
+                assert_eq!(tracker.seen(&[*p], 1).unwrap(), vis.seen(&[*p], 1).unwrap(), "{margin:?}");
+                total += tracker.settled();
+            }
+            settled.push(total);
+        }
+        assert_eq!(settled[0], 0);
+        assert!(settled[1] > 0);
+        // Under a low UAV the margin stays within its share of the height above the surface.
+        let mut tracker = CoverageTracker::new(vis.clone(), Margin::Adaptive).unwrap();
+        for p in &path {
+            let low = [p[0], p[1], p[2] - 5.0];
+            assert_eq!(tracker.seen(&[low], 1).unwrap(), vis.seen(&[low], 1).unwrap());
+            let anchor = &tracker.anchors[0];
+            assert!(anchor.margin <= HEIGHT_SHARE * (anchor.at[2] - ground) + 1e-12, "{}", anchor.margin);
+        }
+    }
+
+    #[test]
     fn without_certificates_it_is_the_plain_objective() {
         let with_nodata = hills(41, true);
         let plain = hills(41, false);
         for vis in [objective(&with_nodata, Path::Auto), objective(&plain, Path::Mesh)] {
-            let mut tracker = CoverageTracker::new(vis.clone(), 1.0).unwrap();
+            let mut tracker = CoverageTracker::new(vis.clone(), Margin::Fixed(1.0)).unwrap();
             assert!(!tracker.certifies());
             for team in walk(&plain, 3, 10, 5) {
                 let team: Vec<Point> = team.into_iter().map(|p| [p[0], p[1], p[2] + 1.0]).collect();
@@ -697,9 +802,9 @@ mod tests {
     fn bad_input_is_an_error() {
         let vis = objective(&hills(21, false), Path::Auto);
         for margin in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            assert!(CoverageTracker::new(vis.clone(), margin).is_err());
+            assert!(CoverageTracker::new(vis.clone(), Margin::Fixed(margin)).is_err());
         }
-        let mut tracker = CoverageTracker::new(vis, 1.0).unwrap();
+        let mut tracker = CoverageTracker::new(vis, Margin::Adaptive).unwrap();
         assert!(tracker.seen(&[], 1).is_err());
         assert!(tracker.seen(&[[1.0, f64::NAN, 3.0]], 1).is_err());
         assert!(tracker.seen(&[[1.0, 2.0, 1e300]], 1).is_err());

@@ -34,13 +34,13 @@ def _path(terrain: uavcov.Terrain, n_uavs: int, steps: int, seed: int) -> list[n
     return out
 
 
-@pytest.mark.parametrize("margin", [0.5, 1.0, 3.0])
+@pytest.mark.parametrize("margin", [0.5, 1.0, 3.0, None])
 def test_the_tracker_measures_what_the_objective_does_along_a_path(hills, margin):
     vis = uavcov.Visibility(hills, 25.0, n_threads=2)
     tracker = vis.tracker(margin=margin)
     assert tracker.certifies and tracker.margin == margin and tracker.visibility is vis
     settled, seen = [], []
-    for team in _path(hills, 6, 80, seed=int(margin * 10)):
+    for team in _path(hills, 6, 80, seed=int((margin or 2.0) * 10)):
         assert tracker.coverage(team) == vis.coverage(team)  # to the last bit
         mask = vis.seen(team)
         np.testing.assert_array_equal(tracker.seen(team), mask)

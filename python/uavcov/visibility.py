@@ -173,16 +173,17 @@ class Visibility:
         points, packed = self._uavs(uavs, sensors)
         return float(self._core.quality_coverage(points, self._n_threads, packed))
 
-    def tracker(self, margin: float = 1.0) -> CoverageTracker:
+    def tracker(self, margin: float | None = None) -> CoverageTracker:
         """A :class:`CoverageTracker` of this objective: :meth:`coverage` of one team measured
         again and again as it moves, each measurement reusing what the last ones proved.
 
         Parameters
         ----------
-        margin : float, default 1.0
+        margin : float or None, default None
             Metres each UAV may move (height change plus the terrain's steepest slope times the
-            horizontal move) before its certificates are made anew. It changes the work only,
-            never an answer.
+            horizontal move) before its certificates are made anew. ``None``: each UAV's own,
+            2.5 times its recent steps, within 1-4 m and at most 0.3 of its height above the
+            ground. It changes the work only, never an answer.
         """
         return CoverageTracker(self, margin)
 
@@ -210,6 +211,7 @@ class CoverageTracker:
     with room to spare (the line to the anchor raised by ``margin`` is blocked). While a UAV has
     moved less than ``margin`` from its anchor (height change plus the terrain's steepest slope
     times the horizontal move), its certificates hold; beyond it the anchor moves to the UAV.
+    With ``margin=None`` each anchor takes its own, from its UAV's recent steps and height.
     Only targets without a certificate that holds are tested. Certificates need the grid
     method on a terrain without nodata and the objective's one range; elsewhere a tracker
     measures like its :class:`Visibility`. Build it with :meth:`Visibility.tracker`; it is one
@@ -220,7 +222,7 @@ class CoverageTracker:
     >>> import numpy as np, uavcov
     >>> t = uavcov.Terrain.from_grid(np.add.outer(np.arange(41.0), np.arange(41.0)) % 7, spacing=1.0)
     >>> vis = uavcov.Visibility(t, d_max=20.0)
-    >>> tracker = vis.tracker(margin=1.0)
+    >>> tracker = vis.tracker()
     >>> team = np.array([[10.0, 10.0, 9.0], [30.0, 25.0, 8.0]])
     >>> all(tracker.coverage(team + 0.01 * k) == vis.coverage(team + 0.01 * k) for k in range(20))
     True
@@ -230,11 +232,12 @@ class CoverageTracker:
 
     __slots__ = ("_core", "_visibility")
 
-    def __init__(self, visibility: Visibility, margin: float = 1.0) -> None:
+    def __init__(self, visibility: Visibility, margin: float | None = None) -> None:
         if not isinstance(visibility, Visibility):
             raise InvalidTypeError(f"visibility must be a uavcov.Visibility, got {type(visibility).__name__}")
         self._visibility = visibility
-        self._core = _core.CoverageTracker(visibility._core, as_positive_float(margin, "margin"))
+        fixed = None if margin is None else as_positive_float(margin, "margin")
+        self._core = _core.CoverageTracker(visibility._core, fixed)
 
     def __reduce__(self) -> Any:
         raise TypeError("a CoverageTracker belongs to one team's run and is not pickled; make one with Visibility.tracker()")
@@ -245,9 +248,11 @@ class CoverageTracker:
         return self._visibility
 
     @property
-    def margin(self) -> float:
-        """How far (metres) a UAV moves before its certificates are made anew."""
-        return float(self._core.margin)
+    def margin(self) -> float | None:
+        """How far (metres) a UAV moves before its certificates are made anew (``None``: each
+        anchor's own, see :meth:`Visibility.tracker`)."""
+        margin = self._core.margin
+        return None if margin is None else float(margin)
 
     @property
     def certifies(self) -> bool:

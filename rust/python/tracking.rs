@@ -5,7 +5,7 @@ use pyo3::prelude::*;
 
 use super::visibility::PyVisibility;
 use super::{detached, points};
-use crate::tracking::CoverageTracker;
+use crate::tracking::{CoverageTracker, Margin};
 
 /// The coverage of one team evaluated again and again as it moves (see `uavcov.CoverageTracker`).
 #[derive(Debug)]
@@ -16,15 +16,21 @@ pub struct PyCoverageTracker {
 
 #[pymethods]
 impl PyCoverageTracker {
+    /// `margin` in metres, or `None` for each anchor its own (`Margin::Adaptive`).
     #[new]
-    fn new(py: Python<'_>, visibility: &PyVisibility, margin: f64) -> PyResult<Self> {
+    #[pyo3(signature = (visibility, margin=None))]
+    fn new(py: Python<'_>, visibility: &PyVisibility, margin: Option<f64>) -> PyResult<Self> {
         let vis = visibility.inner.clone();
+        let margin = margin.map_or(Margin::Adaptive, Margin::Fixed);
         Ok(Self { inner: detached(py, || CoverageTracker::new(vis, margin))? })
     }
 
     #[getter]
-    fn margin(&self) -> f64 {
-        self.inner.margin()
+    fn margin(&self) -> Option<f64> {
+        match self.inner.margin() {
+            Margin::Fixed(m) => Some(m),
+            Margin::Adaptive => None,
+        }
     }
 
     #[getter]
