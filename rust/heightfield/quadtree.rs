@@ -118,7 +118,7 @@ impl HeightField {
                 continue; // the first hit so far has moved closer than this tile
             }
             if lv == 0 {
-                if self.leaf_tile::<ANY>(ti, tj, &cast, &mut best, &mut found) && ANY {
+                if self.leaf_tile::<ANY>(ti, tj, (ci0, ci1, cj0, cj1), &cast, &mut best, &mut found) && ANY {
                     return Some(best);
                 }
                 continue;
@@ -166,9 +166,17 @@ impl HeightField {
 
     /// Tests the triangles of one leaf tile; true when an any-hit search can stop.
     #[inline(always)]
-    fn leaf_tile<const ANY: bool>(&self, ti: usize, tj: usize, cast: &Cast, best: &mut f64, found: &mut bool) -> bool {
+    fn leaf_tile<const ANY: bool>(&self, ti: usize, tj: usize, cells: (usize, usize, usize, usize), cast: &Cast, best: &mut f64, found: &mut bool) -> bool {
         let g = &self.grid;
         let (i0, i1, j0, j1) = self.tile_nodes(&self.levels[0], ti, tj);
+        // Only the cells the ray's footprint can touch (`cells`, rows then columns, from
+        // `cell_span`, which is wider than any rounding: a cell beyond them fails the slab test
+        // below anyway): a short or vertical ray's few of the tile's.
+        let (ci0, ci1, cj0, cj1) = cells;
+        let (i0, i1, j0, j1) = (i0.max(ci0), i1.min(ci1 + 1), j0.max(cj0), j1.min(cj1 + 1));
+        if i0 >= i1 || j0 >= j1 {
+            return false;
+        }
         let o = cast.ray.origin;
         // Parameter intervals of each cell column and row, shared by the cells of the tile.
         let mut cols = [(0.0, 0.0); LEAF];
