@@ -118,18 +118,21 @@ impl Regressors {
     /// [`Error::InvalidInput`] for a ragged or non-finite input, [`Error::TooLarge`] when the
     /// matrix cannot be allocated.
     pub fn design(&self, points: &[f64]) -> Result<DMatrix<f64>> {
+        Ok(self.design_transposed(points)?.transpose())
+    }
+
+    /// The transpose `(len, n)` of [`Regressors::design`]: one point's regressors per column,
+    /// which is how a column-major matrix stores them, so the rows are written in place.
+    fn design_transposed(&self, points: &[f64]) -> Result<DMatrix<f64>> {
         let n = self.count(points, "the points")?;
         let width = self.len();
         let size = n.checked_mul(width).ok_or_else(|| Error::TooLarge("a design matrix beyond the address space".into()))?;
-        let mut matrix = DMatrix::from_vec(n, width, try_filled(0.0, size, "the design matrix")?);
-        let (mut augmented, mut row) = self.scratch();
-        for (r, u) in points.chunks_exact(self.dim).enumerate() {
-            self.row(u, &mut augmented, &mut row);
-            for (c, &v) in row.iter().enumerate() {
-                matrix[(r, c)] = v;
-            }
+        let mut data = try_filled(0.0, size, "the design matrix")?;
+        let mut augmented = self.scratch().0;
+        for (u, row) in points.chunks_exact(self.dim).zip(data.chunks_exact_mut(width)) {
+            self.row(u, &mut augmented, row);
         }
-        Ok(matrix)
+        Ok(DMatrix::from_vec(width, n, data))
     }
 
     /// `theta . phi(u)` for each of the points (row-major), without building their design matrix.
@@ -169,8 +172,8 @@ pub fn fit(regressors: &Regressors, points: &[f64], y: &[f64], ridge: f64, activ
             return Err(Error::InvalidInput(format!("{} active flags for {} monomials", a.len(), regressors.terms.len())));
         }
     }
-    let mut phi = regressors.design(points)?;
-    let n = phi.nrows();
+    let mut transposed = regressors.design_transposed(points)?;
+    let n = transposed.ncols();
     if y.len() != n {
         return Err(Error::InvalidInput(format!("{} values for {n} points", y.len())));
     }
@@ -180,18 +183,19 @@ pub fn fit(regressors: &Regressors, points: &[f64], y: &[f64], ridge: f64, activ
     let first = 1 + regressors.dim;
     if let Some(a) = active {
         for (j, _) in a.iter().enumerate().filter(|(_, on)| !**on) {
-            phi.column_mut(first + j).fill(0.0);
+            transposed.row_mut(first + j).fill(0.0);
         }
     }
-    let width = phi.ncols();
+    let width = transposed.nrows();
     if n == 0 {
         return Ok(Fit { theta: vec![0.0; width], strength: vec![0.0; width - first] });
     }
     let mean = y.iter().sum::<f64>() / n as f64;
     let centred = DVector::from_iterator(n, y.iter().map(|v| v - mean));
-    // An explicit transpose, so the product is a general one (nalgebra hands those to
-    // matrixmultiply's blocked kernel; `tr_mul` takes a column-by-column dot product, 4x slower).
-    let transposed = phi.transpose();
+    // Both the design and its transpose, so the product is a general one (nalgebra hands those
+    // to matrixmultiply's blocked kernel; `tr_mul` takes a column-by-column dot product, 4x
+    // slower).
+    let phi = transposed.transpose();
     let mut gram = &transposed * &phi;
     let rhs = &transposed * &centred;
     let penalty = ridge * n as f64;

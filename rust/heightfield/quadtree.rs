@@ -166,7 +166,15 @@ impl HeightField {
 
     /// Tests the triangles of one leaf tile; true when an any-hit search can stop.
     #[inline(always)]
-    fn leaf_tile<const ANY: bool>(&self, ti: usize, tj: usize, cells: (usize, usize, usize, usize), cast: &Cast, best: &mut f64, found: &mut bool) -> bool {
+    fn leaf_tile<const ANY: bool>(
+        &self,
+        ti: usize,
+        tj: usize,
+        cells: (usize, usize, usize, usize),
+        cast: &Cast,
+        best: &mut f64,
+        found: &mut bool,
+    ) -> bool {
         let g = &self.grid;
         let (i0, i1, j0, j1) = self.tile_nodes(&self.levels[0], ti, tj);
         // Only the cells the ray's footprint can touch (`cells`, rows then columns, from
