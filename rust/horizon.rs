@@ -19,7 +19,7 @@
 
 use crate::error::{try_filled, Result};
 use crate::geometry::{Point, SIGHT_FRACTION};
-use crate::grid::pseudo_angle;
+use crate::grid::{floor_index, pseudo_angle};
 use crate::skyline::{sector_of, Skyline};
 
 /// At most this many distance bins and this many sectors in one horizon.
@@ -128,21 +128,19 @@ impl HorizonBuilder {
         Ok(Self { uav, sectors, bins, bin, inv_bin: 1.0 / bin, quarter, delta, delta_z, reach, reach2: reach * reach, by_bin })
     }
 
-    /// The pseudo-angle of a box corner `(x, y)` relative to the UAV, for [`Self::put_box`].
+    /// The sector of a box corner `(x, y)` relative to the UAV, for [`Self::put_box`] (the
+    /// corners of neighbouring boxes are shared: their sectors are worked out once).
     #[inline(always)]
-    pub(crate) fn corner_angle(x: f64, y: f64) -> f64 {
-        if x == 0.0 && y == 0.0 {
-            0.0
-        } else {
-            pseudo_angle(x, y)
-        }
+    pub(crate) fn corner_sector(&self, x: f64, y: f64) -> usize {
+        let a = if x == 0.0 && y == 0.0 { 0.0 } else { pseudo_angle(x, y) };
+        floor_index(a * self.quarter, (self.sectors - 1) as u32) // a in [0, 4]
     }
 
     /// Enters a box of the surface: horizontally `[xlo, xhi] x [ylo, yhi]` relative to the UAV,
-    /// nothing in it higher than `top` (absolute), with the [`Self::corner_angle`]s of its
+    /// nothing in it higher than `top` (absolute), with the [`Self::corner_sector`]s of its
     /// corners `[(xlo, ylo), (xhi, ylo), (xlo, yhi), (xhi, yhi)]`. A box out of reach is skipped.
     #[inline(always)]
-    pub(crate) fn put_box(&mut self, top: f64, (xlo, xhi): (f64, f64), (ylo, yhi): (f64, f64), angles: [f64; 4]) {
+    pub(crate) fn put_box(&mut self, top: f64, (xlo, xhi): (f64, f64), (ylo, yhi): (f64, f64), corners: [usize; 4]) {
         let nx = xlo.max(-xhi).max(0.0);
         let ny = ylo.max(-yhi).max(0.0);
         let near2 = nx * nx + ny * ny;
@@ -170,7 +168,7 @@ impl HorizonBuilder {
         // comparison margin (1e-9) already added, so that a query compares once per bin.
         let sigma = round_up(sigma + 1.001e-9 * sigma.abs() + 1e-300);
         let sectors = self.sectors;
-        let b = ((near * self.inv_bin) as usize).min(self.bins - 1);
+        let b = floor_index(near * self.inv_bin, (self.bins - 1) as u32);
         let row = &mut self.by_bin[b * sectors..(b + 1) * sectors];
         let mut put = |k0: usize, k1: usize| {
             for slot in &mut row[k0..=k1] {
@@ -179,9 +177,7 @@ impl HorizonBuilder {
         };
         // Sectors of the box's angles from the corners that bound them (by where the box lies
         // from the UAV), one more on each side for rounding.
-        let quarter = self.quarter;
-        let sector = |a: f64| ((a * quarter) as usize).min(sectors - 1); // a in [0, 4]
-        let [lo_l, hi_l, lo_u, hi_u] = angles;
+        let [lo_l, hi_l, lo_u, hi_u] = corners;
         let (right, left) = (xlo > 0.0, xhi < 0.0);
         let (above, below) = (ylo > 0.0, yhi < 0.0);
         let (first, last) = match (right, left, above, below) {
@@ -191,8 +187,8 @@ impl HorizonBuilder {
             }
             (true, _, false, false) => {
                 // Across the +x axis, where the pseudo-angle wraps from 4 to 0.
-                put(sector(lo_l).saturating_sub(1), sectors - 1);
-                put(0, (sector(lo_u) + 1).min(sectors - 1));
+                put(lo_l.saturating_sub(1), sectors - 1);
+                put(0, (lo_u + 1).min(sectors - 1));
                 return;
             }
             (true, _, true, _) => (hi_l, lo_u),
@@ -203,7 +199,7 @@ impl HorizonBuilder {
             (false, false, _, true) => (lo_u, hi_u),
             (true, _, _, true) => (lo_l, hi_u),
         };
-        let (k0, k1) = (sector(first), sector(last));
+        let (k0, k1) = (first, last);
         // Next to the wrap, the spare sector is across it.
         let k0 = if k0 == 0 {
             put(sectors - 1, sectors - 1);
@@ -282,7 +278,7 @@ impl Horizon {
     /// The bounds of the sector with pseudo-angle `a`, bin by bin.
     #[inline(always)]
     pub(crate) fn column(&self, a: f64) -> Column<'_> {
-        let k = ((a * self.quarter) as usize).min(self.sectors - 1);
+        let k = floor_index(a * self.quarter, (self.sectors - 1) as u32);
         Column { slope: &self.slope[k..], stride: self.sectors, len: self.bins }
     }
 

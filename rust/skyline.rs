@@ -24,7 +24,7 @@
 
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use crate::grid::{pseudo_angle, Grid};
+use crate::grid::{floor_index, pseudo_angle, Grid};
 
 /// Directions around a node; sector `k` holds the pseudo-angles `[4k, 4(k+1)) / SECTORS` (see
 /// [`sector_of`]), 0.06 to 0.12 radians wide. 64 sectors reaching 6 cells made the paper's
@@ -60,7 +60,7 @@ pub(crate) struct Skyline([u8; SECTORS]);
 /// The sector of a direction given by its pseudo-angle `a` in `[0, 4]`.
 #[inline(always)]
 pub(crate) fn sector_of(a: f64) -> usize {
-    ((a * (SECTORS as f64 / 4.0)) as usize).min(SECTORS - 1)
+    floor_index(a * (SECTORS as f64 / 4.0), SECTORS as u32 - 1)
 }
 
 impl Skyline {

@@ -236,6 +236,18 @@ impl Targets {
                 let g = surface.grid().expect("grid-node targets hold a grid surface");
                 let n = self.chunk_len(c);
                 let k0 = chunk_start[c];
+                if self.len == g.vertex_of_node.len() {
+                    // Every node is a target: the chunk is a run of whole row pieces.
+                    let (mut k, stop) = (k0, k0 + n);
+                    while k < stop {
+                        let (i, j0) = (k / g.nx, k % g.nx);
+                        let j1 = g.nx.min(j0 + stop - k);
+                        let (y, row) = (g.y0 + i as f64 * g.dy, &g.z[i * g.nx..(i + 1) * g.nx]);
+                        out.extend((j0..j1).map(|j| [g.x0 + j as f64 * g.dx, y, row[j]]));
+                        k += j1 - j0;
+                    }
+                    return;
+                }
                 // Walk row by row instead of dividing each node index by the row length.
                 let (mut i, mut j) = (k0 / g.nx, k0 % g.nx);
                 let mut y = g.y0 + i as f64 * g.dy;
@@ -263,6 +275,10 @@ impl Targets {
             return;
         };
         let g = surface.grid().expect("grid-node targets hold a grid surface");
+        if self.len == g.vertex_of_node.len() {
+            out.extend(chunk_start[c]..chunk_start[c] + self.chunk_len(c));
+            return;
+        }
         let stop = out.len() + self.chunk_len(c);
         out.extend((chunk_start[c]..).filter(|&k| g.vertex_of_node[k] != u32::MAX).take(stop - out.len()));
     }

@@ -44,16 +44,20 @@ impl HeightField {
             // Units of 2^s x 2^s cells (the pyramid's tiles), or single cells for s = 0.
             let s = HORIZON_SHIFT.min(self.tops.len() as u32);
             let (ui0, ui1, uj0, uj1) = (i0 >> s, i1 >> s, j0 >> s, j1 >> s);
-            // Unit edges relative to the UAV, and the pseudo-angles of the unit corners of the
-            // current pair of corner rows (shared by neighbouring units).
+            // Unit edges relative to the UAV, and the sectors of the unit corners of the current
+            // pair of corner rows (shared by neighbouring units).
             let xs: Vec<f64> = (uj0..=uj1 + 1).map(|u| self.x((u << s).min(g.nx - 1)) - px).collect();
             let y_of = |u: usize| self.y((u << s).min(g.ny - 1)) - py;
-            let angles = |y: f64| -> Vec<f64> { xs.iter().map(|&x| HorizonBuilder::corner_angle(x, y)).collect() };
-            let mut lower = angles(y_of(ui0));
+            let corners = |h: &HorizonBuilder, y: f64, out: &mut Vec<usize>| {
+                out.clear();
+                out.extend(xs.iter().map(|&x| h.corner_sector(x, y)));
+            };
+            let (mut lower, mut upper) = (Vec::with_capacity(xs.len()), Vec::with_capacity(xs.len()));
+            corners(&h, y_of(ui0), &mut lower);
             let mut unit_top = vec![0.0f64; xs.len()];
             for i in ui0..=ui1 {
                 let (ylo, yhi) = (y_of(i), y_of(i + 1));
-                let upper = angles(yhi);
+                corners(&h, yhi, &mut upper);
                 let ny = ylo.max(-yhi).max(0.0);
                 if s == 0 {
                     let (row0, row1) = (&g.z[i * g.nx..(i + 1) * g.nx], &g.z[(i + 1) * g.nx..(i + 2) * g.nx]);
@@ -76,7 +80,7 @@ impl HeightField {
                         h.put_box(top, (xs[c], xs[c + 1]), (ylo, yhi), [lower[c], lower[c + 1], upper[c], upper[c + 1]]);
                     }
                 }
-                lower = upper;
+                std::mem::swap(&mut lower, &mut upper);
             }
         }
         Ok(h.finish())

@@ -38,8 +38,8 @@ impl TriangleMesh {
             if node.leaf_data().is_none() && (hi.x - lo.x).max(hi.y - lo.y) > 2.0 * bin {
                 return TraversalAction::Continue;
             }
-            let angle = HorizonBuilder::corner_angle;
-            h.put_box(hi.z, x, y, [angle(x.0, y.0), angle(x.1, y.0), angle(x.0, y.1), angle(x.1, y.1)]);
+            let corners = [h.corner_sector(x.0, y.0), h.corner_sector(x.1, y.0), h.corner_sector(x.0, y.1), h.corner_sector(x.1, y.1)];
+            h.put_box(hi.z, x, y, corners);
             TraversalAction::Prune
         });
         Ok(h.finish())
