@@ -262,14 +262,24 @@ impl Horizon {
         if far <= 0.0 {
             return Rest::Clear;
         }
-        let need = ((far + 2.0 * self.delta) * self.inv_bin).ceil();
+        let need = (far + 2.0 * self.delta) * self.inv_bin; // bins, not rounded
         let row = self.column(a);
         // The horizon's signed squared slope, from the UAV (the line's, negated), less the margin
         // of the comparison (the stored bounds hold theirs).
         let sigma = -line * line.abs();
         let s = sigma - 1e-9 * sigma.abs() - 1e-300;
-        if need < 1.0 || (need <= row.len as f64 && s > row.at(need as usize - 1)) {
+        if need <= 0.0 {
             return Rest::Clear;
+        }
+        // `need` reaches into bin `ceil(need) - 1`, found without `ceil` (a library call on the
+        // baseline x86-64 target) and without saturating casts.
+        let len = row.len as u32;
+        if need <= f64::from(len) {
+            let whole = floor_index(need, len);
+            let last = if (whole as f64) < need { whole } else { whole - 1 };
+            if s > row.at(last) {
+                return Rest::Clear;
+            }
         }
         let cleared = first_unclear(row, s) as f64 * self.bin - 2.0 * self.delta;
         Rest::Stretch { cleared, far, r }

@@ -609,16 +609,15 @@ impl Visibility {
                             self.targets.chunk_points(c, points);
                             let mut skylines = self.skylines_of(c, nodes);
                             let normal = |t: usize| normals.map(|n| n[c * CHUNK + t]);
-                            // Neighbouring targets are mostly seen by the same UAV: try the last
-                            // one that saw a target first (the answer does not depend on the order).
-                            let mut last = 0;
+                            // Neighbouring targets are mostly seen by the same UAV: the last one
+                            // that saw a target moves to the front (the answer does not depend on
+                            // the order).
                             points
                                 .iter()
                                 .enumerate()
                                 .map(|(t, &q)| {
                                     let mut sky = None;
-                                    let order = std::iter::once(last).chain((0..near.len()).filter(|&k| k != last));
-                                    for k in order {
+                                    for k in 0..near.len() {
                                         let u = near[k];
                                         if !reach.accepts(u, uavs[u], q, normal(t)) {
                                             continue;
@@ -627,7 +626,7 @@ impl Visibility {
                                             sky = skylines.as_mut().map(|s| s.get(t, || self.skyline(q, nodes.get(t).copied())));
                                         }
                                         if engine.line_of_sight(u, q, sky.as_ref(), blockers) {
-                                            last = k;
+                                            near.swap(0, k);
                                             return true;
                                         }
                                     }
