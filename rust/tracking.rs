@@ -434,7 +434,6 @@ impl CoverageTracker {
                     }
                     // The chunk's skylines are locked only once a target needs a sight line.
                     let mut skylines = None;
-                    let mut last = 0;
                     let mut settled = 0;
                     for (t, (certificate, seen)) in chunk.iter_mut().zip(out.iter_mut()).enumerate() {
                         if team.certified_deep(certificate) {
@@ -449,7 +448,7 @@ impl CoverageTracker {
                         } else {
                             let view = skylines.get_or_insert_with(|| vis.chunk_skylines(c));
                             let sky = view.as_mut().map(|s| s.get(t, || vis.skyline(q, node)));
-                            team.retest(certificate, q, near, &mut last, sky.as_ref())
+                            team.retest(certificate, q, near, sky.as_ref())
                         };
                     }
                     settled
@@ -540,8 +539,8 @@ impl Team<'_> {
     }
 
     /// Whether any UAV sees target `q` (with its skyline `sky`), trying the UAVs in range
-    /// (`near`) from `last` on, its certificate made anew.
-    fn retest(&self, certificate: &mut Certificate, q: Point, near: &[usize], last: &mut usize, sky: Option<&Skyline>) -> bool {
+    /// (`near`) in order, its certificate made anew; the UAV that sees it moves to the front.
+    fn retest(&self, certificate: &mut Certificate, q: Point, near: &mut [usize], sky: Option<&Skyline>) -> bool {
         // What anchors that moved since proved is void.
         let known = certificate.blocked | certificate.lowered_misses | certificate.raised_sees;
         let stale = if known == 0 {
@@ -554,8 +553,7 @@ impl Team<'_> {
         let mut raised_sees = certificate.raised_sees & !stale;
         let mut seer = NO_SEER;
         let mut seen = false;
-        let order = std::iter::once(*last).chain((0..near.len()).filter(|&k| k != *last));
-        for k in order {
+        for k in 0..near.len() {
             let u = near[k];
             let bit = if u < 64 { 1u64 << u } else { 0 };
             let status = self.status[u];
@@ -568,14 +566,14 @@ impl Team<'_> {
                     let deep = if squared_distance(anchor.at, q) <= anchor.deep { DEEP } else { 0 };
                     seer = u32::try_from(u).ok().filter(|&u| u < DEEP).map_or(NO_SEER, |u| u | deep);
                     seen = true;
-                    *last = k;
+                    near.swap(0, k);
                     break;
                 }
                 lowered_misses |= bit;
             }
             if self.current[u].sees(self.field, self.own, q, sky) {
                 seen = true;
-                *last = k;
+                near.swap(0, k);
                 break;
             }
             if let (true, false, Some(raised)) = (bit != 0, raised_sees & bit != 0, &anchor.raised) {
