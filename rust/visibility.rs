@@ -568,7 +568,24 @@ impl Visibility {
             Reach::Sensors(sensors) => sensors[i].range(),
         };
         if let (true, Some(field)) = (self.grid_path, self.surface.heightfield()) {
-            let horizons: Result<Vec<Horizon>> = uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, radius(i), per_uav)).collect();
+            // Grid-node targets are no higher than the surface: a UAV above every node within
+            // its range reaches them only within a smaller horizontal radius, and its horizon
+            // need go no farther (a shorter one would only leave more to the walk).
+            let grid_nodes = self.targets.is_grid_nodes();
+            let horizontal = |i: usize, u: Point| {
+                let r = radius(i);
+                if !grid_nodes || !r.is_finite() {
+                    return r;
+                }
+                let below = u[2] - field.highest_within((u[0] - r, u[0] + r), (u[1] - r, u[1] + r));
+                if below > 0.0 {
+                    (r * r - below * below).max(0.0).sqrt()
+                } else {
+                    r
+                }
+            };
+            let horizons: Result<Vec<Horizon>> =
+                uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, horizontal(i, u), per_uav)).collect();
             return Ok(Engine::Grid(field, horizons?));
         }
         let mesh = self.surface.triangle_mesh()?;
@@ -1010,6 +1027,36 @@ mod tests {
             })
             .collect();
         Arc::new(Surface::from_grid(z, n, n, 0.5, 0.5, 101.25, -7.5).unwrap())
+    }
+
+    #[test]
+    fn uavs_high_above_the_nodes_keep_the_mesh_paths_answers() {
+        // Over rugged hills (heights within about 9 m), UAVs from level with the hilltops to
+        // beyond the range: their horizons reach less far, the answers are the mesh path's.
+        let s = rugged(50);
+        let field = s.heightfield().unwrap();
+        let g = field.grid();
+        let (lo, hi) = ((102.0, 110.0), (-6.0, 3.0));
+        let brute = (0..g.nx * g.ny)
+            .map(|k| g.node_point(k))
+            .filter(|q| q[2].is_finite() && (lo.0..=lo.1).contains(&q[0]) && (hi.0..=hi.1).contains(&q[1]))
+            .fold(f64::NEG_INFINITY, |m, q| m.max(q[2]));
+        let bound = field.highest_within(lo, hi);
+        assert!(bound >= brute && bound <= g.z.iter().copied().fold(f64::NEG_INFINITY, f64::max), "{bound} {brute}");
+        assert_eq!(field.highest_within((500.0, 600.0), hi), f64::NEG_INFINITY);
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 12.0).unwrap();
+        let mesh = Visibility::with_path(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 12.0, Path::Mesh).unwrap();
+        for z in [9.0, 12.0, 15.0, 18.0, 20.5, 21.5, 30.0] {
+            let uavs: Vec<Point> =
+                (0..4).map(|k| [104.0 + 5.0 * f64::from(k), -4.0 + 4.0 * f64::from(k), z + f64::from(k) * 0.25]).collect();
+            let seen = mesh.seen(&uavs, 1).unwrap();
+            for _ in 0..3 {
+                assert_eq!(nodes.seen(&uavs, 2).unwrap(), seen, "UAVs at {z} m");
+            }
+            // Low enough, some nodes are seen; above range, none.
+            assert!(z >= 15.0 || seen.iter().any(|&v| v), "UAVs at {z} m");
+            assert!(z < 30.0 || !seen.iter().any(|&v| v), "UAVs at {z} m");
+        }
     }
 
     #[test]

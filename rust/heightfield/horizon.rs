@@ -86,6 +86,37 @@ impl HeightField {
         Ok(h.finish())
     }
 
+    /// An upper bound on the heights of the grid's nodes within `[x0, x1] x [y0, y1]` (metres):
+    /// the highest of the pyramid tiles that cover the box (widened by a cell), at the finest
+    /// level where they are at most 64; `-inf` when no node lies there.
+    pub(crate) fn highest_within(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> f64 {
+        let g = &self.grid;
+        let (last_row, last_col) = ((g.ny - 2) as f64, (g.nx - 2) as f64);
+        let i_lo = ((y0 - g.y0) * self.scales.inv_dy).floor() - 1.0;
+        let i_hi = ((y1 - g.y0) * self.scales.inv_dy).floor() + 1.0;
+        let j_lo = ((x0 - g.x0) * self.scales.inv_dx).floor() - 1.0;
+        let j_hi = ((x1 - g.x0) * self.scales.inv_dx).floor() + 1.0;
+        // Also false for NaN: nothing is known there, and nothing is claimed.
+        if !(i_hi >= 0.0 && i_lo <= last_row && j_hi >= 0.0 && j_lo <= last_col) {
+            return if i_lo.is_nan() || j_lo.is_nan() || i_hi.is_nan() || j_hi.is_nan() { f64::INFINITY } else { f64::NEG_INFINITY };
+        }
+        let (i0, i1) = (i_lo.max(0.0) as usize, i_hi.min(last_row) as usize);
+        let (j0, j1) = (j_lo.max(0.0) as usize, j_hi.min(last_col) as usize);
+        let Some(level) =
+            self.tops.iter().find(|l| ((i1 >> l.shift) - (i0 >> l.shift) + 1) * ((j1 >> l.shift) - (j0 >> l.shift) + 1) <= 64)
+        else {
+            return f64::INFINITY; // a pyramid always ends in one tile; no bound otherwise
+        };
+        let s = level.shift;
+        let mut top = f64::NEG_INFINITY;
+        for ti in i0 >> s..=i1 >> s {
+            for &z in &level.zmax[ti * level.cols + (j0 >> s)..=ti * level.cols + (j1 >> s)] {
+                top = top.max(z);
+            }
+        }
+        top
+    }
+
     /// [`HeightField::line_of_sight`] from the UAV of `horizon`, the same answer to the last bit.
     ///
     /// The horizon clears the sight line up to the first distance bin whose bound reaches the
