@@ -7,6 +7,7 @@ not, so a change to the engine can be weighed exactly, function by function:
     valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py reference
     valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py along DIR/table1
     valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py mission
+    valgrind --tool=callgrind --callgrind-out-file=OUT python benches/count_instructions.py high
     callgrind_annotate --inclusive=yes OUT | grep -E "Engine::line_of_sight|Stencil::skyline|walk_hits_from"
     callgrind_annotate --inclusive=yes OUT | grep -E "__pymethod_coverage__ \\["
 
@@ -16,7 +17,9 @@ from ``uavcov reproduce table1 --seeds 0 --out DIR/table1 --no-plots``), measure
 objective on one thread: the first one without skylines, the second building them, the others
 as CAO's first iterations see them (UAVs 1-8 m above the ground). ``reference``: the reference
 case of ``coverage_vs_open3d.py`` on its terrains 0, 7001 and 7002 at ``--spacing`` (default
-0.5 m), each evaluated ``--evaluations`` times (default 6) on one thread. ``along``: every
+0.5 m), each evaluated ``--evaluations`` times (default 6) on one thread (``--terrain-seeds`` for
+fewer or others). ``high``: the reference terrain with 12 UAVs 45-60 m up and ``d_max`` = 60 m,
+above every node, evaluated ``--evaluations`` times (default 20). ``along``: every
 ``--every``-th stored run of ``DIR/runs`` (default 96: 5 of Table 1's 480) measured along its
 whole path through ``Visibility.tracker()`` (``--margin`` for a fixed one), as ``run_mission``
 measures it. ``mission``: ``benches/mission_split.py``'s reference mission (seed 1000), CAO
@@ -65,26 +68,39 @@ def mission() -> None:
     uavcov.run_mission(terrain, spec, rng=1000, n_threads=1)
 
 
-def reference(spacing: float, evaluations: int) -> None:
+def reference(spacing: float, evaluations: int, seeds: list[int]) -> None:
     sys.path.insert(0, str(pathlib.Path(__file__).parent))
     from coverage_vs_open3d import reference_case
 
-    for seed in (0, 7001, 7002):
+    for seed in seeds:
         terrain, uavs = reference_case(spacing, seed)
         vis = uavcov.Visibility(terrain, 25.0, n_threads=1)
         for _ in range(evaluations):
             vis.coverage(uavs)
 
 
+def high(spacing: float, evaluations: int) -> None:
+    sys.path.insert(0, str(pathlib.Path(__file__).parent))
+    from coverage_vs_open3d import gaussian_hills_grid
+
+    terrain = uavcov.Terrain.from_grid(gaussian_hills_grid(spacing, 0), spacing)
+    rng = np.random.default_rng(5)
+    uavs = np.c_[rng.uniform(0.0, 100.0, (12, 2)), rng.uniform(45.0, 60.0, 12)]
+    vis = uavcov.Visibility(terrain, 60.0, n_threads=1)
+    for _ in range(evaluations):
+        vis.coverage(uavs)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("workload", choices=["paper", "reference", "along", "mission"])
+    parser.add_argument("workload", choices=["paper", "reference", "along", "mission", "high"])
     parser.add_argument("folder", nargs="?", type=pathlib.Path, help="a Table 1 results folder (paper, along)")
     parser.add_argument("--run", type=int, default=0)
     parser.add_argument("--evaluations", type=int, default=None)
     parser.add_argument("--spacing", type=float, default=0.5)
     parser.add_argument("--every", type=int, default=96)
     parser.add_argument("--margin", type=float, default=None)
+    parser.add_argument("--terrain-seeds", type=int, nargs="+", default=[0, 7001, 7002])
     args = parser.parse_args()
     if args.workload in ("paper", "along") and args.folder is None:
         parser.error(f"{args.workload} needs the Table 1 results folder")
@@ -94,8 +110,10 @@ def main() -> None:
         along(args.folder, args.every, args.margin)
     elif args.workload == "mission":
         mission()
+    elif args.workload == "high":
+        high(args.spacing, args.evaluations or 20)
     else:
-        reference(args.spacing, args.evaluations or 6)
+        reference(args.spacing, args.evaluations or 6, args.terrain_seeds)
 
 
 if __name__ == "__main__":
