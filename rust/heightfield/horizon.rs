@@ -32,15 +32,7 @@ impl HeightField {
         let (px, py) = (uav[0], uav[1]);
         let mut h = HorizonBuilder::new(uav, radius, max_values, w, self.bounds, self.scales.xy, self.scales.z)?;
         let reach = h.reach;
-        let last_row = (g.ny - 2) as f64;
-        let last_col = (g.nx - 2) as f64;
-        let i_lo = ((py - reach - g.y0) / g.dy).floor() - 1.0;
-        let i_hi = ((py + reach - g.y0) / g.dy).floor() + 1.0;
-        let j_lo = ((px - reach - g.x0) / g.dx).floor() - 1.0;
-        let j_hi = ((px + reach - g.x0) / g.dx).floor() + 1.0;
-        if i_hi >= 0.0 && i_lo <= last_row && j_hi >= 0.0 && j_lo <= last_col {
-            let (i0, i1) = (i_lo.max(0.0) as usize, i_hi.min(last_row) as usize);
-            let (j0, j1) = (j_lo.max(0.0) as usize, j_hi.min(last_col) as usize);
+        if let Some((i0, i1, j0, j1)) = self.cells_of_box((px - reach, px + reach), (py - reach, py + reach)) {
             // Units of 2^s x 2^s cells (the pyramid's tiles), or single cells for s = 0.
             let s = HORIZON_SHIFT.min(self.tops.len() as u32);
             let (ui0, ui1, uj0, uj1) = (i0 >> s, i1 >> s, j0 >> s, j1 >> s);
@@ -86,22 +78,28 @@ impl HeightField {
         Ok(h.finish())
     }
 
+    /// The cells `(i0, i1, j0, j1)` (rows and columns, inclusive) of the box `[x0, x1] x [y0,
+    /// y1]` (metres), widened by a cell each way and clamped to the grid; `None` when it misses
+    /// the grid (or a bound is NaN).
+    fn cells_of_box(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Option<(usize, usize, usize, usize)> {
+        let g = &self.grid;
+        let (last_row, last_col) = ((g.ny - 2) as f64, (g.nx - 2) as f64);
+        let i_lo = ((y0 - g.y0) / g.dy).floor() - 1.0;
+        let i_hi = ((y1 - g.y0) / g.dy).floor() + 1.0;
+        let j_lo = ((x0 - g.x0) / g.dx).floor() - 1.0;
+        let j_hi = ((x1 - g.x0) / g.dx).floor() + 1.0;
+        (i_hi >= 0.0 && i_lo <= last_row && j_hi >= 0.0 && j_lo <= last_col)
+            .then(|| (i_lo.max(0.0) as usize, i_hi.min(last_row) as usize, j_lo.max(0.0) as usize, j_hi.min(last_col) as usize))
+    }
+
     /// An upper bound on the heights of the grid's nodes within `[x0, x1] x [y0, y1]` (metres):
     /// the highest of the pyramid tiles that cover the box (widened by a cell), at the finest
     /// level where they are at most 64; `-inf` when no node lies there.
-    pub(crate) fn highest_within(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> f64 {
-        let g = &self.grid;
-        let (last_row, last_col) = ((g.ny - 2) as f64, (g.nx - 2) as f64);
-        let i_lo = ((y0 - g.y0) * self.scales.inv_dy).floor() - 1.0;
-        let i_hi = ((y1 - g.y0) * self.scales.inv_dy).floor() + 1.0;
-        let j_lo = ((x0 - g.x0) * self.scales.inv_dx).floor() - 1.0;
-        let j_hi = ((x1 - g.x0) * self.scales.inv_dx).floor() + 1.0;
-        // Also false for NaN: nothing is known there, and nothing is claimed.
-        if !(i_hi >= 0.0 && i_lo <= last_row && j_hi >= 0.0 && j_lo <= last_col) {
-            return if i_lo.is_nan() || j_lo.is_nan() || i_hi.is_nan() || j_hi.is_nan() { f64::INFINITY } else { f64::NEG_INFINITY };
-        }
-        let (i0, i1) = (i_lo.max(0.0) as usize, i_hi.min(last_row) as usize);
-        let (j0, j1) = (j_lo.max(0.0) as usize, j_hi.min(last_col) as usize);
+    pub(crate) fn highest_within(&self, x: (f64, f64), y: (f64, f64)) -> f64 {
+        let Some((i0, i1, j0, j1)) = self.cells_of_box(x, y) else {
+            // Off the grid, no node; with a NaN bound, nothing is known.
+            return if [x.0, x.1, y.0, y.1].iter().any(|v| v.is_nan()) { f64::INFINITY } else { f64::NEG_INFINITY };
+        };
         let Some(level) =
             self.tops.iter().find(|l| ((i1 >> l.shift) - (i0 >> l.shift) + 1) * ((j1 >> l.shift) - (j0 >> l.shift) + 1) <= 64)
         else {
