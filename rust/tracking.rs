@@ -417,7 +417,7 @@ impl CoverageTracker {
             anchors: &self.anchors,
             current: &current,
             field,
-            own: (self.vis.range(), budget),
+            own: (self.vis.horizon_reach(field, self.vis.range()), budget),
             now: self.now,
         };
         let vis: &Visibility = &self.vis;
@@ -507,7 +507,8 @@ struct Team<'a> {
     /// The UAVs where they are.
     current: &'a [Viewpoint],
     field: &'a HeightField,
-    /// Horizons' radius and budget, from the UAVs (an anchor's reach its margin farther).
+    /// Horizons' radius ([`Visibility::horizon_reach`] of the range) and budget, from the UAVs
+    /// (an anchor's reach its margin farther).
     own: (f64, usize),
     now: u32,
 }

@@ -585,12 +585,25 @@ impl Visibility {
                 }
             };
             let horizons: Result<Vec<Horizon>> =
-                uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, horizontal(i, u), per_uav)).collect();
+                uavs.par_iter().enumerate().map(|(i, &u)| field.horizon(u, self.horizon_reach(field, horizontal(i, u)), per_uav)).collect();
             return Ok(Engine::Grid(field, horizons?));
         }
         let mesh = self.surface.triangle_mesh()?;
         let horizons: Result<Vec<Horizon>> = uavs.par_iter().enumerate().map(|(i, &u)| mesh.horizon(u, radius(i), per_uav)).collect();
         Ok(Engine::Mesh(mesh, horizons?))
+    }
+
+    /// How far, horizontally, a UAV's horizon on the grid path need reach for targets up to
+    /// `radius` away: grid-node targets have skylines (from their second evaluation on), which
+    /// clear a sight line's last [`REACH`](crate::skyline::REACH) cells, so the horizon stops
+    /// that much short. A shorter horizon only leaves more of a line to the walk: the first
+    /// evaluation, without skylines, walks those cells.
+    pub(crate) fn horizon_reach(&self, field: &HeightField, radius: f64) -> f64 {
+        if self.targets.is_grid_nodes() {
+            (radius - field.skyline_reach()).max(0.0)
+        } else {
+            radius
+        }
     }
 
     /// For each target, whether at least one UAV sees it.
@@ -1056,6 +1069,32 @@ mod tests {
             // Low enough, some nodes are seen; above range, none.
             assert!(z >= 15.0 || seen.iter().any(|&v| v), "UAVs at {z} m");
             assert!(z < 30.0 || !seen.iter().any(|&v| v), "UAVs at {z} m");
+        }
+    }
+
+    #[test]
+    fn horizons_stop_short_by_a_skylines_reach_with_the_mesh_paths_answers() {
+        // Grid-node targets have skylines that clear a sight line's last REACH cells, so the
+        // grid path's horizons stop that much short of the range. UAVs a few metres over rugged
+        // hills (grazing lines, long ones across the whole range), from the first evaluation
+        // (no skylines yet) on, give the mesh path's answers.
+        let s = rugged(50);
+        let field = s.heightfield().unwrap();
+        let nodes = Visibility::new(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 14.0).unwrap();
+        let points = Visibility::new(s.clone(), Targets::of_surface(&s, 1.0).unwrap(), 14.0).unwrap();
+        let reach = crate::skyline::REACH as f64 * 0.5;
+        assert_eq!(nodes.horizon_reach(field, 14.0), 14.0 - reach);
+        assert_eq!(nodes.horizon_reach(field, 0.5 * reach), 0.0);
+        assert_eq!(points.horizon_reach(field, 14.0), 14.0);
+        let mesh = Visibility::with_path(s.clone(), Targets::grid_nodes(s.clone()).unwrap(), 14.0, Path::Mesh).unwrap();
+        for z in [7.0, 9.0, 11.0] {
+            let uavs: Vec<Point> = (0..5).map(|k| [102.0 + 5.5 * f64::from(k), 4.0 - 2.5 * f64::from(k), z - 0.3 * f64::from(k)]).collect();
+            let seen = mesh.seen(&uavs, 1).unwrap();
+            assert!(seen.iter().any(|&v| v) && !seen.iter().all(|&v| v), "UAVs at {z} m");
+            for _ in 0..3 {
+                assert_eq!(nodes.seen(&uavs, 2).unwrap(), seen, "UAVs at {z} m");
+                assert_eq!(points.seen(&uavs, 1).unwrap(), seen, "UAVs at {z} m");
+            }
         }
     }
 

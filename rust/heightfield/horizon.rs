@@ -78,6 +78,12 @@ impl HeightField {
         Ok(h.finish())
     }
 
+    /// How far a grid node's [`Skyline`] reaches around it, metres: [`REACH`] of the horizon's
+    /// bins (a bin is the smaller grid spacing), as [`HeightField::line_of_sight_to_node`] counts.
+    pub(crate) fn skyline_reach(&self) -> f64 {
+        REACH as f64 * self.grid.dx.min(self.grid.dy)
+    }
+
     /// The cells `(i0, i1, j0, j1)` (rows and columns, inclusive) of the box `[x0, x1] x [y0,
     /// y1]` (metres), widened by a cell each way and clamped to the grid; `None` when it misses
     /// the grid (or a bound is NaN).
