@@ -62,7 +62,7 @@ impl Column<'_> {
 
 /// `x` as an `f32` no smaller than it, without a branch: rounding to nearest goes down about
 /// half the time, at random, and a mispredicted branch per box cost more than all the rest of
-/// the rounding (12 % of a reference evaluation, `benches/README.md`).
+/// the rounding (`benches/README.md`, the grid method).
 #[inline(always)]
 fn round_up(x: f64) -> f32 {
     let f = x as f32;
@@ -217,7 +217,7 @@ impl HorizonBuilder {
         };
         let (k0, k1) = (first, last);
         // Most boxes span a few sectors: with their spare ones, a fixed window away from the wrap.
-        if k0 >= 1 && k1 + 1 < sectors && k0 - 1 + WINDOW <= sectors && (k0 - 1..k0 - 1 + WINDOW).contains(&(k1 + 1)) {
+        if k0 >= 1 && k0 - 1 + WINDOW <= sectors && (k0 - 1..k0 - 1 + WINDOW).contains(&(k1 + 1)) {
             let window = (&mut row[k0 - 1..k0 - 1 + WINDOW]).try_into().expect("a window of WINDOW slots");
             put_window(window, k1 + 2 - k0, sigma);
             return;
