@@ -196,7 +196,7 @@ impl HorizonBuilder {
         let [lo_l, hi_l, lo_u, hi_u] = corners;
         let (right, left) = (xlo > 0.0, xhi < 0.0);
         let (above, below) = (ylo > 0.0, yhi < 0.0);
-        let (first, last) = match (right, left, above, below) {
+        let (k0, k1) = match (right, left, above, below) {
             (false, false, false, false) => {
                 put(0, sectors - 1); // the UAV stands over this box
                 return;
@@ -215,7 +215,6 @@ impl HorizonBuilder {
             (false, false, _, true) => (lo_u, hi_u),
             (true, _, _, true) => (lo_l, hi_u),
         };
-        let (k0, k1) = (first, last);
         // Most boxes span a few sectors: with their spare ones, a fixed window away from the wrap.
         if k0 >= 1 && k0 - 1 + WINDOW <= sectors && (k0 - 1..k0 - 1 + WINDOW).contains(&(k1 + 1)) {
             let window = (&mut row[k0 - 1..k0 - 1 + WINDOW]).try_into().expect("a window of WINDOW slots");

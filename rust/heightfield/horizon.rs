@@ -78,8 +78,8 @@ impl HeightField {
         Ok(h.finish())
     }
 
-    /// How far a grid node's [`Skyline`] reaches around it, metres: [`REACH`] of the horizon's
-    /// bins (a bin is the smaller grid spacing), as [`HeightField::line_of_sight_to_node`] counts.
+    /// How far a grid node's [`Skyline`] reaches around it, metres: [`REACH`] cells of the smaller
+    /// grid spacing (a horizon's bin).
     pub(crate) fn skyline_reach(&self) -> f64 {
         REACH as f64 * self.grid.dx.min(self.grid.dy)
     }
@@ -214,7 +214,7 @@ impl HeightField {
     ///
     /// [`REACH`]: crate::skyline::REACH
     pub(crate) fn line_of_sight_to_node(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
-        let (cleared, far, r) = match horizon.beside_skyline(target, skyline, REACH as f64 * horizon.bin, self.scales.z) {
+        let (cleared, far, r) = match horizon.beside_skyline(target, skyline, self.skyline_reach(), self.scales.z) {
             Rest::Clear => return true,
             Rest::Unsettled => {
                 // Most of these are blocked, and end below the surface around the target (98 % of
