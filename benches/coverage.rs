@@ -3,13 +3,15 @@
 //! evaluation at 1 m, 0.5 m and 0.25 m spacing, on 1 and 2 threads, on the grid path (the
 //! default for a grid surface) and on the mesh path of the same grid (parry's BVH). And the same
 //! team along a 200-step random walk (steps of up to 10 cm per coordinate) at 1 m, measured at
-//! every step by `Visibility::coverage` afresh and by a `CoverageTracker` (one thread).
+//! every step by `Visibility::coverage` afresh and by a `CoverageTracker` (one thread). And the
+//! skylines: the second evaluation over a fresh surface at 1 m (one thread), which builds
+//! the skyline of every target it tests, beside the third, which has them.
 //!
 //! `cargo bench --bench coverage`
 
 use std::sync::Arc;
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use uavcov::mesh::Surface;
@@ -88,5 +90,28 @@ fn along_a_path(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, coverage, along_a_path);
+fn skylines(c: &mut Criterion) {
+    let (z, n) = hills(1.0, 0);
+    let (_, uavs) = reference_case(1.0, Path::Auto);
+    // A fresh surface each time: a surface keeps its nodes' skylines for every objective over it.
+    let evaluated = |times: usize| {
+        let surface = Arc::new(Surface::from_grid(z.clone(), n, n, 1.0, 1.0, 0.0, 0.0).unwrap());
+        let vis = Visibility::new(surface.clone(), Targets::grid_nodes(surface).unwrap(), 25.0).unwrap();
+        for _ in 0..times {
+            vis.coverage(&uavs, 1).unwrap();
+        }
+        vis
+    };
+    let mut group = c.benchmark_group("skylines");
+    group.sample_size(20);
+    group.bench_function("second_evaluation_1.0m", |b| {
+        b.iter_batched(|| evaluated(1), |vis| vis.coverage(&uavs, 1).unwrap(), BatchSize::PerIteration)
+    });
+    group.bench_function("third_evaluation_1.0m", |b| {
+        b.iter_batched(|| evaluated(2), |vis| vis.coverage(&uavs, 1).unwrap(), BatchSize::PerIteration)
+    });
+    group.finish();
+}
+
+criterion_group!(benches, coverage, along_a_path, skylines);
 criterion_main!(benches);
