@@ -105,10 +105,10 @@ fn skylines(c: &mut Criterion) {
     let mut group = c.benchmark_group("skylines");
     group.sample_size(20);
     group.bench_function("second_evaluation_1.0m", |b| {
-        b.iter_batched(|| evaluated(1), |vis| vis.coverage(&uavs, 1).unwrap(), BatchSize::PerIteration)
+        b.iter_batched(|| evaluated(1), |vis| vis.coverage(&uavs, 1).unwrap(), BatchSize::PerIteration);
     });
     group.bench_function("third_evaluation_1.0m", |b| {
-        b.iter_batched(|| evaluated(2), |vis| vis.coverage(&uavs, 1).unwrap(), BatchSize::PerIteration)
+        b.iter_batched(|| evaluated(2), |vis| vis.coverage(&uavs, 1).unwrap(), BatchSize::PerIteration);
     });
     group.finish();
 }
