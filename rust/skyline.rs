@@ -262,20 +262,22 @@ fn add_plane(bound: &mut [f64; SECTORS], edges: &SectorEdges, lift: f64, (gx, gy
         let (next_dot, next_right_of) = (gx * fx + gy * fy, fx * gy - fy * gx >= 0.0);
         // `f64::max` without its NaN tests, which cost more than the rest of a sector: a NaN
         // gradient makes both dots NaN, and the top NaN either way; the bound is never NaN (a
-        // NaN top leaves it as it is, as `max` would). No branch either: whether a triangle
-        // raises a bound is as good as random.
-        let top = lift
-            + if right_of && !next_right_of {
-                steepest
-            } else if dot > next_dot {
-                dot
-            } else {
-                next_dot
-            };
+        // NaN top leaves it as it is, as `max` would). No branches: which end is higher, and
+        // whether a triangle raises a bound, are as good as random.
+        let ends = if dot > next_dot { dot } else { next_dot };
+        let top = lift + select(right_of && !next_right_of, steepest, ends);
         let b = &mut bound[k];
         *b = if top > *b { top } else { *b };
         (dot, right_of) = (next_dot, next_right_of);
     }
+}
+
+/// `if pick { a } else { b }` without a branch: in [`add_plane`]'s sweep the compiler turned
+/// the two choices of a sector's top into branches, mispredicted about once a triangle.
+#[inline(always)]
+fn select(pick: bool, a: f64, b: f64) -> f64 {
+    let mask = 0u64.wrapping_sub(u64::from(pick));
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
 
 /// A grid node, as its skyline reads the grid.
