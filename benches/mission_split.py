@@ -62,14 +62,24 @@ class _Timed:
 
 
 def _phases(seconds: list[float], trajectory: np.ndarray) -> list[tuple[float, float, float]]:
-    """Per phase: the measurements' seconds, seconds per measurement, median move (metres)."""
-    moves = np.linalg.norm(np.diff(trajectory, axis=0), axis=2)  # (K, N): iteration k's move
+    """Per phase: the measurements' seconds, seconds per measurement, median move (metres).
+
+    A configuration equal to the one before is not measured again (``run_mission`` repeats the
+    last value), so ``seconds`` has one entry per configuration that differs from its predecessor.
+    """
+    moves = np.linalg.norm(np.diff(trajectory, axis=0), axis=2)  # (K, N): the move into k + 1
+    measured = np.flatnonzero(np.concatenate([[True], moves.max(axis=1) > 0]))
+    if measured.size != len(seconds):
+        raise RuntimeError(f"{len(seconds)} measurements timed for {measured.size} configurations measured")
+    per_iteration = np.zeros(trajectory.shape[0])
+    per_iteration[measured] = seconds
     out = []
     for start, stop in PHASES:
-        spent = seconds[start:stop]
+        n_measured = int(np.count_nonzero((measured >= start) & (measured < (stop or trajectory.shape[0]))))
+        spent = float(per_iteration[start:stop].sum())
         moved = moves[max(start - 1, 0) : None if stop is None else stop - 1]
         moved = moved[moved > 0]
-        out.append((sum(spent), sum(spent) / max(len(spent), 1), float(np.median(moved)) if moved.size else float("nan")))
+        out.append((spent, spent / max(n_measured, 1), float(np.median(moved)) if moved.size else float("nan")))
     return out
 
 
