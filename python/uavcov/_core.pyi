@@ -5,11 +5,12 @@ from typing import final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Surface", "Visibility", "CoverageTracker", "CVT", "Surrogate", "available_threads", "__version__"]
+__all__ = ["Surface", "Visibility", "CoverageTracker", "CVT", "Surrogate", "available_threads", "pcg64_standard_normal", "__version__"]
 
 __version__: str
 
 def available_threads() -> int: ...
+def pcg64_standard_normal(state: int, inc: int, n: int) -> tuple[npt.NDArray[np.float64], int]: ...
 
 @final
 class Surface:

@@ -2,7 +2,8 @@
 //! and maps [`Error`] onto `uavcov.errors`. It holds no algorithm; users call the Python
 //! wrappers (`uavcov.Terrain`, `uavcov.Visibility`), which validate before calling here.
 //!
-//! One file per Python class; this one holds the module and the conversions they share.
+//! One file per Python class (and `draws` for the one free function with an algorithm
+//! behind it); this one holds the module and the conversions they share.
 //!
 //! No panic crosses into Python (where it would be a `pyo3_runtime.PanicException`, a
 //! `BaseException` that `except Exception` misses): every method runs its Rust work through
@@ -14,6 +15,7 @@
 #![allow(clippy::needless_pass_by_value, reason = "PyO3's calling convention")]
 
 mod cvt;
+mod draws;
 mod surface;
 mod surrogate;
 mod tracking;
@@ -107,6 +109,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cvt::PyCvt>()?;
     m.add_class::<surrogate::PySurrogate>()?;
     m.add_function(wrap_pyfunction!(available_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_standard_normal, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
