@@ -123,8 +123,8 @@ def main() -> None:
     print("| part | seconds | share of the run |")
     print("|---|---|---|")
     for name, value in zip(("whole mission", "coverage measurements", "feasibility queries", "optimiser's own work"), med, strict=True):
-        print(f"| {name} | {value:.2f} | {value / total:.0%} |")
-    print(f"| rest (prior, S', CVT, start) | {total - sum(med[1:]):.2f} | {(total - sum(med[1:])) / total:.0%} |")
+        print(f"| {name} | {value:.3f} | {value / total:.0%} |")
+    print(f"| rest (prior, S', CVT, start) | {total - sum(med[1:]):.3f} | {(total - sum(med[1:])) / total:.0%} |")
     if phases:
         print()
         print("| iterations | measurements, s | per measurement, ms | median move of a UAV, m |")

@@ -30,6 +30,9 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{try_filled, Error, Result};
 
+/// Candidates whose scores [`Regressors::scores`] sums side by side.
+const TOGETHER: usize = 4;
+
 /// Pivots below this share of the largest singular value count as zero in the pseudo-inverse.
 const PSEUDO_INVERSE_EPS: f64 = 1e-13;
 
@@ -145,10 +148,24 @@ impl Regressors {
         }
         let n = self.count(points, "the candidates")?;
         let mut out = try_filled(0.0, n, "the candidates' scores")?;
-        let (mut augmented, mut row) = self.scratch();
-        for (score, u) in out.iter_mut().zip(points.chunks_exact(self.dim)) {
-            self.row(u, &mut augmented, &mut row);
-            *score = row.iter().zip(theta).map(|(a, b)| a * b).sum();
+        let (mut augmented, _) = self.scratch();
+        let width = self.len();
+        let mut rows = try_filled(0.0, TOGETHER * width, "the candidates' regressors")?;
+        let step = TOGETHER * self.dim;
+        for (scores, block) in out.chunks_mut(TOGETHER).zip(points.chunks(step)) {
+            for (u, row) in block.chunks_exact(self.dim).zip(rows.chunks_exact_mut(width)) {
+                self.row(u, &mut augmented, row);
+            }
+            // Each score is the sum of its products in order, as one candidate alone would
+            // have it (a fold from -0.0, `sum`'s), but the candidates' sums run side by side:
+            // one sum's additions wait on each other, several sums' do not.
+            let mut sums = [-0.0f64; TOGETHER];
+            for (j, &c) in theta.iter().enumerate() {
+                for (sum, row) in sums.iter_mut().zip(rows.chunks_exact(width)) {
+                    *sum += row[j] * c;
+                }
+            }
+            scores.copy_from_slice(&sums[..scores.len()]);
         }
         Ok(out)
     }
@@ -268,6 +285,26 @@ mod tests {
         let again = reg.scores(&model.theta, &points).unwrap();
         for (a, b) in again.iter().zip(&y) {
             assert!((a - b).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn scores_are_each_candidates_own_sum_to_the_last_bit() {
+        // Side by side, each sum keeps its own order: every score is the one a candidate scored
+        // alone gets (`sum` of its products), whatever the count (a last block of 1-3 too).
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let reg = Regressors::new(5, vec![[0, 1, 5], [2, 2, 3], [1, 3, 4], [4, 4, 4], [0, 2, 5]]).unwrap();
+        let theta: Vec<f64> = random(&mut rng, reg.len()).iter().map(|v| v * 1e3).collect();
+        for n in [0, 1, 3, 4, 5, 17, 200] {
+            let points: Vec<f64> = random(&mut rng, n * 5).iter().map(|v| v * 7.0).collect();
+            let scores = reg.scores(&theta, &points).unwrap();
+            let (mut augmented, mut row) = reg.scratch();
+            for (score, u) in scores.iter().zip(points.chunks_exact(5)) {
+                reg.row(u, &mut augmented, &mut row);
+                let alone: f64 = row.iter().zip(&theta).map(|(a, b)| a * b).sum();
+                assert_eq!(score.to_bits(), alone.to_bits());
+            }
+            assert_eq!(scores.len(), n);
         }
     }
 

@@ -407,24 +407,27 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
         return np.empty((0, 3), dtype=np.int64)
     # a sorted index triple as one integer, so that membership is a set of ints
     base = dim + 1
-    places = np.array([base * base, base, 1], dtype=np.int64)
-    taken = set((existing @ places).tolist())
+    taken = {(a * base + b) * base + c for a, b, c in existing.tolist()}
     total = _n_distinct_monomials(dim)
     if total - len(taken) < count:  # guarded by regressors_for; kept as an internal check
         raise InvalidInputError(f"cannot draw {count} new monomials of {dim} variables")
     if 4 * (len(taken) + count) > total:
         every = _all_monomials(dim)
-        pool = [row for row, key in zip(every.tolist(), (every @ places).tolist(), strict=True) if key not in taken]
+        pool = [row for row in every.tolist() if (row[0] * base + row[1]) * base + row[2] not in taken]
         chosen = rng.choice(len(pool), size=count, replace=False)
         return np.array([pool[c] for c in chosen], dtype=np.int64)
     out: list[int] = []
     while len(out) < count:
         need = count - len(out)
-        idx = rng.integers(0, dim, size=(2 * need + 4, 3))
-        quadratic = rng.random(2 * need + 4) < 0.5
-        idx[quadratic, 2] = dim
-        idx.sort(axis=1)
-        for key in (idx @ places).tolist():
+        # A few dozen triples a call: plain Python on lists beats numpy's per-call cost here
+        # (the draws are numpy's, so the stream is the same).
+        rows = rng.integers(0, dim, size=(2 * need + 4, 3)).tolist()
+        quadratic = (rng.random(2 * need + 4) < 0.5).tolist()
+        for row, square in zip(rows, quadratic, strict=True):
+            if square:
+                row[2] = dim
+            a, b, c = sorted(row)
+            key = (a * base + b) * base + c
             if key not in taken:
                 taken.add(key)
                 out.append(key)
