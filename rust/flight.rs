@@ -74,6 +74,27 @@ impl FlightLimits {
         clearance.is_finite() && clearance >= self.h_min && self.h_max.is_none_or(|h| clearance <= h)
     }
 
+    /// [`Self::clear_enough`] of `q`'s clearance over `surface`. Over a grid, a point well inside
+    /// one of its triangles is judged from that triangle's plane unless its height above it is
+    /// within the rounding bound of a limit; the exact vertical query decides the rest. The
+    /// answers are the exact query's: within the bound of a limit, that query decides; beyond it,
+    /// both clearances lie on the same side of every limit, and the query hits the triangle.
+    fn clear_enough_over(&self, surface: &Surface, q: Point) -> bool {
+        if let Some((h, bound)) = surface.heightfield().and_then(|f| f.interior_height(q[0], q[1])) {
+            let c = q[2] - h;
+            let bound = bound + 1e-9 * q[2].abs();
+            let low = c - bound >= self.h_min && c - bound > 0.0;
+            let high = self.h_max.is_none_or(|m| c + bound <= m);
+            if low && high {
+                return true;
+            }
+            if c + bound < self.h_min || self.h_max.is_some_and(|m| c - bound > m) {
+                return false; // under the floor (or the surface) or over the ceiling either way
+            }
+        }
+        self.clear_enough(surface.clearance(q))
+    }
+
     /// Whether `config` is admissible, moving from `current` (same length).
     ///
     /// # Errors
@@ -87,7 +108,7 @@ impl FlightLimits {
         if let Some(q) = config.iter().find(|q| !in_bounds(**q)) {
             return Err(Error::InvalidInput(format!("a candidate has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {q:?}")));
         }
-        if !config.iter().all(|&q| self.clear_enough(surface.clearance(q))) {
+        if !config.iter().all(|&q| self.clear_enough_over(surface, q)) {
             return Ok(false);
         }
         if self.check_moves {
@@ -163,6 +184,46 @@ mod tests {
         let high = FlightLimits { h_max: None, z_max: 4.0, ..l };
         assert!(!high.admissible(&s, &now, &[[5.0, 5.0, 4.5], ok[1]]).unwrap());
         assert!(FlightLimits { h_max: None, ..l }.admissible(&s, &now, &[[5.0, 5.0, 5.5], ok[1]]).unwrap());
+    }
+
+    #[test]
+    fn clearances_judged_from_a_cells_plane_are_the_exact_querys() {
+        // Hills with a nodata cell; points above, below and at the limits (to a few ulps), on
+        // grid lines, diagonals, the border and inside cells: the same verdict as the vertical
+        // query, most of them without it.
+        let n = 31;
+        let z: Vec<f64> =
+            (0..n * n).map(|k| if k == 5 * n + 7 { f64::NAN } else { 3.0 * ((k % n) as f64 * 0.4).sin() + 0.1 * (k / n) as f64 }).collect();
+        let s = Surface::from_grid(z, n, n, 1.0, 1.0, 0.0, 0.0).unwrap();
+        let field = s.heightfield().unwrap();
+        let l =
+            FlightLimits { bounds: [0.0, 0.0, 30.0, 30.0], h_min: 1.0, h_max: Some(5.0), z_max: 100.0, d_safe: 0.0, check_moves: false };
+        let (mut fast, mut total) = (0, 0);
+        for k in 0..4000_u32 {
+            let t = f64::from(k);
+            let (x, y) = match k % 4 {
+                0 => ((t * 0.618_034) % 30.0, (t * 0.414_214) % 30.0),
+                1 => (f64::from(k % 31), (t * 0.3) % 30.0),                   // on a grid line
+                2 => ((t * 0.01) % 30.0, (t * 0.01) % 30.0),                  // on diagonals
+                _ => (if k % 8 == 3 { 0.0 } else { 30.0 }, (t * 0.7) % 30.0), // on the border
+            };
+            let Some(ground) = s.ground_height(x, y) else { continue };
+            for dz in [-0.5, 0.0, 0.5, 1.0, 3.0, 5.0, 7.0] {
+                for ulps in [-3.0, 0.0, 3.0] {
+                    let q = [x, y, ground + dz + ulps * f64::EPSILON * (ground.abs() + dz.abs())];
+                    total += 1;
+                    let exact = l.clear_enough(s.clearance(q));
+                    assert_eq!(l.clear_enough_over(&s, q), exact, "{q:?}");
+                    if field
+                        .interior_height(x, y)
+                        .is_some_and(|(h, b)| ((q[2] - h) - 1.0).abs() > 2.0 * b && ((q[2] - h) - 5.0).abs() > 2.0 * b)
+                    {
+                        fast += 1;
+                    }
+                }
+            }
+        }
+        assert!(fast > total / 10, "{fast} of {total} judged from the plane");
     }
 
     #[test]

@@ -379,6 +379,33 @@ impl HeightField {
         self.walk_hits(origin, dir, t_max)
     }
 
+    /// The surface's height under `(x, y)` when that point lies well inside one triangle of a
+    /// cell without nodata (clear of the cell's edges and its diagonal by `1e-6` of a cell), with
+    /// a bound on how far it may differ from the exact vertical query's (parry's triangle test
+    /// of [`HeightField::first_hit`]); `None` elsewhere. Inside a triangle, that query hits it,
+    /// and both are that plane's height to a few ulps of the coordinates: the bound is `1e-9` of
+    /// them, millions of ulps.
+    pub(crate) fn interior_height(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        const CLEAR: f64 = 1e-6;
+        let g = &self.grid;
+        let (u, w) = ((x - g.x0) * self.scales.inv_dx, (y - g.y0) * self.scales.inv_dy);
+        if !(u > 0.0 && w > 0.0 && u < (g.nx - 1) as f64 && w < (g.ny - 1) as f64) {
+            return None; // off the grid, on its border, or NaN
+        }
+        // Truncation is the floor here (both are positive).
+        let (j, i) = (u as usize, w as usize);
+        let (fx, fy) = (u - j as f64, w - i as f64);
+        if !(fx > CLEAR && fx < 1.0 - CLEAR && fy > CLEAR && fy < 1.0 - CLEAR && (fx - fy).abs() > CLEAR) {
+            return None;
+        }
+        let row = i * g.nx + j;
+        let (za, zb, zc, zd) = (g.z[row], g.z[row + 1], g.z[row + g.nx + 1], g.z[row + g.nx]);
+        // The cell's triangles [a, b, c] (below its diagonal a-c, fx > fy) and [a, c, d].
+        let h = if fx > fy { za + (zb - za) * fx + (zc - zb) * fy } else { za + (zc - zd) * fx + (zd - za) * fy };
+        let spread = za.abs() + zb.abs() + zc.abs() + zd.abs();
+        h.is_finite().then(|| (h, 1e-9 * (spread + self.scales.xy + self.scales.z)))
+    }
+
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
     pub fn first_hit(&self, origin: Point, dir: Point, t_max: f64) -> Option<f64> {
         self.cast::<false>(origin, dir, t_max)
