@@ -403,7 +403,7 @@ impl HeightField {
         // The cell's triangles [a, b, c] (below its diagonal a-c, fx > fy) and [a, c, d].
         let h = if fx > fy { za + (zb - za) * fx + (zc - zb) * fy } else { za + (zc - zd) * fx + (zd - za) * fy };
         let spread = za.abs() + zb.abs() + zc.abs() + zd.abs();
-        h.is_finite().then(|| (h, 1e-9 * (spread + self.scales.xy + self.scales.z)))
+        h.is_finite().then_some((h, 1e-9 * (spread + self.scales.xy + self.scales.z)))
     }
 
     /// Time of impact of the first crossing of `origin + t dir`, `0 <= t <= t_max`, if any.
