@@ -756,17 +756,21 @@ def _best_feasible(
         mask = check(current, candidates(slice(None)))
         return (_pick_best(score, mask, rng) if mask.any() else None), n, int(mask.sum())
     order = np.argsort(-score, kind="stable")
+    ranked = score[order]  # best first: a batch's best feasible score is its first feasible one's
     allowed = np.zeros(n, dtype=bool)
     checked = 0
     top = None
     while checked < n:
         idx = order[checked : checked + batch]
-        allowed[idx] = check(current, candidates(idx))
+        ok = check(current, candidates(idx))
+        allowed[idx] = ok
+        if top is None:
+            first = int(ok.argmax())
+            if ok[first]:
+                top = float(ranked[checked + first])
         checked += idx.size
         batch *= 2
-        if top is None and allowed[idx].any():
-            top = float(score[idx][allowed[idx]].max())
-        if top is not None and (checked >= n or score[order[checked]] < top - 1e-12 * max(1.0, abs(top))):
+        if top is not None and (checked >= n or ranked[checked] < top - 1e-12 * max(1.0, abs(top))):
             break
     if top is None:
         return None, checked, 0
