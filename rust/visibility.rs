@@ -460,7 +460,7 @@ impl Visibility {
         let source = if grid_path {
             surface.grid().filter(|_| targets.is_grid_nodes()).map(|g| SkylineSource::Grid(Stencil::of_grid(g)))
         } else {
-            Some(SkylineSource::Mesh(sector_edges()))
+            Some(SkylineSource::Mesh(Box::new(sector_edges())))
         };
         let skylines = source.map(|s| {
             // A grid node's skyline depends on the heights alone: the surface keeps them for
@@ -896,7 +896,7 @@ enum SkylineSource {
     /// From the grid's heights around each grid-node target.
     Grid(Stencil),
     /// From the triangles of the mesh around each target.
-    Mesh(SectorEdges),
+    Mesh(Box<SectorEdges>),
 }
 
 impl std::fmt::Debug for SkylineSource {
