@@ -22,8 +22,10 @@ approximation conditions (``alpha_k -> 0``, ``sum alpha_k = inf``, ``sum alpha_k
 trace records the best configuration measured, not only the last one.
 
 Steps 2 and 3's surrogate (the design matrix, the ridge fit, the scores of the ``M``
-candidates) runs in Rust, one call per iteration (``uavcov._core.Surrogate``, nalgebra); the
-random draws stay here, so runs are reproducible from ``rng`` alone. ``_fit_and_score_numpy`` is
+candidates) runs in Rust, one call per iteration (``uavcov._core.Surrogate``, nalgebra); every
+random draw is ``rng``'s own stream (the Gaussian perturbations through
+:func:`uavcov.draws.standard_normal`, numpy's values and generator state computed in Rust), so
+runs are reproducible from ``rng`` alone. ``_fit_and_score_numpy`` is
 the same maths in numpy, the reference the tests hold the kernel to.
 
 Two optimisers share one interface (:class:`Optimizer`): :func:`cao`, centralised over the joint
