@@ -274,8 +274,10 @@ fn add_plane(bound: &mut [f64; SECTORS], edges: &SectorEdges, lift: f64, (gx, gy
     }
 }
 
-/// Sectors a span may reach past the wrap (spans are at most 17 sectors).
-const WRAP: usize = 17;
+/// Sectors a span may reach past the wrap: a triangle within reach of a node lies within a
+/// right angle seen from it (cell edges are axis-aligned, and the nearest triangles clear of the
+/// node touch it), a pseudo-angle range of at most 1, so at most `SECTORS / 4 + 1` sectors.
+const WRAP: usize = SECTORS / 4 + 1;
 
 /// The x and y of the sector edges ([`SectorEdges`]), repeated past the wrap so that every
 /// span is one run of them.
@@ -435,6 +437,7 @@ impl Stencil {
             }
         }
         groups.sort_by_key(|g| (g.len, g.abc));
+        debug_assert!(groups.iter().map(|g| g.len).chain(through.iter().map(|(_, s)| s.len())).all(|len| len <= WRAP));
         Self { through, groups, edges: Box::new(RunEdges::new()), dx, dy }
     }
 
@@ -663,6 +666,15 @@ mod tests {
         assert_eq!(level_above(&LEVELS, f64::NAN), 255);
         assert_eq!(level_above(&LEVELS, f64::INFINITY), 255);
         assert_eq!(level_above(&LEVELS, f64::NEG_INFINITY), 0);
+    }
+
+    #[test]
+    fn spans_fit_the_run_past_the_wrap() {
+        for (dx, dy) in [(1.0, 1.0), (0.5, 0.8), (2.0, 0.25), (10.0, 0.1), (0.01, 7.0)] {
+            let stencil = Stencil::new(dx, dy);
+            let longest = stencil.groups.iter().map(|g| g.len).chain(stencil.through.iter().map(|(_, s)| s.len())).max();
+            assert!(longest.is_some_and(|len| len <= WRAP), "{dx} x {dy}: {longest:?}");
+        }
     }
 
     #[test]
