@@ -110,6 +110,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<surrogate::PySurrogate>()?;
     m.add_function(wrap_pyfunction!(available_threads, m)?)?;
     m.add_function(wrap_pyfunction!(draws::pcg64_standard_normal, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_random, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_integers, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_monomials, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
