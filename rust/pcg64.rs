@@ -239,6 +239,29 @@ mod tests {
     }
 
     #[test]
+    fn integers_and_doubles_match_numpy() {
+        // g = default_rng(12345); g.integers(0, 36, 5); g.bit_generator.state; then
+        // g.integers(-3, 2**32 - 3, 2), g.random(1), g.integers(0, 2**31 + 1, 3) and the state.
+        let mut rng = seed_12345();
+        let mut a = [0; 5];
+        rng.fill_integers(0, 35, &mut a);
+        assert_eq!(a, [25, 8, 28, 11, 7]);
+        assert_eq!((rng.has_uint32, rng.uinteger), (true, 3_424_658_562)); // 5 halves of 3 words
+        assert_eq!(rng.state, 123_100_685_240_869_032_725_484_100_130_172_923_898);
+        let mut b = [0; 2];
+        rng.fill_integers(-3, u32::MAX, &mut b);
+        assert_eq!(b, [3_424_658_559, 2_760_304_909]); // the buffered half first
+        let mut c = [0.0];
+        rng.fill_f64(&mut c);
+        assert_eq!(c, [0.391_109_550_601_909]);
+        let mut d = [0; 3];
+        rng.fill_integers(0, 1 << 31, &mut d);
+        assert_eq!(d, [1_452_245_847, 714_712_467, 457_721_135]);
+        assert_eq!((rng.has_uint32, rng.uinteger), (true, 802_017_220));
+        assert_eq!(rng.state, 216_098_700_122_296_263_478_885_786_697_608_317_821);
+    }
+
+    #[test]
     fn many_normals_match_numpy() {
         // g = default_rng(12345); z = g.standard_normal(1_000_000): z[-1], the sum of the
         // values' bit patterns (mod 2^64) and the state afterwards. A million values cross the
