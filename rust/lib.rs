@@ -20,8 +20,10 @@
 //!   candidates in one pass.
 //! - [`surrogate`]: CAO's estimator: polynomial regressors, their ridge fit, candidate scores
 //!   (dense linear algebra with nalgebra).
-//! - [`pcg64`]: numpy's PCG64 generator and its `standard_normal`, bit for bit, for CAO's
-//!   perturbations.
+//! - [`pcg64`]: numpy's PCG64 generator and its `standard_normal`, `random` and bounded
+//!   `integers`, bit for bit, for CAO's perturbations and monomials.
+//! - [`monomials`]: CAO's refresh of its random monomials (the strongest kept, the others
+//!   redrawn), numpy's draws in one call.
 //!
 //! Three modules are internal: `skyline` (how steeply the surface rises around a grid node, so
 //! sight lines to grid-node targets settle their last cells with one comparison), `threads`
@@ -30,7 +32,7 @@
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
 //! <- `sampling` <- `visibility` <- `tracking` (`visibility` also imports `sensor`), and `mesh` <- `cvt`, `mesh` <- `flight`; `surrogate` stands
-//! alone, and so does `ziggurat_tables` <- `pcg64`.
+//! alone, and so does `ziggurat_tables` <- `pcg64` <- `monomials`.
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
 //! plain Rust, so `cargo test` and `cargo bench` need no Python.
@@ -75,6 +77,7 @@ pub mod grid;
 pub mod heightfield;
 mod horizon;
 pub mod mesh;
+pub mod monomials;
 pub mod pcg64;
 pub mod sampling;
 pub mod sensor;

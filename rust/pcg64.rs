@@ -1,4 +1,5 @@
-//! numpy's PCG64 bit generator and its `Generator.standard_normal`, reproduced bit for bit.
+//! numpy's PCG64 bit generator and its `Generator.standard_normal`, `Generator.random` and
+//! `Generator.integers` (the 32-bit bounded path), reproduced bit for bit.
 //!
 //! CAO draws its perturbations from a numpy `Generator` seeded by the user, and runs must stay
 //! reproducible: the same seed must give the same mission whether these draws come from numpy
@@ -8,6 +9,11 @@
 //! ns a value against numpy's 8, `benches/normal_draws.py`) because the loop is compiled with
 //! the generator inlined, without numpy's per-value function-pointer calls, and applies the
 //! random sign without a branch.
+//!
+//! [`Pcg64::bounded_u32`] is `Generator.integers(low, high)` for the default int64 dtype when
+//! `high - low <= 2^32`: numpy then draws 32-bit words (the low half of a 64-bit output, its high
+//! half kept for the next 32-bit draw, [`Pcg64::next_u32`]) and maps them onto the range by
+//! Lemire's multiply-and-reject method. CAO draws its monomials this way.
 //!
 //! The sampler is numpy's 256-layer ziggurat (tables in `ziggurat_tables`, generated and
 //! checked by `scripts/ziggurat_tables.py`). Its rare paths call the platform's `exp` and
@@ -35,21 +41,34 @@ const MULTIPLIER: u128 = 0x2360_ED05_1FC6_5DA4_4385_DF64_9FCC_F645;
 /// numpy's `PCG64` bit generator: a 128-bit LCG whose output is the XSL-RR of the state after
 /// each step.
 ///
-/// `state` and `inc` are the integers of numpy's `bit_generator.state["state"]`; 64-bit draws
-/// do not touch numpy's buffered 32-bit half (`has_uint32`, `uinteger`), so it is not kept.
+/// `state` and `inc` are the integers of numpy's `bit_generator.state["state"]`, `has_uint32`
+/// and `uinteger` the dict's two other entries: the high half of a 64-bit output that a 32-bit
+/// draw left for the next one. 64-bit draws neither read nor change that half.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Pcg64 {
     /// The LCG state.
     pub state: u128,
     /// The LCG increment (numpy keeps it odd).
     pub inc: u128,
+    /// Whether `uinteger` is the next 32-bit draw.
+    pub has_uint32: bool,
+    /// The buffered 32-bit half. Reading it clears `has_uint32` but leaves the value, as numpy
+    /// does: the stale value is part of numpy's state dict, so it is kept to compare equal.
+    pub uinteger: u32,
 }
 
 impl Pcg64 {
-    /// A generator at `state` with increment `inc`, as numpy's state dict gives them.
+    /// A generator at `state` with increment `inc`, as numpy's state dict gives them, with no
+    /// buffered 32-bit half (a fresh `default_rng`'s).
     #[must_use]
     pub fn new(state: u128, inc: u128) -> Self {
-        Self { state, inc }
+        Self { state, inc, has_uint32: false, uinteger: 0 }
+    }
+
+    /// A generator at numpy's whole state: the LCG's `state` and `inc`, and the 32-bit buffer.
+    #[must_use]
+    pub fn with_buffer(state: u128, inc: u128, has_uint32: bool, uinteger: u32) -> Self {
+        Self { state, inc, has_uint32, uinteger }
     }
 
     /// The next 64-bit output (numpy's `random_raw`): step, then output from the new state.
@@ -65,6 +84,63 @@ impl Pcg64 {
     #[inline]
     pub fn next_f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
+    }
+
+    /// The next 32-bit output (numpy's `next_uint32`): the buffered half if there is one, else
+    /// the low half of a new 64-bit output, whose high half is buffered for the next call.
+    #[inline]
+    pub fn next_u32(&mut self) -> u32 {
+        if self.has_uint32 {
+            self.has_uint32 = false;
+            return self.uinteger;
+        }
+        let word = self.next_u64();
+        self.has_uint32 = true;
+        self.uinteger = (word >> 32) as u32;
+        word as u32
+    }
+
+    /// A value in `[0, span]` as numpy's `Generator.integers(low, low + span + 1)` draws it for
+    /// the default int64 dtype (`span + 1 <= 2^32`, so numpy takes its 32-bit path): nothing is
+    /// drawn for `span = 0`, one 32-bit word is the value for `span = 2^32 - 1`, and any other
+    /// span is Lemire's method on 32-bit words.
+    #[inline]
+    pub fn bounded_u32(&mut self, span: u32) -> u32 {
+        if span == 0 {
+            return 0;
+        }
+        if span == u32::MAX {
+            return self.next_u32();
+        }
+        // Lemire: the high half of `word * n` is uniform on [0, n) once the words whose low
+        // half falls below 2^32 mod n are rejected (the values they would add make some
+        // outputs one count likelier). Only a low half below n can be below that threshold,
+        // so the modulo (a division) is computed only then, as numpy does.
+        let n = span + 1;
+        let mut m = u64::from(self.next_u32()) * u64::from(n);
+        if (m as u32) < n {
+            let threshold = n.wrapping_neg() % n; // (2^32 - n) mod n = 2^32 mod n
+            while (m as u32) < threshold {
+                m = u64::from(self.next_u32()) * u64::from(n);
+            }
+        }
+        (m >> 32) as u32
+    }
+
+    /// Fills `out` as numpy's `Generator.integers(low, high, out.len())` does for the default
+    /// int64 dtype when `high - low <= 2^32`; `span` is `high - low - 1`, and `low + span` must
+    /// fit (numpy's own bound on `high`).
+    pub fn fill_integers(&mut self, low: i64, span: u32, out: &mut [i64]) {
+        for v in out.iter_mut() {
+            *v = low + i64::from(self.bounded_u32(span));
+        }
+    }
+
+    /// Fills `out` as numpy's `Generator.random(out.len())` does (one 64-bit draw a value).
+    pub fn fill_f64(&mut self, out: &mut [f64]) {
+        for v in out.iter_mut() {
+            *v = self.next_f64();
+        }
     }
 
     /// One standard normal value, numpy's `random_standard_normal`.
@@ -160,6 +236,29 @@ mod tests {
         // default_rng(12345).random(2)
         let mut rng = seed_12345();
         assert_eq!([rng.next_f64(), rng.next_f64()], [0.227_336_022_467_169_66, 0.316_758_339_709_752_87]);
+    }
+
+    #[test]
+    fn integers_and_doubles_match_numpy() {
+        // g = default_rng(12345); g.integers(0, 36, 5); g.bit_generator.state; then
+        // g.integers(-3, 2**32 - 3, 2), g.random(1), g.integers(0, 2**31 + 1, 3) and the state.
+        let mut rng = seed_12345();
+        let mut a = [0; 5];
+        rng.fill_integers(0, 35, &mut a);
+        assert_eq!(a, [25, 8, 28, 11, 7]);
+        assert_eq!((rng.has_uint32, rng.uinteger), (true, 3_424_658_562)); // 5 halves of 3 words
+        assert_eq!(rng.state, 123_100_685_240_869_032_725_484_100_130_172_923_898);
+        let mut b = [0; 2];
+        rng.fill_integers(-3, u32::MAX, &mut b);
+        assert_eq!(b, [3_424_658_559, 2_760_304_909]); // the buffered half first
+        let mut c = [0.0];
+        rng.fill_f64(&mut c);
+        assert_eq!(c, [0.391_109_550_601_909]);
+        let mut d = [0; 3];
+        rng.fill_integers(0, 1 << 31, &mut d);
+        assert_eq!(d, [1_452_245_847, 714_712_467, 457_721_135]);
+        assert_eq!((rng.has_uint32, rng.uinteger), (true, 802_017_220));
+        assert_eq!(rng.state, 216_098_700_122_296_263_478_885_786_697_608_317_821);
     }
 
     #[test]

@@ -1,9 +1,14 @@
-"""``uavcov.draws.standard_normal`` is numpy's ``Generator.standard_normal``, bit for bit.
+"""``uavcov.draws`` is numpy's ``Generator`` draws, bit for bit.
 
-Values are compared with ``np.array_equal`` and the generators' states after with ``==``; the
-ziggurat's tables are checked against numpy's own sampler, driven into each layer by crafted
-PCG64 states (PCG64's output function and LCG step are invertible, so a state can be built
-whose next outputs are any 64-bit words we like).
+``standard_normal`` is ``Generator.standard_normal``; ``_core.pcg64_integers`` and
+``_core.pcg64_random`` are ``Generator.integers`` (int64, ranges up to 2^32) and
+``Generator.random``; ``redraw_monomials`` is CAO's monomial refresh with numpy's draws.
+
+Values are compared with ``np.array_equal`` and the generators' states after with ``==`` (the
+whole dict: the 32-bit buffer ``has_uint32``/``uinteger`` too); the ziggurat's tables and
+Lemire's rejections are checked against numpy's own samplers, driven by crafted PCG64 states
+(PCG64's output function and LCG step are invertible, so a state can be built whose next
+outputs are any 64-bit words we like).
 """
 
 from __future__ import annotations
@@ -18,8 +23,17 @@ import numpy as np
 import pytest
 
 from uavcov import _core
-from uavcov.cao import CAOSettings, cao, per_robot_cao
-from uavcov.draws import standard_normal
+from uavcov.cao import (
+    CAOSettings,
+    _draw_monomials,
+    _first_terms,
+    _n_distinct_monomials,
+    _refresh_terms,
+    _refresh_terms_numpy,
+    cao,
+    per_robot_cao,
+)
+from uavcov.draws import redraw_monomials, standard_normal
 from uavcov.errors import InvalidInputError, SurfaceTooLargeError
 
 MULT = 0x2360ED051FC65DA44385DF649FCCF645
@@ -56,10 +70,11 @@ def _state_giving(word: int, hi: int) -> int:
     return (hi << 64) | (_rotl(word, hi >> 58) ^ hi)
 
 
-def _generator(state: int, inc: int) -> np.random.Generator:
+def _generator(state: int, inc: int, has_uint32: int = 0, uinteger: int = 0) -> np.random.Generator:
     rng = np.random.Generator(np.random.PCG64(0))
     st = rng.bit_generator.state
     st["state"] = {"state": state, "inc": inc}
+    st["has_uint32"], st["uinteger"] = has_uint32, uinteger
     rng.bit_generator.state = st
     return rng
 
@@ -302,6 +317,194 @@ def test_cao_draws_through_the_kernel_and_runs_as_with_numpy(monkeypatch, optimi
 
 
 # ---------------------------------------------------------------------------------------------
+# Generator.integers and Generator.random
+# ---------------------------------------------------------------------------------------------
+
+
+def _integers(rng: np.random.Generator, low: int, high: int, n: int) -> np.ndarray:
+    """``rng.integers(low, high, n)`` drawn by the kernel, the state read and written back."""
+    st = rng.bit_generator.state
+    words = st["state"]
+    values, words["state"], st["has_uint32"], st["uinteger"] = _core.pcg64_integers(
+        words["state"], words["inc"], st["has_uint32"], st["uinteger"], low, high, n
+    )
+    rng.bit_generator.state = st
+    return values
+
+
+def _random(rng: np.random.Generator, n: int) -> np.ndarray:
+    st = rng.bit_generator.state
+    values, st["state"]["state"] = _core.pcg64_random(st["state"]["state"], st["state"]["inc"], n)
+    rng.bit_generator.state = st
+    return values
+
+
+RANGES = [1, 2, 3, 36, 37, 1000, 2**31 - 1, 2**31, 2**31 + 1, 2**32 - 5, 2**32 - 1, 2**32]
+
+
+def test_integers_and_doubles_equal_numpys():
+    """Every range of numpy's 32-bit path (one value: no draw; 2^32: raw 32-bit words; 2^31 + 1:
+    Lemire rejects almost half the words), from states with and without a buffered half, and
+    doubles between them, which must leave the buffer as it is."""
+    checked = set()
+    for seed in range(400):
+        ours, theirs = np.random.default_rng(seed), np.random.default_rng(seed)
+        if seed % 2:  # enter with a buffered half
+            ours.integers(0, 10, dtype=np.int32)
+            theirs.integers(0, 10, dtype=np.int32)
+        for step in range(3):
+            span = RANGES[(seed + 5 * step) % len(RANGES)]
+            low = (0, -7, 2**62, -(2**63))[(seed + step) % 4]
+            n = (0, 1, 2, 3, 7, 36, 250)[(seed // 3 + step) % 7]
+            a, b = _integers(ours, low, low + span, n), theirs.integers(low, low + span, n)
+            assert a.dtype == np.int64 and np.array_equal(a, b)
+            assert ours.bit_generator.state == theirs.bit_generator.state
+            checked.add((span, ours.bit_generator.state["has_uint32"]))
+            m = (0, 1, 5, 36)[(seed + step) % 4]
+            assert np.array_equal(_random(ours, m), theirs.random(m))
+            assert ours.bit_generator.state == theirs.bit_generator.state
+    assert len(checked) == 2 * len(RANGES)  # every range, leaving the buffer full and empty
+
+
+def _low_half_giving(leftover: int, n: int) -> int:
+    """A 32-bit word ``x`` with ``x * n mod 2^32 == leftover`` (``leftover`` a multiple of the
+    power of two in ``n``)."""
+    twos = n & -n
+    assert leftover % twos == 0
+    modulus = (1 << 32) // twos
+    return (leftover // twos) * pow(n // twos, -1, modulus) % modulus
+
+
+@pytest.mark.parametrize("n", [3, 36, 37, 1000, 2**31 + 1, 2**32 - 5])
+@pytest.mark.parametrize("buffered", [False, True])
+def test_lemire_rejects_exactly_below_two_to_the_32_mod_n(n, buffered):
+    """A word whose product with ``n`` leaves a low half below ``2^32 mod n`` is rejected and the
+    next word decides; one whose low half is at the threshold is taken. Words come low half first,
+    the high half kept for the next 32-bit draw (or the buffered half of the state first)."""
+    threshold = (1 << 32) % n
+    accepted = _low_half_giving(threshold, n)
+    assert (accepted * n) % (1 << 32) == threshold
+    for leftover in (0, threshold - 1):
+        if leftover < 0 or leftover % (n & -n):
+            continue
+        rejected = _low_half_giving(leftover, n)
+        if buffered:  # the rejected word waits in the buffer, the taken one is a low half
+            state, inc = _crafted((0xABCDEF01 << 32) | accepted)
+            args: tuple[int, int, int, int] = (state, inc, 1, rejected)
+        else:
+            state, inc = _crafted((accepted << 32) | rejected)
+            args = (state, inc, 0, 0)
+        ours, theirs = _generator(*args), _generator(*args)
+        a, b = _integers(ours, 5, 5 + n, 1), theirs.integers(5, 5 + n, 1)
+        assert a.tolist() == b.tolist() == [5 + (accepted * n >> 32)]
+        assert ours.bit_generator.state == theirs.bit_generator.state
+        assert theirs.bit_generator.state["has_uint32"] == int(buffered)
+        assert _steps(state, theirs.bit_generator.state["state"]["state"], inc) == 1
+    # at the threshold a word is taken: both halves of one 64-bit draw
+    state, inc = _crafted((accepted << 32) | accepted)
+    ours, theirs = _generator(state, inc), _generator(state, inc)
+    assert _integers(ours, 0, n, 2).tolist() == theirs.integers(0, n, 2).tolist()
+    assert ours.bit_generator.state == theirs.bit_generator.state
+    assert theirs.bit_generator.state["has_uint32"] == 0  # two words from one 64-bit draw
+
+
+# ---------------------------------------------------------------------------------------------
+# CAO's monomial refresh
+# ---------------------------------------------------------------------------------------------
+
+
+def test_the_refresh_draws_numpys_monomials_and_leaves_numpys_state():
+    """Thousands of refreshes, Rust against numpy: dims 1-80, up to 40 terms, keep fractions 0,
+    0.3, 0.5 and 1, strengths with ties (and a few NaNs and signed zeros), generators with and
+    without a buffered half; the few-variable cases go to numpy's ``choice`` on both sides."""
+    rng = np.random.default_rng(2024)
+    paths = {"kernel": 0, "choice": 0, "kept all": 0}
+    for case in range(3000):
+        dim = int(rng.integers(1, 81))
+        n_terms = min(int(rng.integers(0, 41)), _n_distinct_monomials(dim))
+        keep_fraction = (0.0, 0.3, 0.5, 1.0)[case % 4]
+        terms = _draw_monomials(n_terms, dim, np.empty((0, 3), dtype=np.int64), rng)
+        strength = rng.integers(0, 4, size=n_terms).astype(np.float64)
+        if case % 10 == 0 and n_terms:
+            strength[rng.integers(0, n_terms, size=2)] = (np.nan, -0.0)
+        seed = int(rng.integers(1 << 63))
+        ours, theirs = np.random.default_rng(seed), np.random.default_rng(seed)
+        if case % 3 == 0:
+            ours.integers(0, 10, dtype=np.int32)
+            theirs.integers(0, 10, dtype=np.int32)
+        a = _refresh_terms(terms, strength, keep_fraction, dim, ours)
+        b = _refresh_terms_numpy(terms, strength, keep_fraction, dim, theirs)
+        assert a.dtype == np.int64 and np.array_equal(a, b), case
+        assert ours.bit_generator.state == theirs.bit_generator.state, case
+        n_keep = math.ceil(keep_fraction * n_terms)
+        if n_keep >= n_terms:
+            paths["kept all"] += 1
+        elif 4 * n_terms > _n_distinct_monomials(dim):
+            paths["choice"] += 1
+        else:
+            paths["kernel"] += 1
+    assert min(paths.values()) > 100, paths
+
+
+def test_the_first_monomials_are_numpys():
+    for seed in range(300):
+        dim, count = 1 + seed % 60, seed % 41
+        if count > _n_distinct_monomials(dim):
+            continue
+        ours, theirs = np.random.default_rng(seed), np.random.default_rng(seed)
+        a = _first_terms(count, dim, ours)
+        b = _draw_monomials(count, dim, np.empty((0, 3), dtype=np.int64), theirs)
+        assert a.shape == (count, 3) and np.array_equal(a, b)
+        assert ours.bit_generator.state == theirs.bit_generator.state
+
+
+def test_the_kernel_defers_to_numpys_choice_without_drawing():
+    rng = np.random.default_rng(8)
+    before = rng.bit_generator.state
+    terms = np.array([[0, 1, 2], [0, 0, 3]], dtype=np.int64)
+    assert redraw_monomials(terms, np.ones(2), 1, 4, 3, rng) is None  # 4 (1 + 4) > 16 monomials
+    assert redraw_monomials(terms, np.ones(2), 1, 3, 3, rng) is not None
+    assert rng.bit_generator.state != before
+
+
+@pytest.mark.parametrize("bit_generator", [np.random.MT19937(1), np.random.PCG64DXSM(1), np.random.SFC64(1)], ids=type)
+def test_other_bit_generators_refresh_with_numpy(monkeypatch, bit_generator):
+    def refuse(*args: object) -> None:
+        raise AssertionError("the PCG64 kernel ran for another bit generator")
+
+    monkeypatch.setattr(_core, "pcg64_monomials", refuse)
+    terms = _draw_monomials(12, 36, np.empty((0, 3), dtype=np.int64), np.random.default_rng(0))
+    strength = np.arange(12.0) % 5
+    ours, theirs = np.random.Generator(bit_generator), np.random.Generator(type(bit_generator)(1))
+    a = _refresh_terms(terms, strength, 0.5, 36, ours)
+    assert np.array_equal(a, _refresh_terms_numpy(terms, strength, 0.5, 36, theirs))
+    np.testing.assert_equal(ours.bit_generator.state, theirs.bit_generator.state)
+
+
+def test_cao_refreshes_through_the_kernel_and_runs_as_with_numpy(monkeypatch):
+    calls = []
+    kernel = _core.pcg64_monomials
+
+    def spy(*args: object) -> object:
+        calls.append(args[3])
+        return kernel(*args)  # type: ignore[arg-type]
+
+    target = np.array([[3.0, -2.0, 5.0], [-4.0, 1.0, 6.0], [0.0, 0.0, 2.0], [1.0, 1.0, 1.0]])
+
+    def measure(x: np.ndarray) -> float:
+        return -float(np.sum((x - target) ** 2))
+
+    cao_module = sys.modules["uavcov.cao"]
+    monkeypatch.setattr(_core, "pcg64_monomials", spy)
+    ours = cao(measure, np.zeros((4, 3)), feasible=None, iterations=40, rng=11)
+    assert len(calls) == 40 and calls[0] == 10  # the first 10 monomials, then one refresh an iteration
+    monkeypatch.setattr(cao_module, "redraw_monomials", lambda *args: None)
+    theirs = cao(measure, np.zeros((4, 3)), feasible=None, iterations=40, rng=11)
+    assert len(calls) == 40
+    assert np.array_equal(ours.trajectory, theirs.trajectory)
+
+
+# ---------------------------------------------------------------------------------------------
 # Bad input
 # ---------------------------------------------------------------------------------------------
 
@@ -347,3 +550,56 @@ def test_the_rust_tables_are_the_scripts_output():
     generated = sys.modules["ziggurat_tables"].rust_source()
     committed = (Path(__file__).resolve().parent.parent / "rust" / "ziggurat_tables.rs").read_text()
     assert committed == generated
+
+
+@pytest.mark.parametrize(
+    "args, error, match",
+    [
+        ((1, 1, 2, 0, 0, 10, 1), InvalidInputError, "has_uint32 must be 0 or 1"),
+        ((1, 1, -1, 0, 0, 10, 1), InvalidInputError, "has_uint32 must be 0 or 1"),
+        ((1, 1, 1, 1 << 32, 0, 10, 1), InvalidInputError, "uinteger must be an integer"),
+        ((1, 1, 0, 0, 0, 0, 1), InvalidInputError, "high - low must be in"),
+        ((1, 1, 0, 0, 0, (1 << 32) + 1, 1), InvalidInputError, "high - low must be in"),
+        ((1, 1, 0, 0, -(1 << 63), (1 << 63) - 1, 1), InvalidInputError, "high - low must be in"),
+        ((1, 1, 0, 0, 0, 10, -1), InvalidInputError, "n must be >= 0"),
+        ((1, 1, 0, 0, 0, 10, 1 << 40), SurfaceTooLargeError, "more than"),
+        ((-1, 1, 0, 0, 0, 10, 1), InvalidInputError, "state must be an integer"),
+    ],
+)
+def test_the_integer_kernel_refuses_bad_arguments(args, error, match):
+    with pytest.raises(error, match=match):
+        _core.pcg64_integers(*args)
+
+
+def test_the_random_kernel_refuses_bad_arguments():
+    with pytest.raises(InvalidInputError, match="n must be >= 0"):
+        _core.pcg64_random(1, 1, -1)
+    with pytest.raises(SurfaceTooLargeError, match="more than"):
+        _core.pcg64_random(1, 1, 1 << 35)
+
+
+_TERMS = np.array([[0, 1, 9], [2, 2, 2], [3, 4, 5]], dtype=np.int64)
+
+
+@pytest.mark.parametrize(
+    "terms, strength, keep, count, dim, error, match",
+    [
+        (np.zeros((3, 4), dtype=np.int64), np.ones(3), 1, 1, 9, InvalidInputError, "shape"),
+        (_TERMS, np.ones(2), 1, 1, 9, InvalidInputError, "strength has 2 values for 3 terms"),
+        (_TERMS, np.ones(3), 4, 1, 9, InvalidInputError, "cannot keep 4 of 3"),
+        (_TERMS, np.ones(3), 1, 1, 8, InvalidInputError, "indices in"),
+        (-_TERMS, np.ones(3), 1, 1, 9, InvalidInputError, "indices in"),
+        (_TERMS, np.ones(3), 1, 1, (1 << 32) + 1, InvalidInputError, "dim must be at most"),
+        (_TERMS, np.ones(3), 1, 1 << 29, 1 << 20, SurfaceTooLargeError, "more than"),
+        (_TERMS, np.ones(3), 1, 1 << 70, 1 << 20, SurfaceTooLargeError, "more than"),
+        (_TERMS[:0], np.ones(0), 0, 17, 3, InvalidInputError, "cannot draw 17 new monomials"),
+        (_TERMS, np.ones(3), -1, 1, 9, InvalidInputError, "keep must be >= 0"),
+        (_TERMS, np.ones(3), 1, 1.0, 9, InvalidInputError, "count must be an integer"),
+    ],
+)
+def test_the_monomial_kernel_refuses_bad_arguments(terms, strength, keep, count, dim, error, match):
+    rng = np.random.default_rng(4)
+    before = rng.bit_generator.state
+    with pytest.raises(error, match=match):
+        redraw_monomials(terms, strength, keep, count, dim, rng)
+    assert rng.bit_generator.state == before

@@ -5,12 +5,39 @@ from typing import final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Surface", "Visibility", "CoverageTracker", "CVT", "Surrogate", "available_threads", "pcg64_standard_normal", "__version__"]
+__all__ = [
+    "Surface",
+    "Visibility",
+    "CoverageTracker",
+    "CVT",
+    "Surrogate",
+    "available_threads",
+    "pcg64_standard_normal",
+    "pcg64_random",
+    "pcg64_integers",
+    "pcg64_monomials",
+    "__version__",
+]
 
 __version__: str
 
 def available_threads() -> int: ...
 def pcg64_standard_normal(state: int, inc: int, n: int) -> tuple[npt.NDArray[np.float64], int]: ...
+def pcg64_random(state: int, inc: int, n: int) -> tuple[npt.NDArray[np.float64], int]: ...
+def pcg64_integers(
+    state: int, inc: int, has_uint32: int, uinteger: int, low: int, high: int, n: int
+) -> tuple[npt.NDArray[np.int64], int, int, int]: ...
+def pcg64_monomials(
+    terms: npt.NDArray[np.int64],
+    strength: npt.NDArray[np.float64],
+    keep: int,
+    count: int,
+    dim: int,
+    state: int,
+    inc: int,
+    has_uint32: int,
+    uinteger: int,
+) -> tuple[npt.NDArray[np.int64] | None, int, int, int]: ...
 
 @final
 class Surface:

@@ -24,9 +24,10 @@ trace records the best configuration measured, not only the last one.
 Steps 2 and 3's surrogate (the design matrix, the ridge fit, the scores of the ``M``
 candidates) runs in Rust, one call per iteration (``uavcov._core.Surrogate``, nalgebra); every
 random draw is ``rng``'s own stream (the Gaussian perturbations through
-:func:`uavcov.draws.standard_normal`, numpy's values and generator state computed in Rust), so
-runs are reproducible from ``rng`` alone. ``_fit_and_score_numpy`` is
-the same maths in numpy, the reference the tests hold the kernel to.
+:func:`uavcov.draws.standard_normal` and the monomials' refresh through
+:func:`uavcov.draws.redraw_monomials`, numpy's values and generator state computed in Rust), so
+runs are reproducible from ``rng`` alone. ``_fit_and_score_numpy`` and ``_refresh_terms_numpy``
+are the same maths and draws in numpy, the references the tests hold the kernels to.
 
 Two optimisers share one interface (:class:`Optimizer`): :func:`cao`, centralised over the joint
 ``3N`` state, and :func:`per_robot_cao`, where every UAV fits its own estimator on its own three
@@ -81,7 +82,7 @@ from ._validate import (
     as_positive_float,
     as_positive_int,
 )
-from .draws import standard_normal
+from .draws import redraw_monomials, standard_normal
 from .errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
 __all__ = [
@@ -438,6 +439,13 @@ def _draw_monomials(count: int, dim: int, existing: np.ndarray, rng: np.random.G
     return np.array([(key // (base * base), key // base % base, key % base) for key in out], dtype=np.int64)
 
 
+def _first_terms(count: int, dim: int, rng: np.random.Generator) -> np.ndarray:
+    """``_draw_monomials(count, dim, none, rng)``, in Rust for numpy's ``PCG64`` (as :func:`_refresh_terms`)."""
+    none = np.empty((0, 3), dtype=np.int64)
+    drawn = redraw_monomials(none, np.empty(0), 0, count, dim, rng)
+    return _draw_monomials(count, dim, none, rng) if drawn is None else drawn
+
+
 def _design(u: np.ndarray, terms: np.ndarray) -> np.ndarray:
     """Regressor matrix ``(n, 1 + dim + n_terms)`` of points ``u`` of shape ``(n, dim)``."""
     ones = np.ones((*u.shape[:-1], 1))
@@ -524,7 +532,21 @@ def _strength(phi: np.ndarray, theta: np.ndarray, first: int) -> np.ndarray:
 
 
 def _refresh_terms(terms: np.ndarray, strength: np.ndarray, keep_fraction: float, dim: int, rng: np.random.Generator) -> np.ndarray:
-    """Keep the strongest monomials (ties by position) and redraw the others."""
+    """Keep the strongest monomials (ties by position) and redraw the others.
+
+    :func:`_refresh_terms_numpy`'s terms and draws, made in one Rust call when ``rng`` is
+    numpy's ``PCG64`` (:func:`uavcov.draws.redraw_monomials`), else by that reference.
+    """
+    n_terms = terms.shape[0]
+    n_keep = math.ceil(keep_fraction * n_terms)
+    if n_keep >= n_terms:
+        return terms
+    drawn = redraw_monomials(terms, strength, n_keep, n_terms - n_keep, dim, rng)
+    return _refresh_terms_numpy(terms, strength, keep_fraction, dim, rng) if drawn is None else drawn
+
+
+def _refresh_terms_numpy(terms: np.ndarray, strength: np.ndarray, keep_fraction: float, dim: int, rng: np.random.Generator) -> np.ndarray:
+    """:func:`_refresh_terms` with numpy's draws: the reference the kernel is held to."""
     n_terms = terms.shape[0]
     n_keep = math.ceil(keep_fraction * n_terms)
     if n_keep >= n_terms:
@@ -950,7 +972,7 @@ def cao(
     steps = np.asarray(steps, dtype=np.float64).reshape(n_iter)
     n_checked = np.zeros(n_iter, dtype=np.int64)
     n_feasible = np.zeros(n_iter, dtype=np.int64)
-    terms = _draw_monomials(n_terms, dim, np.empty((0, 3), dtype=np.int64), rng)
+    terms = _first_terms(n_terms, dim, rng)
     t_measure = 0.0
 
     x = x0.reshape(dim).copy()

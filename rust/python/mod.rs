@@ -2,8 +2,8 @@
 //! and maps [`Error`] onto `uavcov.errors`. It holds no algorithm; users call the Python
 //! wrappers (`uavcov.Terrain`, `uavcov.Visibility`), which validate before calling here.
 //!
-//! One file per Python class (and `draws` for the one free function with an algorithm
-//! behind it); this one holds the module and the conversions they share.
+//! One file per Python class (and `draws` for the free functions with an algorithm
+//! behind them, numpy's draws); this one holds the module and the conversions they share.
 //!
 //! No panic crosses into Python (where it would be a `pyo3_runtime.PanicException`, a
 //! `BaseException` that `except Exception` misses): every method runs its Rust work through
@@ -110,6 +110,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<surrogate::PySurrogate>()?;
     m.add_function(wrap_pyfunction!(available_threads, m)?)?;
     m.add_function(wrap_pyfunction!(draws::pcg64_standard_normal, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_random, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_integers, m)?)?;
+    m.add_function(wrap_pyfunction!(draws::pcg64_monomials, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
