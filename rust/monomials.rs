@@ -168,11 +168,7 @@ impl Hasher for KeyHasher {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `default_rng(12345)`'s state.
-    fn seed_12345() -> Pcg64 {
-        Pcg64::new(33_261_208_707_367_790_463_622_745_601_869_196_757, 268_209_174_141_567_072_605_526_753_992_732_310_247)
-    }
+    use crate::pcg64::tests::seed_12345;
 
     #[test]
     fn counts_of_distinct_monomials() {

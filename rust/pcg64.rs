@@ -213,14 +213,15 @@ fn point(r: u64) -> (usize, u64, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     //! Reference values printed by numpy 2.4.6 (`np.random.default_rng(seed)`), e.g.
     //! `g = np.random.default_rng(12345); g.bit_generator.state; g.bit_generator.random_raw(3)`.
 
     use super::Pcg64;
 
-    /// `default_rng(12345).bit_generator.state["state"]`.
-    fn seed_12345() -> Pcg64 {
+    /// `default_rng(12345).bit_generator.state["state"]` (the reference values of this crate's
+    /// tests of numpy's draws were printed from it).
+    pub(crate) fn seed_12345() -> Pcg64 {
         Pcg64::new(33_261_208_707_367_790_463_622_745_601_869_196_757, 268_209_174_141_567_072_605_526_753_992_732_310_247)
     }
 

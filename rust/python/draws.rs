@@ -94,10 +94,7 @@ pub(super) fn pcg64_standard_normal<'py>(
     inc: &Bound<'py, PyAny>,
     n: &Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, u128)> {
-    let mut rng = Pcg64::new(word(py, state, "state")?, word(py, inc, "inc")?);
-    let n = n_values(py, n, "standard normal values")?;
-    let values = run(py, n, || draw(n, "standard normal values", &mut rng, Pcg64::fill_standard_normal, 0.0))?;
-    Ok((values.into_pyarray(py), rng.state))
+    doubles(py, state, inc, n, "standard normal values", Pcg64::fill_standard_normal)
 }
 
 /// `n` doubles drawn as numpy's `Generator.random(n)` draws them from a PCG64 generator at
@@ -109,9 +106,22 @@ pub(super) fn pcg64_random<'py>(
     inc: &Bound<'py, PyAny>,
     n: &Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, u128)> {
+    doubles(py, state, inc, n, "doubles", Pcg64::fill_f64)
+}
+
+/// `n` doubles that `fill` draws from a PCG64 generator at `(state, inc)` (64-bit draws only),
+/// and the generator's state afterwards.
+fn doubles<'py>(
+    py: Python<'py>,
+    state: &Bound<'py, PyAny>,
+    inc: &Bound<'py, PyAny>,
+    n: &Bound<'py, PyAny>,
+    what: &str,
+    fill: impl FnOnce(&mut Pcg64, &mut [f64]) + Send,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, u128)> {
     let mut rng = Pcg64::new(word(py, state, "state")?, word(py, inc, "inc")?);
-    let n = n_values(py, n, "doubles")?;
-    let values = run(py, n, || draw(n, "doubles", &mut rng, Pcg64::fill_f64, 0.0))?;
+    let n = n_values(py, n, what)?;
+    let values = run(py, n, || draw(n, what, &mut rng, fill, 0.0))?;
     Ok((values.into_pyarray(py), rng.state))
 }
 
