@@ -3,7 +3,7 @@
 For each of ``--terrains`` Gaussian-hill terrains (the paper's model, seeds 0, 1, ...), draws
 ``n`` random prior points plus the 4 corners (and the paper's pyramid: corners + centre),
 builds S' by Delaunay interpolation and measures the height error of S' over the true surface
-(:func:`uavcov.prior.approximation_error`: 1 m cells, midpoint rule). Prints a Markdown table of
+(:func:`uavcov.terrain._prior.approximation_error`: 1 m cells, midpoint rule). Prints a Markdown table of
 the mean and standard deviation over terrains.
 
     python benches/approximation_error.py                # 40 terrains, n = 5, 30, 50, 200
@@ -19,8 +19,8 @@ import time
 
 import numpy as np
 
-from uavcov.prior import approximation_error, sample_prior
-from uavcov.terrains import gaussian_hills
+from uavcov import gaussian_hills
+from uavcov.terrain import approximation_error, sample_prior
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from uavcov.cao import CAOSettings, cao, per_robot_cao
+from uavcov.optim.cao import CAOSettings, cao, per_robot_cao
 
 
 def own_work(n_uavs: int, optimizer: str, iterations: int, seed: int) -> dict[str, float]:
@@ -41,7 +41,7 @@ def own_work(n_uavs: int, optimizer: str, iterations: int, seed: int) -> dict[st
 
 
 def paper_terrain(n_uavs: int, optimizer: str, iterations: int, seed: int, world: dict) -> dict[str, float]:
-    from uavcov.constraints import closest_admissible, feasibility
+    from uavcov.placement import closest_admissible, feasibility
 
     terrain, vis, constraints = world["terrain"], world["vis"], world["constraints"]
     rng = np.random.default_rng(seed)
@@ -69,9 +69,7 @@ def main() -> None:
 
     world = None
     if not args.no_terrain:
-        from uavcov.constraints import Constraints
-        from uavcov.terrains import gaussian_hills
-        from uavcov.visibility import Visibility
+        from uavcov import Constraints, Visibility, gaussian_hills
 
         terrain = gaussian_hills(size=100.0, spacing=1.0, rng=1000)
         world = {

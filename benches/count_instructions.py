@@ -64,7 +64,7 @@ def along(folder: pathlib.Path, every: int, margin: float | None) -> None:
 
 def mission() -> None:
     terrain = uavcov.gaussian_hills(spacing=1.0, rng=1000)
-    spec = uavcov.MissionSpec(n_uavs=12, d_max=25.0, iterations=500)
+    spec = uavcov.MissionSettings(n_uavs=12, d_max=25.0, iterations=500)
     uavcov.run_mission(terrain, spec, rng=1000, n_threads=1)
 
 

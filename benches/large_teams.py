@@ -31,9 +31,9 @@ from maps import heights
 t0 = time.perf_counter()
 terrain = uavcov.Terrain.from_grid(heights(size, spacing), spacing)
 top = float(terrain.bounds[1, 2])
-spec = uavcov.MissionSpec(
+spec = uavcov.MissionSettings(
     n_uavs=n_uavs, d_max=d_max, iterations=iterations, optimizer=optimizer,
-    start=uavcov.StartSpec(kind="cvt", altitude=2.0, altitude_reference="prior", climb=1.0),
+    start=uavcov.StartSettings(kind="cvt", altitude=2.0, altitude_reference="prior", climb=1.0),
     constraints=uavcov.Constraints(h_min=1.0, h_max=12.0, z_max=top + 50.0, d_safe=1.0, check_moves=True),
     cao=uavcov.CAOSettings(alpha0=10.0, stability=5.0, decay=1.0),
 )

@@ -1,4 +1,4 @@
-"""What CAO's perturbation draw costs: numpy's ``standard_normal`` beside ``uavcov.draws``.
+"""What CAO's perturbation draw costs: numpy's ``standard_normal`` beside ``uavcov.optim``.
 
 Both draw the same values from the same state (tests/test_draws.py holds them bit for bit), so
 this compares only speed. Per round, each path makes ``--calls`` draws of ``--shape`` (CAO's
@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from uavcov.draws import standard_normal
+from uavcov.optim import standard_normal
 
 
 def per_call(draw, shape: tuple[int, ...], calls: int) -> float:
@@ -35,7 +35,7 @@ def main() -> None:
     parser.add_argument("--shape", default="200,36", help="comma-separated dimensions")
     args = parser.parse_args()
     shape = tuple(int(d) for d in args.shape.split(","))
-    paths = {"numpy": lambda rng, s: rng.standard_normal(s), "uavcov.draws": standard_normal}
+    paths = {"numpy": lambda rng, s: rng.standard_normal(s), "uavcov.optim": standard_normal}
     times: dict[str, list[float]] = {name: [] for name in paths}
     for draw in paths.values():  # warm-up: imports, first allocations
         per_call(draw, shape, 10)
@@ -46,7 +46,7 @@ def main() -> None:
     medians = {name: statistics.median(t) for name, t in times.items()}
     for name, t in medians.items():
         print(f"{name:>13}: {t * 1e6:8.2f} us per draw of {shape} ({t / n * 1e9:.2f} ns a value)")
-    print(f"        ratio: {medians['numpy'] / medians['uavcov.draws']:.2f}x (numpy / uavcov.draws, medians of {args.rounds} rounds)")
+    print(f"        ratio: {medians['numpy'] / medians['uavcov.optim']:.2f}x (numpy / uavcov.optim, medians of {args.rounds} rounds)")
 
 
 if __name__ == "__main__":

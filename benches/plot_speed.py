@@ -39,7 +39,7 @@ def main() -> None:
     uavs = np.column_stack([rng.uniform(5, 95, (12, 2)), np.zeros(12)])
     uavs[:, 2] = hills.ground_height(uavs[:, :2]) + 12.0
     trajectory = uavs[None] + np.cumsum(rng.normal(scale=0.5, size=(200, 12, 3)), axis=0) * [1, 1, 0.2]
-    scene = uavcov.buildings_scene(rng=0)
+    scene = uavcov.terrain.buildings_scene(rng=0)
     scene_uavs = np.array([[6.0, 6.0, 12.0], [18.0, 6.0, 12.0], [6.0, 18.0, 12.0], [18.0, 18.0, 12.0]])
     print(f"grid: {hills!r}, {targets} targets; scene: {scene!r}")
     with tempfile.TemporaryDirectory() as tmp:
@@ -59,7 +59,7 @@ def main() -> None:
         _timed(
             "coverage map top view, buildings mesh", lambda: plotting.plot_coverage_map(scene, scene_uavs, 8.0, view="top"), out / "d.png"
         )
-        fine = uavcov.buildings_scene(spacing=0.125, rng=0)
+        fine = uavcov.terrain.buildings_scene(spacing=0.125, rng=0)
         print(f"fine scene: {fine!r}")
         _timed("coverage map 3D, fine mesh (clustered)", lambda: plotting.plot_coverage_map(fine, scene_uavs, 8.0), out / "f.png")
         points = hills.default_targets().points

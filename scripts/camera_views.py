@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """The cameras page's figure and table: one team of 6, the same positions, five sensors.
 
-On a paper terrain (``uavcov.paper.TABLE1.terrain``, seed 0) six UAVs fly 25 m above the ground
+On a paper terrain (``uavcov.experiments._experiments.TABLE1.terrain``, seed 0) six UAVs fly 25 m above the ground
 at fixed positions; each row of the table is one sensor for all six (the paper's omnidirectional
 one, and cameras nadir and oblique, with and without view-quality limits): coverage and
 quality-weighted coverage. The figure is :func:`uavcov.plotting.plot_camera_views` for the
@@ -24,7 +24,7 @@ import numpy as np
 from camera_experiment import CAMERA_CAO  # this folder's, as the script runs from it
 
 import uavcov
-from uavcov import paper
+from uavcov import experiments
 from uavcov.plotting import animate_mission, plot_camera_views
 
 SURVEY = uavcov.Camera(sensor_width_mm=13.2, sensor_height_mm=8.8, focal_length_mm=8.8, image_width_px=5472, image_height_px=3648)
@@ -36,7 +36,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path)
     args = parser.parse_args()
-    terrain = paper.TABLE1.terrain.make(0)
+    terrain = experiments.TABLE1.terrain.make(0)
     xy = np.array([[20.0, 20.0], [50.0, 20.0], [80.0, 20.0], [20.0, 70.0], [50.0, 70.0], [80.0, 70.0]])
     positions = np.column_stack([xy, terrain.ground_height(xy) + 25.0])
     headings = np.array([0.0, 60.0, 120.0, 180.0, 240.0, 300.0])
@@ -63,7 +63,7 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     plot_camera_views(terrain, poses, [sensor] * 6, out=args.out / "camera_views.png")
     print(f"\nwrote {args.out / 'camera_views.png'}")
-    mission = uavcov.MissionSpec(
+    mission = uavcov.MissionSettings(
         n_uavs=8,
         d_max=40.0,
         iterations=150,
@@ -71,7 +71,7 @@ def main() -> None:
         attitude=(0.0, -45.0),
         gimbal=uavcov.Gimbal(free_yaw=True),
         footprint_start=True,
-        start=uavcov.StartSpec(altitude=20.0, altitude_reference="prior", climb=1.0),
+        start=uavcov.StartSettings(altitude=20.0, altitude_reference="prior", climb=1.0),
         constraints=uavcov.Constraints(h_min=10.0, h_max=40.0, z_max=80.0, d_safe=1.0),
         cao=CAMERA_CAO,  # the step docs/cameras.md's GIF was made with
     )

@@ -3,7 +3,8 @@
 
 import numpy as np
 
-from uavcov.geo import dem_from_array, sample_geo_dem
+from uavcov import sample_dem as sample_geo_dem
+from uavcov.terrain import dem_from_array
 
 z = np.full((20, 24), 400.0)
 utm = dem_from_array(z, (30.0, 0.0, 500000.0, 0.0, -30.0, 5000600.0), "EPSG:32633")

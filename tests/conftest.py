@@ -107,7 +107,7 @@ def hill_grid() -> GridCase:
 
 @pytest.fixture(scope="session")
 def hill_terrain(hill_grid: GridCase):
-    from uavcov.surface import Terrain
+    from uavcov import Terrain
 
     return Terrain.from_grid(hill_grid.z, hill_grid.spacing, origin=hill_grid.origin)
 

@@ -13,10 +13,9 @@ import pytest
 
 from conftest import hills_grid_case, random_soup
 from reference import visibility_reference
+from uavcov import Targets, Terrain, Visibility
+from uavcov.engine import coverage
 from uavcov.errors import InvalidInputError, InvalidTypeError, MeshError, UavcovError
-from uavcov.surface import Terrain
-from uavcov.targets import Targets
-from uavcov.visibility import Visibility, coverage
 
 TRI_V = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.5]])
 TRI_F = np.array([[0, 1, 2], [1, 3, 2]])
@@ -402,8 +401,8 @@ import numpy as np
 # the way an absurd n_threads fails on any machine.
 resource.setrlimit(resource.RLIMIT_AS, (2 * 1024**3, 2 * 1024**3))
 from uavcov.errors import UavcovError
-from uavcov.surface import Terrain
-from uavcov.visibility import Visibility
+from uavcov.engine._surface import Terrain
+from uavcov.engine._visibility import Visibility
 terrain = Terrain.from_grid(np.zeros((6, 6)), 1.0)
 try:
     value = Visibility(terrain, 10.0, n_threads=int(sys.argv[1])).coverage([[2.5, 2.5, 3.0]])
@@ -459,7 +458,7 @@ def test_spacing_of_the_wrong_type_names_its_type(spacing):
 @pytest.mark.parametrize("coordinate", ["nan", "inf"])
 def test_load_mesh_names_the_file_of_a_bad_vertex(tmp_path, coordinate):
     pytest.importorskip("trimesh")
-    from uavcov.loaders import load_mesh
+    from uavcov.terrain import load_mesh
 
     path = tmp_path / f"bad-{coordinate}.obj"
     path.write_text(f"v 0 0 0\nv 1 0 0\nv 0 1 {coordinate}\nf 1 2 3\n")
@@ -469,7 +468,7 @@ def test_load_mesh_names_the_file_of_a_bad_vertex(tmp_path, coordinate):
 
 def test_load_mesh_names_the_file_of_a_degenerate_mesh(tmp_path):
     pytest.importorskip("trimesh")
-    from uavcov.loaders import load_mesh
+    from uavcov.terrain import load_mesh
 
     path = tmp_path / "flat.obj"
     path.write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")

@@ -1,4 +1,4 @@
-"""Camera missions: angles as decision variables (``MissionSpec.gimbal``), the footprint start,
+"""Camera missions: angles as decision variables (``MissionSettings.gimbal``), the footprint start,
 and cameras in sweep files.
 
 References: a closed form for the optimiser (a concave quadratic over positions and angles), a
@@ -16,11 +16,12 @@ import pytest
 
 from uavcov import (
     Camera,
+    CAOSettings,
     Constraints,
     Gimbal,
-    MissionSpec,
+    MissionSettings,
     Sensor,
-    StartSpec,
+    StartSettings,
     Terrain,
     Visibility,
     gaussian_hills,
@@ -28,11 +29,10 @@ from uavcov import (
     run_mission,
     save_mission,
 )
-from uavcov.cao import CAOSettings, cao
 from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
-from uavcov.footprints import fit_footprints
-from uavcov.sweep import settings_hash
-from uavcov.sweep_config import parse_sweep_config
+from uavcov.experiments import parse_sweep_config, settings_hash
+from uavcov.optim import cao
+from uavcov.placement import fit_footprints
 
 
 def test_cao_optimises_any_number_of_variables_per_uav():
@@ -54,7 +54,7 @@ def _one_side_plane() -> Terrain:
 def test_a_free_heading_turns_the_camera_to_where_the_surface_is():
     plane = _one_side_plane()
     sensor = Sensor(60.0, camera=Camera.from_fov(50.0, 40.0))
-    spec = MissionSpec(
+    spec = MissionSettings(
         n_uavs=1,
         d_max=60.0,
         iterations=150,
@@ -84,14 +84,14 @@ def test_a_free_heading_turns_the_camera_to_where_the_surface_is():
 def test_a_free_pitch_stays_in_its_range_at_every_iteration(tmp_path):
     terrain = gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=4)
     gimbal = Gimbal(free_yaw=True, pitch_range=(-80.0, -40.0), alpha0_deg=40.0)
-    spec = MissionSpec(
+    spec = MissionSettings(
         n_uavs=3,
         d_max=40.0,
         iterations=60,
         sensor=Sensor(40.0, camera=Camera.from_fov(70.0, 50.0)),
         attitude=(10.0, -60.0),
         gimbal=gimbal,
-        start=StartSpec(altitude=10.0),
+        start=StartSettings(altitude=10.0),
         constraints=Constraints(h_min=4.0, h_max=25.0, z_max=200.0, d_safe=1.0),
         cao=CAOSettings(alpha0=2.0, stability=5.0, decay=1.0),
     )
@@ -105,10 +105,10 @@ def test_a_free_pitch_stays_in_its_range_at_every_iteration(tmp_path):
     assert result.trajectory.shape == (61, 3, 3) and not result.trajectory.flags.writeable
     path = save_mission(result, tmp_path / "gimbal.npz")
     again = load_mission(path)
-    assert again.spec == result.spec
+    assert again.settings == result.settings
     np.testing.assert_array_equal(again.attitudes, result.attitudes)
     np.testing.assert_array_equal(again.trajectory, result.trajectory)
-    assert MissionSpec.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
+    assert MissionSettings.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
     assert run_mission(terrain, spec, rng=3).coverage.tolist() == result.coverage.tolist()  # same rng, same run
 
 
@@ -125,16 +125,16 @@ def test_bad_gimbal_settings_are_clear_errors():
     with pytest.raises(InvalidTypeError):
         Gimbal(free_yaw="yes")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="camera"):
-        MissionSpec(n_uavs=2, d_max=20.0, gimbal=Gimbal(free_yaw=True))
+        MissionSettings(n_uavs=2, d_max=20.0, gimbal=Gimbal(free_yaw=True))
     with pytest.raises(InvalidInputError, match="centralised"):
-        MissionSpec(n_uavs=2, d_max=20.0, sensor=camera, gimbal=Gimbal(free_yaw=True), optimizer="per_robot")
+        MissionSettings(n_uavs=2, d_max=20.0, sensor=camera, gimbal=Gimbal(free_yaw=True), optimizer="per_robot")
     with pytest.raises(InvalidInputError, match="outside"):
-        MissionSpec(n_uavs=2, d_max=20.0, sensor=camera, attitude=(0.0, -90.0), gimbal=Gimbal(pitch_range=(-60.0, -30.0)))
+        MissionSettings(n_uavs=2, d_max=20.0, sensor=camera, attitude=(0.0, -90.0), gimbal=Gimbal(pitch_range=(-60.0, -30.0)))
     with pytest.raises(InvalidTypeError):
-        MissionSpec(n_uavs=2, d_max=20.0, sensor=camera, gimbal="free")  # type: ignore[arg-type]
+        MissionSettings(n_uavs=2, d_max=20.0, sensor=camera, gimbal="free")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="camera"):
-        MissionSpec(n_uavs=2, d_max=20.0, footprint_start=True)
-    MissionSpec(n_uavs=2, d_max=20.0, gimbal=Gimbal())  # nothing free: fine without a camera
+        MissionSettings(n_uavs=2, d_max=20.0, footprint_start=True)
+    MissionSettings(n_uavs=2, d_max=20.0, gimbal=Gimbal())  # nothing free: fine without a camera
 
 
 def _jaccard_of_nadir_square(height: float, half_fov_deg: float) -> float:
@@ -170,7 +170,7 @@ def test_the_footprint_start_picks_the_height_of_the_hand_computed_best_match():
 
 def test_a_footprint_start_sees_more_of_the_hills_than_the_papers_low_start():
     terrain = gaussian_hills(size=80.0, spacing=1.0, n_hills=5, rng=7)
-    spec = MissionSpec(
+    spec = MissionSettings(
         n_uavs=6,
         d_max=50.0,
         iterations=0,
@@ -251,7 +251,7 @@ def test_sweeping_a_camera_field_needs_its_table():
 def test_the_example_camera_sweep_parses():
     from pathlib import Path
 
-    from uavcov.sweep_config import load_sweep_config
+    from uavcov.experiments import load_sweep_config
 
     config = load_sweep_config(Path(__file__).parents[1] / "examples" / "camera_sweep.toml")
     assert config.axes == ("sensor.camera.hfov_deg",) and len(config.specs()) == 2 * 5 * 2
@@ -265,7 +265,7 @@ def test_a_mixed_team_flies_each_uavs_own_sensor(tmp_path):
         Sensor(25.0),  # an omnidirectional UAV of shorter range
         Sensor(35.0, camera=Camera.from_fov(50.0, 40.0), d_min=2.0),
     )
-    spec = MissionSpec(
+    spec = MissionSettings(
         n_uavs=3,
         d_max=40.0,
         iterations=25,
@@ -273,7 +273,7 @@ def test_a_mixed_team_flies_each_uavs_own_sensor(tmp_path):
         attitude=(20.0, -70.0),
         gimbal=Gimbal(free_yaw=True),
         footprint_start=True,
-        start=StartSpec(altitude=8.0),
+        start=StartSettings(altitude=8.0),
         constraints=Constraints(h_min=4.0, h_max=30.0, z_max=200.0, d_safe=1.0),
     )
     assert spec.team_sensors() == list(team) and spec.has_camera
@@ -286,9 +286,9 @@ def test_a_mixed_team_flies_each_uavs_own_sensor(tmp_path):
     np.testing.assert_array_equal(result.start_positions[1], plain.start_positions[1])  # the omnidirectional UAV is not lifted
     assert (result.start_positions[[0, 2], 2] > plain.start_positions[[0, 2], 2]).all()
     path = save_mission(result, tmp_path / "mixed.npz")
-    assert load_mission(path).spec == result.spec
-    assert MissionSpec.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
+    assert load_mission(path).settings == result.settings
+    assert MissionSettings.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
     with pytest.raises(InvalidInputError, match="one per UAV"):
         spec.with_changes(n_uavs=4)
     with pytest.raises(InvalidTypeError):
-        MissionSpec(n_uavs=2, d_max=10.0, sensor=(Sensor(10.0), "camera"))  # type: ignore[arg-type]
+        MissionSettings(n_uavs=2, d_max=10.0, sensor=(Sensor(10.0), "camera"))  # type: ignore[arg-type]

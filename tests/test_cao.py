@@ -8,11 +8,10 @@ import pickle
 import numpy as np
 import pytest
 
-from uavcov.cao import (
-    MARGINAL_OPTIMIZERS,
-    OPTIMIZERS,
-    CAOSettings,
-    OptimizerTrace,
+from uavcov import CAOSettings
+from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from uavcov.optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace, cao, per_robot_cao
+from uavcov.optim._cao import (
     _all_monomials,
     _design,
     _draw_monomials,
@@ -23,10 +22,7 @@ from uavcov.cao import (
     _n_distinct_monomials,
     _ridge,
     _robot_design,
-    cao,
-    per_robot_cao,
 )
-from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
 
 def quadratic(target: np.ndarray, weights: np.ndarray | None = None):
@@ -208,12 +204,12 @@ def test_runs_on_the_rust_and_the_numpy_kernels_are_the_same(monkeypatch, optimi
     runs may part where rounding flips a near-tie between candidates)."""
     import sys
 
-    from uavcov import MissionSpec, gaussian_hills, run_mission
+    from uavcov import MissionSettings, gaussian_hills, run_mission
 
     terrain = gaussian_hills(spacing=2.0, rng=4)
-    spec = MissionSpec(n_uavs=6, d_max=20.0, iterations=40, optimizer=optimizer)
+    spec = MissionSettings(n_uavs=6, d_max=20.0, iterations=40, optimizer=optimizer)
     rust = run_mission(terrain, spec, rng=4, n_threads=1)
-    module = sys.modules["uavcov.cao"]
+    module = sys.modules["uavcov.optim._cao"]
     monkeypatch.setattr(module, "_fit_and_score", _fit_and_score_numpy)
     monkeypatch.setattr(module, "_fit_and_score_robots", _fit_and_score_robots_numpy)
     reference = run_mission(terrain, spec, rng=4, n_threads=1)
@@ -314,17 +310,6 @@ def test_trace_shapes_bookkeeping_and_pickling():
     back = pickle.loads(pickle.dumps(tr))
     np.testing.assert_array_equal(back.trajectory, tr.trajectory)
     assert back.best_value == tr.best_value and back.settings == tr.settings
-
-
-@pytest.mark.parametrize(
-    "old, new", [("time_measure", "time_measure_s"), ("time_feasibility", "time_feasibility_s"), ("time_own", "time_optimizer_s")]
-)
-def test_the_old_timing_names_still_read_with_a_deprecation_warning(old, new):
-    tr = cao(quadratic(np.ones((1, 3))), np.zeros((1, 3)), feasible=lambda c, m: np.ones(len(m), bool), iterations=3, rng=0)
-    with pytest.warns(DeprecationWarning, match=rf"OptimizerTrace\.{old} is deprecated.*OptimizerTrace\.{new}"):
-        assert getattr(tr, old) == getattr(tr, new)
-    with pytest.raises(AttributeError):
-        setattr(tr, old, 1.0)  # read-only, like the fields
 
 
 def test_every_move_is_a_perturbation_of_size_alpha():
@@ -594,11 +579,11 @@ def test_anisotropic_quadratic_uses_the_fitted_slope():
 @pytest.fixture(scope="module")
 def flat_plane_case():
     try:
-        from uavcov.surface import Terrain
-        from uavcov.visibility import Visibility
+        from uavcov import Terrain, Visibility
     except ImportError as exc:
         pytest.skip(f"uavcov engine not available: {exc}")
-    from uavcov.constraints import Constraints, feasibility
+    from uavcov import Constraints
+    from uavcov.placement import feasibility
 
     # a 44 m square at z = 0, 1 m targets; at h_min = 2 m a UAV sees a disk of radius 10 m.
     # Four such disks fit in the square without overlap, so the optimum is 4 pi 10^2 / 44^2
@@ -617,7 +602,7 @@ def flat_plane_case():
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_flat_plane_four_uavs_from_the_corner_reach_95_percent(flat_plane_case, seed):
-    from uavcov.constraints import trajectory_feasible
+    from uavcov.placement import trajectory_feasible
 
     terrain, vis, optimum, constraints, feasible, corner = flat_plane_case
     tr = cao(vis.coverage, corner, feasible=feasible, iterations=500, rng=seed)
@@ -647,7 +632,7 @@ def test_flat_plane_per_robot_variant(flat_plane_case):
 
     tr = per_robot_cao(measure, corner, feasible=feasible, iterations=400, rng=0)
     assert tr.best_value >= 0.95 * optimum
-    from uavcov.constraints import trajectory_feasible
+    from uavcov.placement import trajectory_feasible
 
     assert trajectory_feasible(constraints, terrain, tr.trajectory).all()
 
@@ -678,11 +663,12 @@ def _independent_constraint_check(terrain, constraints, traj):
 @pytest.mark.parametrize("optimizer", ["cao", "per_robot"])
 def test_constraints_hold_at_every_iteration_on_real_scenes(optimizer):
     try:
-        from uavcov.terrains import buildings_scene, gaussian_hills
-        from uavcov.visibility import Visibility
+        from uavcov import Visibility, gaussian_hills
+        from uavcov.terrain import buildings_scene
     except ImportError as exc:
         pytest.skip(f"uavcov engine not available: {exc}")
-    from uavcov.constraints import Constraints, closest_admissible, feasibility
+    from uavcov import Constraints
+    from uavcov.placement import closest_admissible, feasibility
 
     hills = gaussian_hills(size=50.0, spacing=2.0, sigma=6.0, rng=1001)
     town = buildings_scene(size=24.0, spacing=1.0, rng=1002)
@@ -715,7 +701,7 @@ def test_each_fit_uses_the_window_of_eq_4(monkeypatch, optimizer):
     """Iteration k fits exactly the measurements l_k ... k - 1, l_k = max(0, k - L - T_h)."""
     import sys
 
-    module = sys.modules["uavcov.cao"]  # the package exports the function cao under that name
+    module = sys.modules["uavcov.optim._cao"]  # the package exports the function cao under that name
     fits: list[np.ndarray] = []
     name = "_fit_and_score" if optimizer == "cao" else "_fit_and_score_robots"
     real_fit = getattr(module, name)
@@ -768,8 +754,9 @@ def test_holding_an_inadmissible_uav_lets_the_others_move():
 
 
 def test_the_hold_rule_stays_out_of_the_papers_settings_hashes():
-    from uavcov import paper
-    from uavcov.sweep import experiment_settings, settings_hash
+    from uavcov.experiments import _paper as paper
+    from uavcov.experiments import settings_hash
+    from uavcov.experiments._sweep import experiment_settings
 
     for experiment in paper.EXPERIMENTS.values():
         assert "infeasible" not in experiment_settings(experiment)["mission"]["cao"]

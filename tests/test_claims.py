@@ -1,13 +1,13 @@
-"""The paper's claims measured on rows (uavcov.claims): gains, robustness, speed, convergence."""
+"""The paper's claims measured on rows (uavcov.experiments._claims): gains, robustness, speed, convergence."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from uavcov import claims, paper
-from uavcov.results import ResultsFolder
-from uavcov.sweep import experiment_specs, run_specs
+from uavcov.experiments import ResultsFolder, experiment_specs, run_specs
+from uavcov.experiments import _claims as claims
+from uavcov.experiments import _paper as paper
 
 
 def _rows(values: dict[tuple[int, str], list[float]]) -> list[dict]:

@@ -19,8 +19,7 @@ import pytest
 
 from tiny import TINY_TOML
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, main
-from uavcov.results import CONFIG_FORMAT, read_runs
-from uavcov.sweep import available_cores
+from uavcov.experiments import CONFIG_FORMAT, available_cores, read_runs
 
 TINY_SWEEP = TINY_TOML + '\n[sweep]\n"cao.alpha0" = [1.0, 2.0]\n'
 
@@ -104,7 +103,8 @@ def test_sweep_end_to_end(tmp_path, capsys):
             "did you mean 'lloyd'",
         ),
         ('[cvt]\npreset = "lloid"\n', "cvt.preset"),
-        ("[flight]\nh_min = 60.0\nz_max = 50.0\n", "h_min"),
+        ("[constraints]\nh_min = 60.0\nz_max = 50.0\n", "h_min"),
+        ("[flight]\nh_min = 2.0\n", "flight"),  # the table of earlier releases is gone
         ('prior = "map"\n', "buildings"),
         ("[sweep]\nd_max = []\n", "non-empty list"),
         ("[sweep]\nseeds = [1, 2]\n", "top level"),

@@ -13,14 +13,9 @@ import pickle
 import numpy as np
 import pytest
 
-from uavcov.constraints import (
-    Constraints,
-    closest_admissible,
-    feasibility,
-    feasible_mask,
-    trajectory_feasible,
-)
+from uavcov import Constraints
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from uavcov.placement import closest_admissible, feasibility, feasible_mask, trajectory_feasible
 
 # ---------------------------------------------------------------------------------------------
 # An analytic world: ground z = ground on [0, size]^2, closed boxes standing on it
@@ -444,7 +439,7 @@ def test_impossible_starts_raise(town):
 
 def _terrain_or_skip():
     try:
-        from uavcov.surface import Terrain
+        from uavcov import Terrain
     except ImportError as exc:  # the extension is not built in this environment
         pytest.skip(f"uavcov engine not available: {exc}")
     return Terrain
@@ -490,7 +485,7 @@ def test_closest_admissible_and_masks_on_a_real_grid_terrain(hill_grid):
 
 def test_on_a_real_buildings_scene():
     _terrain_or_skip()
-    from uavcov.terrains import Building, buildings_terrain
+    from uavcov.terrain import Building, buildings_terrain
 
     scene = buildings_terrain([Building(8.0, 8.0, 14.0, 12.0, 6.0)], size=24.0, spacing=0.5)
     c = Constraints.for_world(scene, h_min=1.0, z_max=20.0, d_safe=1.0, check_moves=True)
@@ -534,7 +529,7 @@ def test_the_fused_rust_check_gives_the_python_checks_answers(scene, h_max, chec
     """Terrain.admissible_mask (one Rust pass) against the separate queries, candidate by candidate."""
     _terrain_or_skip()
     import uavcov
-    from uavcov.terrains import Building, buildings_terrain
+    from uavcov.terrain import Building, buildings_terrain
 
     if scene == "hills":
         world = uavcov.gaussian_hills(spacing=2.0, rng=1001)

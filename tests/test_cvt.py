@@ -1,4 +1,4 @@
-"""The constrained CVT (uavcov.cvt) against scikit-learn's k-means, the surface, and bad input."""
+"""The constrained CVT (uavcov.placement._cvt) against scikit-learn's k-means, the surface, and bad input."""
 
 from __future__ import annotations
 
@@ -9,9 +9,8 @@ import pytest
 from sklearn.cluster import KMeans
 from threadpoolctl import threadpool_limits
 
-from uavcov import errors
-from uavcov.cvt import PRESETS, CVTResult, cvt, default_samples_per_iteration, seed_from_rng
-from uavcov.surface import Terrain
+from uavcov import Terrain, errors
+from uavcov.placement import PRESETS, CVTResult, cvt, default_samples_per_iteration, seed_from_rng
 
 SIDE = 100.0
 

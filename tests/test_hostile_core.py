@@ -144,7 +144,7 @@ def test_the_issues_cvt_team_sizes_end_cleanly(n: int) -> None:
     out = run(
         f"""
         t = Terrain.from_grid(np.random.default_rng(0).uniform(0, 5, (21, 21)), 1.0)
-        done(outcome(lambda: len(uavcov.cvt(t, {n}, rng=0).generators)))
+        done(outcome(lambda: len(uavcov.placement.cvt(t, {n}, rng=0).generators)))
         """
     )
     assert is_error(out) or out == ["ok", n], out

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from tiny import TINY_TOML, tiny_experiment
-from uavcov import paper
+from uavcov import MissionSettings, Terrain, run_mission
 from uavcov._validate import MAX_RUNS, MAX_SEEDS, MAX_UAVS
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
 from uavcov.errors import (
@@ -31,12 +31,9 @@ from uavcov.errors import (
     ResultsFormatError,
     ResultsInUseError,
 )
-from uavcov.mission import MissionSpec, run_mission
+from uavcov.experiments import CONFIG_FORMAT, experiment_specs, parse_seeds, parse_sweep_config, read_runs, run_specs, settings_hash
+from uavcov.experiments import _paper as paper
 from uavcov.records import load_mission, save_mission
-from uavcov.results import CONFIG_FORMAT, read_runs
-from uavcov.surface import Terrain
-from uavcov.sweep import experiment_specs, parse_seeds, run_specs, settings_hash
-from uavcov.sweep_config import parse_sweep_config
 
 TINY = tiny_experiment(2)
 
@@ -111,11 +108,11 @@ except BaseException as exc:
 @pytest.mark.parametrize(
     "code",
     [
-        "uavcov.cvt(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), 30000)",
-        "uavcov.cvt(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), 10**6)",
-        "uavcov.run_mission(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), uavcov.MissionSpec(n_uavs=30000, d_max=5.0))",
-        "from uavcov.sweep import parse_seeds; parse_seeds('0-999999999')",
-        "from uavcov.sweep import parse_seeds; parse_seeds(range(10**12))",
+        "uavcov.placement.cvt(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), 30000)",
+        "uavcov.placement.cvt(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), 10**6)",
+        "uavcov.run_mission(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), uavcov.MissionSettings(n_uavs=30000, d_max=5.0))",
+        "from uavcov.experiments._sweep import parse_seeds; parse_seeds('0-999999999')",
+        "from uavcov.experiments._sweep import parse_seeds; parse_seeds(range(10**12))",
     ],
 )
 def test_huge_sizes_are_refused_before_any_allocation(code):
@@ -142,12 +139,12 @@ def test_the_limits_are_generous_and_documented():
 
 def test_team_size_limits():
     with pytest.raises(InvalidInputError, match="at most 1,000"):
-        MissionSpec(n_uavs=MAX_UAVS + 1, d_max=10.0)
-    MissionSpec(n_uavs=MAX_UAVS, d_max=10.0, constraints=TINY.mission.constraints.__class__(d_safe=0.0))
+        MissionSettings(n_uavs=MAX_UAVS + 1, d_max=10.0)
+    MissionSettings(n_uavs=MAX_UAVS, d_max=10.0, constraints=TINY.mission.constraints.__class__(d_safe=0.0))
     with pytest.raises(InvalidInputError, match="distance checks"):  # d_safe pairs of 200 candidates a step
-        MissionSpec(n_uavs=MAX_UAVS, d_max=10.0)
+        MissionSettings(n_uavs=MAX_UAVS, d_max=10.0)
     with pytest.raises(InvalidInputError, match="positions"):  # the recorded trajectory
-        MissionSpec(n_uavs=100, d_max=10.0, iterations=1_000_000)
+        MissionSettings(n_uavs=100, d_max=10.0, iterations=1_000_000)
     with pytest.raises(InvalidInputError, match="team_sizes"):
         TINY.with_changes(team_sizes=(2, 30000))
     with pytest.raises(InvalidInputError):
@@ -155,7 +152,8 @@ def test_team_size_limits():
 
 
 def test_cvt_limits():
-    from uavcov.cvt import CVTSettings, cvt
+    from uavcov import CVTSettings
+    from uavcov.placement import cvt
 
     square = Terrain.from_grid(np.zeros((11, 11)), 1.0)
     with pytest.raises(InvalidInputError, match="samples_per_iteration"):
@@ -361,7 +359,7 @@ def test_load_mission_on_hostile_files(tmp_path, run_file):
 
 
 def test_save_mission_of_a_wrong_type(tmp_path, run_file):
-    for wrong in ("x", None, load_mission(run_file).spec):
+    for wrong in ("x", None, load_mission(run_file).settings):
         with pytest.raises(InvalidTypeError, match="MissionResult"):
             save_mission(wrong, tmp_path / "x.npz")  # type: ignore[arg-type]
     with pytest.raises(InvalidTypeError, match="path"):
@@ -369,12 +367,12 @@ def test_save_mission_of_a_wrong_type(tmp_path, run_file):
     assert not (tmp_path / "x.npz").exists()
 
 
-def test_run_mission_cvt_options_unknown_or_not_a_mapping():
+def test_run_mission_settings_unknown_or_not_settings():
     terrain = Terrain.from_grid(np.zeros((11, 11)), 1.0)
-    with pytest.warns(DeprecationWarning, match="MissionSpec"), pytest.raises(InvalidInputError, match="bogus"):
-        run_mission(terrain, n_uavs=2, d_max=5.0, iterations=1, cvt_options={"bogus": 1})
-    with pytest.warns(DeprecationWarning, match="MissionSpec"), pytest.raises(InvalidTypeError, match="mapping"):
-        run_mission(terrain, n_uavs=2, d_max=5.0, iterations=1, cvt_options=[("tol", 1.0)])
+    with pytest.raises(InvalidTypeError, match="MissionSettings"):
+        run_mission(terrain, {"n_uavs": 2, "d_max": 5.0})  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="bogus"):
+        MissionSettings.from_dict({"n_uavs": 2, "d_max": 5.0, "cvt": {"bogus": 1}})
 
 
 # ---------------------------------------------------------------------------------------------
@@ -417,7 +415,7 @@ def test_arrays_of_the_wrong_shape_are_refused(tmp_path, run_file):
         path = rewrite(run_file, tmp_path / f"{name}.npz", replace={name: array})
         with pytest.raises(ResultsFormatError, match=name):
             load_mission(path)
-    assert load_mission(run_file).spec.n_uavs == 2  # the untouched file still loads
+    assert load_mission(run_file).settings.n_uavs == 2  # the untouched file still loads
 
 
 # ---------------------------------------------------------------------------------------------
@@ -467,7 +465,7 @@ def test_an_unrelated_config_json_or_summary_is_not_overwritten(tmp_path, capsys
     out = tmp_path / "reproduce"
     out.mkdir()
     write(out / "example.md", "mine")
-    from uavcov import jobs
+    from uavcov.experiments import _jobs as jobs
 
     with pytest.raises(ResultsInUseError, match=r"example\.md"):
         jobs.reproduce("example", out, iterations=1, workers=1, save_runs=False)

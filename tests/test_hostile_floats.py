@@ -34,14 +34,14 @@ TIMEOUT_S = 5.0
 WORKER = r"""
 import json, math, sys
 import numpy as np
-from uavcov.constraints import Constraints, closest_admissible
-from uavcov.cvt import cvt
+from uavcov.placement._constraints import Constraints, closest_admissible
+from uavcov.placement._cvt import cvt
 from uavcov.errors import UavcovError
-from uavcov.mission import MissionSpec
-from uavcov.starts import StartSpec
-from uavcov.surface import Terrain
-from uavcov.targets import Targets
-from uavcov.visibility import Visibility
+from uavcov.mission import MissionSettings
+from uavcov.placement._starts import StartSettings
+from uavcov.engine._surface import Terrain
+from uavcov.engine._targets import Targets
+from uavcov.engine._visibility import Visibility
 
 def terrain(case):
     if case["surface"] == "grid":
@@ -72,7 +72,7 @@ def probe(case):
         out["flight_box"] = [float(v) for v in c.flight_box]
         out["admissible"] = closest_admissible(c, t, np.repeat(p, case["n"], axis=0)).tolist()
     elif kind == "spec":
-        spec = MissionSpec(n_uavs=2, d_max=case["d_max"], start=StartSpec(**case["start"]))
+        spec = MissionSettings(n_uavs=2, d_max=case["d_max"], start=StartSettings(**case["start"]))
         out["d_max"] = spec.d_max
         out["targets"] = Targets(p, [case["d_max"]]).weights.tolist()
     return out

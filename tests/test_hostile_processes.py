@@ -19,8 +19,8 @@ import pytest
 
 from tiny import TINY_TOML
 from uavcov.cli import EXIT_OK, main
+from uavcov.experiments import read_runs
 from uavcov.records import load_mission
-from uavcov.results import read_runs
 
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc (Linux)")
 
@@ -166,7 +166,7 @@ def test_a_sweep_killed_at_random_moments_resumes_to_the_same_rows(tmp_path):
 
 _POOL_SCRIPT = r"""
 import sys, threading, time
-from uavcov.executors import local_executor
+from uavcov.experiments._executors import local_executor
 
 futures = []
 

@@ -1,4 +1,4 @@
-"""uavcov.jobs.reproduce_all: every experiment into its folder, one report naming its settings."""
+"""uavcov.experiments._jobs.reproduce_all: every experiment into its folder, one report naming its settings."""
 
 from __future__ import annotations
 
@@ -6,16 +6,16 @@ import dataclasses
 
 import pytest
 
-from uavcov import jobs, paper
 from uavcov.errors import ConfigError
-from uavcov.results import read_runs
-from uavcov.sweep import experiments_hash
+from uavcov.experiments import _jobs as jobs
+from uavcov.experiments import _paper as paper
+from uavcov.experiments import experiments_hash, read_runs
 
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("all")
-    results = jobs.reproduce_all(out, seeds=[0], iterations=2, figures=False, workers=1, n_threads=1)
+    results = jobs.reproduce_all(out, seeds=[0], iterations=2, figures=None, workers=1, n_threads=1)
     return out, results
 
 
@@ -27,7 +27,7 @@ def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick
         assert len(rows) == len(experiment.team_sizes) * len(experiment.starts) == len(results[name])
         assert not any(r["error"] for r in rows)
     report = (out / "report.md").read_text(encoding="utf-8")
-    assert f"`uavcov.paper` {experiments_hash(paper.EXPERIMENTS)}" in report
+    assert f"`uavcov.experiments.EXPERIMENTS` {experiments_hash(paper.EXPERIMENTS)}" in report
     for heading in (
         "## Table 1",
         "## The paper's claims on Table 1",
@@ -45,8 +45,8 @@ def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick
 
 
 def test_the_ablation_runs_each_change_beside_the_papers_model(quick):
+    from uavcov.experiments import ResultsFolder
     from uavcov.records import load_mission
-    from uavcov.results import ResultsFolder
 
     out, results = quick
     rows = results["ablation"]
@@ -60,10 +60,10 @@ def test_the_ablation_runs_each_change_beside_the_papers_model(quick):
     folder = ResultsFolder(out / "ablation")
     by_label = {r["experiment"]: r for r in rows if r["init"] == "corner" and r["n_uavs"] == 12}
     base = load_mission(folder.run_file(by_label["ablation"]["run_id"]))
-    assert base.spec.constraints == paper.TABLE1.spec(12, "corner").constraints.resolve(base.terrain)
-    assert load_mission(folder.run_file(by_label["ablation-no-ceiling"]["run_id"])).spec.constraints.h_max is None
-    assert load_mission(folder.run_file(by_label["ablation-noise"]["run_id"])).spec.cao.measurement_noise == 0.015
-    assert load_mission(folder.run_file(by_label["ablation-corner-launch"]["run_id"])).spec.start.corner_altitude == 8.0
+    assert base.settings.constraints == paper.TABLE1.mission_settings(12, "corner").constraints.resolve(base.terrain)
+    assert load_mission(folder.run_file(by_label["ablation-no-ceiling"]["run_id"])).settings.constraints.h_max is None
+    assert load_mission(folder.run_file(by_label["ablation-noise"]["run_id"])).settings.cao.measurement_noise == 0.015
+    assert load_mission(folder.run_file(by_label["ablation-corner-launch"]["run_id"])).settings.start.corner_altitude == 8.0
     table = (out / "ablation" / "ablation.md").read_text(encoding="utf-8")
     assert table.count("\n| ") == len(labels) + 1  # the header and one line per variant
     for change in paper.ABLATIONS:

@@ -8,15 +8,15 @@ import numpy as np
 import pytest
 
 import uavcov
-from uavcov import CAOSettings, Constraints, CVTSettings, MissionSpec, StartSpec
-from uavcov.constraints import trajectory_feasible
+from uavcov import CAOSettings, Constraints, CVTSettings, MissionSettings, StartSettings, run_mission
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, UavcovError
-from uavcov.mission import iterations_to_fraction, run_mission
+from uavcov.mission import iterations_to_fraction
+from uavcov.placement import trajectory_feasible
 from uavcov.records import load_mission, save_mission
 
 
-def _spec(n_uavs: int, d_max: float = 25.0, *, start: str = "cvt", iterations: int = 40, **changes) -> MissionSpec:
-    return MissionSpec(n_uavs=n_uavs, d_max=d_max, iterations=iterations, start=StartSpec(kind=start)).with_changes(**changes)
+def _spec(n_uavs: int, d_max: float = 25.0, *, start: str = "cvt", iterations: int = 40, **changes) -> MissionSettings:
+    return MissionSettings(n_uavs=n_uavs, d_max=d_max, iterations=iterations, start=StartSettings(kind=start)).with_changes(**changes)
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +30,7 @@ def short_run(hills):
 
 
 def _constraints(result) -> Constraints:
-    return result.spec.constraints  # resolved against the true surface by run_mission
+    return result.settings.constraints  # resolved against the true surface by run_mission
 
 
 @pytest.mark.parametrize("start", ["cvt", "random", "corner"])
@@ -39,13 +39,13 @@ def test_every_constraint_holds_at_every_iteration(hills, start, ceiling):
     changes = {} if ceiling is None else {"constraints.h_max": ceiling, "constraints.check_moves": True}
     result = run_mission(hills, _spec(8, start=start, **changes), rng=3, n_threads=1)
     assert result.trajectory.shape == (41, 8, 3)
-    assert result.spec.constraints.bounds == (0.0, 0.0, 100.0, 100.0)
-    assert result.spec.constraints.check_moves is (ceiling is not None)
+    assert result.settings.constraints.bounds == (0.0, 0.0, 100.0, 100.0)
+    assert result.settings.constraints.check_moves is (ceiling is not None)
     assert trajectory_feasible(_constraints(result), hills, result.trajectory).all()
     # Checked again from the definitions, independently of the constraints module.
     t = result.trajectory.reshape(-1, 3)
-    assert (hills.clearance(t) >= result.spec.constraints.h_min - 1e-9).all()
-    assert (t[:, 2] <= result.spec.constraints.z_max + 1e-9).all()
+    assert (hills.clearance(t) >= result.settings.constraints.h_min - 1e-9).all()
+    assert (t[:, 2] <= result.settings.constraints.z_max + 1e-9).all()
     if ceiling is not None:
         height = t[:, 2] - hills.ground_height(t[:, :2])
         assert (height <= ceiling + 1e-9).all() and height.max() > ceiling - 1.0  # held, and reached
@@ -57,11 +57,11 @@ def test_every_constraint_holds_at_every_iteration(hills, start, ceiling):
     assert ((t[:, :2] >= lo[:2] - 1e-9) & (t[:, :2] <= hi[:2] + 1e-9)).all()
     for x in result.trajectory:
         d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
-        assert d[np.triu_indices(8, 1)].min() >= result.spec.constraints.d_safe - 1e-9
+        assert d[np.triu_indices(8, 1)].min() >= result.settings.constraints.d_safe - 1e-9
 
 
 def test_recorded_coverage_is_the_true_coverage(short_run):
-    vis = uavcov.Visibility(short_run.terrain, short_run.spec.d_max)
+    vis = uavcov.Visibility(short_run.terrain, short_run.settings.d_max)
     for k in (0, 10, 40):
         assert short_run.coverage[k] == vis.coverage(short_run.trajectory[k])
     assert short_run.best_coverage == short_run.coverage.max()
@@ -95,7 +95,7 @@ def test_the_start_comes_from_the_approximating_surface(short_run):
     gens = short_run.cvt.generators
     assert np.abs(s_prime.closest_point(gens) - gens).max() < 1e-6
     np.testing.assert_array_equal(short_run.start_positions[:, :2], gens[:, :2])
-    altitude = short_run.spec.start.altitude
+    altitude = short_run.settings.start.altitude
     np.testing.assert_array_equal(short_run.start_positions[:, 2], short_run.terrain.ground_height(gens[:, :2]) + altitude)
     assert short_run.prior_points.shape == (34, 3)
     corners = {(x, y) for x, y in short_run.prior_points[:, :2]}
@@ -128,16 +128,16 @@ def test_pyramid_prior_and_given_surface_and_given_start(hills):
 def test_per_robot_optimizer_and_measurement_noise(hills):
     spec = _spec(4, iterations=15, optimizer="per_robot", cao=CAOSettings(measurement_noise=0.01))
     r = run_mission(hills, spec, rng=2)
-    assert r.spec.optimizer == "per_robot" and r.spec.cao.measurement_noise == 0.01
+    assert r.settings.optimizer == "per_robot" and r.settings.cao.measurement_noise == 0.01
     assert not np.array_equal(r.trace.measured, r.trace.values)  # the optimiser saw noise
     vis = uavcov.Visibility(hills, 25.0)
     assert r.coverage[-1] == vis.coverage(r.trajectory[-1])  # the record did not
 
 
 def test_buildings_scene_checks_moves():
-    scene = uavcov.buildings_scene(rng=3)
+    scene = uavcov.terrain.buildings_scene(rng=3)
     r = run_mission(scene, _spec(4, 8.0, iterations=20, **{"constraints.z_max": 20.0}), rng=3, n_threads=1)
-    assert r.spec.constraints.check_moves
+    assert r.settings.constraints.check_moves
     t = r.trajectory
     assert scene.segments_clear(t[:-1].reshape(-1, 3), t[1:].reshape(-1, 3)).all()
 
@@ -150,7 +150,7 @@ def test_result_pickles_and_round_trips_through_a_file(short_run, tmp_path):
     np.testing.assert_array_equal(loaded.trajectory, short_run.trajectory)
     np.testing.assert_array_equal(loaded.cvt.generators, short_run.cvt.generators)
     np.testing.assert_array_equal(loaded.terrain.vertices, short_run.terrain.vertices)
-    assert loaded.spec == short_run.spec and loaded.seed == 7 and loaded.prior_kind == short_run.prior_kind
+    assert loaded.settings == short_run.settings and loaded.seed == 7 and loaded.prior_kind == short_run.prior_kind
     assert loaded.best_coverage == short_run.best_coverage
 
 
@@ -219,92 +219,58 @@ def test_known_points_as_prior_and_a_start_exactly_at_h_min(hills):
     np.testing.assert_allclose(lifted.trajectory[0][:, 2], hills.ground_height(xy[:4]) + 3.0)
 
 
-def test_the_deprecated_keyword_form_runs_the_same_mission(hills, short_run):
-    with pytest.warns(DeprecationWarning, match="MissionSpec"):
-        old = run_mission(hills, n_uavs=6, d_max=25.0, iterations=40, rng=7, n_threads=1)
-    assert old.spec == short_run.spec
-    np.testing.assert_array_equal(old.trajectory, short_run.trajectory)
-    with pytest.warns(DeprecationWarning, match="MissionSpec"):
-        keywords = run_mission(
-            hills,
-            n_uavs=4,
-            d_max=25.0,
-            start="corner",
-            start_altitude=3.0,
-            h_min=1.5,
-            z_max=70.0,
-            d_safe=1.5,
-            settings=CAOSettings(alpha0=2.0),
-            cvt_options={"tol": 0.2},
-            iterations=3,
-            rng=2,
-        )
-    expected = _spec(
-        4,
-        start="corner",
-        iterations=3,
-        cao=CAOSettings(alpha0=2.0),
-        cvt=CVTSettings(tol=0.2),
-        **{"start.altitude": 3.0, "constraints.h_min": 1.5, "constraints.z_max": 70.0, "constraints.d_safe": 1.5},
-    )
-    resolved = expected.with_changes(constraints=keywords.spec.constraints, cao=expected.cao.resolved(4))
-    assert keywords.spec == resolved
-    with pytest.warns(DeprecationWarning, match="MissionSpec"), pytest.raises(InvalidInputError, match="unknown"):
-        run_mission(hills, n_uavs=4, d_max=25.0, colour="red")
-    with pytest.raises(InvalidInputError, match="not both"):
-        run_mission(hills, _spec(4), n_uavs=4)
-    with pytest.warns(DeprecationWarning, match="MissionResult.spec"):
-        assert short_run.settings is short_run.spec
-    with pytest.warns(DeprecationWarning, match="MissionSpec"):
-        assert uavcov.MissionSettings is MissionSpec
-
-
 def test_mission_spec_is_a_frozen_picklable_value_and_round_trips_as_data():
     spec = _spec(7, 20.0, start="random", **{"start.random_altitude": (1.0, 4.0), "cvt.preset": "lloyd", "cao.alpha0": 2.5})
     assert pickle.loads(pickle.dumps(spec)) == spec and hash(pickle.loads(pickle.dumps(spec))) == hash(spec)
-    assert MissionSpec.from_dict(spec.as_dict()) == spec
+    assert MissionSettings.from_dict(spec.as_dict()) == spec
     import json
 
-    assert MissionSpec.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec  # tuples come back from lists
+    assert MissionSettings.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec  # tuples come back from lists
     with pytest.raises(AttributeError):
         spec.n_uavs = 3  # type: ignore[misc]
     with pytest.raises(InvalidInputError, match="unknown field"):
-        MissionSpec.from_dict({**spec.as_dict(), "colour": "red"})
+        MissionSettings.from_dict({**spec.as_dict(), "colour": "red"})
     with pytest.raises(InvalidInputError, match="no field"):
         spec.with_changes(**{"start.colour": "red"})
 
 
 def test_start_configuration_is_the_one_start_pipeline(hills):
     """Heights above the real ground or above S', corner and random altitudes, from one function."""
-    prior = uavcov.sample_prior(hills, 30, rng=4)
-    s_prime = uavcov.approximate_surface(prior)
-    on_prime, _ = uavcov.start_configuration(StartSpec(kind="corner", altitude=3.0, altitude_reference="prior"), s_prime, hills, 4)
-    lattice = uavcov.initial_positions("corner", s_prime, 4)
+    prior = uavcov.terrain.sample_prior(hills, 30, rng=4)
+    s_prime = uavcov.terrain.approximate_surface(prior)
+    on_prime, _ = uavcov.placement.start_configuration(
+        StartSettings(kind="corner", altitude=3.0, altitude_reference="prior"), s_prime, hills, 4
+    )
+    lattice = uavcov.placement.initial_positions("corner", s_prime, 4)
     np.testing.assert_array_equal(on_prime, lattice + [0.0, 0.0, 3.0])
-    above_ground, _ = uavcov.start_configuration(StartSpec(kind="corner", altitude=3.0, corner_altitude=6.0), s_prime, hills, 4)
+    above_ground, _ = uavcov.placement.start_configuration(
+        StartSettings(kind="corner", altitude=3.0, corner_altitude=6.0), s_prime, hills, 4
+    )
     np.testing.assert_array_equal(above_ground[:, 2], hills.ground_height(lattice[:, :2]) + 6.0)
-    spec = StartSpec(kind="random", random_altitude=(2.0, 9.0), altitude_reference="prior")
-    a, _ = uavcov.start_configuration(spec, s_prime, hills, 6, rng=1)
-    b, _ = uavcov.start_configuration(spec, s_prime, hills, 6, rng=1)
+    spec = StartSettings(kind="random", random_altitude=(2.0, 9.0), altitude_reference="prior")
+    a, _ = uavcov.placement.start_configuration(spec, s_prime, hills, 6, rng=1)
+    b, _ = uavcov.placement.start_configuration(spec, s_prime, hills, 6, rng=1)
     np.testing.assert_array_equal(a, b)
     height = a[:, 2] - s_prime.ground_height(a[:, :2])
     assert ((height >= 2.0 - 1e-9) & (height <= 9.0 + 1e-9)).all() and np.ptp(height) > 0.5
-    tessellated, tessellation = uavcov.start_configuration(StartSpec(), s_prime, hills, 5, cvt_settings=CVTSettings(preset="lloyd"), rng=3)
+    tessellated, tessellation = uavcov.placement.start_configuration(
+        StartSettings(), s_prime, hills, 5, cvt_settings=CVTSettings(preset="lloyd"), rng=3
+    )
     np.testing.assert_array_equal(tessellated[:, :2], tessellation.generators[:, :2])
     # the same start as a mission draws it from its start stream
     run = run_mission(hills, _spec(5, iterations=0, cvt=CVTSettings(preset="lloyd")), known=prior, rng=np.random.default_rng(11))
     _, start_rng, _ = np.random.default_rng(11).spawn(3)
-    expected, _ = uavcov.start_configuration(
-        StartSpec(), run.approximation, hills, 5, cvt_settings=CVTSettings(preset="lloyd"), rng=start_rng
+    expected, _ = uavcov.placement.start_configuration(
+        StartSettings(), run.approximation, hills, 5, cvt_settings=CVTSettings(preset="lloyd"), rng=start_rng
     )
     np.testing.assert_array_equal(run.start_positions, expected)
 
 
 def test_a_lifted_uav_climbs_by_the_start_s_climb(hills):
-    low = StartSpec(kind="corner", altitude=0.0, climb=1.5)
+    low = StartSettings(kind="corner", altitude=0.0, climb=1.5)
     r = run_mission(hills, _spec(4, iterations=0).with_changes(start=low), rng=0)
     ground = hills.ground_height(r.trajectory[0][:, :2])
-    np.testing.assert_allclose(r.trajectory[0][:, 2], ground + r.spec.constraints.h_min + 1.5)
+    np.testing.assert_allclose(r.trajectory[0][:, 2], ground + r.settings.constraints.h_min + 1.5)
 
 
 def test_format_1_run_files_still_load(short_run, tmp_path):
@@ -314,7 +280,7 @@ def test_format_1_run_files_still_load(short_run, tmp_path):
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files}
     header = json.loads(str(arrays["header"]))
-    spec = short_run.spec
+    spec = short_run.settings
     header.pop("spec"), header.pop("seed"), header.pop("prior_kind")
     header["format"] = "uavcov.mission/1"
     header["settings"] = {
@@ -336,13 +302,13 @@ def test_format_1_run_files_still_load(short_run, tmp_path):
     arrays["header"] = np.array(json.dumps(header))
     np.savez(tmp_path / "old.npz", **arrays)
     old = load_mission(tmp_path / "old.npz")
-    assert old.spec.start.kind == "cvt" and old.seed == 7 and old.spec.constraints.h_min == 2.0
+    assert old.settings.start.kind == "cvt" and old.seed == 7 and old.settings.constraints.h_min == 2.0
     np.testing.assert_array_equal(old.coverage, short_run.coverage)
 
 
 def test_a_team_that_stays_is_not_measured_again(hills, monkeypatch):
     calls = []
-    for cls, name in ((uavcov.Visibility, "coverage"), (uavcov.Visibility, "per_uav"), (uavcov.CoverageTracker, "coverage")):
+    for cls, name in ((uavcov.Visibility, "coverage"), (uavcov.Visibility, "per_uav"), (uavcov.engine.CoverageTracker, "coverage")):
         original = getattr(cls, name)
         monkeypatch.setattr(cls, name, lambda self, *a, _f=original, **k: calls.append(1) or _f(self, *a, **k))
     # a big first step in a narrow band: many iterations find nothing admissible and stay

@@ -1,4 +1,4 @@
-"""The paper's experiment settings and published numbers (uavcov.paper)."""
+"""The paper's experiment settings and published numbers (uavcov.experiments._paper)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from uavcov import Constraints, StartSpec, paper
+from uavcov import Constraints, StartSettings
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.sweep import Experiment, RunSpec
+from uavcov.experiments import Experiment, RunSpec
+from uavcov.experiments import _paper as paper
 
 EXCERPTS = Path(__file__).resolve().parents[1] / "docs" / "paper-excerpts.md"
 PAPER_TEX = Path(__file__).resolve().parents[2] / "shared" / "reference" / "paper.tex"
@@ -135,18 +136,14 @@ def test_with_changes_sets_nested_fields_and_refuses_unknown_groups():
     # the other fields are kept, and the original is left as it was
     assert m.constraints.d_safe == paper.TABLE1.mission.constraints.d_safe and m.cao.decay == paper.TABLE1.mission.cao.decay
     assert paper.TABLE1.with_changes() == paper.TABLE1 and e != paper.TABLE1
-    # the deprecated flight group names the same settings
-    with pytest.warns(DeprecationWarning, match="flight group is deprecated"):
-        old = paper.TABLE1.with_changes(**{"flight.h_min": 3.0, "flight.start_altitude": 4.0})
-    assert old == paper.TABLE1.with_changes(**{"constraints.h_min": 3.0, "start.altitude": 4.0})
     with pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(**{"nothing.x": 1})
-    with pytest.warns(DeprecationWarning, match="flight group"), pytest.raises(InvalidInputError):
-        paper.TABLE1.with_changes(**{"flight.colour": 1})
+    with pytest.raises(InvalidInputError):
+        paper.TABLE1.with_changes(**{"flight.h_min": 1.0})  # the group of earlier releases is gone
     with pytest.raises(InvalidInputError):
         Constraints(h_min=10.0, z_max=5.0)
     with pytest.raises(InvalidInputError):
-        paper.HillsTerrain(heights=(30.0, 10.0))
+        paper.HillsGenerator(heights=(30.0, 10.0))
 
 
 # --- a tiny run with the paper's settings ----------------------------------------------------
@@ -171,8 +168,8 @@ def test_tiny_table1_run_works_and_is_deterministic(start):
     x0 = a.initial_positions
     clearance = x0[:, 2] - a.terrain.ground_height(x0[:, :2])
     assert (clearance >= limits.h_min - 1e-9).all() and (x0[:, 2] <= limits.z_max).all()
-    assert a.spec.d_max == 25.0 and a.spec.constraints.h_min == limits.h_min and a.spec.cao == _TINY.mission.cao.resolved(5)
-    assert a.spec.start.kind == start and (a.cvt is not None) == (start == "cvt")
+    assert a.settings.d_max == 25.0 and a.settings.constraints.h_min == limits.h_min and a.settings.cao == _TINY.mission.cao.resolved(5)
+    assert a.settings.start.kind == start and (a.cvt is not None) == (start == "cvt")
 
 
 def test_corner_start_is_the_lattice_of_the_chosen_spacing():
@@ -246,9 +243,9 @@ def test_random_altitude_and_corner_altitude():
     c = _run(e, 1004, 5, "corner", iterations=0).start_positions
     np.testing.assert_allclose(c[:, 2] - r.terrain.ground_height(c[:, :2]), 7.0)
     with pytest.raises(InvalidInputError):
-        StartSpec(random_altitude=(5.0, 1.0))
+        StartSettings(random_altitude=(5.0, 1.0))
     with pytest.raises(InvalidInputError):
-        StartSpec(altitude_reference="sea")
+        StartSettings(altitude_reference="sea")
 
 
 def test_experiment_fields_are_checked():
@@ -265,14 +262,11 @@ def test_experiment_fields_are_checked():
 
 
 def test_paper_module_runs_nothing():
-    """uavcov.paper is data: no function of its own (the sweep runs experiments)."""
+    """uavcov.experiments._paper is data: no function of its own (the sweep runs experiments)."""
     import inspect
 
     own = [name for name, value in vars(paper).items() if inspect.isfunction(value) and value.__module__ == paper.__name__]
-    assert own == ["__getattr__"]  # only the deprecated names of earlier releases
-    with pytest.warns(DeprecationWarning, match="RunSpec"):
-        old = paper.run_paper_mission(_TINY, seed=1000, n_uavs=5, start="corner", iterations=2)
-    np.testing.assert_array_equal(old.trajectory, _run(_TINY, 1000, 5, "corner", iterations=2).trajectory)
+    assert own == []
 
 
 def test_every_ablation_is_found_by_its_own_unique_name():

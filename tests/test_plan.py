@@ -18,25 +18,25 @@ import pytest
 import rasterio
 from rasterio.transform import Affine
 
-from uavcov import Visibility
-from uavcov.area import bbox_area, points_in_rings, read_area
+from uavcov import Camera, FlightPlan, PlanSettings, Sensor, Visibility, plan, read_dem, sample_dem, write_plan
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
 from uavcov.errors import InfeasibleError, InvalidInputError
-from uavcov.geo import dem_from_array, read_dem, read_mesh_dem, sample_geo_dem
-from uavcov.plan import FlightPlan, PlanSettings, default_cao, plan
-from uavcov.plan_outputs import (
+from uavcov.field import (
     COVERAGE_NODATA,
     MAV_CMD_NAV_LOITER_TIME,
     MAV_CMD_NAV_TAKEOFF,
     MAV_FRAME_GLOBAL_RELATIVE_ALT,
+    bbox_area,
+    points_in_rings,
+    read_area,
     read_coverage_geotiff,
     read_plan_geojson,
     read_plan_kml,
     read_positions_csv,
     read_qgc_plan,
-    write_plan,
 )
-from uavcov.sensors import Camera, Sensor
+from uavcov.optim import cao_preset
+from uavcov.terrain import dem_from_array, read_mesh_dem
 
 UTM33 = "EPSG:32633"
 EAST, NORTH = 500_000.0, 5_000_000.0  # UTM zone 33N: easting 500 km lies on the central meridian, 15 deg E
@@ -77,7 +77,7 @@ def utm_tif(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_geotiff(tmp_path_factory.mktemp("dem") / "utm.tif", heights(), EAST, NORTH + ROWS * CELL)
 
 
-SETTINGS = PlanSettings(n_uavs=3, d_max=150.0, h_min=10.0, h_max=60.0, separation=5.0, iterations=20)
+SETTINGS = PlanSettings(n_uavs=3, d_max=150.0, h_min=10.0, h_max=60.0, d_safe=5.0, iterations=20)
 
 
 @pytest.fixture(scope="module")
@@ -109,7 +109,7 @@ def test_utm_pixel_centres_go_to_wgs84_as_pyproj_takes_them(utm_tif: Path):
 
 @pytest.mark.parametrize("which", ["utm", "geographic"])
 def test_local_to_wgs84_to_local_within_a_millimetre(utm_tif: Path, which: str):
-    dem = read_dem(utm_tif) if which == "utm" else sample_geo_dem((0, 30, 0, 30))
+    dem = read_dem(utm_tif) if which == "utm" else sample_dem((0, 30, 0, 30))
     high = dem.terrain.bounds[1]
     local = np.random.default_rng(3).uniform([0, 0, 0], high + [0, 0, 100.0], size=(200, 3))
     back = dem.from_wgs84(dem.to_wgs84(local))
@@ -118,7 +118,7 @@ def test_local_to_wgs84_to_local_within_a_millimetre(utm_tif: Path, which: str):
 
 
 def test_the_sample_states_wgs84_and_an_unknown_vertical_datum():
-    dem = sample_geo_dem((0, 10, 0, 12))
+    dem = sample_dem((0, 10, 0, 12))
     assert dem.crs == "EPSG:4326" and dem.is_wgs84 and dem.geographic
     assert "unknown vertical datum" in dem.vertical_datum
     # the south-west node: the file's west and south edges plus half a 3 arc-second cell
@@ -150,7 +150,7 @@ def test_a_utm_geotiff_plans_as_the_same_heights_at_the_origin(tmp_path: Path, u
     np.testing.assert_allclose(utm_plan.positions_local, near.positions_local, rtol=0, atol=1e-9)
     offset = utm_plan.positions_crs[:, :2] - near.positions_crs[:, :2]
     np.testing.assert_allclose(offset, np.tile([EAST, NORTH], (3, 1)), rtol=0, atol=1e-6)
-    assert utm_plan.dem.loaded.nodata_cells == 5
+    assert utm_plan.dem.nodata_cells == 5
 
 
 # ---------------------------------------------------------------------------------------------
@@ -276,9 +276,7 @@ def test_a_bbox_in_the_dem_crs_and_a_sparse_prior(utm_tif: Path):
 def test_a_nadir_camera_footprint_over_flat_ground():
     dem = dem_from_array(np.full((21, 21), 250.0), (10.0, 0.0, EAST, 0.0, -10.0, NORTH), UTM33)
     camera = Camera.from_fov(60.0, 40.0)
-    settings = PlanSettings(
-        n_uavs=1, d_max=200.0, h_min=40.0, h_max=50.0, separation=0.0, iterations=3, sensor=Sensor(200.0, camera=camera)
-    )
+    settings = PlanSettings(n_uavs=1, d_max=200.0, h_min=40.0, h_max=50.0, d_safe=0.0, iterations=3, sensor=Sensor(200.0, camera=camera))
     result = plan(dem, settings, rng=0, n_threads=1)
     outline = result.footprints_local()[0] - result.positions_local[0, :2]
     h = result.altitude_agl[0]
@@ -304,7 +302,7 @@ def test_bad_input_raises_clear_errors(tmp_path: Path, utm_tif: Path):
     with pytest.raises(InfeasibleError, match="cannot fit"):
         plan(
             dem,
-            PlanSettings(n_uavs=50, d_max=100.0, h_min=10, h_max=11, separation=60.0),
+            PlanSettings(n_uavs=50, d_max=100.0, h_min=10, h_max=11, d_safe=60.0),
             area=bbox_area(EAST, NORTH, EAST + 100, NORTH + 100, frame="dem"),
         )
     with pytest.raises(InvalidInputError, match="take-off"):
@@ -375,7 +373,7 @@ def test_the_cli_answers_bad_input_with_one_line_and_writes_nothing(tmp_path: Pa
 
 
 def test_a_failing_writer_leaves_the_folder_as_it_was(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, utm_plan: FlightPlan):
-    from uavcov import plan_outputs
+    from uavcov.field import _outputs as plan_outputs
 
     out = tmp_path / "out"
     write_plan(utm_plan, out)
@@ -425,7 +423,7 @@ def test_a_mesh_with_its_crs_plans_without_a_coverage_raster(tmp_path: Path):
 def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
     pyproj = pytest.importorskip("pyproj")
     from uavcov import Gimbal
-    from uavcov.plan_outputs import MAV_CMD_DO_MOUNT_CONTROL
+    from uavcov.field import MAV_CMD_DO_MOUNT_CONTROL
 
     # 300 km east of the central meridian (about 18.8 deg E at 45 deg N): grid north is not true north
     west, north = EAST + 300_000.0, NORTH
@@ -436,7 +434,7 @@ def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
         d_max=150.0,
         h_min=20.0,
         h_max=80.0,
-        separation=5.0,
+        d_safe=5.0,
         iterations=20,
         sensor=camera,
         attitude=(30.0, -60.0),
@@ -492,9 +490,7 @@ def test_a_camera_plan_carries_true_headings_and_gimbal_pitch(tmp_path: Path):
 
 def test_a_mixed_team_plans_with_each_uavs_sensor(tmp_path: Path, utm_tif: Path):
     team = (Sensor(150.0, camera=Camera.from_fov(84.0, 62.0)), Sensor(100.0), Sensor(120.0, camera=Camera.from_fov(60.0, 45.0)))
-    settings = PlanSettings(
-        n_uavs=3, d_max=150.0, h_min=20.0, h_max=80.0, separation=5.0, iterations=10, sensor=team, attitude=(0.0, -80.0)
-    )
+    settings = PlanSettings(n_uavs=3, d_max=150.0, h_min=20.0, h_max=80.0, d_safe=5.0, iterations=10, sensor=team, attitude=(0.0, -80.0))
     fp = plan(read_dem(utm_tif), settings, rng=0, n_threads=1)
     poses = np.column_stack([fp.positions_local, fp.attitudes_local])
     vis = Visibility(fp.dem.terrain, 150.0, fp.targets)
@@ -506,20 +502,21 @@ def test_a_mixed_team_plans_with_each_uavs_sensor(tmp_path: Path, utm_tif: Path)
     document = json.loads((tmp_path / "out" / "plan.json").read_text())
     assert [r["d_max_m"] for r in document["settings"]["sensors"]] == [150.0, 100.0, 120.0]
     assert document["settings"]["sensors"][1]["camera"] is None
-    with pytest.raises(InvalidInputError, match="longest range"):
-        PlanSettings(n_uavs=3, d_max=200.0, sensor=team)
+    # Each UAV senses to its own sensor's range, as in any mission: d_max only names the default.
+    assert PlanSettings(n_uavs=3, d_max=200.0, sensor=team).mission.team_sensors() == list(team)
     with pytest.raises(InvalidInputError, match="one per UAV"):
         PlanSettings(n_uavs=2, d_max=150.0, sensor=team)
 
 
 def test_plans_default_cao_is_table1_with_the_plateau_step_scaled_to_the_range():
-    from uavcov import paper
+    from uavcov.experiments import _paper as paper
 
     table1 = paper.TABLE1.mission.cao
-    cao = default_cao(800.0)
+    assert PlanSettings(n_uavs=2, d_max=800.0).mission.cao == cao_preset("plateau", 800.0)
+    cao = cao_preset("plateau", 800.0)
     assert (cao.alpha0, cao.stability) == pytest.approx((5.0 * 800.0 / 25.0, 5.0))
     assert (cao.decay, cao.n_candidates, cao.history, cao.ridge) == (table1.decay, table1.n_candidates, table1.history, table1.ridge)
     plateau = paper.ABLATIONS_BY_NAME["plateau-step"]
-    assert default_cao(25.0) == paper.TABLE1.with_changes(**plateau.changes).mission.cao
+    assert cao_preset("plateau") == paper.TABLE1.with_changes(**plateau.changes).mission.cao
     with pytest.raises(InvalidInputError):
-        default_cao(-1.0)
+        cao_preset("plateau", -1.0)

@@ -20,12 +20,13 @@ import pytest
 pytest.importorskip("matplotlib")
 
 import uavcov
-from uavcov import plotting
+from uavcov import Targets, Visibility, plotting
 from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError
-from uavcov.plotting import _runs, directory, figures, views
+from uavcov.plotting import _directory as directory
+from uavcov.plotting import _figures as figures
+from uavcov.plotting import _runs
+from uavcov.plotting import _views as views
 from uavcov.records import save_mission
-from uavcov.targets import Targets
-from uavcov.visibility import Visibility
 
 
 def _render(fig) -> np.ndarray:
@@ -59,7 +60,9 @@ def hills():
 def hills_runs(hills):
     """Three starts x two seeds on the same hills."""
     return [
-        uavcov.run_mission(hills, uavcov.MissionSpec(n_uavs=4, d_max=15.0, iterations=12, start=uavcov.StartSpec(kind=start)), rng=seed)
+        uavcov.run_mission(
+            hills, uavcov.MissionSettings(n_uavs=4, d_max=15.0, iterations=12, start=uavcov.StartSettings(kind=start)), rng=seed
+        )
         for start in ("cvt", "random", "corner")
         for seed in (1, 2)
     ]
@@ -72,8 +75,8 @@ def hills_run(hills_runs):
 
 @pytest.fixture(scope="module")
 def scene_run():
-    scene = uavcov.buildings_scene(size=12.0, n_buildings=2, footprint=(2.0, 4.0), heights=(2.0, 5.0), spacing=1.0, rng=0)
-    spec = uavcov.MissionSpec(
+    scene = uavcov.terrain.buildings_scene(size=12.0, n_buildings=2, footprint=(2.0, 4.0), heights=(2.0, 5.0), spacing=1.0, rng=0)
+    spec = uavcov.MissionSettings(
         n_uavs=3, d_max=6.0, iterations=8, constraints=uavcov.Constraints(h_min=1.0, z_max=12.0, d_safe=1.0, check_moves=None)
     )
     return uavcov.run_mission(scene, spec, rng=1)
@@ -161,7 +164,7 @@ def test_coverage_curves_mean_and_band(hills_runs):
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert [label.split(" ")[0] for label in labels] == ["cvt", "random", "corner"]
     # The thick line of each group is the mean of its runs' curves.
-    cvt_curves = np.array([r.coverage for r in hills_runs if r.spec.start.kind == "cvt"])
+    cvt_curves = np.array([r.coverage for r in hills_runs if r.settings.start.kind == "cvt"])
     thick = [line for line in ax.lines if line.get_linewidth() > 1.5]
     assert len(thick) == 3
     np.testing.assert_allclose(thick[0].get_ydata(), cvt_curves.mean(axis=0))
@@ -195,10 +198,10 @@ def _rows(results, experiment="table1"):
         {
             "run_id": f"{experiment}-{i}",
             "experiment": experiment,
-            "init": r.spec.start.kind,
-            "n_uavs": str(r.spec.n_uavs),
+            "init": r.settings.start.kind,
+            "n_uavs": str(r.settings.n_uavs),
             "seed": str(i),
-            "sensing_range": str(r.spec.d_max),
+            "sensing_range": str(r.settings.d_max),
             "initial_coverage": repr(r.initial_coverage),
             "max_coverage": repr(r.best_coverage),
             "final_coverage": repr(r.final_coverage),
@@ -236,7 +239,7 @@ def test_table1_bars_are_the_means_beside_the_paper():
         for n in (5, 8):
             ours = [float(r["max_coverage"]) for r in rows if r["init"] == init and r["n_uavs"] == str(n) and r["max_coverage"]]
             assert round(float(np.mean(ours)), 6) in heights
-            assert round(uavcov.paper.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
+            assert round(uavcov.experiments._paper.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
     assert len(ax.patches) == 12  # 3 starts x 2 sizes x (ours, paper)
 
 
@@ -249,7 +252,7 @@ def test_table1_takes_typed_rows_with_failed_runs_as_none():
     ax = plotting.plot_table1(rows).axes[0]
     assert "1 failed" in ax.get_title()
     heights = sorted(p.get_height() for p in ax.patches)
-    assert np.allclose(heights, sorted([np.mean([0.9, 0.94, 0.91]), uavcov.paper.PUBLISHED_PYRAMID["max"].mean]))
+    assert np.allclose(heights, sorted([np.mean([0.9, 0.94, 0.91]), uavcov.experiments._paper.PUBLISHED_PYRAMID["max"].mean]))
 
 
 def test_table1_from_real_rows_without_paper_values(hills_runs, tmp_path):
@@ -268,7 +271,7 @@ def test_point_cloud_renders_and_is_the_union_of_seen_targets(hills_run, tmp_pat
     ply = tmp_path / "seen.ply"
     fig = plotting.plot_point_cloud(hills_run, ply=ply, max_configurations=1000)
     _assert_not_blank(_render(fig))
-    vis = Visibility(hills_run.terrain, hills_run.spec.d_max)
+    vis = Visibility(hills_run.terrain, hills_run.settings.d_max)
     union = np.zeros(len(vis.targets), dtype=bool)
     for x in hills_run.trajectory:
         union |= vis.seen(x)
@@ -360,7 +363,7 @@ def test_grid_coverage_colours_match_the_engine(hills_run):
     terrain = hills_run.terrain
     grid = terrain.grid
     final = hills_run.trajectory[-1]
-    vis = Visibility(terrain, hills_run.spec.d_max)
+    vis = Visibility(terrain, hills_run.settings.d_max)
     np.testing.assert_array_equal(vis.targets.points, terrain.vertices)  # grid targets: the nodes, in order
     nodes = vis.seen(final).reshape(grid.shape).astype(float)
     fig = plotting.plot_coverage_map(hills_run, shade=False, max_polygons=10**6)
@@ -379,7 +382,7 @@ def test_grid_coverage_colours_match_the_engine(hills_run):
 def test_grid_top_view_pixels_match_the_engine(hills_run):
     terrain = hills_run.terrain
     final = hills_run.trajectory[-1]
-    nodes = Visibility(terrain, hills_run.spec.d_max).seen(final).reshape(terrain.grid.shape)
+    nodes = Visibility(terrain, hills_run.settings.d_max).seen(final).reshape(terrain.grid.shape)
     fig = plotting.plot_coverage_map(hills_run, view="top", shade=False)
     image = np.asarray(fig.axes[0].images[0].get_array())
     assert image.shape[:2] == nodes.shape  # one pixel per node: no decimation on a small grid
@@ -407,7 +410,7 @@ def test_mesh_coverage_colours_match_the_engine(scene_run, cut):
             return p[np.lexsort(np.round(p, 9).T)]
 
         np.testing.assert_allclose(order(probes), order(centroids))  # one polygon per face, at its centre
-    seen = Visibility(terrain, scene_run.spec.d_max, Targets(probes)).seen(final)
+    seen = Visibility(terrain, scene_run.settings.d_max, Targets(probes)).seen(final)
     _both_kinds(seen.astype(float))
     expected = np.where(seen[:, None], plotting.SEEN_COLOUR, plotting.UNSEEN_COLOUR)
     np.testing.assert_allclose(colours, expected, atol=1e-9)
@@ -440,8 +443,8 @@ def test_decimated_mesh_stays_under_budget_and_on_the_surface(scene_run):
 def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
     (tmp_path / "runs").mkdir()
     rows = _rows(hills_runs)
-    random_index = next(i for i, r in enumerate(hills_runs) if r.spec.start.kind == "random")
-    corner_index = next(i for i, r in enumerate(hills_runs) if r.spec.start.kind == "corner")
+    random_index = next(i for i, r in enumerate(hills_runs) if r.settings.start.kind == "random")
+    corner_index = next(i for i, r in enumerate(hills_runs) if r.settings.start.kind == "corner")
     given = hills_runs[corner_index]
     save_mission(hills_runs[random_index], tmp_path / "runs" / f"{rows[random_index]['run_id']}.npz")
     save_mission(given, tmp_path / "runs" / f"{rows[corner_index]['run_id']}.npz")
@@ -483,7 +486,7 @@ def test_plot_directory_redraws_everything(hills_runs, tmp_path, monkeypatch):
 
 
 def test_plot_directory_draws_the_same_from_text_rows(hills_runs, tmp_path, monkeypatch):
-    """Rows with parsed cells (uavcov.results.read_runs) and rows of strings (the csv module's)
+    """Rows with parsed cells (uavcov.experiments._results.read_runs) and rows of strings (the csv module's)
     give the same files, byte for byte."""
     results = tmp_path / "results"
     (results / "runs").mkdir(parents=True)
@@ -542,12 +545,12 @@ def test_empty_results_are_refused():
 
 
 def test_missing_fields_are_named(hills_run):
-    partial = types.SimpleNamespace(terrain=hills_run.terrain, spec=hills_run.spec)
+    partial = types.SimpleNamespace(terrain=hills_run.terrain, settings=hills_run.settings)
     with pytest.raises(ResultsFormatError, match="missing trajectory"):
         plotting.plot_coverage_map(partial)
     with pytest.raises(ResultsFormatError, match="approximation"):
         plotting.plot_approximation(types.SimpleNamespace(terrain=hills_run.terrain, prior_points=np.zeros((0, 3))))
-    no_range = dataclasses.replace(hills_run, spec=types.SimpleNamespace(start=types.SimpleNamespace(kind="cvt")))
+    no_range = dataclasses.replace(hills_run, settings=types.SimpleNamespace(start=types.SimpleNamespace(kind="cvt")))
     with pytest.raises(ResultsFormatError, match="d_max"):
         plotting.plot_coverage_map(no_range)
     with pytest.raises(ResultsFormatError, match="missing d_max"):
@@ -568,7 +571,7 @@ def test_empty_or_broken_arrays_are_refused(hills_run):
 
 
 def test_run_without_cvt_is_refused(hills_runs):
-    random_start = next(r for r in hills_runs if r.spec.start.kind == "random")
+    random_start = next(r for r in hills_runs if r.settings.start.kind == "random")
     with pytest.raises(ResultsFormatError, match=r"no CVT.*random"):
         plotting.plot_cvt(random_start)
 
@@ -697,21 +700,21 @@ def test_camera_views_draw_each_footprint_and_the_quality_map(tmp_path):
 
 def _camera_run(terrain, sensor, n_uavs, attitude, iterations, altitude, rng):
     """A short mission of a camera team whose heading CAO moves (5-30 m above the ground)."""
-    spec = uavcov.MissionSpec(
+    spec = uavcov.MissionSettings(
         n_uavs=n_uavs,
         d_max=sensor.d_max,
         iterations=iterations,
         sensor=sensor,
         attitude=attitude,
         gimbal=uavcov.Gimbal(free_yaw=True),
-        start=uavcov.StartSpec(altitude=altitude),
+        start=uavcov.StartSettings(altitude=altitude),
         constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
     )
     return uavcov.run_mission(terrain, spec, rng=rng)
 
 
 def test_a_camera_run_animates_what_its_cameras_see(tmp_path, monkeypatch):
-    from uavcov.plotting import animation
+    from uavcov.plotting import _animation as animation
 
     terrain = uavcov.gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=5)
     sensor = uavcov.Sensor(40.0, camera=uavcov.Camera.from_fov(60.0, 45.0))
@@ -757,13 +760,13 @@ def test_coverage_maps_and_seen_points_of_a_camera_run_are_what_its_cameras_see(
 def test_a_quality_run_animates_and_plots_its_objective(tmp_path, monkeypatch):
     terrain = uavcov.gaussian_hills(size=40.0, spacing=1.0, n_hills=3, rng=6)
     sensor = uavcov.Sensor(30.0, camera=uavcov.Camera.from_fov(60.0, 45.0), good_gsd_m=0.005)
-    spec = uavcov.MissionSpec(
+    spec = uavcov.MissionSettings(
         n_uavs=2,
         d_max=30.0,
         iterations=3,
         sensor=sensor,
         objective="quality",
-        start=uavcov.StartSpec(altitude=12.0),
+        start=uavcov.StartSettings(altitude=12.0),
         constraints=uavcov.Constraints(h_min=5.0, h_max=30.0, z_max=200.0),
     )
     run = uavcov.run_mission(terrain, spec, rng=0)

@@ -1,4 +1,4 @@
-"""Prior samples and the approximating surface S' (uavcov.prior) against scipy and brute force."""
+"""Prior samples and the approximating surface S' (uavcov.terrain._prior) against scipy and brute force."""
 
 from __future__ import annotations
 
@@ -13,17 +13,19 @@ from scipy.interpolate import LinearNDInterpolator
 from scipy.spatial import ConvexHull, Delaunay
 
 from reference import grid_height
+from uavcov import Terrain, gaussian_hills
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.prior import (
+from uavcov.terrain import (
+    Building,
     Prior,
     approximate_surface,
     approximation_error,
     building_corner_prior,
     buildings_prior,
+    buildings_terrain,
+    random_gaussian_mixture,
     sample_prior,
 )
-from uavcov.surface import Terrain
-from uavcov.terrains import Building, buildings_terrain, gaussian_hills, load_dem, random_gaussian_mixture
 
 
 @pytest.fixture(scope="module")
@@ -151,7 +153,7 @@ def test_prior_avoids_nodata_holes():
     z = np.zeros((21, 21))
     z[5:16, 5:16] = np.nan  # a big hole in the middle
     z[20, 20] = np.nan  # and a nodata corner
-    terrain = load_dem(z, 1.0).terrain
+    terrain = Terrain.from_grid(z, 1.0)
     with pytest.warns(UserWarning, match="corner"):
         prior = sample_prior(terrain, n=100, rng=0)
     assert prior.n_points == 103  # the nodata corner is left out

@@ -17,7 +17,7 @@ _RENAMED = {"time_measure_s": "time_measure", "time_feasibility_s": "time_feasib
 @pytest.fixture(scope="module")
 def run():
     terrain = uavcov.gaussian_hills(size=30.0, spacing=1.0, n_hills=3, rng=2)
-    return uavcov.run_mission(terrain, uavcov.MissionSpec(n_uavs=2, d_max=15.0, n_prior=8, iterations=5), rng=1, n_threads=1)
+    return uavcov.run_mission(terrain, uavcov.MissionSettings(n_uavs=2, d_max=15.0, n_prior=8, iterations=5), rng=1, n_threads=1)
 
 
 def _header(path) -> dict:

@@ -1,6 +1,6 @@
-"""The results folder (uavcov.results): the one reader of runs.csv, appending, config.json, the lock.
+"""The results folder (uavcov.experiments._results): the one reader of runs.csv, appending, config.json, the lock.
 
-These tests drive :mod:`uavcov.results` directly, with hand-written files; the end-to-end
+These tests drive :mod:`uavcov.experiments._results` directly, with hand-written files; the end-to-end
 guarantees (resume, exclusive, the same config.json for every command) are in test_sweep.py.
 """
 
@@ -20,18 +20,9 @@ from uavcov.errors import (
     ResultsInUseError,
     UavcovError,
 )
+from uavcov.experiments import CONFIG_FORMAT, RUN_COLUMNS, ResultsFolder, RunsFile, config_document, csv_line, format_cell, read_runs
+from uavcov.experiments._results import atomic_write
 from uavcov.plotting import _runs as plotting_runs
-from uavcov.results import (
-    CONFIG_FORMAT,
-    RUN_COLUMNS,
-    ResultsFolder,
-    RunsFile,
-    atomic_write,
-    config_document,
-    csv_line,
-    format_cell,
-    read_runs,
-)
 
 
 def row(run_id: str, **cells) -> dict:
@@ -207,7 +198,7 @@ def test_config_document_is_the_one_schema():
     assert set(document) == {"format", "command", "uavcov_version", "settings", "runs", "execution", "about"}
     assert document["format"] == CONFIG_FORMAT == "uavcov.results/1"
     assert document["execution"] == {} and document["about"] == {}
-    from uavcov import __version__
+    from uavcov._core import __version__
 
     assert document["uavcov_version"] == str(__version__)
 

@@ -2,7 +2,7 @@
 
 The reference: the brute-force sight lines of ``reference.py`` for every UAV-target pair, kept
 where a frustum test written here by dot products (and a range test) says the sensor reaches the
-target. The camera's axes come from ``uavcov.camera_axes``, itself checked against rotation
+target. The camera's axes come from ``uavcov.engine.camera_axes``, itself checked against rotation
 matrices, so that both sides test the same floating-point frustum: targets placed exactly on its
 edges must get the same answer.
 """
@@ -16,9 +16,9 @@ import pytest
 
 from conftest import random_grid_case, uavs_above
 from reference import visibility_reference
-from uavcov import Camera, Sensor, Terrain, Visibility, camera_axes
+from uavcov import Camera, Sensor, Targets, Terrain, Visibility
+from uavcov.engine import camera_axes
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.targets import Targets
 
 
 def _rotation(yaw_deg: float, pitch_deg: float) -> np.ndarray:
@@ -318,15 +318,15 @@ def test_incidence_needs_normals_and_bad_quality_settings_are_errors(hill_terrai
 def test_a_mission_flies_cameras_and_maximises_the_objective_it_is_given(tmp_path):
     import json
 
-    from uavcov import Constraints, MissionSpec, StartSpec, gaussian_hills, load_mission, run_mission, save_mission
+    from uavcov import Constraints, MissionSettings, StartSettings, gaussian_hills, load_mission, run_mission, save_mission
 
     terrain = gaussian_hills(spacing=2.0, rng=1)
     camera = Camera.from_fov(84.0, 62.0)
-    base = MissionSpec(
+    base = MissionSettings(
         n_uavs=4,
         d_max=40.0,
         iterations=40,
-        start=StartSpec(altitude=20.0),
+        start=StartSettings(altitude=20.0),
         constraints=Constraints(h_min=5.0, z_max=80.0),
         sensor=Sensor(40.0, camera=camera, good_gsd_m=0.01),
         attitude=(30.0, -80.0),
@@ -341,32 +341,33 @@ def test_a_mission_flies_cameras_and_maximises_the_objective_it_is_given(tmp_pat
             measure = vis.quality_coverage if objective == "quality" else vis.coverage
             assert result.coverage[k] == measure(poses, sensors=sensors)
         save_mission(result, tmp_path / f"{objective}.npz")
-        assert load_mission(tmp_path / f"{objective}.npz").spec == result.spec
-        assert MissionSpec.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
+        assert load_mission(tmp_path / f"{objective}.npz").settings == result.settings
+        assert MissionSettings.from_dict(json.loads(json.dumps(spec.as_dict()))) == spec
     omni = run_mission(terrain, base.with_changes(sensor=None), rng=2)
     assert omni.initial_coverage > result.initial_coverage  # the cameras see less than the paper's sensor
 
 
 def test_missions_refuse_bad_sensor_settings():
-    from uavcov import MissionSpec
+    from uavcov import MissionSettings
 
     with pytest.raises(InvalidInputError):
-        MissionSpec(n_uavs=2, d_max=10.0, objective="area")
+        MissionSettings(n_uavs=2, d_max=10.0, objective="area")
     with pytest.raises(InvalidInputError, match="centralised"):
-        MissionSpec(n_uavs=2, d_max=10.0, objective="quality", optimizer="per_robot")
+        MissionSettings(n_uavs=2, d_max=10.0, objective="quality", optimizer="per_robot")
     with pytest.raises(InvalidInputError, match="point up"):
-        MissionSpec(n_uavs=2, d_max=10.0, attitude=(0.0, 15.0))
+        MissionSettings(n_uavs=2, d_max=10.0, attitude=(0.0, 15.0))
     with pytest.raises(InvalidInputError):
-        MissionSpec(n_uavs=2, d_max=10.0, attitude=(0.0,))
+        MissionSettings(n_uavs=2, d_max=10.0, attitude=(0.0,))
     with pytest.raises(InvalidTypeError):
-        MissionSpec(n_uavs=2, d_max=10.0, sensor="camera")  # type: ignore[arg-type]
+        MissionSettings(n_uavs=2, d_max=10.0, sensor="camera")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError):
-        MissionSpec.from_dict({"n_uavs": 2, "d_max": 10.0, "sensor": {"d_max": 5.0, "lens": 3}})
+        MissionSettings.from_dict({"n_uavs": 2, "d_max": 10.0, "sensor": {"d_max": 5.0, "lens": 3}})
 
 
 def test_the_papers_settings_hashes_do_not_see_the_new_sensor_fields():
-    from uavcov import paper
-    from uavcov.sweep import experiment_settings, settings_hash
+    from uavcov.experiments import _paper as paper
+    from uavcov.experiments import settings_hash
+    from uavcov.experiments._sweep import experiment_settings
 
     for experiment in paper.EXPERIMENTS.values():
         assert not {"sensor", "attitude", "objective"} & set(experiment_settings(experiment)["mission"])

@@ -1,14 +1,12 @@
-"""The initial positions of the paper's comparison (uavcov.starts): CVT, random and corner."""
+"""The initial positions of the paper's comparison (uavcov.placement._starts): CVT, random and corner."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from uavcov import errors
-from uavcov.cvt import cvt
-from uavcov.starts import CORNERS, START_KINDS, initial_positions
-from uavcov.surface import Terrain
+from uavcov import Terrain, errors
+from uavcov.placement import CORNERS, START_KINDS, cvt, initial_positions
 
 
 def _slope(x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -18,7 +18,7 @@ from reference import (
     segments_hit_mesh,
     triangle_areas,
 )
-from uavcov.surface import Terrain
+from uavcov import Terrain
 
 
 def _triangle_set(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -1,11 +1,11 @@
-"""The guarantees of the restructured upper floors: uavcov.sweep, uavcov.jobs, the results folder.
+"""The guarantees of the restructured upper floors: uavcov.experiments._sweep, uavcov.experiments._jobs, the results folder.
 
-* every command (reproduce, sweep, demo) runs through :func:`uavcov.sweep.run_specs` and writes
+* every command (reproduce, sweep, demo) runs through :func:`uavcov.experiments._sweep.run_specs` and writes
   the one ``config.json`` schema;
 * a folder holding runs of other settings is refused on resume, even without its config.json,
   and nothing in it changes; ``exclusive=True`` refuses a folder holding other runs;
 * library errors name no command-line flag;
-* :meth:`Experiment.with_changes` takes the deprecated ``flight.<key>`` names as their new ones;
+* :meth:`Experiment.with_changes` refuses the ``flight.<key>`` names of earlier releases;
 * the same specs give the same rows on one process, on a process pool and run directly.
 
 Everything is tiny (a 4-5 m grid, a few iterations) so the file stays fast.
@@ -19,7 +19,6 @@ import numpy as np
 import pytest
 
 from tiny import tiny_experiment
-from uavcov import jobs, paper
 from uavcov.cli import EXIT_OK, main
 from uavcov.errors import (
     ConfigError,
@@ -29,20 +28,24 @@ from uavcov.errors import (
     ResultsInUseError,
     UavcovError,
 )
-from uavcov.records import load_mission
-from uavcov.reports import REPORTS
-from uavcov.results import CONFIG_FORMAT, RUN_COLUMNS, ResultsFolder, read_runs
-from uavcov.sweep import (
-    FLIGHT_KEYS,
+from uavcov.experiments import (
+    CONFIG_FORMAT,
+    REPORTS,
+    RUN_COLUMNS,
     Experiment,
+    ResultsFolder,
     RunSpec,
     experiment_specs,
     parse_seeds,
+    parse_sweep_config,
     plan_execution,
+    read_runs,
     run_specs,
     settings_hash,
 )
-from uavcov.sweep_config import parse_sweep_config
+from uavcov.experiments import _jobs as jobs
+from uavcov.experiments import _paper as paper
+from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
 
@@ -108,7 +111,7 @@ def test_the_same_specs_give_the_same_rows_in_one_process_on_a_pool_and_run_dire
             direct.iterations_to_95,
             direct.evaluations,
         )
-        assert (direct.seed, direct.spec.n_uavs, direct.spec.start.kind) == (spec.seed, 5, spec.start)
+        assert (direct.seed, direct.settings.n_uavs, direct.settings.start.kind) == (spec.seed, 5, spec.start)
         for name in ("one", "pool"):
             saved = load_mission(tmp_path / name / "runs" / f"{spec.run_id}.npz")
             np.testing.assert_array_equal(saved.coverage, direct.coverage)
@@ -289,35 +292,10 @@ def test_library_messages_name_no_command_line_flag(tmp_path):
 # Experiment.with_changes
 
 
-FLIGHT_VALUES = {
-    "start_altitude": 3.0,
-    "altitude_reference": "ground",
-    "climb_margin": 2.0,
-    "corner": "ne",
-    "corner_spacing": 4.0,
-    "corner_altitude": 9.0,
-    "random_altitude": (4.0, 7.0),
-    "h_min": 2.0,
-    "z_max": 70.0,
-    "d_safe": 1.5,
-}
-
-
-@pytest.mark.filterwarnings("ignore:the flight group is deprecated:DeprecationWarning")
-def test_flight_names_are_their_new_names():
-    with pytest.warns(DeprecationWarning, match="constraints.h_min"):
+def test_the_flight_group_of_earlier_releases_is_refused():
+    with pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(**{"flight.h_min": 2.0})
-    assert set(FLIGHT_VALUES) == set(FLIGHT_KEYS)
-    assert paper.TABLE1.with_changes(**{"flight.h_min": 2.0}) == paper.TABLE1.with_changes(**{"constraints.h_min": 2.0})
     assert paper.TABLE1.with_changes(**{"constraints.h_min": 2.0}).mission.constraints.h_min == 2.0
-    for old, new in FLIGHT_KEYS.items():
-        value = FLIGHT_VALUES[old]
-        via_flight = paper.TABLE1.with_changes(**{f"flight.{old}": value})
-        assert via_flight == paper.TABLE1.with_changes(**{new: value}) == paper.TABLE1.with_changes(**{f"mission.{new}": value})
-        assert via_flight == paper.TABLE1.with_changes(**{f"flight__{old}": value})
-        group, _, name = new.partition(".")
-        assert getattr(getattr(via_flight.mission, group), name) == value
-        assert settings_hash(via_flight) != settings_hash(paper.TABLE1)
 
 
 @pytest.mark.filterwarnings("ignore:the flight group is deprecated:DeprecationWarning")
@@ -362,8 +340,8 @@ def test_experiment_checks_its_fields():
     with pytest.raises(InvalidInputError):
         paper.TABLE1.with_changes(starts=("cvtt",))
     with pytest.raises(InvalidInputError):
-        paper.TABLE1.spec(5, "pairs")
-    spec = paper.TABLE1.spec(8, "random")
+        paper.TABLE1.mission_settings(5, "pairs")
+    spec = paper.TABLE1.mission_settings(8, "random")
     assert (spec.n_uavs, spec.start.kind) == (8, "random")
     assert paper.TABLE1.known(0) is None
     assert paper.BUILDINGS.known(0) is not None

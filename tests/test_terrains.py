@@ -1,4 +1,4 @@
-"""Scenario generators and loaders (uavcov.terrains) against analytic and independent references."""
+"""Scenario generators and loaders (uavcov.terrain) against analytic and independent references."""
 
 from __future__ import annotations
 
@@ -10,26 +10,22 @@ import numpy as np
 import pytest
 
 from reference import grid_height
+from uavcov import GeoDem, Terrain, gaussian_hills, read_dem, sample_dem
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, MeshError
-from uavcov.surface import Terrain
-from uavcov.terrains import (
+from uavcov.terrain import (
     Building,
     GaussianMixture,
-    LoadedTerrain,
     LocalFrame,
     buildings_scene,
     buildings_terrain,
     clean_mesh,
-    gaussian_hills,
-    load_dem,
-    load_geotiff,
+    dem_from_array,
     load_mesh,
     mesh_terrain,
     metres_per_degree,
     perturb_buildings,
     random_buildings,
     random_gaussian_mixture,
-    sample_dem,
 )
 
 # --------------------------------------------------------------------------------------------
@@ -311,6 +307,15 @@ def test_metres_per_degree_bad_latitude():
         metres_per_degree(float("nan"))
 
 
+def grid_dem(z, spacing, lower_left=(0.0, 0.0), crs="EPSG:4326", nodata=None):
+    """A DEM of heights ``z`` (row 0 south) whose south-west node is ``lower_left``, in ``crs``."""
+    z = np.asarray(z)
+    dx, dy = (spacing, spacing) if np.isscalar(spacing) else spacing
+    north = lower_left[1] + (z.shape[0] - 1) * dy
+    transform = (dx, 0.0, lower_left[0] - 0.5 * dx, 0.0, -dy, north + 0.5 * dy)
+    return dem_from_array(z[::-1], transform, crs, nodata=nodata)
+
+
 def haversine(lon1, lat1, lon2, lat2, radius=6371008.8):
     p1, p2 = math.radians(lat1), math.radians(lat2)
     dl = math.radians(lon2 - lon1)
@@ -322,7 +327,7 @@ def haversine(lon1, lat1, lon2, lat2, radius=6371008.8):
 def test_dem_in_degrees_has_cell_sizes_of_its_latitude(latitude):
     step = 1.0 / 3600.0  # one arc-second
     z = np.random.default_rng(0).uniform(0.0, 50.0, size=(5, 6))
-    loaded = load_dem(z, step, lower_left=(10.0, latitude), units="degree")
+    loaded = grid_dem(z, step, lower_left=(10.0, latitude))
     dx, dy = loaded.terrain.grid.spacing
     assert loaded.frame.geographic
     centre = latitude + 2 * step
@@ -337,7 +342,7 @@ def test_dem_in_degrees_has_cell_sizes_of_its_latitude(latitude):
 
 def test_dem_in_degrees_round_trips_to_source():
     z = np.arange(20.0).reshape(4, 5)
-    loaded = load_dem(z, (0.001, 0.002), lower_left=(-84.4, 36.45), units="deg")
+    loaded = grid_dem(z, (0.001, 0.002), lower_left=(-84.4, 36.45))
     local = loaded.terrain.vertices
     back = loaded.frame.to_source(local)
     lon = -84.4 + np.arange(5) * 0.001
@@ -355,7 +360,8 @@ def test_dem_in_metres_recentres_without_losing_precision():
     ys = north + np.arange(ny) * 0.5
     x, y = np.meshgrid(xs, ys)
     z = 212.0 + 0.013 * (x - east) - 0.021 * (y - north) + 0.4 * np.sin((x - east) * 0.7)
-    loaded = load_dem(z, 0.5, lower_left=(east, north))
+    pytest.importorskip("pyproj")
+    loaded = grid_dem(z, 0.5, lower_left=(east, north), crs="EPSG:32633")
     terrain = loaded.terrain
     np.testing.assert_allclose(loaded.frame.origin, [east, north, z.min()])
     np.testing.assert_allclose(terrain.bounds[0, :2], [0.0, 0.0], atol=0.0)
@@ -371,19 +377,23 @@ def test_dem_in_metres_recentres_without_losing_precision():
     np.testing.assert_allclose(loaded.frame.to_source(loaded.frame.to_local(world)), world, atol=1e-6, rtol=0)
 
 
-def test_dem_first_row_north_is_flipped():
-    z = np.array([[3.0, 3.0, 3.0], [2.0, 2.0, 2.0], [1.0, 1.0, 1.0]])  # row 0 north, highest
-    north = load_dem(z, 1.0, first_row="north", origin=(0.0, 0.0, 0.0))
-    south = load_dem(z, 1.0, first_row="south", origin=(0.0, 0.0, 0.0))
-    assert north.terrain.ground_height([[1.0, 1.9]])[0] == pytest.approx(2.9)
-    assert south.terrain.ground_height([[1.0, 1.9]])[0] == pytest.approx(1.1)
+def test_dem_raster_order_follows_the_transform():
+    z = np.array([[3.0, 3.0, 3.0], [2.0, 2.0, 2.0], [1.0, 1.0, 1.0]])  # raster row 0, highest
+    north_up = dem_from_array(z, (1.0, 0.0, -0.5, 0.0, -1.0, 2.5), "EPSG:4326")  # row 0 is north
+    south_up = dem_from_array(z, (1.0, 0.0, -0.5, 0.0, 1.0, -0.5), "EPSG:4326")  # row 0 is south
+    high = north_up.frame.to_source([[0.0, north_up.terrain.bounds[1, 1], 0.0]])[0, 1]
+    assert high == pytest.approx(2.0) and north_up.terrain.bounds[1, 2] - north_up.terrain.bounds[0, 2] == pytest.approx(2.0)
+    top_north = north_up.terrain.ground_height([[0.5 * north_up.terrain.bounds[1, 0], 0.95 * north_up.terrain.bounds[1, 1]]])[0]
+    top_south = south_up.terrain.ground_height([[0.5 * south_up.terrain.bounds[1, 0], 0.95 * south_up.terrain.bounds[1, 1]]])[0]
+    assert top_north == pytest.approx(1.9) and top_south == pytest.approx(0.1)
 
 
 def test_dem_nodata_holes_are_left_out():
     z = np.full((6, 7), 10.0)
     z[2, 3] = -9999.0  # one sentinel hole
     z[5, 0] = np.nan  # and a NaN corner
-    loaded = load_dem(z, 1.0, nodata=-9999.0)
+    pytest.importorskip("pyproj")
+    loaded = grid_dem(z, 1.0, nodata=-9999.0, crs="EPSG:32633")
     terrain = loaded.terrain
     assert loaded.nodata_cells == 2
     # The six triangles around the hole and the one touching the corner are gone.
@@ -397,41 +407,31 @@ def test_dem_nodata_holes_are_left_out():
 
 
 @pytest.mark.parametrize(
-    "z, spacing, kwargs",
+    "z, spacing, lower_left",
     [
-        (np.zeros((1, 5)), 1.0, {}),  # one row
-        (np.zeros((5, 1)), 1.0, {}),  # one column
-        (np.zeros((4, 4)), 0.0, {}),
-        (np.zeros((4, 4)), -2.0, {}),
-        (np.zeros((4, 4)), (1.0, 0.0), {}),
-        (np.full((3, 3), np.nan), 1.0, {}),  # nothing but nodata
-        (np.array([[1.0, np.nan, 1.0], [np.nan, 1.0, np.nan], [1.0, np.nan, 1.0]]), 1.0, {}),  # no full cell
-        (np.array([[1.0, np.inf], [1.0, 1.0]]), 1.0, {}),
-        (np.zeros((4, 4)), 1.0, {"units": "feet"}),
-        (np.zeros((4, 4)), 1.0, {"first_row": "west"}),
-        (np.zeros((4, 4)), 1.0, {"scale": 0.0}),
-        (np.zeros((4, 4)), 1.0, {"origin": (0.0, 0.0)}),
-        (np.zeros((4, 4)), 1.0, {"lower_left": (0.0, 89.9999), "units": "degree"}),  # past the pole
+        (np.zeros((1, 5)), 1e-3, (0.0, 0.0)),  # one row
+        (np.zeros((5, 1)), 1e-3, (0.0, 0.0)),  # one column
+        (np.zeros((4, 4)), 0.0, (0.0, 0.0)),
+        (np.zeros((4, 4)), -2.0, (0.0, 0.0)),
+        (np.zeros((4, 4)), (1e-3, 0.0), (0.0, 0.0)),
+        (np.full((3, 3), np.nan), 1e-3, (0.0, 0.0)),  # nothing but nodata
+        (np.array([[1.0, np.nan, 1.0], [np.nan, 1.0, np.nan], [1.0, np.nan, 1.0]]), 1e-3, (0.0, 0.0)),  # no full cell
+        (np.array([[1.0, np.inf], [1.0, 1.0]]), 1e-3, (0.0, 0.0)),
+        (np.zeros((4, 4)), 1.0, (0.0, 89.0)),  # past the pole
     ],
 )
-def test_dem_bad_input(z, spacing, kwargs):
+def test_dem_bad_input(z, spacing, lower_left):
     with pytest.raises(InvalidInputError):
-        load_dem(z, spacing, **kwargs)
+        grid_dem(z, spacing, lower_left)
 
 
-def test_dem_wrong_types():
+def test_dem_bad_transforms_and_types():
     with pytest.raises(InvalidTypeError):
-        load_dem(np.array([["a", "b"], ["c", "d"]]), 1.0)
-    with pytest.raises(InvalidTypeError):
-        load_dem(np.zeros((3, 3)), 1.0, units=1)
-
-
-def test_dem_scale_keeps_shape():
-    z = np.random.default_rng(1).uniform(0, 5, size=(5, 5))
-    full = load_dem(z, 2.0)
-    model = load_dem(z, 2.0, scale=0.1)
-    np.testing.assert_allclose(model.terrain.vertices, full.terrain.vertices * 0.1, atol=1e-12)
-    np.testing.assert_allclose(model.frame.to_source(model.terrain.vertices), full.frame.to_source(full.terrain.vertices))
+        dem_from_array(np.array([["a", "b"], ["c", "d"]]), (1.0, 0.0, 0.0, 0.0, -1.0, 0.0), "EPSG:4326")
+    with pytest.raises(InvalidInputError, match="rotated"):
+        dem_from_array(np.zeros((3, 3)), (1.0, 0.1, 0.0, 0.0, -1.0, 0.0), "EPSG:4326")
+    with pytest.raises(InvalidInputError, match="six numbers"):
+        dem_from_array(np.zeros((3, 3)), (1.0, 0.0, 0.0), "EPSG:4326")
 
 
 def test_local_frame_checks_and_pickles():
@@ -444,10 +444,10 @@ def test_local_frame_checks_and_pickles():
         frame.to_source(np.zeros((2, 2)))
 
 
-def test_loaded_terrain_pickles():
-    loaded = load_dem(np.arange(9.0).reshape(3, 3), 1.0, lower_left=(100.0, 200.0))
+def test_geo_dem_pickles():
+    loaded = grid_dem(np.arange(9.0).reshape(3, 3), 1e-3, lower_left=(10.0, 20.0))
     again = pickle.loads(pickle.dumps(loaded))
-    assert isinstance(again, LoadedTerrain)
+    assert isinstance(again, GeoDem) and again.crs == loaded.crs
     np.testing.assert_array_equal(again.terrain.vertices, loaded.terrain.vertices)
     np.testing.assert_array_equal(again.frame.origin, loaded.frame.origin)
 
@@ -458,7 +458,8 @@ def test_loaded_terrain_pickles():
 
 def test_sample_dem_is_the_jacksboro_dem_in_metres():
     pytest.importorskip("matplotlib")
-    loaded = sample_dem()
+    loaded = sample_dem(window=None)
+    assert loaded.is_wgs84 and loaded.raster.shape == (344, 403)
     terrain = loaded.terrain
     assert terrain.grid.shape == (344, 403)
     dx, dy = terrain.grid.spacing
@@ -487,8 +488,6 @@ def test_sample_dem_window_stride_and_orientation():
     # Row 0 of the window is 10 rows north of the file's southern (last) row.
     expected = raw[::-1][10:31:2, 100:141:2]
     np.testing.assert_allclose(grid.z + loaded.frame.origin[2], expected)
-    model = sample_dem(window=(10, 31, 100, 141), stride=2, scale=0.01)
-    np.testing.assert_allclose(model.terrain.vertices, loaded.terrain.vertices * 0.01, rtol=1e-12, atol=1e-12)
 
 
 @pytest.mark.parametrize("kwargs", [dict(window=(0, 1, 0, 10)), dict(window=(0, 10)), dict(stride=0), dict(window=(0.5, 10, 0, 10))])
@@ -532,7 +531,7 @@ def test_geotiff_projected_with_nodata(tmp_path):
     west, north = 500_000.0, 4_100_000.0
     path = tmp_path / "utm.tif"
     write_geotiff(path, z, north_up(west, north, 2.0, 2.0), "EPSG:32617", nodata=-32768.0)
-    loaded = load_geotiff(path)
+    loaded = read_dem(path)
     assert not loaded.frame.geographic
     assert loaded.nodata_cells == 1
     assert loaded.terrain.grid.spacing == (2.0, 2.0)
@@ -550,7 +549,7 @@ def test_geotiff_geographic_gets_metric_cells(tmp_path):
     z = np.linspace(0, 50, 6 * 7).reshape(6, 7)
     path = tmp_path / "geo.tif"
     write_geotiff(path, z, north_up(5.0, 45.0 + 6 * step, step, step), "EPSG:4326")
-    loaded = load_geotiff(path)
+    loaded = read_dem(path)
     assert loaded.frame.geographic
     lon_m, lat_m = metres_per_degree(45.0 + 3.0 * step)  # centre of the 6 pixel-centre rows
     dx, dy = loaded.terrain.grid.spacing
@@ -564,7 +563,7 @@ def test_geotiff_in_feet_is_converted_to_metres(tmp_path):
     z = np.arange(20.0).reshape(4, 5)
     path = tmp_path / "feet.tif"
     write_geotiff(path, z, north_up(2_000_000.0, 600_000.0, 10.0, 10.0), "EPSG:2264")  # US survey feet
-    loaded = load_geotiff(path)
+    loaded = read_dem(path)
     foot = 1200.0 / 3937.0
     assert loaded.terrain.grid.spacing == pytest.approx((10.0 * foot, 10.0 * foot), rel=1e-12)
     world = loaded.frame.to_source(loaded.terrain.vertices)
@@ -575,13 +574,13 @@ def test_geotiff_in_feet_is_converted_to_metres(tmp_path):
 def test_geotiff_bad_files(tmp_path):
     pytest.importorskip("rasterio")
     with pytest.raises(InvalidInputError, match="does not exist"):
-        load_geotiff(tmp_path / "missing.tif")
+        read_dem(tmp_path / "missing.tif")
     junk = tmp_path / "junk.tif"
     junk.write_bytes(b"this is not a raster")
     with pytest.raises(InvalidInputError, match="cannot read"):
-        load_geotiff(junk)
+        read_dem(junk)
     with pytest.raises(InvalidTypeError):
-        load_geotiff(12)
+        read_dem(12)
 
 
 def test_geotiff_rotated_is_refused(tmp_path):
@@ -591,13 +590,13 @@ def test_geotiff_rotated_is_refused(tmp_path):
     path = tmp_path / "rotated.tif"
     write_geotiff(path, np.zeros((4, 4)), Affine(1.0, 0.2, 0.0, 0.1, -1.0, 10.0), "EPSG:32617")
     with pytest.raises(InvalidInputError, match="rotated"):
-        load_geotiff(path)
+        read_dem(path)
 
 
 def test_geotiff_without_rasterio_says_what_to_install(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "rasterio", None)  # import rasterio now raises ImportError
     with pytest.raises(ImportError, match="rasterio"):
-        load_geotiff(tmp_path / "any.tif")
+        read_dem(tmp_path / "any.tif")
 
 
 # --------------------------------------------------------------------------------------------

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import uavcov
-from uavcov import paper
 from uavcov.errors import InvalidInputError, InvalidTypeError
+from uavcov.experiments import _paper as paper
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +75,7 @@ def test_bad_margins_and_teams_are_refused(hills):
     with pytest.raises(InvalidTypeError):
         vis.tracker(margin="1")  # type: ignore[arg-type]
     with pytest.raises(InvalidTypeError):
-        uavcov.CoverageTracker("vis", 1.0)  # type: ignore[arg-type]
+        uavcov.engine.CoverageTracker("vis", 1.0)  # type: ignore[arg-type]
     tracker = vis.tracker()
     for team in ([], [[1.0, 2.0]], [[1.0, np.nan, 3.0]], [[1.0, 2.0, 1e300]]):
         with pytest.raises((InvalidInputError, InvalidTypeError)):

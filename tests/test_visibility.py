@@ -32,9 +32,7 @@ from reference import (
     segments_hit_mesh,
     visibility_reference,
 )
-from uavcov.surface import Terrain
-from uavcov.targets import Targets
-from uavcov.visibility import Visibility
+from uavcov import Targets, Terrain, Visibility
 
 PROPERTY_SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -373,7 +371,7 @@ def test_results_identical_for_one_and_two_threads(fine_hills, config, d_max):
 
 
 def test_coverage_function_equals_method(hill_grid, hill_terrain):
-    from uavcov.visibility import coverage
+    from uavcov.engine import coverage
 
     uavs = uavs_above(hill_grid, 4, np.random.default_rng(9))
     expected = Visibility(hill_terrain, 9.0).coverage(uavs)

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from uavcov import paper
-from uavcov.sweep import Experiment
+from uavcov.experiments import Experiment
+from uavcov.experiments import _paper as paper
 
 TINY_TOML = """
 name = "tiny"

@@ -15,11 +15,11 @@ machine; this is the one place they are defined:
 =============================  ==============  ===================================================
 limit                          value           what it bounds
 =============================  ==============  ===================================================
-:data:`MAX_UAVS`               1 000           team size: ``MissionSpec.n_uavs``, a sweep's
+:data:`MAX_UAVS`               1 000           team size: ``MissionSettings.n_uavs``, a sweep's
                                                ``team_sizes``
-:data:`MAX_GENERATORS`         10 000          generators of one :func:`~uavcov.cvt.cvt`
+:data:`MAX_GENERATORS`         10 000          generators of one :func:`~uavcov.placement.cvt`
 :data:`MAX_SAMPLES`            10 000 000      CVT samples per iteration; prior points ``n_prior``;
-                                               positions of :func:`~uavcov.starts.initial_positions`
+                                               positions of :func:`~uavcov.placement.initial_positions`
 :data:`MAX_ITERATIONS`         1 000 000       optimiser iterations of one mission
 :data:`MAX_TRAJECTORY`         50 000 000      UAV positions a mission records,
                                                ``(iterations + 1) * n_uavs`` (1.2 GB)
@@ -274,3 +274,12 @@ def as_cell_count(length: float, step: float, name: str) -> int:
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")
     return cells
+
+
+def read_only(array: np.ndarray) -> np.ndarray:
+    """``array`` itself, made read-only: a result hands out arrays nobody can change under it.
+
+    Copy first (``read_only(np.array(x))``) when the caller keeps a writable alias.
+    """
+    array.setflags(write=False)
+    return array

@@ -123,7 +123,7 @@ def _add_execution(parser: argparse.ArgumentParser) -> None:
 @contextlib.contextmanager
 def _execution(args: argparse.Namespace) -> Iterator[dict[str, Any]]:
     """Keyword arguments for run_specs (executor, workers, threads, ...) and what to record."""
-    from .sweep import available_cores, dask_executor, plan_execution
+    from .experiments import available_cores, dask_executor, plan_execution
 
     options: dict[str, Any] = {
         "resume": bool(args.resume or args.retry_failed),
@@ -178,7 +178,7 @@ def _finish(rows: list[dict[str, Any]], out: Path, started: float, wrote: Sequen
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .jobs import reproduce
+    from .experiments import reproduce
 
     if args.experiment == "all":
         return _reproduce_all(args)
@@ -219,7 +219,7 @@ def _refuse_choice_within(args: argparse.Namespace, what: str) -> None:
 
 
 def _reproduce_ablation(args: argparse.Namespace) -> int:
-    from .jobs import ablate
+    from .experiments import ablate
 
     _refuse_choice_within(args, "ablation")
     out = Path(args.out or "out/ablation")
@@ -232,7 +232,7 @@ def _reproduce_ablation(args: argparse.Namespace) -> int:
 
 
 def _reproduce_all(args: argparse.Namespace) -> int:
-    from .jobs import reproduce_all
+    from .experiments import reproduce_all
 
     _refuse_choice_within(args, "all")
     out = Path(args.out or "out/all")
@@ -240,15 +240,19 @@ def _reproduce_all(args: argparse.Namespace) -> int:
     with _execution(args) as options:
         execution = options.pop("execution")
         results = reproduce_all(
-            out, seeds=args.seeds, iterations=args.iterations, figures=not args.no_plots, execution=execution, **options
+            out,
+            seeds=args.seeds,
+            iterations=args.iterations,
+            figures=None if args.no_plots else _report_figures,
+            execution=execution,
+            **options,
         )
     rows = [row for name in results for row in results[name]]
     return _finish(rows, out, started, [*(f"{name}/" for name in results), "report.md"])
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from .jobs import run_sweep
-    from .sweep_config import load_sweep_config
+    from .experiments import load_sweep_config, run_sweep
 
     config = load_sweep_config(args.config)
     out = Path(args.out or f"out/{Path(args.config).stem}")
@@ -258,6 +262,12 @@ def _sweep(args: argparse.Namespace) -> int:
         rows = run_sweep(config, out, source_text=Path(args.config).read_text(encoding="utf-8"), execution=execution, **options)
     print((out / "summary.md").read_text(encoding="utf-8"))
     return _finish(rows, out, started, ["runs.csv", "config.json", "sweep.toml", "summary.md"] + ([] if args.no_save_runs else ["runs/"]))
+
+
+def _report_figures(folder: Path) -> list[str]:
+    from .plotting import report_figures
+
+    return report_figures(folder)
 
 
 def _plot_directory(out: Path) -> list[Path] | None:
@@ -272,15 +282,14 @@ def _plot_directory(out: Path) -> list[Path] | None:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from . import paper
-    from .jobs import reproduce
-    from .sweep import available_cores
+    from .experiments import EXAMPLE, available_cores, reproduce
+    from .terrain import HillsGenerator
 
     out = Path(args.out)
     threads = args.threads or available_cores()
-    experiment = paper.EXAMPLE
+    experiment = EXAMPLE
     terrain = experiment.terrain
-    hills = f"{terrain.n_hills} Gaussian hills" if isinstance(terrain, paper.HillsTerrain) else "buildings"
+    hills = f"{terrain.n_hills} Gaussian hills" if isinstance(terrain, HillsGenerator) else "buildings"
     print("uavcov demo: the paper's illustrative example (Fig. 5)")
     print(f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {hills} (seed {args.seed}), coverage on a {terrain.spacing:g} m grid")
     print(f"  prior    {experiment.mission.n_prior} random samples + the 4 corners -> approximating surface S'")
@@ -382,12 +391,10 @@ _MESH_SUFFIXES = (".obj", ".stl", ".ply")
 
 
 def _plan(args: argparse.Namespace) -> int:
-    from .area import bbox_area, read_area
+    from .engine import Camera, Gimbal, Sensor
     from .errors import ConfigError
-    from .geo import read_dem, read_mesh_dem, sample_geo_dem
-    from .plan import PlanSettings, plan
-    from .plan_outputs import write_plan
-    from .sensors import Camera, Gimbal, Sensor
+    from .field import PlanSettings, bbox_area, plan, read_area, write_plan
+    from .terrain import read_dem, read_mesh_dem, sample_dem
 
     started = time.perf_counter()
     if (args.dem is None) == (not args.sample):
@@ -395,7 +402,7 @@ def _plan(args: argparse.Namespace) -> int:
     if args.sample:
         if args.crs is not None:
             raise ConfigError("the sample's CRS is known (WGS 84): --crs is for DEM files")
-        dem = sample_geo_dem(args.window or (150, 190, 150, 190), args.stride)
+        dem = sample_dem(args.window or (150, 190, 150, 190), args.stride)
     elif Path(args.dem).suffix.lower() in _MESH_SUFFIXES:
         if args.crs is None:
             raise ConfigError(f"a mesh file states no CRS: give it with --crs (e.g. EPSG:32633) for {args.dem}")
@@ -420,7 +427,7 @@ def _plan(args: argparse.Namespace) -> int:
         d_max=args.d_max,
         h_min=args.h_min,
         h_max=args.h_max,
-        separation=args.separation,
+        d_safe=args.separation,
         takeoff=args.takeoff,
         takeoff_frame=args.coords,
         prior=args.prior,

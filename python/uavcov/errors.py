@@ -53,7 +53,7 @@ class SurfaceTooLargeError(InvalidInputError):
 
     A general mesh, and the mesh method (``method="mesh"``) on a grid, keep a BVH over every
     triangle and are refused beyond 10 million triangles; the grid method of a terrain built with
-    :meth:`~uavcov.surface.Terrain.from_grid` needs no triangle list (up to 2^32 nodes).
+    :meth:`~uavcov.engine.Terrain.from_grid` needs no triangle list (up to 2^32 nodes).
     """
 
 

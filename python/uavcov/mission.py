@@ -1,12 +1,12 @@
 """The paper's two-step mission: an off-line start from the prior, then on-line CAO.
 
-A :class:`MissionSpec` says everything one mission runs (team, sensor, what is known
+A :class:`MissionSettings` says everything one mission runs (team, sensor, what is known
 beforehand, the start, the flight constraints, the CVT and the optimiser), frozen and
 picklable; :func:`run_mission` runs it on a true surface:
 
 1. the prior: the known points (random samples plus the 4 corners, or the paper's pyramid), or
-   an approximating surface S' given directly, and S' from them (:mod:`uavcov.prior`);
-2. the start on S' (:func:`uavcov.starts.start_configuration`: the constrained CVT, or a random,
+   an approximating surface S' given directly, and S' from them (:mod:`uavcov.terrain`);
+2. the start on S' (:func:`uavcov.placement.start_configuration`: the constrained CVT, or a random,
    corner or pairs start), lifted to flying height and moved to the closest admissible
    positions above the real surface (the UAVs sense the ground, paper section V-B);
 3. the optimiser (CAO, centralised or per robot) on the real surface, which it sees only through
@@ -25,7 +25,6 @@ start as it was.
 from __future__ import annotations
 
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -43,34 +42,35 @@ from ._validate import (
     as_points,
     as_positive_float,
     is_int,
+    read_only,
 )
-from .cao import MARGINAL_OPTIMIZERS, CAOSettings, OptimizerTrace, cao, per_robot_cao
-from .constraints import Constraints, closest_admissible, feasibility
-from .cvt import CVTResult, CVTSettings
+from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility, camera_axes
 from .errors import InvalidInputError, InvalidTypeError
-from .footprints import fit_footprints
-from .prior import Prior, approximate_surface, sample_prior
-from .sensors import Camera, Gimbal, Sensor, camera_axes
-from .starts import StartSpec, start_configuration
-from .surface import Terrain
-from .targets import Targets
-from .visibility import Visibility
+from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, CAOSettings, OptimizerTrace
+from .placement import (
+    Constraints,
+    CVTResult,
+    CVTSettings,
+    StartSettings,
+    closest_admissible,
+    feasibility,
+    fit_footprints,
+    start_configuration,
+)
+from .terrain import Prior, approximate_surface, sample_prior
 
-__all__ = ["MissionSpec", "MissionResult", "run_mission", "iterations_to_fraction", "OPTIMIZERS", "PRIOR_KINDS"]
+__all__ = ["MissionSettings", "MissionResult", "run_mission", "iterations_to_fraction", "PRIOR_KINDS"]
 
 if TYPE_CHECKING:
     from _typeshed import DataclassInstance
 
 _Settings = TypeVar("_Settings", bound="DataclassInstance")
 
-OPTIMIZERS = ("cao", "per_robot")
-"""The optimisers :func:`run_mission` knows: centralised CAO, or one estimator per UAV."""
-
 OBJECTIVES = ("coverage", "quality")
 """What a mission maximises: the seen share, or the quality-weighted coverage."""
 
 PRIOR_KINDS = ("random", "pyramid")
-"""What :class:`MissionSpec` can sample as the prior (anything else is passed as ``known``)."""
+"""What :class:`MissionSettings` can sample as the prior (anything else is passed as ``known``)."""
 
 
 def _mission_constraints() -> Constraints:
@@ -79,7 +79,7 @@ def _mission_constraints() -> Constraints:
 
 
 @dataclass(frozen=True)
-class MissionSpec:
+class MissionSettings:
     """Every setting of one mission. Frozen and picklable; compare and hash it as a value.
 
     Attributes
@@ -93,7 +93,7 @@ class MissionSpec:
         ``n_prior`` random points plus the 4 corners, or the 4 corners and the centre.
     n_prior : int, default 30
         Random known points for ``prior="random"``.
-    start : StartSpec
+    start : StartSettings
         The start (kind, altitude rule, corner lattice); a CVT start by default.
     constraints : Constraints
         The flight constraints of eq. 2 (``h_min``, ``z_max``, ``d_safe``, ``check_moves``);
@@ -108,7 +108,7 @@ class MissionSpec:
     iterations : int, default 500
         Optimiser iterations (measurements minus one); 0 measures the start only.
     sensor : Sensor or sequence of Sensor, optional
-        Every UAV's sensor (:mod:`uavcov.sensors`), or one per UAV (``n_uavs`` of them: a team
+        Every UAV's sensor (:mod:`uavcov.engine`), or one per UAV (``n_uavs`` of them: a team
         that mixes ranges and cameras); ``None`` is the paper's omnidirectional one of range
         ``d_max``.
     attitude : (float, float), default (0.0, -90.0)
@@ -124,13 +124,13 @@ class MissionSpec:
     footprint_start : bool, default False
         Lift each start position (any start kind) to the height above S' at which its camera's
         view of S' best matches its Voronoi cell, and turn the free angles likewise
-        (:func:`uavcov.footprints.fit_footprints`, between the flight band's ``h_min`` and
+        (:func:`uavcov.placement.fit_footprints`, between the flight band's ``h_min`` and
         ``h_max``, or the camera's range without a ceiling; positions given to
         :func:`run_mission` are flown as given). Needs a camera.
 
     Examples
     --------
-    >>> spec = MissionSpec(n_uavs=4, d_max=20.0, iterations=50)
+    >>> spec = MissionSettings(n_uavs=4, d_max=20.0, iterations=50)
     >>> spec.with_changes(**{"start.kind": "random", "constraints.h_min": 1.0}).start.kind
     'random'
     """
@@ -139,7 +139,7 @@ class MissionSpec:
     d_max: float
     prior: str = "random"
     n_prior: int = 30
-    start: StartSpec = field(default_factory=StartSpec)
+    start: StartSettings = field(default_factory=StartSettings)
     constraints: Constraints = field(default_factory=_mission_constraints)
     cvt: CVTSettings = field(default_factory=CVTSettings)
     cao: CAOSettings = field(default_factory=CAOSettings)
@@ -159,8 +159,8 @@ class MissionSpec:
         if self.prior not in PRIOR_KINDS:
             raise InvalidInputError(f"prior must be one of {PRIOR_KINDS} (pass anything else as known=), got {self.prior!r}")
         if self.optimizer not in OPTIMIZERS:
-            raise InvalidInputError(f"optimizer must be one of {OPTIMIZERS}, got {self.optimizer!r}")
-        for name, kind in (("start", StartSpec), ("constraints", Constraints), ("cvt", CVTSettings), ("cao", CAOSettings)):
+            raise InvalidInputError(f"optimizer must be one of {tuple(OPTIMIZERS)}, got {self.optimizer!r}")
+        for name, kind in (("start", StartSettings), ("constraints", Constraints), ("cvt", CVTSettings), ("cao", CAOSettings)):
             value = getattr(self, name)
             if not isinstance(value, kind):
                 raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
@@ -238,7 +238,7 @@ class MissionSpec:
                     "use fewer UAVs or cao.n_candidates (or d_safe = 0)"
                 )
 
-    def with_changes(self, **changes: Any) -> MissionSpec:
+    def with_changes(self, **changes: Any) -> MissionSettings:
         """A copy with some fields replaced; nested ones as ``"start.kind"`` or ``"cao.alpha0"``.
 
         Raises
@@ -253,7 +253,7 @@ class MissionSpec:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> MissionSpec:
+    def from_dict(cls, data: dict[str, Any]) -> MissionSettings:
         """The inverse of :meth:`as_dict` (lists where tuples were are accepted).
 
         Raises
@@ -265,7 +265,7 @@ class MissionSpec:
         """
         if not isinstance(data, dict):
             raise InvalidTypeError(f"a mission spec must be a mapping, got {type(data).__name__}")
-        spec: MissionSpec = _build(cls, data, "mission")
+        spec: MissionSettings = _build(cls, data, "mission")
         return spec
 
 
@@ -292,20 +292,20 @@ def _sensor_from_dict(raw: Any, where: str) -> Sensor | tuple[Sensor, ...] | Non
 
 
 def _build(cls: type, data: dict[str, Any], where: str) -> Any:
-    nested = {"start": StartSpec, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings}
+    nested = {"start": StartSettings, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings}
     names = {f.name for f in fields(cls)}
     unknown = sorted(set(data) - names)
     if unknown:
         raise InvalidInputError(f"{where}: unknown field(s) {unknown}; the fields are {sorted(names)}")
     values: dict[str, Any] = {}
     for key, raw in data.items():
-        if cls is MissionSpec and key == "sensor":
+        if cls is MissionSettings and key == "sensor":
             values[key] = _sensor_from_dict(raw, f"{where}.sensor")
-        elif cls is MissionSpec and key == "gimbal" and raw is not None:
+        elif cls is MissionSettings and key == "gimbal" and raw is not None:
             if not isinstance(raw, dict):
                 raise InvalidTypeError(f"{where}.gimbal must be a mapping or null, got {type(raw).__name__}")
             values[key] = _build(Gimbal, raw, f"{where}.gimbal")
-        elif cls is MissionSpec and key in nested:
+        elif cls is MissionSettings and key in nested:
             if not isinstance(raw, dict):
                 raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(raw).__name__}")
             values[key] = _build(nested[key], raw, f"{where}.{key}")
@@ -353,7 +353,7 @@ class MissionResult:
 
     Attributes
     ----------
-    spec : MissionSpec
+    settings : MissionSettings
         What ran, with the constraints resolved against the true surface.
     seed : int or None
         The integer seed, when ``rng`` was one.
@@ -393,7 +393,7 @@ class MissionResult:
         The optimiser's full record.
     """
 
-    spec: MissionSpec
+    settings: MissionSettings
     seed: int | None
     prior_kind: str
     terrain: Terrain
@@ -416,19 +416,13 @@ class MissionResult:
     trace: OptimizerTrace = field(repr=False)
 
     @property
-    def settings(self) -> MissionSpec:
-        """Deprecated: the :attr:`spec` (the flat ``MissionSettings`` record it replaced is gone)."""
-        warnings.warn("MissionResult.settings is deprecated; use MissionResult.spec", DeprecationWarning, stacklevel=2)
-        return self.spec
-
-    @property
     def attitudes(self) -> np.ndarray | None:
         """``(K + 1, N, 2)`` ``(yaw, pitch)`` of every camera at every iteration, degrees.
 
         Yaw in ``[0, 360)``. The fixed angles are the spec's ``attitude``, the free ones
         (``spec.gimbal``) the optimiser's. ``None`` for a sensor without a camera.
         """
-        spec = self.spec
+        spec = self.settings
         if not spec.has_camera:
             return None
         state = np.asarray(self.trace.trajectory)
@@ -468,7 +462,7 @@ def _seed_of(rng: Any) -> int | None:
     return int(rng) if is_int(rng) else None
 
 
-def _approximation(terrain: Terrain, spec: MissionSpec, known: Any, rng: np.random.Generator) -> tuple[Terrain, np.ndarray, str]:
+def _approximation(terrain: Terrain, spec: MissionSettings, known: Any, rng: np.random.Generator) -> tuple[Terrain, np.ndarray, str]:
     """S', the known points behind it, and how they were chosen."""
     if isinstance(known, Terrain):
         return known, np.empty((0, 3)), "surface"
@@ -483,14 +477,13 @@ def _approximation(terrain: Terrain, spec: MissionSpec, known: Any, rng: np.rand
 
 def run_mission(
     terrain: Terrain,
-    spec: MissionSpec | None = None,
+    settings: MissionSettings,
     *,
     known: Any = None,
     start_positions: Any = None,
     targets: Targets | None = None,
     n_threads: int | None = None,
     rng: Any = None,
-    **legacy: Any,
 ) -> MissionResult:
     """Run the paper's two-step mission on a true surface.
 
@@ -499,15 +492,15 @@ def run_mission(
     terrain : Terrain
         The true surface S. The optimiser sees it only through coverage measurements and the
         constraint checks (clearance below each UAV, and moves crossing no surface).
-    spec : MissionSpec
+    settings : MissionSettings
         Everything the mission runs.
     known : Prior, (n, 2 or 3) array_like, or Terrain, optional
-        What is known beforehand, instead of what ``spec.prior`` samples: a
-        :class:`~uavcov.prior.Prior`, known positions or points, or an approximating surface S'
+        What is known beforehand, instead of what ``settings.prior`` samples: a
+        :class:`~uavcov.terrain.Prior`, known positions or points, or an approximating surface S'
         given directly (e.g. a buildings map).
     start_positions : (N, 3) array_like, optional
         Positions of your own to start from (metres, used as given: no lift), instead of
-        ``spec.start``'s; they are still moved to the closest admissible positions.
+        ``settings.start``'s; they are still moved to the closest admissible positions.
     targets : Targets, optional
         Coverage targets; the true terrain's default targets by default.
     n_threads : int, optional
@@ -517,9 +510,6 @@ def run_mission(
     rng : None, int or numpy.random.Generator
         Source of every random draw (see the module's random streams); the same seed gives the
         same run.
-    **legacy
-        The keyword form of earlier releases (``n_uavs=``, ``d_max=``, ``prior=``, ``start=``,
-        ``h_min=``, ...), deprecated: it builds the ``MissionSpec`` for you.
 
     Returns
     -------
@@ -528,7 +518,7 @@ def run_mission(
     Raises
     ------
     InvalidInputError, InvalidTypeError
-        A bad spec or argument.
+        Bad settings or argument.
     InfeasibleError
         The team cannot be placed admissibly.
 
@@ -536,22 +526,16 @@ def run_mission(
     --------
     >>> import uavcov
     >>> hills = uavcov.gaussian_hills(size=40.0, spacing=2.0, n_hills=3, rng=1)
-    >>> result = run_mission(hills, MissionSpec(n_uavs=3, d_max=15.0, iterations=5), rng=0)
+    >>> result = run_mission(hills, MissionSettings(n_uavs=3, d_max=15.0, iterations=5), rng=0)
     >>> result.coverage.shape, 0.0 < result.best_coverage <= 1.0
     ((6,), True)
     """
     started = time.perf_counter()
     if not isinstance(terrain, Terrain):
         raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
-    if legacy:
-        if spec is not None:
-            raise InvalidInputError(f"pass either a MissionSpec or the deprecated keywords {sorted(legacy)}, not both")
-        warnings.warn(
-            "run_mission(terrain, n_uavs=..., d_max=..., ...) is deprecated; pass a MissionSpec", DeprecationWarning, stacklevel=2
-        )
-        spec, known, start_positions = _spec_from_keywords(legacy, known, start_positions)
-    if not isinstance(spec, MissionSpec):
-        raise InvalidTypeError(f"spec must be a MissionSpec, got {type(spec).__name__}")
+    if not isinstance(settings, MissionSettings):
+        raise InvalidTypeError(f"settings must be a MissionSettings, got {type(settings).__name__}")
+    spec = settings
     given = None
     if start_positions is not None:
         given = as_points(start_positions, "start_positions")
@@ -584,7 +568,16 @@ def run_mission(
     def poses(x: np.ndarray) -> np.ndarray:
         return state.poses(x) if camera else x
 
-    if spec.optimizer == "cao":
+    optimizer = OPTIMIZERS[spec.optimizer]
+    if spec.optimizer in MARGINAL_OPTIMIZERS:
+
+        @_repeats_the_last
+        def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
+            counts = vis.per_uav(poses(x), sensors=sensors)  # the coverage and the marginals in one pass
+            return counts.coverage, counts.exclusive_share
+
+        trace = optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
+    else:
         if spec.objective == "coverage" and sensors is None:
             # One team's measurements along its path: the tracker reuses what each proved.
             along = vis.tracker()
@@ -600,21 +593,13 @@ def run_mission(
             def value(x: np.ndarray) -> float:
                 return objective(poses(x), sensors=sensors)
 
-        trace = cao(
+        trace = optimizer(
             value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng
         )
-    else:
-
-        @_repeats_the_last
-        def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
-            counts = vis.per_uav(poses(x), sensors=sensors)  # the coverage and the marginals in one pass
-            return counts.coverage, counts.exclusive_share
-
-        trace = per_robot_cao(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
 
     values = np.asarray(trace.values, dtype=float)
     return MissionResult(
-        spec=replace(spec, cao=trace.settings),
+        settings=replace(spec, cao=trace.settings),
         seed=_seed_of(rng),
         prior_kind=prior_kind,
         terrain=terrain,
@@ -622,9 +607,9 @@ def run_mission(
         approximation=approximation,
         start_positions=flying,
         cvt=tessellation,
-        trajectory=_frozen_positions(trace.trajectory),
+        trajectory=read_only(np.ascontiguousarray(trace.trajectory[..., :3])),
         coverage=values,
-        best_positions=_frozen_positions(trace.best_positions),
+        best_positions=read_only(np.ascontiguousarray(trace.best_positions[..., :3])),
         best_coverage=float(trace.best_value),
         initial_coverage=float(values[0]),
         final_coverage=float(values[-1]),
@@ -661,16 +646,9 @@ def _repeats_the_last(measure: Callable[[np.ndarray], _Measured]) -> Callable[[n
     return cached
 
 
-def _degrees_per_unit(spec: MissionSpec) -> float:
+def _degrees_per_unit(spec: MissionSettings) -> float:
     """Degrees of camera angle per unit of CAO's state: the angles' first step over the positions'."""
     return spec.gimbal.alpha0_deg / spec.cao.alpha0 if spec.gimbal is not None else 1.0
-
-
-def _frozen_positions(state: np.ndarray) -> np.ndarray:
-    """The positions of an optimiser's state ``(..., N, d)``: its first three columns, read-only."""
-    positions = np.ascontiguousarray(state[..., :3])
-    positions.flags.writeable = False
-    return positions
 
 
 class _CameraState:
@@ -681,7 +659,7 @@ class _CameraState:
     state (the surrogate is local: a wrap would be a jump) and wraps in the poses.
     """
 
-    def __init__(self, spec: MissionSpec, attitudes: np.ndarray) -> None:
+    def __init__(self, spec: MissionSettings, attitudes: np.ndarray) -> None:
         self.fixed = np.array(attitudes, dtype=np.float64)
         self.free = spec.free_angles
         self.columns = [0 if name == "yaw" else 1 for name in self.free]
@@ -716,7 +694,7 @@ class _CameraState:
 
 
 def _footprint_start(
-    spec: MissionSpec, approximation: Terrain, flying: np.ndarray, attitudes: np.ndarray, n_threads: int | None
+    spec: MissionSettings, approximation: Terrain, flying: np.ndarray, attitudes: np.ndarray, n_threads: int | None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The start lifted (and its free angles turned) so each camera's view of S' matches its cell."""
     sensors = spec.team_sensors()
@@ -736,56 +714,3 @@ def _footprint_start(
         n_threads=n_threads,
     )
     return fit.positions, fit.attitudes
-
-
-_LEGACY_START = {"start_altitude": "altitude", "climb": "climb"}
-_LEGACY_CONSTRAINTS = ("h_min", "z_max", "d_safe", "check_moves")
-
-
-def _spec_from_keywords(legacy: dict[str, Any], known: Any, start_positions: Any) -> tuple[MissionSpec, Any, Any]:
-    """The MissionSpec (and ``known``, ``start_positions``) the deprecated keyword form means."""
-    options = dict(legacy)
-    for required in ("n_uavs", "d_max"):
-        if required not in options:
-            raise InvalidInputError(f"run_mission needs a MissionSpec (or the deprecated {required}=...)")
-    top: dict[str, Any] = {"n_uavs": options.pop("n_uavs"), "d_max": options.pop("d_max")}
-    for name in ("n_prior", "optimizer", "iterations"):
-        if name in options:
-            top[name] = options.pop(name)
-    prior = options.pop("prior", "random")
-    if isinstance(prior, str):
-        if prior not in PRIOR_KINDS:
-            raise InvalidInputError(f"prior must be 'random', 'pyramid', a Prior, points or a Terrain, got {prior!r}")
-        top["prior"] = prior
-    else:
-        known = prior
-    start = options.pop("start", "cvt")
-    start_changes = {new: options.pop(old) for old, new in _LEGACY_START.items() if old in options}
-    if isinstance(start, str):
-        start_changes["kind"] = start
-    else:
-        start_positions = start
-    top["start"] = StartSpec(**start_changes)
-    top["constraints"] = replace(_mission_constraints(), **{k: options.pop(k) for k in _LEGACY_CONSTRAINTS if k in options})
-    if "settings" in options:
-        top["cao"] = options.pop("settings")
-        if top["cao"] is None:
-            top["cao"] = CAOSettings()
-    cvt_options = options.pop("cvt_options", None)
-    if cvt_options is not None:
-        if not isinstance(cvt_options, dict):
-            raise InvalidTypeError(f"cvt_options must be a mapping, got {type(cvt_options).__name__}")
-        unknown = sorted(set(cvt_options) - {f.name for f in fields(CVTSettings)})
-        if unknown:
-            raise InvalidInputError(f"cvt_options: unknown option(s) {unknown}; the options are the fields of CVTSettings")
-        top["cvt"] = CVTSettings(**cvt_options)
-    if options:
-        raise InvalidInputError(f"run_mission got unknown keyword(s) {sorted(options)}")
-    return MissionSpec(**top), known, start_positions
-
-
-def __getattr__(name: str) -> Any:
-    if name == "MissionSettings":
-        warnings.warn("uavcov.mission.MissionSettings is deprecated; use MissionSpec", DeprecationWarning, stacklevel=2)
-        return MissionSpec
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import numbers
 import os
-import tempfile
 import zipfile
 import zlib
 from collections.abc import Mapping
@@ -21,20 +20,20 @@ from typing import Any
 
 import numpy as np
 
-from .cao import OptimizerTrace
-from .cvt import CVTResult
+from ._io import atomic_write_with
+from ._validate import read_only
+from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
-from .mission import MissionResult, MissionSpec, _frozen_positions
-from .results import widen_mode
-from .starts import START_KINDS
-from .surface import Terrain
+from .mission import MissionResult, MissionSettings
+from .optim import OptimizerTrace
+from .placement import START_KINDS, CVTResult
 
 __all__ = ["FORMAT", "save_mission", "load_mission"]
 
 FORMAT = "uavcov.mission/2"
 """Format tag written in every run file; bump on any incompatible change."""
 
-_FORMAT_1 = "uavcov.mission/1"  # a flat settings record instead of the MissionSpec; still read
+_FORMAT_1 = "uavcov.mission/1"  # a flat settings record instead of the MissionSettings; still read
 
 _TRACE_ARRAYS = ("trajectory", "values", "measured", "step_sizes", "n_checked", "n_feasible", "best_positions")
 _TRACE_TIMES = (("time_measure_s", "time_measure"), ("time_feasibility_s", "time_feasibility"), ("time_optimizer_s", "time_own"))
@@ -104,7 +103,7 @@ def _check_fields(record: Any, types: Mapping[str, tuple[type, ...]], where: str
             raise ResultsFormatError(f"{path}: {where}.{name} = {value!r} is not {'an integer' if kinds is _INT else 'a number'}")
 
 
-def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSpec, path: Path) -> None:
+def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, path: Path) -> None:
     """The arrays' shapes agree with each other and with the spec (a corrupt file is refused)."""
     n_uavs = spec.n_uavs
     state = 3 + len(spec.free_angles)  # the optimiser's variables per UAV: a position, then free camera angles
@@ -144,7 +143,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     trace = result.trace
     header = {
         "format": FORMAT,
-        "spec": result.spec.as_dict(),
+        "spec": result.settings.as_dict(),
         "seed": result.seed,
         "prior_kind": result.prior_kind,
         "scalars": {
@@ -181,15 +180,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     if result.cvt is not None:
         arrays.update({f"cvt_{name}": np.asarray(getattr(result.cvt, name)) for name in _CVT_ARRAYS})
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".npz")
-    try:
-        with os.fdopen(fd, "wb") as out:
-            widen_mode(out.fileno())  # the mode of every file of a results folder, not mkstemp's 0o600
-            np.savez_compressed(out, **arrays)  # type: ignore[arg-type]
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    atomic_write_with(path, lambda out: np.savez_compressed(out, **arrays))  # type: ignore[arg-type]
     return path
 
 
@@ -240,7 +231,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         if header["format"] == _FORMAT_1:
             spec, seed, prior_kind = _spec_of_format_1(header)
         else:
-            spec, seed, prior_kind = MissionSpec.from_dict(header["spec"]), header["seed"], header["prior_kind"]
+            spec, seed, prior_kind = MissionSettings.from_dict(header["spec"]), header["seed"], header["prior_kind"]
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
             raise ResultsFormatError(f"{path}: seed = {seed!r} is not an integer")
         if not isinstance(prior_kind, str):
@@ -262,7 +253,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"])
         s = header["scalars"]
         return MissionResult(
-            spec=spec,
+            settings=spec,
             seed=seed,
             prior_kind=prior_kind,
             terrain=_surface("terrain", arrays, path),
@@ -270,9 +261,9 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             approximation=_surface("approximation", arrays, path),
             start_positions=arrays["start_positions"],
             cvt=cvt,
-            trajectory=_frozen_positions(trace.trajectory),
+            trajectory=read_only(np.ascontiguousarray(trace.trajectory[..., :3])),
             coverage=arrays["coverage"],
-            best_positions=_frozen_positions(trace.best_positions),
+            best_positions=read_only(np.ascontiguousarray(trace.best_positions[..., :3])),
             trace=trace,
             **s,
         )
@@ -282,15 +273,15 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         raise ResultsFormatError(f"{path} is missing or has a malformed field: {type(exc).__name__}: {exc}") from exc
 
 
-def _spec_of_format_1(header: dict[str, Any]) -> tuple[MissionSpec, int | None, str]:
-    """The MissionSpec a format-1 file's flat settings record describes.
+def _spec_of_format_1(header: dict[str, Any]) -> tuple[MissionSettings, int | None, str]:
+    """The MissionSettings a format-1 file's flat settings record describes.
 
     Format 1 recorded a start built outside the mission as "given"; its kind is taken as "cvt"
     when the file holds a CVT run, else "random" (the runs.csv row names the true start).
     """
     raw = dict(header["settings"])
     kind = raw["start"] if raw["start"] in START_KINDS else ("cvt" if header.get("cvt") is not None else "random")
-    spec = MissionSpec.from_dict(
+    spec = MissionSettings.from_dict(
         {
             "n_uavs": raw["n_uavs"],
             "d_max": raw["d_max"],

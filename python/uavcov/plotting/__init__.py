@@ -1,8 +1,8 @@
 """Figures of a mission, after the paper's: surfaces, CVT, coverage map, curves, Table 1, point cloud.
 
 Every function takes library objects (a :class:`~uavcov.mission.MissionResult`, or a path to a
-run saved by :func:`uavcov.records.save_mission`, a :class:`~uavcov.surface.Terrain`, a
-:class:`~uavcov.cvt.CVTResult`, rows of a ``runs.csv``), draws into a new figure or into the
+run saved by :func:`uavcov.records.save_mission`, a :class:`~uavcov.engine.Terrain`, a
+:class:`~uavcov.placement.CVTResult`, rows of a ``runs.csv``), draws into a new figure or into the
 ``ax`` it is given, saves to ``out`` when asked, and returns the matplotlib ``Figure``.
 :func:`plot_directory` redraws every figure of a results directory without rerunning anything.
 
@@ -18,18 +18,21 @@ clustered down to that many triangles, and top views are rasters.
 
 The package is split by what each part owns:
 
-- :mod:`~uavcov.plotting.figures`: one function per paper figure, :func:`seen_points` and
+- :mod:`~uavcov.plotting._figures`: one function per paper figure, :func:`seen_points` and
   :func:`published_values`;
-- :mod:`~uavcov.plotting.views`: surfaces as polygons (decimation, shading), raster top views,
+- :mod:`~uavcov.plotting._views`: surfaces as polygons (decimation, shading), raster top views,
   hillshade, 3D axes styling;
-- :mod:`~uavcov.plotting.animation`: :func:`animate_mission`;
-- :mod:`~uavcov.plotting.writers`: :func:`write_ply` and the GIF / MP4 writers;
-- :mod:`~uavcov.plotting.directory`: :func:`plot_directory`;
+- :mod:`~uavcov.plotting._animation`: :func:`animate_mission`;
+- :mod:`~uavcov.plotting._writers`: :func:`write_ply` and the GIF / MP4 writers;
+- :mod:`~uavcov.plotting._directory`: :func:`plot_directory`;
 - private helpers: ``_canvas`` (colours, matplotlib on demand, axes, saving, legend entries),
   ``_inputs`` (checks of results and arguments), ``_runs`` (reading ``runs.csv`` and its cells).
 """
 
 from __future__ import annotations
+
+from ._animation import animate_mission
+from ._cameras import footprints, plot_camera_views
 
 # The colours and defaults of the figures stay importable from here, as before the split; like
 # then they are not in __all__ (the redundant aliases mark them as re-exported).
@@ -39,10 +42,8 @@ from ._canvas import SEEN_COLOUR as SEEN_COLOUR
 from ._canvas import START_COLOUR as START_COLOUR
 from ._canvas import TRUE_SURFACE_COLOUR as TRUE_SURFACE_COLOUR
 from ._canvas import UNSEEN_COLOUR as UNSEEN_COLOUR
-from .animation import animate_mission
-from .cameras import footprints, plot_camera_views
-from .directory import plot_directory
-from .figures import (
+from ._directory import plot_directory, report_figures
+from ._figures import (
     plot_approximation,
     plot_coverage_curves,
     plot_coverage_map,
@@ -52,9 +53,9 @@ from .figures import (
     published_values,
     seen_points,
 )
-from .views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
-from .views import LIGHT as LIGHT
-from .writers import write_ply
+from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
+from ._views import LIGHT as LIGHT
+from ._writers import write_ply
 
 __all__ = [
     "animate_mission",
@@ -65,6 +66,7 @@ __all__ = [
     "plot_coverage_map",
     "plot_cvt",
     "plot_directory",
+    "report_figures",
     "plot_point_cloud",
     "plot_table1",
     "published_values",

@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from .._validate import as_points
+from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..records import load_mission
-from ..surface import Terrain
 
 
 def _as_result(result: Any, needs: Sequence[str]) -> Any:
@@ -73,8 +73,8 @@ def _curve(value: Any) -> np.ndarray:
 
 
 def _setting(result: Any, name: str) -> Any:
-    """A setting of the mission a result ran (``result.spec``), or None; "start" is its kind."""
-    spec = getattr(result, "spec", None)
+    """A setting of the mission a result ran (``result.settings``), or None; "start" is its kind."""
+    spec = getattr(result, "settings", None)
     if name == "start":
         return getattr(getattr(spec, "start", None), "kind", None)
     return getattr(spec, name, None)
@@ -108,7 +108,7 @@ def _points(value: Any, name: str, *, allow_empty: bool = True) -> np.ndarray:
 
 
 def _terrain(value: Any, name: str) -> Terrain:
-    """``value`` itself when it is a :class:`~uavcov.surface.Terrain`."""
+    """``value`` itself when it is a :class:`~uavcov.engine.Terrain`."""
     if not isinstance(value, Terrain):
         raise InvalidTypeError(f"{name} must be a uavcov.Terrain, got {type(value).__name__}")
     return value
@@ -145,7 +145,7 @@ def _sight(result: Any, positions: np.ndarray, iteration: int | None) -> tuple[n
     """What a run's UAVs see through at ``positions``: ``(positions, None)`` for the paper's
     sensor, else the poses ``(N, 5)`` (the run's camera angles at ``iteration``, or its spec's
     when the iteration is unknown) and each UAV's sensor."""
-    spec = getattr(result, "spec", None)
+    spec = getattr(result, "settings", None)
     sensors = spec.team_sensors() if spec is not None and getattr(spec, "sensor", None) is not None else None
     if spec is None or sensors is None or len(sensors) != positions.shape[0]:
         return positions, None

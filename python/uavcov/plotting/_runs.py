@@ -14,7 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..errors import ResultsFormatError
-from ..results import read_runs
+from ..experiments import read_runs
 
 RUNS_COLUMNS = ("experiment", "init", "n_uavs", "max_coverage")
 """Columns the figures need in a ``runs.csv``: the experiment, the start, the team size and the
@@ -22,7 +22,7 @@ best coverage (the bars of Table 1 and the grouping of the curves)."""
 
 
 def _read_runs(path: Any) -> list[dict[str, Any]]:
-    """The rows of the ``runs.csv`` at ``path`` (:func:`uavcov.results.read_runs`), header checked.
+    """The rows of the ``runs.csv`` at ``path`` (:func:`uavcov.experiments.read_runs`), header checked.
 
     Raises
     ------

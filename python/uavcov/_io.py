@@ -1,0 +1,60 @@
+"""Atomic file writes: the one way uavcov puts a file on disk.
+
+A file is written to a temporary name in its own folder, synced, then renamed over its target
+(``os.replace``): a reader sees the old file or the whole new one, never half of it, and a crash
+leaves at most a ``.tmp-*`` file behind. The rename replaces the target itself, so a symbolic
+link there is replaced, never followed. Every file gets :func:`file_mode`, the mode ``open()``
+would give it, so a folder holds one mode whatever wrote its files.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import IO
+
+__all__ = ["atomic_write", "atomic_write_with", "file_mode"]
+
+
+def file_mode() -> int:
+    """The mode of every file uavcov writes: ``0o666`` less the process's umask (0o644 usually).
+
+    What ``open()`` gives a new file; :func:`tempfile.mkstemp` makes 0o600 files, which the
+    writers here widen to this.
+    """
+    with contextlib.suppress(OSError, ValueError), open("/proc/self/status", encoding="ascii") as status:
+        for line in status:
+            if line.startswith("Umask:"):
+                return 0o666 & ~int(line.split()[1], 8)
+    mask = os.umask(0o022)  # no /proc: read the umask by setting it, then put it back
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def atomic_write_with(path: str | os.PathLike[str], write: Callable[[IO[bytes]], object]) -> None:
+    """Call ``write`` on a binary file that becomes ``path`` once it returns, synced.
+
+    On any exception the temporary file is removed and ``path`` is left as it was.
+    """
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=".tmp-", suffix=target.suffix)
+    try:
+        with os.fdopen(fd, "wb") as out:
+            if hasattr(os, "fchmod"):  # not on Windows, where modes mean little
+                os.fchmod(out.fileno(), file_mode())
+            write(out)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> None:
+    """Write ``data`` (text as UTF-8) to ``path`` atomically; see the module."""
+    payload = data.encode("utf-8") if isinstance(data, str) else bytes(data)
+    atomic_write_with(path, lambda out: out.write(payload))

@@ -1,0 +1,23 @@
+"""The exact geometry over the Rust core: surfaces, targets, sensors, visibility and the tracker."""
+
+from __future__ import annotations
+
+from ._sensors import Camera, Gimbal, Sensor, camera_axes, pack_sensors
+from ._surface import GridInfo, Terrain
+from ._targets import Targets
+from ._visibility import CoverageTracker, UavCounts, Visibility, coverage
+
+__all__ = [
+    "Camera",
+    "Sensor",
+    "Gimbal",
+    "camera_axes",
+    "pack_sensors",
+    "Terrain",
+    "GridInfo",
+    "Targets",
+    "Visibility",
+    "CoverageTracker",
+    "UavCounts",
+    "coverage",
+]

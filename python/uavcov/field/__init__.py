@@ -1,0 +1,48 @@
+"""Flying a real site: areas of interest, flight plans on a GeoDem, and the files a ground station reads."""
+
+from __future__ import annotations
+
+from ._area import AREA_FRAMES, AreaOfInterest, bbox_area, points_in_rings, read_area
+from ._outputs import (
+    COVERAGE_NODATA,
+    MAV_CMD_DO_MOUNT_CONTROL,
+    MAV_CMD_NAV_LOITER_TIME,
+    MAV_CMD_NAV_TAKEOFF,
+    MAV_CMD_NAV_WAYPOINT,
+    MAV_FRAME_GLOBAL_RELATIVE_ALT,
+    qgc_plan,
+    read_coverage_geotiff,
+    read_plan_geojson,
+    read_plan_kml,
+    read_positions_csv,
+    read_qgc_plan,
+    render_plan,
+    write_plan,
+)
+from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
+
+__all__ = [
+    "AreaOfInterest",
+    "bbox_area",
+    "read_area",
+    "points_in_rings",
+    "AREA_FRAMES",
+    "write_plan",
+    "render_plan",
+    "qgc_plan",
+    "read_qgc_plan",
+    "read_positions_csv",
+    "read_plan_geojson",
+    "read_plan_kml",
+    "read_coverage_geotiff",
+    "COVERAGE_NODATA",
+    "MAV_CMD_NAV_TAKEOFF",
+    "MAV_CMD_NAV_WAYPOINT",
+    "MAV_CMD_NAV_LOITER_TIME",
+    "MAV_CMD_DO_MOUNT_CONTROL",
+    "MAV_FRAME_GLOBAL_RELATIVE_ALT",
+    "PlanSettings",
+    "FlightPlan",
+    "plan",
+    "TAKEOFF_FRAMES",
+]

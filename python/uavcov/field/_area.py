@@ -1,0 +1,231 @@
+"""The area of interest of a plan: polygons from GeoJSON or KML, or a bounding box.
+
+An :class:`AreaOfInterest` holds polygons (an exterior ring and holes each) in WGS84 longitude
+and latitude (GeoJSON's and KML's own CRS) or in the DEM's CRS (a bounding box given in it).
+:meth:`AreaOfInterest.contains` tells which local points lie inside, after the rings are mapped
+into the local frame through the DEM (:class:`uavcov.terrain.GeoDem`); rings are straight between
+their vertices in the local frame (not geodesics: for a local area the difference is far under a
+cell). Inside is the even-odd rule: a point inside a hole is outside; a point on an edge may go
+either way.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_float_array
+from ..errors import InvalidInputError, InvalidTypeError
+from ..terrain import GeoDem
+
+__all__ = ["AreaOfInterest", "bbox_area", "read_area", "points_in_rings", "AREA_FRAMES"]
+
+AREA_FRAMES = ("wgs84", "dem")
+"""What an area's coordinates are in: WGS84 (longitude, latitude) or the DEM's CRS."""
+
+_MAX_VERTICES = 1_000_000
+
+
+def _ring(value: Any, where: str) -> np.ndarray:
+    ring = as_float_array(value, where)
+    if ring.ndim != 2 or ring.shape[1] < 2:
+        raise InvalidInputError(f"{where} must be a list of (x, y) positions, got shape {ring.shape}")
+    ring = np.ascontiguousarray(ring[:, :2])
+    if ring.shape[0] > 1 and np.array_equal(ring[0], ring[-1]):
+        ring = ring[:-1]
+    if ring.shape[0] < 3:
+        raise InvalidInputError(f"{where} has {ring.shape[0]} distinct vertices; a polygon ring needs 3")
+    ring.setflags(write=False)
+    return ring
+
+
+@dataclass(frozen=True, eq=False)
+class AreaOfInterest:
+    """Polygons that restrict a plan: coverage targets and the CVT region lie inside.
+
+    Attributes
+    ----------
+    polygons : tuple of tuple of ndarray
+        Each polygon is its rings, ``(k, 2)`` arrays: the exterior first, then holes.
+    frame : {"wgs84", "dem"}
+        The coordinates: WGS84 (longitude, latitude in degrees) or the DEM's CRS.
+    source : str
+        Where it came from (a file, "bbox").
+    """
+
+    polygons: tuple[tuple[np.ndarray, ...], ...]
+    frame: str = "wgs84"
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if self.frame not in AREA_FRAMES:
+            raise InvalidInputError(f"frame must be one of {AREA_FRAMES}, got {self.frame!r}")
+        if not self.polygons:
+            raise InvalidInputError(f"{self.source or 'the area'} holds no polygon")
+        checked = tuple(tuple(_ring(r, f"polygon {p} ring {k}") for k, r in enumerate(rings)) for p, rings in enumerate(self.polygons))
+        if any(not rings for rings in checked):
+            raise InvalidInputError(f"{self.source or 'the area'} has a polygon without rings")
+        if sum(r.shape[0] for rings in checked for r in rings) > _MAX_VERTICES:
+            raise InvalidInputError(f"{self.source or 'the area'} has more than {_MAX_VERTICES:,} vertices")
+        if self.frame == "wgs84":
+            for rings in checked:
+                for ring in rings:
+                    if (np.abs(ring[:, 1]) > 90.0).any() or (np.abs(ring[:, 0]) > 360.0).any():
+                        raise InvalidInputError(
+                            f"{self.source or 'the area'}: coordinates are not longitude, latitude in degrees "
+                            f"(first vertex {ring[0].tolist()})"
+                        )
+        object.__setattr__(self, "polygons", checked)
+
+    def local_rings(self, dem: GeoDem) -> list[np.ndarray]:
+        """Every ring as ``(k, 2)`` local metres of ``dem`` (holes and exteriors alike)."""
+        if not isinstance(dem, GeoDem):
+            raise InvalidTypeError(f"dem must be a uavcov.terrain.GeoDem, got {type(dem).__name__}")
+        rings = [ring for rings in self.polygons for ring in rings]
+        if self.frame == "wgs84":
+            return [dem.from_wgs84(ring)[:, :2] for ring in rings]
+        return [dem.crs_to_local_xy(ring) for ring in rings]
+
+    def wgs84_polygons(self, dem: GeoDem) -> list[list[np.ndarray]]:
+        """The polygons in WGS84 (longitude, latitude), for the files a plan writes."""
+        if self.frame == "wgs84":
+            return [list(rings) for rings in self.polygons]
+        return [
+            [dem.to_wgs84(np.column_stack([dem.crs_to_local_xy(r), np.zeros(r.shape[0])]))[:, :2] for r in rings] for rings in self.polygons
+        ]
+
+    def contains(self, xy: Any, dem: GeoDem) -> np.ndarray:
+        """``(n, 2)`` local metres -> ``(n,)`` bool: inside the area (even-odd over every ring)."""
+        return points_in_rings(xy, self.local_rings(dem))
+
+
+def points_in_rings(xy: Any, rings: list[np.ndarray]) -> np.ndarray:
+    """Even-odd point-in-polygon test: ``(n, 2)`` points, rings of ``(k, 2)`` -> ``(n,)`` bool.
+
+    A point is inside when a ray from it to +x crosses the rings' edges an odd number of times
+    (so a hole, a ring inside another, is outside).
+    """
+    points = as_float_array(xy, "xy")
+    if points.ndim != 2 or points.shape[1] != 2:
+        raise InvalidInputError(f"xy must have shape (n, 2), got {points.shape}")
+    x, y = points[:, 0], points[:, 1]
+    inside = np.zeros(points.shape[0], dtype=bool)
+    for ring in rings:
+        x0, y0 = ring[:, 0], ring[:, 1]
+        x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+        for k in range(ring.shape[0]):
+            straddles = (y0[k] > y) != (y1[k] > y)
+            if not straddles.any():
+                continue
+            # x of the edge at the point's y (only where the edge straddles it: no division by 0)
+            t = (y[straddles] - y0[k]) / (y1[k] - y0[k])
+            crossing = x0[k] + t * (x1[k] - x0[k]) > x[straddles]
+            index = np.flatnonzero(straddles)[crossing]
+            inside[index] = ~inside[index]
+    return inside
+
+
+def bbox_area(xmin: float, ymin: float, xmax: float, ymax: float, *, frame: str = "wgs84") -> AreaOfInterest:
+    """A rectangle as an area: ``(xmin, ymin, xmax, ymax)`` in longitude, latitude (``frame="wgs84"``)
+    or in the DEM's CRS (``frame="dem"``)."""
+    values = as_float_array([xmin, ymin, xmax, ymax], "bbox", ndim=1)
+    x0, y0, x1, y1 = (float(v) for v in values)
+    if not (x0 < x1 and y0 < y1):
+        raise InvalidInputError(f"a bounding box needs xmin < xmax and ymin < ymax, got {(x0, y0, x1, y1)}")
+    ring = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    return AreaOfInterest(((ring,),), frame=frame, source="bbox")
+
+
+def read_area(path: Any) -> AreaOfInterest:
+    """An area from a GeoJSON file (Polygon or MultiPolygon geometries, Features, FeatureCollections)
+    or a KML file (every ``Polygon``, its ``outerBoundaryIs`` and ``innerBoundaryIs``); both in
+    WGS84 longitude, latitude (RFC 7946, KML 2.2).
+
+    Raises
+    ------
+    InvalidInputError
+        No such file, does not parse, holds no polygon, a GeoJSON ``crs`` member other than WGS84.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
+    text_path = os.fspath(path)
+    if not os.path.isfile(text_path):
+        raise InvalidInputError(f"area file {text_path!r} does not exist or is not a file")
+    if os.path.getsize(text_path) > 200_000_000:
+        raise InvalidInputError(f"area file {text_path!r} is larger than 200 MB")
+    try:
+        with open(text_path, encoding="utf-8") as handle:
+            text = handle.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InvalidInputError(f"cannot read {text_path!r}: {exc}") from None
+    polygons = _kml_polygons(text, text_path) if text.lstrip().startswith("<") else _geojson_polygons(text, text_path)
+    if not polygons:
+        raise InvalidInputError(f"{text_path!r} holds no polygon")
+    return AreaOfInterest(tuple(tuple(rings) for rings in polygons), frame="wgs84", source=text_path)
+
+
+def _geojson_polygons(text: str, where: str) -> list[list[Any]]:
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InvalidInputError(f"{where!r} is neither GeoJSON nor KML: {exc}") from None
+    if not isinstance(document, dict):
+        raise InvalidInputError(f"{where!r} is not a GeoJSON object")
+    crs = document.get("crs")
+    if crs is not None:
+        name = str(crs.get("properties", {}).get("name", "")) if isinstance(crs, dict) else str(crs)
+        if not any(key in name.upper() for key in ("CRS84", "4326")):
+            raise InvalidInputError(f"{where!r} declares the CRS {name!r}; GeoJSON areas must be WGS84 longitude, latitude")
+    polygons: list[list[Any]] = []
+
+    def visit(node: Any) -> None:
+        if not isinstance(node, dict):
+            return
+        kind = node.get("type")
+        if kind == "FeatureCollection":
+            for feature in node.get("features") or []:
+                visit(feature)
+        elif kind == "Feature":
+            visit(node.get("geometry"))
+        elif kind == "GeometryCollection":
+            for geometry in node.get("geometries") or []:
+                visit(geometry)
+        elif kind == "Polygon":
+            polygons.append(list(node.get("coordinates") or []))
+        elif kind == "MultiPolygon":
+            polygons.extend(list(p) for p in node.get("coordinates") or [])
+
+    visit(document)
+    return polygons
+
+
+def _kml_polygons(text: str, where: str) -> list[list[Any]]:
+    try:
+        root = ET.fromstring(text)  # ElementTree expands no external entities
+    except ET.ParseError as exc:
+        raise InvalidInputError(f"{where!r} is not valid KML: {exc}") from None
+
+    def local(tag: str) -> str:
+        return tag.rsplit("}", 1)[-1]
+
+    polygons: list[list[Any]] = []
+    for polygon in (e for e in root.iter() if local(e.tag) == "Polygon"):
+        rings: list[Any] = []
+        for boundary_name in ("outerBoundaryIs", "innerBoundaryIs"):
+            for boundary in (e for e in polygon if local(e.tag) == boundary_name):
+                rings.extend(_kml_coordinates(c.text or "", where) for c in boundary.iter() if local(c.tag) == "coordinates")
+        if rings:
+            polygons.append(rings)
+    return polygons
+
+
+def _kml_coordinates(text: str, where: str) -> list[list[float]]:
+    try:
+        return [[float(v) for v in token.split(",")[:2]] for token in text.split()]
+    except ValueError:
+        raise InvalidInputError(f"{where!r}: KML coordinates must be 'lon,lat[,alt]' tuples, got {text.strip()[:60]!r}") from None

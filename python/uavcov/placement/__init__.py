@@ -1,0 +1,31 @@
+"""Where a team may fly and where it starts: flight limits, the constrained CVT, starts, camera footprints."""
+
+from __future__ import annotations
+
+from ._constraints import Constraints, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
+from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
+from ._footprints import FootprintFit, fit_footprints
+from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, initial_positions, start_configuration
+
+__all__ = [
+    "World",
+    "Constraints",
+    "feasible_mask",
+    "feasibility",
+    "trajectory_feasible",
+    "closest_admissible",
+    "cvt",
+    "CVTSettings",
+    "CVTResult",
+    "PRESETS",
+    "default_samples_per_iteration",
+    "seed_from_rng",
+    "FootprintFit",
+    "fit_footprints",
+    "initial_positions",
+    "start_configuration",
+    "StartSettings",
+    "START_KINDS",
+    "CORNERS",
+    "ALTITUDE_REFERENCES",
+]

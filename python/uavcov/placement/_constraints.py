@@ -1,0 +1,462 @@
+"""The admissible UAV configurations of the paper (eq. 2), and how to reach one.
+
+A configuration ``x`` of shape ``(N, 3)`` is admissible when every UAV
+
+* lies inside the region's x-y bounds (closed),
+* has at least ``h_min`` of clearance straight down to the real surface (and a surface below it
+  at all: a UAV under a heightfield or over a nodata hole has none, and is refused),
+* has at most ``h_max`` of that clearance, when ``h_max`` is set: the paper's maximum height of
+  flight, measured, like the minimum, above the ground the UAV is over (the height its
+  altimeter reads, and the one flight rules cap),
+* flies at most at the absolute altitude ``z_max``,
+* stays at least ``d_safe`` away from every other UAV,
+
+and, when ``check_moves`` is set (scenes with buildings), the straight move from the current
+position to the new one crosses no surface. The checks read the world only through what a UAV
+team could sense or has been told: :class:`World` (``clearance``, ``segments_clear``,
+``ground_height``, ``bounds``), which :class:`uavcov.engine.Terrain` provides.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any, Protocol
+
+import numpy as np
+
+from .._validate import as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_int
+from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
+
+__all__ = [
+    "World",
+    "Constraints",
+    "feasible_mask",
+    "feasibility",
+    "trajectory_feasible",
+    "closest_admissible",
+]
+
+# closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
+# (which use the true h_min and d_safe) never fail on round-off. Metres.
+_MARGIN = 1e-6
+
+
+class World(Protocol):
+    """What the constraints need to know about the real surface (``Terrain`` provides it)."""
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """``(2, 3)``: ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` of the surface."""
+        ...
+
+    def ground_height(self, xy: np.ndarray) -> np.ndarray:
+        """``(n, 2) -> (n,)`` highest surface z above each point, NaN where none."""
+        ...
+
+    def clearance(self, points: np.ndarray) -> np.ndarray:
+        """``(n, 3) -> (n,)`` distance straight down to the surface, inf where none."""
+        ...
+
+    def segments_clear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``(n, 3), (n, 3) -> (n,)`` bool: the closed segment crosses no surface."""
+        ...
+
+
+def _as_bounds(value: Any) -> tuple[float, float, float, float]:
+    if isinstance(value, (str, bytes)):
+        raise InvalidTypeError("bounds must be (xmin, ymin, xmax, ymax), got a string")
+    array = as_float_array(value, "bounds")
+    if array.ndim == 2 and array.shape[0] == 2 and array.shape[1] >= 2:
+        array = np.array([array[0, 0], array[0, 1], array[1, 0], array[1, 1]])
+    if array.shape != (4,):
+        raise InvalidInputError(
+            f"bounds must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], got shape {array.shape}"
+        )
+    xmin, ymin, xmax, ymax = (float(v) for v in array)
+    if not (xmin < xmax and ymin < ymax):
+        raise InvalidInputError(f"bounds need xmin < xmax and ymin < ymax, got {tuple(array)}")
+    return xmin, ymin, xmax, ymax
+
+
+@dataclass(frozen=True)
+class Constraints:
+    """The constraint set of the paper's eq. 2. Defaults follow ``paper-setup.md``.
+
+    One object holds every flight limit of a mission; :meth:`resolve` fills what depends on the
+    surface (its x-y bounds, and whether moves are checked), and every check here resolves the
+    constraints against the world it is given.
+
+    Parameters
+    ----------
+    bounds : (xmin, ymin, xmax, ymax), optional
+        Closed x-y region the UAVs must stay in, metres. A ``(2, k)`` array
+        ``[[xmin, ymin, ...], [xmax, ymax, ...]]`` (such as ``Terrain.bounds``) is accepted.
+        ``None``: the x-y bounds of the surface the constraints are applied to.
+    h_min : float, default 2.0
+        Least clearance straight down to the real surface, metres (>= 0).
+    z_max : float, default 50.0
+        Highest absolute altitude, metres, in the surface's frame. ``h_min > z_max`` is refused:
+        uavcov surfaces stand on z >= 0, so it would leave no room anywhere.
+    h_max : float or None, default None
+        Most clearance straight down to the real surface, metres: the maximum height of flight
+        above the ground below the UAV (``None``: no such ceiling, only ``z_max``). Must be at
+        least ``h_min``. Above ground rather than absolute because eq. 2's constraints "depend
+        on the surface" (the paper, section III), because it is what a UAV's altimeter senses
+        and what flight rules cap, and because an absolute ceiling over hills binds over the
+        peaks only and leaves the valleys free.
+    d_safe : float, default 2.0
+        Least distance between two UAVs, metres (>= 0).
+    check_moves : bool or None, default False
+        Also require the straight move from the current to the new position to cross no surface
+        (scenes with buildings: two admissible positions on either side of a wall or a roof edge
+        can be joined by a move through it, and in a mesh with ground under its buildings a
+        point inside one passes the clearance test). ``None`` decides by the surface: on for
+        general meshes, off for elevation grids, where a move between two admissible positions a few metres apart
+        cannot cross the ground.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or out-of-range values.
+    InfeasibleError
+        ``h_min > z_max`` or ``h_min > h_max``.
+    """
+
+    bounds: tuple[float, float, float, float] | None = None
+    h_min: float = 2.0
+    z_max: float = 50.0
+    d_safe: float = 2.0
+    check_moves: bool | None = False
+    h_max: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.bounds is not None:
+            object.__setattr__(self, "bounds", _as_bounds(self.bounds))
+        object.__setattr__(self, "h_min", as_non_negative_float(self.h_min, "h_min"))
+        object.__setattr__(self, "z_max", as_finite_float(self.z_max, "z_max"))
+        object.__setattr__(self, "d_safe", as_non_negative_float(self.d_safe, "d_safe"))
+        if self.check_moves is not None:
+            if not isinstance(self.check_moves, (bool, np.bool_)):
+                raise InvalidTypeError(f"check_moves must be a bool or None, got {type(self.check_moves).__name__}")
+            object.__setattr__(self, "check_moves", bool(self.check_moves))
+        if self.h_min > self.z_max:
+            raise InfeasibleError(f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m")
+        if self.h_max is not None:
+            object.__setattr__(self, "h_max", as_finite_float(self.h_max, "h_max"))
+            if self.h_min > self.h_max:
+                raise InfeasibleError(f"h_min = {self.h_min} m above the surface is more than h_max = {self.h_max} m")
+
+    @classmethod
+    def for_world(cls, world: World, **kwargs: Any) -> Constraints:
+        """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
+        return cls(bounds=_as_bounds(world.bounds), **kwargs).resolve(world)
+
+    def resolve(self, world: World) -> Constraints:
+        """These constraints with ``bounds`` and ``check_moves`` decided for ``world``.
+
+        ``bounds=None`` becomes the x-y bounds of ``world``; ``check_moves=None`` becomes True
+        unless ``world`` is an elevation grid (``world.grid`` set).
+        """
+        if self.bounds is not None and self.check_moves is not None:
+            return self
+        bounds = _as_bounds(world.bounds) if self.bounds is None else self.bounds
+        check_moves = getattr(world, "grid", None) is None if self.check_moves is None else self.check_moves
+        return replace(self, bounds=bounds, check_moves=check_moves)
+
+    @property
+    def flight_box(self) -> tuple[float, float, float, float]:
+        """The x-y bounds; raises :class:`InvalidInputError` while they are unresolved."""
+        if self.bounds is None:
+            raise InvalidInputError("these constraints have no bounds yet: resolve them against a surface first")
+        return self.bounds
+
+    def check_team(self, n_uavs: int, world: World) -> None:
+        """Raise :class:`InfeasibleError` if ``n_uavs`` UAVs surely cannot all be admissible.
+
+        Three necessary conditions: some altitude satisfies ``h_min`` and ``z_max`` above the
+        lowest point of ``world``, two UAVs can be ``d_safe`` apart inside the flight box, and the
+        balls of radius ``d_safe / 2`` around the UAVs fit, by volume, in the flight box grown by
+        that radius. Passing them does not prove a
+        packing exists; :func:`closest_admissible` reports when it finds none.
+        """
+        n_uavs = as_positive_int(n_uavs, "number of UAVs")
+        resolved = self.resolve(world)
+        zmin = float(np.asarray(world.bounds, dtype=np.float64)[0, 2])
+        floor = zmin + self.h_min
+        if floor > self.z_max:
+            raise InfeasibleError(
+                f"the lowest surface point (z = {zmin} m) plus h_min = {self.h_min} m is above "
+                f"z_max = {self.z_max} m: no altitude is admissible"
+            )
+        if n_uavs == 1 or self.d_safe == 0.0:
+            return
+        r = self.d_safe / 2.0
+        xmin, ymin, xmax, ymax = resolved.flight_box
+        # over any x-y point the admissible altitudes span at most z_max - floor, and at most
+        # h_max - h_min when the ceiling above ground is set
+        height = self.z_max - floor if self.h_max is None else min(self.z_max - floor, self.h_max - self.h_min)
+        diagonal = math.hypot(xmax - xmin, ymax - ymin, height)
+        if self.d_safe > diagonal:
+            raise InfeasibleError(
+                f"d_safe = {self.d_safe} m exceeds the flight box's diagonal ({diagonal:.4g} m): no two UAVs can be that far apart"
+            )
+        box = (xmax - xmin + 2 * r) * (ymax - ymin + 2 * r) * (height + 2 * r)
+        need = n_uavs * 4.0 / 3.0 * math.pi * r * r * r  # inf, not OverflowError, for a huge d_safe
+        if need > box:
+            raise InfeasibleError(
+                f"{n_uavs} UAVs kept d_safe = {self.d_safe} m apart cannot fit in the flight "
+                f"volume (their safety balls need {need:.4g} m^3, the region offers {box:.4g} m^3)"
+            )
+
+
+def _check_world(world: Any) -> None:
+    for name in ("bounds", "ground_height", "clearance", "segments_clear"):
+        if not hasattr(world, name):
+            raise InvalidTypeError(f"world must provide {name} (a Terrain does), got {type(world).__name__}")
+
+
+def _as_candidates(candidates: Any, n_uavs: int) -> np.ndarray:
+    array = as_float_array(candidates, "candidates")
+    if array.ndim == 2 and array.shape == (n_uavs, 3):
+        array = array[None]
+    if array.ndim != 3 or array.shape[1:] != (n_uavs, 3):
+        raise InvalidInputError(f"candidates must have shape (M, {n_uavs}, 3), got {array.shape}")
+    return array
+
+
+def _static_ok(constraints: Constraints, cand: np.ndarray) -> np.ndarray:
+    """Bounds, altitude and pairwise distance for ``(M, N, 3)`` candidates: ``(M,)`` bool."""
+    xmin, ymin, xmax, ymax = constraints.flight_box
+    x, y, z = cand[..., 0], cand[..., 1], cand[..., 2]
+    inside = (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= constraints.z_max)
+    ok: np.ndarray = np.asarray(inside.all(axis=1), dtype=bool)
+    n_uavs = cand.shape[1]
+    if n_uavs > 1 and constraints.d_safe > 0.0:
+        i, j = _pairs(n_uavs)
+        idx = np.flatnonzero(ok)
+        inside_cand = cand[idx]
+        diff = inside_cand[:, i] - inside_cand[:, j]
+        far = (np.einsum("mpk,mpk->mp", diff, diff) >= constraints.d_safe**2).all(axis=1)
+        ok[idx] = far
+    return ok
+
+
+@functools.lru_cache(maxsize=32)
+def _pairs(n_uavs: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair ``i < j`` of ``n_uavs`` UAVs (read-only; an optimiser asks for them every iteration)."""
+    i, j = np.triu_indices(n_uavs, 1)
+    i.setflags(write=False)
+    j.setflags(write=False)
+    return i, j
+
+
+def feasible_mask(constraints: Constraints, world: World, current: Any, candidates: Any, *, n_threads: int | None = None) -> np.ndarray:
+    """Which candidate configurations are admissible.
+
+    Parameters
+    ----------
+    constraints : Constraints
+    world : World
+        The real surface. A ``Terrain`` judges the whole batch in one Rust pass
+        (``Terrain.admissible_check``); any other world is queried once for the clearance of the
+        candidates that pass the bounds and separation, and once for their moves when
+        ``check_moves`` is set, with the same answers.
+    current : (N, 3) array_like
+        Positions now, metres (the start of each move).
+    candidates : (M, N, 3) array_like
+        Candidate configurations, metres.
+    n_threads : int, optional
+        Passed to the world's queries (``Terrain.clearance(..., n_threads=)``); ``None`` leaves
+        them their default. A sweep worker gives its own count, so that a few hundred small
+        queries per mission do not each wake a pool of every core.
+
+    Returns
+    -------
+    (M,) bool ndarray
+    """
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    _check_world(world)
+    constraints = constraints.resolve(world)
+    cur = as_points(current, "current")
+    cand = _as_candidates(candidates, cur.shape[0])
+    n_uavs = cur.shape[0]
+    fused = _fused_check(constraints, world, n_threads)
+    if fused is not None:  # a Terrain: every check below in one Rust pass, with the same answers
+        return np.asarray(fused(cur, cand), dtype=bool)
+    threads: dict[str, Any] = {} if n_threads is None else {"n_threads": n_threads}
+    # cheap checks first, so the surface is only queried for candidates still in the running
+    ok = _static_ok(constraints, cand)
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        clear = np.asarray(world.clearance(np.ascontiguousarray(cand[idx].reshape(-1, 3)), **threads), dtype=np.float64)
+        clear = clear.reshape(idx.size, n_uavs)
+        good = np.isfinite(clear) & (clear >= constraints.h_min)
+        if constraints.h_max is not None:
+            good &= clear <= constraints.h_max
+        ok[idx] = good.all(axis=1)
+    if constraints.check_moves:
+        idx = np.flatnonzero(ok)
+        if idx.size:
+            ends = cand[idx]
+            moved = (ends != cur[None]).any(axis=2)  # a UAV that stays has nothing to cross
+            if moved.any():
+                starts = np.broadcast_to(cur[None], ends.shape)[moved]
+                clear_moves = np.asarray(
+                    world.segments_clear(np.ascontiguousarray(starts), np.ascontiguousarray(ends[moved]), **threads), dtype=bool
+                )
+                per_uav = np.ones(moved.shape, dtype=bool)
+                per_uav[moved] = clear_moves
+                ok[idx] = per_uav.all(axis=1)
+    return ok
+
+
+def feasibility(constraints: Constraints, world: World, *, n_threads: int | None = None) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world`` (and ``n_threads``)."""
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    _check_world(world)
+    constraints = constraints.resolve(world)
+    fused = _fused_check(constraints, world, n_threads)
+    if fused is not None:  # the limits checked once, not on each of a mission's hundreds of calls
+        return fused
+
+    def feasible(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+        return feasible_mask(constraints, world, current, candidates, n_threads=n_threads)
+
+    return feasible
+
+
+def _fused_check(constraints: Constraints, world: World, n_threads: int | None) -> Callable[[Any, Any], np.ndarray] | None:
+    """``world``'s one-pass check of ``constraints`` (resolved), when it has one (a Terrain)."""
+    bind = getattr(world, "admissible_check", None)
+    if bind is None:
+        return None
+    check: Callable[[Any, Any], np.ndarray] = bind(
+        bounds=constraints.flight_box,
+        h_min=constraints.h_min,
+        h_max=constraints.h_max,
+        z_max=constraints.z_max,
+        d_safe=constraints.d_safe,
+        check_moves=bool(constraints.check_moves),
+        n_threads=n_threads,
+    )
+    return check
+
+
+def trajectory_feasible(constraints: Constraints, world: World, trajectory: Any) -> np.ndarray:
+    """``(K + 1,)`` bool: configuration ``k`` is admissible, and so is the move into it.
+
+    ``trajectory`` is ``(K + 1, N, 3)``; entry 0 is judged as a configuration only.
+    """
+    traj = as_float_array(trajectory, "trajectory")
+    if traj.ndim != 3 or traj.shape[2] != 3 or traj.shape[0] == 0 or traj.shape[1] == 0:
+        raise InvalidInputError(f"trajectory must have shape (K + 1, N, 3), got {traj.shape}")
+    out = np.empty(traj.shape[0], dtype=bool)
+    out[0] = feasible_mask(constraints, world, traj[0], traj[:1])[0]
+    for k in range(1, traj.shape[0]):
+        out[k] = feasible_mask(constraints, world, traj[k - 1], traj[k : k + 1])[0]
+    return out
+
+
+def _separation_direction(i: int, j: int) -> np.ndarray:
+    """A fixed horizontal unit vector for two UAVs at the same point (deterministic)."""
+    angle = 2.399963229728653 * (i + 1) * (j + 2)  # golden angle: pairs get spread directions
+    return np.array([math.cos(angle), math.sin(angle), 0.0])
+
+
+def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb: float = 0.0, max_sweeps: int = 1000) -> np.ndarray:
+    """Move a start configuration to nearby admissible positions (deterministic).
+
+    Each sweep projects every UAV onto its own constraints exactly (clamp into the x-y bounds;
+    lift to ``ground + h_min`` when under the terrain, inside a building or too low; lower to
+    ``ground + h_max`` and to ``z_max``), then pushes every pair closer than ``d_safe`` apart symmetrically along the line
+    joining them (a fixed horizontal direction when they coincide). Sweeps repeat until nothing
+    moves. A UAV already admissible and far from the others is left exactly where it is.
+
+    Parameters
+    ----------
+    constraints : Constraints
+    world : World
+        The real surface (a ``Terrain``).
+    x : (N, 3) array_like
+        Start positions, metres.
+    climb : float, default 0.0
+        Metres above ``ground + h_min`` at which a UAV that had to be lifted is put. A team left
+        exactly on the ``h_min`` boundary has few feasible perturbations (each lifted UAV halves
+        them), which can freeze an optimiser; a climb of about a metre avoids it.
+    max_sweeps : int, default 1000
+
+    Returns
+    -------
+    (N, 3) float64 ndarray
+        Admissible positions (``feasible_mask`` accepts them).
+
+    Raises
+    ------
+    InfeasibleError
+        The team cannot fit (:meth:`Constraints.check_team`), a UAV stands over no surface, or
+        no admissible configuration was reached.
+    """
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    _check_world(world)
+    constraints = constraints.resolve(world)
+    pos = as_points(x, "x").copy()
+    climb = as_non_negative_float(climb, "climb")
+    max_sweeps = as_positive_int(max_sweeps, "max_sweeps")
+    n_uavs = pos.shape[0]
+    constraints.check_team(n_uavs, world)
+    xmin, ymin, xmax, ymax = constraints.flight_box
+    target = constraints.d_safe + _MARGIN if constraints.d_safe > 0.0 else 0.0
+    pairs = np.triu_indices(n_uavs, 1)
+
+    for _ in range(max_sweeps):
+        before = pos.copy()
+        pos[:, 0] = np.clip(pos[:, 0], xmin, xmax)
+        pos[:, 1] = np.clip(pos[:, 1], ymin, ymax)
+        ground = np.asarray(world.ground_height(np.ascontiguousarray(pos[:, :2])), dtype=np.float64)
+        if np.isnan(ground).any():
+            bad = int(np.flatnonzero(np.isnan(ground))[0])
+            raise InfeasibleError(f"UAV {bad} at x-y {tuple(pos[bad, :2])} stands over no surface")
+        floor = ground + constraints.h_min
+        # Lifted with a margin, and judged with it: a UAV exactly at ground + h_min can measure a
+        # clearance a rounding below h_min and be refused by feasible_mask.
+        inset = _MARGIN if constraints.h_max is None else min(_MARGIN, 0.5 * (constraints.h_max - constraints.h_min))
+        low = pos[:, 2] < floor + inset
+        pos[low, 2] = floor[low] + max(climb, inset)
+        if constraints.h_max is not None:
+            # too high above the ground, or lifted by a climb through the ceiling: just under it
+            ceiling = ground + constraints.h_max - inset
+            high = pos[:, 2] > ceiling
+            pos[high, 2] = ceiling[high]
+        if (pos[:, 2] > constraints.z_max).any():
+            if (floor > constraints.z_max).any():
+                bad = int(np.flatnonzero(floor > constraints.z_max)[0])
+                raise InfeasibleError(f"UAV {bad}: ground at {ground[bad]:.3f} m plus h_min exceeds z_max = {constraints.z_max} m")
+            pos[:, 2] = np.minimum(pos[:, 2], constraints.z_max)
+        if target > 0.0 and n_uavs > 1:
+            i, j = pairs
+            diff = pos[i] - pos[j]
+            dist = np.sqrt(np.einsum("pk,pk->p", diff, diff))
+            close = np.flatnonzero(dist < constraints.d_safe)
+            if close.size:
+                push = np.zeros_like(pos)
+                for p in close:  # only the offending pairs; usually none or a few
+                    a, b = int(i[p]), int(j[p])
+                    unit = diff[p] / dist[p] if dist[p] > 0.0 else _separation_direction(a, b)
+                    step = 0.5 * (target - dist[p]) * unit
+                    push[a] += step
+                    push[b] -= step
+                pos += push
+        if np.array_equal(pos, before):
+            break
+    if not feasible_mask(constraints, world, pos, pos[None])[0]:
+        raise InfeasibleError(
+            f"no admissible configuration found near the start after {max_sweeps} sweeps "
+            "(the region may be too crowded for d_safe, or a UAV is over a hole in the surface)"
+        )
+    return pos

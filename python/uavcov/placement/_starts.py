@@ -1,0 +1,356 @@
+"""The initial UAV positions the paper compares: CVT, random, corner and pairs, behind one interface.
+
+:func:`initial_positions` returns ``N`` positions on (or a fixed height above) the given surface,
+in the paper the approximating surface S':
+
+``"cvt"``
+    The generators of the constrained CVT of S' (:func:`uavcov.placement.cvt`).
+``"random"``
+    Uniform over the region: ``(x, y)`` uniform over the surface's bounding rectangle, redrawn
+    where no surface lies below (nodata), on the surface's top (``ground_height``).
+``"corner"``
+    A compact square lattice in one corner of the bounding rectangle: ``ceil(sqrt(N))`` columns,
+    ``spacing`` metres apart (about 3 m in ``paper-setup.md``), the first point ``spacing / 2``
+    in from both edges, filled row by row away from the corner.
+``"pairs"``
+    The buildings scene's baseline (paper Fig. 8): half the team side by side at the middle of
+    the west edge, half at the east edge, ``spacing`` metres apart and ``spacing / 2`` in.
+
+:class:`StartSettings` says how a mission starts: the kind, and the height the start flies at
+(above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
+start, the one pipeline every mission and experiment goes through. Pushing it to admissible
+positions is :func:`uavcov.placement.closest_admissible`'s job.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
+from ..engine import Terrain
+from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from ._cvt import CVTResult, CVTSettings, cvt
+
+__all__ = ["initial_positions", "start_configuration", "StartSettings", "START_KINDS", "CORNERS", "ALTITUDE_REFERENCES"]
+
+START_KINDS = ("cvt", "random", "corner", "pairs")
+"""The kinds :func:`initial_positions` knows."""
+
+CORNERS = ("sw", "se", "ne", "nw")
+"""Corners of the bounding rectangle: south-west is ``(xmin, ymin)``, north is +y, east +x."""
+
+ALTITUDE_REFERENCES = ("ground", "prior")
+"""What a start's altitude is measured from: the real ground under each UAV, or S'."""
+
+# Rounds of redraws over nodata before "random" gives up: each round redraws every missing point,
+# so only a surface covering almost none of its rectangle can exhaust them.
+_MAX_ROUNDS = 100
+
+
+def _rectangle(surface: Terrain) -> tuple[float, float, float, float]:
+    b = np.asarray(surface.bounds, dtype=np.float64)
+    return float(b[0, 0]), float(b[0, 1]), float(b[1, 0]), float(b[1, 1])
+
+
+def _random(surface: Terrain, n: int, generator: np.random.Generator, threads: int | None) -> np.ndarray:
+    xmin, ymin, xmax, ymax = _rectangle(surface)
+    found: list[np.ndarray] = []
+    count = 0
+    for _ in range(_MAX_ROUNDS):
+        if count == n:
+            break
+        xy = generator.uniform([xmin, ymin], [xmax, ymax], size=(n - count, 2))
+        z = surface.ground_height(xy, n_threads=threads)
+        keep = np.isfinite(z)
+        found.append(np.column_stack([xy[keep], z[keep]]))
+        count += int(keep.sum())
+    if count < n:
+        raise InfeasibleError(
+            f"found only {count} of {n} positions over the surface after {_MAX_ROUNDS} rounds of uniform draws: "
+            "the surface covers almost none of its bounding rectangle"
+        )
+    return np.concatenate(found)
+
+
+def _corner(surface: Terrain, n: int, corner: str, spacing: float, threads: int | None) -> np.ndarray:
+    xmin, ymin, xmax, ymax = _rectangle(surface)
+    columns = math.ceil(math.sqrt(n))
+    rows = math.ceil(n / columns)
+    width, depth = columns * spacing, rows * spacing
+    if width > xmax - xmin or depth > ymax - ymin:
+        raise InfeasibleError(
+            f"a {rows} x {columns} lattice {spacing} m apart needs {width} m x {depth} m, the region is {xmax - xmin} m x {ymax - ymin} m"
+        )
+    k = np.arange(n)
+    offset_x = spacing / 2 + (k % columns) * spacing
+    offset_y = spacing / 2 + (k // columns) * spacing
+    x = xmin + offset_x if corner in ("sw", "nw") else xmax - offset_x
+    y = ymin + offset_y if corner in ("sw", "se") else ymax - offset_y
+    xy = np.column_stack([x, y])
+    z = surface.ground_height(xy, n_threads=threads)
+    if not np.isfinite(z).all():
+        bad = int(np.flatnonzero(~np.isfinite(z))[0])
+        raise InfeasibleError(f"corner lattice point {bad} at x-y {tuple(xy[bad])} stands over no surface (nodata)")
+    return np.column_stack([xy, z])
+
+
+def _pairs(surface: Terrain, n: int, spacing: float, threads: int | None) -> np.ndarray:
+    xmin, ymin, xmax, ymax = _rectangle(surface)
+    west = math.ceil(n / 2)
+    y_mid = 0.5 * (ymin + ymax)
+    rows = []
+    for k in range(n):
+        side, index = (0, k) if k < west else (1, k - west)
+        count = west if side == 0 else n - west
+        y = y_mid + (index - (count - 1) / 2) * spacing
+        x = xmin + spacing / 2 if side == 0 else xmax - spacing / 2
+        rows.append((x, y))
+    xy = np.array(rows, dtype=np.float64)
+    z = surface.ground_height(xy, n_threads=threads)
+    if not np.isfinite(z).all():
+        bad = int(np.flatnonzero(~np.isfinite(z))[0])
+        raise InfeasibleError(f"pairs start point {bad} at x-y {tuple(xy[bad])} stands over no surface (nodata)")
+    return np.column_stack([xy, z])
+
+
+def _cvt_options(kind: str, cvt_options: Any) -> dict[str, Any]:
+    """The extra keyword arguments for :func:`uavcov.placement.cvt`, checked by name."""
+    if cvt_options is None:
+        return {}
+    if not isinstance(cvt_options, Mapping):
+        raise InvalidTypeError(f"cvt_options must be a mapping, got {type(cvt_options).__name__}")
+    options = dict(cvt_options)
+    if kind != "cvt" and options:
+        raise InvalidInputError(f"cvt_options apply to kind='cvt' only, got kind={kind!r}")
+    own = {"surface", "n", "rng", "n_threads", "options"}
+    known = (set(inspect.signature(cvt).parameters) | set(CVTSettings.__dataclass_fields__)) - own
+    unknown = sorted(set(options) - known)
+    if unknown:
+        raise InvalidInputError(
+            f"cvt_options: unknown or not allowed here {unknown}; allowed {sorted(known)} "
+            "(rng and n_threads go to initial_positions itself)"
+        )
+    return options
+
+
+def initial_positions(
+    kind: str,
+    surface: Terrain,
+    n: int,
+    *,
+    altitude: float = 0.0,
+    rng: Any = None,
+    corner: str = "sw",
+    spacing: float = 3.0,
+    cvt_options: Mapping[str, Any] | None = None,
+    n_threads: int | None = None,
+) -> np.ndarray:
+    """Start positions of ``n`` UAVs over ``surface``, by one of the paper's initialisations.
+
+    Parameters
+    ----------
+    kind : {"cvt", "random", "corner", "pairs"}
+        The initialisation (see the module docstring).
+    surface : Terrain
+        The surface the starts are computed on (the approximating surface S' in the paper).
+    n : int
+        Number of positions, 1 to 10 million (:data:`uavcov._validate.MAX_SAMPLES`; a "cvt" start
+        allows 10 000, :data:`~uavcov._validate.MAX_GENERATORS`).
+    altitude : float, default 0.0
+        Metres added to every position's z (>= 0). The default leaves the starts on the surface;
+        lifting above the real terrain is :func:`uavcov.placement.closest_admissible`'s job.
+    rng : None, int or numpy.random.Generator
+        Randomness for "cvt" and "random" ("corner" is deterministic and ignores it).
+    corner : {"sw", "se", "ne", "nw"}, default "sw"
+        Which corner of the bounding rectangle the "corner" lattice fills ("sw" is
+        ``(xmin, ymin)``).
+    spacing : float, default 3.0
+        Distance between neighbouring "corner" lattice points, or between the UAVs of a
+        "pairs" side, metres (> 0).
+    cvt_options : mapping, optional
+        Keyword arguments for :func:`uavcov.placement.cvt` ("cvt" only), e.g. ``{"preset": "lloyd"}``.
+    n_threads : int, optional
+        Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
+
+    Returns
+    -------
+    (n, 3) float64 ndarray
+        Positions, metres: on the surface, plus ``altitude`` in z.
+
+    Raises
+    ------
+    InvalidInputError
+        An unknown kind or corner, ``n < 1``, negative ``altitude``, ``spacing <= 0``, or options
+        :func:`uavcov.placement.cvt` refuses.
+    InfeasibleError
+        The corner lattice does not fit in the region or stands over nodata, or the surface
+        covers almost none of its rectangle ("random").
+    InvalidTypeError
+        ``surface`` is not a Terrain, or an argument of the wrong type.
+    """
+    if not isinstance(kind, str):
+        raise InvalidTypeError(f"kind must be a string, got {type(kind).__name__}")
+    if kind not in START_KINDS:
+        raise InvalidInputError(f"kind must be one of {START_KINDS}, got {kind!r}")
+    if not isinstance(surface, Terrain):
+        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+    n = as_count(n, "n", MAX_SAMPLES)
+    lift = as_non_negative_float(altitude, "altitude")
+    if not isinstance(corner, str):
+        raise InvalidTypeError(f"corner must be a string, got {type(corner).__name__}")
+    if corner not in CORNERS:
+        raise InvalidInputError(f"corner must be one of {CORNERS}, got {corner!r}")
+    step = as_positive_float(spacing, "spacing")
+    if n_threads is not None:
+        as_positive_int(n_threads, "n_threads")
+    options = _cvt_options(kind, cvt_options)
+
+    if kind == "cvt":
+        positions = cvt(surface, n, rng=rng, n_threads=n_threads, **options).generators
+    elif kind == "random":
+        positions = _random(surface, n, as_generator(rng), n_threads)
+    elif kind == "corner":
+        positions = _corner(surface, n, corner, step, n_threads)
+    else:
+        positions = _pairs(surface, n, step, n_threads)
+
+    out = np.array(positions, dtype=np.float64)
+    out[:, 2] += lift
+    return out
+
+
+@dataclass(frozen=True)
+class StartSettings:
+    """How a mission starts: where on S' the team is placed, and how high it flies.
+
+    Attributes
+    ----------
+    kind : {"cvt", "random", "corner", "pairs"}, default "cvt"
+        The initialisation (see the module docstring); computed on S'.
+    altitude : float, default 5.0
+        Metres above the reference at which the start flies (>= 0).
+    altitude_reference : {"ground", "prior"}, default "ground"
+        What ``altitude`` is measured from: the real ground under each UAV (what the UAVs sense
+        on take-off; S' where the real surface has a hole), or S' itself (the paper's reading:
+        the CVT generators lie on S').
+    climb : float, default 0.0
+        A UAV that the real ground forces up (under ``h_min`` of clearance) is put this many
+        metres above ``h_min`` (:func:`uavcov.placement.closest_admissible`). Left exactly on
+        the ``h_min`` boundary, a UAV makes every candidate that lowers it infeasible; with ``k``
+        UAVs there, only ``2**-k`` of CAO's joint candidates are feasible.
+    corner : {"sw", "se", "ne", "nw"}, default "sw"
+        The corner the "corner" lattice fills.
+    corner_spacing : float, default 3.0
+        Distance between neighbouring UAVs of the "corner" lattice and of a "pairs" side, metres.
+    corner_altitude : float, optional
+        The height of the "corner" and "pairs" starts above the reference instead of
+        ``altitude``.
+    random_altitude : (float, float), optional
+        When given, the "random" start draws each UAV's height above the reference uniformly
+        from this range instead of flying at ``altitude``.
+    """
+
+    kind: str = "cvt"
+    altitude: float = 5.0
+    altitude_reference: str = "ground"
+    climb: float = 0.0
+    corner: str = "sw"
+    corner_spacing: float = 3.0
+    corner_altitude: float | None = None
+    random_altitude: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.kind, str) or self.kind not in START_KINDS:
+            raise InvalidInputError(f"kind must be one of {START_KINDS}, got {self.kind!r}")
+        object.__setattr__(self, "altitude", as_non_negative_float(self.altitude, "altitude"))
+        object.__setattr__(self, "climb", as_non_negative_float(self.climb, "climb"))
+        object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
+        if self.altitude_reference not in ALTITUDE_REFERENCES:
+            raise InvalidInputError(f"altitude_reference must be one of {ALTITUDE_REFERENCES}, got {self.altitude_reference!r}")
+        if self.corner not in CORNERS:
+            raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
+        if self.corner_altitude is not None:
+            object.__setattr__(self, "corner_altitude", as_non_negative_float(self.corner_altitude, "corner_altitude"))
+        if self.random_altitude is not None:
+            if not isinstance(self.random_altitude, (tuple, list)) or len(self.random_altitude) != 2:
+                raise InvalidInputError(f"random_altitude must be (low, high), got {self.random_altitude!r}")
+            low, high = (as_non_negative_float(v, "random_altitude") for v in self.random_altitude)
+            if low > high:
+                raise InvalidInputError(f"random_altitude must be (low, high) with low <= high, got {self.random_altitude}")
+            object.__setattr__(self, "random_altitude", (low, high))
+
+    def height_above_reference(self, n: int, rng: np.random.Generator) -> np.ndarray | float:
+        """The height of each UAV above the reference, metres (draws from ``rng`` for a random height)."""
+        if self.kind == "random" and self.random_altitude is not None:
+            return rng.uniform(*self.random_altitude, size=n)
+        if self.kind in ("corner", "pairs") and self.corner_altitude is not None:
+            return self.corner_altitude
+        return self.altitude
+
+
+def start_configuration(
+    spec: StartSettings,
+    approximation: Terrain,
+    terrain: Terrain,
+    n: int,
+    *,
+    cvt_settings: CVTSettings | None = None,
+    rng: Any = None,
+    n_threads: int | None = None,
+) -> tuple[np.ndarray, CVTResult | None]:
+    """The start of a mission: placed on S', lifted to its flying height.
+
+    The positions are those of :func:`initial_positions` on ``approximation`` (the CVT is run
+    here, so that its record is kept); their height is then ``spec``'s above the reference:
+    the real ground under each UAV (``terrain``; S' over a hole of it) or S'. The result still
+    has to be made admissible (:func:`uavcov.placement.closest_admissible` with
+    ``climb=spec.climb``).
+
+    Parameters
+    ----------
+    spec : StartSettings
+    approximation : Terrain
+        S', the surface the start is computed on.
+    terrain : Terrain
+        The real surface, whose ground the UAVs sense on take-off.
+    n : int
+        Team size.
+    cvt_settings : CVTSettings, optional
+        For ``kind="cvt"``.
+    rng : None, int or numpy.random.Generator
+        The start's randomness (CVT or random positions, random heights), drawn in that order.
+    n_threads : int, optional
+        Threads for the Rust side (as in :func:`initial_positions`).
+
+    Returns
+    -------
+    positions : (n, 3) float64 ndarray
+        Metres.
+    tessellation : CVTResult or None
+        The CVT run, for ``kind="cvt"``.
+    """
+    if not isinstance(spec, StartSettings):
+        raise InvalidTypeError(f"spec must be a StartSettings, got {type(spec).__name__}")
+    n = as_count(n, "n", MAX_SAMPLES)
+    generator = as_generator(rng)
+    tessellation = None
+    if spec.kind == "cvt":
+        tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
+        positions = np.array(tessellation.generators, dtype=np.float64)
+    else:
+        positions = initial_positions(
+            spec.kind, approximation, n, rng=generator, corner=spec.corner, spacing=spec.corner_spacing, n_threads=n_threads
+        )
+    if spec.altitude_reference == "ground":
+        ground = terrain.ground_height(positions[:, :2], n_threads=n_threads)
+        # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.
+        positions[:, 2] = np.where(np.isnan(ground), positions[:, 2], ground)
+    positions[:, 2] += spec.height_above_reference(n, generator)
+    return positions, tessellation

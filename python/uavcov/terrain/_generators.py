@@ -1,0 +1,114 @@
+"""Scenario generators: the random surfaces an experiment draws, one per seed.
+
+:class:`HillsGenerator` is the paper's random terrain (a mixture of Gaussians on a square) and
+:class:`BuildingsGenerator` its realistic scene (boxes on flat ground) with the simplified,
+erroneous map a team is given of it. Each is a frozen, picklable value: ``make(seed)`` draws the
+true surface of scenario ``seed`` with ``rng=seed``, so the same seed gives the same surface for
+every team size, start and experiment that shares the generator's settings.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .._validate import as_non_negative_float, as_positive_float, as_positive_int
+from ..engine import Terrain
+from ..errors import InvalidInputError
+from ._buildings import buildings_terrain, random_buildings
+from ._hills import gaussian_hills
+from ._prior import buildings_prior
+
+__all__ = ["HillsGenerator", "BuildingsGenerator", "TerrainGenerator"]
+
+
+@dataclass(frozen=True)
+class HillsGenerator:
+    """The paper's random terrain: ``n_hills`` Gaussians on a ``size`` square (metres).
+
+    ``heights`` is the range peak heights are drawn uniformly from, ``sigma`` the common
+    standard deviation; ``spacing`` is the grid step, which is also the coverage discretisation
+    (one target per grid node, weighted by the area it stands for).
+    """
+
+    size: float = 100.0
+    spacing: float = 1.0
+    n_hills: int = 7
+    heights: tuple[float, float] = (5.0, 25.0)
+    sigma: float = 10.0
+
+    kind: ClassVar[str] = "HillsTerrain"
+    """The family's name in a settings hash: fixed, so the run ids of published sweeps stay theirs."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "size", as_positive_float(self.size, "size"))
+        object.__setattr__(self, "spacing", as_positive_float(self.spacing, "spacing"))
+        object.__setattr__(self, "n_hills", as_positive_int(self.n_hills, "n_hills"))
+        low, high = (as_non_negative_float(h, "heights") for h in self.heights)
+        if low > high:
+            raise InvalidInputError(f"heights must be (low, high) with low <= high, got {self.heights}")
+        object.__setattr__(self, "heights", (low, high))
+        object.__setattr__(self, "sigma", as_positive_float(self.sigma, "sigma"))
+
+    def make(self, seed: int) -> Terrain:
+        """The terrain of scenario ``seed``."""
+        return gaussian_hills(size=self.size, spacing=self.spacing, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=seed)
+
+
+@dataclass(frozen=True)
+class BuildingsGenerator:
+    """The paper's realistic scene: ``n_buildings`` boxes on a ``size`` square of flat ground.
+
+    The true scene is meshed every ``spacing`` metres; the simplified map the CVT runs on is
+    :func:`uavcov.terrain.buildings_prior` (boxes with position, size and height errors, meshed
+    every ``map_spacing`` metres).
+    """
+
+    size: float = 24.0
+    spacing: float = 0.5
+    n_buildings: int = 5
+    footprint: tuple[float, float] = (3.0, 7.0)
+    heights: tuple[float, float] = (3.0, 10.0)
+    gap: float = 2.0
+    map_spacing: float = 1.0
+    position_error: float = 0.5
+    size_error: float = 0.5
+    height_error: float = 1.0
+
+    kind: ClassVar[str] = "BuildingsTerrain"
+    """The family's name in a settings hash: fixed, so the run ids of published sweeps stay theirs."""
+
+    def boxes(self, seed: int) -> tuple[Any, ...]:
+        """The buildings of scenario ``seed``."""
+        return random_buildings(
+            size=self.size,
+            n_buildings=self.n_buildings,
+            footprint=self.footprint,
+            heights=self.heights,
+            gap=self.gap,
+            step=self.spacing,
+            rng=seed,
+        )
+
+    def make(self, seed: int) -> Terrain:
+        """The true scene of scenario ``seed``."""
+        return buildings_terrain(self.boxes(seed), size=self.size, spacing=self.spacing)
+
+    def simplified_map(self, seed: int) -> Terrain:
+        """The coarse, erroneous map of scenario ``seed`` (the surface the CVT runs on)."""
+        return buildings_prior(
+            self.boxes(seed),
+            size=self.size,
+            kind="boxes",
+            spacing=self.map_spacing,
+            position_error=self.position_error,
+            size_error=self.size_error,
+            height_error=self.height_error,
+            rng=np.random.default_rng([seed, 1]),
+        )
+
+
+TerrainGenerator = HillsGenerator | BuildingsGenerator
+"""A terrain generator: anything with ``make(seed) -> Terrain``."""

@@ -1,0 +1,294 @@
+"""Mesh files and arrays as surfaces: OBJ / STL / PLY (:func:`load_mesh`, needs ``trimesh``) or
+arrays (:func:`mesh_terrain`), welded and repaired by :func:`clean_mesh` with a
+:class:`MeshReport` of what was changed, in a recentred :class:`~uavcov.terrain.LocalFrame`.
+
+Elevation grids with a coordinate reference system are :class:`~uavcov.terrain.GeoDem`'s
+(:func:`~uavcov.terrain.read_dem`, :func:`~uavcov.terrain.dem_from_array`).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import (
+    as_float_array,
+    as_index_array,
+    as_positive_float,
+)
+from ..engine import Terrain
+from ..errors import InvalidInputError, InvalidTypeError, MeshError, MissingExtraError
+from ._frame import LocalFrame
+
+__all__ = ["MeshReport", "LoadedMesh", "mesh_terrain", "clean_mesh", "load_mesh"]
+
+
+@dataclass(frozen=True)
+class MeshReport:
+    """What :func:`clean_mesh` found and repaired in a mesh (all counts).
+
+    Attributes
+    ----------
+    merged_vertices : int
+        Vertices dropped because another vertex has exactly the same coordinates (STL files
+        store every triangle's corners separately).
+    unused_vertices : int
+        Vertices no face refers to, dropped.
+    degenerate_faces : int
+        Faces with a repeated vertex or zero area, dropped.
+    duplicate_faces : int
+        Faces over the same three vertices as an earlier face (in any order), dropped.
+    boundary_edges : int
+        Edges of only one face. A terrain is an open sheet, so these are expected and kept.
+    nonmanifold_edges : int
+        Edges of three faces or more; kept (visibility needs no manifold), reported.
+    """
+
+    merged_vertices: int = 0
+    unused_vertices: int = 0
+    degenerate_faces: int = 0
+    duplicate_faces: int = 0
+    boundary_edges: int = 0
+    nonmanifold_edges: int = 0
+
+    @property
+    def repaired(self) -> bool:
+        """True when faces were dropped (degenerate or duplicate)."""
+        return self.degenerate_faces + self.duplicate_faces > 0
+
+
+@dataclass(frozen=True)
+class LoadedMesh:
+    """A mesh read from a file or arrays, with what is needed to map results back.
+
+    Attributes
+    ----------
+    terrain : Terrain
+        The surface in the local metric frame (metres, Z up).
+    frame : LocalFrame
+        Local <-> source coordinates; ``frame.to_source(uav_positions)`` gives world positions.
+    source : str
+        Where the mesh came from (a path or a short description).
+    mesh_report : MeshReport
+        What was repaired.
+    """
+
+    terrain: Terrain
+    frame: LocalFrame
+    source: str
+    mesh_report: MeshReport
+
+
+def _existing_path(path: Any, what: str, error: type[Exception]) -> str:
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
+    text = os.fspath(path)
+    if not os.path.exists(text):
+        raise error(f"{what} file {text!r} does not exist")
+    if os.path.isdir(text):
+        raise error(f"{what} path {text!r} is a directory, not a file")
+    return text
+
+
+def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshReport]:
+    """Repair a triangle mesh: merge coincident vertices, drop degenerate and duplicate faces.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (V, 3)
+        Finite coordinates (m).
+    faces : array_like, shape (F, 3)
+        Integer vertex indices in ``[0, V)``.
+
+    Returns
+    -------
+    vertices : ndarray, shape (V', 3)
+    faces : ndarray, shape (F', 3)
+        Only referenced vertices, in the order they first appear, renumbered; the kept faces in
+        their input order and orientation. A mesh without defects comes back unchanged.
+    report : MeshReport
+
+    Raises
+    ------
+    MeshError
+        Indices out of range, or no face left.
+
+    Notes
+    -----
+    Merging is exact (bitwise equal coordinates), which is what STL and unwelded OBJ/PLY
+    exports produce. Open boundaries are kept: a terrain is an open sheet. Duplicate faces are
+    dropped because a doubled triangle would double the coverage targets on it.
+    """
+    points = as_float_array(vertices, "vertices", nonfinite_error=MeshError)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise MeshError(f"vertices must have shape (V, 3), got {points.shape}")
+    triangles = as_index_array(faces, "faces")
+    if triangles.shape[0] == 0:
+        raise MeshError("the mesh has no faces")
+    if points.shape[0] == 0 or triangles.min() < 0 or triangles.max() >= points.shape[0]:
+        raise MeshError(f"face indices must be in [0, {points.shape[0]}), got [{triangles.min()}, {triangles.max()}]")
+
+    sorted_points, first, inverse = np.unique(points, axis=0, return_index=True, return_inverse=True)
+    # Keep vertices in the order of their first appearance, so a clean mesh comes back as given.
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.shape[0])
+    unique_points = sorted_points[order]
+    inverse = rank[inverse.reshape(-1)]
+    merged = points.shape[0] - unique_points.shape[0]
+    triangles = inverse[triangles]
+
+    a, b, c = (unique_points[triangles[:, k]] for k in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    diagonal = float(np.linalg.norm(unique_points.max(axis=0) - unique_points.min(axis=0)))
+    t0, t1, t2 = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    repeated = (t0 == t1) | (t1 == t2) | (t0 == t2)
+    # The zero-area rule of Terrain (relative to the bounding-box diagonal), so that nothing
+    # this keeps is refused there.
+    degenerate = repeated | (area <= 1e-13 * diagonal * diagonal)
+    triangles = triangles[~degenerate]
+    if triangles.shape[0] == 0:
+        raise MeshError("every face of the mesh is degenerate (zero area)")
+
+    keys = np.sort(triangles, axis=1)
+    _, first = np.unique(keys, axis=0, return_index=True)
+    keep = np.zeros(triangles.shape[0], dtype=bool)
+    keep[first] = True
+    duplicates = int((~keep).sum())
+    triangles = triangles[keep]
+
+    used = np.unique(triangles)
+    renumber = np.full(unique_points.shape[0], -1, dtype=np.int64)
+    renumber[used] = np.arange(used.shape[0])
+    triangles = renumber[triangles]
+    unused = unique_points.shape[0] - used.shape[0]
+
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    report = MeshReport(
+        merged_vertices=int(merged),
+        unused_vertices=int(unused),
+        degenerate_faces=int(degenerate.sum()),
+        duplicate_faces=duplicates,
+        boundary_edges=int((counts == 1).sum()),
+        nonmanifold_edges=int((counts > 2).sum()),
+    )
+    return np.ascontiguousarray(unique_points[used]), np.ascontiguousarray(triangles), report
+
+
+_UP_AXES = ("z", "y")
+
+
+def mesh_terrain(
+    vertices: Any,
+    faces: Any,
+    *,
+    up: str = "z",
+    origin: Any = None,
+    scale: float = 1.0,
+    on_defect: str = "repair",
+    source: str = "arrays",
+) -> LoadedMesh:
+    """A triangle mesh (arrays in metres) as a Terrain in a local frame, repaired by :func:`clean_mesh`.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (V, 3)
+    faces : array_like, shape (F, 3)
+    up : {"z", "y"}
+        The source's up axis. "y" (common in OBJ exports) maps source (x, y, z) to (x, -z, y).
+    origin : (float, float, float), optional
+        Source point that becomes the local origin; default: the minimum corner of the
+        bounding box (after the up-axis change, so given in the Z-up source axes).
+    scale : float
+        Uniform model scale (1 = true size).
+    on_defect : {"repair", "raise"}
+        "repair" drops degenerate and duplicate faces and reports them in ``mesh_report``;
+        "raise" raises :class:`~uavcov.errors.MeshError` when there are any.
+    source : str
+        Recorded in the result.
+    """
+    if not isinstance(up, str) or up.lower() not in _UP_AXES:
+        raise InvalidInputError(f"up must be 'z' or 'y', got {up!r}")
+    if on_defect not in ("repair", "raise"):
+        raise InvalidInputError(f"on_defect must be 'repair' or 'raise', got {on_defect!r}")
+    scale = as_positive_float(scale, "scale")
+    points = as_float_array(vertices, "vertices", nonfinite_error=MeshError)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise MeshError(f"vertices must have shape (V, 3), got {points.shape}")
+    if up.lower() == "y":
+        points = np.column_stack([points[:, 0], -points[:, 2], points[:, 1]])
+    if points.shape[0] == 0:
+        raise MeshError("the mesh has no vertices")
+    if origin is None:
+        frame_origin = points.min(axis=0)
+    else:
+        frame_origin = as_float_array(origin, "origin", ndim=1)
+        if frame_origin.shape != (3,):
+            raise InvalidInputError(f"origin must be an (x, y, z) triple, got shape {frame_origin.shape}")
+    frame = LocalFrame(frame_origin, np.full(3, scale))
+    # Recentre before anything else so the geometry below works on small numbers.
+    local = frame.to_local(points)
+    clean_vertices, clean_faces, report = clean_mesh(local, faces)
+    if on_defect == "raise" and report.repaired:
+        raise MeshError(
+            f"{source}: {report.degenerate_faces} degenerate and {report.duplicate_faces} duplicate faces "
+            "(pass on_defect='repair' to drop them)"
+        )
+    terrain = Terrain(clean_vertices, clean_faces)
+    return LoadedMesh(terrain=terrain, frame=frame, source=source, mesh_report=report)
+
+
+def load_mesh(
+    path: Any,
+    *,
+    up: str = "z",
+    origin: Any = None,
+    scale: float = 1.0,
+    on_defect: str = "repair",
+) -> LoadedMesh:
+    """Read an OBJ, STL or PLY file (anything trimesh reads) as a Terrain; needs ``trimesh``.
+
+    Multi-part files are concatenated into one surface. Vertices are welded exactly,
+    degenerate and duplicate faces dropped (or refused with ``on_defect="raise"``), open
+    boundaries kept; see :func:`mesh_terrain` for the parameters and :class:`MeshReport` for
+    what is reported.
+
+    Raises
+    ------
+    MissingExtraError
+        When trimesh is not installed (``pip install uavcov[mesh]``).
+    MeshError
+        When the file does not exist, does not parse, or holds no triangles.
+    """
+    try:
+        import trimesh
+    except ImportError as exc:
+        raise MissingExtraError("reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)") from exc
+    path_text = _existing_path(path, "mesh", MeshError)
+    try:
+        # process=False: we weld and clean ourselves, with a report, rather than silently.
+        loaded = trimesh.load(path_text, force="mesh", process=False)
+    except Exception as exc:  # trimesh raises many kinds (ValueError, KeyError, IndexError ...)
+        raise MeshError(f"cannot parse {path_text!r} as a mesh: {exc}") from exc
+    vertices = getattr(loaded, "vertices", None)
+    faces = getattr(loaded, "faces", None)
+    if vertices is None or faces is None or len(faces) == 0:
+        raise MeshError(f"{path_text!r} holds no triangles")
+    try:
+        return mesh_terrain(
+            np.asarray(vertices, dtype=np.float64),
+            np.asarray(faces, dtype=np.int64),
+            up=up,
+            origin=origin,
+            scale=scale,
+            on_defect=on_defect,
+            source=path_text,
+        )
+    except MeshError as exc:  # name the file in every mesh error
+        if path_text in str(exc):
+            raise
+        raise MeshError(f"{path_text}: {exc}") from exc
