@@ -36,7 +36,6 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from .._validate import (
     MAX_SAMPLES,
@@ -53,7 +52,7 @@ from ..errors import InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, MissionSettings, run_mission
 from ..optim import CAOSettings, cao_preset
 from ..placement import Constraints, CVTSettings, StartSettings
-from ..terrain import GeoDem, approximate_surface, metres_per_degree
+from ..terrain import GeoDem, approximate_surface, metres_per_degree, sample_node_prior
 from ._area import AreaOfInterest
 
 __all__ = ["PlanSettings", "FlightPlan", "plan", "TAKEOFF_FRAMES"]
@@ -343,7 +342,7 @@ def _area_targets(dem: GeoDem, area: AreaOfInterest | None) -> tuple[Targets, np
     return Targets(every.points[inside], every.weights[inside], None if normals is None else normals[inside]), inside
 
 
-def _approximation(dem: GeoDem, settings: PlanSettings, targets: Targets, rng: np.random.Generator) -> tuple[Terrain, np.ndarray]:
+def _known_surface(dem: GeoDem, settings: PlanSettings, targets: Targets, rng: np.random.Generator) -> tuple[Terrain, np.ndarray]:
     """S' (the surface the CVT runs on) and the known points behind it."""
     terrain = dem.terrain
     points = targets.points
@@ -358,15 +357,10 @@ def _approximation(dem: GeoDem, settings: PlanSettings, targets: Targets, rng: n
         if not complete.any():
             raise InvalidInputError("the area of interest holds no whole DEM cell (four valid corners): it is too small for a plan")
         return Terrain.from_grid(z, grid.spacing, origin=grid.origin), np.empty((0, 3))
-    n = int(settings.prior)
-    if n > len(targets):
-        raise InvalidInputError(f"prior asks for {n} sparse points but the area holds only {len(targets)} DEM nodes")
-    chosen = points[rng.choice(len(targets), size=n, replace=False)]
     try:
-        hull = points[ConvexHull(points[:, :2]).vertices]
-    except (QhullError, ValueError) as exc:
-        raise InvalidInputError(f"the area's DEM nodes span no surface (all on a line?): {exc}") from None
-    known = np.unique(np.concatenate([chosen, hull]), axis=0)
+        known = sample_node_prior(points, int(settings.prior), rng=rng).points
+    except InvalidInputError as exc:
+        raise InvalidInputError(f"the area of interest: {exc}") from None
     return approximate_surface(known), known
 
 
@@ -467,7 +461,7 @@ def plan(
     if not (xmin < xmax and ymin < ymax):
         raise InvalidInputError("the area of interest holds DEM nodes on one line only: it is too small for a plan")
     takeoff = _takeoff(dem, settings, targets)
-    approximation, known = _approximation(dem, settings, targets, prior_rng)
+    approximation, known = _known_surface(dem, settings, targets, prior_rng)
 
     top = float(terrain.bounds[1, 2])
     constraints = replace(

@@ -15,6 +15,7 @@ from ._prior import (
     approximation_error,
     building_corner_prior,
     buildings_prior,
+    sample_node_prior,
     sample_prior,
 )
 
@@ -47,6 +48,7 @@ __all__ = [
     "load_mesh",
     "Prior",
     "sample_prior",
+    "sample_node_prior",
     "approximate_surface",
     "ApproximationError",
     "approximation_error",

@@ -24,13 +24,16 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.spatial import Delaunay, QhullError, cKDTree
+from scipy.spatial import ConvexHull, Delaunay, QhullError, cKDTree
 
 from .._validate import (
+    MAX_SAMPLES,
+    as_count,
     as_float_array,
     as_generator,
     as_non_negative_float,
     as_non_negative_int,
+    as_points,
     as_positive_float,
 )
 from ..engine import Terrain
@@ -40,6 +43,7 @@ from ._buildings import Building, buildings_terrain, perturb_buildings
 __all__ = [
     "Prior",
     "sample_prior",
+    "sample_node_prior",
     "approximate_surface",
     "ApproximationError",
     "approximation_error",
@@ -248,6 +252,37 @@ def _deduplicate(points: np.ndarray) -> np.ndarray:
     # For each pair keep the lower index; chains of near-duplicates all collapse to their first.
     drop[np.maximum(pairs[:, 0], pairs[:, 1])] = True
     return points[~drop]
+
+
+def sample_node_prior(nodes: Any, n: int, *, rng: Any = None) -> Prior:
+    """``n`` of a surface's own points drawn without replacement, plus the corners of their hull.
+
+    The sparse prior of a region that is not a rectangle (an area of interest on a DEM): the
+    hull's corners make S' span the region, as the 4 corners do for :func:`sample_prior`.
+
+    Parameters
+    ----------
+    nodes : (m, 3) array_like
+        The points one may know (metres), e.g. a DEM's nodes inside an area.
+    n : int
+        How many to draw (at most ``m``).
+    rng : None, int or numpy.random.Generator
+
+    Raises
+    ------
+    InvalidInputError
+        More points asked for than there are, or points on one line (no hull).
+    """
+    points = as_points(nodes, "nodes")
+    n = as_count(n, "n", MAX_SAMPLES)
+    if n > len(points):
+        raise InvalidInputError(f"the prior asks for {n} sparse points but there are only {len(points)} nodes")
+    chosen = points[as_generator(rng).choice(len(points), size=n, replace=False)]
+    try:
+        hull = points[ConvexHull(points[:, :2]).vertices]
+    except (QhullError, ValueError) as exc:
+        raise InvalidInputError(f"the nodes span no surface (all on a line?): {exc}") from None
+    return Prior(np.unique(np.concatenate([chosen, hull]), axis=0), kind="nodes")
 
 
 def approximate_surface(samples: Any) -> Terrain:
