@@ -39,8 +39,6 @@ import numpy as np
 from .._validate import as_float_array, as_non_negative_float, as_positive_float, as_positive_int
 from ..errors import InvalidInputError, InvalidTypeError
 
-__all__ = ["Camera", "Sensor", "Gimbal", "camera_axes", "pack_sensors"]
-
 # Columns of a packed sensor row (``uavcov._core``): d_min, d_max, forward (3), right (3), up (3),
 # tan(hfov / 2), tan(vfov / 2) (the camera's eleven NaN for an omnidirectional sensor), the cosine
 # of the largest incidence angle, the GSD per metre of distance and the GSD of full quality (NaN

@@ -19,8 +19,6 @@ from .._validate import as_finite_float, as_float_array, as_index_array, as_n_th
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ._targets import Targets
 
-__all__ = ["Terrain", "GridInfo"]
-
 DEFAULT_TARGET_DENSITY = 1.0
 """Targets per m^2 on a general mesh when none is asked for: one per square metre, the paper's
 1 m discretisation."""

@@ -10,8 +10,6 @@ import numpy as np
 from .._validate import as_float_array, as_points
 from ..errors import InvalidInputError
 
-__all__ = ["Targets"]
-
 
 @dataclass(frozen=True, eq=False)
 class Targets:

@@ -20,8 +20,6 @@ from ._sensors import Sensor, pack_sensors
 from ._surface import Terrain
 from ._targets import Targets
 
-__all__ = ["Visibility", "CoverageTracker", "UavCounts", "coverage"]
-
 
 @dataclass(frozen=True, eq=False)
 class UavCounts:

@@ -30,22 +30,6 @@ from . import _paper as paper
 from ._reports import finished_rows
 from ._results import ResultsFolder
 
-__all__ = [
-    "PairedGain",
-    "RowRobustness",
-    "Convergence",
-    "PUBLISHED_GAIN",
-    "headline",
-    "robustness",
-    "speed",
-    "convergence",
-    "claims_markdown",
-    "ablation_markdown",
-    "Verdict",
-    "verdicts",
-    "verdicts_markdown",
-]
-
 PUBLISHED_GAIN: Mapping[int, float] = {
     n: paper.PUBLISHED_TABLE1[(n, "cvt", "max")].mean / paper.PUBLISHED_TABLE1[(n, "random", "max")].mean - 1.0
     for n in sorted({n for n, _, _ in paper.PUBLISHED_TABLE1})

@@ -26,8 +26,6 @@ from typing import Any
 from .._validate import is_int
 from ..errors import ConfigError, MissingExtraError, SchedulerTimeoutError
 
-__all__ = ["ExecutionPlan", "available_cores", "plan_execution", "local_executor", "stop_pool", "dask_executor"]
-
 
 def available_cores() -> int:
     """Cores this process may run on (the affinity mask, not the machine's count)."""

@@ -32,8 +32,6 @@ from ._results import ResultsFolder
 from ._sweep import Experiment, experiment_specs, experiments_hash, parse_seeds, run_specs
 from ._sweep_config import SweepConfig
 
-__all__ = ["reproduce", "reproduce_all", "ablate", "run_sweep", "REPRODUCIBLE", "REPORT_SEEDS"]
-
 REPORT_SEEDS: Mapping[str, tuple[int, ...]] = {"comparison": paper.HELD_OUT_SEEDS, "buildings": tuple(range(20))}
 """Seeds :func:`reproduce_all` runs where the paper shows one scenario: its claims are checked
 over many (the comparison over the 40 terrains of Table 1, the buildings scene over 20 draws)."""

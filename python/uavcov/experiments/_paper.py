@@ -31,27 +31,6 @@ from ..placement import Constraints, CVTSettings, StartSettings
 from ..terrain import BuildingsGenerator, HillsGenerator
 from ._sweep import Experiment
 
-__all__ = [
-    "PaperExperiment",
-    "PublishedValue",
-    "TABLE1",
-    "PYRAMID",
-    "COMPARISON",
-    "EXAMPLE",
-    "BUILDINGS",
-    "EXPERIMENTS",
-    "Ablation",
-    "ABLATION_BASE",
-    "ABLATIONS",
-    "ABLATIONS_BY_NAME",
-    "PUBLISHED_TABLE1",
-    "PUBLISHED_PYRAMID",
-    "PUBLISHED_FIG6_MAX",
-    "TABLE1_COLUMNS",
-    "DEV_SEEDS",
-    "HELD_OUT_SEEDS",
-]
-
 PaperExperiment = Experiment
 """The paper's experiments are :class:`uavcov.experiments.Experiment` values (the name of earlier releases)."""
 

@@ -20,19 +20,6 @@ from ..records import load_mission
 from . import _paper as paper
 from ._results import ResultsFolder, csv_line, format_cell
 
-__all__ = [
-    "summarise",
-    "finished_rows",
-    "table1_markdown",
-    "pyramid_markdown",
-    "comparison_markdown",
-    "buildings_markdown",
-    "example_markdown",
-    "sweep_markdown",
-    "coverage_curves_csv",
-    "REPORTS",
-]
-
 
 def finished_rows(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
     """The rows of runs that finished (no error, a coverage)."""

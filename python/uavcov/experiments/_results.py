@@ -33,18 +33,6 @@ from .._core import __version__
 from .._io import atomic_write
 from ..errors import ResultsFolderError, ResultsFormatError, ResultsInUseError
 
-__all__ = [
-    "RUN_COLUMNS",
-    "CONFIG_FORMAT",
-    "ResultsFolder",
-    "RunsFile",
-    "read_runs",
-    "csv_line",
-    "format_cell",
-    "config_document",
-    "json_default",
-]
-
 RUN_COLUMNS: tuple[str, ...] = (
     "run_id",
     "experiment",

@@ -48,18 +48,6 @@ from ..terrain import BuildingsGenerator, HillsGenerator
 from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
 
-__all__ = [
-    "Experiment",
-    "RunSpec",
-    "experiment_specs",
-    "settings_hash",
-    "experiments_hash",
-    "execute_run",
-    "run_specs",
-    "parse_seeds",
-]
-
-
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
 _LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start"})
 _LATER_NESTED_FIELDS = (("cao", "infeasible"),)

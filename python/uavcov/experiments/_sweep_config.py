@@ -67,8 +67,6 @@ from ..terrain import BuildingsGenerator, HillsGenerator
 from . import _paper as paper
 from ._sweep import Experiment, RunSpec, experiment_specs, parse_seeds
 
-__all__ = ["SweepConfig", "load_sweep_config", "parse_sweep_config", "STARTS", "PRIORS"]
-
 STARTS: tuple[str, ...] = START_KINDS
 """Starts a sweep may compare ("pairs": half the team on each of two opposite sides)."""
 

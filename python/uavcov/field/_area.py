@@ -23,8 +23,6 @@ from .._validate import as_float_array
 from ..errors import InvalidInputError, InvalidTypeError
 from ..terrain import GeoDem
 
-__all__ = ["AreaOfInterest", "bbox_area", "read_area", "points_in_rings", "AREA_FRAMES"]
-
 AREA_FRAMES = ("wgs84", "dem")
 """What an area's coordinates are in: WGS84 (longitude, latitude) or the DEM's CRS."""
 

@@ -52,23 +52,6 @@ from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError, Res
 from ..terrain import RasterGrid
 from ._plan import FlightPlan
 
-__all__ = [
-    "write_plan",
-    "render_plan",
-    "qgc_plan",
-    "read_qgc_plan",
-    "read_positions_csv",
-    "read_plan_geojson",
-    "read_plan_kml",
-    "read_coverage_geotiff",
-    "COVERAGE_NODATA",
-    "MAV_CMD_NAV_TAKEOFF",
-    "MAV_CMD_NAV_WAYPOINT",
-    "MAV_CMD_NAV_LOITER_TIME",
-    "MAV_CMD_DO_MOUNT_CONTROL",
-    "MAV_FRAME_GLOBAL_RELATIVE_ALT",
-]
-
 MAV_CMD_NAV_WAYPOINT = 16
 MAV_CMD_NAV_LOITER_TIME = 19
 MAV_CMD_NAV_TAKEOFF = 22

@@ -55,8 +55,6 @@ from ..placement import Constraints, CVTSettings, StartSettings
 from ..terrain import GeoDem, approximate_surface, metres_per_degree, sample_node_prior
 from ._area import AreaOfInterest
 
-__all__ = ["PlanSettings", "FlightPlan", "plan", "TAKEOFF_FRAMES"]
-
 TAKEOFF_FRAMES = ("wgs84", "dem")
 """How a take-off point is given: (longitude, latitude) in WGS84, or (x, y) in the DEM's CRS."""
 

@@ -85,16 +85,6 @@ from .._validate import (
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._draws import redraw_monomials, standard_normal
 
-__all__ = [
-    "CAOSettings",
-    "OptimizerTrace",
-    "Optimizer",
-    "cao",
-    "per_robot_cao",
-    "OPTIMIZERS",
-    "MARGINAL_OPTIMIZERS",
-]
-
 FeasibleFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 _PERTURBATIONS = ("gaussian", "uniform")

@@ -20,8 +20,6 @@ import numpy as np
 from .. import _core
 from ..errors import InvalidInputError
 
-__all__ = ["standard_normal", "redraw_monomials"]
-
 
 def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> np.ndarray:
     """Standard normal values of ``shape``, exactly as ``rng.standard_normal(shape)`` draws them.

@@ -15,8 +15,6 @@ from .._validate import as_positive_float
 from ..errors import InvalidInputError
 from ._cao import CAOSettings
 
-__all__ = ["CAO_PRESETS", "PRESET_RANGE", "cao_preset"]
-
 PRESET_RANGE = 25.0
 """The sensing range (metres) the presets' ``alpha0`` is stated for."""
 

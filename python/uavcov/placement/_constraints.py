@@ -30,15 +30,6 @@ import numpy as np
 from .._validate import as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_int
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
-__all__ = [
-    "World",
-    "Constraints",
-    "feasible_mask",
-    "feasibility",
-    "trajectory_feasible",
-    "closest_admissible",
-]
-
 # closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
 # (which use the true h_min and d_safe) never fail on round-off. Metres.
 _MARGIN = 1e-6

@@ -66,8 +66,6 @@ from .._validate import (
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError
 
-__all__ = ["cvt", "CVTSettings", "CVTResult", "PRESETS", "default_samples_per_iteration", "seed_from_rng"]
-
 PRESETS: Mapping[str, tuple[tuple[float, float], tuple[float, float]]] = MappingProxyType(
     {
         "damped": ((0.5, 0.5), (0.5, 0.5)),

@@ -41,8 +41,6 @@ from .._validate import as_float_array, as_points, as_positive_int
 from ..engine import Gimbal, Sensor, Terrain, Visibility
 from ..errors import InvalidInputError, InvalidTypeError
 
-__all__ = ["FootprintFit", "fit_footprints"]
-
 _MAX_HEIGHT = 1e6
 """The highest height above S' :func:`fit_footprints` searches, metres (far beyond any camera's use)."""
 _MAX_POSES_PER_UAV = 10_000

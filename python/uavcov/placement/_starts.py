@@ -37,8 +37,6 @@ from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._cvt import CVTResult, CVTSettings, cvt
 
-__all__ = ["initial_positions", "start_configuration", "StartSettings", "START_KINDS", "CORNERS", "ALTITUDE_REFERENCES"]
-
 START_KINDS = ("cvt", "random", "corner", "pairs")
 """The kinds :func:`initial_positions` knows."""
 

@@ -19,8 +19,6 @@ from ..errors import InvalidInputError, InvalidTypeError
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR, _finish, _line, _matplotlib, _patch
 from ._views import _grid_node_mask
 
-__all__ = ["plot_camera_views", "footprints"]
-
 
 def footprints(terrain: Terrain, poses: Any, sensors: Sequence[Sensor]) -> list[np.ndarray]:
     """Each UAV's footprint: the ``(K, 2)`` x-y outline (convex hull, metres) of the grid points

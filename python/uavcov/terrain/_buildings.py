@@ -28,8 +28,6 @@ from .._validate import (
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
-__all__ = ["Building", "random_buildings", "buildings_terrain", "buildings_scene", "perturb_buildings"]
-
 
 @dataclass(frozen=True)
 class Building:

@@ -39,17 +39,6 @@ from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._frame import LocalFrame, metres_per_degree
 from ._meshes import MeshReport, load_mesh
 
-__all__ = [
-    "RasterGrid",
-    "GeoDem",
-    "dem_from_array",
-    "read_dem",
-    "read_mesh_dem",
-    "sample_dem",
-    "WGS84",
-    "SAMPLE_VERTICAL_DATUM",
-]
-
 WGS84 = "EPSG:4326"
 """The CRS of every longitude and latitude uavcov writes (GeoJSON, KML, QGroundControl)."""
 

@@ -23,9 +23,6 @@ import numpy as np
 from .._validate import as_finite_float, as_float_array
 from ..errors import InvalidInputError
 
-__all__ = ["LocalFrame", "metres_per_degree"]
-
-
 _WGS84_A = 6378137.0
 _WGS84_F = 1.0 / 298.257223563
 _WGS84_E2 = _WGS84_F * (2.0 - _WGS84_F)

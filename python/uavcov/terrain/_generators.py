@@ -21,8 +21,6 @@ from ._buildings import buildings_terrain, random_buildings
 from ._hills import gaussian_hills
 from ._prior import buildings_prior
 
-__all__ = ["HillsGenerator", "BuildingsGenerator", "TerrainGenerator"]
-
 
 @dataclass(frozen=True)
 class HillsGenerator:

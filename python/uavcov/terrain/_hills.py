@@ -21,8 +21,6 @@ from .._validate import (
 from ..engine import Terrain
 from ..errors import InvalidInputError
 
-__all__ = ["GaussianMixture", "random_gaussian_mixture", "gaussian_hills"]
-
 
 @dataclass(frozen=True, eq=False)
 class GaussianMixture:

@@ -23,8 +23,6 @@ from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError, MissingExtraError
 from ._frame import LocalFrame
 
-__all__ = ["MeshReport", "LoadedMesh", "mesh_terrain", "clean_mesh", "load_mesh"]
-
 
 @dataclass(frozen=True)
 class MeshReport:

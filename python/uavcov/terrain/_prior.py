@@ -40,17 +40,6 @@ from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._buildings import Building, buildings_terrain, perturb_buildings
 
-__all__ = [
-    "Prior",
-    "sample_prior",
-    "sample_node_prior",
-    "approximate_surface",
-    "ApproximationError",
-    "approximation_error",
-    "building_corner_prior",
-    "buildings_prior",
-]
-
 _KINDS = ("random", "pyramid", "points")
 
 
