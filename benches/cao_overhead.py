@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from uavcov.optim.cao import CAOSettings, cao, per_robot_cao
+from uavcov.optim import CAOSettings, cao, per_robot_cao
 
 
 def own_work(n_uavs: int, optimizer: str, iterations: int, seed: int) -> dict[str, float]:

@@ -1,6 +1,6 @@
-//! numpy's `Generator` draws for a PCG64 state, bit for bit (see [`crate::pcg64`]):
+//! numpy's `Generator` draws for a PCG64 state, bit for bit (see [`crate::cao::pcg64`]):
 //! `pcg64_standard_normal`, `pcg64_random`, `pcg64_integers`, and CAO's monomial refresh,
-//! `pcg64_monomials` (see [`crate::monomials`]). `uavcov.draws` reads and writes the numpy
+//! `pcg64_monomials` (see [`crate::cao::monomials`]). `uavcov.draws` reads and writes the numpy
 //! generator's state around them.
 //!
 //! A state is passed as the integers of numpy's `bit_generator.state`: `state` and `inc`, and,
@@ -13,9 +13,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyInt;
 
 use super::{detached, held, invalid, to_py_err};
+use crate::cao::monomials::redraw;
+use crate::cao::pcg64::Pcg64;
 use crate::error::{try_filled, try_with_capacity, Error, Result};
-use crate::monomials::redraw;
-use crate::pcg64::Pcg64;
 
 /// At most 2^34 values (128 GiB) per call: a bound checked before allocating, so a mistaken
 /// size is an error at once rather than a long wait for the allocator's refusal.
@@ -151,7 +151,7 @@ pub(super) fn pcg64_integers<'py>(
     Ok((values.into_pyarray(py), rng.state, u8::from(rng.has_uint32), rng.uinteger))
 }
 
-/// CAO's monomial refresh (see [`crate::monomials::redraw`]): the `keep` strongest rows of
+/// CAO's monomial refresh (see [`crate::cao::monomials::redraw`]): the `keep` strongest rows of
 /// `terms (T, 3)` by `strength (T,)`, in index order, then `count` fresh monomials of `dim`
 /// variables drawn as numpy's `_draw_monomials` draws them from a PCG64 generator at numpy's
 /// whole state; and the state's entries afterwards. `None` instead of the rows (the state

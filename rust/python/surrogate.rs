@@ -8,8 +8,8 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2,
 use pyo3::prelude::*;
 
 use super::{held, invalid};
+use crate::cao::surrogate::{fit, Regressors};
 use crate::error::{try_with_capacity, Error, Result};
-use crate::surrogate::{fit, Regressors};
 
 /// `(theta (L,), scores (M,), strength (T,))`.
 type FitOutput<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);

@@ -17,20 +17,20 @@ use std::cmp::Ordering;
 use std::collections::HashSet;
 use std::hash::{BuildHasherDefault, Hasher};
 
+use crate::cao::pcg64::Pcg64;
 use crate::error::{ensure, try_with_capacity, Error, Result};
-use crate::pcg64::Pcg64;
 
 /// At most this many monomials in or out of one call (2^28): far beyond any surrogate (each is a
 /// column of the design matrix), and checked before allocating.
-pub const MAX_MONOMIALS: usize = 1 << 28;
+pub(crate) const MAX_MONOMIALS: usize = 1 << 28;
 
 /// Variables at most (2^32): numpy draws their indices on its 32-bit path, the one reproduced.
-pub const MAX_DIM: u64 = 1 << 32;
+pub(crate) const MAX_DIM: u64 = 1 << 32;
 
 /// How many distinct monomials of degree 2 and 3 `dim` variables have:
 /// `C(dim + 1, 2) + C(dim + 2, 3)`.
 #[must_use]
-pub fn n_distinct(dim: u64) -> u128 {
+pub(crate) fn n_distinct(dim: u64) -> u128 {
     let d = u128::from(dim);
     // Each product of consecutive integers is divisible by the factorial; at most ~2^97.
     (d + 1) * d / 2 + (d + 2) * (d + 1) * d / 6
@@ -40,7 +40,7 @@ pub fn n_distinct(dim: u64) -> u128 {
 /// sort by decreasing strength, as numpy's `argsort(-strength, kind="stable")` orders them
 /// (equal strengths by position, `-0.0` equal to `0.0`, NaN after every number).
 #[must_use]
-pub fn strongest(strength: &[f64], keep: usize) -> Vec<usize> {
+pub(crate) fn strongest(strength: &[f64], keep: usize) -> Vec<usize> {
     let mut order: Vec<usize> = (0..strength.len()).collect();
     order.sort_by(|&i, &j| by_decreasing(strength[i], strength[j])); // stable
     order.truncate(keep);
@@ -68,7 +68,14 @@ fn by_decreasing(a: f64, b: f64) -> Ordering {
 /// [`Error::InvalidInput`] when `strength` and `terms` differ in length, `keep` exceeds it, an
 /// index is outside `[0, dim]`, `dim` exceeds [`MAX_DIM`], or fewer than `count` monomials are
 /// left to draw; [`Error::TooLarge`] past [`MAX_MONOMIALS`] or when memory is refused.
-pub fn redraw(terms: &[[i64; 3]], strength: &[f64], keep: usize, count: usize, dim: u64, rng: &mut Pcg64) -> Result<Option<Vec<[i64; 3]>>> {
+pub(crate) fn redraw(
+    terms: &[[i64; 3]],
+    strength: &[f64],
+    keep: usize,
+    count: usize,
+    dim: u64,
+    rng: &mut Pcg64,
+) -> Result<Option<Vec<[i64; 3]>>> {
     ensure!(strength.len() == terms.len(), "strength has {} values for {} terms", strength.len(), terms.len());
     ensure!(keep <= terms.len(), "cannot keep {keep} of {} terms", terms.len());
     ensure!(dim <= MAX_DIM, "dim must be at most {MAX_DIM}, got {dim}");
@@ -168,7 +175,7 @@ impl Hasher for KeyHasher {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pcg64::tests::seed_12345;
+    use crate::cao::pcg64::tests::seed_12345;
 
     #[test]
     fn counts_of_distinct_monomials() {

@@ -19,21 +19,8 @@
 //! checked by `scripts/ziggurat_tables.py`). Its rare paths call the platform's `exp` and
 //! `log1p`, as numpy does, so both agree where both use the same libm (one process, or one
 //! machine).
-//!
-//! ```
-//! use uavcov::pcg64::Pcg64;
-//! // The state `np.random.default_rng(12345).bit_generator.state["state"]` holds.
-//! let mut rng = Pcg64::new(
-//!     33_261_208_707_367_790_463_622_745_601_869_196_757,
-//!     268_209_174_141_567_072_605_526_753_992_732_310_247,
-//! );
-//! let mut z = [0.0; 3];
-//! rng.fill_standard_normal(&mut z);
-//! // numpy: default_rng(12345).standard_normal(3)
-//! assert_eq!(z, [-1.4238250364546312, 1.2637284581291104, -0.8706617379590857]);
-//! ```
 
-use crate::ziggurat_tables::{F, INV_R, K, R, W};
+use crate::cao::ziggurat_tables::{F, INV_R, K, R, W};
 
 /// The 128-bit LCG multiplier of PCG64 (O'Neill's `PCG_DEFAULT_MULTIPLIER_128`).
 const MULTIPLIER: u128 = 0x2360_ED05_1FC6_5DA4_4385_DF64_9FCC_F645;
@@ -45,35 +32,35 @@ const MULTIPLIER: u128 = 0x2360_ED05_1FC6_5DA4_4385_DF64_9FCC_F645;
 /// and `uinteger` the dict's two other entries: the high half of a 64-bit output that a 32-bit
 /// draw left for the next one. 64-bit draws neither read nor change that half.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Pcg64 {
+pub(crate) struct Pcg64 {
     /// The LCG state.
-    pub state: u128,
+    pub(crate) state: u128,
     /// The LCG increment (numpy keeps it odd).
-    pub inc: u128,
+    pub(crate) inc: u128,
     /// Whether `uinteger` is the next 32-bit draw.
-    pub has_uint32: bool,
+    pub(crate) has_uint32: bool,
     /// The buffered 32-bit half. Reading it clears `has_uint32` but leaves the value, as numpy
     /// does: the stale value is part of numpy's state dict, so it is kept to compare equal.
-    pub uinteger: u32,
+    pub(crate) uinteger: u32,
 }
 
 impl Pcg64 {
     /// A generator at `state` with increment `inc`, as numpy's state dict gives them, with no
     /// buffered 32-bit half (a fresh `default_rng`'s).
     #[must_use]
-    pub fn new(state: u128, inc: u128) -> Self {
+    pub(crate) fn new(state: u128, inc: u128) -> Self {
         Self { state, inc, has_uint32: false, uinteger: 0 }
     }
 
     /// A generator at numpy's whole state: the LCG's `state` and `inc`, and the 32-bit buffer.
     #[must_use]
-    pub fn with_buffer(state: u128, inc: u128, has_uint32: bool, uinteger: u32) -> Self {
+    pub(crate) fn with_buffer(state: u128, inc: u128, has_uint32: bool, uinteger: u32) -> Self {
         Self { state, inc, has_uint32, uinteger }
     }
 
     /// The next 64-bit output (numpy's `random_raw`): step, then output from the new state.
     #[inline(always)]
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_mul(MULTIPLIER).wrapping_add(self.inc);
         let hi = (self.state >> 64) as u64;
         let lo = self.state as u64;
@@ -82,14 +69,14 @@ impl Pcg64 {
 
     /// A double in `[0, 1)` from the top 53 bits of one draw, as numpy's `next_double`.
     #[inline]
-    pub fn next_f64(&mut self) -> f64 {
+    pub(crate) fn next_f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
     }
 
     /// The next 32-bit output (numpy's `next_uint32`): the buffered half if there is one, else
     /// the low half of a new 64-bit output, whose high half is buffered for the next call.
     #[inline]
-    pub fn next_u32(&mut self) -> u32 {
+    pub(crate) fn next_u32(&mut self) -> u32 {
         if self.has_uint32 {
             self.has_uint32 = false;
             return self.uinteger;
@@ -105,7 +92,7 @@ impl Pcg64 {
     /// drawn for `span = 0`, one 32-bit word is the value for `span = 2^32 - 1`, and any other
     /// span is Lemire's method on 32-bit words.
     #[inline]
-    pub fn bounded_u32(&mut self, span: u32) -> u32 {
+    pub(crate) fn bounded_u32(&mut self, span: u32) -> u32 {
         if span == 0 {
             return 0;
         }
@@ -130,14 +117,14 @@ impl Pcg64 {
     /// Fills `out` as numpy's `Generator.integers(low, high, out.len())` does for the default
     /// int64 dtype when `high - low <= 2^32`; `span` is `high - low - 1`, and `low + span` must
     /// fit (numpy's own bound on `high`).
-    pub fn fill_integers(&mut self, low: i64, span: u32, out: &mut [i64]) {
+    pub(crate) fn fill_integers(&mut self, low: i64, span: u32, out: &mut [i64]) {
         for v in out.iter_mut() {
             *v = low + i64::from(self.bounded_u32(span));
         }
     }
 
     /// Fills `out` as numpy's `Generator.random(out.len())` does (one 64-bit draw a value).
-    pub fn fill_f64(&mut self, out: &mut [f64]) {
+    pub(crate) fn fill_f64(&mut self, out: &mut [f64]) {
         for v in out.iter_mut() {
             *v = self.next_f64();
         }
@@ -145,7 +132,7 @@ impl Pcg64 {
 
     /// One standard normal value, numpy's `random_standard_normal`.
     #[inline(always)]
-    pub fn standard_normal(&mut self) -> f64 {
+    pub(crate) fn standard_normal(&mut self) -> f64 {
         let r = self.next_u64();
         let (idx, rabs, x) = point(r);
         // About 99 % of draws end here; the rest go out of line, so this stays small enough
@@ -187,7 +174,7 @@ impl Pcg64 {
 
     /// Fills `out` with standard normal values, in order: the values and final state of
     /// numpy's `standard_normal(out.len())` from the same state.
-    pub fn fill_standard_normal(&mut self, out: &mut [f64]) {
+    pub(crate) fn fill_standard_normal(&mut self, out: &mut [f64]) {
         // A local copy, so the state lives in registers across the loop rather than being
         // stored through `self` after every draw.
         let mut rng = self.clone();
@@ -260,6 +247,15 @@ pub(crate) mod tests {
         assert_eq!(d, [1_452_245_847, 714_712_467, 457_721_135]);
         assert_eq!((rng.has_uint32, rng.uinteger), (true, 802_017_220));
         assert_eq!(rng.state, 216_098_700_122_296_263_478_885_786_697_608_317_821);
+    }
+
+    #[test]
+    fn normals_match_numpy() {
+        // default_rng(12345).standard_normal(3)
+        let mut rng = seed_12345();
+        let mut z = [0.0; 3];
+        rng.fill_standard_normal(&mut z);
+        assert_eq!(z, [-1.423_825_036_454_631_2, 1.263_728_458_129_110_4, -0.870_661_737_959_085_7]);
     }
 
     #[test]

@@ -13,18 +13,6 @@
 //! variations. Every penalised column makes the system positive definite, so a Cholesky
 //! factorisation solves it; LU and then an SVD pseudo-inverse guard against round-off on extreme
 //! inputs.
-//!
-//! ```
-//! use uavcov::surrogate::{fit, Regressors};
-//! // y = 1 + 2 u0 - u1 + 3 u0 u1 on a 4 x 4 grid of points, fitted with every term it needs.
-//! let reg = Regressors::new(2, vec![[0, 1, 2]])?;
-//! let points: Vec<f64> = (0..16).flat_map(|k| [f64::from(k % 4) - 1.5, f64::from(k / 4) - 1.5]).collect();
-//! let y: Vec<f64> = points.chunks(2).map(|u| 1.0 + 2.0 * u[0] - u[1] + 3.0 * u[0] * u[1]).collect();
-//! let model = fit(&reg, &points, &y, 1e-12, None)?;
-//! let score = reg.scores(&model.theta, &[0.5, 0.5])?;
-//! assert!((score[0] - (1.0 + 1.0 - 0.5 + 0.75)).abs() < 1e-6);
-//! # Ok::<(), uavcov::Error>(())
-//! ```
 
 use nalgebra::{DMatrix, DVector};
 
@@ -38,19 +26,19 @@ const PSEUDO_INVERSE_EPS: f64 = 1e-13;
 
 /// The regressors of one estimator: the dimension of its points and its nonlinear monomials.
 #[derive(Debug, Clone)]
-pub struct Regressors {
+pub(crate) struct Regressors {
     dim: usize,
     terms: Vec<[usize; 3]>,
 }
 
 /// A fitted estimator: its coefficients and what each nonlinear monomial contributed.
 #[derive(Debug, Clone)]
-pub struct Fit {
+pub(crate) struct Fit {
     /// `1 + dim + terms` coefficients: the constant, the linear terms, the monomials.
-    pub theta: Vec<f64>,
+    pub(crate) theta: Vec<f64>,
     /// Per monomial, `|theta_j|` times the root-mean-square of its column over the window (what
     /// it contributes to the fit; the optimiser keeps the strongest). Zero on an empty window.
-    pub strength: Vec<f64>,
+    pub(crate) strength: Vec<f64>,
 }
 
 impl Regressors {
@@ -58,7 +46,7 @@ impl Regressors {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] when `dim` is 0 or an index exceeds `dim` (the one).
-    pub fn new(dim: usize, terms: Vec<[usize; 3]>) -> Result<Self> {
+    pub(crate) fn new(dim: usize, terms: Vec<[usize; 3]>) -> Result<Self> {
         if dim == 0 {
             return Err(Error::InvalidInput("the estimator's points need at least one coordinate".into()));
         }
@@ -70,20 +58,8 @@ impl Regressors {
 
     /// Number of regressors, `1 + dim + terms`.
     #[must_use]
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         1 + self.dim + self.terms.len()
-    }
-
-    /// Always false: the constant is a regressor.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        false
-    }
-
-    /// Coordinates per point.
-    #[must_use]
-    pub fn dim(&self) -> usize {
-        self.dim
     }
 
     /// Number of points in `points` (row-major, `dim` values each).
@@ -120,11 +96,12 @@ impl Regressors {
     /// # Errors
     /// [`Error::InvalidInput`] for a ragged or non-finite input, [`Error::TooLarge`] when the
     /// matrix cannot be allocated.
-    pub fn design(&self, points: &[f64]) -> Result<DMatrix<f64>> {
+    #[cfg(test)] // the fit and the scores build the transpose, or no matrix at all
+    pub(crate) fn design(&self, points: &[f64]) -> Result<DMatrix<f64>> {
         Ok(self.design_transposed(points)?.transpose())
     }
 
-    /// The transpose `(len, n)` of [`Regressors::design`]: one point's regressors per column,
+    /// The transpose `(len, n)` of the design matrix: one point's regressors per column,
     /// which is how a column-major matrix stores them, so the rows are written in place.
     fn design_transposed(&self, points: &[f64]) -> Result<DMatrix<f64>> {
         let n = self.count(points, "the points")?;
@@ -142,7 +119,7 @@ impl Regressors {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for a ragged or non-finite input or a `theta` of the wrong length.
-    pub fn scores(&self, theta: &[f64], points: &[f64]) -> Result<Vec<f64>> {
+    pub(crate) fn scores(&self, theta: &[f64], points: &[f64]) -> Result<Vec<f64>> {
         if theta.len() != self.len() {
             return Err(Error::InvalidInput(format!("theta has {} coefficients, the estimator {}", theta.len(), self.len())));
         }
@@ -180,7 +157,7 @@ impl Regressors {
 /// # Errors
 /// [`Error::InvalidInput`] for inputs of mismatched sizes, non-finite values, or a `ridge` that
 /// is not positive and finite.
-pub fn fit(regressors: &Regressors, points: &[f64], y: &[f64], ridge: f64, active: Option<&[bool]>) -> Result<Fit> {
+pub(crate) fn fit(regressors: &Regressors, points: &[f64], y: &[f64], ridge: f64, active: Option<&[bool]>) -> Result<Fit> {
     if !(ridge.is_finite() && ridge > 0.0) {
         return Err(Error::InvalidInput(format!("ridge must be positive and finite, got {ridge}")));
     }
@@ -257,6 +234,17 @@ mod tests {
 
     fn random(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
         (0..n).map(|_| rng.random::<f64>() * 2.0 - 1.0).collect()
+    }
+
+    #[test]
+    fn a_polynomial_in_its_own_terms_is_fitted_and_scored() {
+        // y = 1 + 2 u0 - u1 + 3 u0 u1 on a 4 x 4 grid of points, fitted with every term it needs.
+        let reg = Regressors::new(2, vec![[0, 1, 2]]).unwrap();
+        let points: Vec<f64> = (0..16).flat_map(|k| [f64::from(k % 4) - 1.5, f64::from(k / 4) - 1.5]).collect();
+        let y: Vec<f64> = points.chunks(2).map(|u| 1.0 + 2.0 * u[0] - u[1] + 3.0 * u[0] * u[1]).collect();
+        let model = fit(&reg, &points, &y, 1e-12, None).unwrap();
+        let score = reg.scores(&model.theta, &[0.5, 0.5]).unwrap();
+        assert!((score[0] - (1.0 + 1.0 - 0.5 + 0.75)).abs() < 1e-6);
     }
 
     #[test]
