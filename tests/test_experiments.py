@@ -12,12 +12,10 @@ stays fast; the numbers are checked against the missions run directly, not again
 from __future__ import annotations
 
 import contextlib
-import importlib
 import json
 import math
 import os
 import time
-import warnings
 
 import numpy as np
 import pytest
@@ -387,5 +385,3 @@ def test_two_sweeps_never_write_one_directory_at_once(tmp_path):
         os.close(other)
     assert (tmp_path / "runs.csv").read_bytes() == before
     run_specs([spec], out=tmp_path, workers=1, resume=True)  # free again
-
-
