@@ -20,12 +20,11 @@ mesh, its area-weighted points inside the area), each weighted by the ground are
 The UAVs stay inside the area's bounding box (the flight limits take a rectangle, not a polygon)
 at ``h_min`` to ``h_max`` above the ground under them and ``d_safe`` apart.
 
-Defaults scaled from the paper (``uavcov.experiments``): the CVT is Table 1's; CAO's constants are
-Table 1's with the step of its ``plateau-step`` ablation, scaled with the sensing range
-(``alpha_k = alpha0 (1 + A) / (k + 1 + A)``, ``alpha0 = 0.2 d_max``, ``A = 5``): a plan keeps the
-best configuration seen, so it takes the larger step budget, which reaches higher coverage,
-where Table 1 takes the smaller one its runs settle with by iteration 500; the start flies at
-the middle of ``[h_min, h_max]`` above the ground and a UAV forced up by the ground is put
+Defaults: the CVT's own (:class:`~uavcov.CVTSettings`), and the optimiser's ``"plateau"``
+preset scaled with the sensing range (:func:`uavcov.optim.cao_preset`: ``alpha_k = alpha0 (1 + A)
+/ (k + 1 + A)``, ``alpha0 = 0.2 d_max``, ``A = 5``): a plan keeps the best configuration seen, so
+it takes the larger step budget, which reaches higher coverage; the start flies at the middle of
+``[h_min, h_max]`` above the ground and a UAV forced up by the ground is put
 ``min(1 m, (h_max - h_min) / 4)`` above ``h_min``.
 """
 
@@ -48,7 +47,7 @@ from .._validate import (
     read_only,
 )
 from ..engine import Gimbal, Sensor, Targets, Terrain, Visibility, camera_axes
-from ..errors import InvalidInputError, InvalidTypeError
+from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, MissionSettings, run_mission
 from ..optim import CAOSettings, cao_preset
 from ..placement import Constraints, CVTSettings, StartSettings
@@ -92,7 +91,7 @@ class PlanSettings:
         CAO iterations (0 keeps the start).
     sensor : Sensor or sequence of Sensor, optional
         Every UAV's sensor (``Sensor(d_max, camera=...)``, pointed by ``attitude``), or one per
-        UAV (a mixed team: ``d_max`` is then its longest range); ``None`` is the omnidirectional
+        UAV (a mixed team, each to its own range); ``None`` is the omnidirectional
         sensor of range ``d_max``. Incidence limits and view quality use the DEM's node normals
         (:meth:`uavcov.Terrain.vertex_normals`; a mesh DEM takes neither).
     attitude : (float, float)
@@ -135,6 +134,8 @@ class PlanSettings:
 
     def __post_init__(self) -> None:
         h_min, h_max = as_non_negative_float(self.h_min, "h_min"), as_positive_float(self.h_max, "h_max")
+        if not h_min < h_max:
+            raise InfeasibleError(f"h_min = {h_min} m must be below h_max = {h_max} m")
         constraints = Constraints(h_min=h_min, h_max=h_max, d_safe=self.d_safe, check_moves=None)
         object.__setattr__(self, "h_min", h_min)
         object.__setattr__(self, "h_max", h_max)
