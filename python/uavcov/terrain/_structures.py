@@ -428,20 +428,23 @@ STRUCTURE_SCENES: dict[str, Callable[..., Structure]] = {
 }
 
 
-def solid_components(structure: Structure) -> list[np.ndarray]:
-    """The face indices of each connected solid (faces sharing a vertex), ground left out."""
+def connected_faces(faces: np.ndarray, n_vertices: int) -> list[np.ndarray]:
+    """Indices into ``faces`` of each group of faces connected through shared vertices."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    faces = structure.surface.faces
+    if faces.shape[0] == 0:
+        return []
+    rows = np.repeat(np.arange(faces.shape[0]), 3)
+    incidence = coo_matrix((np.ones(rows.size), (rows, faces.ravel())), shape=(faces.shape[0], n_vertices)).tocsr()
+    _, label = connected_components(incidence @ incidence.T, directed=False)
+    return [np.nonzero(label == k)[0] for k in range(label.max() + 1)]
+
+
+def solid_components(structure: Structure) -> list[np.ndarray]:
+    """The face indices of each connected solid (faces sharing a vertex), ground left out."""
     solid = np.nonzero(structure.face_parts != (-1 if structure.ground_part is None else structure.ground_part))[0]
-    f = faces[solid]
-    n_vertices = structure.surface.n_vertices
-    rows = np.repeat(np.arange(solid.size), 3)
-    graph = coo_matrix((np.ones(rows.size), (rows, f.ravel())), shape=(solid.size, n_vertices)).tocsr()
-    adjacency = graph @ graph.T
-    _, label = connected_components(adjacency, directed=False)
-    return [solid[label == k] for k in range(label.max() + 1)] if solid.size else []
+    return [solid[group] for group in connected_faces(structure.surface.faces[solid], structure.surface.n_vertices)]
 
 
 def height_field_violation(structure: Structure, *, resolution: float | None = None) -> tuple[float, float]:
