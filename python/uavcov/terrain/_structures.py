@@ -115,7 +115,9 @@ class Structure:
 
         Each chosen face is cut into ``m^2`` congruent triangles, ``m = ceil(sqrt(area) / spacing)``,
         with a target at each piece's centroid weighted by its area (the rule of
-        :meth:`Terrain.default_targets`), so weights sum to the chosen faces' area.
+        :meth:`Terrain.default_targets`); pieces whose centroid lies on a contact face (where
+        another solid or the ground presses on the face) are left out, so weights sum to the
+        visible area of the chosen faces.
 
         Parameters
         ----------
@@ -155,13 +157,19 @@ class Structure:
         # Back into face order, so the result does not depend on how faces group by size.
         face_of = np.concatenate([np.repeat(np.nonzero(m == size)[0], size * size) for size in np.unique(m)])
         order = np.argsort(face_of, kind="stable")
-        return StructureTargets(
-            np.concatenate(points)[order],
-            np.concatenate(weights)[order],
-            np.concatenate(point_normals)[order],
-            np.concatenate(parts)[order],
-            self.part_names,
-        )
+        p, w, n, q = (np.concatenate(values)[order] for values in (points, weights, point_normals, parts))
+        hidden = self._pressed(p)
+        return StructureTargets(p[~hidden], w[~hidden], n[~hidden], q[~hidden], self.part_names)
+
+    def _pressed(self, points: np.ndarray) -> np.ndarray:
+        """``(n,)`` bool: points lying on a contact face, where a solid presses on a larger face
+        (a nacelle on a tower's top, a deck on a column): no camera sees them."""
+        if CONTACT not in self.part_names:
+            return np.zeros(points.shape[0], dtype=bool)
+        contact = Terrain(self.surface.vertices, self.surface.faces[self.face_parts == self.part_names.index(CONTACT)])
+        bounds = self.surface.bounds
+        tolerance = 1e-7 * float(np.max(bounds[1] - bounds[0]))
+        return np.linalg.norm(contact.closest_point(points) - points, axis=1) <= tolerance
 
     def coverage_by_part(self, seen: Any, targets: StructureTargets) -> dict[str, float]:
         """Weighted share of each part's targets that is seen.
