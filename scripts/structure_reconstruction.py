@@ -26,10 +26,13 @@ from uavcov.errors import UavcovError
 from uavcov.terrain import (
     STRUCTURE_SCENES,
     coarse_structure_prior,
+    height_field_violation,
     reconstruct_structure,
     reconstruction_error,
     sample_structure_prior,
 )
+from uavcov.terrain._structure_prior import DEFAULT_METHOD
+from uavcov.terrain._structures import solid_components
 
 BEGIN = "<!-- reconstruction table: made by python scripts/structure_reconstruction.py -->"
 END = "<!-- end of reconstruction table -->"
@@ -45,7 +48,7 @@ Scenes: `uavcov.terrain.STRUCTURE_SCENES`; priors and reconstruction:
 """
 
 
-def _row(scene: str, structure: object, source: str, method: str, priors: list) -> str:
+def _row(scene: str, structure: object, source: str, method: str, priors: list, means: dict) -> str:
     errors = []
     for prior in priors:
         try:
@@ -53,11 +56,59 @@ def _row(scene: str, structure: object, source: str, method: str, priors: list) 
         except UavcovError as exc:
             return f"| {scene} | {source} | {method} | refused: {exc} | | | |"
         errors.append(reconstruction_error(structure, approx, n_samples=20_000, rng=0))
-    med = {name: float(np.median([getattr(e, name) for e in errors])) for name in ("hausdorff_truth_to_approx_m", "hausdorff_approx_to_truth_m", "mean_m", "area_ratio")}
+    means[(scene, source, method)] = (
+        float(np.median([e.mean_m for e in errors])),
+        float(np.median([e.hausdorff_truth_to_approx_m for e in errors])),
+    )
+    med = {
+        name: float(np.median([getattr(e, name) for e in errors]))
+        for name in ("hausdorff_truth_to_approx_m", "hausdorff_approx_to_truth_m", "mean_m", "area_ratio")
+    }
     return (
         f"| {scene} | {source} | {method} | {med['hausdorff_truth_to_approx_m']:.2f} | {med['hausdorff_approx_to_truth_m']:.2f} "
         f"| {med['mean_m']:.2f} | {med['area_ratio']:.2f} |"
     )
+
+
+def _scenes_table() -> list[str]:
+    lines = [
+        (
+            "Scenes (seed 0): faces of the whole mesh, parts, and how far each is from a height field "
+            "(`height_field_violation`: share of the footprint where a vertical ray meets a downward face above the "
+            "lowest surface; share of the visible area facing down)."
+        ),
+        "",
+        "| scene | faces | solids | parts | double-hit share | downward area share |",
+        "|---|---|---|---|---|---|",
+    ]
+    for scene, make in STRUCTURE_SCENES.items():
+        structure = make(rng=0)
+        double, down = height_field_violation(structure)
+        parts = ", ".join(name for name in structure.part_names if name not in ("ground", "contact"))
+        solids = len(solid_components(structure))
+        lines.append(f"| {scene} | {structure.surface.n_faces} | {solids} | {parts} | {double:.3f} | {down:.3f} |")
+    return [*lines, ""]
+
+
+def _choice(means: dict, methods: list[str]) -> list[str]:
+    light = [m for m in methods if m in ("alpha", "hulls")]
+    cells = sorted({(scene, source) for scene, source, method in means if method in light and "points" in source})
+    wins = {m: [0, 0] for m in light}
+    for scene, source in cells:
+        for which in (0, 1):
+            wins[min(light, key=lambda m: means[(scene, source, m)][which])][which] += 1
+    summary = ", ".join(f"`{m}` {wins[m][0]} (mean) and {wins[m][1]} (H(S->S'))" for m in light)
+    medians = ", ".join(f"`{m}` {np.median([means[(s, src, m)][0] for s, src in cells]):.2f} m" for m in methods)
+    return [
+        "",
+        (
+            f"Cells (scene, number of points) won out of {len(cells)} among the dependency-light methods, on the mean "
+            f"distance and on what S' misses: {summary}. "
+            f"Median over the cells of the mean distance: {medians}. "
+            f'`reconstruct_structure(method="auto")` uses `{DEFAULT_METHOD}` for points.'
+        ),
+        "",
+    ]
 
 
 def table() -> str:
@@ -68,6 +119,7 @@ def table() -> str:
     lines = [
         BEGIN,
         "",
+        *_scenes_table(),
         "Reconstruction error of S' against the true structure (ground and contact faces left out), median over "
         f"prior seeds {', '.join(map(str, PRIOR_SEEDS))}; H(S->S') is the farthest a point of the structure is from S' "
         "(what S' misses), H(S'->S) the farthest a point of S' is from the structure (what it invents), mean the mean "
@@ -77,15 +129,17 @@ def table() -> str:
         "| scene | prior | method | H(S->S') m | H(S'->S) m | mean m | area S'/S |",
         "|---|---|---|---|---|---|---|",
     ]
+    means: dict = {}
     for scene, make in STRUCTURE_SCENES.items():
         structure = make(rng=0)
         for n in SIZES:
             priors = [sample_structure_prior(structure, n, rng=seed) for seed in PRIOR_SEEDS]
-            for method in methods:
-                lines.append(_row(scene, structure, f"{n} points", method, priors))
-        for kind in ("boxes", "decimated"):
-            lines.append(_row(scene, structure, f"{kind} model", "model", [coarse_structure_prior(structure, kind)]))
-    lines += ["", END]
+            lines.extend(_row(scene, structure, f"{n} points", method, priors, means) for method in methods)
+        lines.extend(
+            _row(scene, structure, f"{kind} model", "model", [coarse_structure_prior(structure, kind)], means)
+            for kind in ("boxes", "decimated")
+        )
+    lines += [*_choice(means, methods), END]
     return "\n".join(lines)
 
 

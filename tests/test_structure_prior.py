@@ -24,11 +24,11 @@ from uavcov.terrain._solids import signed_volume
 
 
 @pytest.fixture(scope="module")
-def bridge():  # noqa: ANN201
+def bridge():
     return girder_bridge(rng=0)
 
 
-def test_points_lie_on_the_structure_uniformly_by_area(bridge) -> None:  # noqa: ANN001
+def test_points_lie_on_the_structure_uniformly_by_area(bridge) -> None:
     prior = sample_structure_prior(bridge, 20_000, rng=1)
     assert prior.kind == "points" and prior.model is None and prior.points.shape == (20_000, 3)
     assert np.allclose(bridge.surface.closest_point(prior.points), prior.points, atol=1e-9)
@@ -53,12 +53,12 @@ def test_points_lie_on_the_structure_uniformly_by_area(bridge) -> None:  # noqa:
 
 
 @pytest.mark.parametrize("bad", [0, -1, 1.5, 10**12, float("nan"), "3"])
-def test_bad_point_counts_are_clear_errors(bridge, bad) -> None:  # noqa: ANN001
+def test_bad_point_counts_are_clear_errors(bridge, bad) -> None:
     with pytest.raises((InvalidInputError, InvalidTypeError)):
         sample_structure_prior(bridge, bad)
 
 
-def test_bad_priors_are_clear_errors(bridge) -> None:  # noqa: ANN001
+def test_bad_priors_are_clear_errors(bridge) -> None:
     with pytest.raises(InvalidInputError):
         sample_structure_prior(bridge, 10, noise=-1.0)
     with pytest.raises(InvalidInputError):
@@ -75,7 +75,7 @@ def test_bad_priors_are_clear_errors(bridge) -> None:  # noqa: ANN001
         coarse_structure_prior(bridge, "decimated", cell=1e9)
 
 
-def test_box_model_holds_the_structure_and_decimation_stays_close(bridge) -> None:  # noqa: ANN001
+def test_box_model_holds_the_structure_and_decimation_stays_close(bridge) -> None:
     boxes = coarse_structure_prior(bridge, "boxes")
     assert boxes.kind == "boxes" and reconstruct_structure(boxes) is boxes.model
     assert signed_volume(boxes.model.vertices, boxes.model.faces) > 0
@@ -91,7 +91,7 @@ def test_box_model_holds_the_structure_and_decimation_stays_close(bridge) -> Non
     assert reconstruction_error(bridge, decimated.model, n_samples=4_000).mean_m < 1.5
 
 
-def test_reconstruction_is_closed_outward_and_refuses_what_is_too_sparse(bridge) -> None:  # noqa: ANN001
+def test_reconstruction_is_closed_outward_and_refuses_what_is_too_sparse(bridge) -> None:
     prior = sample_structure_prior(bridge, 100, rng=0)
     for method in ("alpha", "hulls"):
         surface = reconstruct_structure(prior, method=method, rng=0)
@@ -116,16 +116,19 @@ def test_reconstruction_is_closed_outward_and_refuses_what_is_too_sparse(bridge)
         reconstruct_structure(prior.points)
 
 
-def test_reconstruction_error_falls_as_known_points_grow(bridge) -> None:  # noqa: ANN001
+def test_reconstruction_error_falls_as_known_points_grow(bridge) -> None:
     errors = {}
     for n in (30, 100, 300):
-        runs = [reconstruction_error(bridge, reconstruct_structure(sample_structure_prior(bridge, n, rng=seed)), n_samples=5_000) for seed in range(3)]
+        runs = [
+            reconstruction_error(bridge, reconstruct_structure(sample_structure_prior(bridge, n, rng=seed)), n_samples=5_000)
+            for seed in range(3)
+        ]
         errors[n] = (np.median([e.mean_m for e in runs]), np.median([e.hausdorff_m for e in runs]))
     assert errors[30][0] > errors[100][0] > errors[300][0]
     assert errors[30][1] > errors[100][1] > errors[300][1]
 
 
-def test_reconstruction_error_against_analytic_cases(bridge) -> None:  # noqa: ANN001
+def test_reconstruction_error_against_analytic_cases(bridge) -> None:
     solid = bridge.surface.faces[bridge.face_mask()]
     same = Terrain(bridge.surface.vertices, solid)
     exact = reconstruction_error(bridge, same, n_samples=3_000)
@@ -138,7 +141,7 @@ def test_reconstruction_error_against_analytic_cases(bridge) -> None:  # noqa: A
         reconstruction_error(bridge, bridge)
 
 
-def test_open3d_methods_or_a_clear_missing_extra(bridge, monkeypatch) -> None:  # noqa: ANN001
+def test_open3d_methods_or_a_clear_missing_extra(bridge, monkeypatch) -> None:
     prior = sample_structure_prior(bridge, 300, rng=0)
     try:
         import open3d  # noqa: F401
@@ -160,7 +163,7 @@ def test_open3d_methods_or_a_clear_missing_extra(bridge, monkeypatch) -> None:  
 
 
 @pytest.mark.parametrize("make", [wind_turbine, lattice_pylon])
-def test_cvt_runs_on_reconstructed_structures(make) -> None:  # noqa: ANN001
+def test_cvt_runs_on_reconstructed_structures(make) -> None:
     from uavcov.placement import cvt
 
     structure = make(rng=2)

@@ -9,6 +9,7 @@ exactly two faces, once in each direction). Nothing here is public: the scenes i
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,7 +53,9 @@ def _labels_by_direction(vertices: np.ndarray, faces: np.ndarray, name: str, up:
     return tuple(str(label) for label in labels)
 
 
-def loft(rings: np.ndarray, name: str, *, up: str | None = None, down: str | None = None, caps: tuple[str | None, str | None] = (None, None)) -> Piece:
+def loft(
+    rings: np.ndarray, name: str, *, up: str | None = None, down: str | None = None, caps: tuple[str | None, str | None] = (None, None)
+) -> Piece:
     """A closed tube through ``rings`` ``(k, m, 3)`` (k >= 2 rings of m >= 3 points, each convex
     and in order around it), capped at both ends by a fan from the ring's centroid.
 
@@ -146,7 +149,16 @@ def frustum(
     return loft(np.asarray(rings), name, caps=caps)
 
 
-def cells(xs: np.ndarray, ys: np.ndarray, zs: np.ndarray, labels: np.ndarray, names: tuple[str, ...], *, up: dict[int, str] | None = None, down: dict[int, str] | None = None) -> Piece:
+def cells(
+    xs: np.ndarray,
+    ys: np.ndarray,
+    zs: np.ndarray,
+    labels: np.ndarray,
+    names: tuple[str, ...],
+    *,
+    up: dict[int, str] | None = None,
+    down: dict[int, str] | None = None,
+) -> Piece:
     """The union of the occupied cells of a rectilinear grid as one closed surface.
 
     ``labels`` ``(nx, ny, nz)`` holds -1 for empty cells, else an index into ``names``; the cell
@@ -210,7 +222,7 @@ def refine(breaks: list[float], step: float) -> np.ndarray:
     """The sorted distinct ``breaks`` with points added so no gap exceeds ``step``."""
     values = np.unique(np.asarray(breaks, dtype=np.float64))
     out = [values[0]]
-    for lo, hi in zip(values[:-1], values[1:], strict=True):
+    for lo, hi in itertools.pairwise(values):
         n = max(1, int(np.ceil((hi - lo) / step - 1e-9)))
         out.extend(lo + (hi - lo) * np.arange(1, n + 1) / n)
     return np.asarray(out)
@@ -232,7 +244,9 @@ def ground(xmin: float, xmax: float, ymin: float, ymax: float, step: float, z: f
 
 def join(pieces: list[Piece]) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Concatenate pieces (no welding: touching solids stay separate closed surfaces)."""
-    vertices, faces, parts = [], [], []
+    vertices: list[np.ndarray] = []
+    faces: list[np.ndarray] = []
+    parts: list[str] = []
     offset = 0
     for piece in pieces:
         vertices.append(piece.vertices)

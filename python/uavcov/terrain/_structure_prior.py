@@ -267,7 +267,7 @@ def _open3d(points: np.ndarray, normals: np.ndarray | None, method: str, depth: 
     try:
         import open3d
     except ImportError as exc:
-        raise MissingExtraError(f"method={method!r} needs Open3D: pip install open3d (or open3d-cpu)") from exc
+        raise MissingExtraError(f"method={method!r} needs Open3D: pip install 'uavcov[reconstruct]' (or pip install open3d-cpu)") from exc
     cloud = open3d.geometry.PointCloud(open3d.utility.Vector3dVector(np.array(points)))
     if normals is None:
         raise InvalidInputError(f"method={method!r} needs points with normals (sample_structure_prior(..., normals=True))")
@@ -277,7 +277,9 @@ def _open3d(points: np.ndarray, normals: np.ndarray | None, method: str, depth: 
     else:
         spacing = np.asarray(cloud.compute_nearest_neighbor_distance())
         radius = float(np.median(spacing)) * 1.5
-        mesh = open3d.geometry.TriangleMesh.create_from_point_cloud_ball_pivoting(cloud, open3d.utility.DoubleVector([radius, 2 * radius, 4 * radius]))
+        mesh = open3d.geometry.TriangleMesh.create_from_point_cloud_ball_pivoting(
+            cloud, open3d.utility.DoubleVector([radius, 2 * radius, 4 * radius])
+        )
     return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.triangles, dtype=np.int64)
 
 

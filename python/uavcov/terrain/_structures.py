@@ -169,7 +169,8 @@ class Structure:
         contact = Terrain(self.surface.vertices, self.surface.faces[self.face_parts == self.part_names.index(CONTACT)])
         bounds = self.surface.bounds
         tolerance = 1e-7 * float(np.max(bounds[1] - bounds[0]))
-        return np.linalg.norm(contact.closest_point(points) - points, axis=1) <= tolerance
+        pressed: np.ndarray = np.linalg.norm(contact.closest_point(points) - points, axis=1) <= tolerance
+        return pressed
 
     def coverage_by_part(self, seen: Any, targets: StructureTargets) -> dict[str, float]:
         """Weighted share of each part's targets that is seen.
@@ -348,7 +349,17 @@ def wind_turbine(*, rng: Any = None) -> Structure:
         direction = math.cos(angle) * u + math.sin(angle) * v
         root = hub_centre + np.array([hub_length / 2, 0.0, 0.0]) + apothem * direction
         pieces.append(
-            frustum(root, blade * direction, (0.7, 0.2), "blades", sides=12, slices=10, flat=(0.5, 0.25), across=np.array([1.0, 0.0, 0.0]), caps=(CONTACT, None))
+            frustum(
+                root,
+                blade * direction,
+                (0.7, 0.2),
+                "blades",
+                sides=12,
+                slices=10,
+                flat=(0.5, 0.25),
+                across=np.array([1.0, 0.0, 0.0]),
+                caps=(CONTACT, None),
+            )
         )
     # The tower's axis is x = y = 0 by construction of the hub; the rotor plane is x ~ 4.8 m.
     return _assemble("wind_turbine", pieces, ground(-30.0, 30.0, -30.0, 30.0, 3.0))
@@ -407,10 +418,8 @@ def lattice_pylon(*, rng: Any = None) -> Structure:
     base, leg = _jitter(g, 6.0, 0.05), 0.5
     panels, panel = 10, _jitter(g, 3.0, 0.05)
     height = panels * panel
-    pieces = []
-    for x0 in (0.0, base - leg):
-        for y0 in (0.0, base - leg):
-            pieces.append(box((x0, y0, 0.0), (x0 + leg, y0 + leg, height), "legs", up=CONTACT, step=1.5))
+    corners = (0.0, base - leg)
+    pieces = [box((x0, y0, 0.0), (x0 + leg, y0 + leg, height), "legs", up=CONTACT, step=1.5) for x0 in corners for y0 in corners]
     depth, rise = 0.3, 0.35
     for axis in (0, 1):
         for outer in (0.0, base - depth):
@@ -589,4 +598,3 @@ def load_structure(
         margin = 0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1]))
         sheet = ground(lo[0] - margin, hi[0] + margin, lo[1] - margin, hi[1] + margin, max(2.0 * margin / 20.0, 1e-3), z=float(lo[2]))
     return _assemble(name, [Piece(vertices, faces, ("structure",) * faces.shape[0])], sheet)
-
