@@ -136,34 +136,47 @@ impl FlightLimits {
     /// [`MAX_COORDINATE`] (a `z_max` that large lets one through): the surface is not queried
     /// so far out.
     pub fn admissible(&self, surface: &Surface, current: &[Point], config: &[Point]) -> Result<bool> {
-        let outside_now = self.outside_now(surface, current)?;
-        self.admissible_from(surface, current, &outside_now, config)
+        let now = self.now(surface, current)?;
+        self.admissible_from(surface, current, &now, config)
     }
 
-    /// Which UAVs of `current` are outside every solid, when the standoff limits will use it
-    /// (moves checked); empty otherwise.
-    fn outside_now(&self, surface: &Surface, current: &[Point]) -> Result<Vec<bool>> {
-        if self.clearance != Clearance::Standoff || !self.check_moves {
-            return Ok(Vec::new());
+    /// What the standoff limits learn once about `current` for a whole batch (empty otherwise).
+    fn now(&self, surface: &Surface, current: &[Point]) -> Result<Now> {
+        if self.clearance != Clearance::Standoff {
+            return Ok(Now::default());
         }
-        current.iter().map(|&q| surface.inside(q).map(|inside| !inside)).collect()
+        let distance = current.iter().map(|&q| surface.distance(q)).collect::<Result<_>>()?;
+        let outside =
+            if self.check_moves { current.iter().map(|&q| surface.inside(q).map(|inside| !inside)).collect::<Result<_>>()? } else { vec![] };
+        Ok(Now { distance, outside })
     }
 
-    /// The standoff of `q` within the limits, and some surface below it.
-    fn standoff_ok(&self, surface: &Surface, q: Point) -> Result<bool> {
-        if self.h_min > 0.0 && surface.within(q, self.h_min, false)? {
-            return Ok(false);
-        }
-        if let Some(h) = self.h_max {
-            if !surface.within(q, h, true)? {
+    /// The standoff of `b` within the limits, and some surface below it. `from` is `b`'s UAV's
+    /// current position and its distance to the surface, when known: the distance is
+    /// 1-Lipschitz, so a UAV that moved by `s` is within `s` of its old distance, and when that
+    /// whole interval keeps the limits (by more than the rounding of the two distances) the
+    /// sphere queries would say so too and are skipped.
+    fn standoff_ok(&self, surface: &Surface, b: Point, from: Option<(Point, f64)>) -> Result<bool> {
+        let known = from.is_some_and(|(a, d)| {
+            let step = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt();
+            let slack = 1e-9 * (1.0 + d + step + a.iter().chain(&b).fold(0.0_f64, |m, c| m.max(c.abs())));
+            d - step - slack >= self.h_min && self.h_max.is_none_or(|h| d + step + slack <= h)
+        });
+        if !known {
+            if self.h_min > 0.0 && surface.within(b, self.h_min, false)? {
                 return Ok(false);
             }
+            if let Some(h) = self.h_max {
+                if !surface.within(b, h, true)? {
+                    return Ok(false);
+                }
+            }
         }
-        Ok(surface.surface_below(q))
+        Ok(surface.surface_below(b))
     }
 
-    /// [`Self::admissible`] given [`Self::outside_now`] of `current`.
-    fn admissible_from(&self, surface: &Surface, current: &[Point], outside_now: &[bool], config: &[Point]) -> Result<bool> {
+    /// [`Self::admissible`] given [`Self::now`] of `current`.
+    fn admissible_from(&self, surface: &Surface, current: &[Point], now: &Now, config: &[Point]) -> Result<bool> {
         if !config.iter().all(|&q| self.inside(q)) || !self.separated(config) {
             return Ok(false);
         }
@@ -171,7 +184,7 @@ impl FlightLimits {
             return Err(Error::InvalidInput(format!("a candidate has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {q:?}")));
         }
         if self.clearance == Clearance::Standoff {
-            return self.standoff_admissible(surface, current, outside_now, config);
+            return self.standoff_admissible(surface, current, now, config);
         }
         if !config.iter().all(|&q| self.clear_enough_over(surface, q)) {
             return Ok(false);
@@ -186,9 +199,10 @@ impl FlightLimits {
 
 impl FlightLimits {
     /// The standoff rules for a configuration already inside the bounds and separated.
-    fn standoff_admissible(&self, surface: &Surface, current: &[Point], outside_now: &[bool], config: &[Point]) -> Result<bool> {
-        for &q in config {
-            if !self.standoff_ok(surface, q)? {
+    fn standoff_admissible(&self, surface: &Surface, current: &[Point], now: &Now, config: &[Point]) -> Result<bool> {
+        for (i, &q) in config.iter().enumerate() {
+            let from = now.distance.get(i).map(|&d| (current[i], d));
+            if !self.standoff_ok(surface, q, from)? {
                 return Ok(false);
             }
         }
@@ -198,13 +212,21 @@ impl FlightLimits {
                 return Ok(false);
             }
             // reached by a clear move from outside every solid: outside too (see the module docs)
-            let known_outside = moved_clear && outside_now.get(i).copied().unwrap_or(false);
+            let known_outside = moved_clear && now.outside.get(i).copied().unwrap_or(false);
             if !known_outside && surface.inside(b)? {
                 return Ok(false);
             }
         }
         Ok(true)
     }
+}
+
+/// What the standoff limits know of the current positions: each UAV's distance to the surface,
+/// and (moves checked) whether it is outside every solid. Empty: nothing known, every query made.
+#[derive(Debug, Default)]
+struct Now {
+    distance: Vec<f64>,
+    outside: Vec<bool>,
 }
 
 /// Which of the candidate configurations are admissible.
@@ -233,9 +255,9 @@ pub fn admissible_mask(
         return Err(Error::InvalidInput(format!("current has a coordinate that is not finite or beyond {MAX_COORDINATE:e} m: {q:?}")));
     }
     let mut out: Vec<bool> = try_with_capacity(candidates.len() / n, "the admissible mask")?;
-    let outside_now = limits.outside_now(surface, current)?;
+    let now = limits.now(surface, current)?;
     let judged: Result<Vec<bool>> = threads::run(n_threads, || {
-        candidates.par_chunks(n).map(|config| limits.admissible_from(surface, current, &outside_now, config)).collect()
+        candidates.par_chunks(n).map(|config| limits.admissible_from(surface, current, &now, config)).collect()
     });
     out.extend(judged?);
     Ok(out)
@@ -414,9 +436,10 @@ mod tests {
         assert!(one.iter().filter(|&&b| b).count() > 20 && one.iter().filter(|&&b| !b).count() > 20);
         assert_eq!(admissible_mask(&s, &l, &now, &candidates, 2).unwrap(), one);
         assert_eq!(admissible_mask(&s, &l, &now, &candidates, 3).unwrap(), one);
-        // the shortcut (no inside test after a clear move from outside) changes no answer
+        // the shortcuts (no inside test after a clear move from outside, no sphere query when the
+        // old distance bounds the new one) change no answer
         for (config, &ok) in candidates.chunks(3).zip(&one) {
-            let full = l.admissible_from(&s, &now, &[], config).unwrap();
+            let full = l.admissible_from(&s, &now, &Now::default(), config).unwrap();
             assert_eq!(full, ok, "{config:?}");
         }
     }

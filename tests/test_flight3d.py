@@ -143,7 +143,7 @@ def test_a_grid_answers_the_distance_too():
 
 @pytest.mark.parametrize("method", ["distance", "inside"])
 @pytest.mark.parametrize(
-    ("points", "error"),
+    "points, error",
     [
         ([[0.0, 0.0, np.nan]], InvalidInputError),
         ([[0.0, 0.0, 1e300]], InvalidInputError),
@@ -198,7 +198,7 @@ def random_batch(bridge):
 def test_every_accepted_configuration_keeps_every_limit_by_the_reference(bridge, random_batch):
     c = standoff().resolve(bridge)
     accepted = refused = 0
-    for team, cand in zip(*random_batch):
+    for team, cand in zip(*random_batch, strict=True):
         mask = feasible_mask(c, bridge, team, cand)
         ok = cand[mask]
         accepted += len(ok)
@@ -245,7 +245,7 @@ def test_the_fused_check_is_the_generic_one_and_the_same_for_any_thread_count(br
             return getattr(self.t, name)
 
     c = standoff()
-    for team, cand in zip(*random_batch):
+    for team, cand in zip(*random_batch, strict=True):
         fused = feasible_mask(c, bridge, team, cand, n_threads=1)
         np.testing.assert_array_equal(feasible_mask(c, Plain(bridge), team, cand), fused)
         np.testing.assert_array_equal(feasible_mask(c, bridge, team, cand, n_threads=3), fused)
@@ -253,7 +253,7 @@ def test_the_fused_check_is_the_generic_one_and_the_same_for_any_thread_count(br
 
 
 @pytest.mark.parametrize(
-    ("start", "most"),
+    "start, most",
     [
         ([-11.0, 0.0, 5.0], 3.0 + 1e-3),  # inside a pier: out through its nearest face, 1 m away
         ([0.0, 0.0, 10.5], 2.5 + 1e-3),  # inside the deck

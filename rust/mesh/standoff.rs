@@ -139,7 +139,9 @@ impl Surface {
     /// ground": a UAV under the ground plane, or off its edge, has none).
     #[must_use]
     pub fn surface_below(&self, point: Point) -> bool {
-        self.clearance(point).is_finite()
+        let (mins, _) = self.bounds();
+        let depth = point[2] - mins[2] + 1.0;
+        depth >= 0.0 && self.ray_hits(point, [0.0, 0.0, -1.0], depth)
     }
 }
 

@@ -373,7 +373,8 @@ class Terrain:
         starts inside; the answer is the vote of three fixed, skewed, upward rays (two of three),
         which keeps a ground plane below the point out of the count and survives a ray grazing
         an edge. Meant for meshes whose solids are closed (watertight) components; an open
-        surface above a point (a hillside) may count as a wall and make it "inside".
+        surface above a point (a hillside) may count as a wall and make it "inside", and so does
+        a ground plane over a point under it (the flight limits refuse both).
         ``n_threads`` as in :meth:`ground_height`.
 
         Examples
