@@ -60,7 +60,7 @@ fn tessellated_box(v: &mut Vec<Point>, f: &mut Vec<[u32; 3]>, lo: Point, hi: Poi
 fn structure() -> Surface {
     let (mut v, mut f) = (Vec::new(), Vec::new());
     // the ground: the top face of a thin slab is all the UAVs see; a flat grid of 0.45 m cells
-    let (nx, ny, cell) = (222, 134, 0.45);
+    let (nx, ny, cell) = (222_usize, 134_usize, 0.45);
     for i in 0..=ny {
         for j in 0..=nx {
             v.push([j as f64 * cell, i as f64 * cell, 0.0]);
@@ -108,8 +108,7 @@ fn bench(c: &mut Criterion) {
     let surface = Arc::new(structure());
     let now = team();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let candidates: Vec<Point> =
-        (0..200 * now.len()).map(|k| now[k % now.len()].map(|x| x + 2.0 * rng.random::<f64>() - 1.0)).collect();
+    let candidates: Vec<Point> = (0..200 * now.len()).map(|k| now[k % now.len()].map(|x| x + 2.0 * rng.random::<f64>() - 1.0)).collect();
     let standoff = limits(Clearance::Standoff, true);
     assert!(standoff.admissible(&surface, &now, &now).unwrap(), "the benchmark's team is admissible");
     let accepted = admissible_mask(&surface, &standoff, &now, &candidates, 1).unwrap().iter().filter(|&&b| b).count();

@@ -146,8 +146,11 @@ impl FlightLimits {
             return Ok(Now::default());
         }
         let distance = current.iter().map(|&q| surface.distance(q)).collect::<Result<_>>()?;
-        let outside =
-            if self.check_moves { current.iter().map(|&q| surface.inside(q).map(|inside| !inside)).collect::<Result<_>>()? } else { vec![] };
+        let outside = if self.check_moves {
+            current.iter().map(|&q| surface.inside(q).map(|inside| !inside)).collect::<Result<_>>()?
+        } else {
+            vec![]
+        };
         Ok(Now { distance, outside })
     }
 
@@ -256,9 +259,8 @@ pub fn admissible_mask(
     }
     let mut out: Vec<bool> = try_with_capacity(candidates.len() / n, "the admissible mask")?;
     let now = limits.now(surface, current)?;
-    let judged: Result<Vec<bool>> = threads::run(n_threads, || {
-        candidates.par_chunks(n).map(|config| limits.admissible_from(surface, current, &now, config)).collect()
-    });
+    let judged: Result<Vec<bool>> =
+        threads::run(n_threads, || candidates.par_chunks(n).map(|config| limits.admissible_from(surface, current, &now, config)).collect());
     out.extend(judged?);
     Ok(out)
 }
@@ -272,7 +274,15 @@ mod tests {
     }
 
     fn limits() -> FlightLimits {
-        FlightLimits { bounds: [0.0, 0.0, 20.0, 20.0], h_min: 1.0, h_max: Some(5.0), z_max: 30.0, d_safe: 2.0, check_moves: true, clearance: Clearance::Vertical }
+        FlightLimits {
+            bounds: [0.0, 0.0, 20.0, 20.0],
+            h_min: 1.0,
+            h_max: Some(5.0),
+            z_max: 30.0,
+            d_safe: 2.0,
+            check_moves: true,
+            clearance: Clearance::Vertical,
+        }
     }
 
     #[test]
@@ -308,8 +318,15 @@ mod tests {
             (0..n * n).map(|k| if k == 5 * n + 7 { f64::NAN } else { 3.0 * ((k % n) as f64 * 0.4).sin() + 0.1 * (k / n) as f64 }).collect();
         let s = Surface::from_grid(z, n, n, 1.0, 1.0, 0.0, 0.0).unwrap();
         let field = s.heightfield().unwrap();
-        let l =
-            FlightLimits { bounds: [0.0, 0.0, 30.0, 30.0], h_min: 1.0, h_max: Some(5.0), z_max: 100.0, d_safe: 0.0, check_moves: false, clearance: Clearance::Vertical };
+        let l = FlightLimits {
+            bounds: [0.0, 0.0, 30.0, 30.0],
+            h_min: 1.0,
+            h_max: Some(5.0),
+            z_max: 100.0,
+            d_safe: 0.0,
+            check_moves: false,
+            clearance: Clearance::Vertical,
+        };
         let (mut fast, mut total) = (0, 0);
         for k in 0..4000_u32 {
             let t = f64::from(k);

@@ -153,7 +153,11 @@ pub(crate) mod tests {
     pub(crate) fn push_box(v: &mut Vec<Point>, f: &mut Vec<[u32; 3]>, lo: Point, hi: Point) {
         let base = u32::try_from(v.len()).unwrap();
         for k in 0..8 {
-            v.push([if k & 1 == 0 { lo[0] } else { hi[0] }, if k & 2 == 0 { lo[1] } else { hi[1] }, if k & 4 == 0 { lo[2] } else { hi[2] }]);
+            v.push([
+                if k & 1 == 0 { lo[0] } else { hi[0] },
+                if k & 2 == 0 { lo[1] } else { hi[1] },
+                if k & 4 == 0 { lo[2] } else { hi[2] },
+            ]);
         }
         // corners: bit 0 x, bit 1 y, bit 2 z
         let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
