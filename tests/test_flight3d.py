@@ -303,3 +303,19 @@ def test_the_new_setting_keeps_old_settings_hashes():
     changed = dataclasses.replace(exp, mission=dataclasses.replace(mission, constraints=standoff()))
     same_but_vertical = dataclasses.replace(changed, mission=dataclasses.replace(mission, constraints=standoff(clearance="vertical")))
     assert settings_hash(changed) != settings_hash(same_but_vertical)
+
+
+def test_bad_candidates_are_refused_or_raise(bridge):
+    team = np.array([[0.0, 0.0, 5.0], [5.0, 0.0, 5.0]])
+    nan = team.copy()
+    nan[1, 2] = np.nan
+    with pytest.raises(InvalidInputError):
+        feasible_mask(standoff(), bridge, team, nan[None])
+    deep = team.copy()
+    deep[1, 2] = -1e300  # inside the x-y bounds and under z_max: too far to query
+    with pytest.raises(InvalidInputError):
+        feasible_mask(standoff(), bridge, team, deep[None])
+    with pytest.raises(InvalidInputError):
+        feasible_mask(standoff(), bridge, team, np.zeros((3, 3, 3)))
+    with pytest.raises(InvalidInputError):
+        closest_admissible(standoff(), bridge, [[0.0, 0.0, np.inf]])
