@@ -147,6 +147,9 @@ impl Surface {
 
 #[cfg(test)]
 pub(crate) mod tests {
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
     use super::*;
 
     /// A closed, outward-wound box `[lo, hi]` appended to `v`, `f`.
@@ -222,15 +225,9 @@ pub(crate) mod tests {
     #[test]
     fn sphere_tests_and_distances_match_brute_force() {
         let s = bridge();
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
         for _ in 0..3000 {
-            let q = [-22.0 + 44.0 * next(), -12.0 + 24.0 * next(), -2.0 + 16.0 * next()];
+            let q = [-22.0 + 44.0 * rng.random::<f64>(), -12.0 + 24.0 * rng.random::<f64>(), -2.0 + 16.0 * rng.random::<f64>()];
             let d = brute_distance(&s, q);
             assert!((s.distance(q).unwrap() - d).abs() <= 1e-12 * (1.0 + d), "{q:?}");
             for r in [0.5, 1.0, 2.0, 4.0] {
