@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from ._constraints import Constraints, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
+from ._constraints import Constraints, StandoffWorld, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
 from ._footprints import FootprintFit, fit_footprints
 from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, initial_positions, start_configuration
 
 __all__ = [
+    "StandoffWorld",
     "World",
     "Constraints",
     "feasible_mask",
