@@ -91,9 +91,8 @@ def _ecef_to_geodetic(xyz: np.ndarray) -> np.ndarray:
     for _ in range(5):  # each step squares the error; from Bowring's guess two already reach 1e-15
         n = WGS84_A / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
         lat = np.arctan2(z + _E2 * n * np.sin(lat), p)
-    n = WGS84_A / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
-    # The height from whichever of p and z is better conditioned at this latitude.
-    h = np.where(np.abs(lat) < math.pi / 4, p / np.cos(lat) - n, z / np.sin(lat) - n * (1.0 - _E2))
+    # The height along the normal, well conditioned at every latitude (no division by cos or sin).
+    h = p * np.cos(lat) + z * np.sin(lat) - WGS84_A * np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
     return np.column_stack([np.degrees(lon), np.degrees(lat), h])
 
 
