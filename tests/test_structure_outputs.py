@@ -204,3 +204,38 @@ def test_bad_plans_are_clear_errors(tmp_path: Path):
     (tmp_path / "file").write_text("x")
     with pytest.raises(ResultsFolderError):
         write_structure_plan(plan, tmp_path / "file")
+
+
+# ------------------------------------------------------------------------------------------------
+# Figures
+
+
+def test_the_structure_figure_colours_faces_by_their_targets_and_shows_several_sides(tmp_path: Path):
+    from uavcov.plotting import face_seen_share, plot_structure_seen
+
+    surface = bridge()
+    targets = face_targets(surface)
+    # Seen: only the faces facing down (the deck's underside, the ground sees nothing of it).
+    seen = targets.normals[:, 2] < -0.5
+    share = face_seen_share(surface, targets, seen)
+    np.testing.assert_array_equal(share, seen.astype(float))  # one target per face, on its own face
+    fig = plot_structure_seen(surface, seen, targets=targets, positions=[[0.0, 0.0, 7.0]], out=tmp_path / "bridge.png")
+    axes = [ax for ax in fig.axes if ax.name == "3d"]
+    assert len(axes) == 5 and min(ax.elev for ax in axes) < 0  # one view from below
+    assert (tmp_path / "bridge.png").stat().st_size > 10_000
+    # The drawn face colours: seen faces red, the others the unseen colour (shading only scales
+    # them), so the hue tells which is which (matplotlib sorts the faces by depth: count them).
+    for ax in axes:
+        colours = ax.collections[0].get_facecolor()[:, :3]
+        assert len(colours) == surface.n_faces
+        assert int((colours[:, 0] > colours[:, 2]).sum()) == int(seen.sum())
+    # Per-face values, decimated drawing of a fine mesh, and bad input.
+    plot_structure_seen(surface, np.linspace(0.0, 1.0, surface.n_faces), views=[(20.0, 0.0)], max_polygons=10)
+    with pytest.raises(InvalidInputError):
+        plot_structure_seen(surface, [1.0, 0.0])
+    with pytest.raises(InvalidInputError):
+        plot_structure_seen(surface, np.full(surface.n_faces, 2.0))
+    with pytest.raises(InvalidInputError):
+        plot_structure_seen(surface, seen, targets=targets, views=[])
+    with pytest.raises(InvalidTypeError):
+        plot_structure_seen(box_on_ground().vertices, seen)  # type: ignore[arg-type]

@@ -9,6 +9,7 @@ from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, i
 from ._starts3d import (
     StandoffStart,
     check_reachable,
+    closest_faces,
     facing_attitudes,
     launch_pad_start,
     random_volume_start,
@@ -44,4 +45,5 @@ __all__ = [
     "surface_normals",
     "facing_attitudes",
     "check_reachable",
+    "closest_faces",
 ]

@@ -62,6 +62,72 @@ def _check_surface(surface: Any) -> Terrain:
     return surface
 
 
+class _Faces:
+    """A mesh's triangles with what the closest-face queries need, computed once."""
+
+    def __init__(self, surface: Terrain) -> None:
+        v, f = surface.vertices, surface.faces
+        self.a, self.b, self.c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+        cross = np.cross(self.b - self.a, self.c - self.a)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            unit = cross / np.linalg.norm(cross, axis=1)[:, None]
+        self.unit = np.where(np.isfinite(unit), unit, 0.0)  # a degenerate face has no direction
+        self.lo = np.minimum(np.minimum(self.a, self.b), self.c)
+        self.hi = np.maximum(np.maximum(self.a, self.b), self.c)
+        scale = float(np.abs(surface.bounds).max()) + float(np.ptp(surface.bounds, axis=0).max())
+        self.tol = 1e-9 * max(scale, 1.0)
+
+    def holding(self, closest: np.ndarray) -> list[np.ndarray]:
+        """For each point on the surface, the faces it lies on (its closest, and any tied)."""
+        out: list[np.ndarray] = []
+        for start in range(0, closest.shape[0], _BLOCK):
+            block = closest[start : start + _BLOCK]
+            near = ((block[:, None, :] >= self.lo - self.tol) & (block[:, None, :] <= self.hi + self.tol)).all(axis=2)
+            for row, q in enumerate(block):
+                candidates = np.flatnonzero(near[row])
+                if not candidates.size:
+                    out.append(candidates)
+                    continue
+                distance = _triangle_distance(q, self.a[candidates], self.b[candidates], self.c[candidates])
+                out.append(candidates[distance <= distance.min() + self.tol])
+        return out
+
+
+def closest_faces(surface: Terrain, points: Any, normals: Any = None) -> np.ndarray:
+    """The index of the triangle of ``surface`` closest to each point.
+
+    Where several are equally close (an edge, a vertex, or two solids touching face to face, as
+    a pier's top under a deck), the one whose normal agrees best with the point's ``normal``
+    when given, then the lowest-numbered.
+
+    Parameters
+    ----------
+    surface : Terrain
+    points : (n, 3) array_like of float
+    normals : (n, 3) array_like of float, optional
+        Each point's surface normal (a target's).
+
+    Returns
+    -------
+    (n,) int64 ndarray
+    """
+    surface = _check_surface(surface)
+    p = as_points(points, "points", allow_empty=True)
+    direction = None if normals is None else as_points(normals, "normals", allow_empty=True)
+    if direction is not None and direction.shape != p.shape:
+        raise InvalidInputError(f"{direction.shape[0]} normals for {p.shape[0]} points")
+    if not p.shape[0]:
+        return np.empty(0, dtype=np.int64)
+    faces = _Faces(surface)
+    out = np.empty(p.shape[0], dtype=np.int64)
+    for k, holding in enumerate(faces.holding(surface.closest_point(p))):
+        if direction is not None and holding.size > 1:
+            agreement = faces.unit[holding] @ direction[k]
+            holding = holding[agreement >= agreement.max() - 1e-9]
+        out[k] = holding[0]
+    return out
+
+
 def surface_normals(surface: Terrain, points: Any) -> tuple[np.ndarray, np.ndarray]:
     """The closest point of ``surface`` to each point, and the outward face normal there.
 
@@ -86,37 +152,21 @@ def surface_normals(surface: Terrain, points: Any) -> tuple[np.ndarray, np.ndarr
     surface = _check_surface(surface)
     p = as_points(points, "points")
     closest = surface.closest_point(p)
-    v = surface.vertices
-    f = surface.faces
-    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
-    cross = np.cross(b - a, c - a)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        unit = cross / np.linalg.norm(cross, axis=1)[:, None]
-    unit = np.where(np.isfinite(unit), unit, 0.0)  # a degenerate face has no direction
-    lo = np.minimum(np.minimum(a, b), c)
-    hi = np.maximum(np.maximum(a, b), c)
-    scale = float(np.abs(surface.bounds).max()) + float(np.ptp(surface.bounds, axis=0).max())
-    tol = 1e-9 * max(scale, 1.0)
+    faces = _Faces(surface)
     normals = np.empty_like(closest)
-    for start in range(0, closest.shape[0], _BLOCK):
-        block = closest[start : start + _BLOCK]
-        near = ((block[:, None, :] >= lo - tol) & (block[:, None, :] <= hi + tol)).all(axis=2)
-        for row, q in enumerate(block):
-            candidates = np.flatnonzero(near[row])
-            distance = _triangle_distance(q, a[candidates], b[candidates], c[candidates])
-            holding = candidates[distance <= distance.min() + tol] if candidates.size else candidates
-            # Each plane once: the two triangles of one flat face must not outvote the other side.
-            planes = np.unique(np.round(unit[holding], 9), axis=0) if holding.size else np.zeros((1, 3))
-            total = planes.sum(axis=0)
-            length = float(np.linalg.norm(total))
-            if length < 1e-6 and holding.size:
-                # Faces back to back (two solids touching, a fin of zero thickness) cancel: there
-                # is no outside there; take the lowest-numbered face's side, deterministically,
-                # and leave the flight limits to push the UAV out of the solid it lands in.
-                total, length = unit[holding[0]], float(np.linalg.norm(unit[holding[0]]))
-            if not length > 0.0:
-                raise InvalidInputError(f"no outward normal at surface point {q.tolist()}: its faces are degenerate")
-            normals[start + row] = total / length
+    for k, holding in enumerate(faces.holding(closest)):
+        # Each plane once: the two triangles of one flat face must not outvote the other side.
+        planes = np.unique(np.round(faces.unit[holding], 9), axis=0) if holding.size else np.zeros((1, 3))
+        total = planes.sum(axis=0)
+        length = float(np.linalg.norm(total))
+        if length < 1e-6 and holding.size:
+            # Faces back to back (two solids touching, a fin of zero thickness) cancel: there
+            # is no outside there; take the lowest-numbered face's side, deterministically,
+            # and leave the flight limits to push the UAV out of the solid it lands in.
+            total, length = faces.unit[holding[0]], float(np.linalg.norm(faces.unit[holding[0]]))
+        if not length > 0.0:
+            raise InvalidInputError(f"no outward normal at surface point {closest[k].tolist()}: its faces are degenerate")
+        normals[k] = total / length
     return closest, normals
 
 
