@@ -221,14 +221,19 @@ def test_the_structure_figure_colours_faces_by_their_targets_and_shows_several_s
     np.testing.assert_array_equal(share, seen.astype(float))  # one target per face, on its own face
     fig = plot_structure_seen(surface, seen, targets=targets, positions=[[0.0, 0.0, 7.0]], out=tmp_path / "bridge.png")
     axes = [ax for ax in fig.axes if ax.name == "3d"]
-    assert len(axes) == 5 and min(ax.elev for ax in axes) < 0  # one view from below
+    assert len(axes) == 4 and min(ax.elev for ax in axes) < 0  # one view from below
     assert (tmp_path / "bridge.png").stat().st_size > 10_000
     # The drawn face colours: seen faces red, the others the unseen colour (shading only scales
     # them), so the hue tells which is which (matplotlib sorts the faces by depth: count them).
+    # Back faces are culled: from above, no face turned down is drawn, so nothing red; from
+    # below, without the ground, every downward face is (and the sides facing the view).
     for ax in axes:
         colours = ax.collections[0].get_facecolor()[:, :3]
-        assert len(colours) == surface.n_faces
-        assert int((colours[:, 0] > colours[:, 2]).sum()) == int(seen.sum())
+        red = int((colours[:, 0] > colours[:, 2]).sum())
+        assert red == (int(seen.sum()) if ax.elev < 0 else 0)
+        assert len(colours) < surface.n_faces
+    with pytest.raises(InvalidInputError, match="ground"):
+        plot_structure_seen(surface, seen, targets=targets, ground=[True])
     # Per-face values, decimated drawing of a fine mesh, and bad input.
     plot_structure_seen(surface, np.linspace(0.0, 1.0, surface.n_faces), views=[(20.0, 0.0)], max_polygons=10)
     with pytest.raises(InvalidInputError):

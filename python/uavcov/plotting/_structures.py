@@ -4,7 +4,9 @@ A height field shows everything from above; a bridge hides its deck's underside 
 above the deck. :func:`plot_structure_seen` therefore draws the same coloured mesh in several 3D
 axes, by default from the four quarters above and once from below. Each face is coloured by
 the (weighted) share of its targets that is seen, from the unseen colour to the seen colour, and
-shaded by the figures' north-west light so the faces' orientation reads.
+shaded by the figures' north-west light so the faces' orientation reads. Faces turned away from
+a view are not drawn (the meshes are wound outward). Views from below leave the
+ground out (by default the upward faces at the scene's lowest height), which would hide the rest.
 """
 
 from __future__ import annotations
@@ -21,8 +23,9 @@ from ..placement import closest_faces
 from ._canvas import END_COLOUR, SEEN_COLOUR, UNSEEN_COLOUR, _finish, _marker, _matplotlib, _patch
 from ._views import DEFAULT_MAX_POLYGONS, _blend, _draw_polygons, _mesh_polygons, _scene_bounds, _style_3d
 
-STRUCTURE_VIEWS: tuple[tuple[float, float], ...] = ((30.0, -60.0), (30.0, 30.0), (30.0, 120.0), (30.0, 210.0), (-30.0, -60.0))
-"""Default ``(elevation, azimuth)`` of the views, degrees: four quarters from above, one from below."""
+STRUCTURE_VIEWS: tuple[tuple[float, float], ...] = ((30.0, -60.0), (30.0, 120.0), (8.0, 30.0), (-30.0, -60.0))
+"""Default ``(elevation, azimuth)`` of the views, degrees: two opposite quarters from above, one
+low from the side, one from below (without the ground, which would hide everything)."""
 
 
 def _numbers(seen: Any) -> np.ndarray:
@@ -56,6 +59,7 @@ def plot_structure_seen(
     targets: Targets | None = None,
     positions: Any = None,
     views: Sequence[tuple[float, float]] = STRUCTURE_VIEWS,
+    ground: Any = None,
     max_polygons: int = DEFAULT_MAX_POLYGONS,
     title: str | None = None,
     out: Any = None,
@@ -76,7 +80,10 @@ def plot_structure_seen(
     positions : (N, 3) array_like, optional
         UAVs to draw.
     views : sequence of (elevation, azimuth)
-        Degrees, one axes each, 1 to 12 of them.
+        Degrees, one axes each, 1 to 12 of them; a negative elevation looks from below.
+    ground : (F,) array_like of bool, optional
+        The faces views from below leave out; by default those facing up (within 1 degree)
+        with every vertex at the scene's lowest height.
     max_polygons : int
         A finer mesh is clustered down to about this many triangles for drawing (each drawn
         triangle takes the value of the face under its centre).
@@ -107,30 +114,48 @@ def plot_structure_seen(
     limit = as_positive_int(max_polygons, "max_polygons")
     uavs = None if positions is None else as_points(positions, "positions")
 
+    triangles = surface.vertices[surface.faces]
+    if ground is None:
+        cross = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+        up = cross[:, 2] >= np.cos(np.radians(1.0)) * np.linalg.norm(cross, axis=1)
+        low = float(surface.bounds[0][2])
+        floor = np.isclose(triangles[:, :, 2], low, rtol=0.0, atol=1e-9 * (1.0 + abs(low))).all(axis=1)
+        ground_mask = up & floor
+    else:
+        ground_mask = np.asarray(ground)
+        if ground_mask.dtype != np.bool_ or ground_mask.shape != (surface.n_faces,):
+            raise InvalidInputError(f"ground must be a ({surface.n_faces},) bool mask of faces")
     if surface.n_faces > limit:
         drawn = _mesh_polygons(surface, limit)
         polys = drawn.polys
-        values = share[closest_faces(surface, drawn.probes)]
+        face = closest_faces(surface, drawn.probes)
     else:
-        polys = surface.vertices[surface.faces]
-        values = share
-    colours = _blend(values, UNSEEN_COLOUR, SEEN_COLOUR)
+        polys = triangles
+        face = np.arange(surface.n_faces)
+    colours = _blend(share[face], UNSEEN_COLOUR, SEEN_COLOUR)
+    above_ground = ~ground_mask[face]
+    facing = np.cross(polys[:, 1] - polys[:, 0], polys[:, 2] - polys[:, 0])
 
     _matplotlib()
     from matplotlib.figure import Figure
 
-    columns = min(len(angles), 3)
+    columns = 2 if len(angles) == 4 else min(len(angles), 3)
     rows = -(-len(angles) // columns)
     fig = Figure(figsize=(4.6 * columns, 4.2 * rows + 0.6))
     bounds = _scene_bounds(surface.vertices, *([uavs] if uavs is not None else []))
     for k, (elev, azim) in enumerate(angles):
         ax = fig.add_subplot(rows, columns, k + 1, projection="3d")
         ax.computed_zorder = False
-        _draw_polygons(ax, polys, colours, shade=True, zorder=1)
+        keep = above_ground if elev < 0 else np.ones(len(polys), dtype=bool)
+        # Back faces culled: a closed solid hides them anyway, and matplotlib's painter's sort
+        # (by each polygon's centre) would draw some of them over the front ones.
+        e, a = np.radians(elev), np.radians(azim)
+        keep &= facing @ np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)]) > 0.0
+        _draw_polygons(ax, polys[keep], colours[keep], shade=True, zorder=1)
         if uavs is not None and uavs.shape[0]:
             ax.scatter(uavs[:, 0], uavs[:, 1], uavs[:, 2], s=30, c=[END_COLOUR], edgecolors="black", linewidths=0.5, depthshade=False, zorder=3)
-        side = "below" if elev < 0 else "above"
-        _style_3d(ax, bounds, elev=elev, azim=azim, title=f"from {side}, azimuth {azim:g} deg")
+        side = "below, without the ground" if elev < 0 else "above"
+        _style_3d(ax, bounds, elev=elev, azim=azim, title=f"from {side} (elevation {elev:g}, azimuth {azim:g} deg)")
     seen_area = float(np.nansum(np.nan_to_num(share) * surface.face_areas))
     known_area = float(surface.face_areas[np.isfinite(share)].sum())
     handles = [_patch(SEEN_COLOUR, "seen"), _patch(UNSEEN_COLOUR, "not seen")]
