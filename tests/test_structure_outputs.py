@@ -72,7 +72,11 @@ def test_bad_clouds_are_clear_errors(tmp_path: Path):
     with pytest.raises(InvalidTypeError):
         seen_cloud_bytes(np.zeros((2, 3)), [0, 0])  # type: ignore[arg-type]
     good = seen_cloud_bytes(targets, [0, 3])
-    for name, data in (("truncated", good[:-3]), ("text", b"hello\n"), ("other", good.replace(b"property int count", b"property int other"))):
+    for name, data in (
+        ("truncated", good[:-3]),
+        ("text", b"hello\n"),
+        ("other", good.replace(b"property int count", b"property int other")),
+    ):
         path = tmp_path / f"{name}.ply"
         path.write_bytes(data)
         with pytest.raises(InvalidInputError):
@@ -98,7 +102,9 @@ def _pyproj_enu_to_wgs84(points: np.ndarray, anchor: GeoAnchor) -> np.ndarray:
     return np.column_stack([lon, lat, h])
 
 
-@pytest.mark.parametrize("anchor", [(7.0, 46.0, 500.0), (-179.99, -45.0, -30.0), (120.0, 0.0, 8000.0), (0.0, 89.9, 0.0), (-73.98, 40.75, 10.0)])
+@pytest.mark.parametrize(
+    "anchor", [(7.0, 46.0, 500.0), (-179.99, -45.0, -30.0), (120.0, 0.0, 8000.0), (0.0, 89.9, 0.0), (-73.98, 40.75, 10.0)]
+)
 def test_enu_to_wgs84_matches_pyproj(anchor: tuple[float, float, float]):
     geo = GeoAnchor(*anchor)
     points = np.random.default_rng(1).uniform(-5000.0, 5000.0, size=(200, 3))
@@ -128,7 +134,15 @@ def test_true_headings_follow_the_meridians():
 
 @pytest.mark.parametrize(
     "bad",
-    [(math.nan, 46.0, 0.0), (7.0, 91.0, 0.0), (7.0, -90.5, 0.0), (181.0, 0.0, 0.0), (7.0, 46.0, 1e300), (7.0, 46.0, math.inf), ("7", 46.0, 0.0)],
+    [
+        (math.nan, 46.0, 0.0),
+        (7.0, 91.0, 0.0),
+        (7.0, -90.5, 0.0),
+        (181.0, 0.0, 0.0),
+        (7.0, 46.0, 1e300),
+        (7.0, 46.0, math.inf),
+        ("7", 46.0, 0.0),
+    ],
 )
 def test_bad_anchors_are_clear_errors(bad):
     with pytest.raises(InvalidInputError, match="anchor"):

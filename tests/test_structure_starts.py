@@ -102,7 +102,7 @@ def test_the_deck_underside_needs_an_upward_gimbal():
 def test_check_reachable_picks_the_first_gimbal_and_refuses_what_none_reaches():
     np.testing.assert_array_equal(check_reachable([-90.0, -10.0, 20.0, 80.0], ["nadir", "three_axis", "upward"]), [0, 0, 1, 2])
     assert check_reachable([-45.0], Gimbal.preset("nadir")).tolist() == [0]
-    with pytest.raises(InfeasibleError, match="UAV 1 at 45.0"):
+    with pytest.raises(InfeasibleError, match=r"UAV 1 at 45\.0"):
         check_reachable([-30.0, 45.0], "three_axis")
     with pytest.raises(InvalidInputError, match="pitch_range"):
         check_reachable([0.0], Gimbal())

@@ -4,6 +4,7 @@ structure, the files a ground station reads, and a structure's seen point cloud.
 from __future__ import annotations
 
 from ._area import AREA_FRAMES, AreaOfInterest, bbox_area, points_in_rings, read_area
+from ._geodesy import GeoAnchor, enu_to_wgs84, local_to_true_heading
 from ._outputs import (
     COVERAGE_NODATA,
     MAV_CMD_DO_MOUNT_CONTROL,
@@ -20,7 +21,6 @@ from ._outputs import (
     render_plan,
     write_plan,
 )
-from ._geodesy import GeoAnchor, enu_to_wgs84, local_to_true_heading
 from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
 from ._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
 from ._structure_plan import StructurePlan, render_structure_plan, structure_plan, structure_qgc_plan, write_structure_plan

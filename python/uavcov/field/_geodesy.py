@@ -61,7 +61,8 @@ class GeoAnchor:
 
     def ecef(self) -> np.ndarray:
         """The anchor in ECEF coordinates, metres."""
-        return _geodetic_to_ecef(np.array([self.longitude]), np.array([self.latitude]), np.array([self.height]))[0]
+        ecef: np.ndarray = _geodetic_to_ecef(np.array([self.longitude]), np.array([self.latitude]), np.array([self.height]))[0]
+        return ecef
 
     def rotation(self) -> np.ndarray:
         """The ``(3, 3)`` matrix whose rows are the local east, north and up unit vectors in ECEF."""
@@ -76,9 +77,7 @@ def _enu_axes(lon: float, lat: float) -> np.ndarray:
 def _geodetic_to_ecef(lon_deg: np.ndarray, lat_deg: np.ndarray, h: np.ndarray) -> np.ndarray:
     lon, lat = np.radians(lon_deg), np.radians(lat_deg)
     n = WGS84_A / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
-    return np.column_stack(
-        [(n + h) * np.cos(lat) * np.cos(lon), (n + h) * np.cos(lat) * np.sin(lon), (n * (1.0 - _E2) + h) * np.sin(lat)]
-    )
+    return np.column_stack([(n + h) * np.cos(lat) * np.cos(lon), (n + h) * np.cos(lat) * np.sin(lon), (n * (1.0 - _E2) + h) * np.sin(lat)])
 
 
 def _ecef_to_geodetic(xyz: np.ndarray) -> np.ndarray:

@@ -227,7 +227,18 @@ def structure_qgc_plan(plan: StructurePlan, uav: int) -> dict[str, Any]:
     return qgc_document(items, (lat, lon, h), plan.cruise_speed, plan.hover_speed, about)
 
 
-_POSITION_COLUMNS = ("uav", "east_m", "north_m", "up_m", "longitude", "latitude", "height_ellipsoid_m", "height_home_m", "heading_deg", "pitch_deg")
+_POSITION_COLUMNS = (
+    "uav",
+    "east_m",
+    "north_m",
+    "up_m",
+    "longitude",
+    "latitude",
+    "height_ellipsoid_m",
+    "height_home_m",
+    "heading_deg",
+    "pitch_deg",
+)
 
 
 def render_structure_plan(plan: StructurePlan) -> dict[str, bytes]:
@@ -267,7 +278,11 @@ def render_structure_plan(plan: StructurePlan) -> dict[str, bytes]:
         )
         line = np.vstack([plan.takeoff_wgs84[None], plan.route_wgs84(k)])
         features.append(
-            {"type": "Feature", "geometry": {"type": "LineString", "coordinates": line.tolist()}, "properties": {"kind": "route", "uav": k + 1}}
+            {
+                "type": "Feature",
+                "geometry": {"type": "LineString", "coordinates": line.tolist()},
+                "properties": {"kind": "route", "uav": k + 1},
+            }
         )
     files["plan.geojson"] = (json.dumps({"type": "FeatureCollection", "features": features}, indent=1) + "\n").encode("utf-8")
     document = {

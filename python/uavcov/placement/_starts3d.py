@@ -120,11 +120,12 @@ def closest_faces(surface: Terrain, points: Any, normals: Any = None) -> np.ndar
         return np.empty(0, dtype=np.int64)
     faces = _Faces(surface)
     out = np.empty(p.shape[0], dtype=np.int64)
-    for k, holding in enumerate(faces.holding(surface.closest_point(p))):
-        if direction is not None and holding.size > 1:
-            agreement = faces.unit[holding] @ direction[k]
-            holding = holding[agreement >= agreement.max() - 1e-9]
-        out[k] = holding[0]
+    for k, tied in enumerate(faces.holding(surface.closest_point(p))):
+        best = tied
+        if direction is not None and tied.size > 1:
+            agreement = faces.unit[tied] @ direction[k]
+            best = tied[agreement >= agreement.max() - 1e-9]
+        out[k] = best[0]
     return out
 
 
@@ -194,7 +195,8 @@ def _triangle_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarra
     closest = np.where(((d6 >= 0) & (d5 <= d6))[:, None], c, closest)
     closest = np.where(((d3 >= 0) & (d4 <= d3))[:, None], b, closest)
     closest = np.where(((d1 <= 0) & (d2 <= 0))[:, None], a, closest)
-    return np.linalg.norm(q - closest, axis=1)
+    distance: np.ndarray = np.linalg.norm(q - closest, axis=1)
+    return distance
 
 
 def facing_attitudes(directions: Any) -> np.ndarray:
@@ -275,7 +277,8 @@ def check_reachable(pitch_deg: Any, gimbals: Any) -> np.ndarray:
             f"{missing.size} camera pitch(es) no given gimbal reaches ({shown} degrees; ranges {limits.tolist()}): "
             f"a camera that must point up needs a gimbal that can, e.g. Gimbal.preset({needed!r})"
         )
-    return np.argmax(reach, axis=1).astype(np.int64)
+    first: np.ndarray = np.argmax(reach, axis=1).astype(np.int64)
+    return first
 
 
 @dataclass(frozen=True, eq=False)
@@ -362,7 +365,7 @@ def standoff_start(
     positions = anchors + distance_out * normals
     attitudes = facing_attitudes(-normals)
     if clip_pitch:
-        low, high = _pitch_limits(gimbal if isinstance(gimbal, (str, Gimbal)) else list(gimbal)[0])
+        low, high = _pitch_limits(gimbal if isinstance(gimbal, (str, Gimbal)) else next(iter(gimbal)))
         attitudes[:, 1] = np.clip(attitudes[:, 1], low, high)
     else:
         check_reachable(attitudes[:, 1], gimbal)

@@ -153,7 +153,9 @@ def plot_structure_seen(
         keep &= facing @ np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)]) > 0.0
         _draw_polygons(ax, polys[keep], colours[keep], shade=True, zorder=1)
         if uavs is not None and uavs.shape[0]:
-            ax.scatter(uavs[:, 0], uavs[:, 1], uavs[:, 2], s=30, c=[END_COLOUR], edgecolors="black", linewidths=0.5, depthshade=False, zorder=3)
+            ax.scatter(
+                uavs[:, 0], uavs[:, 1], uavs[:, 2], s=30, c=[END_COLOUR], edgecolors="black", linewidths=0.5, depthshade=False, zorder=3
+            )
         side = "below, without the ground" if elev < 0 else "above"
         _style_3d(ax, bounds, elev=elev, azim=azim, title=f"from {side} (elevation {elev:g}, azimuth {azim:g} deg)")
     seen_area = float(np.nansum(np.nan_to_num(share) * surface.face_areas))
