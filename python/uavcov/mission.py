@@ -113,8 +113,8 @@ class MissionSettings:
         ``d_max``.
     attitude : (float, float), default (0.0, -90.0)
         ``(yaw, pitch)`` in degrees of every UAV's camera (heading clockwise from north, gimbal
-        pitch from -90, nadir, to 0, level), fixed during the mission; read when ``sensor`` has a
-        camera.
+        pitch from -90, nadir, to 0, level; above 0 only with a ``gimbal`` whose ``pitch_range``
+        reaches it), fixed during the mission; read when ``sensor`` has a camera.
     objective : {"coverage", "quality"}, default "coverage"
         What the optimiser maximises: the seen share, or the quality-weighted coverage
         (:meth:`uavcov.Visibility.quality_coverage`, centralised CAO only).
