@@ -261,3 +261,24 @@ def test_gimbal_pitch_ranges_reach_above_the_horizon_and_missions_refuse_an_unre
     assert ok.attitude == (0.0, 45.0)
     with pytest.raises(InvalidInputError, match="zenith"):
         camera_axes([0.0], [90.5])
+
+
+def test_a_mission_optimises_a_pitch_above_the_horizon_within_its_gimbal():
+    from uavcov import CAOSettings, Constraints, StartSettings, gaussian_hills, run_mission
+
+    terrain = gaussian_hills(size=60.0, spacing=2.0, n_hills=3, rng=4)
+    spec = MissionSettings(
+        n_uavs=3,
+        d_max=40.0,
+        iterations=30,
+        sensor=Sensor(40.0, camera=Camera.from_fov(70.0, 50.0)),
+        attitude=(10.0, 10.0),
+        gimbal=Gimbal(pitch_range=(-20.0, 40.0), alpha0_deg=40.0),
+        start=StartSettings(altitude=10.0),
+        constraints=Constraints(h_min=4.0, h_max=25.0, z_max=200.0, d_safe=1.0),
+        cao=CAOSettings(alpha0=2.0, stability=5.0, decay=1.0),
+    )
+    result = run_mission(terrain, spec, rng=3)
+    pitch = result.attitudes[..., 1]
+    assert (pitch >= -20.0).all() and (pitch <= 40.0).all() and (pitch > 0.0).any()
+    assert np.ptp(pitch) > 1.0
