@@ -124,20 +124,15 @@ def test_bad_standoff_inputs_are_clear_errors():
         standoff_start(surface, 0, 2.0, rng=0)
     with pytest.raises(InvalidTypeError):
         standoff_start("box", 4, 2.0)  # type: ignore[arg-type]
-    empty = Terrain(np.zeros((3, 3)), np.zeros((0, 3), dtype=np.int64)) if _empty_allowed() else None
-    if empty is not None:
-        with pytest.raises(InvalidInputError, match="no area"):
-            standoff_start(empty, 4, 2.0)
+    # An empty or flat-to-nothing mesh: refused by the Terrain or by the start, never a crash.
+    with pytest.raises(InvalidInputError):
+        standoff_start(Terrain(np.zeros((3, 3)), np.zeros((0, 3), dtype=np.int64)), 4, 2.0)
+    with pytest.raises(InvalidInputError):
+        standoff_start(Terrain([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]], [[0, 1, 2]]), 4, 2.0)
     with pytest.raises(InvalidInputError):
         surface_normals(surface, [[math.nan, 0.0, 0.0]])
-
-
-def _empty_allowed() -> bool:
-    try:
-        Terrain(np.zeros((3, 3)), np.zeros((0, 3), dtype=np.int64))
-    except InvalidInputError:
-        return False  # the Terrain itself refuses an empty mesh: nothing reaches the starts
-    return True
+    with pytest.raises(InvalidTypeError):
+        standoff_start(surface, 4, 2.0, gimbal=5, clip_pitch=True)
 
 
 def test_facing_attitudes_invert_camera_axes():

@@ -365,7 +365,8 @@ def standoff_start(
     positions = anchors + distance_out * normals
     attitudes = facing_attitudes(-normals)
     if clip_pitch:
-        low, high = _pitch_limits(gimbal if isinstance(gimbal, (str, Gimbal)) else next(iter(gimbal)))
+        first = gimbal[0] if isinstance(gimbal, (list, tuple)) and gimbal else gimbal
+        low, high = _pitch_limits(first)
         attitudes[:, 1] = np.clip(attitudes[:, 1], low, high)
     else:
         check_reachable(attitudes[:, 1], gimbal)
