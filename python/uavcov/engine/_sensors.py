@@ -299,7 +299,7 @@ def camera_axes(yaw_deg: Any, pitch_deg: Any) -> tuple[np.ndarray, np.ndarray, n
     Examples
     --------
     >>> forward, right, up = camera_axes([0.0], [90.0])  # straight up, the image's top to the south
-    >>> forward[0].round(12).tolist(), up[0].round(12).tolist()
+    >>> (forward[0].round(12) + 0.0).tolist(), (up[0].round(12) + 0.0).tolist()
     ([0.0, 0.0, 1.0], [0.0, -1.0, 0.0])
     """
     yaw = np.atleast_1d(as_float_array(yaw_deg, "yaw"))

@@ -121,8 +121,10 @@ def enu_to_wgs84(points: Any, anchor: GeoAnchor) -> np.ndarray:
     Examples
     --------
     >>> anchor = GeoAnchor(longitude=7.0, latitude=46.0, height=500.0)
-    >>> enu_to_wgs84([[0.0, 0.0, 0.0]], anchor).round(9).tolist()
+    >>> enu_to_wgs84([[0.0, 0.0, 0.0]], anchor).round(6).tolist()  # ECEF's rounding: 1e-9 m
     [[7.0, 46.0, 500.0]]
+    >>> enu_to_wgs84([[1000.0, 0.0, 0.0]], anchor).round(6).tolist()  # 1 km east: the Earth curves away
+    [[7.012908, 45.999999, 500.078251]]
     """
     if not isinstance(anchor, GeoAnchor):
         raise InvalidInputError(f"anchor must be a uavcov.field.GeoAnchor, got {type(anchor).__name__}")
