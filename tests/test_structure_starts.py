@@ -277,3 +277,25 @@ def test_a_mission_optimises_a_pitch_above_the_horizon_within_its_gimbal():
     pitch = result.attitudes[..., 1]
     assert (pitch >= -20.0).all() and (pitch <= 40.0).all() and (pitch > 0.0).any()
     assert np.ptp(pitch) > 1.0
+
+
+def test_closest_faces_on_a_fine_mesh_with_a_large_face_match_brute_force():
+    from uavcov import gaussian_hills
+    from uavcov.placement import closest_faces
+
+    hills = gaussian_hills(size=30.0, spacing=1.0, rng=2)
+    # A fine mesh (1800 faces) and one large floating triangle above it, far bigger than the rest.
+    vertices = np.vstack([hills.vertices, [[-10.0, -10.0, 40.0], [50.0, -10.0, 40.0], [-10.0, 50.0, 40.0]]])
+    faces = np.vstack([hills.faces, [[len(hills.vertices), len(hills.vertices) + 1, len(hills.vertices) + 2]]])
+    surface = Terrain(vertices, faces)
+    probes = np.random.default_rng(4).uniform([-5.0, -5.0, -5.0], [35.0, 35.0, 50.0], size=(400, 3))
+    found = closest_faces(surface, probes)
+    _, reference = _brute_closest(surface, probes)
+    ours = np.linalg.norm(probes - _brute_closest_on(surface, probes, found), axis=1)
+    best = np.linalg.norm(probes - _brute_closest_on(surface, probes, reference), axis=1)
+    np.testing.assert_allclose(ours, best, atol=1e-9)  # equally close (ties may pick another face)
+    assert (found == surface.n_faces - 1).any() and (found < surface.n_faces - 1).any()
+
+
+def _brute_closest_on(surface: Terrain, points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    return trimesh.triangles.closest_point(surface.vertices[surface.faces[faces]], points)

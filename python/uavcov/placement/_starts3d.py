@@ -49,9 +49,9 @@ from ._cvt import CVTResult, CVTSettings, cvt
 # _MIN_BATCH large, so a feasible share of the box under about 1/(rounds * batch) exhausts them.
 _MAX_ROUNDS = 200
 _MIN_BATCH = 256
-# Faces are tested against the generators in blocks of this many points (bounds memory to
-# block x faces booleans).
-_BLOCK = 64
+# (point, face) pairs tested at once by the closest-face search, about: bounds its memory (a few
+# hundred MB of temporaries), with a point's nearby small faces counted as 32.
+_PAIRS_PER_CHUNK = 500_000
 
 
 def _check_surface(surface: Any) -> Terrain:
@@ -79,17 +79,44 @@ class _Faces:
 
     def holding(self, closest: np.ndarray) -> list[np.ndarray]:
         """For each point on the surface, the faces it lies on (its closest, and any tied)."""
+        from scipy.spatial import cKDTree
+
+        # A point inside a face's bounding box lies within half its diagonal of the box's centre:
+        # small faces are found by a k-d tree over the centres with the largest such radius, the
+        # few large ones (a ground plane's two triangles) by testing each, so that neither a
+        # fine mesh nor one huge face makes the search quadratic.
+        centre = 0.5 * (self.lo + self.hi)
+        half = 0.5 * np.linalg.norm(self.hi - self.lo, axis=1)
+        # At most about 1 % of the faces count as large, so the brute-force part stays small.
+        large = half > max(4.0 * float(np.median(half)), float(np.quantile(half, 0.99))) + self.tol
+        big, small = np.flatnonzero(large), np.flatnonzero(~large)
+        tree = cKDTree(centre[small]) if small.size else None
+        radius = float(half[small].max()) + self.tol if small.size else 0.0
         out: list[np.ndarray] = []
-        for start in range(0, closest.shape[0], _BLOCK):
-            block = closest[start : start + _BLOCK]
-            near = ((block[:, None, :] >= self.lo - self.tol) & (block[:, None, :] <= self.hi + self.tol)).all(axis=2)
-            for row, q in enumerate(block):
-                candidates = np.flatnonzero(near[row])
-                if not candidates.size:
-                    out.append(candidates)
-                    continue
-                distance = _triangle_distance(q, self.a[candidates], self.b[candidates], self.c[candidates])
-                out.append(candidates[distance <= distance.min() + self.tol])
+        step = max(1, _PAIRS_PER_CHUNK // (big.size + 32))
+        for start in range(0, closest.shape[0], step):
+            chunk = closest[start : start + step]
+            n = chunk.shape[0]
+            point_parts, face_parts = [np.repeat(np.arange(n), big.size)], [np.tile(big, n)]
+            if tree is not None:
+                nearby = tree.query_ball_point(chunk, r=radius)
+                counts = np.fromiter((len(found) for found in nearby), dtype=np.int64, count=n)
+                point_parts.append(np.repeat(np.arange(n), counts))
+                flat = np.fromiter((f for found in nearby for f in found), dtype=np.int64, count=int(counts.sum()))
+                face_parts.append(small[flat])
+            # Every (point, candidate face) pair at once: the box test, then the exact distance.
+            point, face = np.concatenate(point_parts), np.concatenate(face_parts)
+            q = chunk[point]
+            inside = ((q >= self.lo[face] - self.tol) & (q <= self.hi[face] + self.tol)).all(axis=1)
+            point, face, q = point[inside], face[inside], q[inside]
+            distance = _triangle_distance(q, self.a[face], self.b[face], self.c[face])
+            least = np.full(n, np.inf)
+            np.minimum.at(least, point, distance)
+            tied = distance <= least[point] + self.tol
+            point, face = point[tied], face[tied]
+            order = np.lexsort((face, point))
+            point, face = point[order], face[order]
+            out.extend(np.split(face, np.searchsorted(point, np.arange(1, n))))
         return out
 
 
@@ -172,7 +199,8 @@ def surface_normals(surface: Terrain, points: Any) -> tuple[np.ndarray, np.ndarr
 
 
 def _triangle_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Distance from ``q`` to each triangle ``(a, b, c)`` (the closest point by Ericson's regions)."""
+    """Distance from each ``q`` (one point, or one per triangle) to each triangle ``(a, b, c)``
+    (the closest point by Ericson's regions)."""
     ab, ac, ap = b - a, c - a, q - a
     d1, d2 = (ab * ap).sum(1), (ac * ap).sum(1)
     bp = q - b
