@@ -5,7 +5,7 @@ from __future__ import annotations
 from ._constraints import Constraints, StandoffWorld, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
 from ._footprints import FootprintFit, fit_footprints
-from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, initial_positions, start_configuration
+from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, STRUCTURE_START_KINDS, StartSettings, initial_positions, start_configuration
 from ._starts3d import (
     StandoffStart,
     check_reachable,
@@ -37,6 +37,7 @@ __all__ = [
     "start_configuration",
     "StartSettings",
     "START_KINDS",
+    "STRUCTURE_START_KINDS",
     "CORNERS",
     "ALTITUDE_REFERENCES",
     "standoff_start",

@@ -35,7 +35,9 @@ import numpy as np
 from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from ._constraints import Constraints, feasible_mask
 from ._cvt import CVTResult, CVTSettings, cvt
+from ._starts3d import launch_pad_start, random_volume_start, surface_normals
 
 START_KINDS = ("cvt", "random", "corner", "pairs")
 """The kinds :func:`initial_positions` knows."""
@@ -43,8 +45,12 @@ START_KINDS = ("cvt", "random", "corner", "pairs")
 CORNERS = ("sw", "se", "ne", "nw")
 """Corners of the bounding rectangle: south-west is ``(xmin, ymin)``, north is +y, east +x."""
 
-ALTITUDE_REFERENCES = ("ground", "prior")
-"""What a start's altitude is measured from: the real ground under each UAV, or S'."""
+ALTITUDE_REFERENCES = ("ground", "prior", "normal")
+"""What a start's altitude is measured from: the real ground under each UAV, S' straight below,
+or S' along its outward normal (a structure: a 3D standoff)."""
+
+STRUCTURE_START_KINDS = ("cvt", "random", "launch_pad")
+"""The kinds a structure's start (``altitude_reference="normal"``, :func:`start_configuration`) knows."""
 
 # Rounds of redraws over nodata before "random" gives up: each round redraws every missing point,
 # so only a surface covering almost none of its rectangle can exhaust them.
@@ -230,14 +236,20 @@ class StartSettings:
 
     Attributes
     ----------
-    kind : {"cvt", "random", "corner", "pairs"}, default "cvt"
-        The initialisation (see the module docstring); computed on S'.
+    kind : {"cvt", "random", "corner", "pairs", "launch_pad"}, default "cvt"
+        The initialisation (see the module docstring); computed on S'. ``"launch_pad"`` only
+        with ``altitude_reference="normal"``, ``"corner"`` and ``"pairs"`` only without.
     altitude : float, default 5.0
         Metres above the reference at which the start flies (>= 0).
-    altitude_reference : {"ground", "prior"}, default "ground"
+    altitude_reference : {"ground", "prior", "normal"}, default "ground"
         What ``altitude`` is measured from: the real ground under each UAV (what the UAVs sense
         on take-off; S' where the real surface has a hole), or S' itself (the paper's reading:
-        the CVT generators lie on S').
+        the CVT generators lie on S'). ``"normal"`` is a structure's start
+        (:func:`start_configuration`): "cvt" flies each generator ``altitude`` metres out along
+        S''s outward normal (a standoff, under a deck as well as above it); "random" draws the
+        team uniformly in the admissible volume of the flight limits (``altitude`` unused);
+        "launch_pad" puts a compact lattice on the real ground at ``corner`` of the flight box,
+        ``corner_altitude`` (else ``altitude``) above it.
     climb : float, default 0.0
         A UAV that the real ground forces up (under ``h_min`` of clearance) is put this many
         metres above ``h_min`` (:func:`uavcov.placement.closest_admissible`). Left exactly on
@@ -265,13 +277,20 @@ class StartSettings:
     random_altitude: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.kind, str) or self.kind not in START_KINDS:
-            raise InvalidInputError(f"kind must be one of {START_KINDS}, got {self.kind!r}")
+        if not isinstance(self.kind, str) or self.kind not in (*START_KINDS, "launch_pad"):
+            raise InvalidInputError(f"kind must be one of {(*START_KINDS, 'launch_pad')}, got {self.kind!r}")
         object.__setattr__(self, "altitude", as_non_negative_float(self.altitude, "altitude"))
         object.__setattr__(self, "climb", as_non_negative_float(self.climb, "climb"))
         object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
         if self.altitude_reference not in ALTITUDE_REFERENCES:
             raise InvalidInputError(f"altitude_reference must be one of {ALTITUDE_REFERENCES}, got {self.altitude_reference!r}")
+        if (self.altitude_reference == "normal" and self.kind not in STRUCTURE_START_KINDS) or (
+            self.kind == "launch_pad" and self.altitude_reference != "normal"
+        ):
+            raise InvalidInputError(
+                f"kind={self.kind!r} with altitude_reference={self.altitude_reference!r}: a structure's start "
+                f'(altitude_reference="normal") is one of {STRUCTURE_START_KINDS}, and "launch_pad" is a structure\'s only'
+            )
         if self.corner not in CORNERS:
             raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
         if self.corner_altitude is not None:
@@ -288,7 +307,7 @@ class StartSettings:
         """The height of each UAV above the reference, metres (draws from ``rng`` for a random height)."""
         if self.kind == "random" and self.random_altitude is not None:
             return rng.uniform(*self.random_altitude, size=n)
-        if self.kind in ("corner", "pairs") and self.corner_altitude is not None:
+        if self.kind in ("corner", "pairs", "launch_pad") and self.corner_altitude is not None:
             return self.corner_altitude
         return self.altitude
 
@@ -300,6 +319,7 @@ def start_configuration(
     n: int,
     *,
     cvt_settings: CVTSettings | None = None,
+    constraints: Constraints | None = None,
     rng: Any = None,
     n_threads: int | None = None,
 ) -> tuple[np.ndarray, CVTResult | None]:
@@ -322,6 +342,10 @@ def start_configuration(
         Team size.
     cvt_settings : CVTSettings, optional
         For ``kind="cvt"``.
+    constraints : Constraints, optional
+        The flight limits, for a structure's start (``altitude_reference="normal"``): "random"
+        draws in their admissible volume over ``terrain``, "launch_pad" stands at a corner of
+        their x-y bounds (``None``: the defaults with ``clearance="standoff"``).
     rng : None, int or numpy.random.Generator
         The start's randomness (CVT or random positions, random heights), drawn in that order.
     n_threads : int, optional
@@ -338,6 +362,8 @@ def start_configuration(
         raise InvalidTypeError(f"spec must be a StartSettings, got {type(spec).__name__}")
     n = as_count(n, "n", MAX_SAMPLES)
     generator = as_generator(rng)
+    if spec.altitude_reference == "normal":
+        return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads)
     tessellation = None
     if spec.kind == "cvt":
         tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
@@ -352,3 +378,60 @@ def start_configuration(
         positions[:, 2] = np.where(np.isnan(ground), positions[:, 2], ground)
     positions[:, 2] += spec.height_above_reference(n, generator)
     return positions, tessellation
+
+
+def _structure_start(
+    spec: StartSettings,
+    approximation: Terrain,
+    terrain: Terrain,
+    n: int,
+    cvt_settings: CVTSettings | None,
+    constraints: Constraints | None,
+    generator: np.random.Generator,
+    n_threads: int | None,
+) -> tuple[np.ndarray, CVTResult | None]:
+    """A start around a structure (``altitude_reference="normal"``), see :class:`StartSettings`."""
+    if constraints is None:
+        constraints = Constraints(clearance="standoff", check_moves=True)
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    limits = constraints.resolve(terrain)
+    if spec.kind == "cvt":
+        # Along S''s face normal at each generator: under a deck the UAV goes down, beside a
+        # pier sideways, where "above S'" would put every UAV on top of the structure.
+        tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
+        anchors, normals = surface_normals(approximation, tessellation.generators)
+        return anchors + spec.altitude * normals, tessellation
+    xmin, ymin, xmax, ymax = limits.flight_box
+    low = float(np.asarray(terrain.bounds)[0, 2])
+    if spec.kind == "random":
+        # Anywhere the limits allow a UAV, each judged alone (no move, no team): the volume the
+        # true surface leaves, which the UAVs sense; separation is kept between the draws.
+        alone = Constraints(
+            bounds=limits.bounds, h_min=limits.h_min, z_max=limits.z_max, d_safe=0.0, check_moves=False, h_max=limits.h_max,
+            clearance=limits.clearance,
+        )
+
+        def admissible(points: np.ndarray) -> np.ndarray:
+            return feasible_mask(alone, terrain, points[:1], points[:, None, :], n_threads=n_threads)
+
+        top = limits.z_max
+        if not top > low:
+            raise InfeasibleError(f"the flight box is empty: z_max = {top} m is not above the surface's lowest point {low} m")
+        box = [[xmin, ymin, low], [xmax, ymax, top]]
+        return random_volume_start(box, n, admissible, separation=limits.d_safe, rng=generator), None
+    # launch_pad: the paper's corner start, on the real ground at a corner of the flight box.
+    columns = math.ceil(math.sqrt(n))
+    rows = math.ceil(n / columns)
+    half_x, half_y = columns * spec.corner_spacing / 2, rows * spec.corner_spacing / 2
+    if 2 * half_x > xmax - xmin or 2 * half_y > ymax - ymin:
+        raise InfeasibleError(
+            f"a {rows} x {columns} launch pad {spec.corner_spacing} m apart does not fit in the {xmax - xmin} m x {ymax - ymin} m region"
+        )
+    x = xmin + half_x if spec.corner in ("sw", "nw") else xmax - half_x
+    y = ymin + half_y if spec.corner in ("sw", "se") else ymax - half_y
+    ground = float(terrain.ground_height(np.array([[x, y]]), n_threads=n_threads)[0])
+    if not math.isfinite(ground):
+        raise InfeasibleError(f"the launch pad at x-y ({x}, {y}) stands over no surface")
+    height = float(spec.height_above_reference(n, generator))
+    return launch_pad_start([x, y, ground], n, spacing=spec.corner_spacing, altitude=height), None
