@@ -129,7 +129,7 @@ def choose_offsets(iterations: int, workers: int) -> tuple[dict[str, float], lis
     rows = run_all(tasks, workers)
     chosen = {}
     for start in ("cvt3d", "cvt_hf"):
-        means = {off: np.mean([r["best"] for r in rows if r["start"] == start and r["offset"] == off]) for off in OFFSETS}
+        means = {off: np.mean([r["best"] for r in rows if r["start"] == start and r["offset"] == off and not r["error"]]) for off in OFFSETS}
         chosen[start] = max(OFFSETS, key=lambda off: (means[off], -off))
     return chosen, rows
 
@@ -250,7 +250,7 @@ def main(argv: list[str] | None = None) -> int:
     section = report(rows, dev, chosen, seeds, args.iterations, time.perf_counter() - started, command)
     if args.csv:
         with open(args.csv, "w", newline="") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+            writer = csv.DictWriter(handle, fieldnames=list(max(rows, key=len)), restval="")
             writer.writeheader()
             writer.writerows(sorted(rows, key=lambda r: (r["scene"], r["start"], r["n_uavs"], r["seed"])))
     if args.print:
