@@ -125,11 +125,19 @@ def run_all(tasks: list[tuple[str, str, int, int, int, float]], workers: int) ->
 
 def choose_offsets(iterations: int, workers: int) -> tuple[dict[str, float], list[dict[str, Any]]]:
     """Each CVT start's offset: the best mean best coverage over every scene, development seeds."""
-    tasks = [(sc, st, DEV_TEAM, seed, iterations, off) for sc in STRUCTURE_SCENES for st in ("cvt3d", "cvt_hf") for seed in DEV_SEEDS for off in OFFSETS]
+    tasks = [
+        (sc, st, DEV_TEAM, seed, iterations, off)
+        for sc in STRUCTURE_SCENES
+        for st in ("cvt3d", "cvt_hf")
+        for seed in DEV_SEEDS
+        for off in OFFSETS
+    ]
     rows = run_all(tasks, workers)
     chosen = {}
     for start in ("cvt3d", "cvt_hf"):
-        means = {off: np.mean([r["best"] for r in rows if r["start"] == start and r["offset"] == off and not r["error"]]) for off in OFFSETS}
+        means = {
+            off: np.mean([r["best"] for r in rows if r["start"] == start and r["offset"] == off and not r["error"]]) for off in OFFSETS
+        }
         chosen[start] = max(OFFSETS, key=lambda off: (means[off], -off))
     return chosen, rows
 
@@ -143,7 +151,15 @@ def paired(a: np.ndarray, b: np.ndarray) -> str:
     return f"{d.mean():+.3f} [{d.mean() - half:+.3f}, {d.mean() + half:+.3f}]"
 
 
-def report(rows: list[dict[str, Any]], dev: list[dict[str, Any]], chosen: dict[str, float], seeds: list[int], iterations: int, wall_s: float, command: str) -> str:
+def report(
+    rows: list[dict[str, Any]],
+    dev: list[dict[str, Any]],
+    chosen: dict[str, float],
+    seeds: list[int],
+    iterations: int,
+    wall_s: float,
+    command: str,
+) -> str:
     lines = [BEGIN, ""]
     failed = [r for r in rows + dev if r["error"]]
     if failed:
@@ -158,16 +174,20 @@ def report(rows: list[dict[str, Any]], dev: list[dict[str, Any]], chosen: dict[s
         f"the omnidirectional sensor of range d_max = {D_MAX} m, {N_PRIOR} prior points, CAO's default settings, {iterations} iterations. "
         f"Held-out seeds {seeds[0]}-{seeds[-1]} ({len(seeds)} seeds: the scene, the prior and the start); development seeds "
         f"{', '.join(map(str, DEV_SEEDS))} (N = {DEV_TEAM}) chose each CVT start's offset from S' among {list(OFFSETS)} m "
-        f"by mean best coverage over the five scenes: `cvt3d` {chosen['cvt3d']} m along S''s normal, `cvt_hf` {chosen['cvt_hf']} m above S'."
+        f"by mean best coverage over the five scenes: `cvt3d` {chosen['cvt3d']} m along S''s normal, "
+        f"`cvt_hf` {chosen['cvt_hf']} m above S'."
     )
     lines.append("")
-    dev_means = {(st, off): np.mean([r["best"] for r in dev if r["start"] == st and r["offset"] == off]) for st in ("cvt3d", "cvt_hf") for off in OFFSETS}
+    dev_means = {
+        (st, off): np.mean([r["best"] for r in dev if r["start"] == st and r["offset"] == off])
+        for st in ("cvt3d", "cvt_hf")
+        for off in OFFSETS
+    }
     lines.append("Development (seeds " + ", ".join(map(str, DEV_SEEDS)) + f", N = {DEV_TEAM}), mean best coverage over scenes and seeds:")
     lines.append("")
     lines.append("| start | " + " | ".join(f"offset {off} m" for off in OFFSETS) + " |")
     lines.append("|---|" + "---|" * len(OFFSETS))
-    for st in ("cvt3d", "cvt_hf"):
-        lines.append(f"| `{st}` | " + " | ".join(f"{dev_means[(st, off)]:.3f}" for off in OFFSETS) + " |")
+    lines.extend(f"| `{st}` | " + " | ".join(f"{dev_means[(st, off)]:.3f}" for off in OFFSETS) + " |" for st in ("cvt3d", "cvt_hf"))
     lines.append("")
 
     def best(scene: str, start: str, n: int | None = None) -> np.ndarray:
@@ -177,7 +197,11 @@ def report(rows: list[dict[str, Any]], dev: list[dict[str, Any]], chosen: dict[s
 
     lines.append("### Mean best coverage (held-out seeds)")
     lines.append("")
-    lines.append("| scene | N | " + " | ".join(f"`{s}`" for s in STARTS) + " | `cvt3d` - `cvt_hf` (paired, 95 %) | `cvt3d` - `random` | `cvt3d` - `launch_pad` |")
+    lines.append(
+        "| scene | N | "
+        + " | ".join(f"`{s}`" for s in STARTS)
+        + " | `cvt3d` - `cvt_hf` (paired, 95 %) | `cvt3d` - `random` | `cvt3d` - `launch_pad` |"
+    )
     lines.append("|---|---|" + "---|" * (len(STARTS) + 3))
     for scene in STRUCTURE_SCENES:
         for n in (*TEAM_SIZES, None):
@@ -187,7 +211,7 @@ def report(rows: list[dict[str, Any]], dev: list[dict[str, Any]], chosen: dict[s
             lines.append(f"| {scene} | {label} | {means} | {diffs} |")
     every = {s: np.concatenate([best(sc, s) for sc in STRUCTURE_SCENES]) for s in STARTS}
     lines.append(
-        f"| **all** | all | "
+        "| **all** | all | "
         + " | ".join(f"**{every[s].mean():.3f}**" for s in STARTS)
         + " | "
         + " | ".join(paired(every["cvt3d"], every[o]) for o in ("cvt_hf", "random", "launch_pad"))
@@ -220,8 +244,10 @@ def report(rows: list[dict[str, Any]], dev: list[dict[str, Any]], chosen: dict[s
     )
     lines.append("")
     if failed:
-        lines.append(f"{len(failed)} run(s) failed and their pairs are left out: " + "; ".join(
-            f"{r['scene']} {r['start']} N={r['n_uavs']} seed {r['seed']}: {r['error'][:120]}" for r in failed))
+        lines.append(
+            f"{len(failed)} run(s) failed and their pairs are left out: "
+            + "; ".join(f"{r['scene']} {r['start']} N={r['n_uavs']} seed {r['seed']}: {r['error'][:120]}" for r in failed)
+        )
     else:
         lines.append("No run failed.")
     lines.append("")
@@ -231,7 +257,9 @@ def report(rows: list[dict[str, Any]], dev: list[dict[str, Any]], chosen: dict[s
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="docs/structures.md", help="the markdown file whose section is replaced (default docs/structures.md)")
+    parser.add_argument(
+        "--out", default="docs/structures.md", help="the markdown file whose section is replaced (default docs/structures.md)"
+    )
     parser.add_argument("--seeds", type=int, default=5, help="held-out seeds 0 .. SEEDS-1 (default 5)")
     parser.add_argument("--iterations", type=int, default=200, help="CAO iterations a run (default 200)")
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
@@ -243,10 +271,16 @@ def main(argv: list[str] | None = None) -> int:
     print(f"offsets chosen on the development seeds: {chosen} ({time.perf_counter() - started:.0f} s)", file=sys.stderr)
     seeds = list(range(args.seeds))
     tasks = [
-        (scene, start, n, seed, args.iterations, chosen.get(start, 0.0)) for scene in STRUCTURE_SCENES for start in STARTS for n in TEAM_SIZES for seed in seeds
+        (scene, start, n, seed, args.iterations, chosen.get(start, 0.0))
+        for scene in STRUCTURE_SCENES
+        for start in STARTS
+        for n in TEAM_SIZES
+        for seed in seeds
     ]
     rows = run_all(tasks, args.workers)
-    command = "python scripts/structures_experiment.py" + "".join(f" {a}" for a in (argv if argv is not None else sys.argv[1:]) if a != "--print")
+    command = "python scripts/structures_experiment.py" + "".join(
+        f" {a}" for a in (argv if argv is not None else sys.argv[1:]) if a != "--print"
+    )
     section = report(rows, dev, chosen, seeds, args.iterations, time.perf_counter() - started, command)
     if args.csv:
         with open(args.csv, "w", newline="") as handle:

@@ -88,7 +88,9 @@ def ref_moves_cross(structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     triangles = structure.surface.vertices[structure.surface.faces]
     out = np.zeros(len(a), dtype=bool)
     for start in range(0, len(a), 64):
-        out[start : start + 64] = _ray_hits(triangles, a[start : start + 64], b[start : start + 64] - a[start : start + 64], 1.0).any(axis=1)
+        out[start : start + 64] = _ray_hits(triangles, a[start : start + 64], b[start : start + 64] - a[start : start + 64], 1.0).any(
+            axis=1
+        )
     return out
 
 

@@ -471,7 +471,13 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
         raise ConfigError("--structure plans round a structure: give no DEM and no --sample")
     if args.anchor is None:
         raise ConfigError("a structure's plan needs its WGS84 anchor: --anchor LON,LAT,ALT (the local origin)")
-    for flag, value in (("--aoi", args.aoi), ("--bbox", args.bbox), ("--crs", args.crs), ("--camera", args.camera), ("--takeoff", args.takeoff)):
+    for flag, value in (
+        ("--aoi", args.aoi),
+        ("--bbox", args.bbox),
+        ("--crs", args.crs),
+        ("--camera", args.camera),
+        ("--takeoff", args.takeoff),
+    ):
         if value is not None:
             raise ConfigError(f"{flag} is for a DEM's plan, not a structure's")
     if args.structure in STRUCTURE_SCENES:
@@ -505,7 +511,10 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
     except ImportError:  # matplotlib is the [plot] extra: the plan stands without the figure
         pass
     result = mission.result
-    print(f"uavcov plan: {settings.n_uavs} UAVs round {structure.name}: coverage {result.best_coverage:.3f} (start {result.initial_coverage:.3f})")
+    print(
+        f"uavcov plan: {settings.n_uavs} UAVs round {structure.name}: "
+        f"coverage {result.best_coverage:.3f} (start {result.initial_coverage:.3f})"
+    )
     for part, share in (result.coverage_by_part or {}).items():
         print(f"  {part}: {share:.3f}")
     for k in range(mission.plan.n_uavs):
@@ -582,7 +591,9 @@ def _parser() -> argparse.ArgumentParser:
         "--h-min", type=float, help="least height above ground, metres (default 10); with --structure the least distance to it (default 2)"
     )
     planning.add_argument(
-        "--h-max", type=_positive_float, help="most height above ground, metres (default 60); with --structure the most distance (default none)"
+        "--h-max",
+        type=_positive_float,
+        help="most height above ground, metres (default 60); with --structure the most distance (default none)",
     )
     planning.add_argument(
         "--structure",

@@ -28,9 +28,9 @@ from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, MissionSettings, run_mission
 from ..terrain import Structure, StructureTargets
+from ._geodesy import GeoAnchor
 from ._outputs import write_files
 from ._ply import seen_cloud_bytes
-from ._geodesy import GeoAnchor
 from ._structure_plan import StructurePlan, render_structure_plan, structure_plan
 
 # Ring of detours round a position, metres out and directions: enough to leave a deck's

@@ -408,7 +408,12 @@ def _structure_start(
         # Anywhere the limits allow a UAV, each judged alone (no move, no team): the volume the
         # true surface leaves, which the UAVs sense; separation is kept between the draws.
         alone = Constraints(
-            bounds=limits.bounds, h_min=limits.h_min, z_max=limits.z_max, d_safe=0.0, check_moves=False, h_max=limits.h_max,
+            bounds=limits.bounds,
+            h_min=limits.h_min,
+            z_max=limits.z_max,
+            d_safe=0.0,
+            check_moves=False,
+            h_max=limits.h_max,
             clearance=limits.clearance,
         )
 
