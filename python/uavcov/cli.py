@@ -461,7 +461,7 @@ def _plan(args: argparse.Namespace) -> int:
 
 def _plan_structure(args: argparse.Namespace, started: float) -> int:
     """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
-    from . import MissionSettings
+    from .mission import MissionSettings
     from .errors import ConfigError
     from .field import GeoAnchor, plan_structure, write_structure_mission
     from .placement import Constraints, StartSettings
