@@ -269,3 +269,33 @@ def test_the_reference_agrees_with_the_terrain_on_sample_points(bridge):
     inside = ref_inside(bridge, points)
     assert inside.any() and not inside.all()
     assert np.array_equal(inside, bridge.surface.inside(points))
+
+
+def _boxes_on_ground(boxes) -> uavcov.Terrain:
+    quads = ((0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5))
+    vertices = [[-20.0, -20.0, 0.0], [20.0, -20.0, 0.0], [20.0, 20.0, 0.0], [-20.0, 20.0, 0.0]]
+    faces = [[0, 1, 2], [0, 2, 3]]
+    for lo, hi in boxes:
+        base = len(vertices)
+        vertices += [[(lo, hi)[k & 1][0], (lo, hi)[(k >> 1) & 1][1], (lo, hi)[(k >> 2) & 1][2]] for k in range(8)]
+        for a, b, c, d in quads:
+            faces += [[base + a, base + b, base + c], [base + a, base + c, base + d]]
+    return uavcov.Terrain(np.array(vertices), np.array(faces))
+
+
+def test_closest_admissible_gets_out_of_a_building_low_down_and_out_of_a_wedge():
+    from uavcov.placement import closest_admissible, feasible_mask
+
+    # a wide block on the ground: from a point inside it 1 m up, the nearest face is its base on
+    # the ground, and going out through it leads under the ground (it used to oscillate for ever)
+    block = _boxes_on_ground([((-8.0, -8.0, 0.0), (8.0, 8.0, 12.0))])
+    c = Constraints(clearance="standoff", h_min=2.0, d_safe=1.0, z_max=30.0, check_moves=True)
+    out = closest_admissible(c, block, [[0.0, 0.0, 1.0], [10.5, 0.0, 6.0]], climb=0.5)
+    assert feasible_mask(c, block, out, out[None])[0]
+    assert out[0, 2] == pytest.approx(12.0 + 2.5)  # over the roof
+    assert np.array_equal(out[1], [10.5, 0.0, 6.0])  # an admissible UAV is left where it is
+    # a slot 3 m wide between two walls: no point in it keeps 2 m from both, so the UAV goes up
+    slot = _boxes_on_ground([((-8.0, -5.0, 0.0), (-1.5, 5.0, 10.0)), ((1.5, -5.0, 0.0), (8.0, 5.0, 10.0))])
+    out = closest_admissible(c, slot, [[0.3, 0.0, 5.0]], climb=0.5)
+    assert feasible_mask(c, slot, out, out[None])[0]
+    assert out[0, 2] >= 10.0 + 2.0
