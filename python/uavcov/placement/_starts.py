@@ -20,6 +20,11 @@ in the paper the approximating surface S':
 (above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
 start, the one pipeline every mission and experiment goes through. Pushing it to admissible
 positions is :func:`uavcov.placement.closest_admissible`'s job.
+
+A structure's start (``altitude_reference="normal"``, :data:`STRUCTURE_START_KINDS`) goes through
+the same :func:`start_configuration`: the CVT generators flown out along S''s outward normals,
+uniform draws in the admissible volume of the flight limits, or a launch pad on the real ground
+(the pieces of :mod:`uavcov.placement._starts3d`).
 """
 
 from __future__ import annotations
@@ -27,7 +32,7 @@ from __future__ import annotations
 import inspect
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -407,15 +412,7 @@ def _structure_start(
     if spec.kind == "random":
         # Anywhere the limits allow a UAV, each judged alone (no move, no team): the volume the
         # true surface leaves, which the UAVs sense; separation is kept between the draws.
-        alone = Constraints(
-            bounds=limits.bounds,
-            h_min=limits.h_min,
-            z_max=limits.z_max,
-            d_safe=0.0,
-            check_moves=False,
-            h_max=limits.h_max,
-            clearance=limits.clearance,
-        )
+        alone = replace(limits, d_safe=0.0, check_moves=False)
 
         def admissible(points: np.ndarray) -> np.ndarray:
             return feasible_mask(alone, terrain, points[:1], points[:, None, :], n_threads=n_threads)
