@@ -461,9 +461,9 @@ def _plan(args: argparse.Namespace) -> int:
 
 def _plan_structure(args: argparse.Namespace, started: float) -> int:
     """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
-    from .mission import MissionSettings
     from .errors import ConfigError
     from .field import GeoAnchor, plan_structure, write_structure_mission
+    from .mission import MissionSettings
     from .placement import Constraints, StartSettings
     from .terrain import STRUCTURE_SCENES, load_structure
 
