@@ -376,7 +376,8 @@ class MissionResult:
         The integer seed, when ``rng`` was one.
     prior_kind : str
         How the known points were obtained: "random", "pyramid", "points" (given), "surface"
-        (S' given directly), ...
+        (S' given directly), "structure_points" or "structure_boxes" / "structure_decimated" (a
+        structure's 3D prior), ...
     terrain : Terrain
         The true surface.
     prior_points : (n, 3) ndarray
