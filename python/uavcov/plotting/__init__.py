@@ -25,6 +25,8 @@ The package is split by what each part owns:
 - :mod:`~uavcov.plotting._animation`: :func:`animate_mission`;
 - :mod:`~uavcov.plotting._writers`: :func:`write_ply` and the GIF / MP4 writers;
 - :mod:`~uavcov.plotting._directory`: :func:`plot_directory`;
+- :mod:`~uavcov.plotting._view`: :func:`view`, the interactive 3D view (plotly, the extra
+  ``uavcov[view]``), :func:`write_view` (one self-contained HTML file) and :func:`find_run`;
 - private helpers: ``_canvas`` (colours, matplotlib on demand, axes, saving, legend entries),
   ``_inputs`` (checks of results and arguments), ``_runs`` (reading ``runs.csv`` and its cells).
 """
@@ -53,6 +55,7 @@ from ._figures import (
     published_values,
     seen_points,
 )
+from ._view import find_run, view, write_view
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
 from ._views import LIGHT as LIGHT
 from ._writers import write_ply
@@ -72,4 +75,7 @@ __all__ = [
     "published_values",
     "seen_points",
     "write_ply",
+    "view",
+    "write_view",
+    "find_run",
 ]
