@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Any
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))  # _ext: the gallery's scraper and the cross-reference resolver
@@ -20,7 +19,7 @@ import uavcov  # noqa: E402
 
 project = "uavcov"
 author = "uavcov contributors"
-copyright = "uavcov contributors"  # noqa: A001 (Sphinx's name)
+copyright = "uavcov contributors"
 release = version = uavcov.__version__
 
 extensions = [
@@ -36,7 +35,12 @@ extensions = [
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "**.ipynb_checkpoints", "tutorials/README.rst", "gallery/README.rst", ]
+exclude_patterns = [
+    "_build",
+    "**.ipynb_checkpoints",
+    "tutorials/README.rst",
+    "gallery/README.rst",
+]
 nitpicky = True
 # The docstrings' signatures are read from the numpydoc sections (types with shapes and units),
 # not from the annotations, whose private aliases and typing forms have no page to link to.

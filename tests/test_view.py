@@ -73,7 +73,7 @@ def test_large_surfaces_are_decimated_for_the_view_only(result: uavcov.MissionRe
     fig = plotting.view(result, max_vertices=100, max_frames=5)
     assert len(fig.data[0].x) <= 100
     assert len(fig.frames) <= 6  # five evenly spaced, and the best
-    best = [f for f in fig.frames if int(f.name) == result.best_iteration][0]
+    best = next(f for f in fig.frames if int(f.name) == result.best_iteration)
     assert f"coverage {result.coverage[result.best_iteration]:.3f}" in best.layout.title.text
 
 

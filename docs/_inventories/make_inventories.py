@@ -24,7 +24,10 @@ INVENTORIES: dict[str, tuple[str, str, list[tuple[str, str, str, str]]]] = {
             *[(n, "py:class", "library/stdtypes.html#$", "-") for n in ("str", "tuple", "list", "dict", "bytes", "set")],
             *[(n, "py:data", "library/constants.html#$", "-") for n in ("None", "True", "False")],
             ("callable", "py:function", "library/functions.html#$", "-"),
-            *[(n, "py:exception", "library/exceptions.html#$", "-") for n in ("ValueError", "TypeError", "OSError", "ImportError", "TimeoutError")],
+            *[
+                (n, "py:exception", "library/exceptions.html#$", "-")
+                for n in ("ValueError", "TypeError", "OSError", "ImportError", "TimeoutError")
+            ],
             ("pathlib.Path", "py:class", "library/pathlib.html#$", "-"),
             ("os.PathLike", "py:class", "library/os.html#$", "-"),
             ("concurrent.futures.Executor", "py:class", "library/concurrent.futures.html#$", "-"),
@@ -52,14 +55,22 @@ INVENTORIES: dict[str, tuple[str, str, list[tuple[str, str, str, str]]]] = {
         [
             ("scipy.spatial.cKDTree", "py:class", "reference/generated/scipy.spatial.cKDTree.html#$", "-"),
             ("scipy.spatial.Delaunay", "py:class", "reference/generated/scipy.spatial.Delaunay.html#$", "-"),
-            ("scipy.interpolate.LinearNDInterpolator", "py:class", "reference/generated/scipy.interpolate.LinearNDInterpolator.html#$", "-"),
+            (
+                "scipy.interpolate.LinearNDInterpolator",
+                "py:class",
+                "reference/generated/scipy.interpolate.LinearNDInterpolator.html#$",
+                "-",
+            ),
         ],
     ),
 }
 
 
 def write(name: str, project: str, version: str, entries: list[tuple[str, str, str, str]]) -> Path:
-    header = f"# Sphinx inventory version 2\n# Project: {project}\n# Version: {version}\n# The remainder of this file is compressed using zlib.\n"
+    header = (
+        f"# Sphinx inventory version 2\n# Project: {project}\n# Version: {version}\n"
+        "# The remainder of this file is compressed using zlib.\n"
+    )
     body = "".join(f"{n} {role} 1 {uri} {disp}\n" for n, role, uri, disp in sorted(entries))
     path = HERE / f"{name}.inv"
     path.write_bytes(header.encode() + zlib.compress(body.encode(), 9))

@@ -528,7 +528,9 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("run_or_dir", metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs")
     view.add_argument("--out", default="view.html", help="the HTML file to write (default view.html)")
     view.add_argument("--run", dest="run_name", help="in a folder, the run to show (its file name without .npz; default the first)")
-    view.add_argument("--max-vertices", type=_int_at_least(16), default=40_000, help="vertices of the drawn surface, at most (default 40000)")
+    view.add_argument(
+        "--max-vertices", type=_int_at_least(16), default=40_000, help="vertices of the drawn surface, at most (default 40000)"
+    )
     view.add_argument("--max-frames", type=_int_at_least(2), default=60, help="iterations the slider offers, at most (default 60)")
     view.set_defaults(run=_view)
 

@@ -36,7 +36,8 @@ def _outline(xy: np.ndarray) -> np.ndarray:
 
     if xy.shape[0] < 3 or np.linalg.matrix_rank(xy - xy.mean(axis=0)) < 2:
         return np.empty((0, 2))
-    return xy[ConvexHull(xy).vertices]
+    hull: np.ndarray = xy[ConvexHull(xy).vertices]
+    return hull
 
 
 def plot_camera_views(

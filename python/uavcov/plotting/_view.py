@@ -109,9 +109,7 @@ def _frames(n_iterations: int, best: int, max_frames: int) -> np.ndarray:
 
 def _seen_by_each(vis: Visibility, poses: np.ndarray, sensors: Sequence[Sensor] | None) -> np.ndarray:
     """``(N, V)`` bool: which of the view's points each UAV sees (its own sensor, occlusion included)."""
-    return np.stack(
-        [vis.seen(poses[i : i + 1], sensors=None if sensors is None else [sensors[i]]) for i in range(poses.shape[0])]
-    )
+    return np.stack([vis.seen(poses[i : i + 1], sensors=None if sensors is None else [sensors[i]]) for i in range(poses.shape[0])])
 
 
 def _lines(paths: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -202,7 +200,8 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
     def frame_traces(k: int) -> tuple[list[Any], str]:
         poses, frame_sensors = _sight(result, traj[k], k)
         seen = _seen_by_each(vis, poses, frame_sensors)
-        title = f"iteration {k} of {traj.shape[0] - 1}: coverage {curve[k]:.3f} (best {float(result.best_coverage):.3f} at iteration {best_iteration})"
+        best = f"best {float(result.best_coverage):.3f} at iteration {best_iteration}"
+        title = f"iteration {k} of {traj.shape[0] - 1}: coverage {curve[k]:.3f} ({best})"
         x, y, z = _lines([traj[: k + 1, i] for i in range(n_uavs)])
         traces = [
             # Counts as the smallest integers that hold them: each frame stores one per vertex.
@@ -219,7 +218,11 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
     frames, titles = [], {}
     for k in shown:
         traces, titles[int(k)] = frame_traces(int(k))
-        frames.append(go.Frame(data=traces, traces=[0, 1, 2, 6] if cameras else [0, 1, 2], name=str(int(k)), layout={"title": {"text": titles[int(k)]}}))
+        frames.append(
+            go.Frame(
+                data=traces, traces=[0, 1, 2, 6] if cameras else [0, 1, 2], name=str(int(k)), layout={"title": {"text": titles[int(k)]}}
+            )
+        )
     first = frames[int(np.searchsorted(shown, best_iteration))]
     seen_scale = [[0.0, _rgb(UNSEEN_COLOUR)], [0.5, _rgb(UNSEEN_COLOUR)], [0.5, _rgb(SEEN_COLOUR)], [1.0, _rgb(SEEN_COLOUR)]]
     surface = go.Mesh3d(
@@ -254,14 +257,38 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
             marker={"size": 5, "color": "rgb(20,20,20)", "symbol": "circle"},
             name="UAVs at the shown iteration",
         ),
-        go.Scatter3d(x=start[:, 0], y=start[:, 1], z=start[:, 2], mode="markers", marker={"size": 4, "color": "rgb(0,0,0)", "symbol": "square-open"}, name="start"),
         go.Scatter3d(
-            x=best[:, 0], y=best[:, 1], z=best[:, 2], mode="markers", marker={"size": 5, "color": _rgb(END_COLOUR), "symbol": "diamond"}, name=f"best (iteration {best_iteration})"
+            x=start[:, 0],
+            y=start[:, 1],
+            z=start[:, 2],
+            mode="markers",
+            marker={"size": 4, "color": "rgb(0,0,0)", "symbol": "square-open"},
+            name="start",
         ),
-        go.Scatter3d(x=known[:, 0], y=known[:, 1], z=known[:, 2], mode="markers", marker={"size": 2.5, "color": "rgb(31,119,180)"}, name="known points", visible="legendonly"),
+        go.Scatter3d(
+            x=best[:, 0],
+            y=best[:, 1],
+            z=best[:, 2],
+            mode="markers",
+            marker={"size": 5, "color": _rgb(END_COLOUR), "symbol": "diamond"},
+            name=f"best (iteration {best_iteration})",
+        ),
+        go.Scatter3d(
+            x=known[:, 0],
+            y=known[:, 1],
+            z=known[:, 2],
+            mode="markers",
+            marker={"size": 2.5, "color": "rgb(31,119,180)"},
+            name="known points",
+            visible="legendonly",
+        ),
     ]
     if cameras:
-        data.append(go.Scatter3d(first.data[3], mode="lines", line={"color": FOOTPRINT_COLOUR, "width": 4}, name="camera footprints", hoverinfo="skip"))
+        data.append(
+            go.Scatter3d(
+                first.data[3], mode="lines", line={"color": FOOTPRINT_COLOUR, "width": 4}, name="camera footprints", hoverinfo="skip"
+            )
+        )
     fig = go.Figure(data=data, frames=frames)
     step = {"mode": "immediate", "frame": {"duration": 0, "redraw": True}, "transition": {"duration": 0}}
     span = np.ptp(bounds, axis=0)
@@ -275,7 +302,11 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
             "yaxis": {"title": {"text": "y (m)"}},
             "zaxis": {"title": {"text": "z (m)"}},
             # Flat sites (a DEM km wide, 100 m of relief) keep some height to read.
-            **({"aspectmode": "data"} if relief >= 0.15 else {"aspectmode": "manual", "aspectratio": {"x": span[0] / span[:2].max(), "y": span[1] / span[:2].max(), "z": 0.3}}),
+            **(
+                {"aspectmode": "data"}
+                if relief >= 0.15
+                else {"aspectmode": "manual", "aspectratio": {"x": span[0] / span[:2].max(), "y": span[1] / span[:2].max(), "z": 0.3}}
+            ),
         },
         sliders=[
             {
@@ -293,7 +324,11 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
                 "y": 0.02,
                 "xanchor": "left",
                 "buttons": [
-                    {"label": "play", "method": "animate", "args": [None, {**step, "frame": {"duration": 150, "redraw": True}, "fromcurrent": True}]},
+                    {
+                        "label": "play",
+                        "method": "animate",
+                        "args": [None, {**step, "frame": {"duration": 150, "redraw": True}, "fromcurrent": True}],
+                    },
                     {"label": "pause", "method": "animate", "args": [[None], step]},
                 ],
             },
@@ -304,12 +339,22 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
                 "y": 0.98,
                 "xanchor": "right",
                 "buttons": [
-                    {"label": "seen", "method": "restyle", "args": [{"colorscale": [seen_scale], "cmin": [0.0], "cmax": [1.0], "showscale": [False]}, [0]]},
+                    {
+                        "label": "seen",
+                        "method": "restyle",
+                        "args": [{"colorscale": [seen_scale], "cmin": [0.0], "cmax": [1.0], "showscale": [False]}, [0]],
+                    },
                     {
                         "label": "how many UAVs see it",
                         "method": "restyle",
                         "args": [
-                            {"colorscale": [_count_scale(n_uavs)], "cmin": [-0.5], "cmax": [n_uavs + 0.5], "showscale": [True], "colorbar.title.text": ["UAVs"]},
+                            {
+                                "colorscale": [_count_scale(n_uavs)],
+                                "cmin": [-0.5],
+                                "cmax": [n_uavs + 0.5],
+                                "showscale": [True],
+                                "colorbar.title.text": ["UAVs"],
+                            },
                             [0],
                         ],
                     },
