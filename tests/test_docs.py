@@ -17,8 +17,8 @@ import pytest
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 sys.path.insert(0, str(DOCS))
-
-from _ext.public import MODULES, TOP, public_names
+_public = importlib.import_module("_ext.public")
+MODULES, TOP, public_names = _public.MODULES, _public.TOP, _public.public_names
 
 
 def _listed(page: Path) -> tuple[set[str], bool]:
