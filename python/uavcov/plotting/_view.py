@@ -257,31 +257,15 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
             marker={"size": 5, "color": "rgb(20,20,20)", "symbol": "circle"},
             name="UAVs at the shown iteration",
         ),
-        go.Scatter3d(
-            x=start[:, 0],
-            y=start[:, 1],
-            z=start[:, 2],
-            mode="markers",
-            marker={"size": 4, "color": "rgb(0,0,0)", "symbol": "square-open"},
-            name="start",
-        ),
-        go.Scatter3d(
-            x=best[:, 0],
-            y=best[:, 1],
-            z=best[:, 2],
-            mode="markers",
-            marker={"size": 5, "color": _rgb(END_COLOUR), "symbol": "diamond"},
-            name=f"best (iteration {best_iteration})",
-        ),
-        go.Scatter3d(
-            x=known[:, 0],
-            y=known[:, 1],
-            z=known[:, 2],
-            mode="markers",
-            marker={"size": 2.5, "color": "rgb(31,119,180)"},
-            name="known points",
-            visible="legendonly",
-        ),
+    ]
+
+    def markers(points: np.ndarray, name: str, **style: Any) -> Any:
+        return go.Scatter3d(x=points[:, 0], y=points[:, 1], z=points[:, 2], mode="markers", name=name, **style)
+
+    data += [
+        markers(start, "start", marker={"size": 4, "color": "rgb(0,0,0)", "symbol": "square-open"}),
+        markers(best, f"best (iteration {best_iteration})", marker={"size": 5, "color": _rgb(END_COLOUR), "symbol": "diamond"}),
+        markers(known, "known points", marker={"size": 2.5, "color": "rgb(31,119,180)"}, visible="legendonly"),
     ]
     if cameras:
         data.append(
