@@ -18,6 +18,8 @@
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
 //! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
 //!   candidates in one pass.
+//! - [`cover`]: the seen-matrix of candidate viewpoints (bitsets, parallel over candidates),
+//!   its lazy greedy under a separation, and the online bound on the best `k` candidates.
 //!
 //! Four modules are internal: `horizon` (per UAV, an upper bound on how steeply the surface
 //! rises in each direction and distance, so most of a sight line skips the exact test),
@@ -31,8 +33,8 @@
 //! monomials, numpy's draws in one call).
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
-//! <- `sampling` <- `visibility` <- `tracking` (`visibility` also imports `sensor`), and `mesh` <-
-//! `cvt`, `mesh` <- `flight`; `cao` imports only `error` (within it, `surrogate` stands alone,
+//! <- `sampling` <- `visibility` <- `tracking` (`visibility` also imports `sensor`), `visibility`
+//! <- `cover`, and `mesh` <- `cvt`, `mesh` <- `flight`; `cao` imports only `error` (within it, `surrogate` stands alone,
 //! and `ziggurat_tables` <- `pcg64` <- `monomials`).
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
@@ -75,6 +77,7 @@
 #[cfg(any(feature = "python", test))]
 #[cfg_attr(not(feature = "python"), allow(dead_code, reason = "the binding is their user"))]
 mod cao;
+pub mod cover;
 pub mod cvt;
 pub mod error;
 pub mod flight;
