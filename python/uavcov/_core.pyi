@@ -10,6 +10,7 @@ __all__ = [
     "Visibility",
     "CoverageTracker",
     "CVT",
+    "SeenMatrix",
     "Surrogate",
     "available_threads",
     "pcg64_standard_normal",
