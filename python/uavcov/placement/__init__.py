@@ -7,7 +7,7 @@ from ._constraints import Constraints, World, closest_admissible, feasibility, f
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
 from ._footprints import FootprintFit, fit_footprints
 from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
-from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, initial_positions, start_configuration
+from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, greedy_start, initial_positions, start_configuration
 from ._viewpoints import MAX_CANDIDATES, GreedySettings, Viewpoints, viewpoint_lattice
 
 __all__ = [
@@ -40,4 +40,5 @@ __all__ = [
     "CoverageBound",
     "greedy_placement",
     "coverage_bound",
+    "greedy_start",
 ]

@@ -98,6 +98,9 @@ class GreedyResult:
         Memory of the seen-matrix.
     matrix_time_s, greedy_time_s : float
         Wall time of the seen-matrix and of the greedy with its bound, seconds.
+    offline_time_s : float
+        Wall time of the whole placement: the matrix and the greedy, and the lattice when
+        :func:`uavcov.placement.greedy_start` made it, seconds.
     """
 
     positions: np.ndarray
@@ -113,6 +116,7 @@ class GreedyResult:
     matrix_bytes: int
     matrix_time_s: float
     greedy_time_s: float
+    offline_time_s: float
 
 
 class CoverageProblem:
@@ -212,6 +216,7 @@ class CoverageProblem:
             matrix_bytes=self.nbytes,
             matrix_time_s=self.matrix_time_s,
             greedy_time_s=elapsed,
+            offline_time_s=self.matrix_time_s + elapsed,
         )
 
     def bound(self, positions: Any, *, sensors: Sequence[Sensor] | None = None, k: int | None = None) -> CoverageBound:
