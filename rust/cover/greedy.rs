@@ -21,8 +21,8 @@ pub struct Greedy {
     /// The weighted share of the targets the picks see together.
     pub coverage: f64,
     /// An upper bound on the weighted share that any `k` candidates see together (with or
-    /// without the separation): the smaller of the online bounds given no pick and given all
-    /// picks, and of the coverable ceiling.
+    /// without the separation): the smallest of the online bounds given each prefix of the
+    /// picks (none, the first, the first two, ..., all), at most the coverable ceiling.
     pub bound: f64,
 }
 
@@ -124,9 +124,16 @@ pub fn greedy(matrix: &SeenMatrix, positions: &[Point], k: usize, d_safe: f64, n
             *e |= d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < least;
         }
     }
-    let covered_weight = matrix.weight_of(&covered, None);
-    let last = gains(matrix, &covered, n_threads);
-    let bound = empty_bound.min(online(matrix, covered_weight, &last, k, ceiling));
+    // The online bound holds given any set, so given every prefix of the picks: the smallest.
+    let mut bound = empty_bound;
+    let mut prefix = try_filled(0_u64, matrix.words(), "the covered targets")?;
+    for &c in &picks {
+        for (a, b) in prefix.iter_mut().zip(matrix.col(c)) {
+            *a |= b;
+        }
+        let given = gains(matrix, &prefix, n_threads);
+        bound = bound.min(online(matrix, matrix.weight_of(&prefix, None), &given, k, ceiling));
+    }
     let total = matrix.total_weight();
     Ok(Greedy {
         picks,

@@ -85,8 +85,8 @@ class GreedyResult:
     coverage : float
         The picks' weighted share of the targets seen.
     bound : float
-        No ``k`` candidates see more than this share (the online bound given no pick and given
-        all picks, whichever is smaller, at most the ceiling).
+        No ``k`` candidates see more than this share (the smallest online bound given each
+        prefix of the picks: none, the first, ..., all; at most the ceiling).
     ceiling : float
         The share of the targets at least one candidate sees.
     k : int
