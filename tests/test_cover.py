@@ -3,19 +3,23 @@
 from __future__ import annotations
 
 import pickle
+from typing import Any
 
 import numpy as np
 import pytest
 
 import uavcov
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, SurfaceTooLargeError
+from uavcov.experiments import TABLE1, oracle, settings_hash
 from uavcov.placement import (
     Constraints,
     CoverageProblem,
     GreedySettings,
+    StartSettings,
     Viewpoints,
     coverage_bound,
     greedy_placement,
+    greedy_start,
     viewpoint_lattice,
 )
 from uavcov.terrain import buildings_scene
@@ -213,3 +217,41 @@ def test_bad_input_is_a_clear_error() -> None:
             GreedySettings(**bad_settings)
     with pytest.raises(InfeasibleError):
         viewpoint_lattice(hills, Constraints(h_min=1.0, h_max=2.0, z_max=1.5), GreedySettings())
+
+
+def test_the_greedy_start_is_greedy_on_s_prime_and_records_its_time(tmp_path: Any) -> None:
+    hills = _hills(size=40.0)
+    limits = Constraints(h_min=1.0, h_max=6.0, z_max=60.0, d_safe=1.0)
+    spec = uavcov.MissionSettings(
+        n_uavs=4, d_max=12.0, iterations=10, constraints=limits, start=StartSettings(kind="greedy", greedy=GreedySettings(spacing=4.0))
+    )
+    result = uavcov.run_mission(hills, spec, rng=0, n_threads=1)
+    # the start is greedy's placement on S' (candidates and coverage on S'), before admissibility on the truth
+    on_s_prime = greedy_start(result.approximation, 4, 12.0, limits.resolve(result.approximation), GreedySettings(spacing=4.0))
+    np.testing.assert_array_equal(result.start_positions, on_s_prime.positions)
+    assert result.cvt is None and 0.0 < result.start_time_s < result.wall_time_s
+    assert on_s_prime.coverage <= on_s_prime.bound
+    # saved and read back, with the start's settings and time
+    path = uavcov.save_mission(result, tmp_path / "greedy.npz")
+    again = uavcov.load_mission(path)
+    assert again.settings.start.greedy == GreedySettings(spacing=4.0) and again.start_time_s == result.start_time_s
+    # other starts are untouched by the new field: the settings hash of the paper's experiments is the same
+    assert StartSettings().greedy == GreedySettings()
+    assert settings_hash(TABLE1) == "e0746840"
+    assert settings_hash(TABLE1.with_changes(**{"start.greedy": GreedySettings(spacing=2.5)})) != "e0746840"
+
+
+def test_the_oracle_places_admissibly_on_the_true_surface() -> None:
+    small = TABLE1.with_changes(**{"terrain.size": 40.0})
+    rows = oracle(small, seeds=[0, 1], team_sizes=[2, 4], settings=GreedySettings(spacing=5.0), n_threads=2)
+    assert [(r.seed, r.n_uavs) for r in rows] == [(0, 2), (0, 4), (1, 2), (1, 4)]
+    for row in rows:
+        assert 0.0 < row.coverage <= row.bound <= row.ceiling <= 1.0
+        assert "the best" in row.holds_for
+    # the same as greedy by hand on the true surface
+    terrain = small.terrain.make(1)
+    limits = small.mission.constraints.resolve(terrain)
+    lattice = viewpoint_lattice(terrain, limits, GreedySettings(spacing=5.0))
+    by_hand = greedy_placement(uavcov.Visibility(terrain, small.d_max), lattice, 4, d_safe=limits.d_safe)
+    assert (by_hand.coverage, by_hand.bound) == (rows[3].coverage, rows[3].bound)
+    assert uavcov.placement.feasible_mask(limits, terrain, by_hand.positions, by_hand.positions[None])[0]
