@@ -55,7 +55,8 @@
 //!   it cannot resolve (margins wider than a cell, or 16 halvings deep) to the tile quadtree.
 //! - Allocations whose size the input decides are checked (`try_reserve`), so a refusal by the
 //!   system is [`Error::TooLarge`]; the CVT's and per-UAV counts' per-chunk sums are held in
-//!   batches of bounded size (256 and 128 MiB). Fixed limits: [`mesh::MAX_TRIANGLES`] for the
+//!   batches of bounded size (256 and 128 MiB); a seen-matrix of candidate viewpoints is at most
+//!   [`cover::MAX_MATRIX_BYTES`] (1 GiB), refused before it is allocated. Fixed limits: [`mesh::MAX_TRIANGLES`] for the
 //!   mesh method and the CVT, [`sampling::MAX_TARGETS`] area targets, 2^32 grid nodes.
 //! - The binding catches any residual panic as [`Error::Internal`] (raised as
 //!   `uavcov.errors.UavcovError`), so none reaches Python as a `PanicException`.
