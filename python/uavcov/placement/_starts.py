@@ -323,7 +323,7 @@ class StartSettings:
 
     def __post_init__(self) -> None:
         if isinstance(self.greedy, Mapping):  # as read back from a settings document
-            values = {k: tuple(v) if isinstance(v, list) else v for k, v in self.greedy.items()}
+            values: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in self.greedy.items()}
             object.__setattr__(self, "greedy", GreedySettings(**values))
         if not isinstance(self.greedy, GreedySettings):
             raise InvalidTypeError(f"greedy must be a GreedySettings, got {type(self.greedy).__name__}")
