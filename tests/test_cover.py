@@ -188,9 +188,11 @@ def test_bad_input_is_a_clear_error() -> None:
     hills = _hills()
     vis = uavcov.Visibility(hills, 10.0)
     good = np.array([[5.0, 5.0, 20.0], [10.0, 10.0, 20.0]])
-    for bad in ([[np.nan, 1.0, 2.0]], [[1e300, 1.0, 2.0]], np.zeros((3, 4)), np.zeros((0, 3)), "abc"):
+    for bad in ([[np.nan, 1.0, 2.0]], [[1e300, 1.0, 2.0]], np.zeros((3, 4)), np.zeros((0, 3)), "abc", [1.0, 2.0, 3.0]):
         with pytest.raises(InvalidInputError):
             CoverageProblem(vis, bad)
+    with pytest.raises(InvalidTypeError):
+        CoverageProblem(vis, [["a", "b", "c"]])
     with pytest.raises(InvalidTypeError):
         CoverageProblem("not a visibility", good)  # type: ignore[arg-type]
     with pytest.raises(InvalidTypeError):

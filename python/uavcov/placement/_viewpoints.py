@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_count, as_finite_float, as_positive_float, as_positive_int, read_only
+from .._validate import as_count, as_finite_float, as_float_array, as_positive_float, as_positive_int, read_only
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._constraints import _MARGIN, Constraints, feasible_mask
@@ -188,11 +188,11 @@ def as_viewpoints(value: Any) -> Viewpoints:
     """``value`` as :class:`Viewpoints`: itself, or an ``(C, 3)`` / ``(C, 5)`` array of given candidates."""
     if isinstance(value, Viewpoints):
         return value
-    array = np.asarray(value, dtype=np.float64) if not isinstance(value, (str, bytes)) else None
-    if array is None or array.ndim != 2 or array.shape[1] not in (3, 5) or array.shape[0] == 0:
-        raise InvalidInputError(f"candidates must be Viewpoints or an (C, 3) or (C, 5) array, got {getattr(array, 'shape', value)!r}")
-    if not np.isfinite(array).all():
-        raise InvalidInputError("candidates contain NaN or infinite values")
+    if isinstance(value, (str, bytes)):
+        raise InvalidInputError(f"candidates must be Viewpoints or an (C, 3) or (C, 5) array, got {value!r}")
+    array = as_float_array(value, "candidates", ndim=2)
+    if array.shape[1] not in (3, 5) or array.shape[0] == 0:
+        raise InvalidInputError(f"candidates must be Viewpoints or an (C, 3) or (C, 5) array, got shape {array.shape}")
     if array.shape[0] > MAX_CANDIDATES:
         raise InvalidInputError(f"{array.shape[0]:,} candidates, more than {MAX_CANDIDATES:,}")
     poses = read_only(array.copy()) if array.shape[1] == 5 else None
