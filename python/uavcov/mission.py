@@ -24,6 +24,7 @@ start as it was.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
@@ -398,6 +399,9 @@ class MissionResult:
         Seconds in coverage measurements and in the optimiser's own work.
     trace : OptimizerTrace
         The optimiser's full record.
+    start_time_s : float
+        Seconds to compute the start on S' (its off-line time: the CVT, or the greedy start's
+        lattice, seen-matrix and greedy); 0 for given start positions, NaN when not recorded.
     """
 
     settings: MissionSettings
@@ -421,6 +425,7 @@ class MissionResult:
     time_measure_s: float
     time_optimizer_s: float
     trace: OptimizerTrace = field(repr=False)
+    start_time_s: float = math.nan
 
     @property
     def attitudes(self) -> np.ndarray | None:
@@ -556,12 +561,24 @@ def run_mission(
     prior_rng, start_rng, optimizer_rng = as_generator(rng).spawn(3)
     approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
     tessellation: CVTResult | None = None
+    start_time_s = 0.0
     if given is not None:
         flying = given
     else:
-        flying, tessellation = start_configuration(
-            spec.start, approximation, terrain, spec.n_uavs, cvt_settings=spec.cvt, rng=start_rng, n_threads=n_threads
+        start_began = time.perf_counter()
+        flying, record = start_configuration(
+            spec.start,
+            approximation,
+            terrain,
+            spec.n_uavs,
+            cvt_settings=spec.cvt,
+            rng=start_rng,
+            n_threads=n_threads,
+            d_max=spec.d_max,
+            constraints=constraints,
         )
+        start_time_s = time.perf_counter() - start_began
+        tessellation = record if isinstance(record, CVTResult) else None
     attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
     if spec.footprint_start and given is None:
         flying, attitudes = _footprint_start(spec, approximation, flying, attitudes, n_threads)
@@ -627,6 +644,7 @@ def run_mission(
         time_measure_s=float(trace.time_measure_s),
         time_optimizer_s=float(trace.time_optimizer_s),
         trace=trace,
+        start_time_s=start_time_s,
     )
 
 

@@ -86,6 +86,7 @@ _SCALAR_TYPES = {
     "wall_time_s": _REAL,
     "time_measure_s": _REAL,
     "time_optimizer_s": _REAL,
+    "start_time_s": _REAL,
 }
 _TRACE_TYPES = {"best_value": _REAL, "best_iteration": _INT, "evaluations": _INT}
 _CVT_TYPES = {"iterations": _INT, "converged": (bool,), "seed": _INT}
@@ -156,6 +157,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
             "wall_time_s": result.wall_time_s,
             "time_measure_s": result.time_measure_s,
             "time_optimizer_s": result.time_optimizer_s,
+            "start_time_s": result.start_time_s,
         },
         "trace": {
             "kind": trace.kind,

@@ -19,6 +19,7 @@ from ._claims import (
 )
 from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution, stop_pool
 from ._jobs import REPORT_SEEDS, REPRODUCIBLE, ablate, reproduce, reproduce_all, run_sweep
+from ._oracle import OracleRow, oracle
 from ._paper import (
     ABLATION_BASE,
     ABLATIONS,
@@ -56,6 +57,8 @@ from ._sweep import Experiment, RunSpec, execute_run, experiment_specs, experime
 from ._sweep_config import PRIORS, STARTS, SweepConfig, load_sweep_config, parse_sweep_config
 
 __all__ = [
+    "oracle",
+    "OracleRow",
     "PairedGain",
     "RowRobustness",
     "Convergence",
