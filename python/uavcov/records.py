@@ -285,7 +285,7 @@ def _relocations(raw: Any, n_configurations: int, n_uavs: int, path: Path) -> np
     inside = rows is not None and bool(
         ((rows[:, 0] >= 0) & (rows[:, 0] < n_uavs) & (rows[:, 1] >= 0) & (rows[:, 1] < rows[:, 2]) & (rows[:, 2] < n_configurations)).all()
     )
-    if not inside:
+    if rows is None or not inside:
         raise ResultsFormatError(f"{path}: trace.relocations must be a list of (uav, first, last) within the run, got {raw!r}")
     return read_only(rows)
 
