@@ -526,7 +526,7 @@ def mission_time(result: MissionResult, speed: float, *, hover_s: float = 0.0) -
     >>> import uavcov
     >>> hills = uavcov.gaussian_hills(size=40.0, spacing=2.0, n_hills=3, rng=1)
     >>> result = run_mission(hills, MissionSettings(n_uavs=3, d_max=15.0, iterations=5), rng=0)
-    >>> mission_time(result, 5.0) >= result.distance_flown.max() / 5.0
+    >>> bool(mission_time(result, 5.0) >= result.distance_flown.max() / 5.0)
     True
     """
     if not isinstance(result, MissionResult):
