@@ -17,7 +17,8 @@
 //!   about its sight lines.
 //! - [`cvt`]: constrained centroidal Voronoi tessellation of a surface (probabilistic MacQueen).
 //! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
-//!   candidates in one pass.
+//!   candidates in one pass, with the clearance measured straight down (height fields) or as a
+//!   3D standoff (structures; the queries in `mesh::Surface::distance`, `within`, `inside`).
 //!
 //! Four modules are internal: `horizon` (per UAV, an upper bound on how steeply the surface
 //! rises in each direction and distance, so most of a sight line skips the exact test),

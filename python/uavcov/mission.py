@@ -115,8 +115,8 @@ class MissionSettings:
         ``d_max``.
     attitude : (float, float), default (0.0, -90.0)
         ``(yaw, pitch)`` in degrees of every UAV's camera (heading clockwise from north, gimbal
-        pitch from -90, nadir, to 0, level), fixed during the mission; read when ``sensor`` has a
-        camera.
+        pitch from -90, nadir, to 0, level; above 0 only with a ``gimbal`` whose ``pitch_range``
+        reaches it), fixed during the mission; read when ``sensor`` has a camera.
     objective : {"coverage", "quality"}, default "coverage"
         What the optimiser maximises: the seen share, or the quality-weighted coverage
         (:meth:`uavcov.Visibility.quality_coverage`, centralised CAO only).
@@ -181,7 +181,7 @@ class MissionSettings:
         attitude = np.asarray(self.attitude, dtype=np.float64) if not isinstance(self.attitude, (str, bytes)) else None
         if attitude is None or attitude.shape != (2,):
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
-        camera_axes([attitude[0]], [attitude[1]])  # finite, pitch in [-90, 0]
+        camera_axes([attitude[0]], [attitude[1]])  # finite, pitch in [-90, 90]
         object.__setattr__(self, "attitude", (float(attitude[0]), float(attitude[1])))
         if self.objective not in OBJECTIVES:
             raise InvalidInputError(f"objective must be one of {OBJECTIVES}, got {self.objective!r}")
@@ -214,6 +214,13 @@ class MissionSettings:
             bounds = self.gimbal.pitch_range
             if bounds is not None and not bounds[0] <= self.attitude[1] <= bounds[1]:
                 raise InvalidInputError(f"attitude's pitch {self.attitude[1]} lies outside the gimbal's pitch_range {bounds}")
+        bounds = None if self.gimbal is None else self.gimbal.pitch_range
+        if self.attitude[1] > 0.0 and bounds is None:
+            # Above the horizon only a gimbal that says it can: a mapping gimbal cannot point up.
+            raise InvalidInputError(
+                f"attitude's pitch {self.attitude[1]} looks above the horizon: a camera can point up only on a gimbal "
+                "whose pitch_range reaches it (gimbal=Gimbal(pitch_range=...) or Gimbal.preset('upward'))"
+            )
         if not isinstance(self.footprint_start, (bool, np.bool_)):
             raise InvalidTypeError(f"footprint_start must be a bool, got {type(self.footprint_start).__name__}")
         object.__setattr__(self, "footprint_start", bool(self.footprint_start))

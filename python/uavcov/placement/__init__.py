@@ -2,12 +2,23 @@
 
 from __future__ import annotations
 
-from ._constraints import Constraints, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
+from ._constraints import Constraints, StandoffWorld, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
 from ._footprints import FootprintFit, fit_footprints
 from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, initial_positions, start_configuration
+from ._starts3d import (
+    StandoffStart,
+    check_reachable,
+    closest_faces,
+    facing_attitudes,
+    launch_pad_start,
+    random_volume_start,
+    standoff_start,
+    surface_normals,
+)
 
 __all__ = [
+    "StandoffWorld",
     "World",
     "Constraints",
     "feasible_mask",
@@ -28,4 +39,12 @@ __all__ = [
     "START_KINDS",
     "CORNERS",
     "ALTITUDE_REFERENCES",
+    "standoff_start",
+    "StandoffStart",
+    "random_volume_start",
+    "launch_pad_start",
+    "surface_normals",
+    "facing_attitudes",
+    "check_reachable",
+    "closest_faces",
 ]

@@ -24,6 +24,8 @@ The package is split by what each part owns:
   hillshade, 3D axes styling;
 - :mod:`~uavcov.plotting._animation`: :func:`animate_mission`;
 - :mod:`~uavcov.plotting._writers`: :func:`write_ply` and the GIF / MP4 writers;
+- :mod:`~uavcov.plotting._structures`: :func:`plot_structure_seen`, a structure coloured by seen
+  from several sides;
 - :mod:`~uavcov.plotting._directory`: :func:`plot_directory`;
 - private helpers: ``_canvas`` (colours, matplotlib on demand, axes, saving, legend entries),
   ``_inputs`` (checks of results and arguments), ``_runs`` (reading ``runs.csv`` and its cells).
@@ -53,6 +55,7 @@ from ._figures import (
     published_values,
     seen_points,
 )
+from ._structures import STRUCTURE_VIEWS, face_seen_share, plot_structure_seen
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
 from ._views import LIGHT as LIGHT
 from ._writers import write_ply
@@ -72,4 +75,7 @@ __all__ = [
     "published_values",
     "seen_points",
     "write_ply",
+    "plot_structure_seen",
+    "face_seen_share",
+    "STRUCTURE_VIEWS",
 ]
