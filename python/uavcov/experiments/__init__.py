@@ -52,7 +52,18 @@ from ._reports import (
     sweep_markdown,
     table1_markdown,
 )
-from ._results import CONFIG_FORMAT, RUN_COLUMNS, ResultsFolder, RunsFile, config_document, csv_line, format_cell, json_default, read_runs
+from ._results import (
+    CONFIG_FORMAT,
+    LATER_RUN_COLUMNS,
+    RUN_COLUMNS,
+    ResultsFolder,
+    RunsFile,
+    config_document,
+    csv_line,
+    format_cell,
+    json_default,
+    read_runs,
+)
 from ._sweep import Experiment, RunSpec, execute_run, experiment_specs, experiments_hash, parse_seeds, run_specs, settings_hash
 from ._sweep_config import PRIORS, STARTS, SweepConfig, load_sweep_config, parse_sweep_config
 
@@ -113,6 +124,7 @@ __all__ = [
     "coverage_curves_csv",
     "REPORTS",
     "RUN_COLUMNS",
+    "LATER_RUN_COLUMNS",
     "CONFIG_FORMAT",
     "ResultsFolder",
     "RunsFile",
