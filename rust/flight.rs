@@ -2,18 +2,28 @@
 //! one pass.
 //!
 //! A configuration (one position per UAV) is admissible when every UAV is inside the closed x-y
-//! bounds and at most `z_max` high, has a clearance straight down to the surface of at least
-//! `h_min` (and at most `h_max` when set), every pair is at least `d_safe` apart, and, with
-//! `check_moves`, every UAV that moves does so along a segment that crosses no triangle. The
+//! bounds and at most `z_max` high, has a clearance of at least `h_min` (and at most `h_max`
+//! when set), every pair is at least `d_safe` apart, and, with `check_moves`, every UAV that
+//! moves does so along a segment that crosses no triangle.
+//!
+//! The clearance has two meanings ([`Clearance`]). [`Clearance::Vertical`] (height fields,
+//! the paper's): the distance straight down to the highest surface below. [`Clearance::Standoff`]
+//! (structures): the least 3D distance to any triangle, with some surface straight below (not
+//! under the ground) and the UAV inside no closed solid; a UAV may fly under a bridge deck. The
+//! standoff is judged with sphere queries on the BVH that stop at the first triangle found
+//! within `h_min` (or `h_max`); the inside test (three rays, see [`crate::mesh::Surface::inside`])
+//! is asked only of a UAV that did not reach its position by a checked clear move from a
+//! position outside every solid: a closed surface separates its inside from the outside, so a
+//! straight move that crosses no triangle cannot enter a solid. The
 //! rules are `uavcov.constraints`'s; this is the same test fused, so that an optimiser's batch of
 //! candidates costs one call instead of one per kind of check.
 //!
 //! ```
-//! use uavcov::flight::{admissible_mask, FlightLimits};
+//! use uavcov::flight::{admissible_mask, Clearance, FlightLimits};
 //! use uavcov::Surface;
 //! // A flat 10 m x 10 m ground, two UAVs 2 m up, and three candidate configurations.
 //! let ground = Surface::from_grid(vec![0.0; 11 * 11], 11, 11, 1.0, 1.0, 0.0, 0.0)?;
-//! let limits = FlightLimits { bounds: [0.0, 0.0, 10.0, 10.0], h_min: 1.0, h_max: Some(4.0), z_max: 50.0, d_safe: 1.0, check_moves: true };
+//! let limits = FlightLimits { bounds: [0.0, 0.0, 10.0, 10.0], h_min: 1.0, h_max: Some(4.0), z_max: 50.0, d_safe: 1.0, check_moves: true, clearance: Clearance::Vertical };
 //! let now = [[2.0, 2.0, 2.0], [6.0, 6.0, 2.0]];
 //! let candidates = [
 //!     [2.5, 2.0, 2.0], [6.0, 6.5, 3.0], // admissible
@@ -31,6 +41,28 @@ use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
 use crate::mesh::Surface;
 use crate::threads;
 
+/// What `h_min` and `h_max` bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Clearance {
+    /// The distance straight down to the highest surface below (height fields; the default).
+    #[default]
+    Vertical,
+    /// The least 3D distance to any surface, above the ground and outside every closed solid.
+    Standoff,
+}
+
+impl std::str::FromStr for Clearance {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "vertical" => Ok(Self::Vertical),
+            "standoff" => Ok(Self::Standoff),
+            _ => Err(Error::InvalidInput(format!("clearance must be \"vertical\" or \"standoff\", got {s:?}"))),
+        }
+    }
+}
+
 /// The flight limits of eq. 2, resolved against one surface (metres, the surface's frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlightLimits {
@@ -46,6 +78,8 @@ pub struct FlightLimits {
     pub d_safe: f64,
     /// Whether every move must cross no triangle.
     pub check_moves: bool,
+    /// What `h_min` and `h_max` bound.
+    pub clearance: Clearance,
 }
 
 impl FlightLimits {
@@ -102,11 +136,58 @@ impl FlightLimits {
     /// [`MAX_COORDINATE`] (a `z_max` that large lets one through): the surface is not queried
     /// so far out.
     pub fn admissible(&self, surface: &Surface, current: &[Point], config: &[Point]) -> Result<bool> {
+        let now = self.now(surface, current)?;
+        self.admissible_from(surface, current, &now, config)
+    }
+
+    /// What the standoff limits learn once about `current` for a whole batch (empty otherwise).
+    fn now(&self, surface: &Surface, current: &[Point]) -> Result<Now> {
+        if self.clearance != Clearance::Standoff {
+            return Ok(Now::default());
+        }
+        let distance = current.iter().map(|&q| surface.distance(q)).collect::<Result<_>>()?;
+        let outside = if self.check_moves {
+            current.iter().map(|&q| surface.inside(q).map(|inside| !inside)).collect::<Result<_>>()?
+        } else {
+            vec![]
+        };
+        Ok(Now { distance, outside })
+    }
+
+    /// The standoff of `b` within the limits, and some surface below it. `from` is `b`'s UAV's
+    /// current position and its distance to the surface, when known: the distance is
+    /// 1-Lipschitz, so a UAV that moved by `s` is within `s` of its old distance, and when that
+    /// whole interval keeps the limits (by more than the rounding of the two distances) the
+    /// sphere queries would say so too and are skipped.
+    fn standoff_ok(&self, surface: &Surface, b: Point, from: Option<(Point, f64)>) -> Result<bool> {
+        let known = from.is_some_and(|(a, d)| {
+            let step = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt();
+            let slack = 1e-9 * (1.0 + d + step + a.iter().chain(&b).fold(0.0_f64, |m, c| m.max(c.abs())));
+            d - step - slack >= self.h_min && self.h_max.is_none_or(|h| d + step + slack <= h)
+        });
+        if !known {
+            if self.h_min > 0.0 && surface.within(b, self.h_min, false)? {
+                return Ok(false);
+            }
+            if let Some(h) = self.h_max {
+                if !surface.within(b, h, true)? {
+                    return Ok(false);
+                }
+            }
+        }
+        Ok(surface.surface_below(b))
+    }
+
+    /// [`Self::admissible`] given [`Self::now`] of `current`.
+    fn admissible_from(&self, surface: &Surface, current: &[Point], now: &Now, config: &[Point]) -> Result<bool> {
         if !config.iter().all(|&q| self.inside(q)) || !self.separated(config) {
             return Ok(false);
         }
         if let Some(q) = config.iter().find(|q| !in_bounds(**q)) {
             return Err(Error::InvalidInput(format!("a candidate has a coordinate beyond {MAX_COORDINATE:e} m in magnitude: {q:?}")));
+        }
+        if self.clearance == Clearance::Standoff {
+            return self.standoff_admissible(surface, current, now, config);
         }
         if !config.iter().all(|&q| self.clear_enough_over(surface, q)) {
             return Ok(false);
@@ -117,6 +198,38 @@ impl FlightLimits {
         }
         Ok(true)
     }
+}
+
+impl FlightLimits {
+    /// The standoff rules for a configuration already inside the bounds and separated.
+    fn standoff_admissible(&self, surface: &Surface, current: &[Point], now: &Now, config: &[Point]) -> Result<bool> {
+        for (i, &q) in config.iter().enumerate() {
+            let from = now.distance.get(i).map(|&d| (current[i], d));
+            if !self.standoff_ok(surface, q, from)? {
+                return Ok(false);
+            }
+        }
+        for (i, (&a, &b)) in current.iter().zip(config).enumerate() {
+            let moved_clear = self.check_moves && (a == b || surface.segment_clear(a, b));
+            if self.check_moves && !moved_clear {
+                return Ok(false);
+            }
+            // reached by a clear move from outside every solid: outside too (see the module docs)
+            let known_outside = moved_clear && now.outside.get(i).copied().unwrap_or(false);
+            if !known_outside && surface.inside(b)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+}
+
+/// What the standoff limits know of the current positions: each UAV's distance to the surface,
+/// and (moves checked) whether it is outside every solid. Empty: nothing known, every query made.
+#[derive(Debug, Default)]
+struct Now {
+    distance: Vec<f64>,
+    outside: Vec<bool>,
 }
 
 /// Which of the candidate configurations are admissible.
@@ -145,8 +258,9 @@ pub fn admissible_mask(
         return Err(Error::InvalidInput(format!("current has a coordinate that is not finite or beyond {MAX_COORDINATE:e} m: {q:?}")));
     }
     let mut out: Vec<bool> = try_with_capacity(candidates.len() / n, "the admissible mask")?;
+    let now = limits.now(surface, current)?;
     let judged: Result<Vec<bool>> =
-        threads::run(n_threads, || candidates.par_chunks(n).map(|config| limits.admissible(surface, current, config)).collect());
+        threads::run(n_threads, || candidates.par_chunks(n).map(|config| limits.admissible_from(surface, current, &now, config)).collect());
     out.extend(judged?);
     Ok(out)
 }
@@ -160,7 +274,15 @@ mod tests {
     }
 
     fn limits() -> FlightLimits {
-        FlightLimits { bounds: [0.0, 0.0, 20.0, 20.0], h_min: 1.0, h_max: Some(5.0), z_max: 30.0, d_safe: 2.0, check_moves: true }
+        FlightLimits {
+            bounds: [0.0, 0.0, 20.0, 20.0],
+            h_min: 1.0,
+            h_max: Some(5.0),
+            z_max: 30.0,
+            d_safe: 2.0,
+            check_moves: true,
+            clearance: Clearance::Vertical,
+        }
     }
 
     #[test]
@@ -196,8 +318,15 @@ mod tests {
             (0..n * n).map(|k| if k == 5 * n + 7 { f64::NAN } else { 3.0 * ((k % n) as f64 * 0.4).sin() + 0.1 * (k / n) as f64 }).collect();
         let s = Surface::from_grid(z, n, n, 1.0, 1.0, 0.0, 0.0).unwrap();
         let field = s.heightfield().unwrap();
-        let l =
-            FlightLimits { bounds: [0.0, 0.0, 30.0, 30.0], h_min: 1.0, h_max: Some(5.0), z_max: 100.0, d_safe: 0.0, check_moves: false };
+        let l = FlightLimits {
+            bounds: [0.0, 0.0, 30.0, 30.0],
+            h_min: 1.0,
+            h_max: Some(5.0),
+            z_max: 100.0,
+            d_safe: 0.0,
+            check_moves: false,
+            clearance: Clearance::Vertical,
+        };
         let (mut fast, mut total) = (0, 0);
         for k in 0..4000_u32 {
             let t = f64::from(k);
@@ -265,5 +394,70 @@ mod tests {
         assert!(admissible_mask(&s, &l, &now, &candidates[..4], 1).is_err());
         let far = FlightLimits { z_max: 1e300, h_max: None, ..l };
         assert!(admissible_mask(&s, &far, &now[..1], &[[5.0, 5.0, 1e200]], 1).is_err());
+    }
+
+    fn standoff() -> FlightLimits {
+        FlightLimits {
+            bounds: [-20.0, -10.0, 20.0, 10.0],
+            h_min: 2.0,
+            h_max: Some(8.0),
+            z_max: 30.0,
+            d_safe: 2.0,
+            check_moves: true,
+            clearance: Clearance::Standoff,
+        }
+    }
+
+    #[test]
+    fn under_the_deck_is_admissible_only_with_a_standoff() {
+        let s = crate::mesh::standoff::tests::bridge();
+        let now = [[0.0, 0.0, 5.0]];
+        assert!(standoff().admissible(&s, &now, &now).unwrap());
+        // straight down, a point inside a pier is 5 m over its floor: only the standoff refuses it
+        let pier = [[-11.0, 0.0, 5.0]];
+        let vertical = FlightLimits { clearance: Clearance::Vertical, h_max: None, ..standoff() };
+        assert!(vertical.admissible(&s, &pier, &pier).unwrap());
+        assert!(!standoff().admissible(&s, &pier, &pier).unwrap());
+        let l = standoff();
+        let refused = [
+            [0.0, 0.0, 9.0],    // 1 m under the deck
+            [-11.0, 0.0, 5.0],  // inside a pier
+            [0.0, 0.0, -3.0],   // under the ground
+            [0.0, 0.0, 20.0],   // 9 m over the deck, beyond h_max
+            [-18.0, 9.0, 20.0], // over 11 m from everything
+        ];
+        for q in refused {
+            assert!(!FlightLimits { check_moves: false, ..l }.admissible(&s, &[q], &[q]).unwrap(), "{q:?}");
+        }
+        // up through the deck: both ends keep their standoff, the move crosses it
+        assert!(l.admissible(&s, &[[0.0, 0.0, 14.0]], &[[0.0, 0.0, 14.0]]).unwrap());
+        assert!(!l.admissible(&s, &now, &[[0.0, 0.0, 14.0]]).unwrap());
+        assert!(FlightLimits { check_moves: false, ..l }.admissible(&s, &now, &[[0.0, 0.0, 14.0]]).unwrap());
+    }
+
+    #[test]
+    fn the_standoff_mask_is_the_same_for_any_thread_count_and_as_the_full_inside_test() {
+        let s = crate::mesh::standoff::tests::bridge();
+        let l = standoff();
+        let now = [[0.0, 0.0, 5.0], [-5.0, 6.0, 13.0], [14.0, -6.0, 4.0]];
+        let mut candidates = Vec::new();
+        for k in 0..400_u32 {
+            let t = f64::from(k);
+            for (i, q) in now.iter().enumerate() {
+                #[allow(clippy::cast_precision_loss)]
+                let phase = t * 0.37 + i as f64;
+                candidates.push([q[0] + 4.0 * phase.sin(), q[1] + 4.0 * (1.3 * phase).cos(), q[2] + 4.0 * (0.7 * phase).sin()]);
+            }
+        }
+        let one = admissible_mask(&s, &l, &now, &candidates, 1).unwrap();
+        assert!(one.iter().filter(|&&b| b).count() > 20 && one.iter().filter(|&&b| !b).count() > 20);
+        assert_eq!(admissible_mask(&s, &l, &now, &candidates, 2).unwrap(), one);
+        assert_eq!(admissible_mask(&s, &l, &now, &candidates, 3).unwrap(), one);
+        // the shortcuts (no inside test after a clear move from outside, no sphere query when the
+        // old distance bounds the new one) change no answer
+        for (config, &ok) in candidates.chunks(3).zip(&one) {
+            let full = l.admissible_from(&s, &now, &Now::default(), config).unwrap();
+            assert_eq!(full, ok, "{config:?}");
+        }
     }
 }

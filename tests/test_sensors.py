@@ -174,8 +174,8 @@ def test_bad_sensors_and_poses_are_clear_errors(hill_terrain):
         Sensor(50.0, d_min=10.0, camera=Camera(13.2, 8.8, 8.8, 5472, 3648), max_gsd_m=0.001)  # fine enough only within 3.6 m
     with pytest.raises(InvalidTypeError):
         Sensor(5.0, camera="wide")  # type: ignore[arg-type]
-    with pytest.raises(InvalidInputError, match="point up"):
-        vis.coverage([[5.0, 5.0, 20.0, 0.0, 10.0]], sensors=[Sensor(8.0, camera=cam)])  # a camera pointing up
+    with pytest.raises(InvalidInputError, match="nadir to zenith"):
+        vis.coverage([[5.0, 5.0, 20.0, 0.0, 95.0]], sensors=[Sensor(8.0, camera=cam)])  # past the zenith
     for bad in (math.nan, math.inf):
         with pytest.raises(InvalidInputError):
             vis.coverage([[5.0, 5.0, 20.0, bad, -90.0]], sensors=[Sensor(8.0, camera=cam)])

@@ -10,6 +10,7 @@ __all__ = [
     "Visibility",
     "CoverageTracker",
     "CVT",
+    "SeenMatrix",
     "Surrogate",
     "available_threads",
     "pcg64_standard_normal",
@@ -61,6 +62,8 @@ class Surface:
     def clearance(self, points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.float64]: ...
     def closest_point(self, points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.float64]: ...
     def segments_clear(self, a: npt.NDArray[np.float64], b: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.bool_]: ...
+    def distance(self, points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.float64]: ...
+    def inside(self, points: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.bool_]: ...
     def admissible_mask(
         self,
         current: npt.NDArray[np.float64],
@@ -72,6 +75,7 @@ class Surface:
         d_safe: float,
         check_moves: bool,
         n_threads: int = 0,
+        clearance: str = "vertical",
     ) -> npt.NDArray[np.bool_]: ...
 
 @final
@@ -111,6 +115,26 @@ class Visibility:
         float,
         float,
     ]: ...
+
+@final
+class SeenMatrix:
+    def __new__(
+        cls,
+        visibility: Visibility,
+        candidates: npt.NDArray[np.float64],
+        sensors: npt.NDArray[np.float64] | None = None,
+        n_threads: int = 0,
+    ) -> SeenMatrix: ...
+    @property
+    def n_candidates(self) -> int: ...
+    @property
+    def n_targets(self) -> int: ...
+    @property
+    def nbytes(self) -> int: ...
+    def ceiling(self) -> float: ...
+    def column(self, c: int) -> npt.NDArray[np.bool_]: ...
+    def greedy(self, k: int, d_safe: float, n_threads: int = 0) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], float, float]: ...
+    def bound(self, seen: npt.NDArray[np.bool_], k: int, n_threads: int = 0) -> tuple[float, float]: ...
 
 @final
 class CoverageTracker:

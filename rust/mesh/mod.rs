@@ -29,6 +29,7 @@ use crate::heightfield::HeightField;
 use crate::skyline::Skylines;
 
 mod sight;
+pub(crate) mod standoff;
 
 /// Most triangles the general mesh path accepts: about 300 bytes each with the BVH, so this caps
 /// the mesh at a few gigabytes; larger maps belong on the elevation-grid path.

@@ -182,9 +182,27 @@ impl PySurface {
         Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))?))
     }
 
+    /// The least 3D distance from each point to the surface.
+    #[pyo3(signature = (points, n_threads=0))]
+    fn distance<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let pts = super::points(py, &points, "points")?;
+        let s = &self.inner;
+        detached(py, || s.triangle_mesh().map(|_| ()))?; // a grid's mesh, built once outside the pool
+        Ok(parallel_map(py, n_threads, &pts, |&q| s.distance(q).unwrap_or(f64::NAN))?.into_pyarray(py))
+    }
+
+    /// Whether each point is inside a closed solid of the surface.
+    #[pyo3(signature = (points, n_threads=0))]
+    fn inside<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let pts = super::points(py, &points, "points")?;
+        let s = &self.inner;
+        detached(py, || s.triangle_mesh().map(|_| ()))?;
+        Ok(parallel_map(py, n_threads, &pts, |&q| s.inside(q).unwrap_or(false))?.into_pyarray(py))
+    }
+
     /// Which of the `len(candidates) / len(current)` configurations in `candidates` (one after
     /// the other) are admissible under the flight limits of eq. 2 (see `uavcov.flight`).
-    #[pyo3(signature = (current, candidates, bounds, h_min, h_max, z_max, d_safe, check_moves, n_threads=0))]
+    #[pyo3(signature = (current, candidates, bounds, h_min, h_max, z_max, d_safe, check_moves, n_threads=0, clearance="vertical"))]
     #[allow(clippy::too_many_arguments)] // the limits as Python gives them, one value each
     fn admissible_mask<'py>(
         &self,
@@ -198,7 +216,9 @@ impl PySurface {
         d_safe: f64,
         check_moves: bool,
         n_threads: usize,
+        clearance: &str,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let clearance: flight::Clearance = clearance.parse().map_err(|e| to_py_err(py, e))?;
         let current = points(py, &current, "current")?;
         // Candidates far outside the bounds are refused, not errors: copied as they are (the
         // kernel queries the surface only for those inside the bounds, and checks them there).
@@ -208,7 +228,7 @@ impl PySurface {
         }
         let mut cand: Vec<Point> = try_with_capacity(c.nrows(), "a copy of the candidates").map_err(|e| to_py_err(py, e))?;
         cand.extend(c.rows().into_iter().map(|r| [r[0], r[1], r[2]]));
-        let limits = flight::FlightLimits { bounds, h_min, h_max, z_max, d_safe, check_moves };
+        let limits = flight::FlightLimits { bounds, h_min, h_max, z_max, d_safe, check_moves, clearance };
         let s = &self.inner;
         Ok(detached(py, || flight::admissible_mask(s, &limits, &current, &cand, n_threads))?.into_pyarray(py))
     }

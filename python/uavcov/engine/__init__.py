@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._sensors import Camera, Gimbal, Sensor, camera_axes, pack_sensors
+from ._sensors import GIMBAL_PITCH_LIMITS, Camera, Gimbal, Sensor, camera_axes, gimbal_pitch_limits, pack_sensors
 from ._surface import GridInfo, Terrain
 from ._targets import Targets
 from ._visibility import CoverageTracker, UavCounts, Visibility, coverage
@@ -12,6 +12,8 @@ __all__ = [
     "Sensor",
     "Gimbal",
     "camera_axes",
+    "GIMBAL_PITCH_LIMITS",
+    "gimbal_pitch_limits",
     "pack_sensors",
     "Terrain",
     "GridInfo",

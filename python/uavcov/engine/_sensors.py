@@ -10,9 +10,12 @@ grid method and the mesh method alike.
 
 Angles at the API are degrees. A pose is ``(x, y, z, yaw, pitch)``: yaw is the heading,
 clockwise from north (+y) as a compass reads it (0 north, 90 east), any finite value (it wraps);
-pitch is the gimbal's, from -90 (straight down, nadir) to 0 (level with the horizon). The image's
-width runs along the camera's right, its height along its up (at nadir, the top of the image
-points along the heading).
+pitch is the gimbal's, from -90 (straight down, nadir) through 0 (level with the horizon) to +90
+(straight up, zenith: looking up under a deck). The image's width runs along the camera's right,
+its height along its up (at nadir, the top of the image points along the heading; at zenith, the
+bottom). Which pitches a real gimbal reaches is its :class:`Gimbal`'s ``pitch_range``
+(:data:`GIMBAL_PITCH_LIMITS` gives capability classes); a mission refuses a pitch above the
+horizon unless its gimbal's range reaches it.
 
 Examples
 --------
@@ -30,8 +33,9 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -192,9 +196,10 @@ class Gimbal:
     free_yaw : bool, default False
         Optimise each UAV's heading (any value: it wraps; results report it in ``[0, 360)``).
     pitch_range : (float, float), optional
-        ``(lowest, highest)`` gimbal pitch in degrees within ``[-90, 0]``: optimise each UAV's
-        pitch within it (a candidate outside is infeasible, as a position outside its band is).
-        ``None`` keeps the pitch fixed.
+        ``(lowest, highest)`` gimbal pitch in degrees within ``[-90, 90]`` (above 0 the camera
+        looks above the horizon, which only some gimbals can: :data:`GIMBAL_PITCH_LIMITS`):
+        optimise each UAV's pitch within it (a candidate outside is infeasible, as a position
+        outside its band is). ``None`` keeps the pitch fixed.
     alpha0_deg : float, default 10.0
         The angles' first step, degrees (> 0): the standard deviation of a heading's or pitch's
         perturbation at iteration 0 (chosen on development seeds: docs/cameras.md).
@@ -218,15 +223,58 @@ class Gimbal:
             if bounds is None or bounds.shape != (2,):
                 raise InvalidInputError(f"pitch_range must be (lowest, highest) in degrees, got {self.pitch_range!r}")
             low, high = float(bounds[0]), float(bounds[1])
-            if not -90.0 <= low <= high <= 0.0:
-                raise InvalidInputError(f"pitch_range must satisfy -90 <= lowest <= highest <= 0 degrees, got ({low}, {high})")
+            if not -90.0 <= low <= high <= 90.0:
+                raise InvalidInputError(f"pitch_range must satisfy -90 <= lowest <= highest <= 90 degrees, got ({low}, {high})")
             object.__setattr__(self, "pitch_range", (low, high))
         object.__setattr__(self, "alpha0_deg", as_positive_float(self.alpha0_deg, "alpha0_deg"))
+
+    @classmethod
+    def preset(cls, capability: str, *, free_yaw: bool = False, alpha0_deg: float = 10.0) -> Gimbal:
+        """A gimbal whose pitch is optimised over a capability class's range (:data:`GIMBAL_PITCH_LIMITS`).
+
+        Examples
+        --------
+        >>> Gimbal.preset("upward").pitch_range
+        (-90.0, 90.0)
+        """
+        return cls(free_yaw=free_yaw, pitch_range=gimbal_pitch_limits(capability), alpha0_deg=alpha0_deg)
 
     @property
     def free_angles(self) -> tuple[str, ...]:
         """The angles optimised, in the order they follow the position: ``"yaw"``, ``"pitch"``."""
         return (("yaw",) if self.free_yaw else ()) + (("pitch",) if self.pitch_range is not None else ())
+
+
+GIMBAL_PITCH_LIMITS: Mapping[str, tuple[float, float]] = MappingProxyType(
+    {
+        "nadir": (-90.0, 0.0),
+        "three_axis": (-90.0, 30.0),
+        "upward": (-90.0, 90.0),
+    }
+)
+"""Pitch ranges, degrees, by the capability class of a gimbal (not any vendor's specification).
+
+``"nadir"``
+    A mapping gimbal: straight down to level, today's range everywhere in uavcov.
+``"three_axis"``
+    A typical stabilised 3-axis camera gimbal under the airframe, which tilts a little above the
+    horizon before the airframe blocks the view; +30 is a round figure for that class, not a
+    measured specification: give the range of your gimbal's manual with
+    ``Gimbal(pitch_range=...)``.
+``"upward"``
+    An inspection gimbal mounted so that nothing of the airframe is above the camera (top
+    mounted, or on a nose boom): straight down to straight up, what looking up under a deck
+    needs.
+"""
+
+
+def gimbal_pitch_limits(capability: Any) -> tuple[float, float]:
+    """The pitch range of a capability class of :data:`GIMBAL_PITCH_LIMITS`, degrees."""
+    if not isinstance(capability, str):
+        raise InvalidTypeError(f"a gimbal capability must be a string, got {type(capability).__name__}")
+    if capability not in GIMBAL_PITCH_LIMITS:
+        raise InvalidInputError(f"unknown gimbal capability {capability!r}: one of {tuple(GIMBAL_PITCH_LIMITS)}")
+    return GIMBAL_PITCH_LIMITS[capability]
 
 
 def _fov(value: Any, name: str) -> float:
@@ -245,7 +293,14 @@ def camera_axes(yaw_deg: Any, pitch_deg: Any) -> tuple[np.ndarray, np.ndarray, n
     Raises
     ------
     InvalidInputError
-        A non-finite angle, or a pitch outside ``[-90, 0]`` degrees (a camera pointing up).
+        A non-finite angle, or a pitch outside ``[-90, 90]`` degrees (nadir to zenith; beyond
+        the zenith, turn the heading round instead).
+
+    Examples
+    --------
+    >>> forward, right, up = camera_axes([0.0], [90.0])  # straight up, the image's top to the south
+    >>> (forward[0].round(12) + 0.0).tolist(), (up[0].round(12) + 0.0).tolist()
+    ([0.0, 0.0, 1.0], [0.0, -1.0, 0.0])
     """
     yaw = np.atleast_1d(as_float_array(yaw_deg, "yaw"))
     pitch = np.atleast_1d(as_float_array(pitch_deg, "pitch"))
@@ -253,8 +308,8 @@ def camera_axes(yaw_deg: Any, pitch_deg: Any) -> tuple[np.ndarray, np.ndarray, n
         raise InvalidInputError(f"yaw and pitch must be (N,) arrays of the same length, got {yaw.shape} and {pitch.shape}")
     if not (np.isfinite(yaw).all() and np.isfinite(pitch).all()):
         raise InvalidInputError("yaw and pitch must be finite")
-    if ((pitch < -90.0) | (pitch > 0.0)).any():
-        raise InvalidInputError(f"pitch must be in [-90, 0] degrees (nadir to level; a camera cannot point up), got {pitch.tolist()}")
+    if ((pitch < -90.0) | (pitch > 90.0)).any():
+        raise InvalidInputError(f"pitch must be in [-90, 90] degrees (nadir to zenith), got {pitch.tolist()}")
     y, p = np.radians(yaw), np.radians(pitch)
     sy, cy, sp, cp = np.sin(y), np.cos(y), np.sin(p), np.cos(p)
     forward = np.column_stack([sy * cp, cy * cp, sp])

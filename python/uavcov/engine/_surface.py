@@ -351,6 +351,57 @@ class Terrain:
         """
         return self._surface.closest_point(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
 
+    def distance(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
+        """The least 3D distance from each point to the surface: ``(n, 3)`` in, ``(n,)`` out, metres.
+
+        The standoff of ``Constraints(clearance="standoff")``; ``n_threads`` as in
+        :meth:`ground_height`. An elevation grid builds its triangle mesh on first use.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=1.0)
+        >>> flat.distance([[5.0, 5.0, 3.0], [13.0, 9.0, 4.0]])
+        array([3., 5.])
+        """
+        return self._surface.distance(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+
+    def inside(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
+        """Whether each point is inside a closed solid of the mesh: ``(n, 3)`` in, ``(n,)`` bool out.
+
+        A ray from the point crosses a closed solid's surface an odd number of times when it
+        starts inside; the answer is the vote of three fixed, skewed, upward rays (two of three),
+        which keeps a ground plane below the point out of the count and survives a ray grazing
+        an edge. Meant for meshes whose solids are closed (watertight) components; an open
+        surface above a point (a hillside) may count as a wall and make it "inside", and so does
+        a ground plane over a point under it (the flight limits refuse both).
+        ``n_threads`` as in :meth:`ground_height`.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> box = uavcov.Terrain(
+        ...     [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]],
+        ...     [
+        ...         [0, 2, 3],
+        ...         [0, 3, 1],
+        ...         [4, 5, 7],
+        ...         [4, 7, 6],
+        ...         [0, 1, 5],
+        ...         [0, 5, 4],
+        ...         [2, 6, 7],
+        ...         [2, 7, 3],
+        ...         [0, 4, 6],
+        ...         [0, 6, 2],
+        ...         [1, 3, 7],
+        ...         [1, 7, 5],
+        ...     ],
+        ... )
+        >>> box.inside([[0.5, 0.4, 0.3], [0.5, 0.4, 1.3]])
+        array([ True, False])
+        """
+        return self._surface.inside(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+
     def segments_clear(self, a: Any, b: Any, *, n_threads: int | None = None) -> np.ndarray:
         """Whether each closed segment ``a[k] -> b[k]`` crosses no triangle.
 
@@ -392,6 +443,7 @@ class Terrain:
         d_safe: float,
         check_moves: bool,
         n_threads: int | None = None,
+        clearance: str = "vertical",
     ) -> np.ndarray:
         """Which candidate configurations keep the flight limits of eq. 2, in one Rust pass.
 
@@ -411,13 +463,22 @@ class Terrain:
             The resolved limits (``Constraints.flight_box`` and the fields of that name).
         n_threads : int, optional
             As in :meth:`clearance`; results do not depend on it.
+        clearance : {"vertical", "standoff"}, default "vertical"
+            What ``h_min`` and ``h_max`` bound (``Constraints.clearance``).
 
         Returns
         -------
         (M,) bool array
         """
         check = self.admissible_check(
-            bounds=bounds, h_min=h_min, h_max=h_max, z_max=z_max, d_safe=d_safe, check_moves=check_moves, n_threads=n_threads
+            bounds=bounds,
+            h_min=h_min,
+            h_max=h_max,
+            z_max=z_max,
+            d_safe=d_safe,
+            check_moves=check_moves,
+            n_threads=n_threads,
+            clearance=clearance,
         )
         return check(current, candidates)
 
@@ -431,6 +492,7 @@ class Terrain:
         d_safe: float,
         check_moves: bool,
         n_threads: int | None = None,
+        clearance: str = "vertical",
     ) -> Callable[[Any, Any], np.ndarray]:
         """:meth:`admissible_mask` with these limits checked once: ``check(current, candidates)``.
 
@@ -449,6 +511,8 @@ class Terrain:
             bool(check_moves),
         )
         threads = as_n_threads(n_threads)
+        if clearance not in ("vertical", "standoff"):
+            raise InvalidInputError(f'clearance must be "vertical" or "standoff", got {clearance!r}')
         rust = self._surface.admissible_mask
 
         def check(current: Any, candidates: Any) -> np.ndarray:
@@ -459,7 +523,7 @@ class Terrain:
                 cand = cand.reshape(-1, 3)
             if n_uavs == 0 or cand.ndim != 2 or cand.shape[1] != 3 or cand.shape[0] % n_uavs:
                 raise InvalidInputError(f"candidates must have shape (M, {n_uavs}, 3), got {cand.shape}")
-            return rust(cur, cand, (xmin, ymin, xmax, ymax), *limits, threads)
+            return rust(cur, cand, (xmin, ymin, xmax, ymax), *limits, threads, clearance)
 
         return check
 

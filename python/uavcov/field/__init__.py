@@ -1,8 +1,10 @@
-"""Flying a real site: areas of interest, flight plans on a GeoDem, and the files a ground station reads."""
+"""Flying a real site: areas of interest, flight plans on a GeoDem or around a geo-referenced
+structure, the files a ground station reads, and a structure's seen point cloud."""
 
 from __future__ import annotations
 
 from ._area import AREA_FRAMES, AreaOfInterest, bbox_area, points_in_rings, read_area
+from ._geodesy import GeoAnchor, enu_to_wgs84, local_to_true_heading
 from ._outputs import (
     COVERAGE_NODATA,
     MAV_CMD_DO_MOUNT_CONTROL,
@@ -20,6 +22,8 @@ from ._outputs import (
     write_plan,
 )
 from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
+from ._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
+from ._structure_plan import StructurePlan, render_structure_plan, structure_plan, structure_qgc_plan, write_structure_plan
 
 __all__ = [
     "AreaOfInterest",
@@ -45,4 +49,15 @@ __all__ = [
     "FlightPlan",
     "plan",
     "TAKEOFF_FRAMES",
+    "GeoAnchor",
+    "enu_to_wgs84",
+    "local_to_true_heading",
+    "write_seen_ply",
+    "read_seen_ply",
+    "seen_cloud_bytes",
+    "StructurePlan",
+    "structure_plan",
+    "structure_qgc_plan",
+    "render_structure_plan",
+    "write_structure_plan",
 ]

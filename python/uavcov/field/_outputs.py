@@ -100,24 +100,16 @@ def _items(fp: FlightPlan, k: int) -> list[tuple[int, str, float, float, float]]
     ]
 
 
-def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
-    """UAV ``uav``'s QGroundControl ``.plan`` document (a dict, JSON-ready).
-
-    Items: take-off at home to the transit altitude, transit to above the position, descent to
-    the position, loiter there ``hold_s`` seconds; every altitude relative to home (frame 3).
-    With a camera, the descent's waypoint turns the vehicle to the camera's heading (param 4,
-    degrees from true north) and a ``DO_MOUNT_CONTROL`` item before the loiter sets the gimbal's
-    pitch (param 1, degrees, -90 straight down; yaw 0: the camera looks along the vehicle).
-    """
-    fp = _check(flight_plan)
-    if not 0 <= uav < fp.n_uavs:
-        raise InvalidInputError(f"uav must be in [0, {fp.n_uavs}), got {uav}")
+def qgc_items(
+    rows: Sequence[tuple[int, str, float, float, float]], hold_s: float, heading: float | None, pitch: float | None
+) -> list[dict[str, Any]]:
+    """QGroundControl ``SimpleItem`` dicts for ``(command, name, latitude, longitude, altitude above
+    home)`` rows: a loiter holds ``hold_s`` seconds, the ``"position"`` waypoint turns the vehicle
+    to ``heading`` and, with a ``pitch``, a ``DO_MOUNT_CONTROL`` before the loiter sets the gimbal."""
     items: list[dict[str, Any]] = []
-    heading = None if fp.attitudes is None else float(fp.attitudes[uav, 0])
-    for command, name, lat, lon, alt in _items(fp, uav):
-        p1 = fp.settings.hold_s if command == MAV_CMD_NAV_LOITER_TIME else 0.0
-        if command == MAV_CMD_NAV_LOITER_TIME and fp.attitudes is not None:
-            pitch = float(fp.attitudes[uav, 1])
+    for command, name, lat, lon, alt in rows:
+        p1 = hold_s if command == MAV_CMD_NAV_LOITER_TIME else 0.0
+        if command == MAV_CMD_NAV_LOITER_TIME and pitch is not None:
             items.append(
                 {
                     "autoContinue": True,
@@ -142,7 +134,13 @@ def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
                 "type": "SimpleItem",
             }
         )
-    home_lon, home_lat, home = (float(v) for v in fp.takeoff_wgs84)
+    return items
+
+
+def qgc_document(
+    items: list[dict[str, Any]], home: tuple[float, float, float], cruise_speed: float, hover_speed: float, about: dict[str, Any]
+) -> dict[str, Any]:
+    """A QGroundControl ``.plan`` document around ``items``; ``home`` is (latitude, longitude, altitude)."""
     return {
         "fileType": "Plan",
         "version": 1,
@@ -151,26 +149,46 @@ def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
             "version": 2,
             "firmwareType": 12,  # PX4
             "vehicleType": 2,  # quadrotor
-            "cruiseSpeed": fp.settings.cruise_speed,
-            "hoverSpeed": fp.settings.hover_speed,
+            "cruiseSpeed": cruise_speed,
+            "hoverSpeed": hover_speed,
             "globalPlanAltitudeMode": 1,
-            "plannedHomePosition": [home_lat, home_lon, home],
+            "plannedHomePosition": list(home),
             "items": items,
         },
         "geoFence": {"circles": [], "polygons": [], "version": 2},
         "rallyPoints": {"points": [], "version": 2},
-        "uavcov": {
-            "uav": uav + 1,
-            "altitude_frame": _ALTITUDE_FRAME,
-            "home_altitude": f"the DEM's height at the take-off point: {fp.dem.vertical_datum}",
-            "horizontal_crs": "WGS 84 (EPSG:4326), latitude and longitude in degrees",
-            **(
-                {}
-                if fp.attitudes is None
-                else {"camera": "heading: degrees clockwise from true north (position waypoint, param 4); gimbal pitch: degrees, -90 nadir"}
-            ),
-        },
+        "uavcov": about,
     }
+
+
+def qgc_plan(flight_plan: FlightPlan, uav: int) -> dict[str, Any]:
+    """UAV ``uav``'s QGroundControl ``.plan`` document (a dict, JSON-ready).
+
+    Items: take-off at home to the transit altitude, transit to above the position, descent to
+    the position, loiter there ``hold_s`` seconds; every altitude relative to home (frame 3).
+    With a camera, the descent's waypoint turns the vehicle to the camera's heading (param 4,
+    degrees from true north) and a ``DO_MOUNT_CONTROL`` item before the loiter sets the gimbal's
+    pitch (param 1, degrees, -90 straight down; yaw 0: the camera looks along the vehicle).
+    """
+    fp = _check(flight_plan)
+    if not 0 <= uav < fp.n_uavs:
+        raise InvalidInputError(f"uav must be in [0, {fp.n_uavs}), got {uav}")
+    heading = None if fp.attitudes is None else float(fp.attitudes[uav, 0])
+    pitch = None if fp.attitudes is None else float(fp.attitudes[uav, 1])
+    items = qgc_items(_items(fp, uav), fp.settings.hold_s, heading, pitch)
+    home_lon, home_lat, home = (float(v) for v in fp.takeoff_wgs84)
+    about = {
+        "uav": uav + 1,
+        "altitude_frame": _ALTITUDE_FRAME,
+        "home_altitude": f"the DEM's height at the take-off point: {fp.dem.vertical_datum}",
+        "horizontal_crs": "WGS 84 (EPSG:4326), latitude and longitude in degrees",
+        **(
+            {}
+            if fp.attitudes is None
+            else {"camera": "heading: degrees clockwise from true north (position waypoint, param 4); gimbal pitch: degrees, -90 nadir"}
+        ),
+    }
+    return qgc_document(items, (home_lat, home_lon, home), fp.settings.cruise_speed, fp.settings.hover_speed, about)
 
 
 def read_qgc_plan(path: Any) -> dict[str, Any]:
@@ -802,7 +820,11 @@ def write_plan(flight_plan: FlightPlan, out: Any, *, command: str | None = None,
     ResultsFolderError
         ``out`` is a file, or cannot be created or written.
     """
-    files = render_plan(flight_plan, command=command, runtime_s=runtime_s)
+    return write_files(render_plan(flight_plan, command=command, runtime_s=runtime_s), out)
+
+
+def write_files(files: dict[str, bytes], out: Any) -> list[Path]:
+    """Write ``{name: bytes}`` into the folder ``out`` (created if needed), each file atomically."""
     if not isinstance(out, (str, os.PathLike)):
         raise InvalidTypeError(f"out must be a path, got {type(out).__name__}")
     folder = Path(out)

@@ -15,6 +15,15 @@ and, when ``check_moves`` is set (scenes with buildings), the straight move from
 position to the new one crosses no surface. The checks read the world only through what a UAV
 team could sense or has been told: :class:`World` (``clearance``, ``segments_clear``,
 ``ground_height``, ``bounds``), which :class:`uavcov.engine.Terrain` provides.
+
+That is the ``clearance="vertical"`` meaning, the paper's, made for height fields. Structures
+(a bridge deck a UAV flies under, a tower it circles) take ``clearance="standoff"``: ``h_min``
+and ``h_max`` then bound the least 3D distance from the UAV to any surface
+(``Terrain.distance``), the UAV must have some surface straight below it (not under the ground
+nor off its edge) and be inside no closed solid (``Terrain.inside``), and ``z_max`` stays an
+absolute ceiling. :func:`closest_admissible` then pushes a UAV out along the line from its
+nearest surface point (out of a solid, away from a surface closer than ``h_min``, back within
+``h_max``) instead of lifting it above the highest surface.
 """
 
 from __future__ import annotations
@@ -54,6 +63,25 @@ class World(Protocol):
     def segments_clear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``(n, 3), (n, 3) -> (n,)`` bool: the closed segment crosses no surface."""
         ...
+
+
+class StandoffWorld(World, Protocol):
+    """What ``clearance="standoff"`` needs besides :class:`World` (``Terrain`` provides it)."""
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        """``(n, 3) -> (n,)`` least 3D distance to the surface."""
+        ...
+
+    def inside(self, points: np.ndarray) -> np.ndarray:
+        """``(n, 3) -> (n,)`` bool: inside a closed solid."""
+        ...
+
+    def closest_point(self, points: np.ndarray) -> np.ndarray:
+        """``(n, 3) -> (n, 3)`` the closest surface point."""
+        ...
+
+
+_CLEARANCES = ("vertical", "standoff")
 
 
 def _as_bounds(value: Any) -> tuple[float, float, float, float]:
@@ -107,11 +135,19 @@ class Constraints:
         point inside one passes the clearance test). ``None`` decides by the surface: on for
         general meshes, off for elevation grids, where a move between two admissible positions a few metres apart
         cannot cross the ground.
+    clearance : {"vertical", "standoff"}, default "vertical"
+        What ``h_min`` and ``h_max`` bound. ``"vertical"``: the distance straight down to the
+        surface, as above (height fields; today's runs). ``"standoff"`` (structures): the least
+        3D distance to any surface; the UAV must also have surface straight below it and be
+        inside no closed solid, and ``z_max`` stays an absolute ceiling. Use ``check_moves``
+        with it (``None`` turns it on for meshes): a move is then checked against the mesh, and
+        a UAV that reached its position by a clear move from outside every solid needs no
+        inside test.
 
     Raises
     ------
     InvalidInputError
-        Non-finite or out-of-range values.
+        Non-finite or out-of-range values, an unknown ``clearance``.
     InfeasibleError
         ``h_min > z_max`` or ``h_min > h_max``.
     """
@@ -122,8 +158,13 @@ class Constraints:
     d_safe: float = 2.0
     check_moves: bool | None = False
     h_max: float | None = None
+    clearance: str = "vertical"
 
     def __post_init__(self) -> None:
+        if not isinstance(self.clearance, str):
+            raise InvalidTypeError(f"clearance must be a string, got {type(self.clearance).__name__}")
+        if self.clearance not in _CLEARANCES:
+            raise InvalidInputError(f'clearance must be "vertical" or "standoff", got {self.clearance!r}')
         if self.bounds is not None:
             object.__setattr__(self, "bounds", _as_bounds(self.bounds))
         object.__setattr__(self, "h_min", as_non_negative_float(self.h_min, "h_min"))
@@ -168,7 +209,8 @@ class Constraints:
         """Raise :class:`InfeasibleError` if ``n_uavs`` UAVs surely cannot all be admissible.
 
         Three necessary conditions: some altitude satisfies ``h_min`` and ``z_max`` above the
-        lowest point of ``world``, two UAVs can be ``d_safe`` apart inside the flight box, and the
+        lowest point of ``world`` (with either clearance: a standoff needs surface below too),
+        two UAVs can be ``d_safe`` apart inside the flight box, and the
         balls of radius ``d_safe / 2`` around the UAVs fit, by volume, in the flight box grown by
         that radius. Passing them does not prove a
         packing exists; :func:`closest_admissible` reports when it finds none.
@@ -187,8 +229,11 @@ class Constraints:
         r = self.d_safe / 2.0
         xmin, ymin, xmax, ymax = resolved.flight_box
         # over any x-y point the admissible altitudes span at most z_max - floor, and at most
-        # h_max - h_min when the ceiling above ground is set
-        height = self.z_max - floor if self.h_max is None else min(self.z_max - floor, self.h_max - self.h_min)
+        # h_max - h_min when the ceiling above ground is set (a standoff's h_max bounds a shell
+        # around a structure, which can be as tall as the structure: no such bound)
+        height = self.z_max - floor
+        if self.h_max is not None and self.clearance == "vertical":
+            height = min(height, self.h_max - self.h_min)
         diagonal = math.hypot(xmax - xmin, ymax - ymin, height)
         if self.d_safe > diagonal:
             raise InfeasibleError(
@@ -203,8 +248,11 @@ class Constraints:
             )
 
 
-def _check_world(world: Any) -> None:
-    for name in ("bounds", "ground_height", "clearance", "segments_clear"):
+def _check_world(world: Any, constraints: Constraints | None = None) -> None:
+    names = ["bounds", "ground_height", "clearance", "segments_clear"]
+    if constraints is not None and constraints.clearance == "standoff":
+        names += ["distance", "inside", "closest_point"]
+    for name in names:
         if not hasattr(world, name):
             raise InvalidTypeError(f"world must provide {name} (a Terrain does), got {type(world).__name__}")
 
@@ -270,7 +318,7 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     """
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
-    _check_world(world)
+    _check_world(world, constraints)
     constraints = constraints.resolve(world)
     cur = as_points(current, "current")
     cand = _as_candidates(candidates, cur.shape[0])
@@ -282,7 +330,9 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     # cheap checks first, so the surface is only queried for candidates still in the running
     ok = _static_ok(constraints, cand)
     idx = np.flatnonzero(ok)
-    if idx.size:
+    if idx.size and constraints.clearance == "standoff":
+        ok[idx] = _standoff_ok(constraints, world, cand[idx], threads)
+    elif idx.size:
         clear = np.asarray(world.clearance(np.ascontiguousarray(cand[idx].reshape(-1, 3)), **threads), dtype=np.float64)
         clear = clear.reshape(idx.size, n_uavs)
         good = np.isfinite(clear) & (clear >= constraints.h_min)
@@ -305,11 +355,23 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     return ok
 
 
+def _standoff_ok(constraints: Constraints, world: Any, cand: np.ndarray, threads: dict[str, Any]) -> np.ndarray:
+    """The standoff rules for ``(M, N, 3)`` candidates, one query of each kind: ``(M,)`` bool."""
+    flat = np.ascontiguousarray(cand.reshape(-1, 3))
+    dist = np.asarray(world.distance(flat, **threads), dtype=np.float64)
+    good = dist >= constraints.h_min
+    if constraints.h_max is not None:
+        good &= dist <= constraints.h_max
+    good &= np.isfinite(np.asarray(world.clearance(flat, **threads), dtype=np.float64))
+    good &= ~np.asarray(world.inside(flat, **threads), dtype=bool)
+    return np.asarray(good.reshape(cand.shape[:2]).all(axis=1), dtype=bool)
+
+
 def feasibility(constraints: Constraints, world: World, *, n_threads: int | None = None) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
     """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world`` (and ``n_threads``)."""
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
-    _check_world(world)
+    _check_world(world, constraints)
     constraints = constraints.resolve(world)
     fused = _fused_check(constraints, world, n_threads)
     if fused is not None:  # the limits checked once, not on each of a mission's hundreds of calls
@@ -334,6 +396,7 @@ def _fused_check(constraints: Constraints, world: World, n_threads: int | None) 
         d_safe=constraints.d_safe,
         check_moves=bool(constraints.check_moves),
         n_threads=n_threads,
+        **({} if constraints.clearance == "vertical" else {"clearance": constraints.clearance}),
     )
     return check
 
@@ -359,6 +422,58 @@ def _separation_direction(i: int, j: int) -> np.ndarray:
     return np.array([math.cos(angle), math.sin(angle), 0.0])
 
 
+def _lift(constraints: Constraints, world: World, pos: np.ndarray, climb: float) -> None:
+    """One vertical projection of every UAV in place: to ``ground + h_min``, under the ceilings."""
+    ground = np.asarray(world.ground_height(np.ascontiguousarray(pos[:, :2])), dtype=np.float64)
+    if np.isnan(ground).any():
+        bad = int(np.flatnonzero(np.isnan(ground))[0])
+        raise InfeasibleError(f"UAV {bad} at x-y {tuple(pos[bad, :2])} stands over no surface")
+    floor = ground + constraints.h_min
+    # Lifted with a margin, and judged with it: a UAV exactly at ground + h_min can measure a
+    # clearance a rounding below h_min and be refused by feasible_mask.
+    inset = _MARGIN if constraints.h_max is None else min(_MARGIN, 0.5 * (constraints.h_max - constraints.h_min))
+    low = pos[:, 2] < floor + inset
+    pos[low, 2] = floor[low] + max(climb, inset)
+    if constraints.h_max is not None:
+        # too high above the ground, or lifted by a climb through the ceiling: just under it
+        ceiling = ground + constraints.h_max - inset
+        high = pos[:, 2] > ceiling
+        pos[high, 2] = ceiling[high]
+    if (pos[:, 2] > constraints.z_max).any():
+        if (floor > constraints.z_max).any():
+            bad = int(np.flatnonzero(floor > constraints.z_max)[0])
+            raise InfeasibleError(f"UAV {bad}: ground at {ground[bad]:.3f} m plus h_min exceeds z_max = {constraints.z_max} m")
+        pos[:, 2] = np.minimum(pos[:, 2], constraints.z_max)
+
+
+def _push_out(constraints: Constraints, world: Any, pos: np.ndarray, climb: float) -> None:
+    """One standoff projection of every UAV in place, along the line from its nearest surface point.
+
+    A UAV inside a solid or under the ground goes out through its nearest surface point (the
+    point is then between the UAV and the open air) to ``h_min`` beyond it; a UAV closer than
+    ``h_min`` goes straight away from its nearest point to ``h_min``; one beyond ``h_max``
+    comes back towards it to just inside ``h_max``; then under ``z_max``. A UAV exactly on the
+    surface, with no direction to leave along, goes up.
+    """
+    inset = _MARGIN if constraints.h_max is None else min(_MARGIN, 0.5 * (constraints.h_max - constraints.h_min))
+    flat = np.ascontiguousarray(pos)
+    nearest = np.asarray(world.closest_point(flat), dtype=np.float64)
+    away = pos - nearest
+    dist = np.sqrt(np.einsum("nk,nk->n", away, away))
+    trapped = np.asarray(world.inside(flat), dtype=bool) | ~np.isfinite(np.asarray(world.clearance(flat), dtype=np.float64))
+    unit = np.zeros_like(pos)
+    unit[:, 2] = 1.0
+    has_dir = dist > 0.0
+    unit[has_dir] = away[has_dir] / dist[has_dir, None]
+    unit[trapped & has_dir] *= -1.0  # out through the nearest surface, not deeper in
+    low = trapped | (dist < constraints.h_min + inset)
+    pos[low] = nearest[low] + unit[low] * (constraints.h_min + max(climb, inset))
+    if constraints.h_max is not None:
+        high = ~low & (dist > constraints.h_max - inset)
+        pos[high] = nearest[high] + unit[high] * (constraints.h_max - inset)
+    np.minimum(pos[:, 2], constraints.z_max, out=pos[:, 2])
+
+
 def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb: float = 0.0, max_sweeps: int = 1000) -> np.ndarray:
     """Move a start configuration to nearby admissible positions (deterministic).
 
@@ -367,6 +482,11 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
     ``ground + h_max`` and to ``z_max``), then pushes every pair closer than ``d_safe`` apart symmetrically along the line
     joining them (a fixed horizontal direction when they coincide). Sweeps repeat until nothing
     moves. A UAV already admissible and far from the others is left exactly where it is.
+
+    With ``clearance="standoff"`` the projection instead moves a UAV along the line from its
+    nearest surface point (``Terrain.closest_point``): out of a solid or from under the ground
+    through that point to ``h_min`` beyond it, away from a surface closer than ``h_min``, back
+    within ``h_max``; a UAV under a bridge deck with its standoff is left where it is.
 
     Parameters
     ----------
@@ -394,7 +514,7 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
     """
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
-    _check_world(world)
+    _check_world(world, constraints)
     constraints = constraints.resolve(world)
     pos = as_points(x, "x").copy()
     climb = as_non_negative_float(climb, "climb")
@@ -409,26 +529,10 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
         before = pos.copy()
         pos[:, 0] = np.clip(pos[:, 0], xmin, xmax)
         pos[:, 1] = np.clip(pos[:, 1], ymin, ymax)
-        ground = np.asarray(world.ground_height(np.ascontiguousarray(pos[:, :2])), dtype=np.float64)
-        if np.isnan(ground).any():
-            bad = int(np.flatnonzero(np.isnan(ground))[0])
-            raise InfeasibleError(f"UAV {bad} at x-y {tuple(pos[bad, :2])} stands over no surface")
-        floor = ground + constraints.h_min
-        # Lifted with a margin, and judged with it: a UAV exactly at ground + h_min can measure a
-        # clearance a rounding below h_min and be refused by feasible_mask.
-        inset = _MARGIN if constraints.h_max is None else min(_MARGIN, 0.5 * (constraints.h_max - constraints.h_min))
-        low = pos[:, 2] < floor + inset
-        pos[low, 2] = floor[low] + max(climb, inset)
-        if constraints.h_max is not None:
-            # too high above the ground, or lifted by a climb through the ceiling: just under it
-            ceiling = ground + constraints.h_max - inset
-            high = pos[:, 2] > ceiling
-            pos[high, 2] = ceiling[high]
-        if (pos[:, 2] > constraints.z_max).any():
-            if (floor > constraints.z_max).any():
-                bad = int(np.flatnonzero(floor > constraints.z_max)[0])
-                raise InfeasibleError(f"UAV {bad}: ground at {ground[bad]:.3f} m plus h_min exceeds z_max = {constraints.z_max} m")
-            pos[:, 2] = np.minimum(pos[:, 2], constraints.z_max)
+        if constraints.clearance == "standoff":
+            _push_out(constraints, world, pos, climb)
+        else:
+            _lift(constraints, world, pos, climb)
         if target > 0.0 and n_uavs > 1:
             i, j = pairs
             diff = pos[i] - pos[j]

@@ -24,6 +24,8 @@ The package is split by what each part owns:
   hillshade, 3D axes styling;
 - :mod:`~uavcov.plotting._animation`: :func:`animate_mission`;
 - :mod:`~uavcov.plotting._writers`: :func:`write_ply` and the GIF / MP4 writers;
+- :mod:`~uavcov.plotting._structures`: :func:`plot_structure_seen`, a structure coloured by seen
+  from several sides;
 - :mod:`~uavcov.plotting._directory`: :func:`plot_directory`;
 - :mod:`~uavcov.plotting._view`: :func:`view`, the interactive 3D view (plotly, the extra
   ``uavcov[view]``), :func:`write_view` (one self-contained HTML file) and :func:`find_run`;
@@ -56,6 +58,7 @@ from ._figures import (
     seen_points,
 )
 from ._view import find_run, view, write_view
+from ._structures import STRUCTURE_VIEWS, face_seen_share, plot_structure_seen
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
 from ._views import LIGHT as LIGHT
 from ._writers import write_ply
@@ -75,6 +78,9 @@ __all__ = [
     "published_values",
     "seen_points",
     "write_ply",
+    "plot_structure_seen",
+    "face_seen_share",
+    "STRUCTURE_VIEWS",
     "view",
     "write_view",
     "find_run",

@@ -1,4 +1,4 @@
-"""What a surface is made from: Gaussian hills, buildings, mesh files, geo-referenced DEMs, and the prior S'."""
+"""What a surface is made from: Gaussian hills, buildings, mesh files, geo-referenced DEMs, 3D structures, and the prior S'."""
 
 from __future__ import annotations
 
@@ -17,6 +17,26 @@ from ._prior import (
     buildings_prior,
     sample_node_prior,
     sample_prior,
+)
+from ._structure_prior import (
+    ReconstructionError,
+    StructurePrior,
+    coarse_structure_prior,
+    reconstruct_structure,
+    reconstruction_error,
+    sample_structure_prior,
+)
+from ._structures import (
+    STRUCTURE_SCENES,
+    Structure,
+    StructureTargets,
+    arch_bridge,
+    facade,
+    girder_bridge,
+    height_field_violation,
+    lattice_pylon,
+    load_structure,
+    wind_turbine,
 )
 
 __all__ = [
@@ -54,4 +74,20 @@ __all__ = [
     "approximation_error",
     "building_corner_prior",
     "buildings_prior",
+    "Structure",
+    "StructureTargets",
+    "STRUCTURE_SCENES",
+    "girder_bridge",
+    "arch_bridge",
+    "wind_turbine",
+    "facade",
+    "lattice_pylon",
+    "load_structure",
+    "height_field_violation",
+    "StructurePrior",
+    "sample_structure_prior",
+    "coarse_structure_prior",
+    "reconstruct_structure",
+    "ReconstructionError",
+    "reconstruction_error",
 ]

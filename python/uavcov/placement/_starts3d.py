@@ -1,0 +1,505 @@
+"""Starts for a structure (any triangle mesh, not a height field), and cameras that face it.
+
+Three starts, each on S' given as a generic :class:`~uavcov.Terrain` mesh:
+
+:func:`standoff_start`
+    The CVT generators of S' (:func:`uavcov.placement.cvt`, general on meshes), each flown out
+    along S''s outward normal at the generator to ``standoff`` metres, with the camera looking
+    back along the inward normal (heading and pitch from the normal, :func:`facing_attitudes`).
+    The normal is the *face* normal of the triangle the generator lies on (on an edge or vertex
+    shared by several, the mean of their distinct planes' normals), not an interpolated vertex
+    normal (nor an area-weighted one): a
+    structure is made of flat faces meeting at sharp edges, and on a coarse S' a vertex normal
+    smears that edge over the whole face (a box's eight vertex normals all point diagonally, so
+    a generator in the middle of a wall would be flown out at 55 degrees off the wall's normal).
+:func:`random_volume_start`
+    Uniform in a flight box, kept where a given ``admissible(points) -> bool`` predicate
+    accepts (the 3D flight limits), by rejection, deterministic for a given ``rng``.
+:func:`launch_pad_start`
+    The paper's "corner": a compact square lattice centred on a take-off pad.
+
+The height-field starts (:func:`uavcov.placement.initial_positions`) are untouched.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import (
+    MAX_GENERATORS,
+    MAX_SAMPLES,
+    as_count,
+    as_float_array,
+    as_generator,
+    as_non_negative_float,
+    as_points,
+    as_positive_float,
+    read_only,
+)
+from ..engine import Gimbal, Terrain, gimbal_pitch_limits
+from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from ._cvt import CVTResult, CVTSettings, cvt
+
+# Rounds of rejection draws before a random start gives up; each round draws a batch at least
+# _MIN_BATCH large, so a feasible share of the box under about 1/(rounds * batch) exhausts them.
+_MAX_ROUNDS = 200
+_MIN_BATCH = 256
+# (point, face) pairs tested at once by the closest-face search, about: bounds its memory (a few
+# hundred MB of temporaries), with a point's nearby small faces counted as 32.
+_PAIRS_PER_CHUNK = 500_000
+
+
+def _check_surface(surface: Any) -> Terrain:
+    if not isinstance(surface, Terrain):
+        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+    if surface.n_faces == 0 or surface.area <= 0.0:
+        raise InvalidInputError("surface has no area: a start needs a mesh with faces")
+    return surface
+
+
+class _Faces:
+    """A mesh's triangles with what the closest-face queries need, computed once."""
+
+    def __init__(self, surface: Terrain) -> None:
+        v, f = surface.vertices, surface.faces
+        self.a, self.b, self.c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+        cross = np.cross(self.b - self.a, self.c - self.a)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            unit = cross / np.linalg.norm(cross, axis=1)[:, None]
+        self.unit = np.where(np.isfinite(unit), unit, 0.0)  # a degenerate face has no direction
+        self.lo = np.minimum(np.minimum(self.a, self.b), self.c)
+        self.hi = np.maximum(np.maximum(self.a, self.b), self.c)
+        scale = float(np.abs(surface.bounds).max()) + float(np.ptp(surface.bounds, axis=0).max())
+        self.tol = 1e-9 * max(scale, 1.0)
+
+    def holding(self, closest: np.ndarray) -> list[np.ndarray]:
+        """For each point on the surface, the faces it lies on (its closest, and any tied)."""
+        from scipy.spatial import cKDTree
+
+        # A point inside a face's bounding box lies within half its diagonal of the box's centre:
+        # small faces are found by a k-d tree over the centres with the largest such radius, the
+        # few large ones (a ground plane's two triangles) by testing each, so that neither a
+        # fine mesh nor one huge face makes the search quadratic.
+        centre = 0.5 * (self.lo + self.hi)
+        half = 0.5 * np.linalg.norm(self.hi - self.lo, axis=1)
+        # At most about 1 % of the faces count as large, so the brute-force part stays small.
+        large = half > max(4.0 * float(np.median(half)), float(np.quantile(half, 0.99))) + self.tol
+        big, small = np.flatnonzero(large), np.flatnonzero(~large)
+        tree = cKDTree(centre[small]) if small.size else None
+        radius = float(half[small].max()) + self.tol if small.size else 0.0
+        out: list[np.ndarray] = []
+        step = max(1, _PAIRS_PER_CHUNK // (big.size + 32))
+        for start in range(0, closest.shape[0], step):
+            chunk = closest[start : start + step]
+            n = chunk.shape[0]
+            point_parts, face_parts = [np.repeat(np.arange(n), big.size)], [np.tile(big, n)]
+            if tree is not None:
+                nearby = tree.query_ball_point(chunk, r=radius)
+                counts = np.fromiter((len(found) for found in nearby), dtype=np.int64, count=n)
+                point_parts.append(np.repeat(np.arange(n), counts))
+                flat = np.fromiter((f for found in nearby for f in found), dtype=np.int64, count=int(counts.sum()))
+                face_parts.append(small[flat])
+            # Every (point, candidate face) pair at once: the box test, then the exact distance.
+            point, face = np.concatenate(point_parts), np.concatenate(face_parts)
+            q = chunk[point]
+            inside = ((q >= self.lo[face] - self.tol) & (q <= self.hi[face] + self.tol)).all(axis=1)
+            point, face, q = point[inside], face[inside], q[inside]
+            distance = _triangle_distance(q, self.a[face], self.b[face], self.c[face])
+            least = np.full(n, np.inf)
+            np.minimum.at(least, point, distance)
+            tied = distance <= least[point] + self.tol
+            point, face = point[tied], face[tied]
+            order = np.lexsort((face, point))
+            point, face = point[order], face[order]
+            out.extend(np.split(face, np.searchsorted(point, np.arange(1, n))))
+        return out
+
+
+def closest_faces(surface: Terrain, points: Any, normals: Any = None) -> np.ndarray:
+    """The index of the triangle of ``surface`` closest to each point.
+
+    Where several are equally close (an edge, a vertex, or two solids touching face to face, as
+    a pier's top under a deck), the one whose normal agrees best with the point's ``normal``
+    when given, then the lowest-numbered.
+
+    Parameters
+    ----------
+    surface : Terrain
+    points : (n, 3) array_like of float
+    normals : (n, 3) array_like of float, optional
+        Each point's surface normal (a target's).
+
+    Returns
+    -------
+    (n,) int64 ndarray
+    """
+    surface = _check_surface(surface)
+    p = as_points(points, "points", allow_empty=True)
+    direction = None if normals is None else as_points(normals, "normals", allow_empty=True)
+    if direction is not None and direction.shape != p.shape:
+        raise InvalidInputError(f"{direction.shape[0]} normals for {p.shape[0]} points")
+    if not p.shape[0]:
+        return np.empty(0, dtype=np.int64)
+    faces = _Faces(surface)
+    out = np.empty(p.shape[0], dtype=np.int64)
+    for k, tied in enumerate(faces.holding(surface.closest_point(p))):
+        best = tied
+        if direction is not None and tied.size > 1:
+            agreement = faces.unit[tied] @ direction[k]
+            best = tied[agreement >= agreement.max() - 1e-9]
+        out[k] = best[0]
+    return out
+
+
+def surface_normals(surface: Terrain, points: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The closest point of ``surface`` to each point, and the outward face normal there.
+
+    The normal is the right-hand normal of the triangle holding the closest point (faces wound
+    counter-clockwise seen from outside); where that point lies on an edge or a vertex shared
+    by several triangles, the mean of their distinct unit normals, each plane once (the bisector
+    at a box's edge, whatever the triangulation).
+
+    Parameters
+    ----------
+    surface : Terrain
+    points : (n, 3) array_like of float
+        Metres.
+
+    Returns
+    -------
+    closest : (n, 3) float64 ndarray
+        The closest points on the surface, metres.
+    normals : (n, 3) float64 ndarray
+        Unit normals.
+    """
+    surface = _check_surface(surface)
+    p = as_points(points, "points")
+    closest = surface.closest_point(p)
+    faces = _Faces(surface)
+    normals = np.empty_like(closest)
+    for k, holding in enumerate(faces.holding(closest)):
+        # Each plane once: the two triangles of one flat face must not outvote the other side.
+        planes = np.unique(np.round(faces.unit[holding], 9), axis=0) if holding.size else np.zeros((1, 3))
+        total = planes.sum(axis=0)
+        length = float(np.linalg.norm(total))
+        if length < 1e-6 and holding.size:
+            # Faces back to back (two solids touching, a fin of zero thickness) cancel: there
+            # is no outside there; take the lowest-numbered face's side, deterministically,
+            # and leave the flight limits to push the UAV out of the solid it lands in.
+            total, length = faces.unit[holding[0]], float(np.linalg.norm(faces.unit[holding[0]]))
+        if not length > 0.0:
+            raise InvalidInputError(f"no outward normal at surface point {closest[k].tolist()}: its faces are degenerate")
+        normals[k] = total / length
+    return closest, normals
+
+
+def _triangle_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Distance from each ``q`` (one point, or one per triangle) to each triangle ``(a, b, c)``
+    (the closest point by Ericson's regions)."""
+    ab, ac, ap = b - a, c - a, q - a
+    d1, d2 = (ab * ap).sum(1), (ac * ap).sum(1)
+    bp = q - b
+    d3, d4 = (ab * bp).sum(1), (ac * bp).sum(1)
+    cp = q - c
+    d5, d6 = (ab * cp).sum(1), (ac * cp).sum(1)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denominator = va + vb + vc
+        v = np.where(denominator != 0, vb / denominator, 0.0)
+        w = np.where(denominator != 0, vc / denominator, 0.0)
+        closest = a + ab * v[:, None] + ac * w[:, None]  # inside the face
+        # The vertex and edge regions, most specific last so that they win.
+        t_bc = np.clip(np.where((d4 - d3) + (d5 - d6) != 0, (d4 - d3) / ((d4 - d3) + (d5 - d6)), 0.0), 0.0, 1.0)
+        closest = np.where(((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0))[:, None], b + (c - b) * t_bc[:, None], closest)
+        t_ac = np.clip(np.where(d2 - d6 != 0, d2 / (d2 - d6), 0.0), 0.0, 1.0)
+        closest = np.where(((vb <= 0) & (d2 >= 0) & (d6 <= 0))[:, None], a + ac * t_ac[:, None], closest)
+        t_ab = np.clip(np.where(d1 - d3 != 0, d1 / (d1 - d3), 0.0), 0.0, 1.0)
+        closest = np.where(((vc <= 0) & (d1 >= 0) & (d3 <= 0))[:, None], a + ab * t_ab[:, None], closest)
+    closest = np.where(((d6 >= 0) & (d5 <= d6))[:, None], c, closest)
+    closest = np.where(((d3 >= 0) & (d4 <= d3))[:, None], b, closest)
+    closest = np.where(((d1 <= 0) & (d2 <= 0))[:, None], a, closest)
+    distance: np.ndarray = np.linalg.norm(q - closest, axis=1)
+    return distance
+
+
+def facing_attitudes(directions: Any) -> np.ndarray:
+    """The heading and gimbal pitch that point a camera's optical axis along each direction.
+
+    Heading clockwise from north (+y), in ``[0, 360)``; pitch from -90 (down) to +90 (up), as
+    :func:`uavcov.engine.camera_axes` takes them (its ``forward`` is then the unit direction). A
+    vertical direction has no heading of its own: it gets 0.
+
+    Parameters
+    ----------
+    directions : (n, 3) array_like of float
+        Non-zero vectors (any length).
+
+    Returns
+    -------
+    (n, 2) float64 ndarray
+        ``(yaw, pitch)`` in degrees.
+
+    Examples
+    --------
+    >>> facing_attitudes([[0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, -1.0, 1.0]]).tolist()
+    [[0.0, -90.0], [90.0, 0.0], [180.0, 45.0]]
+    """
+    d = as_points(directions, "directions")
+    horizontal = np.hypot(d[:, 0], d[:, 1])
+    if not (np.hypot(horizontal, d[:, 2]) > 0.0).all():
+        raise InvalidInputError("a camera direction must be a non-zero vector")
+    level = horizontal > 1e-12 * np.abs(d[:, 2])
+    yaw = np.where(level, np.degrees(np.arctan2(d[:, 0], d[:, 1])) % 360.0, 0.0)
+    pitch = np.degrees(np.arctan2(d[:, 2], horizontal))
+    return np.column_stack([yaw, pitch])
+
+
+def _pitch_limits(gimbal: Any) -> tuple[float, float]:
+    if isinstance(gimbal, str):
+        return gimbal_pitch_limits(gimbal)
+    if isinstance(gimbal, Gimbal):
+        if gimbal.pitch_range is None:
+            raise InvalidInputError("the gimbal states no pitch_range: give the range it reaches (Gimbal(pitch_range=...))")
+        return gimbal.pitch_range
+    raise InvalidTypeError(f"gimbal must be a capability name or a uavcov.Gimbal, got {type(gimbal).__name__}")
+
+
+def check_reachable(pitch_deg: Any, gimbals: Any) -> np.ndarray:
+    """Which of ``gimbals`` reaches each required pitch; refuses a pitch that none reaches.
+
+    Parameters
+    ----------
+    pitch_deg : (n,) array_like of float
+        Required pitches, degrees.
+    gimbals : str, Gimbal or sequence of them
+        What the team carries: capability names of :data:`uavcov.engine.GIMBAL_PITCH_LIMITS`
+        or gimbals with a ``pitch_range``. One for the whole team, or a list of options.
+
+    Returns
+    -------
+    (n,) int64 ndarray
+        For each pitch, the index of the first gimbal that reaches it (0 for a single gimbal).
+
+    Raises
+    ------
+    InfeasibleError
+        Some pitch lies outside every gimbal's range (the message names the UAVs and a
+        capability class that would reach them).
+    """
+    options = [gimbals] if isinstance(gimbals, (str, Gimbal)) else list(gimbals) if isinstance(gimbals, (list, tuple)) else None
+    if not options:
+        raise InvalidTypeError(f"gimbals must be a capability name, a Gimbal or a non-empty list of them, got {gimbals!r}")
+    limits = np.array([_pitch_limits(g) for g in options])
+    pitch = as_float_array(pitch_deg, "pitch_deg", ndim=1)
+    reach = (pitch[:, None] >= limits[None, :, 0]) & (pitch[:, None] <= limits[None, :, 1])
+    missing = np.flatnonzero(~reach.any(axis=1))
+    if missing.size:
+        shown = ", ".join(f"UAV {i} at {pitch[i]:.1f}" for i in missing[:5])
+        needed = "upward" if pitch[missing].max() > gimbal_pitch_limits("three_axis")[1] else "three_axis"
+        raise InfeasibleError(
+            f"{missing.size} camera pitch(es) no given gimbal reaches ({shown} degrees; ranges {limits.tolist()}): "
+            f"a camera that must point up needs a gimbal that can, e.g. Gimbal.preset({needed!r})"
+        )
+    first: np.ndarray = np.argmax(reach, axis=1).astype(np.int64)
+    return first
+
+
+@dataclass(frozen=True, eq=False)
+class StandoffStart:
+    """A start flown out from S' along its normals, each camera looking back at its generator.
+
+    Attributes
+    ----------
+    positions : (n, 3) float64
+        The UAVs, metres: ``anchors + standoff * normals``.
+    anchors : (n, 3) float64
+        The CVT generators on S', metres.
+    normals : (n, 3) float64
+        S''s outward unit face normal at each generator.
+    attitudes : (n, 2) float64
+        Heading and pitch, degrees, pointing each camera along the inward normal (at its
+        anchor), clipped to the gimbal's range only if asked to.
+    distance : (n,) float64
+        Each position's least distance to S', metres: ``standoff`` unless another part of S' is
+        nearer (a concave corner); the flight limits settle such starts.
+    tessellation : CVTResult
+        The CVT run.
+    """
+
+    positions: np.ndarray
+    anchors: np.ndarray
+    normals: np.ndarray
+    attitudes: np.ndarray
+    distance: np.ndarray
+    tessellation: CVTResult
+
+    def __post_init__(self) -> None:
+        for name in ("positions", "anchors", "normals", "attitudes", "distance"):
+            object.__setattr__(self, name, read_only(np.array(getattr(self, name), dtype=np.float64)))
+
+
+def standoff_start(
+    surface: Terrain,
+    n: int,
+    standoff: float,
+    *,
+    gimbal: Any = "upward",
+    clip_pitch: bool = False,
+    cvt_settings: CVTSettings | None = None,
+    rng: Any = None,
+    n_threads: int | None = None,
+) -> StandoffStart:
+    """CVT generators of ``surface`` flown out along its outward normals to ``standoff`` metres.
+
+    Parameters
+    ----------
+    surface : Terrain
+        S', a closed or open mesh with outward (right-hand, counter-clockwise) faces.
+    n : int
+        Team size, 1 to 10 000.
+    standoff : float
+        Metres from each generator along its normal (> 0).
+    gimbal : str, Gimbal or list of them, default "upward"
+        What the cameras can reach (see :func:`check_reachable`).
+    clip_pitch : bool, default False
+        ``False`` refuses a start whose camera would have to look beyond every gimbal's range;
+        ``True`` clips such a pitch into the first gimbal's range instead (the camera then does
+        not face its generator squarely).
+    cvt_settings : CVTSettings, optional
+    rng : None, int or numpy.random.Generator
+        The CVT's randomness.
+    n_threads : int, optional
+        Threads for the Rust side; results do not depend on it.
+
+    Raises
+    ------
+    InfeasibleError
+        A camera pitch that no gimbal reaches (unless ``clip_pitch``).
+    InvalidInputError
+        An empty mesh, ``standoff <= 0``, a bad ``n``.
+    """
+    surface = _check_surface(surface)
+    n = as_count(n, "n", MAX_GENERATORS)
+    distance_out = as_positive_float(standoff, "standoff")
+    if not isinstance(clip_pitch, bool):
+        raise InvalidTypeError(f"clip_pitch must be a bool, got {type(clip_pitch).__name__}")
+    tessellation = cvt(surface, n, cvt_settings, rng=rng, n_threads=n_threads)
+    anchors, normals = surface_normals(surface, tessellation.generators)
+    positions = anchors + distance_out * normals
+    attitudes = facing_attitudes(-normals)
+    if clip_pitch:
+        first = gimbal[0] if isinstance(gimbal, (list, tuple)) and gimbal else gimbal
+        low, high = _pitch_limits(first)
+        attitudes[:, 1] = np.clip(attitudes[:, 1], low, high)
+    else:
+        check_reachable(attitudes[:, 1], gimbal)
+    distance = np.linalg.norm(positions - surface.closest_point(positions, n_threads=n_threads), axis=1)
+    return StandoffStart(positions, anchors, normals, attitudes, distance, tessellation)
+
+
+def random_volume_start(
+    box: Any,
+    n: int,
+    admissible: Callable[[np.ndarray], Any],
+    *,
+    separation: float = 0.0,
+    rng: Any = None,
+) -> np.ndarray:
+    """``n`` positions uniform in the flight box where ``admissible`` accepts them, by rejection.
+
+    Each round draws a batch uniform in ``box``, asks ``admissible`` once for the whole batch,
+    and keeps, in draw order, the accepted points at least ``separation`` from every point kept
+    before. The result is the uniform distribution on the admissible volume (conditioned on the
+    separation), and the same for the same ``rng``.
+
+    Parameters
+    ----------
+    box : (2, 3) array_like of float
+        ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]``, metres, finite, each max > min.
+    n : int
+        Team size.
+    admissible : callable
+        ``admissible(points (m, 3)) -> (m,)`` bool: whether a UAV may be there (for a structure,
+        the 3D flight limits: standoff, not inside a solid, under the ceiling).
+    separation : float, default 0
+        Least distance between two UAVs, metres (``d_safe``).
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    (n, 3) float64 ndarray
+
+    Raises
+    ------
+    InfeasibleError
+        Fewer than ``n`` admissible, separated points after 200 rounds.
+    InvalidInputError
+        A bad box, or ``admissible`` answering with the wrong shape.
+    """
+    bounds = as_float_array(box, "box")
+    if bounds.shape != (2, 3) or not np.isfinite(bounds).all() or not (bounds[1] > bounds[0]).all():
+        raise InvalidInputError(f"box must be finite [[xmin, ymin, zmin], [xmax, ymax, zmax]] with max > min, got {box!r}")
+    n = as_count(n, "n", MAX_SAMPLES)
+    gap = as_non_negative_float(separation, "separation")
+    if not callable(admissible):
+        raise InvalidTypeError(f"admissible must be callable, got {type(admissible).__name__}")
+    generator = as_generator(rng)
+    kept = np.empty((n, 3))
+    count = 0
+    for _ in range(_MAX_ROUNDS):
+        batch = max(_MIN_BATCH, 4 * (n - count))
+        draws = generator.uniform(bounds[0], bounds[1], size=(batch, 3))
+        answer = np.asarray(admissible(draws))
+        if answer.shape != (batch,) or answer.dtype != np.bool_:
+            raise InvalidInputError(f"admissible must return a ({batch},) bool array for {batch} points, got {answer.dtype} {answer.shape}")
+        for point in draws[answer]:
+            if gap > 0.0 and count and (np.linalg.norm(kept[:count] - point, axis=1) < gap).any():
+                continue
+            kept[count] = point
+            count += 1
+            if count == n:
+                return kept
+    raise InfeasibleError(
+        f"found only {count} of {n} admissible positions {gap} m apart in {_MAX_ROUNDS} rounds of uniform draws in the box "
+        f"{bounds.tolist()}: the admissible volume is (almost) empty or too small for the team"
+    )
+
+
+def launch_pad_start(pad: Any, n: int, *, spacing: float = 3.0, altitude: float = 0.0) -> np.ndarray:
+    """A compact square lattice centred on a take-off pad: the paper's "corner" start for a structure.
+
+    ``ceil(sqrt(n))`` columns along x, filled row by row along y, ``spacing`` apart, centred on
+    the pad's ``(x, y)``, all at the pad's height plus ``altitude``.
+
+    Parameters
+    ----------
+    pad : (3,) array_like of float
+        The pad's centre on the ground, metres.
+    n : int
+    spacing : float, default 3.0
+        Metres (> 0).
+    altitude : float, default 0
+        Metres above the pad (>= 0).
+
+    Examples
+    --------
+    >>> launch_pad_start([10.0, 0.0, 2.0], 3, spacing=2.0).tolist()
+    [[9.0, -1.0, 2.0], [11.0, -1.0, 2.0], [9.0, 1.0, 2.0]]
+    """
+    centre = as_float_array(pad, "pad")
+    if centre.shape != (3,) or not np.isfinite(centre).all():
+        raise InvalidInputError(f"pad must be a finite (x, y, z), got {pad!r}")
+    n = as_count(n, "n", MAX_SAMPLES)
+    step = as_positive_float(spacing, "spacing")
+    lift = as_non_negative_float(altitude, "altitude")
+    columns = math.ceil(math.sqrt(n))
+    rows = math.ceil(n / columns)
+    k = np.arange(n)
+    x = centre[0] + (k % columns - (columns - 1) / 2) * step
+    y = centre[1] + (k // columns - (rows - 1) / 2) * step
+    return np.column_stack([x, y, np.full(n, centre[2] + lift)])

@@ -1,0 +1,429 @@
+"""Partial knowledge of a 3D structure and the surface S' made from it.
+
+A :class:`StructurePrior` is either known points on the structure (:func:`sample_structure_prior`:
+area-uniform, optional Gaussian noise, normals) or a coarse model (:func:`coarse_structure_prior`:
+boxes around the parts, or the mesh decimated by vertex clustering).
+:func:`reconstruct_structure` makes S' (a closed, outward-wound mesh) from either;
+:func:`reconstruction_error` measures S' against the truth (Hausdorff both ways, mean distance,
+area ratio). ``python scripts/structure_reconstruction.py`` writes the table of docs/structures.md.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
+from ..engine import Terrain
+from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
+from ._solids import box, face_normals, join, signed_volume
+from ._structures import CONTACT, Structure, connected_faces
+
+MAX_PRIOR_POINTS = 10_000_000
+PRIOR_KINDS = ("points", "boxes", "decimated")
+RECONSTRUCTION_METHODS = ("auto", "model", "alpha", "hulls", "poisson", "ball_pivoting")
+MIN_POINTS = 20
+
+
+@dataclass(frozen=True, eq=False)
+class StructurePrior:
+    """What is known of a structure before flying.
+
+    Attributes
+    ----------
+    points : (n, 3) float64 ndarray
+        Known points (m): samples on the surface for ``kind="points"``, the model's vertices for a
+        coarse model.
+    normals : (n, 3) float64 ndarray or None
+        Outward unit normals at ``points`` when the source gives them.
+    kind : {"points", "boxes", "decimated"}
+    model : Terrain or None
+        The coarse model (closed solids wound outward) for ``kind != "points"``.
+    noise : float
+        Standard deviation of the Gaussian noise added to the points (m).
+    """
+
+    points: np.ndarray
+    normals: np.ndarray | None
+    kind: str
+    model: Terrain | None = None
+    noise: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.kind not in PRIOR_KINDS:
+            raise InvalidInputError(f"kind must be one of {PRIOR_KINDS}, got {self.kind!r}")
+        points = as_points(self.points, "points").copy()
+        object.__setattr__(self, "points", read_only(points))
+        if self.normals is not None:
+            normals = as_points(self.normals, "normals").copy()
+            if normals.shape != points.shape:
+                raise InvalidInputError(f"{normals.shape[0]} normals for {points.shape[0]} points")
+            object.__setattr__(self, "normals", read_only(normals))
+        if self.model is not None and not isinstance(self.model, Terrain):
+            raise InvalidTypeError(f"model must be a Terrain, got {type(self.model).__name__}")
+        if (self.kind == "points") != (self.model is None):
+            raise InvalidInputError("a 'points' prior has no model; a coarse prior needs one")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        normals = None if self.normals is None else np.array(self.normals)
+        return (StructurePrior, (np.array(self.points), normals, self.kind, self.model, self.noise))
+
+
+def _check_structure(structure: Any) -> Structure:
+    if not isinstance(structure, Structure):
+        raise InvalidTypeError(f"expected a Structure, got {type(structure).__name__}")
+    return structure
+
+
+def _sample_faces(vertices: np.ndarray, faces: np.ndarray, n: int, generator: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` points uniform over the area of ``faces`` and the face each lies on."""
+    _, areas = face_normals(vertices, faces)
+    chosen = generator.choice(faces.shape[0], size=n, p=areas / areas.sum())
+    r1, r2 = generator.random(n), generator.random(n)
+    root = np.sqrt(r1)
+    a, b, c = (vertices[faces[chosen, k]] for k in range(3))
+    points = (1 - root)[:, None] * a + (root * (1 - r2))[:, None] * b + (root * r2)[:, None] * c
+    return points, chosen
+
+
+def sample_structure_prior(
+    structure: Structure,
+    n: int,
+    *,
+    noise: float = 0.0,
+    normals: bool = True,
+    include_ground: bool = False,
+    rng: Any = None,
+) -> StructurePrior:
+    """``n`` known points drawn uniformly over the structure's area (contact faces left out).
+
+    Parameters
+    ----------
+    structure : Structure
+    n : int
+        Number of points, 1 to 10^7.
+    noise : float
+        Standard deviation (m) of isotropic Gaussian noise added to each point.
+    normals : bool
+        Keep the true outward normal of the face each point was drawn on (a scanner or a
+        photogrammetric model gives them); the normals carry no noise.
+    include_ground : bool
+        Also draw points on the ground plane.
+    rng : None, int or numpy.random.Generator
+    """
+    structure = _check_structure(structure)
+    n = as_count(n, "n", MAX_PRIOR_POINTS)
+    noise = as_non_negative_float(noise, "noise")
+    generator = as_generator(rng)
+    faces = structure.surface.faces[structure.face_mask(include_ground=include_ground)]
+    points, chosen = _sample_faces(structure.surface.vertices, faces, n, generator)
+    if noise > 0:
+        points = points + generator.normal(scale=noise, size=points.shape)
+    face_normal = face_normals(structure.surface.vertices, faces[chosen])[0] if normals else None
+    return StructurePrior(points, face_normal, "points", None, noise)
+
+
+def _solid_faces(structure: Structure) -> np.ndarray:
+    keep = np.ones(structure.surface.n_faces, dtype=bool)
+    if structure.ground_part is not None:
+        keep &= structure.face_parts != structure.ground_part
+    return keep
+
+
+def coarse_structure_prior(structure: Structure, kind: str = "boxes", *, cell: float | None = None) -> StructurePrior:
+    """A coarse model of the structure (ground left out) as the prior.
+
+    Parameters
+    ----------
+    structure : Structure
+    kind : {"boxes", "decimated"}
+        ``"boxes"``: the axis-aligned bounding box of each connected piece of each part (what a
+        plan drawing or a BIM block model gives). ``"decimated"``: the solids' mesh simplified by
+        vertex clustering on a grid of ``cell`` metres (each cell's vertices merged into their
+        mean; collapsed and doubled faces dropped).
+    cell : float, optional
+        Clustering cell for ``"decimated"`` (m); default 1/30 of the structure's largest side.
+
+    Returns
+    -------
+    StructurePrior
+        ``points`` are the model's vertices, ``normals`` None.
+    """
+    structure = _check_structure(structure)
+    vertices, faces = structure.surface.vertices, structure.surface.faces
+    if kind == "boxes":
+        pieces = []
+        for index, name in enumerate(structure.part_names):
+            if index == structure.ground_part or name == CONTACT:
+                continue
+            here = faces[structure.face_parts == index]
+            for component in connected_faces(here, structure.surface.n_vertices):
+                corners = vertices[np.unique(here[component])]
+                lo, hi = corners.min(axis=0), corners.max(axis=0)
+                # A flat piece (a face of a larger solid) still gets a box: 1 cm thick.
+                hi = np.maximum(hi, lo + 0.01)
+                pieces.append(box(tuple(lo), tuple(hi), name))
+        model_vertices, model_faces, _ = join(pieces)
+    elif kind == "decimated":
+        solid = faces[_solid_faces(structure)]
+        used = np.unique(solid)
+        lo, hi = vertices[used].min(axis=0), vertices[used].max(axis=0)
+        size = float(np.max(hi - lo)) / 30.0 if cell is None else as_positive_float(cell, "cell")
+        keys = np.floor((vertices - lo) / size).astype(np.int64)
+        _, cluster = np.unique(keys[used], axis=0, return_inverse=True)
+        cluster = cluster.reshape(-1)
+        label = np.full(vertices.shape[0], -1, dtype=np.int64)
+        label[used] = cluster
+        model_vertices = np.zeros((cluster.max() + 1, 3))
+        np.add.at(model_vertices, cluster, vertices[used])
+        model_vertices /= np.bincount(cluster)[:, None]
+        mapped = label[solid]
+        mapped = mapped[(mapped[:, 0] != mapped[:, 1]) & (mapped[:, 1] != mapped[:, 2]) & (mapped[:, 0] != mapped[:, 2])]
+        # A triangle kept in both windings is a sheet of no thickness: drop both copies.
+        key = np.sort(mapped, axis=1)
+        _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        model_faces = mapped[counts[inverse.reshape(-1)] == 1]
+        _, areas = face_normals(model_vertices, model_faces)
+        model_faces = model_faces[areas > 1e-12 * size * size]
+        if model_faces.shape[0] == 0:
+            raise InvalidInputError(f"cell {size} m collapses the whole structure; use a smaller cell")
+    else:
+        raise InvalidInputError(f"kind must be 'boxes' or 'decimated', got {kind!r}")
+    model = Terrain(model_vertices, model_faces)
+    return StructurePrior(model.vertices, None, kind, model, 0.0)
+
+
+def _alpha_shape(points: np.ndarray, alpha: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """Boundary of the union of the Delaunay tetrahedra with circumradius <= alpha, outward.
+
+    The default alpha is the least that leaves no point outside the shape (every point a
+    corner of a kept tetrahedron), so the result is never empty.
+    """
+    from scipy.spatial import Delaunay, QhullError
+
+    try:
+        tetra = Delaunay(points).simplices
+    except (QhullError, ValueError) as exc:
+        raise InvalidInputError(f"the known points span no volume (all on a plane or a line?): {exc}") from None
+    p = points[tetra]
+    a = p[:, 1:] - p[:, :1]  # (T, 3, 3)
+    rhs = 0.5 * np.einsum("tij,tij->ti", a, a)
+    det = np.linalg.det(a)
+    flat = np.abs(det) <= 1e-12 * np.abs(a).max() ** 3
+    centre = np.zeros((tetra.shape[0], 3))
+    centre[~flat] = np.linalg.solve(a[~flat], rhs[~flat][..., None])[..., 0]
+    radius = np.where(flat, np.inf, np.linalg.norm(centre, axis=1))
+    if alpha is None:
+        least = np.full(points.shape[0], np.inf)
+        for k in range(4):
+            np.minimum.at(least, tetra[:, k], radius)
+        alpha = float(least.max())
+        if not np.isfinite(alpha):
+            raise InvalidInputError("some known points are in no tetrahedron of positive volume")
+    kept = tetra[radius <= alpha]
+    if kept.shape[0] == 0:
+        raise InvalidInputError(f"alpha={alpha} keeps no tetrahedron; use a larger alpha")
+    opposite = [(1, 2, 3, 0), (0, 3, 2, 1), (0, 1, 3, 2), (0, 2, 1, 3)]
+    tri = np.concatenate([kept[:, list(o[:3])] for o in opposite])
+    apex = np.concatenate([kept[:, o[3]] for o in opposite])
+    normal = np.cross(points[tri[:, 1]] - points[tri[:, 0]], points[tri[:, 2]] - points[tri[:, 0]])
+    inward = np.einsum("ij,ij->i", normal, points[apex] - points[tri[:, 0]]) > 0
+    tri[inward] = tri[inward][:, ::-1]
+    _, inverse, counts = np.unique(np.sort(tri, axis=1), axis=0, return_inverse=True, return_counts=True)
+    return points, tri[counts[inverse.reshape(-1)] == 1]
+
+
+def _cluster_hulls(points: np.ndarray, clusters: int | None, generator: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Convex hulls of k-means clusters of the points (k = n / 10 by default), each outward."""
+    from scipy.cluster.vq import kmeans2
+    from scipy.spatial import ConvexHull, QhullError
+
+    k = max(1, points.shape[0] // 10) if clusters is None else as_count(clusters, "clusters", points.shape[0])
+    _, label = kmeans2(points, k, minit="++", seed=generator)
+    vertices, faces, offset = [], [], 0
+    for q in range(k):
+        member = points[label == q]
+        if member.shape[0] < 4:
+            continue
+        try:
+            hull = ConvexHull(member, qhull_options="QJ")
+        except QhullError:
+            continue
+        tri = hull.simplices.copy()
+        normal = np.cross(member[tri[:, 1]] - member[tri[:, 0]], member[tri[:, 2]] - member[tri[:, 0]])
+        inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
+        tri[inward] = tri[inward][:, ::-1]
+        vertices.append(member)
+        faces.append(tri + offset)
+        offset += member.shape[0]
+    if not faces:
+        raise InvalidInputError("no cluster of the known points has 4 points spanning a volume")
+    return np.concatenate(vertices), np.concatenate(faces)
+
+
+def _open3d(points: np.ndarray, normals: np.ndarray | None, method: str, depth: int) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        import open3d
+    except ImportError as exc:
+        raise MissingExtraError(f"method={method!r} needs Open3D: pip install 'uavcov[reconstruct]' (or pip install open3d-cpu)") from exc
+    cloud = open3d.geometry.PointCloud(open3d.utility.Vector3dVector(np.array(points)))
+    if normals is None:
+        raise InvalidInputError(f"method={method!r} needs points with normals (sample_structure_prior(..., normals=True))")
+    cloud.normals = open3d.utility.Vector3dVector(np.array(normals))
+    if method == "poisson":
+        mesh, _ = open3d.geometry.TriangleMesh.create_from_point_cloud_poisson(cloud, depth=depth)
+    else:
+        spacing = np.asarray(cloud.compute_nearest_neighbor_distance())
+        radius = float(np.median(spacing)) * 1.5
+        mesh = open3d.geometry.TriangleMesh.create_from_point_cloud_ball_pivoting(
+            cloud, open3d.utility.DoubleVector([radius, 2 * radius, 4 * radius])
+        )
+    return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.triangles, dtype=np.int64)
+
+
+DEFAULT_METHOD = "alpha"
+
+
+def reconstruct_structure(
+    prior: StructurePrior,
+    *,
+    method: str = "auto",
+    alpha: float | None = None,
+    clusters: int | None = None,
+    poisson_depth: int = 6,
+    min_points: int = MIN_POINTS,
+    rng: Any = None,
+) -> Terrain:
+    """S', the surface the team is placed on, from a prior.
+
+    Parameters
+    ----------
+    prior : StructurePrior
+    method : {"auto", "model", "alpha", "hulls", "poisson", "ball_pivoting"}
+        ``"auto"``: the coarse model when the prior has one, else the default for points,
+        ``"alpha"`` (chosen by measurement, see docs/structures.md). ``"alpha"``: the alpha
+        shape of the points' Delaunay tetrahedra (scipy). ``"hulls"``: convex hulls of k-means
+        clusters of the points. ``"poisson"``, ``"ball_pivoting"``: Open3D's (optional extra,
+        need normals).
+    alpha : float, optional
+        Circumradius limit of ``"alpha"`` (m); default the least that leaves no point out.
+    clusters : int, optional
+        Number of clusters of ``"hulls"``; default n / 10.
+    poisson_depth : int
+        Octree depth of ``"poisson"``.
+    min_points : int
+        Fewer known points than this is too sparse (default 20).
+    rng : None, int or numpy.random.Generator
+        For ``"hulls"``' clustering.
+
+    Returns
+    -------
+    Terrain
+        S' with outward normals: a closed mesh of positive volume for ``"alpha"``, ``"hulls"``
+        and ``"model"``; Open3D's surfaces are turned to agree with the points' normals.
+
+    Raises
+    ------
+    InvalidInputError
+        Too few points, points spanning no volume, an unknown method, or a result that is empty
+        or has no outward orientation.
+    MissingExtraError
+        An Open3D method without Open3D.
+    """
+    if not isinstance(prior, StructurePrior):
+        raise InvalidTypeError(f"expected a StructurePrior, got {type(prior).__name__}")
+    if method not in RECONSTRUCTION_METHODS:
+        raise InvalidInputError(f"method must be one of {RECONSTRUCTION_METHODS}, got {method!r}")
+    if method == "model" or (method == "auto" and prior.model is not None):
+        if prior.model is None:
+            raise InvalidInputError("method='model' needs a coarse prior (coarse_structure_prior)")
+        return prior.model
+    if method == "auto":
+        method = DEFAULT_METHOD
+    points = prior.points
+    min_points = as_count(min_points, "min_points", MAX_PRIOR_POINTS, minimum=4)
+    if points.shape[0] < min_points:
+        raise InvalidInputError(f"{points.shape[0]} known points are too sparse to reconstruct a structure (at least {min_points})")
+    if method == "alpha":
+        vertices, faces = _alpha_shape(points, None if alpha is None else as_positive_float(alpha, "alpha"))
+    elif method == "hulls":
+        vertices, faces = _cluster_hulls(points, clusters, as_generator(rng))
+    else:
+        vertices, faces = _open3d(points, prior.normals, method, as_count(poisson_depth, "poisson_depth", 12))
+    if faces.shape[0] == 0:
+        raise InvalidInputError(f"method={method!r} made no surface from {points.shape[0]} points")
+    if method in ("alpha", "hulls"):
+        if not signed_volume(vertices, faces) > 0:
+            raise InvalidInputError(f"method={method!r} made a surface with no outward orientation")
+    elif prior.normals is not None:
+        from scipy.spatial import cKDTree
+
+        normal, _ = face_normals(vertices, faces)
+        centre = vertices[faces].mean(axis=1)
+        _, nearest = cKDTree(points).query(centre)
+        if np.einsum("ij,ij->i", normal, prior.normals[nearest]).mean() < 0:
+            faces = faces[:, ::-1]
+    return Terrain(vertices, faces, drop_degenerate=True)
+
+
+@dataclass(frozen=True)
+class ReconstructionError:
+    """Distances between S' and the true structure (ground and contact faces left out).
+
+    Attributes
+    ----------
+    hausdorff_m : float
+        Symmetric Hausdorff distance (m): the larger of the two below.
+    hausdorff_truth_to_approx_m : float
+        Farthest a point of the structure is from S' (m): what S' misses.
+    hausdorff_approx_to_truth_m : float
+        Farthest a point of S' is from the structure (m): what S' invents.
+    mean_m : float
+        Mean of the two mean distances (m).
+    mean_truth_to_approx_m, mean_approx_to_truth_m : float
+    area_ratio : float
+        Area of S' over the structure's area.
+    n_samples : int
+        Points drawn on each surface.
+    """
+
+    hausdorff_m: float
+    hausdorff_truth_to_approx_m: float
+    hausdorff_approx_to_truth_m: float
+    mean_m: float
+    mean_truth_to_approx_m: float
+    mean_approx_to_truth_m: float
+    area_ratio: float
+    n_samples: int
+
+
+def reconstruction_error(truth: Structure, approx: Terrain, *, n_samples: int = 20_000, rng: Any = 0) -> ReconstructionError:
+    """Compare S' with the structure by ``n_samples`` area-uniform points on each surface.
+
+    Distances are from each point to the closest point of the other surface
+    (:meth:`Terrain.closest_point`); the sample maxima approach the Hausdorff distances from
+    below as ``n_samples`` grows.
+    """
+    truth = _check_structure(truth)
+    if not isinstance(approx, Terrain):
+        raise InvalidTypeError(f"approx must be a Terrain, got {type(approx).__name__}")
+    n_samples = as_count(n_samples, "n_samples", MAX_PRIOR_POINTS)
+    generator = as_generator(rng)
+    true_faces = truth.surface.faces[truth.face_mask(include_ground=False)]
+    true_surface = Terrain(truth.surface.vertices, true_faces)
+    on_truth, _ = _sample_faces(truth.surface.vertices, true_faces, n_samples, generator)
+    on_approx, _ = _sample_faces(approx.vertices, approx.faces, n_samples, generator)
+    to_approx = np.linalg.norm(approx.closest_point(on_truth) - on_truth, axis=1)
+    to_truth = np.linalg.norm(true_surface.closest_point(on_approx) - on_approx, axis=1)
+    return ReconstructionError(
+        hausdorff_m=float(max(to_approx.max(), to_truth.max())),
+        hausdorff_truth_to_approx_m=float(to_approx.max()),
+        hausdorff_approx_to_truth_m=float(to_truth.max()),
+        mean_m=float(0.5 * (to_approx.mean() + to_truth.mean())),
+        mean_truth_to_approx_m=float(to_approx.mean()),
+        mean_approx_to_truth_m=float(to_truth.mean()),
+        area_ratio=float(approx.area / true_surface.area),
+        n_samples=n_samples,
+    )
