@@ -57,8 +57,8 @@ from ._figures import (
     published_values,
     seen_points,
 )
-from ._view import find_run, view, write_view
 from ._structures import STRUCTURE_VIEWS, face_seen_share, plot_structure_seen
+from ._view import find_run, view, write_view
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
 from ._views import LIGHT as LIGHT
 from ._writers import write_ply
