@@ -205,8 +205,9 @@ def _field_default(cls: type, name: str) -> Any:
 def settings_hash(experiment: Experiment) -> str:
     """Eight hex digits that change with any setting of ``experiment`` a run depends on.
 
-    See :func:`experiment_settings`: adding seeds or team sizes to an experiment keeps the
-    identity of the runs already made (a resume then runs only the new ones).
+    See ``experiment_settings`` (the settings without the seeds, team sizes and starts): adding
+    seeds or team sizes to an experiment keeps the identity of the runs already made (a resume
+    then runs only the new ones).
     """
     text = json.dumps(experiment_settings(experiment), sort_keys=True, default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:8]
