@@ -16,21 +16,15 @@ use std::hint::black_box;
 use uavcov::cvt::{constrained_cvt, CvtOptions};
 use uavcov::mesh::Surface;
 
-const SIZE: f64 = 100.0;
+#[path = "common/hills.rs"]
+mod hills;
 
-/// Seven Gaussian hills over the 100 m square (fixed, so every run sees the same terrain).
+/// The hills at sigma 10 m (paper-setup.md), so every run sees the same terrain.
 fn height(x: f64, y: f64) -> f64 {
-    const HILLS: [(f64, f64, f64); 7] = [
-        (20.0, 30.0, 18.0),
-        (75.0, 20.0, 9.0),
-        (50.0, 55.0, 25.0),
-        (85.0, 80.0, 14.0),
-        (15.0, 85.0, 6.0),
-        (60.0, 90.0, 11.0),
-        (35.0, 10.0, 21.0),
-    ];
-    HILLS.iter().map(|&(cx, cy, h)| h * (-((x - cx).powi(2) + (y - cy).powi(2)) / (2.0 * 10.0 * 10.0)).exp()).sum()
+    hills::height(x, y, 10.0)
 }
+
+const SIZE: f64 = 100.0;
 
 /// Circumcircle test: whether `p` lies strictly inside the circle through `a`, `b`, `c`.
 fn in_circumcircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], p: [f64; 2]) -> bool {

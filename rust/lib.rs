@@ -19,6 +19,8 @@
 //! - [`flight`]: the admissible UAV configurations of the paper's eq. 2, for a batch of
 //!   candidates in one pass, with the clearance measured straight down (height fields) or as a
 //!   3D standoff (structures; the queries in `mesh::Surface::distance`, `within`, `inside`).
+//! - [`cover`]: the seen-matrix of candidate viewpoints (bitsets, parallel over candidates),
+//!   its lazy greedy under a separation, and the online bound on the best `k` candidates.
 //!
 //! Four modules are internal: `horizon` (per UAV, an upper bound on how steeply the surface
 //! rises in each direction and distance, so most of a sight line skips the exact test),
@@ -32,8 +34,8 @@
 //! monomials, numpy's draws in one call).
 //!
 //! Modules import downwards only: `geometry` <- `grid` <- `skyline` <- `heightfield` <- `mesh`
-//! <- `sampling` <- `visibility` <- `tracking` (`visibility` also imports `sensor`), and `mesh` <-
-//! `cvt`, `mesh` <- `flight`; `cao` imports only `error` (within it, `surrogate` stands alone,
+//! <- `sampling` <- `visibility` <- `tracking` (`visibility` also imports `sensor`), `visibility`
+//! <- `cover`, and `mesh` <- `cvt`, `mesh` <- `flight`; `cao` imports only `error` (within it, `surrogate` stands alone,
 //! and `ziggurat_tables` <- `pcg64` <- `monomials`).
 //!
 //! The Python binding (`uavcov._core`) sits behind the `python` feature; everything here is
@@ -54,7 +56,8 @@
 //!   it cannot resolve (margins wider than a cell, or 16 halvings deep) to the tile quadtree.
 //! - Allocations whose size the input decides are checked (`try_reserve`), so a refusal by the
 //!   system is [`Error::TooLarge`]; the CVT's and per-UAV counts' per-chunk sums are held in
-//!   batches of bounded size (256 and 128 MiB). Fixed limits: [`mesh::MAX_TRIANGLES`] for the
+//!   batches of bounded size (256 and 128 MiB); a seen-matrix of candidate viewpoints is at most
+//!   [`cover::MAX_MATRIX_BYTES`] (1 GiB), refused before it is allocated. Fixed limits: [`mesh::MAX_TRIANGLES`] for the
 //!   mesh method and the CVT, [`sampling::MAX_TARGETS`] area targets, 2^32 grid nodes.
 //! - The binding catches any residual panic as [`Error::Internal`] (raised as
 //!   `uavcov.errors.UavcovError`), so none reaches Python as a `PanicException`.
@@ -76,6 +79,7 @@
 #[cfg(any(feature = "python", test))]
 #[cfg_attr(not(feature = "python"), allow(dead_code, reason = "the binding is their user"))]
 mod cao;
+pub mod cover;
 pub mod cvt;
 pub mod error;
 pub mod flight;

@@ -562,7 +562,11 @@ impl Visibility {
     /// The engine the tests run on, resolved once per call (each UAV's horizon is built here,
     /// in parallel, within [`HORIZON_BUDGET`] bounds in all).
     fn engine(&self, uavs: &[Point], reach: Reach<'_>) -> Result<Engine<'_>> {
-        let per_uav = HORIZON_BUDGET / uavs.len();
+        self.engine_within(uavs, reach, HORIZON_BUDGET / uavs.len())
+    }
+
+    /// [`Visibility::engine`] with at most `per_uav` horizon bounds per UAV.
+    fn engine_within(&self, uavs: &[Point], reach: Reach<'_>, per_uav: usize) -> Result<Engine<'_>> {
         let radius = |i: usize| match reach {
             Reach::Range(_) => self.range,
             Reach::Sensors(sensors) => sensors[i].range(),
@@ -669,6 +673,43 @@ impl Visibility {
             )
         })?;
         concatenate(chunks, self.targets.len(), "the seen mask")
+    }
+
+    /// Which targets one viewpoint sees, as bits (target `t` is bit `t % 64` of `words[t / 64]`,
+    /// `words` zeroed by the caller): the answers of [`Visibility::seen_by`] for this viewpoint
+    /// alone, on the calling thread (chunk after chunk), with at most `horizon_bounds` horizon
+    /// bounds. A seen-matrix builds its columns with it, many viewpoints in parallel.
+    ///
+    /// # Errors
+    /// As [`Visibility::seen_by`] for one UAV.
+    pub(crate) fn seen_bits(&self, uav: Point, sensor: Option<&Sensor>, horizon_bounds: usize, words: &mut [u64]) -> Result<()> {
+        let uavs = [uav];
+        Self::check_uavs(&uavs)?;
+        let sensors = sensor.map(std::slice::from_ref);
+        let reach = self.reach(&uavs, sensors)?;
+        let normals = if self.normals_for(reach, false)? { self.targets.normals()? } else { None };
+        let engine = self.engine_within(&uavs, reach, horizon_bounds)?;
+        let (mut near, mut points, mut nodes, mut blockers) = (Vec::new(), Vec::with_capacity(CHUNK), Vec::new(), [Blockers::default()]);
+        for c in 0..self.targets.n_chunks() {
+            self.in_range_of(c, &uavs, reach, &mut near);
+            if near.is_empty() {
+                continue;
+            }
+            points.clear();
+            self.targets.chunk_points(c, &mut points);
+            let mut skylines = self.skylines_of(c, &mut nodes);
+            for (t, &q) in points.iter().enumerate() {
+                if !reach.accepts(0, uav, q, normals.map(|n| n[c * CHUNK + t])) {
+                    continue;
+                }
+                let sky = skylines.as_mut().map(|s| s.get(t, || self.skyline(q, nodes.get(t).copied())));
+                if engine.line_of_sight(0, q, sky.as_ref(), &mut blockers) {
+                    let k = c * CHUNK + t;
+                    words[k / 64] |= 1 << (k % 64);
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The weighted share of targets seen by at least one UAV, in `[0, 1]`.

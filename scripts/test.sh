@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 venv="${UAVCOV_VENV:-.venv}"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --upgrade pip
-"$venv/bin/python" -m pip install -q ".[test]"
+"$venv/bin/python" -m pip install -q ".[test,docs]"
 # The binding's lints compile PyO3, which looks for this interpreter.
 export PYO3_PYTHON="$PWD/$venv/bin/python"
 [ "${venv#/}" != "$venv" ] && export PYO3_PYTHON="$venv/bin/python"
@@ -19,11 +19,13 @@ cargo clippy --quiet --all-targets --all-features -- -D warnings
 echo "== cargo test (pure Rust core, no Python)"
 cargo test --release --quiet
 echo "== ruff (lint and format)"
-"$venv/bin/ruff" check python tests benches scripts docs/figures
-"$venv/bin/ruff" format --check python tests benches scripts docs/figures
+"$venv/bin/ruff" check python tests benches scripts docs/figures docs/conf.py docs/_ext docs/_inventories docs/tutorials docs/gallery
+"$venv/bin/ruff" format --check python tests benches scripts docs/figures docs/conf.py docs/_ext docs/_inventories docs/tutorials docs/gallery
 echo "== mypy (the package)"
 "$venv/bin/mypy"
 echo "== pytest (the suite, with the README's quick start)"
 "$venv/bin/python" -m pytest -q -p no:cacheprovider tests "$@"
 echo "== doctests (the installed package's docstrings)"
 "$venv/bin/python" -m pytest -q -p no:cacheprovider --doctest-modules --pyargs uavcov
+echo "== docs (the site, warnings are errors, every tutorial run)"
+UAVCOV_VENV="$venv" bash scripts/docs.sh

@@ -10,7 +10,7 @@ import pytest
 
 from uavcov import CAOSettings
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from uavcov.optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace, cao, per_robot_cao
+from uavcov.optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace, cao, escape_cao, per_robot_cao
 from uavcov.optim._cao import (
     _all_monomials,
     _design,
@@ -526,8 +526,8 @@ def test_bad_callables_raise_clear_errors():
 
 
 def test_registry():
-    assert OPTIMIZERS["cao"] is cao and OPTIMIZERS["per_robot"] is per_robot_cao
-    assert isinstance(MARGINAL_OPTIMIZERS, frozenset) and set(MARGINAL_OPTIMIZERS) == {"per_robot"}
+    assert OPTIMIZERS["cao"] is cao and OPTIMIZERS["per_robot"] is per_robot_cao and OPTIMIZERS["escape"] is escape_cao
+    assert isinstance(MARGINAL_OPTIMIZERS, frozenset) and set(MARGINAL_OPTIMIZERS) == {"per_robot", "escape"}
     with pytest.raises(TypeError):
         OPTIMIZERS["other"] = cao  # read-only
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from uavcov import Terrain, errors
-from uavcov.placement import CORNERS, START_KINDS, cvt, initial_positions
+from uavcov.placement import CORNERS, START_KINDS, Constraints, cvt, initial_positions
 
 
 def _slope(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -23,6 +23,14 @@ def terrain() -> Terrain:
 
 def test_kinds_share_one_interface(terrain: Terrain) -> None:
     for kind in START_KINDS:
+        if kind == "greedy":  # a placement in the flight band, for a sensing range
+            with pytest.raises(errors.InvalidInputError, match="d_max"):
+                initial_positions(kind, terrain, 6, rng=1)
+            limits = Constraints(h_min=1.0, h_max=5.0, z_max=60.0, d_safe=2.0)
+            positions = initial_positions(kind, terrain, 6, rng=1, d_max=10.0, constraints=limits)
+            clearance = terrain.clearance(positions)
+            assert positions.shape == (6, 3) and (clearance >= 1.0).all() and (clearance <= 5.0).all()
+            continue
         positions = initial_positions(kind, terrain, 6, rng=1)
         assert positions.shape == (6, 3) and positions.dtype == np.float64
         # All on the surface: z is the ground height below.

@@ -8,7 +8,7 @@ layer, from the bottom up:
 - :mod:`uavcov.terrain`: what a surface is made from (hills, buildings, mesh files, DEMs) and
   the prior S';
 - :mod:`uavcov.placement`: flight limits, the constrained CVT, starts, camera footprints;
-- :mod:`uavcov.optim`: CAO and its random draws;
+- :mod:`uavcov.optim`: CAO, CAO with escapes from local optima, and CAO's random draws;
 - :func:`run_mission` and :func:`save_mission` (one mission, one file);
 - :mod:`uavcov.experiments`: sweeps, results folders, the paper as data, reports and claims;
 - :mod:`uavcov.field`: areas of interest, flight plans on real DEMs and their files;
@@ -23,8 +23,8 @@ from . import engine, errors, experiments, field, optim, placement, terrain
 from ._core import __version__
 from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility
 from .field import FlightPlan, PlanSettings, plan, write_plan
-from .mission import MissionResult, MissionSettings, run_mission
-from .optim import CAOSettings
+from .mission import MissionResult, MissionSettings, mission_time, run_mission
+from .optim import CAOSettings, EscapeSettings
 from .placement import Constraints, CVTSettings, StartSettings
 from .records import load_mission, save_mission
 from .terrain import GeoDem, gaussian_hills, read_dem, sample_dem
@@ -55,10 +55,12 @@ __all__ = [
     "Constraints",
     "CVTSettings",
     "CAOSettings",
+    "EscapeSettings",
     "StartSettings",
     "MissionSettings",
     "run_mission",
     "MissionResult",
+    "mission_time",
     "save_mission",
     "load_mission",
     # a flight plan on a real site

@@ -10,6 +10,7 @@ __all__ = [
     "Visibility",
     "CoverageTracker",
     "CVT",
+    "SeenMatrix",
     "Surrogate",
     "available_threads",
     "pcg64_standard_normal",
@@ -114,6 +115,26 @@ class Visibility:
         float,
         float,
     ]: ...
+
+@final
+class SeenMatrix:
+    def __new__(
+        cls,
+        visibility: Visibility,
+        candidates: npt.NDArray[np.float64],
+        sensors: npt.NDArray[np.float64] | None = None,
+        n_threads: int = 0,
+    ) -> SeenMatrix: ...
+    @property
+    def n_candidates(self) -> int: ...
+    @property
+    def n_targets(self) -> int: ...
+    @property
+    def nbytes(self) -> int: ...
+    def ceiling(self) -> float: ...
+    def column(self, c: int) -> npt.NDArray[np.bool_]: ...
+    def greedy(self, k: int, d_safe: float, n_threads: int = 0) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], float, float]: ...
+    def bound(self, seen: npt.NDArray[np.bool_], k: int, n_threads: int = 0) -> tuple[float, float]: ...
 
 @final
 class CoverageTracker:

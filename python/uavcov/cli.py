@@ -11,6 +11,10 @@ Commands
     Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
 ``uavcov plot DIR``
     Redraws every figure from the runs stored in DIR (needs ``uavcov[plot]``).
+``uavcov view RUN_OR_DIR --out view.html``
+    One self-contained HTML file (opens offline) with an interactive 3D view of a run: the
+    surface coloured by what the team sees, the UAVs, paths and footprints, a slider over
+    iterations (needs ``uavcov[view]``).
 ``uavcov plan DEM.tif|--sample``
     A flight plan on a real DEM (needs ``uavcov[geo]``): the paper's CVT start and CAO, then
     QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and a report in ``--out``.
@@ -360,6 +364,20 @@ def _plot(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _view(args: argparse.Namespace) -> int:
+    from .errors import MissingExtraError
+
+    try:
+        from .plotting import find_run, write_view
+    except ImportError as exc:
+        raise MissingExtraError(f"the view is not available: pip install 'uavcov[view]' ({exc})") from exc
+    run = find_run(args.run_or_dir, args.run_name)
+    out = write_view(run, args.out, max_vertices=args.max_vertices, max_frames=args.max_frames)
+    size = out.stat().st_size / 1e6
+    _say(f"view of {run} written to {out} ({size:.1f} MB, opens offline)")
+    return EXIT_OK
+
+
 def _floats(count: int, what: str) -> Callable[[str], tuple[float, ...]]:
     """An argparse type: ``count`` numbers separated by commas."""
 
@@ -574,6 +592,16 @@ def _parser() -> argparse.ArgumentParser:
     plot.add_argument("--max-runs", type=_non_negative_int, default=6, help="runs drawn one by one (default 6)")
     plot.add_argument("--no-animation", action="store_true", help="skip the animation of the first run")
     plot.set_defaults(run=_plot)
+
+    view = commands.add_parser("view", help="one self-contained HTML file with an interactive 3D view of a run")
+    view.add_argument("run_or_dir", metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs")
+    view.add_argument("--out", default="view.html", help="the HTML file to write (default view.html)")
+    view.add_argument("--run", dest="run_name", help="in a folder, the run to show (its file name without .npz; default the first)")
+    view.add_argument(
+        "--max-vertices", type=_int_at_least(16), default=40_000, help="vertices of the drawn surface, at most (default 40000)"
+    )
+    view.add_argument("--max-frames", type=_int_at_least(2), default=60, help="iterations the slider offers, at most (default 60)")
+    view.set_defaults(run=_view)
 
     planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
     planning.add_argument(

@@ -24,6 +24,7 @@ start as it was.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
@@ -39,6 +40,7 @@ from ._validate import (
     MAX_UAVS,
     as_count,
     as_generator,
+    as_non_negative_float,
     as_points,
     as_positive_float,
     is_int,
@@ -46,7 +48,7 @@ from ._validate import (
 )
 from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility, camera_axes
 from .errors import InvalidInputError, InvalidTypeError
-from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, CAOSettings, OptimizerTrace
+from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, CAOSettings, EscapeSettings, OptimizerTrace
 from .placement import (
     Constraints,
     CVTResult,
@@ -69,7 +71,7 @@ from .terrain import (
     sample_structure_prior,
 )
 
-__all__ = ["MissionSettings", "MissionResult", "run_mission", "iterations_to_fraction", "PRIOR_KINDS"]
+__all__ = ["MissionSettings", "MissionResult", "run_mission", "mission_time", "iterations_to_fraction", "PRIOR_KINDS"]
 
 if TYPE_CHECKING:
     from _typeshed import DataclassInstance
@@ -113,8 +115,9 @@ class MissionSettings:
         The constrained CVT's constants (``start.kind == "cvt"``).
     cao : CAOSettings
         The optimiser's constants.
-    optimizer : {"cao", "per_robot"}, default "cao"
-        Centralised CAO or one estimator per UAV.
+    optimizer : {"cao", "per_robot", "escape"}, default "cao"
+        Centralised CAO, one estimator per UAV, or centralised CAO that relocates its least
+        useful UAV when it stalls (:func:`uavcov.optim.escape_cao`, settings ``escape``).
     iterations : int, default 500
         Optimiser iterations (measurements minus one); 0 measures the start only.
     sensor : Sensor or sequence of Sensor, optional
@@ -137,6 +140,8 @@ class MissionSettings:
         (:func:`uavcov.placement.fit_footprints`, between the flight band's ``h_min`` and
         ``h_max``, or the camera's range without a ceiling; positions given to
         :func:`run_mission` are flown as given). Needs a camera.
+    escape : EscapeSettings
+        When the ``"escape"`` optimiser relocates a UAV and how it flies there (read only by it).
 
     Examples
     --------
@@ -160,6 +165,7 @@ class MissionSettings:
     objective: str = "coverage"
     gimbal: Gimbal | None = None
     footprint_start: bool = False
+    escape: EscapeSettings = field(default_factory=EscapeSettings)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "n_uavs", as_count(self.n_uavs, "n_uavs", MAX_UAVS))
@@ -170,7 +176,8 @@ class MissionSettings:
             raise InvalidInputError(f"prior must be one of {PRIOR_KINDS} (pass anything else as known=), got {self.prior!r}")
         if self.optimizer not in OPTIMIZERS:
             raise InvalidInputError(f"optimizer must be one of {tuple(OPTIMIZERS)}, got {self.optimizer!r}")
-        for name, kind in (("start", StartSettings), ("constraints", Constraints), ("cvt", CVTSettings), ("cao", CAOSettings)):
+        nested = (StartSettings, Constraints, CVTSettings, CAOSettings, EscapeSettings)
+        for name, kind in zip(("start", "constraints", "cvt", "cao", "escape"), nested, strict=True):
             value = getattr(self, name)
             if not isinstance(value, kind):
                 raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
@@ -309,7 +316,7 @@ def _sensor_from_dict(raw: Any, where: str) -> Sensor | tuple[Sensor, ...] | Non
 
 
 def _build(cls: type, data: dict[str, Any], where: str) -> Any:
-    nested = {"start": StartSettings, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings}
+    nested = {"start": StartSettings, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings, "escape": EscapeSettings}
     names = {f.name for f in fields(cls)}
     unknown = sorted(set(data) - names)
     if unknown:
@@ -409,6 +416,9 @@ class MissionResult:
         Seconds in coverage measurements and in the optimiser's own work.
     trace : OptimizerTrace
         The optimiser's full record.
+    start_time_s : float
+        Seconds to compute the start on S' (its off-line time: the CVT, or the greedy start's
+        lattice, seen-matrix and greedy); 0 for given start positions, NaN when not recorded.
     coverage_by_part : dict of str to float, optional
         For a mission on a :class:`~uavcov.terrain.Structure` (targets with parts): the
         weighted share of each part's targets seen by :attr:`best_positions` ("deck_top",
@@ -436,6 +446,7 @@ class MissionResult:
     time_measure_s: float
     time_optimizer_s: float
     trace: OptimizerTrace = field(repr=False)
+    start_time_s: float = math.nan
     coverage_by_part: dict[str, float] | None = None
 
     @property
@@ -465,6 +476,31 @@ class MissionResult:
         return None if angles is None else angles[self.best_iteration]
 
     @property
+    def distance_flown(self) -> np.ndarray:
+        """``(N,)`` metres each UAV flew during the mission.
+
+        The sum of the straight moves between consecutive configurations of :attr:`trajectory`
+        (every UAV moves in a straight line from one measured configuration to the next, as CAO
+        moves it and as the ``"escape"`` optimiser's flights are made of legs). It starts at the
+        admissible start ``trajectory[0]``: the flight from the take-off site to the start, and
+        the move from :attr:`start_positions` to the admissible start, are not counted (the paper
+        does not model a take-off site). Camera angles cost no distance.
+        """
+        return _path_lengths(np.asarray(self.trajectory))
+
+    @property
+    def relocations(self) -> np.ndarray:
+        """``(R, 3)`` int64 ``(uav, first, last)`` of every escape flight of the ``"escape"``
+        optimiser (see :class:`~uavcov.optim.OptimizerTrace`); empty for the others."""
+        return np.asarray(self.trace.relocations)
+
+    @property
+    def relocation_distance(self) -> float:
+        """Metres flown in the escape flights (:attr:`relocations`), summed; 0 without any."""
+        path = np.asarray(self.trajectory)
+        return float(sum(_path_lengths(path[first : last + 1, [uav]])[0] for uav, first, last in self.relocations))
+
+    @property
     def initial_positions(self) -> np.ndarray:
         """``(N, 3)`` admissible start the optimiser began from."""
         return np.asarray(self.trajectory[0])
@@ -473,6 +509,61 @@ class MissionResult:
     def final_positions(self) -> np.ndarray:
         """``(N, 3)`` positions after the last iteration."""
         return np.asarray(self.trajectory[-1])
+
+
+def _path_lengths(trajectory: np.ndarray) -> np.ndarray:
+    """``(N,)`` length of each UAV's polyline through ``(K + 1, N, 3)`` positions, metres."""
+    if trajectory.shape[0] < 2:
+        return np.zeros(trajectory.shape[1])
+    lengths: np.ndarray = np.linalg.norm(np.diff(trajectory, axis=0), axis=2).sum(axis=0)
+    return lengths
+
+
+def mission_time(result: MissionResult, speed: float, *, hover_s: float = 0.0) -> float:
+    """Seconds the mission takes at cruise ``speed`` (m/s), the UAVs flying at the same time.
+
+    The model: the team moves from one measured configuration to the next together and measures
+    once all have arrived (CAO is synchronous), so a move takes its longest straight move over
+    ``speed``; each of the ``K + 1`` configurations adds ``hover_s`` seconds of hovering to
+    measure. Acceleration, turns and the flight to the start are not modelled. This is at
+    least ``max(result.distance_flown) / speed`` (equal when one UAV is the slowest of every
+    move).
+
+    Parameters
+    ----------
+    result : MissionResult
+    speed : float
+        Cruise speed, metres per second (> 0).
+    hover_s : float, default 0.0
+        Seconds spent at each configuration measuring (>= 0).
+
+    Returns
+    -------
+    float
+        Seconds.
+
+    Raises
+    ------
+    InvalidInputError
+        ``speed`` not positive and finite, or ``hover_s`` negative or not finite.
+    InvalidTypeError
+        ``result`` not a :class:`MissionResult`.
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> hills = uavcov.gaussian_hills(size=40.0, spacing=2.0, n_hills=3, rng=1)
+    >>> result = run_mission(hills, MissionSettings(n_uavs=3, d_max=15.0, iterations=5), rng=0)
+    >>> bool(mission_time(result, 5.0) >= result.distance_flown.max() / 5.0)
+    True
+    """
+    if not isinstance(result, MissionResult):
+        raise InvalidTypeError(f"result must be a MissionResult, got {type(result).__name__}")
+    speed = as_positive_float(speed, "speed")
+    hover_s = as_non_negative_float(hover_s, "hover_s")
+    path = np.asarray(result.trajectory)
+    longest = np.linalg.norm(np.diff(path, axis=0), axis=2).max(axis=1) if path.shape[0] > 1 else np.zeros(0)
+    return float(longest.sum() / speed + hover_s * path.shape[0])
 
 
 def iterations_to_fraction(values: np.ndarray, fraction: float = 0.95) -> int:
@@ -612,19 +703,24 @@ def run_mission(
 
     approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
     tessellation: CVTResult | None = None
+    start_time_s = 0.0
     if given is not None:
         flying = given
     else:
-        flying, tessellation = start_configuration(
+        start_began = time.perf_counter()
+        flying, record = start_configuration(
             spec.start,
             approximation,
             terrain,
             spec.n_uavs,
             cvt_settings=spec.cvt,
-            constraints=constraints,
             rng=start_rng,
             n_threads=n_threads,
+            d_max=spec.d_max,
+            constraints=constraints,
         )
+        start_time_s = time.perf_counter() - start_began
+        tessellation = record if isinstance(record, CVTResult) else None
     attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
     if spec.footprint_start and given is None:
         flying, attitudes = _footprint_start(spec, approximation, flying, attitudes, n_threads)
@@ -648,7 +744,8 @@ def run_mission(
             counts = vis.per_uav(poses(x), sensors=sensors)  # the coverage and the marginals in one pass
             return counts.coverage, counts.exclusive_share
 
-        trace = optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng)
+        extra = {"escape": spec.escape} if spec.optimizer == "escape" else {}
+        trace = optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng, **extra)
     else:
         if spec.objective == "coverage" and sensors is None:
             # One team's measurements along its path: the tracker reuses what each proved.
@@ -697,6 +794,7 @@ def run_mission(
         time_measure_s=float(trace.time_measure_s),
         time_optimizer_s=float(trace.time_optimizer_s),
         trace=trace,
+        start_time_s=start_time_s,
         coverage_by_part=parts,
     )
 

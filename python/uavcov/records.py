@@ -86,6 +86,7 @@ _SCALAR_TYPES = {
     "wall_time_s": _REAL,
     "time_measure_s": _REAL,
     "time_optimizer_s": _REAL,
+    "start_time_s": _REAL,
 }
 _TRACE_TYPES = {"best_value": _REAL, "best_iteration": _INT, "evaluations": _INT}
 _CVT_TYPES = {"iterations": _INT, "converged": (bool,), "seed": _INT}
@@ -156,6 +157,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
             "wall_time_s": result.wall_time_s,
             "time_measure_s": result.time_measure_s,
             "time_optimizer_s": result.time_optimizer_s,
+            "start_time_s": result.start_time_s,
         },
         "trace": {
             "kind": trace.kind,
@@ -163,6 +165,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
             "best_iteration": trace.best_iteration,
             "evaluations": trace.evaluations,
             **{name: getattr(trace, name) for name, _ in _TRACE_TIMES},
+            "relocations": np.asarray(trace.relocations).tolist(),
         },
         "cvt": None
         if result.cvt is None
@@ -175,6 +178,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
         "prior_points": result.prior_points,
         "start_positions": result.start_positions,
         "coverage": result.coverage,
+        "distance_flown": result.distance_flown,  # for readers without uavcov; load_mission checks it
         **_surface_arrays("terrain", result.terrain),
         **_surface_arrays("approximation", result.approximation),
         **{f"trace_{name}": np.asarray(getattr(trace, name)) for name in _TRACE_ARRAYS},
@@ -248,6 +252,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             evaluations=t["evaluations"],
             settings=spec.cao,
             **{new: t[old] if old in t and new not in t else t[new] for new, old in _TRACE_TIMES},
+            relocations=_relocations(t.get("relocations", []), arrays["coverage"].shape[0], spec.n_uavs, path),
         )
         cvt = None
         if header.get("cvt") is not None:
@@ -259,7 +264,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             not isinstance(parts, dict) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in parts.values())
         ):
             raise ResultsFormatError(f"{path}: coverage_by_part is not a mapping of part names to shares")
-        return MissionResult(
+        result = MissionResult(
             settings=spec,
             seed=seed,
             prior_kind=prior_kind,
@@ -275,10 +280,24 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             coverage_by_part=None if parts is None else {str(k): float(v) for k, v in parts.items()},
             **s,
         )
+        if "distance_flown" in arrays and not np.array_equal(arrays["distance_flown"], result.distance_flown):
+            raise ResultsFormatError(f"{path}: distance_flown disagrees with the trajectory stored beside it")
     except ResultsFormatError:
         raise
     except (KeyError, TypeError, AttributeError, ValueError, UavcovError) as exc:
         raise ResultsFormatError(f"{path} is missing or has a malformed field: {type(exc).__name__}: {exc}") from exc
+    return result
+
+
+def _relocations(raw: Any, n_configurations: int, n_uavs: int, path: Path) -> np.ndarray:
+    """The trace's escape flights ``(R, 3)``, each ``(uav, first, last)`` within the run."""
+    rows = np.asarray(raw, dtype=np.int64).reshape(-1, 3) if isinstance(raw, list) else None
+    inside = rows is not None and bool(
+        ((rows[:, 0] >= 0) & (rows[:, 0] < n_uavs) & (rows[:, 1] >= 0) & (rows[:, 1] < rows[:, 2]) & (rows[:, 2] < n_configurations)).all()
+    )
+    if rows is None or not inside:
+        raise ResultsFormatError(f"{path}: trace.relocations must be a list of (uav, first, last) within the run, got {raw!r}")
+    return read_only(rows)
 
 
 def _spec_of_format_1(header: dict[str, Any]) -> tuple[MissionSettings, int | None, str]:

@@ -14,6 +14,7 @@
 // the body consumes it.
 #![allow(clippy::needless_pass_by_value, reason = "PyO3's calling convention")]
 
+mod cover;
 mod cvt;
 mod draws;
 mod surface;
@@ -107,6 +108,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<visibility::PyVisibility>()?;
     m.add_class::<tracking::PyCoverageTracker>()?;
     m.add_class::<cvt::PyCvt>()?;
+    m.add_class::<cover::PySeenMatrix>()?;
     m.add_class::<surrogate::PySurrogate>()?;
     m.add_function(wrap_pyfunction!(available_threads, m)?)?;
     m.add_function(wrap_pyfunction!(draws::pcg64_standard_normal, m)?)?;

@@ -18,7 +18,7 @@ use crate::visibility;
 const SENSOR_COLUMNS: usize = 16;
 
 /// The sensors packed by `uavcov.sensors` (one row per UAV), copied and checked.
-fn sensors(py: Python<'_>, packed: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Vec<Sensor>>> {
+pub(super) fn sensors(py: Python<'_>, packed: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Vec<Sensor>>> {
     let Some(packed) = packed else { return Ok(None) };
     let a = packed.as_array();
     if a.ncols() != SENSOR_COLUMNS {

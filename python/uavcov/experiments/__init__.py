@@ -19,6 +19,7 @@ from ._claims import (
 )
 from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution, stop_pool
 from ._jobs import REPORT_SEEDS, REPRODUCIBLE, ablate, reproduce, reproduce_all, run_sweep
+from ._oracle import OracleRow, oracle
 from ._paper import (
     ABLATION_BASE,
     ABLATIONS,
@@ -51,11 +52,24 @@ from ._reports import (
     sweep_markdown,
     table1_markdown,
 )
-from ._results import CONFIG_FORMAT, RUN_COLUMNS, ResultsFolder, RunsFile, config_document, csv_line, format_cell, json_default, read_runs
+from ._results import (
+    CONFIG_FORMAT,
+    LATER_RUN_COLUMNS,
+    RUN_COLUMNS,
+    ResultsFolder,
+    RunsFile,
+    config_document,
+    csv_line,
+    format_cell,
+    json_default,
+    read_runs,
+)
 from ._sweep import Experiment, RunSpec, execute_run, experiment_specs, experiments_hash, parse_seeds, run_specs, settings_hash
 from ._sweep_config import PRIORS, STARTS, SweepConfig, load_sweep_config, parse_sweep_config
 
 __all__ = [
+    "oracle",
+    "OracleRow",
     "PairedGain",
     "RowRobustness",
     "Convergence",
@@ -110,6 +124,7 @@ __all__ = [
     "coverage_curves_csv",
     "REPORTS",
     "RUN_COLUMNS",
+    "LATER_RUN_COLUMNS",
     "CONFIG_FORMAT",
     "ResultsFolder",
     "RunsFile",

@@ -53,6 +53,8 @@ RUN_COLUMNS: tuple[str, ...] = (
     "time_feasibility_s",
     "settings_hash",
     "error",
+    "distance_mean_m",
+    "distance_max_m",
 )
 """Columns of ``runs.csv``, in order; a sweep adds one column per swept setting after these.
 
@@ -63,8 +65,16 @@ best reached), ``final_coverage`` are shares of the surface; ``best_iteration`` 
 ``wall_time_s`` is the whole mission and ``time_measure_s``, ``time_optimizer_s``,
 ``time_feasibility_s`` its coverage measurements, the optimiser's own work and the constraint
 checks (the rest is prior, S', CVT and start); ``settings_hash`` is
-:func:`uavcov.experiments.settings_hash`; ``error`` is empty for a run that finished.
+:func:`uavcov.experiments.settings_hash`; ``error`` is empty for a run that finished;
+``distance_mean_m`` and ``distance_max_m`` are the mean and the largest distance a UAV flew
+(:attr:`uavcov.MissionResult.distance_flown`, metres).
 """
+
+LATER_RUN_COLUMNS: tuple[str, ...] = ("distance_mean_m", "distance_max_m")
+"""The last columns of :data:`RUN_COLUMNS`, added after results folders were published: a
+``runs.csv`` without them is still read, and a sweep resumed in it goes on writing its columns."""
+
+_REQUIRED_COLUMNS = tuple(c for c in RUN_COLUMNS if c not in LATER_RUN_COLUMNS)
 
 CONFIG_FORMAT = "uavcov.results/1"
 """The ``format`` entry of ``config.json``."""
@@ -80,6 +90,8 @@ _FLOAT_COLUMNS = frozenset(
         "time_measure_s",
         "time_optimizer_s",
         "time_feasibility_s",
+        "distance_mean_m",
+        "distance_max_m",
     }
 )
 
@@ -149,7 +161,7 @@ def _complete_text(path: Path) -> tuple[str, int]:
         raise ResultsFormatError(f"{path} is not a uavcov runs file: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
 
 
-def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = RUN_COLUMNS) -> list[dict[str, Any]]:
+def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIRED_COLUMNS) -> list[dict[str, Any]]:
     """Read a ``runs.csv``: one ``dict`` per run, numbers as numbers, empty cells as None.
 
     A last line without its newline (a write cut off by a crash) is ignored: every complete row
@@ -160,7 +172,7 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = RUN_COL
     path : path
         The file.
     required : sequence of str
-        Columns the header must have (all of :data:`RUN_COLUMNS` by default).
+        Columns the header must have (all of :data:`RUN_COLUMNS` but :data:`LATER_RUN_COLUMNS` by default).
 
     Raises
     ------
@@ -325,7 +337,7 @@ def _is_our_runs(path: Path) -> bool:
         header = next(csv.reader(io.StringIO(first)), [])
     except (OSError, UnicodeDecodeError, csv.Error):
         return False
-    return all(c in header for c in RUN_COLUMNS)
+    return all(c in header for c in _REQUIRED_COLUMNS)
 
 
 _HELD_LOCKS: dict[Path, tuple[int, int]] = {}
@@ -375,6 +387,18 @@ class ResultsFolder:
     def read_runs(self) -> list[dict[str, Any]]:
         """The rows of ``runs.csv`` (none when it does not exist yet)."""
         return read_runs(self.runs_csv) if self.runs_csv.exists() else []
+
+    def columns_for(self, columns: Sequence[str]) -> list[str]:
+        """The columns a sweep writing ``columns`` writes here: ``columns``, or, in a ``runs.csv``
+        made before :data:`LATER_RUN_COLUMNS`, its own header when that is ``columns`` without them."""
+        older = [c for c in columns if c not in LATER_RUN_COLUMNS]
+        if self.runs_csv.is_file() and not self.runs_csv.is_symlink():
+            with contextlib.suppress(OSError, UnicodeDecodeError, csv.Error):
+                with open(self.runs_csv, encoding="utf-8") as handle:
+                    header = next(csv.reader([handle.readline()]), [])
+                if header == older:
+                    return older
+        return list(columns)
 
     def check_columns(self, columns: Sequence[str]) -> None:
         """Refuse a ``runs.csv`` of another kind of sweep (see :meth:`RunsFile.check`)."""

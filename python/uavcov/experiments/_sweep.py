@@ -49,8 +49,8 @@ from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
-_LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start"})
-_LATER_NESTED_FIELDS = (("cao", "infeasible"), ("constraints", "clearance"))
+_LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start", "escape"})
+_LATER_NESTED_FIELDS = (("cao", "infeasible"), ("constraints", "clearance"), ("start", "greedy"))
 """Fields of the mission's settings objects added later, left out of the settings hash at their defaults."""
 _MISSION_SHORTCUTS = _LATER_MISSION_FIELDS | {"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"}
 
@@ -185,9 +185,8 @@ def experiment_settings(experiment: Experiment) -> dict[str, Any]:
     settings["mission"]["start"].pop("kind")
     # Mission fields added after the paper's experiments were published leave the settings (and
     # so the run ids of every earlier sweep) as they were while they keep their defaults.
-    defaults = {f.name: f.default for f in dataclasses.fields(MissionSettings) if f.name in _LATER_MISSION_FIELDS}
-    for name, default in defaults.items():
-        if getattr(experiment.mission, name) == default:
+    for name in _LATER_MISSION_FIELDS:
+        if getattr(experiment.mission, name) == _field_default(MissionSettings, name):
             settings["mission"].pop(name)
     for group, name in _LATER_NESTED_FIELDS:
         value = getattr(getattr(experiment.mission, group), name)
@@ -198,14 +197,17 @@ def experiment_settings(experiment: Experiment) -> dict[str, Any]:
 
 
 def _field_default(cls: type, name: str) -> Any:
-    return next(f.default for f in dataclasses.fields(cls) if f.name == name)
+    """The default of field ``name`` of dataclass ``cls`` (made by its factory when it has one)."""
+    found = next(f for f in dataclasses.fields(cls) if f.name == name)
+    return found.default_factory() if found.default_factory is not dataclasses.MISSING else found.default
 
 
 def settings_hash(experiment: Experiment) -> str:
     """Eight hex digits that change with any setting of ``experiment`` a run depends on.
 
-    See :func:`experiment_settings`: adding seeds or team sizes to an experiment keeps the
-    identity of the runs already made (a resume then runs only the new ones).
+    See ``experiment_settings`` (the settings without the seeds, team sizes and starts): adding
+    seeds or team sizes to an experiment keeps the identity of the runs already made (a resume
+    then runs only the new ones).
     """
     text = json.dumps(experiment_settings(experiment), sort_keys=True, default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:8]
@@ -448,6 +450,8 @@ def execute_run(spec: RunSpec, n_threads: int | None = 1, keep_result: bool = Tr
         time_measure_s=float(result.time_measure_s),
         time_optimizer_s=float(result.time_optimizer_s),
         time_feasibility_s=float(result.trace.time_feasibility_s),
+        distance_mean_m=float(result.distance_flown.mean()),
+        distance_max_m=float(result.distance_flown.max()),
     )
     return row, (result if keep_result else None)
 
@@ -589,6 +593,7 @@ def run_specs(
         # Every check first, then the writes: a refused run changes nothing in the folder.
         folder.claim()
         done, drop = _prepare(folder, specs, resume, rerun, exclusive)
+        columns = folder.columns_for(columns)
         folder.check_columns(columns)
         folder.write_config(_configuration(specs, command, execution, about), resume=resume)
         if drop:

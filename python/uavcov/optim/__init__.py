@@ -1,10 +1,20 @@
-"""On-line optimisers: CAO (centralised and per robot) and the random draws it makes."""
+"""On-line optimisers: CAO (centralised, per robot, and with escapes from local optima) and the random draws it makes."""
 
 from __future__ import annotations
 
-from ._cao import MARGINAL_OPTIMIZERS, OPTIMIZERS, CAOSettings, Optimizer, OptimizerTrace, cao, per_robot_cao
+from collections.abc import Mapping
+from types import MappingProxyType
+
+from ._cao import CAOSettings, Optimizer, OptimizerTrace, cao, per_robot_cao
 from ._draws import redraw_monomials, standard_normal
+from ._escape import EscapeSettings, escape_cao
 from ._presets import CAO_PRESETS, PRESET_RANGE, cao_preset
+
+OPTIMIZERS: Mapping[str, Optimizer] = MappingProxyType({"cao": cao, "per_robot": per_robot_cao, "escape": escape_cao})
+"""Optimisers by name, for the mission and the command line."""
+
+MARGINAL_OPTIMIZERS: frozenset[str] = frozenset({"per_robot", "escape"})
+"""Names in :data:`OPTIMIZERS` whose ``measure`` returns ``(team value, marginals)`` (each UAV's exclusive share)."""
 
 __all__ = [
     "CAOSettings",
@@ -12,6 +22,8 @@ __all__ = [
     "Optimizer",
     "cao",
     "per_robot_cao",
+    "escape_cao",
+    "EscapeSettings",
     "OPTIMIZERS",
     "MARGINAL_OPTIMIZERS",
     "standard_normal",

@@ -65,9 +65,8 @@ import functools
 import math
 import numbers
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from types import MappingProxyType
 from typing import Any, Protocol
 
 import numpy as np
@@ -256,7 +255,7 @@ class OptimizerTrace:
     Attributes
     ----------
     kind : str
-        ``"cao"`` or ``"per_robot"``.
+        ``"cao"``, ``"per_robot"`` or ``"escape"``.
     trajectory : ndarray, shape (K + 1, N, d)
         The decision variables at every iteration, positions in metres first (``d = 3`` unless
         :func:`cao` was given more per UAV); ``trajectory[0]`` is the start.
@@ -282,6 +281,10 @@ class OptimizerTrace:
     time_measure_s, time_feasibility_s, time_optimizer_s : float
         Seconds spent in ``measure``, in ``feasible``, and in the optimiser's own work (the
         names of :class:`~uavcov.MissionResult`).
+    relocations : ndarray, shape (R, 3), int64
+        The escapes of :func:`uavcov.optim.escape_cao`, one row ``(uav, first, last)`` each: the
+        UAV flew from its position at iteration ``first`` to the one at ``last`` through the
+        configurations in between (every other UAV holding still); empty for other optimisers.
     """
 
     kind: str
@@ -299,6 +302,7 @@ class OptimizerTrace:
     time_measure_s: float = field(default=0.0)
     time_feasibility_s: float = field(default=0.0)
     time_optimizer_s: float = field(default=0.0)
+    relocations: np.ndarray = field(default_factory=lambda: read_only(np.empty((0, 3), dtype=np.int64)))
 
     @property
     def n_iterations(self) -> int:
@@ -908,6 +912,29 @@ def cao(
     >>> trace.evaluations, bool(np.abs(trace.best_positions - top).max() < 0.1)  # within 10 cm of the top
     (201, True)
     """
+    return _cao_run(measure, x0, feasible=feasible, iterations=iterations, settings=settings, rng=rng)
+
+
+StopRule = Callable[[np.ndarray], bool]
+"""``stop(measured)``: called after each measurement with the values measured so far ``(k + 1,)``."""
+
+
+def _cao_run(
+    measure: Callable[[np.ndarray], float],
+    x0: Any,
+    *,
+    feasible: FeasibleFn | None,
+    iterations: int,
+    settings: CAOSettings,
+    rng: Any,
+    stop: StopRule | None = None,
+) -> OptimizerTrace:
+    """:func:`cao`, ended early (the trace then shorter) as soon as ``stop`` says so.
+
+    ``stop`` sees only what the optimiser measured (with its simulated noise); it runs after the
+    measurement of iteration ``k`` and before any draw of that iteration, so a run that is never
+    stopped makes the same draws and the same trace as :func:`cao`.
+    """
     x0, n_iter = _check_common(x0, feasible, iterations, settings, positions_only=False)
     if not callable(measure):
         raise InvalidTypeError(f"measure must be callable, got {type(measure).__name__}")
@@ -943,6 +970,9 @@ def cao(
         measured[k] = value + settings.measurement_noise * rng.standard_normal() if settings.measurement_noise else value
         if k == n_iter:
             break
+        if stop is not None and stop(measured[: k + 1]):
+            n_iter = k
+            break
 
         alpha = float(steps[k])
         lo = _window_start(k, n_window)
@@ -969,12 +999,12 @@ def cao(
     t_total = time.perf_counter() - t_start
     return _finish(
         "cao",
-        traj.reshape(n_iter + 1, n_uavs, n_coords),
-        values,
-        measured,
-        steps,
-        n_checked,
-        n_feasible,
+        traj[: n_iter + 1].reshape(n_iter + 1, n_uavs, n_coords),
+        values[: n_iter + 1],
+        measured[: n_iter + 1],
+        steps[:n_iter],
+        n_checked[:n_iter],
+        n_feasible[:n_iter],
         settings,
         t_measure,
         check.seconds,
@@ -1109,10 +1139,3 @@ def per_robot_cao(
 
     t_total = time.perf_counter() - t_start
     return _finish("per_robot", traj, values, measured, steps, n_checked, n_feasible, settings, t_measure, check.seconds, t_total)
-
-
-OPTIMIZERS: Mapping[str, Optimizer] = MappingProxyType({"cao": cao, "per_robot": per_robot_cao})
-"""Optimisers by name, for the mission and the command line."""
-
-MARGINAL_OPTIMIZERS: frozenset[str] = frozenset({"per_robot"})
-"""Names in :data:`OPTIMIZERS` whose ``measure`` returns ``(team value, marginals)``."""

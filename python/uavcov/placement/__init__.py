@@ -1,11 +1,22 @@
-"""Where a team may fly and where it starts: flight limits, the constrained CVT, starts, camera footprints."""
+"""Where a team may fly and where it starts: flight limits, the constrained CVT, starts, camera footprints,
+candidate viewpoints and the greedy placement with its certified bound."""
 
 from __future__ import annotations
 
 from ._constraints import Constraints, StandoffWorld, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
 from ._footprints import FootprintFit, fit_footprints
-from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, STRUCTURE_START_KINDS, StartSettings, initial_positions, start_configuration
+from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
+from ._starts import (
+    ALTITUDE_REFERENCES,
+    CORNERS,
+    START_KINDS,
+    STRUCTURE_START_KINDS,
+    StartSettings,
+    greedy_start,
+    initial_positions,
+    start_configuration,
+)
 from ._starts3d import (
     StandoffStart,
     check_reachable,
@@ -16,6 +27,7 @@ from ._starts3d import (
     standoff_start,
     surface_normals,
 )
+from ._viewpoints import MAX_CANDIDATES, GreedySettings, Viewpoints, viewpoint_lattice
 
 __all__ = [
     "StandoffWorld",
@@ -48,4 +60,14 @@ __all__ = [
     "facing_attitudes",
     "check_reachable",
     "closest_faces",
+    "GreedySettings",
+    "Viewpoints",
+    "viewpoint_lattice",
+    "MAX_CANDIDATES",
+    "CoverageProblem",
+    "GreedyResult",
+    "CoverageBound",
+    "greedy_placement",
+    "coverage_bound",
+    "greedy_start",
 ]

@@ -15,6 +15,12 @@ in the paper the approximating surface S':
 ``"pairs"``
     The buildings scene's baseline (paper Fig. 8): half the team side by side at the middle of
     the west edge, half at the east edge, ``spacing`` metres apart and ``spacing / 2`` in.
+``"greedy"``
+    What the paper dismissed as too costly: a global placement on S'. Lazy greedy over an
+    admissible lattice of viewpoints above the surface (:func:`uavcov.placement.viewpoint_lattice`,
+    limits judged on the surface), coverage measured on the surface's own targets with range
+    ``d_max`` (:class:`uavcov.placement.CoverageProblem`). Its positions are already in the
+    flight band: no altitude is added to them.
 
 :class:`StartSettings` says how a mission starts: the kind, and the height the start flies at
 (above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
@@ -31,6 +37,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
@@ -38,13 +45,15 @@ from typing import Any
 import numpy as np
 
 from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
-from ..engine import Terrain
+from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._constraints import Constraints, feasible_mask
 from ._cvt import CVTResult, CVTSettings, cvt
+from ._greedy import CoverageProblem, GreedyResult
 from ._starts3d import launch_pad_start, random_volume_start, surface_normals
+from ._viewpoints import GreedySettings, viewpoint_lattice
 
-START_KINDS = ("cvt", "random", "corner", "pairs")
+START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
 """The kinds :func:`initial_positions` knows."""
 
 CORNERS = ("sw", "se", "ne", "nw")
@@ -60,6 +69,9 @@ STRUCTURE_START_KINDS = ("cvt", "random", "launch_pad")
 # Rounds of redraws over nodata before "random" gives up: each round redraws every missing point,
 # so only a surface covering almost none of its rectangle can exhaust them.
 _MAX_ROUNDS = 100
+
+# The "greedy" start's default lattice (a field default of StartSettings: one shared frozen value).
+_DEFAULT_GREEDY = GreedySettings()
 
 
 def _rectangle(surface: Terrain) -> tuple[float, float, float, float]:
@@ -128,6 +140,31 @@ def _pairs(surface: Terrain, n: int, spacing: float, threads: int | None) -> np.
     return np.column_stack([xy, z])
 
 
+def greedy_start(
+    surface: Terrain,
+    n: int,
+    d_max: float,
+    constraints: Constraints,
+    settings: GreedySettings | None = None,
+    *,
+    n_threads: int | None = None,
+) -> GreedyResult:
+    """The ``"greedy"`` start: lazy greedy of ``n`` viewpoints on ``surface`` alone (S' in a mission).
+
+    Candidates are :func:`uavcov.placement.viewpoint_lattice` over ``surface`` under
+    ``constraints``; coverage is measured on ``surface``'s default targets with range ``d_max``;
+    picks are kept ``constraints.d_safe`` apart unless ``settings.separation`` is off. The
+    result's ``matrix_time_s + greedy_time_s`` plus the lattice's time is the start's off-line
+    time (:attr:`GreedyResult.offline_time_s`).
+    """
+    started = time.perf_counter()
+    settings = GreedySettings() if settings is None else settings
+    lattice = viewpoint_lattice(surface, constraints, settings, n_threads=n_threads)
+    problem = CoverageProblem(Visibility(surface, as_positive_float(d_max, "d_max"), n_threads=n_threads), lattice, n_threads=n_threads)
+    result = problem.greedy(n, constraints.d_safe if settings.separation else 0.0)
+    return replace(result, offline_time_s=time.perf_counter() - started)
+
+
 def _cvt_options(kind: str, cvt_options: Any) -> dict[str, Any]:
     """The extra keyword arguments for :func:`uavcov.placement.cvt`, checked by name."""
     if cvt_options is None:
@@ -159,12 +196,15 @@ def initial_positions(
     spacing: float = 3.0,
     cvt_options: Mapping[str, Any] | None = None,
     n_threads: int | None = None,
+    d_max: float | None = None,
+    constraints: Constraints | None = None,
+    greedy: GreedySettings | None = None,
 ) -> np.ndarray:
     """Start positions of ``n`` UAVs over ``surface``, by one of the paper's initialisations.
 
     Parameters
     ----------
-    kind : {"cvt", "random", "corner", "pairs"}
+    kind : {"cvt", "random", "corner", "pairs", "greedy"}
         The initialisation (see the module docstring).
     surface : Terrain
         The surface the starts are computed on (the approximating surface S' in the paper).
@@ -187,11 +227,18 @@ def initial_positions(
     n_threads : int, optional
         Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
         ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
+    d_max : float, optional
+        The sensing range, metres ("greedy" only, where it is required).
+    constraints : Constraints, optional
+        The flight limits the "greedy" candidates keep to (default ``Constraints()``).
+    greedy : GreedySettings, optional
+        The "greedy" candidates' lattice.
 
     Returns
     -------
     (n, 3) float64 ndarray
-        Positions, metres: on the surface, plus ``altitude`` in z.
+        Positions, metres: on the surface ("greedy": in the flight band above it), plus
+        ``altitude`` in z.
 
     Raises
     ------
@@ -227,8 +274,13 @@ def initial_positions(
         positions = _random(surface, n, as_generator(rng), n_threads)
     elif kind == "corner":
         positions = _corner(surface, n, corner, step, n_threads)
-    else:
+    elif kind == "pairs":
         positions = _pairs(surface, n, step, n_threads)
+    else:
+        if d_max is None:
+            raise InvalidInputError("the greedy start needs the sensing range: give d_max")
+        limits = Constraints() if constraints is None else constraints
+        positions = greedy_start(surface, n, d_max, limits, greedy, n_threads=n_threads).positions
 
     out = np.array(positions, dtype=np.float64)
     out[:, 2] += lift
@@ -270,6 +322,9 @@ class StartSettings:
     random_altitude : (float, float), optional
         When given, the "random" start draws each UAV's height above the reference uniformly
         from this range instead of flying at ``altitude``.
+    greedy : GreedySettings, default GreedySettings()
+        The "greedy" start's candidate lattice on S' (its picks fly where greedy put them:
+        ``altitude`` and ``altitude_reference`` do not apply to it).
     """
 
     kind: str = "cvt"
@@ -280,8 +335,14 @@ class StartSettings:
     corner_spacing: float = 3.0
     corner_altitude: float | None = None
     random_altitude: tuple[float, float] | None = None
+    greedy: GreedySettings = _DEFAULT_GREEDY
 
     def __post_init__(self) -> None:
+        if isinstance(self.greedy, Mapping):  # as read back from a settings document
+            values: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in self.greedy.items()}
+            object.__setattr__(self, "greedy", GreedySettings(**values))
+        if not isinstance(self.greedy, GreedySettings):
+            raise InvalidTypeError(f"greedy must be a GreedySettings, got {type(self.greedy).__name__}")
         if not isinstance(self.kind, str) or self.kind not in (*START_KINDS, "launch_pad"):
             raise InvalidInputError(f"kind must be one of {(*START_KINDS, 'launch_pad')}, got {self.kind!r}")
         object.__setattr__(self, "altitude", as_non_negative_float(self.altitude, "altitude"))
@@ -324,10 +385,11 @@ def start_configuration(
     n: int,
     *,
     cvt_settings: CVTSettings | None = None,
-    constraints: Constraints | None = None,
     rng: Any = None,
     n_threads: int | None = None,
-) -> tuple[np.ndarray, CVTResult | None]:
+    d_max: float | None = None,
+    constraints: Constraints | None = None,
+) -> tuple[np.ndarray, CVTResult | GreedyResult | None]:
     """The start of a mission: placed on S', lifted to its flying height.
 
     The positions are those of :func:`initial_positions` on ``approximation`` (the CVT is run
@@ -347,21 +409,25 @@ def start_configuration(
         Team size.
     cvt_settings : CVTSettings, optional
         For ``kind="cvt"``.
-    constraints : Constraints, optional
-        The flight limits, for a structure's start (``altitude_reference="normal"``): "random"
-        draws in their admissible volume over ``terrain``, "launch_pad" stands at a corner of
-        their x-y bounds (``None``: the defaults with ``clearance="standoff"``).
     rng : None, int or numpy.random.Generator
         The start's randomness (CVT or random positions, random heights), drawn in that order.
     n_threads : int, optional
         Threads for the Rust side (as in :func:`initial_positions`).
+    d_max : float, optional
+        The sensing range ("greedy": required).
+    constraints : Constraints, optional
+        The flight limits ("greedy": its candidates keep to them on S'; default ``Constraints()``).
+        For a structure's start (``altitude_reference="normal"``): "random" draws in their
+        admissible volume over ``terrain``, "launch_pad" stands at a corner of their x-y bounds
+        (``None``: the defaults with ``clearance="standoff"``).
 
     Returns
     -------
     positions : (n, 3) float64 ndarray
         Metres.
-    tessellation : CVTResult or None
-        The CVT run, for ``kind="cvt"``.
+    record : CVTResult, GreedyResult or None
+        The CVT run for ``kind="cvt"``; the greedy placement on S', its bound and its off-line
+        time for ``kind="greedy"``.
     """
     if not isinstance(spec, StartSettings):
         raise InvalidTypeError(f"spec must be a StartSettings, got {type(spec).__name__}")
@@ -370,6 +436,14 @@ def start_configuration(
     if spec.altitude_reference == "normal":
         return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads)
     tessellation = None
+    if spec.kind == "greedy":
+        if d_max is None:
+            raise InvalidInputError("the greedy start needs the sensing range: give d_max")
+        limits = Constraints() if constraints is None else constraints
+        placed = greedy_start(approximation, n, d_max, limits.resolve(approximation), spec.greedy, n_threads=n_threads)
+        if placed.positions.shape[0] < n:
+            raise InfeasibleError(f"the greedy start placed only {placed.positions.shape[0]} of {n} UAVs d_safe apart on its lattice")
+        return np.array(placed.positions, dtype=np.float64), placed
     if spec.kind == "cvt":
         tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
         positions = np.array(tessellation.generators, dtype=np.float64)

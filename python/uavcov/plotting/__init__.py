@@ -27,6 +27,8 @@ The package is split by what each part owns:
 - :mod:`~uavcov.plotting._structures`: :func:`plot_structure_seen`, a structure coloured by seen
   from several sides;
 - :mod:`~uavcov.plotting._directory`: :func:`plot_directory`;
+- :mod:`~uavcov.plotting._view`: :func:`view`, the interactive 3D view (plotly, the extra
+  ``uavcov[view]``), :func:`write_view` (one self-contained HTML file) and :func:`find_run`;
 - private helpers: ``_canvas`` (colours, matplotlib on demand, axes, saving, legend entries),
   ``_inputs`` (checks of results and arguments), ``_runs`` (reading ``runs.csv`` and its cells).
 """
@@ -56,6 +58,7 @@ from ._figures import (
     seen_points,
 )
 from ._structures import STRUCTURE_VIEWS, face_seen_share, plot_structure_seen
+from ._view import find_run, view, write_view
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
 from ._views import LIGHT as LIGHT
 from ._writers import write_ply
@@ -78,4 +81,7 @@ __all__ = [
     "plot_structure_seen",
     "face_seen_share",
     "STRUCTURE_VIEWS",
+    "view",
+    "write_view",
+    "find_run",
 ]

@@ -23,22 +23,21 @@ from ._views import _grid_node_mask
 def footprints(terrain: Terrain, poses: Any, sensors: Sequence[Sensor]) -> list[np.ndarray]:
     """Each UAV's footprint: the ``(K, 2)`` x-y outline (convex hull, metres) of the grid points
     its own sensor sees, occlusion included; ``(0, 2)`` when it sees fewer than three."""
-    from scipy.spatial import ConvexHull
-
     positions, _ = pack_sensors(sensors, poses)
     poses_array = np.asarray(poses, dtype=np.float64)
     vis = Visibility(terrain, max(s.reach_m for s in sensors))
     points = vis.targets.points
-    out = []
-    for i in range(positions.shape[0]):
-        seen = vis.seen(poses_array[i : i + 1], sensors=[sensors[i]])
-        xy = points[seen, :2]
-        if xy.shape[0] < 3 or np.linalg.matrix_rank(xy - xy.mean(axis=0)) < 2:
-            out.append(np.empty((0, 2)))
-            continue
-        hull = ConvexHull(xy)
-        out.append(xy[hull.vertices])
-    return out
+    return [_outline(points[vis.seen(poses_array[i : i + 1], sensors=[sensors[i]]), :2]) for i in range(positions.shape[0])]
+
+
+def _outline(xy: np.ndarray) -> np.ndarray:
+    """The convex hull ``(K, 2)`` of points ``(n, 2)``; ``(0, 2)`` when they span no area."""
+    from scipy.spatial import ConvexHull
+
+    if xy.shape[0] < 3 or np.linalg.matrix_rank(xy - xy.mean(axis=0)) < 2:
+        return np.empty((0, 2))
+    hull: np.ndarray = xy[ConvexHull(xy).vertices]
+    return hull
 
 
 def plot_camera_views(

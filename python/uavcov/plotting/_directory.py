@@ -71,8 +71,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     limit = max(0, int(max_runs))
     target = directory / "figures" if out is None else Path(out)
     runs_csv = directory / "runs.csv"
-    # Not the hidden files: ".tmp-*.npz" is what a save cut short by a crash leaves behind.
-    run_files = sorted(f for f in (directory / "runs").glob("*.npz") if not f.name.startswith(".")) if (directory / "runs").is_dir() else []
+    run_files = _stored_runs(directory)
     if not runs_csv.is_file() and not run_files:
         raise ResultsFormatError(f"{directory} holds neither runs.csv nor runs/*.npz: nothing to plot")
     _matplotlib()
@@ -154,6 +153,15 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         if animation and index == 0:
             written.append(animate_mission(r, target / f"{stem}_animation.gif"))
     return written
+
+
+def _stored_runs(directory: Path, *, folder: Path | None = None) -> list[Path]:
+    """The runs a results folder stores, ``directory/runs/*.npz`` (or ``folder/*.npz``), in name order."""
+    where = directory / "runs" if folder is None else folder
+    if not where.is_dir():
+        return []
+    # Not the hidden files: ".tmp-*.npz" is what a save cut short by a crash leaves behind.
+    return sorted(f for f in where.glob("*.npz") if not f.name.startswith(".") and f.is_file())
 
 
 class _Curve:

@@ -1,0 +1,1 @@
+"""Sphinx helpers of uavcov's documentation site (loaded by docs/conf.py)."""

@@ -1,0 +1,14 @@
+"""
+Coverage from above
+===================
+
+The same coverage as a raster seen from above, with the hillshade (:func:`uavcov.plotting.plot_coverage_map`, ``view="top"``).
+"""
+
+import uavcov
+from uavcov import plotting
+from uavcov.experiments import EXAMPLE
+
+terrain = EXAMPLE.terrain.make(0)  # the paper's example terrain: 100 m x 100 m, 1 m grid
+result = uavcov.run_mission(terrain, EXAMPLE.mission.with_changes(n_uavs=9, iterations=60), rng=0)
+fig = plotting.plot_coverage_map(result, view="top")

@@ -1,0 +1,124 @@
+"""The full-knowledge oracle: greedy and its certified bound on the TRUE surface of each scenario.
+
+For one scenario (an experiment's terrain seed) the oracle knows the true surface: it builds the
+admissible lattice of viewpoints over the true flight band (the experiment's constraints
+resolved against the true surface), the seen-matrix of those candidates on the targets a
+mission measures coverage on (the true surface's default targets, range ``d_max``), then for
+each team size the lazy greedy (picks kept ``d_safe`` apart) and its certified bound. One
+matrix serves every team size of a scenario.
+
+What its numbers are: ``coverage`` is a placement any team could fly (an admissible, separated
+configuration of candidates); ``bound`` is certified for the best ``N`` candidates of the lattice
+(no ``N`` of them see more), not for positions off the lattice, which can see a little more (see
+benches/README.md for how the bound moves as the lattice is refined).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from ..engine import Visibility
+from ..errors import InvalidTypeError
+from ..placement import CoverageProblem, GreedySettings, viewpoint_lattice
+from ._sweep import Experiment, _scenario
+
+
+@dataclass(frozen=True)
+class OracleRow:
+    """The oracle on one scenario and team size.
+
+    Attributes
+    ----------
+    seed, n_uavs : int
+        The scenario and the team size.
+    coverage : float
+        Greedy's coverage on the true surface (an admissible placement).
+    bound : float
+        Certified: no ``n_uavs`` candidates of the lattice see more.
+    ceiling : float
+        The share of the targets any candidate sees.
+    n_candidates : int
+    matrix_time_s, greedy_time_s : float
+        Seconds for the scenario's lattice and seen-matrix (shared by its team sizes), and for
+        this team's greedy and bound.
+    holds_for : str
+        What the bound bounds, in words.
+    """
+
+    seed: int
+    n_uavs: int
+    coverage: float
+    bound: float
+    ceiling: float
+    n_candidates: int
+    matrix_time_s: float
+    greedy_time_s: float
+    holds_for: str
+
+
+def oracle(
+    experiment: Experiment,
+    *,
+    seeds: Iterable[int] | None = None,
+    team_sizes: Iterable[int] | None = None,
+    settings: GreedySettings | None = None,
+    n_threads: int | None = None,
+) -> list[OracleRow]:
+    """The full-knowledge oracle of every scenario and team size of ``experiment``.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        E.g. :data:`uavcov.experiments.TABLE1`.
+    seeds, team_sizes : iterable of int, optional
+        Default: the experiment's own.
+    settings : GreedySettings, optional
+        The lattice (default ``GreedySettings()``: 5 m, 3 heights).
+    n_threads : int, optional
+        Threads for the Rust side.
+
+    Returns
+    -------
+    list of OracleRow
+        Seed-major, then team sizes in order.
+
+    Examples
+    --------
+    >>> from uavcov.experiments import TABLE1, oracle
+    >>> from uavcov.placement import GreedySettings
+    >>> rows = oracle(TABLE1, seeds=[0], team_sizes=[5], settings=GreedySettings(spacing=10.0))
+    >>> rows[0].coverage <= rows[0].bound <= rows[0].ceiling
+    True
+    """
+    if not isinstance(experiment, Experiment):
+        raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
+    sizes = experiment.team_sizes if team_sizes is None else tuple(team_sizes)
+    chosen = experiment.seeds if seeds is None else tuple(seeds)
+    mission = experiment.mission
+    rows: list[OracleRow] = []
+    for seed in chosen:
+        terrain = _scenario(experiment.terrain, int(seed))
+        started = time.perf_counter()
+        limits = mission.constraints.resolve(terrain)
+        lattice = viewpoint_lattice(terrain, limits, settings, n_threads=n_threads)
+        problem = CoverageProblem(Visibility(terrain, mission.d_max, n_threads=n_threads), lattice, n_threads=n_threads)
+        matrix_time = time.perf_counter() - started
+        use_separation = settings is None or settings.separation
+        for n in sizes:
+            result = problem.greedy(int(n), limits.d_safe if use_separation else 0.0)
+            rows.append(
+                OracleRow(
+                    seed=int(seed),
+                    n_uavs=int(n),
+                    coverage=result.coverage,
+                    bound=result.bound,
+                    ceiling=result.ceiling,
+                    n_candidates=lattice.n,
+                    matrix_time_s=matrix_time,
+                    greedy_time_s=result.greedy_time_s,
+                    holds_for=result.holds_for,
+                )
+            )
+    return rows

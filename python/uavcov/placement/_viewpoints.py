@@ -1,0 +1,199 @@
+"""Candidate viewpoints: where a UAV may be placed, as a finite set a greedy can choose from.
+
+A coverage problem over a finite set of candidate viewpoints is a weighted maximum-coverage
+problem (see :mod:`uavcov.placement._greedy`). For terrain the candidates are a lattice over the
+flight band: an x-y lattice ``spacing`` metres apart over the flight box (from its lower-left
+corner, so that halving the spacing keeps every earlier column), times ``n_heights`` heights
+per column evenly spaced from ``ground + h_min`` to ``min(ground + h_max, z_max)`` (so that
+``2 n - 1`` heights keep the ``n`` earlier ones), kept where eq. 2's limits accept them
+(:func:`uavcov.placement.feasible_mask`, one UAV at a time). Where the sensors are cameras,
+each position is repeated for every orientation ``(yaw, pitch)`` of the settings.
+
+:class:`Viewpoints` is what every generator returns; a structure's normal offsets (points at a
+standoff along the surface normals of a 3D structure) will be a second generator returning the
+same type, with ``source="normal offsets"``, and nothing downstream changes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_count, as_finite_float, as_float_array, as_positive_float, as_positive_int, read_only
+from ..engine import Terrain
+from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from ._constraints import _MARGIN, Constraints, feasible_mask
+
+MAX_CANDIDATES = 1_000_000
+"""Most candidate viewpoints one problem may hold (10^6 x 10^4 targets is 1.25 GB of bits: the
+Rust side refuses over 1 GiB with :class:`uavcov.errors.SurfaceTooLargeError`)."""
+
+
+@dataclass(frozen=True)
+class GreedySettings:
+    """The candidate viewpoints of a greedy placement and how the greedy runs.
+
+    Attributes
+    ----------
+    spacing : float, default 5.0
+        Distance between neighbouring x-y lattice columns, metres (> 0).
+    n_heights : int, default 3
+        Heights per column, evenly spaced over the flight band (1: its floor, ``ground + h_min``).
+    yaws : tuple of float, default (0.0, 90.0, 180.0, 270.0)
+        Camera headings tried at every position, degrees (camera sensors only).
+    pitches : tuple of float, default (-90.0,)
+        Camera gimbal pitches tried at every position, degrees (-90: straight down; cameras only).
+    separation : bool, default True
+        Keep the picks at least the constraints' ``d_safe`` apart.
+    """
+
+    spacing: float = 5.0
+    n_heights: int = 3
+    yaws: tuple[float, ...] = (0.0, 90.0, 180.0, 270.0)
+    pitches: tuple[float, ...] = (-90.0,)
+    separation: bool = True
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "spacing", as_positive_float(self.spacing, "spacing"))
+        object.__setattr__(self, "n_heights", as_count(self.n_heights, "n_heights", 1000))
+        for name in ("yaws", "pitches"):
+            value = getattr(self, name)
+            if isinstance(value, (str, bytes)) or not isinstance(value, (tuple, list)) or not value:
+                raise InvalidInputError(f"{name} must be a non-empty tuple of angles in degrees, got {value!r}")
+            object.__setattr__(self, name, tuple(as_finite_float(v, name) for v in value))
+        if not isinstance(self.separation, (bool, np.bool_)):
+            raise InvalidTypeError(f"separation must be a bool, got {type(self.separation).__name__}")
+
+
+@dataclass(frozen=True)
+class Viewpoints:
+    """A finite set of candidate viewpoints.
+
+    Attributes
+    ----------
+    positions : (C, 3) float64 ndarray
+        Metres.
+    poses : (C, 5) float64 ndarray or None
+        ``(x, y, z, yaw, pitch)`` (degrees) for camera sensors, else None.
+    source : str
+        How they were made: ``"lattice"`` (:func:`viewpoint_lattice`).
+    description : str
+        The lattice in words (what a bound over these candidates holds for).
+    """
+
+    positions: np.ndarray
+    poses: np.ndarray | None
+    source: str
+    description: str = field(default="")
+
+    @property
+    def n(self) -> int:
+        """Number of candidates."""
+        return int(self.positions.shape[0])
+
+
+def viewpoint_lattice(
+    world: Terrain,
+    constraints: Constraints,
+    settings: GreedySettings | None = None,
+    *,
+    cameras: bool = False,
+    n_threads: int | None = None,
+) -> Viewpoints:
+    """The admissible lattice of candidate viewpoints over ``world``'s flight band.
+
+    Parameters
+    ----------
+    world : Terrain
+        The surface the limits are judged on (the true surface, or S' for a start on S').
+    constraints : Constraints
+        Eq. 2's limits; their x-y bounds default to ``world``'s.
+    settings : GreedySettings, optional
+        Lattice spacing, heights and camera orientations.
+    cameras : bool, default False
+        Repeat every position for each ``(yaw, pitch)`` of ``settings``.
+    n_threads : int, optional
+        Threads for the admissibility check.
+
+    Returns
+    -------
+    Viewpoints
+
+    Raises
+    ------
+    InvalidInputError
+        More than :data:`MAX_CANDIDATES` candidates.
+    InfeasibleError
+        No admissible candidate.
+    """
+    if not isinstance(world, Terrain):
+        raise InvalidTypeError(f"world must be a uavcov Terrain, got {type(world).__name__}")
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    settings = GreedySettings() if settings is None else settings
+    if not isinstance(settings, GreedySettings):
+        raise InvalidTypeError(f"settings must be a GreedySettings, got {type(settings).__name__}")
+    if n_threads is not None:
+        as_positive_int(n_threads, "n_threads")
+    limits = constraints.resolve(world)
+    xmin, ymin, xmax, ymax = limits.flight_box
+    s = settings.spacing
+    columns = [math.floor((hi - lo) / s + 1e-9) + 1 for lo, hi in ((xmin, xmax), (ymin, ymax))]
+    orientations = len(settings.yaws) * len(settings.pitches) if cameras else 1
+    total = columns[0] * columns[1] * settings.n_heights * orientations
+    if total > MAX_CANDIDATES:
+        raise InvalidInputError(
+            f"{columns[0]} x {columns[1]} columns x {settings.n_heights} heights x {orientations} orientations = {total:,} "
+            f"candidates, more than {MAX_CANDIDATES:,}: use a larger spacing"
+        )
+    gx, gy = np.meshgrid(xmin + s * np.arange(columns[0]), ymin + s * np.arange(columns[1]))
+    xy = np.column_stack([gx.ravel(), gy.ravel()])
+    ground = world.ground_height(xy, n_threads=n_threads)
+    keep = np.isfinite(ground)
+    xy, ground = xy[keep], ground[keep]
+    # the band's ends moved in by _MARGIN, so the exact checks never refuse them on round-off
+    low = ground + limits.h_min + _MARGIN
+    top = np.minimum(ground + limits.h_max, limits.z_max) if limits.h_max is not None else np.full_like(ground, limits.z_max)
+    high = top - _MARGIN
+    fraction = np.linspace(0.0, 1.0, settings.n_heights) if settings.n_heights > 1 else np.zeros(1)
+    z = low[:, None] + fraction[None, :] * (high - low)[:, None]
+    points = np.column_stack([np.repeat(xy, settings.n_heights, axis=0), z.ravel()])
+    points = points[np.repeat(high >= low, settings.n_heights)]
+    if points.shape[0]:
+        # each candidate alone, where it is: no move to check
+        alone = replace(limits, check_moves=False)
+        points = points[feasible_mask(alone, world, points[:1], points[:, None, :], n_threads=n_threads)]
+    if points.shape[0] == 0:
+        raise InfeasibleError("no lattice point is admissible: the flight band is empty, or the spacing misses it")
+    heights = f"{settings.n_heights} height{'s' if settings.n_heights > 1 else ''}"
+    description = f"{points.shape[0]} admissible points of a {s:g} m x-y lattice x {heights} over the flight band"
+    poses = None
+    if cameras:
+        angles = np.array([(yaw, pitch) for yaw in settings.yaws for pitch in settings.pitches], dtype=np.float64)
+        poses = np.column_stack([np.repeat(points, len(angles), axis=0), np.tile(angles, (points.shape[0], 1))])
+        points = poses[:, :3].copy()
+        description += f", each with {len(angles)} camera orientation{'s' if len(angles) > 1 else ''}"
+    return Viewpoints(
+        positions=read_only(np.ascontiguousarray(points)),
+        poses=None if poses is None else read_only(poses),
+        source="lattice",
+        description=description,
+    )
+
+
+def as_viewpoints(value: Any) -> Viewpoints:
+    """``value`` as :class:`Viewpoints`: itself, or an ``(C, 3)`` / ``(C, 5)`` array of given candidates."""
+    if isinstance(value, Viewpoints):
+        return value
+    if isinstance(value, (str, bytes)):
+        raise InvalidInputError(f"candidates must be Viewpoints or an (C, 3) or (C, 5) array, got {value!r}")
+    array = as_float_array(value, "candidates", ndim=2)
+    if array.shape[1] not in (3, 5) or array.shape[0] == 0:
+        raise InvalidInputError(f"candidates must be Viewpoints or an (C, 3) or (C, 5) array, got shape {array.shape}")
+    if array.shape[0] > MAX_CANDIDATES:
+        raise InvalidInputError(f"{array.shape[0]:,} candidates, more than {MAX_CANDIDATES:,}")
+    poses = read_only(array.copy()) if array.shape[1] == 5 else None
+    return Viewpoints(read_only(np.ascontiguousarray(array[:, :3])), poses, "given", f"{array.shape[0]} given candidates")
