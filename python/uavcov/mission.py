@@ -639,7 +639,7 @@ def run_mission(
         ``settings.constraints.clearance == "standoff"``; its prior is then ``n_prior`` random
         points on it (:func:`~uavcov.terrain.sample_structure_prior`) reconstructed into S' by
         :func:`~uavcov.terrain.reconstruct_structure` (no ground plane), its targets
-        :meth:`Structure.targets`, and the result has :attr:`MissionResult.coverage_by_part`.
+        :meth:`~uavcov.terrain.Structure.targets`, and the result has :attr:`MissionResult.coverage_by_part`.
     settings : MissionSettings
         Everything the mission runs.
     known : Prior, StructurePrior, (n, 2 or 3) array_like, or Terrain, optional
