@@ -50,3 +50,15 @@ def test_the_quick_start_runs_and_prints_a_coverage():
     assert lines, "the quick start printed nothing"
     coverage = float(lines[0])  # what print(vis.coverage(uavs)) wrote
     assert 0.0 <= coverage <= 1.0
+
+
+def test_the_structures_snippet_runs_and_prints_what_the_readme_says():
+    text = README.read_text(encoding="utf-8")
+    section = _section(text, "Structures: under a deck, beside a tower")
+    code = _python_block(section)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(code, f"{README}:Structures", "exec"), {"__name__": "__readme__"})
+    best = out.getvalue().split()[0]
+    assert f"It prints `{best}`" in section, "the README states the coverage its snippet prints"
+    assert "deck_underside" in out.getvalue()

@@ -415,6 +415,10 @@ def _plan(args: argparse.Namespace) -> int:
     from .terrain import read_dem, read_mesh_dem, sample_dem
 
     started = time.perf_counter()
+    if args.structure is not None:
+        return _plan_structure(args, started)
+    if args.anchor is not None:
+        raise ConfigError("--anchor places a structure (--structure); a DEM states its own georeference")
     if (args.dem is None) == (not args.sample):
         raise ConfigError("give either a DEM file or the bundled sample (--sample), not both and not neither")
     if args.sample:
@@ -443,8 +447,8 @@ def _plan(args: argparse.Namespace) -> int:
     settings = PlanSettings(
         n_uavs=args.uavs,
         d_max=args.d_max,
-        h_min=args.h_min,
-        h_max=args.h_max,
+        h_min=10.0 if args.h_min is None else args.h_min,
+        h_max=60.0 if args.h_max is None else args.h_max,
         d_safe=args.separation,
         takeoff=args.takeoff,
         takeoff_frame=args.coords,
@@ -469,6 +473,71 @@ def _plan(args: argparse.Namespace) -> int:
             f"  UAV {k + 1}: {lon:.7f}, {lat:.7f}  {flight_plan.altitude_amsl[k]:.1f} m AMSL, "
             f"{flight_plan.altitude_agl[k]:.1f} m above ground, {flight_plan.altitude_home[k]:.1f} m above home"
         )
+    print(f"  wrote {len(written)} files to {args.out}/ in {time.perf_counter() - started:.1f} s: " + ", ".join(p.name for p in written))
+    return EXIT_OK
+
+
+def _plan_structure(args: argparse.Namespace, started: float) -> int:
+    """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
+    from .errors import ConfigError
+    from .field import GeoAnchor, plan_structure, write_structure_mission
+    from .mission import MissionSettings
+    from .placement import Constraints, StartSettings
+    from .terrain import STRUCTURE_SCENES, load_structure
+
+    if args.dem is not None or args.sample:
+        raise ConfigError("--structure plans round a structure: give no DEM and no --sample")
+    if args.anchor is None:
+        raise ConfigError("a structure's plan needs its WGS84 anchor: --anchor LON,LAT,ALT (the local origin)")
+    for flag, value in (
+        ("--aoi", args.aoi),
+        ("--bbox", args.bbox),
+        ("--crs", args.crs),
+        ("--camera", args.camera),
+        ("--takeoff", args.takeoff),
+    ):
+        if value is not None:
+            raise ConfigError(f"{flag} is for a DEM's plan, not a structure's")
+    if args.structure in STRUCTURE_SCENES:
+        structure = STRUCTURE_SCENES[args.structure](rng=args.seed)
+    elif Path(args.structure).suffix.lower() in _MESH_SUFFIXES:
+        structure = load_structure(args.structure)
+    else:
+        raise ConfigError(f"--structure must be one of {sorted(STRUCTURE_SCENES)} or a mesh file (.obj/.stl/.ply), got {args.structure!r}")
+    top = float(structure.surface.bounds[1, 2])
+    h_min = 2.0 if args.h_min is None else args.h_min
+    settings = MissionSettings(
+        n_uavs=args.uavs,
+        d_max=args.d_max,
+        n_prior=100,
+        iterations=args.iterations,
+        start=StartSettings(kind="cvt", altitude=max(4.0, h_min + 1.0), altitude_reference="normal", climb=0.5),
+        constraints=Constraints(
+            clearance="standoff", h_min=h_min, h_max=args.h_max, d_safe=args.separation, z_max=top + 10.0, check_moves=True
+        ),
+    )
+    lon, lat, alt = args.anchor
+    mission = plan_structure(structure, settings, GeoAnchor(lon, lat, alt), hold_s=args.hold, rng=args.seed, n_threads=args.threads)
+    written = write_structure_mission(mission, args.out)
+    try:
+        from .plotting import plot_structure_seen
+
+        figure = Path(args.out) / "seen.png"
+        best = mission.result.best_positions
+        plot_structure_seen(structure.surface, mission.seen_count > 0, targets=mission.targets, positions=best, out=figure)
+        written.append(figure)
+    except ImportError:  # matplotlib is the [plot] extra: the plan stands without the figure
+        pass
+    result = mission.result
+    print(
+        f"uavcov plan: {settings.n_uavs} UAVs round {structure.name}: "
+        f"coverage {result.best_coverage:.3f} (start {result.initial_coverage:.3f})"
+    )
+    for part, share in (result.coverage_by_part or {}).items():
+        print(f"  {part}: {share:.3f}")
+    for k in range(mission.plan.n_uavs):
+        lon_k, lat_k, h_k = mission.plan.positions_wgs84[k]
+        print(f"  UAV {k + 1}: {lon_k:.7f}, {lat_k:.7f}  {h_k:.1f} m (WGS84 ellipsoid)")
     print(f"  wrote {len(written)} files to {args.out}/ in {time.perf_counter() - started:.1f} s: " + ", ".join(p.name for p in written))
     return EXIT_OK
 
@@ -546,8 +615,23 @@ def _parser() -> argparse.ArgumentParser:
     planning.add_argument("--crs", help="the DEM's CRS when its file states none (e.g. EPSG:32633)")
     planning.add_argument("--uavs", type=_positive_int, required=True, help="team size")
     planning.add_argument("--d-max", type=_positive_float, required=True, help="sensing range, metres")
-    planning.add_argument("--h-min", type=float, default=10.0, help="least height above ground, metres (default 10)")
-    planning.add_argument("--h-max", type=_positive_float, default=60.0, help="most height above ground, metres (default 60)")
+    planning.add_argument(
+        "--h-min", type=float, help="least height above ground, metres (default 10); with --structure the least distance to it (default 2)"
+    )
+    planning.add_argument(
+        "--h-max",
+        type=_positive_float,
+        help="most height above ground, metres (default 60); with --structure the most distance (default none)",
+    )
+    planning.add_argument(
+        "--structure",
+        metavar="SCENE|MESH",
+        help="plan round a structure instead of over a DEM: a scene (girder_bridge, arch_bridge, wind_turbine, facade, "
+        "lattice_pylon; --seed makes it) or a closed mesh file (.obj/.stl/.ply) in local metres",
+    )
+    planning.add_argument(
+        "--anchor", type=_floats(3, "LON,LAT,ALT"), metavar="LON,LAT,ALT", help="with --structure: the WGS84 point of its local origin"
+    )
     planning.add_argument("--separation", type=float, default=5.0, help="least distance between UAVs, metres (default 5)")
     planning.add_argument(
         "--takeoff", type=_floats(2, "LON,LAT or X,Y"), metavar="LON,LAT", help="take-off point (default: the area's centre)"

@@ -55,11 +55,21 @@ from .placement import (
     CVTSettings,
     StartSettings,
     closest_admissible,
+    facing_attitudes,
     feasibility,
     fit_footprints,
     start_configuration,
 )
-from .terrain import Prior, approximate_surface, sample_prior
+from .terrain import (
+    Prior,
+    Structure,
+    StructurePrior,
+    StructureTargets,
+    approximate_surface,
+    reconstruct_structure,
+    sample_prior,
+    sample_structure_prior,
+)
 
 __all__ = ["MissionSettings", "MissionResult", "run_mission", "mission_time", "iterations_to_fraction", "PRIOR_KINDS"]
 
@@ -373,7 +383,8 @@ class MissionResult:
         The integer seed, when ``rng`` was one.
     prior_kind : str
         How the known points were obtained: "random", "pyramid", "points" (given), "surface"
-        (S' given directly), ...
+        (S' given directly), "structure_points" or "structure_boxes" / "structure_decimated" (a
+        structure's 3D prior), ...
     terrain : Terrain
         The true surface.
     prior_points : (n, 3) ndarray
@@ -408,6 +419,10 @@ class MissionResult:
     start_time_s : float
         Seconds to compute the start on S' (its off-line time: the CVT, or the greedy start's
         lattice, seen-matrix and greedy); 0 for given start positions, NaN when not recorded.
+    coverage_by_part : dict of str to float, optional
+        For a mission on a :class:`~uavcov.terrain.Structure` (targets with parts): the
+        weighted share of each part's targets seen by :attr:`best_positions` ("deck_top",
+        "deck_underside", "piers", ...); ``None`` otherwise.
     """
 
     settings: MissionSettings
@@ -432,6 +447,7 @@ class MissionResult:
     time_optimizer_s: float
     trace: OptimizerTrace = field(repr=False)
     start_time_s: float = math.nan
+    coverage_by_part: dict[str, float] | None = None
 
     @property
     def attitudes(self) -> np.ndarray | None:
@@ -564,6 +580,8 @@ def _approximation(terrain: Terrain, spec: MissionSettings, known: Any, rng: np.
     """S', the known points behind it, and how they were chosen."""
     if isinstance(known, Terrain):
         return known, np.empty((0, 3)), "surface"
+    if isinstance(known, StructurePrior):
+        return _structure_approximation(known, rng)
     if known is None:
         prior = sample_prior(terrain, spec.n_prior, kind=spec.prior, rng=rng)
     elif isinstance(known, Prior):
@@ -573,8 +591,35 @@ def _approximation(terrain: Terrain, spec: MissionSettings, known: Any, rng: np.
     return approximate_surface(prior), np.array(prior.points), prior.kind
 
 
+def _structure_approximation(prior: StructurePrior, rng: np.random.Generator) -> tuple[Terrain, np.ndarray, str]:
+    """S' of a structure from a 3D prior, without a ground plane.
+
+    The CVT spreads the team over S' by area, and the targets are the structure's (the ground
+    carries none by default): a ground plane in S' would draw most generators onto the ground
+    around the structure, and the starts need no ground in S' (the real one is sensed: the flight
+    limits keep every UAV above it).
+    """
+    return reconstruct_structure(prior, rng=rng), np.array(prior.points), f"structure_{prior.kind}"
+
+
+def _structure_inputs(
+    structure: Structure, spec: MissionSettings, known: Any, targets: Targets | None, rng: np.random.Generator
+) -> tuple[Any, Targets]:
+    """What a structure's mission is given by default: a 3D prior of ``n_prior`` points, its targets."""
+    if spec.constraints.clearance != "standoff":
+        raise InvalidInputError(
+            f"a mission on the structure {structure.name!r} needs 3D flight limits: "
+            'constraints=Constraints(clearance="standoff", ...) (a vertical clearance forbids flying under a deck)'
+        )
+    if known is None:
+        if spec.prior != "random":
+            raise InvalidInputError(f"prior={spec.prior!r} is a height field's: a structure's prior is n_prior random points on it")
+        known = sample_structure_prior(structure, spec.n_prior, rng=rng)
+    return known, structure.targets() if targets is None else targets
+
+
 def run_mission(
-    terrain: Terrain,
+    terrain: Terrain | Structure,
     settings: MissionSettings,
     *,
     known: Any = None,
@@ -587,15 +632,21 @@ def run_mission(
 
     Parameters
     ----------
-    terrain : Terrain
+    terrain : Terrain or Structure
         The true surface S. The optimiser sees it only through coverage measurements and the
-        constraint checks (clearance below each UAV, and moves crossing no surface).
+        constraint checks (clearance below each UAV, and moves crossing no surface). A
+        :class:`~uavcov.terrain.Structure` (a bridge, a tower: not a height field) needs
+        ``settings.constraints.clearance == "standoff"``; its prior is then ``n_prior`` random
+        points on it (:func:`~uavcov.terrain.sample_structure_prior`) reconstructed into S' by
+        :func:`~uavcov.terrain.reconstruct_structure` (no ground plane), its targets
+        :meth:`~uavcov.terrain.Structure.targets`, and the result has :attr:`MissionResult.coverage_by_part`.
     settings : MissionSettings
         Everything the mission runs.
-    known : Prior, (n, 2 or 3) array_like, or Terrain, optional
+    known : Prior, StructurePrior, (n, 2 or 3) array_like, or Terrain, optional
         What is known beforehand, instead of what ``settings.prior`` samples: a
-        :class:`~uavcov.terrain.Prior`, known positions or points, or an approximating surface S'
-        given directly (e.g. a buildings map).
+        :class:`~uavcov.terrain.Prior` (a height field's: S' by ``approximate_surface``), a
+        :class:`~uavcov.terrain.StructurePrior` (S' by ``reconstruct_structure``), known
+        positions or points, or an approximating surface S' given directly (e.g. a buildings map).
     start_positions : (N, 3) array_like, optional
         Positions of your own to start from (metres, used as given: no lift), instead of
         ``settings.start``'s; they are still moved to the closest admissible positions.
@@ -629,8 +680,11 @@ def run_mission(
     ((6,), True)
     """
     started = time.perf_counter()
+    structure = terrain if isinstance(terrain, Structure) else None
+    if structure is not None:
+        terrain = structure.surface
     if not isinstance(terrain, Terrain):
-        raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
+        raise InvalidTypeError(f"terrain must be a uavcov.Terrain or Structure, got {type(terrain).__name__}")
     if not isinstance(settings, MissionSettings):
         raise InvalidTypeError(f"settings must be a MissionSettings, got {type(settings).__name__}")
     spec = settings
@@ -642,9 +696,11 @@ def run_mission(
     constraints = spec.constraints.resolve(terrain)
     constraints.check_team(spec.n_uavs, terrain)
     spec = replace(spec, constraints=constraints)
+    prior_rng, start_rng, optimizer_rng = as_generator(rng).spawn(3)
+    if structure is not None:
+        known, targets = _structure_inputs(structure, spec, known, targets, prior_rng)
     vis = Visibility(terrain, spec.d_max, targets, n_threads=n_threads)
 
-    prior_rng, start_rng, optimizer_rng = as_generator(rng).spawn(3)
     approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
     tessellation: CVTResult | None = None
     start_time_s = 0.0
@@ -669,6 +725,8 @@ def run_mission(
     if spec.footprint_start and given is None:
         flying, attitudes = _footprint_start(spec, approximation, flying, attitudes, n_threads)
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
+    if spec.start.altitude_reference == "normal" and spec.has_camera:
+        attitudes = _facing_start(spec, approximation, x0, n_threads)
 
     feasible = feasibility(constraints, terrain, n_threads=n_threads)
     sensors = spec.team_sensors()
@@ -709,6 +767,11 @@ def run_mission(
         )
 
     values = np.asarray(trace.values, dtype=float)
+    parts = None
+    if structure is not None and isinstance(vis.targets, StructureTargets):
+        best = np.ascontiguousarray(trace.best_positions)
+        seen = vis.seen(poses(best), sensors=sensors) if camera else vis.seen(best)
+        parts = structure.coverage_by_part(np.asarray(seen, dtype=bool), vis.targets)
     return MissionResult(
         settings=replace(spec, cao=trace.settings),
         seed=_seed_of(rng),
@@ -732,6 +795,7 @@ def run_mission(
         time_optimizer_s=float(trace.time_optimizer_s),
         trace=trace,
         start_time_s=start_time_s,
+        coverage_by_part=parts,
     )
 
 
@@ -803,6 +867,18 @@ class _CameraState:
             return mask
 
         return ok
+
+
+def _facing_start(spec: MissionSettings, approximation: Terrain, positions: np.ndarray, n_threads: int | None) -> np.ndarray:
+    """Each camera turned to the nearest point of S' (a structure's start), its pitch within the
+    gimbal's range (a mapping gimbal's, -90 to 0, without one)."""
+    nearest = approximation.closest_point(positions, n_threads=n_threads)
+    away = nearest - positions
+    away[np.linalg.norm(away, axis=1) == 0.0] = (0.0, 0.0, -1.0)
+    attitudes = facing_attitudes(away)
+    low, high = spec.gimbal.pitch_range if spec.gimbal is not None and spec.gimbal.pitch_range is not None else (-90.0, 0.0)
+    attitudes[:, 1] = np.clip(attitudes[:, 1], low, high)
+    return attitudes
 
 
 def _footprint_start(

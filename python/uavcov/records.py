@@ -171,6 +171,8 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
         if result.cvt is None
         else {"iterations": result.cvt.iterations, "converged": result.cvt.converged, "seed": result.cvt.seed},
     }
+    if result.coverage_by_part is not None:  # a structure's run; absent from every other file
+        header["coverage_by_part"] = dict(result.coverage_by_part)
     arrays: dict[str, np.ndarray] = {
         "header": np.array(json.dumps(header)),
         "prior_points": result.prior_points,
@@ -257,6 +259,11 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             _require(arrays, tuple(f"cvt_{n}" for n in _CVT_ARRAYS), path)
             cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"])
         s = header["scalars"]
+        parts = header.get("coverage_by_part")
+        if parts is not None and (
+            not isinstance(parts, dict) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in parts.values())
+        ):
+            raise ResultsFormatError(f"{path}: coverage_by_part is not a mapping of part names to shares")
         result = MissionResult(
             settings=spec,
             seed=seed,
@@ -270,6 +277,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             coverage=arrays["coverage"],
             best_positions=read_only(np.ascontiguousarray(trace.best_positions[..., :3])),
             trace=trace,
+            coverage_by_part=None if parts is None else {str(k): float(v) for k, v in parts.items()},
             **s,
         )
         if "distance_flown" in arrays and not np.array_equal(arrays["distance_flown"], result.distance_flown):

@@ -23,6 +23,7 @@ from ._outputs import (
 )
 from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
 from ._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
+from ._structure_mission import StructureMission, plan_structure, structure_routes, write_structure_mission
 from ._structure_plan import StructurePlan, render_structure_plan, structure_plan, structure_qgc_plan, write_structure_plan
 
 __all__ = [
@@ -60,4 +61,8 @@ __all__ = [
     "structure_qgc_plan",
     "render_structure_plan",
     "write_structure_plan",
+    "StructureMission",
+    "plan_structure",
+    "structure_routes",
+    "write_structure_mission",
 ]

@@ -7,7 +7,16 @@ from ._constraints import Constraints, StandoffWorld, World, closest_admissible,
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
 from ._footprints import FootprintFit, fit_footprints
 from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
-from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, greedy_start, initial_positions, start_configuration
+from ._starts import (
+    ALTITUDE_REFERENCES,
+    CORNERS,
+    START_KINDS,
+    STRUCTURE_START_KINDS,
+    StartSettings,
+    greedy_start,
+    initial_positions,
+    start_configuration,
+)
 from ._starts3d import (
     StandoffStart,
     check_reachable,
@@ -40,6 +49,7 @@ __all__ = [
     "start_configuration",
     "StartSettings",
     "START_KINDS",
+    "STRUCTURE_START_KINDS",
     "CORNERS",
     "ALTITUDE_REFERENCES",
     "standoff_start",

@@ -468,6 +468,26 @@ def _push_out(constraints: Constraints, world: Any, pos: np.ndarray, climb: floa
     unit[trapped & has_dir] *= -1.0  # out through the nearest surface, not deeper in
     low = trapped | (dist < constraints.h_min + inset)
     pos[low] = nearest[low] + unit[low] * (constraints.h_min + max(climb, inset))
+    # Pushed from its nearest surface, a UAV can land under the ground (out of a solid standing
+    # on it, through its base) or within h_min of another surface (wedged between an arch and a
+    # deck, among a pylon's braces, in a slot between two walls), and the next sweep pushes it
+    # back: such a UAV goes up instead, over the highest surface within its standoff around it
+    # (the centre and a ring of 8 points h_min out).
+    moved = np.flatnonzero(low)
+    if moved.size:
+        here = np.ascontiguousarray(pos[moved])
+        clear = np.asarray(world.clearance(here), dtype=np.float64)
+        near = np.asarray(world.distance(here), dtype=np.float64)
+        lost = moved[~np.isfinite(clear) | (near < constraints.h_min)]
+        if lost.size:
+            reach = constraints.h_min + max(climb, inset)
+            angles = np.arange(9) * (np.pi / 4.0)
+            ring = np.column_stack([np.cos(angles), np.sin(angles)]) * reach
+            ring[8] = 0.0
+            xy = (pos[lost, None, :2] + ring[None]).reshape(-1, 2)
+            top = np.asarray(world.ground_height(np.ascontiguousarray(xy)), dtype=np.float64).reshape(lost.size, 9)
+            highest = np.where(np.isfinite(top), top, -np.inf).max(axis=1)
+            pos[lost, 2] = np.where(np.isfinite(highest), highest, pos[lost, 2]) + reach
     if constraints.h_max is not None:
         high = ~low & (dist > constraints.h_max - inset)
         pos[high] = nearest[high] + unit[high] * (constraints.h_max - inset)

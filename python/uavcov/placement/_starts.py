@@ -26,6 +26,11 @@ in the paper the approximating surface S':
 (above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
 start, the one pipeline every mission and experiment goes through. Pushing it to admissible
 positions is :func:`uavcov.placement.closest_admissible`'s job.
+
+A structure's start (``altitude_reference="normal"``, :data:`STRUCTURE_START_KINDS`) goes through
+the same :func:`start_configuration`: the CVT generators flown out along S''s outward normals,
+uniform draws in the admissible volume of the flight limits, or a launch pad on the real ground
+(the pieces of :mod:`uavcov.placement._starts3d`).
 """
 
 from __future__ import annotations
@@ -42,9 +47,10 @@ import numpy as np
 from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
 from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from ._constraints import Constraints
+from ._constraints import Constraints, feasible_mask
 from ._cvt import CVTResult, CVTSettings, cvt
 from ._greedy import CoverageProblem, GreedyResult
+from ._starts3d import launch_pad_start, random_volume_start, surface_normals
 from ._viewpoints import GreedySettings, viewpoint_lattice
 
 START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
@@ -53,8 +59,12 @@ START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
 CORNERS = ("sw", "se", "ne", "nw")
 """Corners of the bounding rectangle: south-west is ``(xmin, ymin)``, north is +y, east +x."""
 
-ALTITUDE_REFERENCES = ("ground", "prior")
-"""What a start's altitude is measured from: the real ground under each UAV, or S'."""
+ALTITUDE_REFERENCES = ("ground", "prior", "normal")
+"""What a start's altitude is measured from: the real ground under each UAV, S' straight below,
+or S' along its outward normal (a structure: a 3D standoff)."""
+
+STRUCTURE_START_KINDS = ("cvt", "random", "launch_pad")
+"""The kinds a structure's start (``altitude_reference="normal"``, :func:`start_configuration`) knows."""
 
 # Rounds of redraws over nodata before "random" gives up: each round redraws every missing point,
 # so only a surface covering almost none of its rectangle can exhaust them.
@@ -283,14 +293,20 @@ class StartSettings:
 
     Attributes
     ----------
-    kind : {"cvt", "random", "corner", "pairs"}, default "cvt"
-        The initialisation (see the module docstring); computed on S'.
+    kind : {"cvt", "random", "corner", "pairs", "launch_pad"}, default "cvt"
+        The initialisation (see the module docstring); computed on S'. ``"launch_pad"`` only
+        with ``altitude_reference="normal"``, ``"corner"`` and ``"pairs"`` only without.
     altitude : float, default 5.0
         Metres above the reference at which the start flies (>= 0).
-    altitude_reference : {"ground", "prior"}, default "ground"
+    altitude_reference : {"ground", "prior", "normal"}, default "ground"
         What ``altitude`` is measured from: the real ground under each UAV (what the UAVs sense
         on take-off; S' where the real surface has a hole), or S' itself (the paper's reading:
-        the CVT generators lie on S').
+        the CVT generators lie on S'). ``"normal"`` is a structure's start
+        (:func:`start_configuration`): "cvt" flies each generator ``altitude`` metres out along
+        S''s outward normal (a standoff, under a deck as well as above it); "random" draws the
+        team uniformly in the admissible volume of the flight limits (``altitude`` unused);
+        "launch_pad" puts a compact lattice on the real ground at ``corner`` of the flight box,
+        ``corner_altitude`` (else ``altitude``) above it.
     climb : float, default 0.0
         A UAV that the real ground forces up (under ``h_min`` of clearance) is put this many
         metres above ``h_min`` (:func:`uavcov.placement.closest_admissible`). Left exactly on
@@ -327,13 +343,20 @@ class StartSettings:
             object.__setattr__(self, "greedy", GreedySettings(**values))
         if not isinstance(self.greedy, GreedySettings):
             raise InvalidTypeError(f"greedy must be a GreedySettings, got {type(self.greedy).__name__}")
-        if not isinstance(self.kind, str) or self.kind not in START_KINDS:
-            raise InvalidInputError(f"kind must be one of {START_KINDS}, got {self.kind!r}")
+        if not isinstance(self.kind, str) or self.kind not in (*START_KINDS, "launch_pad"):
+            raise InvalidInputError(f"kind must be one of {(*START_KINDS, 'launch_pad')}, got {self.kind!r}")
         object.__setattr__(self, "altitude", as_non_negative_float(self.altitude, "altitude"))
         object.__setattr__(self, "climb", as_non_negative_float(self.climb, "climb"))
         object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
         if self.altitude_reference not in ALTITUDE_REFERENCES:
             raise InvalidInputError(f"altitude_reference must be one of {ALTITUDE_REFERENCES}, got {self.altitude_reference!r}")
+        if (self.altitude_reference == "normal" and self.kind not in STRUCTURE_START_KINDS) or (
+            self.kind == "launch_pad" and self.altitude_reference != "normal"
+        ):
+            raise InvalidInputError(
+                f"kind={self.kind!r} with altitude_reference={self.altitude_reference!r}: a structure's start "
+                f'(altitude_reference="normal") is one of {STRUCTURE_START_KINDS}, and "launch_pad" is a structure\'s only'
+            )
         if self.corner not in CORNERS:
             raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
         if self.corner_altitude is not None:
@@ -350,7 +373,7 @@ class StartSettings:
         """The height of each UAV above the reference, metres (draws from ``rng`` for a random height)."""
         if self.kind == "random" and self.random_altitude is not None:
             return rng.uniform(*self.random_altitude, size=n)
-        if self.kind in ("corner", "pairs") and self.corner_altitude is not None:
+        if self.kind in ("corner", "pairs", "launch_pad") and self.corner_altitude is not None:
             return self.corner_altitude
         return self.altitude
 
@@ -394,6 +417,9 @@ def start_configuration(
         The sensing range ("greedy": required).
     constraints : Constraints, optional
         The flight limits ("greedy": its candidates keep to them on S'; default ``Constraints()``).
+        For a structure's start (``altitude_reference="normal"``): "random" draws in their
+        admissible volume over ``terrain``, "launch_pad" stands at a corner of their x-y bounds
+        (``None``: the defaults with ``clearance="standoff"``).
 
     Returns
     -------
@@ -407,6 +433,8 @@ def start_configuration(
         raise InvalidTypeError(f"spec must be a StartSettings, got {type(spec).__name__}")
     n = as_count(n, "n", MAX_SAMPLES)
     generator = as_generator(rng)
+    if spec.altitude_reference == "normal":
+        return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads)
     tessellation = None
     if spec.kind == "greedy":
         if d_max is None:
@@ -429,3 +457,57 @@ def start_configuration(
         positions[:, 2] = np.where(np.isnan(ground), positions[:, 2], ground)
     positions[:, 2] += spec.height_above_reference(n, generator)
     return positions, tessellation
+
+
+def _structure_start(
+    spec: StartSettings,
+    approximation: Terrain,
+    terrain: Terrain,
+    n: int,
+    cvt_settings: CVTSettings | None,
+    constraints: Constraints | None,
+    generator: np.random.Generator,
+    n_threads: int | None,
+) -> tuple[np.ndarray, CVTResult | None]:
+    """A start around a structure (``altitude_reference="normal"``), see :class:`StartSettings`."""
+    if constraints is None:
+        constraints = Constraints(clearance="standoff", check_moves=True)
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    limits = constraints.resolve(terrain)
+    if spec.kind == "cvt":
+        # Along S''s face normal at each generator: under a deck the UAV goes down, beside a
+        # pier sideways, where "above S'" would put every UAV on top of the structure.
+        tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
+        anchors, normals = surface_normals(approximation, tessellation.generators)
+        return anchors + spec.altitude * normals, tessellation
+    xmin, ymin, xmax, ymax = limits.flight_box
+    low = float(np.asarray(terrain.bounds)[0, 2])
+    if spec.kind == "random":
+        # Anywhere the limits allow a UAV, each judged alone (no move, no team): the volume the
+        # true surface leaves, which the UAVs sense; separation is kept between the draws.
+        alone = replace(limits, d_safe=0.0, check_moves=False)
+
+        def admissible(points: np.ndarray) -> np.ndarray:
+            return feasible_mask(alone, terrain, points[:1], points[:, None, :], n_threads=n_threads)
+
+        top = limits.z_max
+        if not top > low:
+            raise InfeasibleError(f"the flight box is empty: z_max = {top} m is not above the surface's lowest point {low} m")
+        box = [[xmin, ymin, low], [xmax, ymax, top]]
+        return random_volume_start(box, n, admissible, separation=limits.d_safe, rng=generator), None
+    # launch_pad: the paper's corner start, on the real ground at a corner of the flight box.
+    columns = math.ceil(math.sqrt(n))
+    rows = math.ceil(n / columns)
+    half_x, half_y = columns * spec.corner_spacing / 2, rows * spec.corner_spacing / 2
+    if 2 * half_x > xmax - xmin or 2 * half_y > ymax - ymin:
+        raise InfeasibleError(
+            f"a {rows} x {columns} launch pad {spec.corner_spacing} m apart does not fit in the {xmax - xmin} m x {ymax - ymin} m region"
+        )
+    x = xmin + half_x if spec.corner in ("sw", "nw") else xmax - half_x
+    y = ymin + half_y if spec.corner in ("sw", "se") else ymax - half_y
+    ground = float(terrain.ground_height(np.array([[x, y]]), n_threads=n_threads)[0])
+    if not math.isfinite(ground):
+        raise InfeasibleError(f"the launch pad at x-y ({x}, {y}) stands over no surface")
+    height = float(spec.height_above_reference(n, generator))
+    return launch_pad_start([x, y, ground], n, spacing=spec.corner_spacing, altitude=height), None
