@@ -256,5 +256,8 @@ def test_the_oracle_places_admissibly_on_the_true_surface() -> None:
     limits = small.mission.constraints.resolve(terrain)
     lattice = viewpoint_lattice(terrain, limits, GreedySettings(spacing=5.0))
     by_hand = greedy_placement(uavcov.Visibility(terrain, small.d_max), lattice, 4, d_safe=limits.d_safe)
-    assert (by_hand.coverage, by_hand.bound) == (rows[3].coverage, rows[3].bound)
+    assert (by_hand.coverage, by_hand.bound) == (rows[3].coverage, rows[3].online_bound)
+    problem = CoverageProblem(uavcov.Visibility(terrain, small.d_max), lattice)
+    assert rows[3].dual_bound == problem.dual_bound(4).bound
+    assert rows[3].bound == min(rows[3].online_bound, rows[3].dual_bound)
     assert uavcov.placement.feasible_mask(limits, terrain, by_hand.positions, by_hand.positions[None])[0]

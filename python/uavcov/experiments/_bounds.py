@@ -93,13 +93,13 @@ def bounds_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleRo
         key = (int(r["n_uavs"]), str(r["init"]))
         share.setdefault(key, {})[int(r["seed"])] = float(r["max_coverage"]) / bound_of[(int(r["seed"]), int(r["n_uavs"]))].bound
     for n in sizes:
-        mine = [b for b in bounds if b.n_uavs == n]
+        of_n = [b for b in bounds if b.n_uavs == n]
         cells = [
             str(n),
-            str(len(mine)),
-            f"{np.mean([b.bound for b in mine]):.3f}",
-            f"{np.mean([b.online_bound for b in mine]):.3f} / {np.mean([b.dual_bound for b in mine]):.3f}",
-            f"{np.mean([b.coverage for b in mine]):.3f}",
+            str(len(of_n)),
+            f"{np.mean([b.bound for b in of_n]):.3f}",
+            f"{np.mean([b.online_bound for b in of_n]):.3f} / {np.mean([b.dual_bound for b in of_n]):.3f}",
+            f"{np.mean([b.coverage for b in of_n]):.3f}",
         ]
         for s in starts:
             values = share.get((n, s), {})
@@ -116,15 +116,15 @@ def bounds_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleRo
     ]
     for n in sizes:
         for s in starts:
-            mine = [r for r in ok if int(r["n_uavs"]) == n and r["init"] == s]
-            if not mine:
+            runs_here = [r for r in ok if int(r["n_uavs"]) == n and r["init"] == s]
+            if not runs_here:
                 continue
             cvt = share.get((n, "cvt"), {})
             own = share.get((n, s), {})
             seeds = sorted(set(cvt) & set(own))
             diff = "-" if s == "cvt" or not seeds else _interval(np.array([own[k] - cvt[k] for k in seeds]))
-            distance = _mean_of(mine, "distance_mean_m")
-            offline = _mean_of(mine, "start_time_s")
+            distance = _mean_of(runs_here, "distance_mean_m")
+            offline = _mean_of(runs_here, "start_time_s")
             lines.append(f"| {n} | {s} | {len(seeds)} | {diff} | {distance} | {offline} |")
     return "\n".join(lines) + "\n"
 

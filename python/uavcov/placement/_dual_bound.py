@@ -80,7 +80,9 @@ def certificate_value(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: in
     return float(k * per_candidate.max() + rest + (k + 1) * n * _ROUNDING)
 
 
-def dual_bound(seen: np.ndarray, weights: np.ndarray, k: int, points: np.ndarray | None = None, cell: float | None = None) -> DualCertificate:
+def dual_bound(
+    seen: np.ndarray, weights: np.ndarray, k: int, points: np.ndarray | None = None, cell: float | None = None
+) -> DualCertificate:
     """The LP relaxation's dual certificate for the best ``k`` of ``seen``'s candidates.
 
     With ``cell``, the LP is solved on clusters of targets (the ``cell``-metre boxes of
@@ -123,7 +125,9 @@ def dual_bound(seen: np.ndarray, weights: np.ndarray, k: int, points: np.ndarray
     # a[s, c]: the share of cluster c's weight that candidate s sees, in [0, 1]
     spread = coo_matrix((shares, (np.arange(n_targets), cluster)), shape=(n_targets, n_clusters)).tocsr()
     ratio_of = np.divide(1.0, cluster_weight, out=np.zeros(n_clusters), where=cluster_weight > 0)
-    seen_share = (csr_matrix(seen, dtype=np.float64) @ spread) @ coo_matrix((ratio_of, (np.arange(n_clusters), np.arange(n_clusters)))).tocsr()
+    seen_share = (csr_matrix(seen, dtype=np.float64) @ spread) @ coo_matrix(
+        (ratio_of, (np.arange(n_clusters), np.arange(n_clusters)))
+    ).tocsr()
     lp_value = float("nan")
     u = shares.copy()  # trivial certificate: k * (best single candidate), if the solver fails
     if n_clusters and n_candidates:

@@ -57,11 +57,23 @@ def plot_coverage_distance(rows: Any, *, ax: Any = None, out: Any = None, dpi: f
         xy = np.array(values)
         ax.scatter(xy[:, 0], xy[:, 1], s=6, color=colour, alpha=0.25, marker=marker, linewidths=0)
         spread = xy.std(axis=0, ddof=1) if len(xy) > 1 else np.zeros(2)
-        ax.errorbar(*xy.mean(axis=0), xerr=spread[0], yerr=spread[1], color=colour, marker=marker, markersize=6, markeredgecolor="black", capsize=2, linewidth=0.8)
+        ax.errorbar(
+            *xy.mean(axis=0),
+            xerr=spread[0],
+            yerr=spread[1],
+            color=colour,
+            marker=marker,
+            markersize=6,
+            markeredgecolor="black",
+            capsize=2,
+            linewidth=0.8,
+        )
     from matplotlib.lines import Line2D
 
     handles = [Line2D([], [], color=c, marker="o", linestyle="", label=init) for init, c in colours.items()]
-    handles += [Line2D([], [], color="0.3", marker=_MARKERS[i % len(_MARKERS)], linestyle="", label=f"N = {n}") for i, n in enumerate(sizes)]
+    handles += [
+        Line2D([], [], color="0.3", marker=_MARKERS[i % len(_MARKERS)], linestyle="", label=f"N = {n}") for i, n in enumerate(sizes)
+    ]
     ax.legend(handles=handles, fontsize=7, loc="lower right", framealpha=0.9)
     ax.set_xlabel("mean distance a UAV flew (m)")
     ax.set_ylabel("max coverage")
