@@ -26,7 +26,7 @@ LINK = re.compile(r"\]\((?P<name>[A-Za-z0-9_.-]+)/figures/(?P<file>[A-Za-z0-9_.-
 IMAGE_LINE = re.compile(r"^!\[[^\]]*\]\((?P<name>[A-Za-z0-9_.-]+)/figures/(?P<file>[A-Za-z0-9_.-]+\.png)\)$")
 # What the page shows: each experiment's bars and curves; the pictures of single runs (a run id
 # followed by what is drawn) stay in the folder, and docs/figures.md shows such pictures.
-SUMMARY_FIGURE = re.compile(r"^[A-Za-z0-9]+_(max_coverage|initial_coverage|coverage_N\d+_d[0-9.]+)\.png$")
+SUMMARY_FIGURE = re.compile(r"^[A-Za-z0-9]+_(max_coverage|initial_coverage|coverage_distance|coverage_N\d+_d[0-9.]+)\.png$")
 
 PREAMBLE = """\
 # The paper's experiments, reproduced

@@ -134,7 +134,8 @@ def reproduce(
         )
         report = REPORTS[name](rows)
         if bounded:
-            bounds = oracle(experiment, seeds=seed_list, team_sizes=team_sizes, n_threads=n_threads)
+            plan = plan_execution(workers, n_threads) if executor is None else plan_execution(1, n_threads)
+            bounds = oracle(experiment, seeds=seed_list, team_sizes=team_sizes, n_threads=plan.n_threads, workers=plan.workers)
             write_bounds(folder, bounds)
             report += "\n" + bounds_markdown(rows, bounds)
         folder.write_text(f"{name}.md", report)
