@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pickle
 from typing import Any
@@ -256,5 +257,12 @@ def test_the_oracle_places_admissibly_on_the_true_surface() -> None:
     limits = small.mission.constraints.resolve(terrain)
     lattice = viewpoint_lattice(terrain, limits, GreedySettings(spacing=5.0))
     by_hand = greedy_placement(uavcov.Visibility(terrain, small.d_max), lattice, 4, d_safe=limits.d_safe)
-    assert (by_hand.coverage, by_hand.bound) == (rows[3].coverage, rows[3].bound)
+    assert (by_hand.coverage, by_hand.bound) == (rows[3].coverage, rows[3].online_bound)
+    problem = CoverageProblem(uavcov.Visibility(terrain, small.d_max), lattice)
+    assert rows[3].dual_bound == problem.dual_bound(4).bound
+    assert rows[3].bound == min(rows[3].online_bound, rows[3].dual_bound)
+    # a process per scenario gives the same rows (all but the times)
+    untimed = {"matrix_time_s": 0.0, "greedy_time_s": 0.0, "dual_time_s": 0.0}
+    parallel = oracle(small, seeds=[0, 1], team_sizes=[2, 4], settings=GreedySettings(spacing=5.0), n_threads=1, workers=2)
+    assert [dataclasses.replace(r, **untimed) for r in parallel] == [dataclasses.replace(r, **untimed) for r in rows]
     assert uavcov.placement.feasible_mask(limits, terrain, by_hand.positions, by_hand.positions[None])[0]

@@ -49,7 +49,7 @@ from uavcov.experiments import (
 from uavcov.experiments import _paper as paper
 from uavcov.records import load_mission
 
-TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
+TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s", "start_time_s"}
 
 TINY = tiny_experiment(6, team_sizes=(2, 3))
 

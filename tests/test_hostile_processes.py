@@ -26,7 +26,7 @@ pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="ne
 
 SWEEP = TINY_TOML.replace('name = "tiny"', 'name = "kill"').replace("seeds = [0, 1]", 'seeds = "0-{last_seed}"')
 
-TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s"}
+TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s", "start_time_s"}
 
 
 def _state(pid: int) -> str | None:

@@ -42,6 +42,15 @@ def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick
     # each experiment's own table is in the report, one heading level down
     table1 = (out / "table1" / "table1.md").read_text(encoding="utf-8")
     assert table1.splitlines()[2] in report
+    # Table 1 against the oracle's certified bound, greedy on S' beside the paper's starts
+    from uavcov.experiments._bounds import read_bounds
+
+    bounds = read_bounds(out / "table1" / "bounds.csv")
+    assert [(b.seed, b.n_uavs) for b in bounds] == [(0, n) for n in paper.TABLE1.team_sizes]
+    assert all(b.coverage <= b.bound == min(b.online_bound, b.dual_bound) <= 1.0 for b in bounds)
+    assert "## Table 1 against the certified bound" in report and "greedy max / bound" in report
+    greedy = [r for r in read_runs(out / "table1" / "runs.csv") if r["init"] == "greedy"]
+    assert len(greedy) == 4 and all(r["start_time_s"] > 0 for r in greedy)
 
 
 def test_the_ablation_runs_each_change_beside_the_papers_model(quick):

@@ -83,12 +83,12 @@ def test_experiments_follow_the_paper():
     t = paper.TABLE1
     assert (t.team_sizes, t.starts, t.d_max, t.mission.n_prior, t.iterations) == (
         (5, 8, 12, 20),
-        ("cvt", "random", "corner"),
+        ("cvt", "random", "corner", "greedy"),
         25.0,
         30,
         500,
     )
-    assert t.prior == "random" and t.seeds == tuple(range(40)) and len(t.cells()) == 12
+    assert t.prior == "random" and t.seeds == tuple(range(40)) and len(t.cells()) == 16
     assert t.terrain.size == 100.0 and t.terrain.n_hills == 7 and t.terrain.spacing == 1.0
     p = paper.PYRAMID
     assert (p.team_sizes, p.starts, p.prior, p.d_max, p.terrain, p.seeds) == ((12,), ("cvt",), "pyramid", 25.0, t.terrain, t.seeds)

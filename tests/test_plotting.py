@@ -785,3 +785,21 @@ def test_a_quality_run_animates_and_plots_its_objective(tmp_path, monkeypatch):
     plotting.animate_mission(run, tmp_path / "quality.gif", max_frames=2, raster=40, dpi=50)
     assert len(drawn) == 1 + 2  # the first picture, then every frame: quality maps
     assert plotting.plot_coverage_curves(run).axes[0].get_ylabel() == "quality-weighted coverage"
+
+
+def test_coverage_against_distance_marks_each_start_and_team_size_at_its_means():
+    rows = [
+        {"init": init, "n_uavs": str(n), "max_coverage": str(0.5 + 0.1 * k + 0.01 * s), "distance_mean_m": str(30.0 * k + n + s)}
+        for k, init in enumerate(("cvt", "greedy"))
+        for n in (5, 8)
+        for s in range(3)
+    ]
+    rows.append({"init": "cvt", "n_uavs": "5", "max_coverage": "", "distance_mean_m": ""})  # a failed run
+    fig = plotting.plot_coverage_distance(rows)
+    _assert_not_blank(_render(fig))
+    ax = fig.axes[0]
+    means = sorted((round(x, 6), round(y, 6)) for line in ax.lines for x, y in zip(line.get_xdata(), line.get_ydata(), strict=True))
+    expected = sorted((round(30.0 * k + n + 1, 6), round(0.51 + 0.1 * k, 6)) for k in range(2) for n in (5, 8))
+    assert [m for m in means if m in expected] == expected
+    with pytest.raises(uavcov.errors.ResultsFormatError):
+        plotting.plot_coverage_distance([{"init": "cvt", "n_uavs": "5", "max_coverage": "0.5"}])

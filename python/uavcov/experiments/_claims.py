@@ -38,6 +38,14 @@ PUBLISHED_GAIN: Mapping[int, float] = {
 
 _BOOTSTRAP = 4000
 
+# The starts the paper's claims on Table 1 compare; Table 1's "greedy" runs (issue 36) are set
+# against the certified bound instead (uavcov.experiments._bounds) and leave the claims as they were.
+_PAPER_STARTS = ("cvt", "random", "corner")
+
+
+def _paper_starts(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
+    return [r for r in rows if r.get("init") in _PAPER_STARTS]
+
 
 @dataclass(frozen=True)
 class PairedGain:
@@ -223,7 +231,7 @@ def _pct(value: float) -> str:
 
 def claims_markdown(rows: Sequence[Mapping[str, Any]], folder: ResultsFolder | None = None, *, required_share: float = 0.95) -> str:
     """The claims of section V-C beside the measurements, each with its verdict (Markdown)."""
-    rows = list(rows)
+    rows = _paper_starts(rows)
     lines = ["# The paper's claims on Table 1, measured", ""]
     lines += [
         "## CVT over random (paired by terrain)",
@@ -364,7 +372,7 @@ def verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: 
     claim reads the stored curves of ``table1_folder``.
     """
     out: list[Verdict] = []
-    table1 = list(results.get("table1", ()))
+    table1 = _paper_starts(results.get("table1", ()))
     if finished_rows(table1):
         total = good = 0
         misses = []

@@ -25,8 +25,10 @@ from typing import Any
 from .._validate import is_int
 from ..errors import ConfigError, MissingExtraError
 from . import _paper as paper
+from ._bounds import BOUNDS_FILE, bounds_markdown, write_bounds
 from ._claims import ablation_markdown, claims_markdown, verdicts_markdown
 from ._executors import plan_execution
+from ._oracle import oracle
 from ._reports import REPORTS, coverage_curves_csv, sweep_markdown
 from ._results import ResultsFolder
 from ._sweep import Experiment, experiment_specs, experiments_hash, parse_seeds, run_specs
@@ -40,6 +42,7 @@ REPRODUCIBLE: tuple[str, ...] = tuple(paper.EXPERIMENTS)
 """The experiments :func:`reproduce` knows."""
 
 _CURVES = ("comparison", "buildings", "example")
+_BOUNDED = ("table1",)  # experiments whose report sets each start against the oracle's certified bound
 
 
 def reproduce(
@@ -65,7 +68,9 @@ def reproduce(
 
     Writes ``runs.csv``, ``runs/<run_id>.npz``, ``config.json`` and ``<name>.md`` (the table
     beside the paper's numbers); "comparison", "buildings" and "example" also write
-    ``coverage.csv`` (coverage per iteration of every run).
+    ``coverage.csv`` (coverage per iteration of every run); "table1" also writes ``bounds.csv``
+    (the oracle's certified bound per terrain and team size, :func:`uavcov.experiments.oracle`)
+    and sets each start against it in ``table1.md``.
 
     Parameters
     ----------
@@ -111,7 +116,8 @@ def reproduce(
         plan_execution(workers, n_threads)  # refused before the folder is made
     folder = ResultsFolder(out)
     with folder.lock():
-        folder.claim([f"{name}.md", *(["coverage.csv"] if name in _CURVES and save_runs else [])])
+        bounded = [BOUNDS_FILE] if name in _BOUNDED else []
+        folder.claim([f"{name}.md", *(["coverage.csv"] if name in _CURVES and save_runs else []), *bounded])
         rows = run_specs(
             specs,
             out=folder,
@@ -126,7 +132,13 @@ def reproduce(
             command=command or f"reproduce {name}",
             execution=execution,
         )
-        folder.write_text(f"{name}.md", REPORTS[name](rows))
+        report = REPORTS[name](rows)
+        if bounded:
+            plan = plan_execution(workers, n_threads) if executor is None else plan_execution(1, n_threads)
+            bounds = oracle(experiment, seeds=seed_list, team_sizes=team_sizes, n_threads=plan.n_threads, workers=plan.workers)
+            write_bounds(folder, bounds)
+            report += "\n" + bounds_markdown(rows, bounds)
+        folder.write_text(f"{name}.md", report)
         if name in _CURVES and save_runs:
             coverage_curves_csv(folder, rows)
     return rows

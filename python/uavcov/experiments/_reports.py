@@ -95,6 +95,8 @@ def table1_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     summary = summarise(ok, by=("n_uavs", "init"))
     sizes = sorted({int(r["n_uavs"]) for r in rows}) or sorted({n for n, _, _ in paper.PUBLISHED_TABLE1})
     columns = [("cvt", "initial"), ("cvt", "max"), ("random", "initial"), ("random", "max"), ("corner", "initial"), ("corner", "max")]
+    if any(r.get("init") == "greedy" for r in rows):  # greedy on S' (issue 36): new runs, no published numbers
+        columns += [("greedy", "initial"), ("greedy", "max")]
 
     def ours(n: int, start: str, metric: str) -> tuple[float, float] | None:
         entry = summary.get((n, start))

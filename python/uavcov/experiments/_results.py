@@ -55,6 +55,7 @@ RUN_COLUMNS: tuple[str, ...] = (
     "error",
     "distance_mean_m",
     "distance_max_m",
+    "start_time_s",
 )
 """Columns of ``runs.csv``, in order; a sweep adds one column per swept setting after these.
 
@@ -67,10 +68,12 @@ best reached), ``final_coverage`` are shares of the surface; ``best_iteration`` 
 checks (the rest is prior, S', CVT and start); ``settings_hash`` is
 :func:`uavcov.experiments.settings_hash`; ``error`` is empty for a run that finished;
 ``distance_mean_m`` and ``distance_max_m`` are the mean and the largest distance a UAV flew
-(:attr:`uavcov.MissionResult.distance_flown`, metres).
+(:attr:`uavcov.MissionResult.distance_flown`, metres); ``start_time_s`` is the start's off-line
+time on S' (:attr:`uavcov.MissionResult.start_time_s`: the CVT, or the greedy start's lattice,
+seen-matrix and greedy; seconds).
 """
 
-LATER_RUN_COLUMNS: tuple[str, ...] = ("distance_mean_m", "distance_max_m")
+LATER_RUN_COLUMNS: tuple[str, ...] = ("distance_mean_m", "distance_max_m", "start_time_s")
 """The last columns of :data:`RUN_COLUMNS`, added after results folders were published: a
 ``runs.csv`` without them is still read, and a sweep resumed in it goes on writing its columns."""
 
@@ -92,6 +95,7 @@ _FLOAT_COLUMNS = frozenset(
         "time_feasibility_s",
         "distance_mean_m",
         "distance_max_m",
+        "start_time_s",
     }
 )
 
@@ -390,14 +394,15 @@ class ResultsFolder:
 
     def columns_for(self, columns: Sequence[str]) -> list[str]:
         """The columns a sweep writing ``columns`` writes here: ``columns``, or, in a ``runs.csv``
-        made before :data:`LATER_RUN_COLUMNS`, its own header when that is ``columns`` without them."""
-        older = [c for c in columns if c not in LATER_RUN_COLUMNS]
+        made before some of :data:`LATER_RUN_COLUMNS`, its own header when that is ``columns``
+        without the later ones it lacks (they were added in order)."""
+        olders = [[c for c in columns if c not in LATER_RUN_COLUMNS[i:]] for i in range(len(LATER_RUN_COLUMNS))]
         if self.runs_csv.is_file() and not self.runs_csv.is_symlink():
             with contextlib.suppress(OSError, UnicodeDecodeError, csv.Error):
                 with open(self.runs_csv, encoding="utf-8") as handle:
                     header = next(csv.reader([handle.readline()]), [])
-                if header == older:
-                    return older
+                if header in olders:
+                    return header
         return list(columns)
 
     def check_columns(self, columns: Sequence[str]) -> None:

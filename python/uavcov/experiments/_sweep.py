@@ -452,6 +452,7 @@ def execute_run(spec: RunSpec, n_threads: int | None = 1, keep_result: bool = Tr
         time_feasibility_s=float(result.trace.time_feasibility_s),
         distance_mean_m=float(result.distance_flown.mean()),
         distance_max_m=float(result.distance_flown.max()),
+        start_time_s=float(result.start_time_s),
     )
     return row, (result if keep_result else None)
 

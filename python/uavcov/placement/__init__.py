@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ._constraints import Constraints, StandoffWorld, World, closest_admissible, feasibility, feasible_mask, trajectory_feasible
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt, default_samples_per_iteration, seed_from_rng
+from ._dual_bound import DualCertificate
 from ._footprints import FootprintFit, fit_footprints
 from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
 from ._starts import (
@@ -67,6 +68,7 @@ __all__ = [
     "CoverageProblem",
     "GreedyResult",
     "CoverageBound",
+    "DualCertificate",
     "greedy_placement",
     "coverage_bound",
     "greedy_start",

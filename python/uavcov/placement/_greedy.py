@@ -12,7 +12,11 @@ the answers of :meth:`uavcov.Visibility.seen` for each candidate alone), then
   off the candidates such as CAO's final ones, whose true seen set is measured), the online
   bound of Leskovec et al. (2007): no ``k`` candidates see more than ``f(A)`` plus the ``k``
   largest marginal gains of the candidates given ``A``; nor more than the ceiling, the weight
-  of the targets any candidate sees.
+  of the targets any candidate sees;
+* :meth:`CoverageProblem.dual_bound`: the LP relaxation's bound, certified by a dual-feasible
+  point evaluated on the full matrix (:mod:`uavcov.placement._dual_bound`); informative where
+  the online bound reaches the ceiling (larger teams). :meth:`CoverageProblem.certified_bound`
+  keeps the smaller of the two.
 
 What the bound holds for, precisely: the largest weighted share of *these targets* that any
 ``k`` of *these candidates* see together (with or without the separation, which only removes
@@ -30,9 +34,10 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._validate import MAX_UAVS, as_count, as_n_threads, as_non_negative_float, as_points, read_only
+from .._validate import MAX_UAVS, as_count, as_n_threads, as_non_negative_float, as_points, as_positive_float, read_only
 from ..engine import Sensor, Visibility, pack_sensors
 from ..errors import InvalidInputError, InvalidTypeError
+from ._dual_bound import DualCertificate, dual_bound
 from ._viewpoints import Viewpoints, as_viewpoints
 
 
@@ -159,6 +164,7 @@ class CoverageProblem:
         started = time.perf_counter()
         self._matrix = _core.SeenMatrix(visibility._core, np.ascontiguousarray(points), packed, self._n_threads)
         self.matrix_time_s = time.perf_counter() - started
+        self._dense: np.ndarray | None = None
         """Wall time of the seen-matrix, seconds."""
 
     def __reduce__(self) -> tuple[Any, ...]:
@@ -185,6 +191,39 @@ class CoverageProblem:
         if not 0 <= int(c) < self._viewpoints.n:
             raise InvalidInputError(f"candidate {c} of {self._viewpoints.n}")
         return self._matrix.column(int(c))
+
+    def dense(self) -> np.ndarray:
+        """``(C, T)`` bool: the whole seen-matrix, one row per candidate (made once, then kept)."""
+        if self._dense is None:
+            rows = [self._matrix.column(c) for c in range(self._viewpoints.n)]
+            self._dense = read_only(np.stack(rows) if rows else np.zeros((0, self._matrix.n_targets), dtype=bool))
+        return self._dense
+
+    def dual_bound(self, k: int, *, cell: float | None = 3.0) -> DualCertificate:
+        """The LP relaxation's certified bound on the best ``k`` candidates, with or without separation.
+
+        Parameters
+        ----------
+        k : int
+            Team size.
+        cell : float or None, optional
+            The LP is solved on ``cell``-metre clusters of targets (faster, a little looser,
+            still certified); ``None``: the full LP, one row per target.
+
+        Returns
+        -------
+        DualCertificate
+            ``bound`` (a share), the certificate ``u`` (a share per target), the LP's value.
+        """
+        k = as_count(k, "k", MAX_UAVS)
+        if cell is not None:
+            cell = as_positive_float(cell, "cell")
+        targets = self._visibility.targets
+        return dual_bound(self.dense(), targets.weights, k, targets.points, cell)
+
+    def certified_bound(self, k: int, d_safe: float = 0.0) -> float:
+        """The smaller of greedy's online bound and the LP dual bound for ``k`` candidates."""
+        return min(self.greedy(k, d_safe).bound, self.dual_bound(k).bound)
 
     def _holds_for(self, k: int) -> str:
         t = self._matrix.n_targets

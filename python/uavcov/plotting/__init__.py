@@ -47,6 +47,7 @@ from ._canvas import START_COLOUR as START_COLOUR
 from ._canvas import TRUE_SURFACE_COLOUR as TRUE_SURFACE_COLOUR
 from ._canvas import UNSEEN_COLOUR as UNSEEN_COLOUR
 from ._directory import plot_directory, report_figures
+from ._distance import plot_coverage_distance
 from ._figures import (
     plot_approximation,
     plot_coverage_curves,
@@ -75,6 +76,7 @@ __all__ = [
     "report_figures",
     "plot_point_cloud",
     "plot_table1",
+    "plot_coverage_distance",
     "published_values",
     "seen_points",
     "write_ply",

@@ -18,7 +18,7 @@ UNSEEN_COLOUR = (0.72, 0.77, 0.84)
 TRUE_SURFACE_COLOUR = (0.86, 0.33, 0.28)
 START_COLOUR = "black"
 END_COLOUR = (0.10, 0.65, 0.15)
-INIT_COLOURS = {"cvt": "#2ca02c", "random": "#1f77b4", "corner": "#d62728", "pairs": "#9467bd"}
+INIT_COLOURS = {"cvt": "#2ca02c", "random": "#1f77b4", "corner": "#d62728", "pairs": "#9467bd", "greedy": "#ff7f0e"}
 FOOTPRINT_COLOUR = "#ffbf00"
 """Outlines of camera footprints: amber, visible on the seen red and the unseen grey-blue alike."""
 

@@ -20,6 +20,7 @@ from ..records import load_mission
 from . import _runs
 from ._animation import animate_mission
 from ._canvas import _close, _finish, _matplotlib
+from ._distance import plot_coverage_distance
 from ._figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
 from ._runs import _number
 
@@ -39,6 +40,8 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     - ``<experiment>_max_coverage.png`` and ``<experiment>_initial_coverage.png``: the bars of
       :func:`plot_table1`, beside the paper where it has numbers (only for experiments with
       several runs per start and team size);
+    - ``<experiment>_coverage_distance.png``: :func:`uavcov.plotting.plot_coverage_distance`, max
+      coverage against the distance flown (where ``runs.csv`` records it);
     - ``<experiment>_coverage_N<n>_d<d_max>.png``: :func:`plot_coverage_curves` of every stored
       run of that experiment, team size and range, one colour per start (the paper's Fig. 6
       maxima drawn for the "comparison" experiment);
@@ -113,6 +116,8 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
             if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
                 continue
             emit(plot_table1(group, metric=metric), target / f"{_safe(experiment)}_{metric}.png")
+        if any(_number(r, "distance_mean_m", i) is not None for i, r in enumerate(group) if "distance_mean_m" in r):
+            emit(plot_coverage_distance(group), target / f"{_safe(experiment)}_coverage_distance.png")
 
     # Curves of every stored run; whole results are kept only for the runs drawn one by one.
     row_of = {str(r.get("run_id")): r for r in rows if r.get("run_id")}
