@@ -230,9 +230,12 @@ def test_the_greedy_start_is_greedy_on_s_prime_and_records_its_time(tmp_path: An
         n_uavs=4, d_max=12.0, iterations=10, constraints=limits, start=StartSettings(kind="greedy", greedy=GreedySettings(spacing=4.0))
     )
     result = uavcov.run_mission(hills, spec, rng=0, n_threads=1)
-    # the start is greedy's placement on S' (candidates and coverage on S'), before admissibility on the truth
-    on_s_prime = greedy_start(result.approximation, 4, 12.0, limits.resolve(result.approximation), GreedySettings(spacing=4.0))
-    np.testing.assert_array_equal(result.start_positions, on_s_prime.positions)
+    # the start is greedy's placement on S' (candidates and coverage on S') among one layer of
+    # viewpoints at the start's altitude, flown at that altitude above the true ground as every start is
+    layer = dataclasses.replace(limits, h_min=5.0, h_max=None).resolve(result.approximation)
+    on_s_prime = greedy_start(result.approximation, 4, 12.0, layer, GreedySettings(spacing=4.0, n_heights=1))
+    np.testing.assert_array_equal(result.start_positions[:, :2], on_s_prime.positions[:, :2])
+    np.testing.assert_allclose(result.start_positions[:, 2], hills.ground_height(on_s_prime.positions[:, :2]) + 5.0, rtol=0, atol=1e-12)
     assert result.cvt is None and 0.0 < result.start_time_s < result.wall_time_s
     assert on_s_prime.coverage <= on_s_prime.bound
     # saved and read back, with the start's settings and time
