@@ -23,8 +23,9 @@ from uavcov.placement import (
     greedy_placement,
     greedy_start,
     viewpoint_lattice,
+    viewpoint_offsets,
 )
-from uavcov.terrain import buildings_scene
+from uavcov.terrain import buildings_scene, girder_bridge
 
 
 def _hills(size: float = 30.0, spacing: float = 1.0, seed: int = 3) -> uavcov.Terrain:
@@ -269,3 +270,36 @@ def test_the_oracle_places_admissibly_on_the_true_surface() -> None:
     parallel = oracle(small, seeds=[0, 1], team_sizes=[2, 4], settings=GreedySettings(spacing=5.0), n_threads=1, workers=2)
     assert [dataclasses.replace(r, **untimed) for r in parallel] == [dataclasses.replace(r, **untimed) for r in rows]
     assert uavcov.placement.feasible_mask(limits, terrain, by_hand.positions, by_hand.positions[None])[0]
+
+
+def test_normal_offsets_reach_under_a_bridge_deck_and_greedy_sees_its_underside() -> None:
+    bridge = girder_bridge(rng=0)
+    limits = Constraints(clearance="standoff", h_min=2.0, z_max=25.0, d_safe=1.0, check_moves=True)
+    candidates = viewpoint_offsets(bridge.surface, limits, [3.0, 6.0], spacing=4.0, n_threads=2)
+    assert candidates.source == "normal offsets" and candidates.n > 0
+    # every candidate keeps the standoff: an independent distance (trimesh's point-triangle closest
+    # point, each of 60 sampled candidates against every triangle)
+    trimesh = pytest.importorskip("trimesh")
+    sample = candidates.positions[:: max(1, candidates.n // 60)]
+    triangles = bridge.surface.vertices[bridge.surface.faces]
+    pairs_p = np.repeat(sample, len(triangles), axis=0)
+    closest = trimesh.triangles.closest_point(np.tile(triangles, (len(sample), 1, 1)), pairs_p)
+    distance = np.linalg.norm(closest - pairs_p, axis=1).reshape(len(sample), -1).min(axis=1)
+    assert distance.min() >= 2.0 - 1e-9
+    # some fly under the deck: a vertical ray up from them meets the structure
+    up = bridge.surface.segments_clear(candidates.positions, candidates.positions + [0.0, 0.0, 30.0])
+    assert (~up).any()
+    targets = bridge.targets(spacing=1.0)
+    vis = uavcov.Visibility(bridge.surface, 15.0, targets, n_threads=2)
+    placed = greedy_placement(vis, candidates, 6, d_safe=1.0, n_threads=2)
+    assert placed.coverage <= placed.bound <= 1.0
+    seen = vis.seen(placed.positions)
+    assert bridge.coverage_by_part(seen, targets)["deck_underside"] > 0.0
+
+
+@pytest.mark.parametrize("distances", [[], [0.0], [-1.0], [math.nan], [1e300], "3"])
+def test_normal_offsets_refuse_bad_distances(distances: Any) -> None:
+    bridge = girder_bridge(rng=0)
+    limits = Constraints(clearance="standoff", h_min=2.0, z_max=25.0)
+    with pytest.raises((InvalidInputError, InfeasibleError)):
+        viewpoint_offsets(bridge.surface, limits, distances, spacing=4.0)

@@ -28,7 +28,7 @@ from ._starts3d import (
     standoff_start,
     surface_normals,
 )
-from ._viewpoints import MAX_CANDIDATES, GreedySettings, Viewpoints, viewpoint_lattice
+from ._viewpoints import MAX_CANDIDATES, GreedySettings, Viewpoints, viewpoint_lattice, viewpoint_offsets
 
 __all__ = [
     "StandoffWorld",
@@ -64,6 +64,7 @@ __all__ = [
     "GreedySettings",
     "Viewpoints",
     "viewpoint_lattice",
+    "viewpoint_offsets",
     "MAX_CANDIDATES",
     "CoverageProblem",
     "GreedyResult",

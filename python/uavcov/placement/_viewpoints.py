@@ -9,9 +9,9 @@ per column evenly spaced from ``ground + h_min`` to ``min(ground + h_max, z_max)
 (:func:`uavcov.placement.feasible_mask`, one UAV at a time). Where the sensors are cameras,
 each position is repeated for every orientation ``(yaw, pitch)`` of the settings.
 
-:class:`Viewpoints` is what every generator returns; a structure's normal offsets (points at a
-standoff along the surface normals of a 3D structure) will be a second generator returning the
-same type, with ``source="normal offsets"``, and nothing downstream changes.
+:class:`Viewpoints` is what every generator returns. For a structure, :func:`viewpoint_offsets`
+flies points of the surface out along their outward normals (under a deck, beside a pier), with
+``source="normal offsets"``; nothing downstream changes.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from .._validate import as_count, as_finite_float, as_float_array, as_positive_f
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._constraints import _MARGIN, Constraints, feasible_mask
+from ._starts3d import surface_normals
 
 MAX_CANDIDATES = 1_000_000
 """Most candidate viewpoints one problem may hold (10^6 x 10^4 targets is 1.25 GB of bits: the
@@ -181,6 +182,74 @@ def viewpoint_lattice(
         poses=None if poses is None else read_only(poses),
         source="lattice",
         description=description,
+    )
+
+
+def viewpoint_offsets(
+    world: Terrain,
+    constraints: Constraints,
+    distances: Any,
+    *,
+    spacing: float = 5.0,
+    n_threads: int | None = None,
+) -> Viewpoints:
+    """Candidate viewpoints around a structure: points of ``world`` about ``spacing`` apart, each
+    flown out along the outward normal there by every one of ``distances``.
+
+    The structures' counterpart of :func:`viewpoint_lattice`: under a bridge deck the normal
+    points down, beside a pier sideways, so the candidates reach where no lattice over a height
+    band goes. Only the admissible ones are kept, each judged alone where it is
+    (:func:`uavcov.placement.feasible_mask`; with ``Constraints(clearance="standoff")`` the
+    distances should be at least ``h_min``).
+
+    Parameters
+    ----------
+    world : Terrain
+        The surface (a structure's mesh, faces wound counter-clockwise seen from outside).
+    constraints : Constraints
+    distances : sequence of float
+        Offsets along the normal, metres (> 0).
+    spacing : float, default 5.0
+        About how far apart the surface points are, metres (one per ``spacing**2`` m^2).
+    n_threads : int, optional
+
+    Returns
+    -------
+    Viewpoints
+        ``source="normal offsets"``.
+
+    Raises
+    ------
+    InvalidInputError
+        No distance, a distance not finite or <= 0, or more than :data:`MAX_CANDIDATES`.
+    InfeasibleError
+        No candidate is admissible.
+    """
+    if not isinstance(world, Terrain):
+        raise InvalidTypeError(f"world must be a uavcov.Terrain, got {type(world).__name__}")
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    offsets = as_float_array(distances, "distances", ndim=1) if not isinstance(distances, (str, bytes)) else None
+    if offsets is None or offsets.size == 0 or not np.all(np.isfinite(offsets)) or np.any(offsets <= 0.0):
+        raise InvalidInputError(f"distances must be a non-empty sequence of finite offsets > 0 m, got {distances!r}")
+    spacing = as_positive_float(spacing, "spacing")
+    if world.area / spacing**2 * offsets.size > MAX_CANDIDATES:
+        raise InvalidInputError(
+            f"about {world.area / spacing**2 * offsets.size:,.0f} candidates, more than {MAX_CANDIDATES:,}: use a larger spacing"
+        )
+    limits = constraints.resolve(world)
+    on_surface, normals = surface_normals(world, world.default_targets(density=1.0 / spacing**2).points)
+    points = (on_surface[None, :, :] + offsets[:, None, None] * normals[None, :, :]).reshape(-1, 3)
+    # each candidate alone, where it is: no move to check
+    alone = replace(limits, check_moves=False)
+    points = points[feasible_mask(alone, world, points[:1], points[:, None, :], n_threads=n_threads)]
+    if points.shape[0] == 0:
+        raise InfeasibleError("no normal offset is admissible: the distances miss the flight limits")
+    return Viewpoints(
+        positions=read_only(np.ascontiguousarray(points)),
+        poses=None,
+        source="normal offsets",
+        description=f"{points.shape[0]} admissible normal offsets ({', '.join(f'{d:g}' for d in offsets)} m) of points {spacing:g} m apart",
     )
 
 
