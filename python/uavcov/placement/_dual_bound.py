@@ -41,7 +41,7 @@ class DualCertificate:
     ----------
     bound : float
         No ``k`` candidates see a larger weighted share of the targets together:
-        :func:`certificate_value` of :attr:`u`.
+        ``certificate_value`` of :attr:`u`.
     u : (T,) float64 ndarray
         The certificate, a share per target, ``0 <= u_t <= w_t / sum(w)``.
     lp_value : float
