@@ -96,6 +96,13 @@ class Viewpoints:
         return int(self.positions.shape[0])
 
 
+def _admissible_alone(limits: Constraints, world: Terrain, points: np.ndarray, n_threads: int | None) -> np.ndarray:
+    """The ``(n, 3)`` points the limits accept, each as a lone UAV where it is (no move to check)."""
+    alone = replace(limits, check_moves=False)
+    kept: np.ndarray = points[feasible_mask(alone, world, points[:1], points[:, None, :], n_threads=n_threads)]
+    return kept
+
+
 def viewpoint_lattice(
     world: Terrain,
     constraints: Constraints,
@@ -164,9 +171,7 @@ def viewpoint_lattice(
     points = np.column_stack([np.repeat(xy, settings.n_heights, axis=0), z.ravel()])
     points = points[np.repeat(high >= low, settings.n_heights)]
     if points.shape[0]:
-        # each candidate alone, where it is: no move to check
-        alone = replace(limits, check_moves=False)
-        points = points[feasible_mask(alone, world, points[:1], points[:, None, :], n_threads=n_threads)]
+        points = _admissible_alone(limits, world, points, n_threads)
     if points.shape[0] == 0:
         raise InfeasibleError("no lattice point is admissible: the flight band is empty, or the spacing misses it")
     heights = f"{settings.n_heights} height{'s' if settings.n_heights > 1 else ''}"
@@ -240,9 +245,7 @@ def viewpoint_offsets(
     limits = constraints.resolve(world)
     on_surface, normals = surface_normals(world, world.default_targets(density=1.0 / spacing**2).points)
     points = (on_surface[None, :, :] + offsets[:, None, None] * normals[None, :, :]).reshape(-1, 3)
-    # each candidate alone, where it is: no move to check
-    alone = replace(limits, check_moves=False)
-    points = points[feasible_mask(alone, world, points[:1], points[:, None, :], n_threads=n_threads)]
+    points = _admissible_alone(limits, world, points, n_threads)
     if points.shape[0] == 0:
         raise InfeasibleError("no normal offset is admissible: the distances miss the flight limits")
     return Viewpoints(
