@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from uavcov import Visibility
-from uavcov.experiments import TABLE1, oracle
+from uavcov.paper import TABLE1, oracle
 from uavcov.placement import CoverageProblem, GreedySettings, viewpoint_lattice
 
 

@@ -116,9 +116,9 @@ def open3d_case(terrain: uavcov.Terrain, targets: np.ndarray, uavs: np.ndarray, 
 
 def buildings_case(seed: int) -> tuple[uavcov.Terrain, np.ndarray]:
     """A buildings scene of the paper's Figs. 7-8 and 4 UAVs 1-6 m above its top surface."""
-    from uavcov import experiments
+    from uavcov import paper
 
-    terrain = experiments.BUILDINGS.terrain.make(seed)
+    terrain = paper.BUILDINGS.terrain.make(seed)
     rng = np.random.default_rng(seed)
     xy = rng.uniform(0.0, 24.0, (4, 2))
     return terrain, np.c_[xy, terrain.ground_height(xy) + rng.uniform(1.0, 6.0, 4)]

@@ -15,7 +15,7 @@ import argparse
 import numpy as np
 
 from uavcov import Visibility
-from uavcov.experiments import TABLE1
+from uavcov.paper import TABLE1
 from uavcov.placement import CoverageProblem, viewpoint_lattice
 
 

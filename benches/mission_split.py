@@ -7,7 +7,7 @@ and of its parts, as recorded by the optimiser's trace: coverage measurements, f
 
     python benches/mission_split.py [--seeds 3] [--n-threads 1] [--paper] [--plain]
 
-``--paper`` runs the paper's Table 1 mission instead (``uavcov.experiments._experiments.TABLE1``: its terrains, 12
+``--paper`` runs the paper's Table 1 mission instead (``uavcov.paper.TABLE1``: its terrains, 12
 UAVs 1-8 m above the ground, every move checked). ``--plain`` measures every configuration with
 ``Visibility.coverage`` afresh instead of the ``CoverageTracker`` that ``run_mission`` uses (the
 same values; the bench swaps ``Visibility.tracker`` for the plain objective), for a side-by-side.
@@ -26,7 +26,7 @@ from dataclasses import replace
 import numpy as np
 
 import uavcov
-from uavcov import experiments
+from uavcov import paper
 
 
 class _Plain:
@@ -88,7 +88,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--n-threads", type=int, default=1)
     parser.add_argument("--optimizer", default="cao", choices=["cao", "per_robot"])
-    parser.add_argument("--paper", action="store_true", help="the paper's Table 1 mission (uavcov.experiments._experiments.TABLE1), N = 12")
+    parser.add_argument("--paper", action="store_true", help="the paper's Table 1 mission (uavcov.paper.TABLE1), N = 12")
     parser.add_argument("--plain", action="store_true", help="measure without the CoverageTracker")
     parser.add_argument("--phases", action="store_true", help="split the measurements by phase of the run (optimizer cao)")
     args = parser.parse_args()
@@ -104,8 +104,8 @@ def main() -> None:
     phases = []
     for seed in range(1000, 1000 + args.seeds):
         if args.paper:
-            terrain = experiments.TABLE1.terrain.make(seed)
-            spec = replace(experiments.TABLE1.mission, n_uavs=12, optimizer=args.optimizer)
+            terrain = paper.TABLE1.terrain.make(seed)
+            spec = replace(paper.TABLE1.mission, n_uavs=12, optimizer=args.optimizer)
         else:
             terrain = uavcov.gaussian_hills(spacing=1.0, rng=seed)
             spec = uavcov.MissionSettings(n_uavs=12, d_max=25.0, iterations=500, optimizer=args.optimizer)

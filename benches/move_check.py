@@ -1,6 +1,6 @@
 """What checking every move against the ground costs on an elevation grid.
 
-The paper's Table 1 mission (``uavcov.experiments._experiments.TABLE1``: 7 Gaussian hills, 1 m targets, d_max =
+The paper's Table 1 mission (``uavcov.paper.TABLE1``: 7 Gaussian hills, 1 m targets, d_max =
 25 m, 500 CAO iterations, CVT start) run twice per seed, with ``constraints.check_moves`` on (the
 paper's model: robot-obstacle avoidance on every move) and off, interleaved so that both see the
 same load. Prints the median wall time, the median time in feasibility queries, their ratio, and
@@ -17,7 +17,7 @@ import statistics
 
 import numpy as np
 
-from uavcov import experiments
+from uavcov import paper
 from uavcov.experiments import RunSpec
 
 
@@ -37,7 +37,7 @@ def main() -> None:
         for seed in range(1000, 1000 + args.seeds):
             trajectories = {}
             for check in (True, False):
-                experiment = experiments.TABLE1.with_changes(**{"constraints.check_moves": check})
+                experiment = paper.TABLE1.with_changes(**{"constraints.check_moves": check})
                 result = RunSpec(experiment, seed, n, "cvt").run(n_threads=args.n_threads)
                 wall[check].append(result.wall_time_s)
                 feasible[check].append(result.trace.time_feasibility_s)

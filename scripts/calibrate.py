@@ -43,8 +43,9 @@ from typing import Any
 
 import numpy as np
 
-from uavcov import experiments
-from uavcov.experiments import PUBLISHED_GAIN, Experiment, RunSpec
+from uavcov import paper
+from uavcov.experiments import Experiment, RunSpec
+from uavcov.paper import PUBLISHED_GAIN
 
 
 def _seeds(text: str) -> list[int]:
@@ -95,10 +96,10 @@ def run_one(experiment: Experiment, seed: int, n: int, start: str, iterations: i
     }
 
 
-def _published(name: str, key: tuple[int, str, str]) -> experiments.PublishedValue | None:
+def _published(name: str, key: tuple[int, str, str]) -> paper.PublishedValue | None:
     if name == "pyramid":
-        return experiments.PUBLISHED_PYRAMID.get(key[2])
-    return experiments.PUBLISHED_TABLE1.get(key) if name == "table1" else None
+        return paper.PUBLISHED_PYRAMID.get(key[2])
+    return paper.PUBLISHED_TABLE1.get(key) if name == "table1" else None
 
 
 def summarise(rows: list[dict[str, Any]], iterations: int, name: str = "table1") -> str:
@@ -156,9 +157,9 @@ def _score(rows: list[dict[str, Any]], column: str) -> tuple[float, dict[tuple[i
             cells[(row["n"], row["start"])].append(row[column])
     means = {key: float(np.mean(v)) for key, v in cells.items()}
     errors = [
-        means[key] - experiments.PUBLISHED_TABLE1[(key[0], key[1], column)].mean
+        means[key] - paper.PUBLISHED_TABLE1[(key[0], key[1], column)].mean
         for key in means
-        if (key[0], key[1], column) in experiments.PUBLISHED_TABLE1
+        if (key[0], key[1], column) in paper.PUBLISHED_TABLE1
     ]
     return float(np.sqrt(np.mean(np.square(errors)))), means
 
@@ -255,7 +256,7 @@ def search_max(
     """Random search of the on-line step's constants against the max columns, gains and convergence."""
 
     def evaluate(pool: cf.Executor, changes: dict[str, Any]) -> tuple[float, str]:
-        experiment = experiments.TABLE1.with_changes(**changes)
+        experiment = paper.TABLE1.with_changes(**changes)
         cells = [(seed, n, start) for n in sizes for start in starts for seed in seeds]
         futures = [pool.submit(run_one, experiment, seed, n, start, experiment.iterations) for seed, n, start in cells]
         rows = [f.result() for f in futures]
@@ -268,12 +269,12 @@ def search_initial(
     count: int, seeds: list[int], sizes: list[int], workers: int, csv_path: str | None, search_seed: int, space: str
 ) -> None:
     """Random search of terrain and altitude against the "initial" columns (no CAO iterations)."""
-    base = experiments.TABLE1.with_changes(**{"constraints.z_max": 200.0})
+    base = paper.TABLE1.with_changes(**{"constraints.z_max": 200.0})
 
     def evaluate(pool: cf.Executor, changes: dict[str, Any]) -> tuple[float, str]:
         experiment = base.with_changes(**changes)
         futures = [pool.submit(run_one, experiment, seed, n, start, 0) for n in sizes for start in ("cvt", "random") for seed in seeds]
-        pyramid = experiments.PYRAMID.with_changes(**{"constraints.z_max": 200.0, **changes})
+        pyramid = paper.PYRAMID.with_changes(**{"constraints.z_max": 200.0, **changes})
         pyramid_futures = [pool.submit(run_one, pyramid, seed, 12, "cvt", 0) for seed in seeds]
         rows = [f.result() for f in futures]
         table_score, means = _score(rows, "initial")
@@ -281,7 +282,7 @@ def search_initial(
         means[(12, "pyramid")] = pyramid_mean
         # the pyramid cell counts as one more cell of the root mean square
         n_cells = len(means) - 1
-        pyramid_error = pyramid_mean - experiments.PUBLISHED_PYRAMID["initial"].mean
+        pyramid_error = pyramid_mean - paper.PUBLISHED_PYRAMID["initial"].mean
         score = float(np.sqrt((table_score**2 * n_cells + pyramid_error**2) / (n_cells + 1)))
         return score, " ".join(f"{n}{s[0]}={m:.3f}" for (n, s), m in sorted(means.items()))
 
@@ -290,7 +291,7 @@ def search_initial(
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--experiment", default="table1", choices=sorted(experiments.EXPERIMENTS))
+    parser.add_argument("--experiment", default="table1", choices=sorted(paper.EXPERIMENTS))
     parser.add_argument("--seeds", default="1000-1019", help="e.g. 1000-1039 or 1000,1003 (default 1000-1019)")
     parser.add_argument("--sizes", default=None, help="team sizes, e.g. 5,12 (default: the experiment's)")
     parser.add_argument("--starts", default=None, help="e.g. cvt,random (default: the experiment's)")
@@ -307,7 +308,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--space", default="ground", choices=sorted(SEARCH_SPACES | MAX_SPACES), help="the search space of --search")
     args = parser.parse_args(argv)
 
-    experiment = experiments.EXPERIMENTS[args.experiment]
+    experiment = paper.EXPERIMENTS[args.experiment]
     changes = {}
     for item in args.set:
         key, _, text = item.partition("=")
@@ -315,7 +316,7 @@ def main(argv: list[str] | None = None) -> int:
     if changes:
         experiment = experiment.with_changes(**changes)
     seeds = _seeds(args.seeds)
-    if not args.held_out and any(s in experiments.HELD_OUT_SEEDS for s in seeds):
+    if not args.held_out and any(s in paper.HELD_OUT_SEEDS for s in seeds):
         parser.error("seeds 0-39 are the held-out scenarios: calibrate on development seeds (e.g. 1000-1039)")
     sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(experiment.team_sizes)
     starts = args.starts.split(",") if args.starts else list(experiment.starts)

@@ -1,12 +1,12 @@
 #!/usr/bin/env python
 """Does the CVT start keep its advantage with real cameras? A sweep over field of view and pitch.
 
-The paper's terrains (``uavcov.experiments._experiments.TABLE1.terrain``), N = 8 and 12, CVT and random starts, the
+The paper's terrains (``uavcov.paper.TABLE1.terrain``), N = 8 and 12, CVT and random starts, the
 same scenarios for every sensor: the paper's omnidirectional sensor and three cameras (nadir
 84 x 62 deg, nadir 60 x 45 deg, 45 deg oblique 60 x 45 deg, heading north), all with a 40 m range.
 A camera sees a footprint only a few metres wide from the paper's 1-8 m band, so every sensor
 flies the same camera envelope instead: 10-40 m above the ground, the start 20 m above S', CAO's
-first step 5 m with A = 5 (``CAMERA_CAO``: ``uavcov.experiments._paper``'s step when the tables of
+first step 5 m with A = 5 (``CAMERA_CAO``: ``uavcov.paper``'s step when the tables of
 docs/cameras.md were made, kept so that they stay reproducible), 300 iterations. Nothing here
 was tuned: the envelope is a round choice for a camera survey, made once, and the scenarios
 are 0-9.
@@ -34,7 +34,7 @@ from dataclasses import replace
 import numpy as np
 
 import uavcov
-from uavcov import experiments
+from uavcov import paper
 from uavcov.experiments import Experiment, RunSpec
 
 SENSORS: dict[str, tuple[uavcov.Sensor, tuple[float, float]]] = {
@@ -53,7 +53,7 @@ RULES: dict[str, dict[str, object]] = {
 }
 
 
-CAMERA_CAO = experiments.TABLE1.with_changes(**experiments.ABLATIONS_BY_NAME["plateau-step"].changes).mission.cao
+CAMERA_CAO = paper.TABLE1.with_changes(**paper.ABLATIONS_BY_NAME["plateau-step"].changes).mission.cao
 """CAO's constants of this experiment: Table 1's with the plateau step (first step 5 m, A = 5)."""
 
 
@@ -71,17 +71,17 @@ def experiment(
     """The camera envelope on Table 1's terrains, for one sensor and start rule."""
     changes = _rules(alpha0_deg)[rule] if sensor.camera is not None else {}
     mission = replace(
-        experiments.TABLE1.mission,
+        paper.TABLE1.mission,
         d_max=40.0,
-        start=replace(experiments.TABLE1.mission.start, altitude=20.0),
-        constraints=replace(experiments.TABLE1.mission.constraints, h_min=10.0, h_max=40.0),
+        start=replace(paper.TABLE1.mission.start, altitude=20.0),
+        constraints=replace(paper.TABLE1.mission.constraints, h_min=10.0, h_max=40.0),
         cao=CAMERA_CAO,
         sensor=sensor,
         attitude=attitude,
         iterations=iterations,
         **changes,  # type: ignore[arg-type]
     )
-    return replace(experiments.TABLE1, name="cameras", mission=mission, team_sizes=(8, 12), starts=("cvt", "random"))
+    return replace(paper.TABLE1, name="cameras", mission=mission, team_sizes=(8, 12), starts=("cvt", "random"))
 
 
 def run_one(

@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """The cameras page's figure and table: one team of 6, the same positions, five sensors.
 
-On a paper terrain (``uavcov.experiments._experiments.TABLE1.terrain``, seed 0) six UAVs fly 25 m above the ground
+On a paper terrain (``uavcov.paper.TABLE1.terrain``, seed 0) six UAVs fly 25 m above the ground
 at fixed positions; each row of the table is one sensor for all six (the paper's omnidirectional
 one, and cameras nadir and oblique, with and without view-quality limits): coverage and
 quality-weighted coverage. The figure is :func:`uavcov.plotting.plot_camera_views` for the
@@ -24,7 +24,7 @@ import numpy as np
 from camera_experiment import CAMERA_CAO  # this folder's, as the script runs from it
 
 import uavcov
-from uavcov import experiments
+from uavcov import paper
 from uavcov.plotting import animate_mission, plot_camera_views
 
 SURVEY = uavcov.Camera(sensor_width_mm=13.2, sensor_height_mm=8.8, focal_length_mm=8.8, image_width_px=5472, image_height_px=3648)
@@ -36,7 +36,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path)
     args = parser.parse_args()
-    terrain = experiments.TABLE1.terrain.make(0)
+    terrain = paper.TABLE1.terrain.make(0)
     xy = np.array([[20.0, 20.0], [50.0, 20.0], [80.0, 20.0], [20.0, 70.0], [50.0, 70.0], [80.0, 70.0]])
     positions = np.column_stack([xy, terrain.ground_height(xy) + 25.0])
     headings = np.array([0.0, 60.0, 120.0, 180.0, 240.0, 300.0])

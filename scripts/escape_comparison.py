@@ -9,7 +9,7 @@ at a cruise speed (:func:`uavcov.mission_time`), and the escapes made.
 The certified gap (upper bound on the coverage minus the best coverage reached) is a column
 as soon as a bound is given: :func:`compare` takes ``bound(seed, n_uavs) -> float``, an upper
 bound on the coverage any team of that size can reach on that terrain; :func:`oracle_bound` is
-the oracle's (:func:`uavcov.experiments.oracle`: no N candidates of the 5 m admissible lattice on
+the oracle's (:func:`uavcov.paper.oracle`: no N candidates of the 5 m admissible lattice on
 the true surface see more; positions off the lattice may see a little more, so a gap can be
 slightly negative). ``--no-bound`` leaves the columns "n/a".
 
@@ -33,8 +33,9 @@ import numpy as np
 from scipy import stats
 
 from uavcov import mission_time
-from uavcov.experiments import TABLE1, experiment_specs, oracle, parse_seeds
+from uavcov.experiments import experiment_specs, parse_seeds
 from uavcov.optim import EscapeSettings
+from uavcov.paper import TABLE1, oracle
 
 Bound = Callable[[int, int], float]
 OPTIMIZERS = ("cao", "escape")

@@ -32,6 +32,7 @@ from uavcov import (
 from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
 from uavcov.experiments import parse_sweep_config, settings_hash
 from uavcov.optim import cao
+from uavcov.paper import EXPERIMENTS as PAPER_EXPERIMENTS
 from uavcov.placement import fit_footprints
 
 
@@ -201,7 +202,7 @@ CAMERA_SWEEP = {
 
 
 def test_a_sweep_file_sets_and_sweeps_cameras():
-    config = parse_sweep_config(CAMERA_SWEEP)
+    config = parse_sweep_config(CAMERA_SWEEP, bases=PAPER_EXPERIMENTS)
     assert len(config.variants) == 4 and len(config.specs()) == 4
     hashes = set()
     for experiment, extra in config.variants:
@@ -218,7 +219,7 @@ def test_a_sweep_file_sets_and_sweeps_cameras():
     names = ("sensor_width_mm", "sensor_height_mm", "focal_length_mm", "image_width_px", "image_height_px")
     camera = dict(zip(names, (13.2, 8.8, 8.8, 5472, 3648), strict=True))
     lens = {**CAMERA_SWEEP, "sweep": {}, "sensor": {"d_max": 30.0, "camera": camera}}
-    ((experiment, _),) = parse_sweep_config(lens).variants
+    ((experiment, _),) = parse_sweep_config(lens, bases=PAPER_EXPERIMENTS).variants
     assert experiment.mission.sensor == Sensor(30.0, camera=Camera(13.2, 8.8, 8.8, 5472, 3648))
 
 
@@ -239,13 +240,13 @@ def test_a_sweep_file_sets_and_sweeps_cameras():
 )
 def test_bad_camera_tables_are_config_errors_naming_the_key(change, message):
     with pytest.raises(ConfigError, match=message):
-        parse_sweep_config({**CAMERA_SWEEP, "sweep": {}, **change})
+        parse_sweep_config({**CAMERA_SWEEP, "sweep": {}, **change}, bases=PAPER_EXPERIMENTS)
 
 
 def test_sweeping_a_camera_field_needs_its_table():
     plain = {k: v for k, v in CAMERA_SWEEP.items() if k not in ("sensor", "gimbal", "objective", "footprint_start")}
     with pytest.raises(ConfigError, match="give that table first"):
-        parse_sweep_config({**plain, "sweep": {"sensor.camera.hfov_deg": [60.0]}})
+        parse_sweep_config({**plain, "sweep": {"sensor.camera.hfov_deg": [60.0]}}, bases=PAPER_EXPERIMENTS)
 
 
 def test_the_example_camera_sweep_parses():
@@ -253,7 +254,7 @@ def test_the_example_camera_sweep_parses():
 
     from uavcov.experiments import load_sweep_config
 
-    config = load_sweep_config(Path(__file__).parents[1] / "examples" / "camera_sweep.toml")
+    config = load_sweep_config(Path(__file__).parents[1] / "examples" / "camera_sweep.toml", bases=PAPER_EXPERIMENTS)
     assert config.axes == ("sensor.camera.hfov_deg",) and len(config.specs()) == 2 * 5 * 2
     assert all(e.mission.footprint_start and e.mission.gimbal == Gimbal(free_yaw=True) for e, _ in config.variants)
 

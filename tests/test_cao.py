@@ -754,9 +754,9 @@ def test_holding_an_inadmissible_uav_lets_the_others_move():
 
 
 def test_the_hold_rule_stays_out_of_the_papers_settings_hashes():
-    from uavcov.experiments import _paper as paper
     from uavcov.experiments import settings_hash
     from uavcov.experiments._sweep import experiment_settings
+    from uavcov.paper import _data as paper
 
     for experiment in paper.EXPERIMENTS.values():
         assert "infeasible" not in experiment_settings(experiment)["mission"]["cao"]

@@ -1,4 +1,4 @@
-"""The paper's claims measured on rows (uavcov.experiments._claims): gains, robustness, speed, convergence."""
+"""The paper's claims measured on rows (uavcov.paper._claims): gains, robustness, speed, convergence."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from uavcov.experiments import ResultsFolder, experiment_specs, run_specs
-from uavcov.experiments import _claims as claims
-from uavcov.experiments import _paper as paper
+from uavcov.paper import _claims as claims
+from uavcov.paper import _data as paper
 
 
 def _rows(values: dict[tuple[int, str], list[float]]) -> list[dict]:

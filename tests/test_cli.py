@@ -19,7 +19,8 @@ import pytest
 
 from tiny import TINY_TOML
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, main
-from uavcov.experiments import CONFIG_FORMAT, available_cores, read_runs
+from uavcov.experiments import available_cores, read_runs
+from uavcov.experiments._results import CONFIG_FORMAT
 
 TINY_SWEEP = TINY_TOML + '\n[sweep]\n"cao.alpha0" = [1.0, 2.0]\n'
 

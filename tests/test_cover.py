@@ -12,7 +12,8 @@ import pytest
 
 import uavcov
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, SurfaceTooLargeError
-from uavcov.experiments import TABLE1, oracle, settings_hash
+from uavcov.experiments import settings_hash
+from uavcov.paper import TABLE1, oracle
 from uavcov.placement import (
     Constraints,
     CoverageProblem,

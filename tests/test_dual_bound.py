@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import uavcov
-from uavcov.experiments import OracleRow
-from uavcov.experiments._bounds import bounds_markdown, read_bounds, write_bounds
 from uavcov.experiments._results import ResultsFolder
+from uavcov.paper import OracleRow
+from uavcov.paper._bounds import bounds_markdown, read_bounds, write_bounds
 from uavcov.placement import Constraints, CoverageProblem, GreedySettings, Viewpoints, viewpoint_lattice
 from uavcov.terrain import buildings_scene
 

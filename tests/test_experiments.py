@@ -1,8 +1,8 @@
 """Sweeps of missions: rows, seeding, executors, runs.csv, resume, failures and the tables.
 
 Through the modules the sweep machinery now lives in: :mod:`uavcov.experiments._sweep` (experiments, run
-specs, executors, run_specs), :mod:`uavcov.experiments._results` (runs.csv, config.json), :mod:`uavcov.experiments._reports`
-(the tables) and :mod:`uavcov.experiments._jobs` (reproduce); the deprecated :mod:`uavcov.experiments` shim
+specs, executors, run_specs), :mod:`uavcov.experiments._results` (runs.csv, config.json), :mod:`uavcov.paper._reports`
+(the tables) and :mod:`uavcov.paper._jobs` (reproduce); the deprecated :mod:`uavcov.experiments` shim
 is checked once, at the end.
 
 Every sweep here is tiny (a 40 m terrain on a 4 m grid, a handful of CAO iterations) so the file
@@ -31,22 +31,21 @@ from uavcov.errors import (
     SchedulerTimeoutError,
 )
 from uavcov.experiments import (
-    RUN_COLUMNS,
     RunSpec,
     dask_executor,
-    execute_run,
     experiment_specs,
     local_executor,
     parse_seeds,
     plan_execution,
     read_runs,
-    reproduce,
     run_specs,
     settings_hash,
     summarise,
-    table1_markdown,
 )
-from uavcov.experiments import _paper as paper
+from uavcov.experiments._results import RUN_COLUMNS
+from uavcov.experiments._sweep import execute_run
+from uavcov.paper import _data as paper
+from uavcov.paper import reproduce, table1_markdown
 from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s", "start_time_s"}

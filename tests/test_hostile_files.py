@@ -31,8 +31,10 @@ from uavcov.errors import (
     ResultsFormatError,
     ResultsInUseError,
 )
-from uavcov.experiments import CONFIG_FORMAT, experiment_specs, parse_seeds, parse_sweep_config, read_runs, run_specs, settings_hash
-from uavcov.experiments import _paper as paper
+from uavcov.experiments import experiment_specs, parse_seeds, parse_sweep_config, read_runs, run_specs, settings_hash
+from uavcov.experiments._results import CONFIG_FORMAT
+from uavcov.paper import EXPERIMENTS as PAPER_EXPERIMENTS
+from uavcov.paper import _data as paper
 from uavcov.records import load_mission, save_mission
 
 TINY = tiny_experiment(2)
@@ -178,7 +180,9 @@ def test_a_sweep_of_a_huge_team_is_refused_before_it_runs(tmp_path, capsys):
     assert code == EXIT_BAD_INPUT and "30,000" in err and "1,000" in err
     assert not (tmp_path / "out").exists()
     with pytest.raises(ConfigError, match="runs"):  # a [sweep] grid beyond the run limit, refused before it is built
-        parse_sweep_config({"seeds": "0-99999", "team_sizes": [2, 3], "sweep": {"cao.alpha0": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]}})
+        parse_sweep_config(
+            {"seeds": "0-99999", "team_sizes": [2, 3], "sweep": {"cao.alpha0": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]}}, bases=PAPER_EXPERIMENTS
+        )
 
 
 def test_cli_seeds_beyond_the_limit(tmp_path, capsys):
@@ -465,7 +469,7 @@ def test_an_unrelated_config_json_or_summary_is_not_overwritten(tmp_path, capsys
     out = tmp_path / "reproduce"
     out.mkdir()
     write(out / "example.md", "mine")
-    from uavcov.experiments import _jobs as jobs
+    from uavcov.paper import _jobs as jobs
 
     with pytest.raises(ResultsInUseError, match=r"example\.md"):
         jobs.reproduce("example", out, iterations=1, workers=1, save_runs=False)

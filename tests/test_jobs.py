@@ -1,4 +1,4 @@
-"""uavcov.experiments._jobs.reproduce_all: every experiment into its folder, one report naming its settings."""
+"""uavcov.paper._jobs.reproduce_all: every experiment into its folder, one report naming its settings."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import dataclasses
 import pytest
 
 from uavcov.errors import ConfigError
-from uavcov.experiments import _jobs as jobs
-from uavcov.experiments import _paper as paper
 from uavcov.experiments import experiments_hash, read_runs
+from uavcov.paper import _data as paper
+from uavcov.paper import _jobs as jobs
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +27,7 @@ def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick
         assert len(rows) == len(experiment.team_sizes) * len(experiment.starts) == len(results[name])
         assert not any(r["error"] for r in rows)
     report = (out / "report.md").read_text(encoding="utf-8")
-    assert f"`uavcov.experiments.EXPERIMENTS` {experiments_hash(paper.EXPERIMENTS)}" in report
+    assert f"`uavcov.paper.EXPERIMENTS` {experiments_hash(paper.EXPERIMENTS)}" in report
     for heading in (
         "## Table 1",
         "## The paper's claims on Table 1",
@@ -43,7 +43,7 @@ def test_every_experiment_has_its_folder_and_the_report_names_the_settings(quick
     table1 = (out / "table1" / "table1.md").read_text(encoding="utf-8")
     assert table1.splitlines()[2] in report
     # Table 1 against the oracle's certified bound, greedy on S' beside the paper's starts
-    from uavcov.experiments._bounds import read_bounds
+    from uavcov.paper._bounds import read_bounds
 
     bounds = read_bounds(out / "table1" / "bounds.csv")
     assert [(b.seed, b.n_uavs) for b in bounds] == [(0, n) for n in paper.TABLE1.team_sizes]

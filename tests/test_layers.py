@@ -2,7 +2,8 @@
 
 Layers from the bottom up (docs/design.md): the shared helpers, ``engine``, ``terrain``,
 ``placement`` and ``optim``, the mission (``mission.py``, ``records.py``), ``experiments`` and
-``field``, ``plotting``, and the command line on top. A module imports from a lower layer, or
+``field``, the paper (``paper``: its experiments, reproduction, reports and claims, which
+``plotting`` draws beside the runs), ``plotting``, and the command line on top. A module imports from a lower layer, or
 from its own unit (its folder; the shared helpers, the mission's two files and the command line's count as one each); it reaches another
 folder only through that folder's ``__init__`` (its public names), never a private module or
 name. Lazy imports inside functions count like the others.
@@ -31,10 +32,11 @@ LAYERS = {
     "records": 5,
     "experiments": 6,
     "field": 6,
-    "plotting": 7,
-    "cli": 8,
-    "__main__": 8,
-    "__init__": 8,
+    "paper": 7,
+    "plotting": 8,
+    "cli": 9,
+    "__main__": 9,
+    "__init__": 9,
 }
 # Units of one layer that form one idea and may import each other: the shared helpers, the
 # mission and its record, the command line.
@@ -131,7 +133,9 @@ def test_every_folder_lists_its_public_names() -> None:
     [
         ("engine/_targets.py", "from ..mission import MissionSettings\n"),  # a layer up
         ("terrain/_hills.py", "def later():\n    from ..placement import cvt\n"),  # lazy, a layer up
-        ("experiments/_paper.py", "from ..field import plan\n"),  # a sibling of the same layer
+        ("experiments/_sweep.py", "from ..field import plan\n"),  # a sibling of the same layer
+        ("experiments/_summary.py", "def later():\n    from ..paper import EXPERIMENTS\n"),  # the paper, above every study
+        ("experiments/_results.py", "from uavcov.paper import reproduce\n"),  # the paper, by its absolute name
         ("mission.py", "from .engine._surface import Terrain\n"),  # a private module of another folder
         ("field/_plan.py", "from ..terrain import _dem\n"),  # a private name of another folder
     ],

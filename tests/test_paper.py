@@ -1,4 +1,4 @@
-"""The paper's experiment settings and published numbers (uavcov.experiments._paper)."""
+"""The paper's experiment settings and published numbers (uavcov.paper._data)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pytest
 from uavcov import Constraints, StartSettings
 from uavcov.errors import InvalidInputError, InvalidTypeError
 from uavcov.experiments import Experiment, RunSpec
-from uavcov.experiments import _paper as paper
+from uavcov.paper import _data as paper
 
 EXCERPTS = Path(__file__).resolve().parents[1] / "docs" / "paper-excerpts.md"
 PAPER_TEX = Path(__file__).resolve().parents[2] / "shared" / "reference" / "paper.tex"
@@ -262,7 +262,7 @@ def test_experiment_fields_are_checked():
 
 
 def test_paper_module_runs_nothing():
-    """uavcov.experiments._paper is data: no function of its own (the sweep runs experiments)."""
+    """uavcov.paper._data is data: no function of its own (the sweep runs experiments)."""
     import inspect
 
     own = [name for name, value in vars(paper).items() if inspect.isfunction(value) and value.__module__ == paper.__name__]

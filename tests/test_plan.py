@@ -509,7 +509,7 @@ def test_a_mixed_team_plans_with_each_uavs_sensor(tmp_path: Path, utm_tif: Path)
 
 
 def test_plans_default_cao_is_table1_with_the_plateau_step_scaled_to_the_range():
-    from uavcov.experiments import _paper as paper
+    from uavcov.paper import _data as paper
 
     table1 = paper.TABLE1.mission.cao
     assert PlanSettings(n_uavs=2, d_max=800.0).mission.cao == cao_preset("plateau", 800.0)

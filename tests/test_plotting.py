@@ -239,7 +239,7 @@ def test_table1_bars_are_the_means_beside_the_paper():
         for n in (5, 8):
             ours = [float(r["max_coverage"]) for r in rows if r["init"] == init and r["n_uavs"] == str(n) and r["max_coverage"]]
             assert round(float(np.mean(ours)), 6) in heights
-            assert round(uavcov.experiments._paper.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
+            assert round(uavcov.paper._data.PUBLISHED_TABLE1[(n, init, "max")].mean, 6) in heights
     assert len(ax.patches) == 12  # 3 starts x 2 sizes x (ours, paper)
 
 
@@ -252,7 +252,7 @@ def test_table1_takes_typed_rows_with_failed_runs_as_none():
     ax = plotting.plot_table1(rows).axes[0]
     assert "1 failed" in ax.get_title()
     heights = sorted(p.get_height() for p in ax.patches)
-    assert np.allclose(heights, sorted([np.mean([0.9, 0.94, 0.91]), uavcov.experiments._paper.PUBLISHED_PYRAMID["max"].mean]))
+    assert np.allclose(heights, sorted([np.mean([0.9, 0.94, 0.91]), uavcov.paper._data.PUBLISHED_PYRAMID["max"].mean]))
 
 
 def test_table1_from_real_rows_without_paper_values(hills_runs, tmp_path):

@@ -20,8 +20,8 @@ from uavcov.errors import (
     ResultsInUseError,
     UavcovError,
 )
-from uavcov.experiments import CONFIG_FORMAT, RUN_COLUMNS, ResultsFolder, RunsFile, config_document, csv_line, format_cell, read_runs
-from uavcov.experiments._results import atomic_write
+from uavcov.experiments import ResultsFolder, read_runs
+from uavcov.experiments._results import CONFIG_FORMAT, RUN_COLUMNS, RunsFile, atomic_write, config_document, csv_line, format_cell
 from uavcov.plotting import _runs as plotting_runs
 
 

@@ -1,4 +1,4 @@
-"""The guarantees of the restructured upper floors: uavcov.experiments._sweep, uavcov.experiments._jobs, the results folder.
+"""The guarantees of the restructured upper floors: uavcov.experiments._sweep, uavcov.paper._jobs, the results folder.
 
 * every command (reproduce, sweep, demo) runs through :func:`uavcov.experiments._sweep.run_specs` and writes
   the one ``config.json`` schema;
@@ -29,9 +29,6 @@ from uavcov.errors import (
     UavcovError,
 )
 from uavcov.experiments import (
-    CONFIG_FORMAT,
-    REPORTS,
-    RUN_COLUMNS,
     Experiment,
     ResultsFolder,
     RunSpec,
@@ -41,10 +38,14 @@ from uavcov.experiments import (
     plan_execution,
     read_runs,
     run_specs,
+    run_sweep,
     settings_hash,
 )
-from uavcov.experiments import _jobs as jobs
-from uavcov.experiments import _paper as paper
+from uavcov.experiments._results import CONFIG_FORMAT, RUN_COLUMNS
+from uavcov.paper import EXPERIMENTS as PAPER_EXPERIMENTS
+from uavcov.paper import REPORTS
+from uavcov.paper import _data as paper
+from uavcov.paper import _jobs as jobs
 from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s", "start_time_s"}
@@ -141,7 +142,9 @@ def test_reproduce_writes_its_report_from_what_the_folder_reads_back(tmp_path):
 
 def test_reproduce_sweep_and_demo_write_the_one_config_schema(tmp_path, capsys):
     jobs.reproduce("pyramid", tmp_path / "reproduce", seeds=[0], iterations=1, workers=1, n_threads=1)
-    jobs.run_sweep(parse_sweep_config({**TINY_SWEEP, "sweep": {"cao.alpha0": [1.0, 2.0]}}), tmp_path / "sweep", workers=1)
+    run_sweep(
+        parse_sweep_config({**TINY_SWEEP, "sweep": {"cao.alpha0": [1.0, 2.0]}}, bases=PAPER_EXPERIMENTS), tmp_path / "sweep", workers=1
+    )
     assert main(["demo", "--out", str(tmp_path / "demo"), "--iterations", "1", "--no-plots", "--threads", "1"]) == EXIT_OK
     capsys.readouterr()
     configs = {name: json.loads((tmp_path / name / "config.json").read_text()) for name in ("reproduce", "sweep", "demo")}
@@ -199,13 +202,13 @@ def test_resume_with_the_same_settings_adds_only_the_missing_runs(tmp_path):
 def test_a_refused_rerun_deletes_nothing(tmp_path):
     # The same runs (same label, same experiment, same run ids), recorded once as a plain sweep
     # and once as a sweep over a single d_max value: config.json's settings differ ("swept").
-    plain = parse_sweep_config(TINY_SWEEP)
-    swept = parse_sweep_config({**TINY_SWEEP, "sweep": {"d_max": [12.0]}})
+    plain = parse_sweep_config(TINY_SWEEP, bases=PAPER_EXPERIMENTS)
+    swept = parse_sweep_config({**TINY_SWEEP, "sweep": {"d_max": [12.0]}}, bases=PAPER_EXPERIMENTS)
     assert [s.run_id for s in plain.specs()] == [s.run_id for s in swept.specs()]
-    jobs.run_sweep(plain, tmp_path, workers=1)
+    run_sweep(plain, tmp_path, workers=1)
     before = read_runs(tmp_path / "runs.csv")
     with pytest.raises(ResultsInUseError, match=r"another kind of sweep|other settings"):
-        jobs.run_sweep(swept, tmp_path, workers=1, resume=True, rerun="all")
+        run_sweep(swept, tmp_path, workers=1, resume=True, rerun="all")
     assert read_runs(tmp_path / "runs.csv") == before
 
 
@@ -254,7 +257,7 @@ def test_error_types_of_the_results_folder(tmp_path):
         for call in (
             lambda: run_specs([spec], out=folder.path, workers=1),
             lambda: jobs.reproduce("example", folder.path, iterations=0, workers=1),
-            lambda: jobs.run_sweep(parse_sweep_config(TINY_SWEEP), folder.path, workers=1),
+            lambda: run_sweep(parse_sweep_config(TINY_SWEEP, bases=PAPER_EXPERIMENTS), folder.path, workers=1),
         ):
             with pytest.raises(ResultsInUseError, match="another uavcov process") as error:
                 call()
@@ -280,7 +283,7 @@ def test_library_messages_name_no_command_line_flag(tmp_path):
         lambda: jobs.reproduce("example", tmp_path, iterations=-1),
         lambda: jobs.reproduce("example", tmp_path, starts=["corner"]),
         lambda: jobs.reproduce("example", tmp_path, team_sizes=[0]),
-        lambda: parse_sweep_config({"iteratoins": 3}),
+        lambda: parse_sweep_config({"iteratoins": 3}, bases=PAPER_EXPERIMENTS),
     ]
     for failure in failures:
         with pytest.raises(UavcovError) as error:

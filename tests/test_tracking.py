@@ -10,7 +10,7 @@ import pytest
 
 import uavcov
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.experiments import _paper as paper
+from uavcov.paper import _data as paper
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 from uavcov.experiments import Experiment
-from uavcov.experiments import _paper as paper
+from uavcov.paper import _data as paper
 
 TINY_TOML = """
 name = "tiny"

@@ -7,7 +7,7 @@ The true surface coloured by what the team sees at its best configuration, with 
 
 import uavcov
 from uavcov import plotting
-from uavcov.experiments import EXAMPLE
+from uavcov.paper import EXAMPLE
 
 terrain = EXAMPLE.terrain.make(0)  # the paper's example terrain: 100 m x 100 m, 1 m grid
 result = uavcov.run_mission(terrain, EXAMPLE.mission.with_changes(n_uavs=9, iterations=60), rng=0)

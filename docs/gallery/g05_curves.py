@@ -7,7 +7,7 @@ The coverage at every CAO iteration, from a CVT start and from a corner start (:
 
 import uavcov
 from uavcov import plotting
-from uavcov.experiments import EXAMPLE
+from uavcov.paper import EXAMPLE
 
 terrain = EXAMPLE.terrain.make(0)  # the paper's example terrain: 100 m x 100 m, 1 m grid
 result = uavcov.run_mission(terrain, EXAMPLE.mission.with_changes(n_uavs=9, iterations=150), rng=0)

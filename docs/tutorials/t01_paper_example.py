@@ -13,12 +13,12 @@ builds in seconds.
 # %%
 # The true surface and the mission's settings
 # -------------------------------------------
-# :class:`uavcov.experiments.EXAMPLE` holds the paper's settings; we keep them and change only
+# :class:`uavcov.paper.EXAMPLE` holds the paper's settings; we keep them and change only
 # the resolution of the terrain and the number of iterations.
 import dataclasses
 
 import uavcov
-from uavcov.experiments import EXAMPLE
+from uavcov.paper import EXAMPLE
 
 terrain = dataclasses.replace(EXAMPLE.terrain, spacing=2.0).make(0)
 settings = EXAMPLE.mission.with_changes(n_uavs=9, iterations=60)

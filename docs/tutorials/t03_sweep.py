@@ -13,7 +13,7 @@ import tempfile
 import tomllib
 from pathlib import Path
 
-from uavcov import experiments, load_mission, plotting
+from uavcov import experiments, load_mission, paper, plotting
 
 config = experiments.parse_sweep_config(
     tomllib.loads(
@@ -37,7 +37,8 @@ sigma = 8.0
 "cao.alpha0" = [2.0, 8.0]
 d_max = [15.0, 25.0]
 """
-    )
+    ),
+    bases=paper.EXPERIMENTS,
 )
 out = Path(tempfile.mkdtemp()) / "sweep"
 rows = experiments.run_sweep(config, out, workers=1, progress=False)

@@ -182,7 +182,7 @@ def _finish(rows: list[dict[str, Any]], out: Path, started: float, wrote: Sequen
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .experiments import reproduce
+    from .paper import reproduce
 
     if args.experiment == "all":
         return _reproduce_all(args)
@@ -223,7 +223,7 @@ def _refuse_choice_within(args: argparse.Namespace, what: str) -> None:
 
 
 def _reproduce_ablation(args: argparse.Namespace) -> int:
-    from .experiments import ablate
+    from .paper import ablate
 
     _refuse_choice_within(args, "ablation")
     out = Path(args.out or "out/ablation")
@@ -236,7 +236,7 @@ def _reproduce_ablation(args: argparse.Namespace) -> int:
 
 
 def _reproduce_all(args: argparse.Namespace) -> int:
-    from .experiments import reproduce_all
+    from .paper import reproduce_all
 
     _refuse_choice_within(args, "all")
     out = Path(args.out or "out/all")
@@ -257,8 +257,9 @@ def _reproduce_all(args: argparse.Namespace) -> int:
 
 def _sweep(args: argparse.Namespace) -> int:
     from .experiments import load_sweep_config, run_sweep
+    from .paper import EXPERIMENTS
 
-    config = load_sweep_config(args.config)
+    config = load_sweep_config(args.config, bases=EXPERIMENTS)
     out = Path(args.out or f"out/{Path(args.config).stem}")
     started = time.perf_counter()
     with _execution(args) as options:
@@ -286,7 +287,8 @@ def _plot_directory(out: Path) -> list[Path] | None:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from .experiments import EXAMPLE, available_cores, reproduce
+    from .experiments import available_cores
+    from .paper import EXAMPLE, reproduce
     from .terrain import HillsGenerator
 
     out = Path(args.out)

@@ -1,149 +1,40 @@
-"""Specs x seeds on an executor into a results folder; the paper as data; reports and claims."""
+"""Specs x seeds on an executor into a results folder: what any study of uavcov runs with.
+
+An :class:`Experiment` (a scenario generator, a :class:`~uavcov.mission.MissionSettings`, team
+sizes, starts and seeds) lists its runs (:func:`experiment_specs`); :func:`run_specs` runs them
+on an executor (:func:`plan_execution`) into a :class:`ResultsFolder` that a later call resumes;
+a sweep file (:class:`SweepConfig`) runs with :func:`run_sweep`. The paper's experiments are in
+:mod:`uavcov.paper`.
+"""
 
 from __future__ import annotations
 
-from ._claims import (
-    PUBLISHED_GAIN,
-    Convergence,
-    PairedGain,
-    RowRobustness,
-    Verdict,
-    ablation_markdown,
-    claims_markdown,
-    convergence,
-    headline,
-    robustness,
-    speed,
-    verdicts,
-    verdicts_markdown,
-)
-from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution, stop_pool
-from ._jobs import REPORT_SEEDS, REPRODUCIBLE, ablate, reproduce, reproduce_all, run_sweep
-from ._oracle import OracleRow, oracle
-from ._paper import (
-    ABLATION_BASE,
-    ABLATIONS,
-    ABLATIONS_BY_NAME,
-    BUILDINGS,
-    COMPARISON,
-    DEV_SEEDS,
-    EXAMPLE,
-    EXPERIMENTS,
-    HELD_OUT_SEEDS,
-    PUBLISHED_FIG6_MAX,
-    PUBLISHED_PYRAMID,
-    PUBLISHED_TABLE1,
-    PYRAMID,
-    TABLE1,
-    TABLE1_COLUMNS,
-    Ablation,
-    PaperExperiment,
-    PublishedValue,
-)
-from ._reports import (
-    REPORTS,
-    buildings_markdown,
-    comparison_markdown,
-    coverage_curves_csv,
-    example_markdown,
-    finished_rows,
-    pyramid_markdown,
-    summarise,
-    sweep_markdown,
-    table1_markdown,
-)
-from ._results import (
-    CONFIG_FORMAT,
-    LATER_RUN_COLUMNS,
-    RUN_COLUMNS,
-    ResultsFolder,
-    RunsFile,
-    config_document,
-    csv_line,
-    format_cell,
-    json_default,
-    read_runs,
-)
-from ._sweep import Experiment, RunSpec, execute_run, experiment_specs, experiments_hash, parse_seeds, run_specs, settings_hash
-from ._sweep_config import PRIORS, STARTS, SweepConfig, load_sweep_config, parse_sweep_config
+from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution
+from ._results import ResultsFolder, read_runs
+from ._summary import finished_rows, run_sweep, summarise
+from ._sweep import Experiment, RunSpec, experiment_specs, experiments_hash, parse_seeds, run_specs, settings_hash
+from ._sweep_config import STARTS, SweepConfig, load_sweep_config, parse_sweep_config
 
 __all__ = [
-    "oracle",
-    "OracleRow",
-    "PairedGain",
-    "RowRobustness",
-    "Convergence",
-    "PUBLISHED_GAIN",
-    "headline",
-    "robustness",
-    "speed",
-    "convergence",
-    "claims_markdown",
-    "ablation_markdown",
-    "Verdict",
-    "verdicts",
-    "verdicts_markdown",
+    "Experiment",
+    "RunSpec",
+    "experiment_specs",
+    "run_specs",
+    "settings_hash",
+    "experiments_hash",
+    "parse_seeds",
     "ExecutionPlan",
     "available_cores",
     "plan_execution",
     "local_executor",
-    "stop_pool",
     "dask_executor",
-    "reproduce",
-    "reproduce_all",
-    "ablate",
-    "run_sweep",
-    "REPRODUCIBLE",
-    "REPORT_SEEDS",
-    "PaperExperiment",
-    "PublishedValue",
-    "TABLE1",
-    "PYRAMID",
-    "COMPARISON",
-    "EXAMPLE",
-    "BUILDINGS",
-    "EXPERIMENTS",
-    "Ablation",
-    "ABLATION_BASE",
-    "ABLATIONS",
-    "ABLATIONS_BY_NAME",
-    "PUBLISHED_TABLE1",
-    "PUBLISHED_PYRAMID",
-    "PUBLISHED_FIG6_MAX",
-    "TABLE1_COLUMNS",
-    "DEV_SEEDS",
-    "HELD_OUT_SEEDS",
+    "ResultsFolder",
+    "read_runs",
     "summarise",
     "finished_rows",
-    "table1_markdown",
-    "pyramid_markdown",
-    "comparison_markdown",
-    "buildings_markdown",
-    "example_markdown",
-    "sweep_markdown",
-    "coverage_curves_csv",
-    "REPORTS",
-    "RUN_COLUMNS",
-    "LATER_RUN_COLUMNS",
-    "CONFIG_FORMAT",
-    "ResultsFolder",
-    "RunsFile",
-    "read_runs",
-    "csv_line",
-    "format_cell",
-    "config_document",
-    "json_default",
-    "Experiment",
-    "RunSpec",
-    "experiment_specs",
-    "settings_hash",
-    "experiments_hash",
-    "execute_run",
-    "run_specs",
-    "parse_seeds",
     "SweepConfig",
     "load_sweep_config",
     "parse_sweep_config",
+    "run_sweep",
     "STARTS",
-    "PRIORS",
 ]

@@ -23,7 +23,7 @@ import io
 import json
 import os
 import tempfile
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -419,6 +419,10 @@ class ResultsFolder:
         _refuse_link(path)
         atomic_write(path, text)
         return path
+
+    def write_csv(self, name: str, header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> Path:
+        """Write a CSV table of the folder atomically, floats so they read back exactly; returns its path."""
+        return self.write_text(name, "".join(csv_line(line) for line in (header, *rows)))
 
     def drop_runs(self, run_ids: set[str]) -> None:
         """Rewrite ``runs.csv`` atomically without the rows of these runs."""

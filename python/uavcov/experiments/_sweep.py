@@ -5,7 +5,7 @@ seed), a :class:`~uavcov.mission.MissionSettings`, and the team sizes, starts an
 A :class:`RunSpec` is one of its missions: one seed, one team size, one start. :func:`run_specs`
 runs a list of them on a local process pool (spawn context), a Dask cluster
 (:func:`dask_executor`) or any ``concurrent.futures`` executor, and returns one row per run (a
-``dict`` with the columns of :data:`uavcov.experiments.RUN_COLUMNS`). With ``out=`` it writes a
+``dict`` with the columns of ``runs.csv``). With ``out=`` it writes a
 results folder (:class:`uavcov.experiments.ResultsFolder`): every command that runs missions (the
 paper's reproductions, sweep files, the demo) goes through it.
 
@@ -216,7 +216,7 @@ def settings_hash(experiment: Experiment) -> str:
 def experiments_hash(experiments: Mapping[str, Experiment]) -> str:
     """Eight hex digits that change with any setting of any of ``experiments`` (and their names, seeds, sizes, starts).
 
-    ``experiments_hash(uavcov.experiments.EXPERIMENTS)`` names the paper's settings a report was made with.
+    ``experiments_hash(uavcov.paper.EXPERIMENTS)`` names the paper's settings a report was made with.
     """
     settings = {
         name: {**experiment_settings(e), "seeds": list(e.seeds), "team_sizes": list(e.team_sizes), "starts": list(e.starts)}
@@ -537,7 +537,7 @@ def run_specs(
     progress : bool, optional
         A progress bar with ETA on stderr (tqdm); by default only when stderr is a terminal.
     command, execution, about
-        What ``config.json`` records (see :func:`uavcov.experiments.config_document`).
+        What ``config.json`` records (see ``config_document``).
     on_result : callable, optional
         Called in this process as ``on_result(spec, row, result)`` after each finished run
         (``result`` is None for a failed run).
@@ -545,7 +545,7 @@ def run_specs(
     Returns
     -------
     list of dict
-        One row per spec with the columns of :data:`~uavcov.experiments.RUN_COLUMNS` plus each
+        One row per spec with the columns of ``RUN_COLUMNS`` plus each
         spec's ``extra``.
 
     Raises

@@ -64,7 +64,6 @@ from ..mission import OBJECTIVES
 from ..optim import CAOSettings
 from ..placement import ALTITUDE_REFERENCES, CORNERS, PRESETS, START_KINDS, Constraints, CVTSettings, StartSettings
 from ..terrain import BuildingsGenerator, HillsGenerator
-from . import _paper as paper
 from ._sweep import Experiment, RunSpec, experiment_specs, parse_seeds
 
 STARTS: tuple[str, ...] = START_KINDS
@@ -336,8 +335,11 @@ class SweepConfig:
         return specs
 
 
-def load_sweep_config(path: str | os.PathLike[str]) -> SweepConfig:
+def load_sweep_config(path: str | os.PathLike[str], *, bases: Mapping[str, Experiment]) -> SweepConfig:
     """Read and validate a TOML sweep file.
+
+    ``bases`` are the experiments its ``base`` may name, the first by default
+    (:data:`uavcov.paper.EXPERIMENTS` for the paper's).
 
     Raises
     ------
@@ -356,7 +358,7 @@ def load_sweep_config(path: str | os.PathLike[str]) -> SweepConfig:
         raise ConfigError(f"{path} is not UTF-8 text: {exc}") from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path} is not valid TOML: {exc}") from exc
-    return parse_sweep_config(data, source=str(path), default_name=path.stem)
+    return parse_sweep_config(data, bases=bases, source=str(path), default_name=path.stem)
 
 
 def _group_changes(group: str, table: Any, defaults: Mapping[str, Any], source: _Source) -> dict[str, Any]:
@@ -387,8 +389,10 @@ def _build(base: Experiment, changes: Mapping[str, Any], source: _Source) -> Exp
     return experiment
 
 
-def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", default_name: str = "sweep") -> SweepConfig:
-    """Validate a sweep given as a mapping (the parsed TOML); see the module docstring."""
+def parse_sweep_config(
+    data: Mapping[str, Any], *, bases: Mapping[str, Experiment], source: str = "<sweep>", default_name: str = "sweep"
+) -> SweepConfig:
+    """Validate a sweep given as a mapping (the parsed TOML) over the experiments ``bases``; see the module docstring."""
     src = _Source(source)
     if not isinstance(data, Mapping):
         raise ConfigError(f"{source}: a sweep is a table of settings, got {type(data).__name__}")
@@ -402,8 +406,10 @@ def parse_sweep_config(data: Mapping[str, Any], *, source: str = "<sweep>", defa
     description = data.get("description", "")
     if not isinstance(description, str):
         raise src.error("description", f"expected a string, got {description!r}")
-    experiments = paper.EXPERIMENTS
-    base_name = data.get("base", "table1")
+    experiments = bases
+    if not isinstance(experiments, Mapping) or not experiments or not all(isinstance(e, Experiment) for e in experiments.values()):
+        raise InvalidTypeError(f"bases must be a non-empty mapping of names to Experiment, got {type(bases).__name__}")
+    base_name = data.get("base", next(iter(experiments)))
     if base_name not in experiments:
         raise src.error("base", f"must be one of {', '.join(experiments)}, got {base_name!r}{_suggest(str(base_name), tuple(experiments))}")
     base = experiments[base_name]

@@ -84,7 +84,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         target.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ResultsFolderError(f"cannot make the figures folder {target}: {exc.strerror or exc}") from exc
-    from ..experiments import PUBLISHED_FIG6_MAX
+    from ..paper import PUBLISHED_FIG6_MAX
 
     written: list[Path] = []
     rows = _runs._read_runs(runs_csv) if runs_csv.is_file() else []
@@ -178,6 +178,6 @@ class _Curve:
 
 def report_figures(folder: str | os.PathLike[str]) -> list[str]:
     """Draw a results folder's figures for a report (two runs each, no animation) into
-    ``<folder>/figures``; their PNG file names. What :func:`uavcov.experiments.reproduce_all`
+    ``<folder>/figures``; their PNG file names. What :func:`uavcov.paper.reproduce_all`
     takes as ``figures=``."""
     return [os.path.basename(p) for p in plot_directory(folder, max_runs=2, animation=False) if str(p).endswith(".png")]

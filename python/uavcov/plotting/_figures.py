@@ -640,7 +640,7 @@ def published_values() -> dict[tuple[str, str, str, int], tuple[float, float]]:
     dict
         ``(experiment, metric, init, N) -> (mean, sigma)``, shares of the surface in [0, 1].
     """
-    from ..experiments import PUBLISHED_PYRAMID, PUBLISHED_TABLE1  # only here: the paper's tables are not needed to draw our own runs
+    from ..paper import PUBLISHED_PYRAMID, PUBLISHED_TABLE1  # only here: the paper's tables are not needed to draw our own runs
 
     metrics = {"initial": "initial_coverage", "max": "max_coverage"}
     values = {("table1", metrics[kind], init, int(n)): (v.mean, v.sigma) for (n, init, kind), v in PUBLISHED_TABLE1.items()}

@@ -25,11 +25,11 @@ from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import Any
 
+from ..experiments import Experiment
 from ..mission import MissionSettings
 from ..optim import CAO_PRESETS
 from ..placement import Constraints, CVTSettings, StartSettings
 from ..terrain import BuildingsGenerator, HillsGenerator
-from ._sweep import Experiment
 
 PaperExperiment = Experiment
 """The paper's experiments are :class:`uavcov.experiments.Experiment` values (the name of earlier releases)."""

@@ -1,6 +1,6 @@
 """Table 1 against the certified bound: how far each start's best coverage is from the best possible.
 
-For each scenario (terrain seed) and team size the oracle (:func:`uavcov.experiments.oracle`)
+For each scenario (terrain seed) and team size the oracle (:func:`uavcov.paper.oracle`)
 certifies a bound on the true surface: no ``N`` candidates of the 5 m admissible lattice see
 more. :func:`write_bounds` stores those rows as ``bounds.csv`` beside ``runs.csv``;
 :func:`bounds_markdown` sets each start's best coverage as a share of its scenario's bound, with
@@ -20,9 +20,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import ResultsFormatError
+from ..experiments import ResultsFolder, finished_rows
 from ._oracle import OracleRow
-from ._reports import finished_rows
-from ._results import ResultsFolder, csv_line
 
 BOUNDS_FILE = "bounds.csv"
 _COLUMNS = tuple(f.name for f in fields(OracleRow))
@@ -31,8 +30,7 @@ _STARTS = ("cvt", "random", "corner", "greedy")
 
 def write_bounds(folder: ResultsFolder, rows: Sequence[OracleRow]) -> Path:
     """Write the oracle's rows as ``bounds.csv`` in ``folder``."""
-    lines = [csv_line(list(_COLUMNS))] + [csv_line([asdict(r)[c] for c in _COLUMNS]) for r in rows]
-    return folder.write_text(BOUNDS_FILE, "".join(lines))
+    return folder.write_csv(BOUNDS_FILE, _COLUMNS, ([asdict(r)[c] for c in _COLUMNS] for r in rows))
 
 
 def read_bounds(path: str | Path) -> list[OracleRow]:

@@ -24,9 +24,8 @@ from dataclasses import dataclass
 
 from ..engine import Visibility
 from ..errors import InvalidTypeError
+from ..experiments import Experiment, local_executor
 from ..placement import CoverageProblem, GreedySettings, viewpoint_lattice
-from ._executors import local_executor
-from ._sweep import Experiment, _scenario
 
 
 @dataclass(frozen=True)
@@ -84,7 +83,7 @@ def oracle(
     Parameters
     ----------
     experiment : Experiment
-        E.g. :data:`uavcov.experiments.TABLE1`.
+        E.g. :data:`uavcov.paper.TABLE1`.
     seeds, team_sizes : iterable of int, optional
         Default: the experiment's own.
     settings : GreedySettings, optional
@@ -126,7 +125,7 @@ def _scenario_rows(
 ) -> list[OracleRow]:
     """The oracle of one scenario: its lattice and matrix once, then every team size."""
     mission = experiment.mission
-    terrain = _scenario(experiment.terrain, seed)
+    terrain = experiment.terrain.make(seed)
     started = time.perf_counter()
     limits = mission.constraints.resolve(terrain)
     lattice = viewpoint_lattice(terrain, limits, settings, n_threads=n_threads)

@@ -25,10 +25,9 @@ from typing import Any
 
 import numpy as np
 
+from ..experiments import ResultsFolder, finished_rows
 from ..records import load_mission
-from . import _paper as paper
-from ._reports import finished_rows
-from ._results import ResultsFolder
+from . import _data as paper
 
 PUBLISHED_GAIN: Mapping[int, float] = {
     n: paper.PUBLISHED_TABLE1[(n, "cvt", "max")].mean / paper.PUBLISHED_TABLE1[(n, "random", "max")].mean - 1.0
@@ -39,7 +38,7 @@ PUBLISHED_GAIN: Mapping[int, float] = {
 _BOOTSTRAP = 4000
 
 # The starts the paper's claims on Table 1 compare; Table 1's "greedy" runs (issue 36) are set
-# against the certified bound instead (uavcov.experiments._bounds) and leave the claims as they were.
+# against the certified bound instead (uavcov.paper._bounds) and leave the claims as they were.
 _PAPER_STARTS = ("cvt", "random", "corner")
 
 

@@ -16,44 +16,9 @@ from typing import Any
 
 import numpy as np
 
+from ..experiments import ResultsFolder, finished_rows, summarise
 from ..records import load_mission
-from . import _paper as paper
-from ._results import ResultsFolder, csv_line, format_cell
-
-
-def finished_rows(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
-    """The rows of runs that finished (no error, a coverage)."""
-    return [r for r in rows if not r.get("error") and r.get("max_coverage") is not None]
-
-
-def summarise(
-    rows: Iterable[Mapping[str, Any]],
-    by: Sequence[str] = ("experiment", "n_uavs", "init"),
-    metrics: Sequence[str] = ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"),
-) -> dict[tuple[Any, ...], dict[str, Any]]:
-    """Mean and standard deviation of ``metrics`` over the finished runs, grouped ``by`` columns.
-
-    The standard deviation is the sample one (``ddof=1``; NaN for a single run). Runs are summed
-    in seed order, so the numbers do not depend on the order runs finished in.
-
-    Returns
-    -------
-    dict
-        ``key tuple -> {"count": n, "<metric>": (mean, sigma), ...}``, keys sorted.
-    """
-    groups: dict[tuple[Any, ...], list[Mapping[str, Any]]] = {}
-    for row in sorted(finished_rows(rows), key=lambda r: (r.get("seed") or 0, str(r.get("run_id")))):
-        groups.setdefault(tuple(row.get(k) for k in by), []).append(row)
-    summary = {}
-    for key in sorted(groups, key=lambda k: tuple(str(x).zfill(8) for x in k)):
-        members = groups[key]
-        entry: dict[str, Any] = {"count": len(members)}
-        for metric in metrics:
-            values = np.array([float(m[metric]) for m in members], dtype=float)
-            sigma = float(np.std(values, ddof=1)) if len(values) > 1 else math.nan
-            entry[metric] = (float(np.mean(values)), sigma)
-        summary[key] = entry
-    return summary
+from . import _data as paper
 
 
 def _cell(value: tuple[float, float] | None, digits: int = 2) -> str:
@@ -295,41 +260,5 @@ def coverage_curves_csv(folder: ResultsFolder, rows: Sequence[Mapping[str, Any]]
     if not columns:
         return None
     length = max(len(c) for _, c in columns)
-    lines = [csv_line(["iteration"] + [name for name, _ in columns])]
-    lines += [csv_line([k] + [float(c[k]) if k < len(c) else "" for _, c in columns]) for k in range(length)]
-    return folder.write_text("coverage.csv", "".join(lines))
-
-
-def _cell_text(value: Any) -> str:
-    return value if isinstance(value, str) else format_cell(value)
-
-
-def sweep_markdown(config: Any, rows: Sequence[Mapping[str, Any]]) -> str:
-    """Mean (sigma) of the coverage per swept value, team size and start.
-
-    ``config`` is the :class:`uavcov.experiments.SweepConfig` the rows were run from (its name,
-    base, description, seeds and axes).
-    """
-    by = tuple(config.axes) + ("n_uavs", "init")
-    # Swept values read back from runs.csv are strings; compare them as written.
-    normalised = [{**r, **{a: _cell_text(r.get(a)) for a in config.axes}} for r in rows]
-    summary = summarise(normalised, by=by)
-    header = list(config.axes) + ["N", "start", "runs", "initial", "max", "final", "iterations to 95 %"]
-    lines = [
-        f"# Sweep {config.name}",
-        "",
-        config.description or f"Based on {config.base}; {len(config.seeds)} seed(s). Mean (sigma) over the seeds.",
-        "",
-        "| " + " | ".join(header) + " |",
-        "|" + "---|" * len(header),
-    ]
-    for key, entry in summary.items():
-        cells = [str(k) for k in key] + [str(entry["count"])]
-        for metric in ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"):
-            mean, sigma = entry[metric]
-            cells.append(f"{mean:.3f}" if math.isnan(sigma) else f"{mean:.3f} ({sigma:.3f})")
-        lines.append("| " + " | ".join(cells) + " |")
-    failed = [r for r in rows if r.get("error")]
-    if failed:
-        lines += ["", f"{len(failed)} run(s) failed (see the `error` column of runs.csv)."]
-    return "\n".join(lines) + "\n"
+    header = ["iteration"] + [name for name, _ in columns]
+    return folder.write_csv("coverage.csv", header, ([k] + [float(c[k]) if k < len(c) else "" for _, c in columns] for k in range(length)))

@@ -4,12 +4,12 @@ Each job builds its run specs, hands them to the one function that runs specs in
 (:func:`uavcov.experiments.run_specs`), and writes its report from what the folder holds
 (:mod:`uavcov.experiments`):
 
-* :func:`reproduce`: one of the paper's experiments (:data:`uavcov.experiments.EXPERIMENTS`) ->
+* :func:`reproduce`: one of the paper's experiments (:data:`uavcov.paper.EXPERIMENTS`) ->
   ``<name>.md`` beside the paper's numbers, and ``coverage.csv`` for the single-scenario ones;
 * :func:`reproduce_all`: every experiment of the paper, each in its own folder, then
   ``report.md``: every table beside the paper's numbers, the claims of section V-C measured
   (:mod:`uavcov.experiments`) and the figures, each named with the hash of the settings it was made
-  with (:func:`uavcov.experiments.experiments_hash` of :data:`uavcov.experiments.EXPERIMENTS`);
+  with (:func:`uavcov.experiments.experiments_hash` of :data:`uavcov.paper.EXPERIMENTS`);
 * :func:`run_sweep`: a sweep file (:mod:`uavcov.experiments`) -> ``sweep.toml`` (the file as
   written) and ``summary.md``.
 """
@@ -24,15 +24,12 @@ from typing import Any
 
 from .._validate import is_int
 from ..errors import ConfigError, MissingExtraError
-from . import _paper as paper
+from ..experiments import Experiment, ResultsFolder, experiment_specs, experiments_hash, parse_seeds, plan_execution, run_specs
+from . import _data as paper
 from ._bounds import BOUNDS_FILE, bounds_markdown, write_bounds
 from ._claims import ablation_markdown, claims_markdown, verdicts_markdown
-from ._executors import plan_execution
 from ._oracle import oracle
-from ._reports import REPORTS, coverage_curves_csv, sweep_markdown
-from ._results import ResultsFolder
-from ._sweep import Experiment, experiment_specs, experiments_hash, parse_seeds, run_specs
-from ._sweep_config import SweepConfig
+from ._reports import REPORTS, coverage_curves_csv
 
 REPORT_SEEDS: Mapping[str, tuple[int, ...]] = {"comparison": paper.HELD_OUT_SEEDS, "buildings": tuple(range(20))}
 """Seeds :func:`reproduce_all` runs where the paper shows one scenario: its claims are checked
@@ -69,7 +66,7 @@ def reproduce(
     Writes ``runs.csv``, ``runs/<run_id>.npz``, ``config.json`` and ``<name>.md`` (the table
     beside the paper's numbers); "comparison", "buildings" and "example" also write
     ``coverage.csv`` (coverage per iteration of every run); "table1" also writes ``bounds.csv``
-    (the oracle's certified bound per terrain and team size, :func:`uavcov.experiments.oracle`)
+    (the oracle's certified bound per terrain and team size, :func:`uavcov.paper.oracle`)
     and sets each start against it in ``table1.md``.
 
     Parameters
@@ -152,9 +149,9 @@ def ablate(
     command: str | None = None,
     **run_options: Any,
 ) -> list[dict[str, Any]]:
-    """The paper's model and each of :data:`uavcov.experiments.ABLATIONS` into ``out``, then ``ablation.md``.
+    """The paper's model and each of :data:`uavcov.paper.ABLATIONS` into ``out``, then ``ablation.md``.
 
-    Every variant runs :data:`uavcov.experiments.ABLATION_BASE` (N = 5 and 12, the three starts,
+    Every variant runs :data:`uavcov.paper.ABLATION_BASE` (N = 5 and 12, the three starts,
     scenarios 0-9 by default) with one change; ``ablation.md`` sets the claims measured on each
     (max coverage per start, the CVT-over-random gain, the convergence share, the robustness)
     beside the paper's model, so that what drives a claim shows as the line that moves it.
@@ -234,7 +231,7 @@ def reproduce_all(
     parts = [
         "# The paper's experiments, reproduced",
         "",
-        f"Settings: `uavcov.experiments.EXPERIMENTS` {tag} (every table and figure below was made with them).",
+        f"Settings: `uavcov.paper.EXPERIMENTS` {tag} (every table and figure below was made with them).",
         f"Made by `uavcov reproduce all`{how}; each experiment's runs are in its folder.",
         "Each run id and figure names the settings hash of its experiment: "
         + ", ".join(f"{name} {'/'.join(sorted({str(r['settings_hash']) for r in results[name]}))}" for name in REPRODUCIBLE)
@@ -277,30 +274,3 @@ def _figures(draw: Callable[[Path], list[str]], folder: Path) -> list[str]:
         return list(draw(folder))
     except MissingExtraError:
         return []
-
-
-def run_sweep(
-    config: SweepConfig,
-    out: str | os.PathLike[str],
-    *,
-    source_text: str | None = None,
-    execution: Mapping[str, Any] | None = None,
-    **run_options: Any,
-) -> list[dict[str, Any]]:
-    """Run a sweep into the folder ``out``: ``runs.csv``, ``runs/``, ``config.json``, ``summary.md``.
-
-    ``source_text`` (the TOML as written) is kept as ``sweep.toml``. ``run_options`` go to
-    :func:`uavcov.experiments.run_specs` (``executor``, ``workers``, ``n_threads``, ``resume``,
-    ``rerun``, ``save_runs``, ``progress``).
-    """
-    if run_options.get("executor") is None:
-        plan_execution(run_options.get("workers"), run_options.get("n_threads"))  # refused before the folder is made
-    folder = ResultsFolder(out)
-    about = {"name": config.name, "base": config.base, "description": config.description, "axes": list(config.axes)}
-    with folder.lock():
-        folder.claim([*(["sweep.toml"] if source_text is not None else []), "summary.md"])
-        rows = run_specs(config.specs(), out=folder, command="sweep", execution=execution, about=about, **run_options)
-        if source_text is not None:
-            folder.write_text("sweep.toml", source_text)
-        folder.write_text("summary.md", sweep_markdown(config, rows))
-    return rows

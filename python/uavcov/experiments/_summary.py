@@ -1,0 +1,116 @@
+"""Summaries of the rows of ``runs.csv``, and a sweep file run into a results folder.
+
+:func:`summarise` gives mean and sigma per cell of any study's runs; :func:`run_sweep` runs a
+sweep file (:class:`uavcov.experiments.SweepConfig`) into a folder and writes its ``summary.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ._executors import plan_execution
+from ._results import ResultsFolder, format_cell
+from ._sweep import run_specs
+from ._sweep_config import SweepConfig
+
+
+def finished_rows(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
+    """The rows of runs that finished (no error, a coverage)."""
+    return [r for r in rows if not r.get("error") and r.get("max_coverage") is not None]
+
+
+def summarise(
+    rows: Iterable[Mapping[str, Any]],
+    by: Sequence[str] = ("experiment", "n_uavs", "init"),
+    metrics: Sequence[str] = ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"),
+) -> dict[tuple[Any, ...], dict[str, Any]]:
+    """Mean and standard deviation of ``metrics`` over the finished runs, grouped ``by`` columns.
+
+    The standard deviation is the sample one (``ddof=1``; NaN for a single run). Runs are summed
+    in seed order, so the numbers do not depend on the order runs finished in.
+
+    Returns
+    -------
+    dict
+        ``key tuple -> {"count": n, "<metric>": (mean, sigma), ...}``, keys sorted.
+    """
+    groups: dict[tuple[Any, ...], list[Mapping[str, Any]]] = {}
+    for row in sorted(finished_rows(rows), key=lambda r: (r.get("seed") or 0, str(r.get("run_id")))):
+        groups.setdefault(tuple(row.get(k) for k in by), []).append(row)
+    summary = {}
+    for key in sorted(groups, key=lambda k: tuple(str(x).zfill(8) for x in k)):
+        members = groups[key]
+        entry: dict[str, Any] = {"count": len(members)}
+        for metric in metrics:
+            values = np.array([float(m[metric]) for m in members], dtype=float)
+            sigma = float(np.std(values, ddof=1)) if len(values) > 1 else math.nan
+            entry[metric] = (float(np.mean(values)), sigma)
+        summary[key] = entry
+    return summary
+
+
+def _cell_text(value: Any) -> str:
+    return value if isinstance(value, str) else format_cell(value)
+
+
+def sweep_markdown(config: Any, rows: Sequence[Mapping[str, Any]]) -> str:
+    """Mean (sigma) of the coverage per swept value, team size and start.
+
+    ``config`` is the :class:`uavcov.experiments.SweepConfig` the rows were run from (its name,
+    base, description, seeds and axes).
+    """
+    by = tuple(config.axes) + ("n_uavs", "init")
+    # Swept values read back from runs.csv are strings; compare them as written.
+    normalised = [{**r, **{a: _cell_text(r.get(a)) for a in config.axes}} for r in rows]
+    summary = summarise(normalised, by=by)
+    header = list(config.axes) + ["N", "start", "runs", "initial", "max", "final", "iterations to 95 %"]
+    lines = [
+        f"# Sweep {config.name}",
+        "",
+        config.description or f"Based on {config.base}; {len(config.seeds)} seed(s). Mean (sigma) over the seeds.",
+        "",
+        "| " + " | ".join(header) + " |",
+        "|" + "---|" * len(header),
+    ]
+    for key, entry in summary.items():
+        cells = [str(k) for k in key] + [str(entry["count"])]
+        for metric in ("initial_coverage", "max_coverage", "final_coverage", "iterations_to_95"):
+            mean, sigma = entry[metric]
+            cells.append(f"{mean:.3f}" if math.isnan(sigma) else f"{mean:.3f} ({sigma:.3f})")
+        lines.append("| " + " | ".join(cells) + " |")
+    failed = [r for r in rows if r.get("error")]
+    if failed:
+        lines += ["", f"{len(failed)} run(s) failed (see the `error` column of runs.csv)."]
+    return "\n".join(lines) + "\n"
+
+
+def run_sweep(
+    config: SweepConfig,
+    out: str | os.PathLike[str],
+    *,
+    source_text: str | None = None,
+    execution: Mapping[str, Any] | None = None,
+    **run_options: Any,
+) -> list[dict[str, Any]]:
+    """Run a sweep into the folder ``out``: ``runs.csv``, ``runs/``, ``config.json``, ``summary.md``.
+
+    ``source_text`` (the TOML as written) is kept as ``sweep.toml``. ``run_options`` go to
+    :func:`uavcov.experiments.run_specs` (``executor``, ``workers``, ``n_threads``, ``resume``,
+    ``rerun``, ``save_runs``, ``progress``).
+    """
+    if run_options.get("executor") is None:
+        plan_execution(run_options.get("workers"), run_options.get("n_threads"))  # refused before the folder is made
+    folder = ResultsFolder(out)
+    about = {"name": config.name, "base": config.base, "description": config.description, "axes": list(config.axes)}
+    with folder.lock():
+        folder.claim([*(["sweep.toml"] if source_text is not None else []), "summary.md"])
+        rows = run_specs(config.specs(), out=folder, command="sweep", execution=execution, about=about, **run_options)
+        if source_text is not None:
+            folder.write_text("sweep.toml", source_text)
+        folder.write_text("summary.md", sweep_markdown(config, rows))
+    return rows

@@ -1,0 +1,132 @@
+"""Each subpackage's ``__all__`` is what a user calls: a few names, each used outside the tests.
+
+A name earns its place in a subpackage's ``__all__`` by a use somewhere a user would meet it:
+another module of the package (the command line included), ``docs/tutorials``,
+``docs/gallery``, ``scripts``, ``benches``, ``examples`` or the README. A name only the tests
+use is private: the tests import it from its private module, as scikit-learn's do. The limit
+on each ``__all__`` keeps a folder's reference a page a newcomer reads whole.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "python" / "uavcov"
+
+# The subpackages and the most names each may list.
+LIMITS = {
+    "engine": 25,
+    "terrain": 25,
+    "placement": 25,
+    "optim": 25,
+    "experiments": 25,
+    "paper": 25,
+    "field": 25,
+    "plotting": 25,
+}
+# Where a user meets a name, beside the package's other modules.
+USER_FACING = ("docs/tutorials", "docs/gallery", "scripts", "benches", "examples")
+README = "README.md"
+
+
+def declared_names(init: Path) -> list[str]:
+    """The ``__all__`` of a package's ``__init__.py``, read without importing it."""
+    for node in ast.parse(init.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "__all__" for t in node.targets):
+            return [ast.literal_eval(element) for element in node.value.elts]  # type: ignore[attr-defined]
+    raise AssertionError(f"{init} has no __all__")
+
+
+def _python_words(path: Path) -> set[str]:
+    """The identifiers a Python file uses (names, attributes, imported names); not its strings or comments."""
+    words: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Name):
+            words.add(node.id)
+        elif isinstance(node, ast.Attribute):
+            words.add(node.attr)
+        elif isinstance(node, ast.alias):
+            words.add(node.name.rpartition(".")[2])
+    return words
+
+
+def _text_words(path: Path) -> set[str]:
+    return set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", path.read_text(encoding="utf-8", errors="replace")))
+
+
+def used_outside(root: Path, unit: str) -> set[str]:
+    """Every identifier used outside the tests and outside the folder ``unit`` of the package at ``root``."""
+    package = root / "python" / "uavcov"
+    words: set[str] = set()
+    for path in package.rglob("*.py"):
+        if path.relative_to(package).parts[0] != unit:
+            words |= _python_words(path)
+    for place in USER_FACING:
+        for path in sorted((root / place).rglob("*")):
+            if path.is_file():
+                words |= (
+                    _python_words(path)
+                    if path.suffix == ".py"
+                    else _text_words(path)
+                    if path.suffix in {".md", ".rst", ".toml", ".sh"}
+                    else set()
+                )
+    if (root / README).is_file():
+        words |= _text_words(root / README)
+    return words
+
+
+def surface_problems(root: Path) -> list[str]:
+    """What is wrong with the public surfaces of the package at ``root`` (one line each; empty when none)."""
+    problems = []
+    for unit, limit in LIMITS.items():
+        names = declared_names(root / "python" / "uavcov" / unit / "__init__.py")
+        if len(names) > limit:
+            problems.append(
+                f"uavcov.{unit} lists {len(names)} names, more than {limit}: move what a user does not call to a private module"
+            )
+        unused = sorted(set(names) - used_outside(root, unit))
+        if unused:
+            problems.append(f"uavcov.{unit} lists names only its own modules or the tests use: {unused}; make them private")
+    return problems
+
+
+def test_every_public_name_is_used_outside_the_tests() -> None:
+    assert surface_problems(ROOT) == []
+
+
+def _copy(tmp_path: Path) -> Path:
+    copy = tmp_path / "repo"
+    for place in ("python/uavcov", *USER_FACING):
+        for path in (ROOT / place).rglob("*"):
+            if path.is_file() and path.suffix in {".py", ".md", ".rst", ".toml", ".sh"}:
+                target = copy / path.relative_to(ROOT)
+                target.parent.mkdir(parents=True, exist_ok=True)
+                target.write_text(path.read_text(encoding="utf-8", errors="replace"), encoding="utf-8")
+    (copy / README).write_text((ROOT / README).read_text(encoding="utf-8"), encoding="utf-8")
+    return copy
+
+
+@pytest.mark.parametrize("unit", sorted(LIMITS))
+def test_a_name_only_the_tests_use_is_caught(tmp_path: Path, unit: str) -> None:
+    copy = _copy(tmp_path)
+    init = copy / "python" / "uavcov" / unit / "__init__.py"
+    text = init.read_text(encoding="utf-8")
+    init.write_text(text.replace("__all__ = [", '__all__ = [\n    "only_the_tests_call_this",', 1), encoding="utf-8")
+    problems = surface_problems(copy)
+    assert len(problems) == 1 and "only_the_tests_call_this" in problems[0], problems
+
+
+def test_a_surface_past_its_limit_is_caught(tmp_path: Path) -> None:
+    copy = _copy(tmp_path)
+    init = copy / "python" / "uavcov" / "engine" / "__init__.py"
+    used = sorted(used_outside(copy, "engine"))[: LIMITS["engine"] + 1]
+    text = init.read_text(encoding="utf-8")
+    init.write_text(text.replace("__all__ = [", "__all__ = [\n" + "".join(f"    {n!r},\n" for n in used), 1), encoding="utf-8")
+    problems = surface_problems(copy)
+    assert len(problems) == 1 and "more than 25" in problems[0], problems
