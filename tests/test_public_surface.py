@@ -2,7 +2,8 @@
 
 A name earns its place in a subpackage's ``__all__`` by a use somewhere a user would meet it:
 another module of the package (the command line included), ``docs/tutorials``,
-``docs/gallery``, ``scripts``, ``benches``, ``examples`` or the README. A name only the tests
+``docs/gallery``, ``docs/figures``, ``scripts``, ``benches``, ``examples`` or the README; or as a type a public
+function takes or returns (a result a user reads, as scipy's ``OptimizeResult``). A name only the tests
 use is private: the tests import it from its private module, as scikit-learn's do. The limit
 on each ``__all__`` keeps a folder's reference a page a newcomer reads whole.
 """
@@ -30,7 +31,7 @@ LIMITS = {
     "plotting": 25,
 }
 # Where a user meets a name, beside the package's other modules.
-USER_FACING = ("docs/tutorials", "docs/gallery", "scripts", "benches", "examples")
+USER_FACING = ("docs/tutorials", "docs/gallery", "docs/figures", "scripts", "benches", "examples")
 README = "README.md"
 
 
@@ -81,6 +82,27 @@ def used_outside(root: Path, unit: str) -> set[str]:
     return words
 
 
+def _annotation_words(node: ast.AST) -> set[str]:
+    return {n.id for n in ast.walk(node) if isinstance(n, ast.Name)} | {n.attr for n in ast.walk(node) if isinstance(n, ast.Attribute)}
+
+
+def met_through(folder: Path, names: set[str]) -> set[str]:
+    """The types a user meets through the public ``names`` of ``folder``: what a public function or
+    method takes or returns, and the fields of a public class (a result's type is read, not called)."""
+    words: set[str] = set()
+    for path in folder.glob("*.py"):
+        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+            if isinstance(node, ast.FunctionDef | ast.ClassDef) and node.name in names:
+                members = [node] if isinstance(node, ast.FunctionDef) else node.body
+                for member in members:
+                    if isinstance(member, ast.FunctionDef) and (member is node or not member.name.startswith("_") or member.name == "__init__"):
+                        for annotation in [a.annotation for a in (*member.args.args, *member.args.kwonlyargs) if a.annotation] + [member.returns]:
+                            words |= _annotation_words(annotation) if annotation is not None else set()
+                    elif isinstance(member, ast.AnnAssign) and not getattr(member.target, "id", "_").startswith("_"):
+                        words |= _annotation_words(member.annotation)
+    return words
+
+
 def surface_problems(root: Path) -> list[str]:
     """What is wrong with the public surfaces of the package at ``root`` (one line each; empty when none)."""
     problems = []
@@ -90,7 +112,11 @@ def surface_problems(root: Path) -> list[str]:
             problems.append(
                 f"uavcov.{unit} lists {len(names)} names, more than {limit}: move what a user does not call to a private module"
             )
-        unused = sorted(set(names) - used_outside(root, unit))
+        folder = root / "python" / "uavcov" / unit
+        used = set(names) & used_outside(root, unit)
+        while (more := set(names) & met_through(folder, used)) - used:
+            used |= more
+        unused = sorted(set(names) - used)
         if unused:
             problems.append(f"uavcov.{unit} lists names only its own modules or the tests use: {unused}; make them private")
     return problems
