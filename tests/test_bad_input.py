@@ -458,7 +458,7 @@ def test_spacing_of_the_wrong_type_names_its_type(spacing):
 @pytest.mark.parametrize("coordinate", ["nan", "inf"])
 def test_load_mesh_names_the_file_of_a_bad_vertex(tmp_path, coordinate):
     pytest.importorskip("trimesh")
-    from uavcov.terrain import load_mesh
+    from uavcov.terrain._meshes import load_mesh
 
     path = tmp_path / f"bad-{coordinate}.obj"
     path.write_text(f"v 0 0 0\nv 1 0 0\nv 0 1 {coordinate}\nf 1 2 3\n")
@@ -468,7 +468,7 @@ def test_load_mesh_names_the_file_of_a_bad_vertex(tmp_path, coordinate):
 
 def test_load_mesh_names_the_file_of_a_degenerate_mesh(tmp_path):
     pytest.importorskip("trimesh")
-    from uavcov.terrain import load_mesh
+    from uavcov.terrain._meshes import load_mesh
 
     path = tmp_path / "flat.obj"
     path.write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")

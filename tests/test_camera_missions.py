@@ -30,7 +30,8 @@ from uavcov import (
     save_mission,
 )
 from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
-from uavcov.experiments import parse_sweep_config, settings_hash
+from uavcov.experiments import parse_sweep_config
+from uavcov.experiments._sweep import settings_hash
 from uavcov.optim import cao
 from uavcov.paper import EXPERIMENTS as PAPER_EXPERIMENTS
 from uavcov.placement import fit_footprints

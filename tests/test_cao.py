@@ -10,7 +10,7 @@ import pytest
 
 from uavcov import CAOSettings
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from uavcov.optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace, cao, escape_cao, per_robot_cao
+from uavcov.optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace, cao, per_robot_cao
 from uavcov.optim._cao import (
     _all_monomials,
     _design,
@@ -23,6 +23,7 @@ from uavcov.optim._cao import (
     _ridge,
     _robot_design,
 )
+from uavcov.optim._escape import escape_cao
 
 
 def quadratic(target: np.ndarray, weights: np.ndarray | None = None):
@@ -602,7 +603,7 @@ def flat_plane_case():
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_flat_plane_four_uavs_from_the_corner_reach_95_percent(flat_plane_case, seed):
-    from uavcov.placement import trajectory_feasible
+    from uavcov.placement._constraints import trajectory_feasible
 
     terrain, vis, optimum, constraints, feasible, corner = flat_plane_case
     tr = cao(vis.coverage, corner, feasible=feasible, iterations=500, rng=seed)
@@ -632,7 +633,7 @@ def test_flat_plane_per_robot_variant(flat_plane_case):
 
     tr = per_robot_cao(measure, corner, feasible=feasible, iterations=400, rng=0)
     assert tr.best_value >= 0.95 * optimum
-    from uavcov.placement import trajectory_feasible
+    from uavcov.placement._constraints import trajectory_feasible
 
     assert trajectory_feasible(constraints, terrain, tr.trajectory).all()
 
@@ -754,8 +755,7 @@ def test_holding_an_inadmissible_uav_lets_the_others_move():
 
 
 def test_the_hold_rule_stays_out_of_the_papers_settings_hashes():
-    from uavcov.experiments import settings_hash
-    from uavcov.experiments._sweep import experiment_settings
+    from uavcov.experiments._sweep import experiment_settings, settings_hash
     from uavcov.paper import _data as paper
 
     for experiment in paper.EXPERIMENTS.values():

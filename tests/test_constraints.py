@@ -15,7 +15,8 @@ import pytest
 
 from uavcov import Constraints
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from uavcov.placement import closest_admissible, feasibility, feasible_mask, trajectory_feasible
+from uavcov.placement import closest_admissible, feasibility
+from uavcov.placement._constraints import feasible_mask, trajectory_feasible
 
 # ---------------------------------------------------------------------------------------------
 # An analytic world: ground z = ground on [0, size]^2, closed boxes standing on it
@@ -485,7 +486,7 @@ def test_closest_admissible_and_masks_on_a_real_grid_terrain(hill_grid):
 
 def test_on_a_real_buildings_scene():
     _terrain_or_skip()
-    from uavcov.terrain import Building, buildings_terrain
+    from uavcov.terrain._buildings import Building, buildings_terrain
 
     scene = buildings_terrain([Building(8.0, 8.0, 14.0, 12.0, 6.0)], size=24.0, spacing=0.5)
     c = Constraints.for_world(scene, h_min=1.0, z_max=20.0, d_safe=1.0, check_moves=True)
@@ -529,7 +530,7 @@ def test_the_fused_rust_check_gives_the_python_checks_answers(scene, h_max, chec
     """Terrain.admissible_mask (one Rust pass) against the separate queries, candidate by candidate."""
     _terrain_or_skip()
     import uavcov
-    from uavcov.terrain import Building, buildings_terrain
+    from uavcov.terrain._buildings import Building, buildings_terrain
 
     if scene == "hills":
         world = uavcov.gaussian_hills(spacing=2.0, rng=1001)

@@ -10,7 +10,8 @@ from sklearn.cluster import KMeans
 from threadpoolctl import threadpool_limits
 
 from uavcov import Terrain, errors
-from uavcov.placement import PRESETS, CVTResult, cvt, default_samples_per_iteration, seed_from_rng
+from uavcov.placement import PRESETS, CVTResult, cvt
+from uavcov.placement._cvt import default_samples_per_iteration, seed_from_rng
 
 SIDE = 100.0
 

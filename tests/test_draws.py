@@ -24,8 +24,9 @@ import pytest
 
 from uavcov import CAOSettings, _core
 from uavcov.errors import InvalidInputError, SurfaceTooLargeError
-from uavcov.optim import cao, per_robot_cao, redraw_monomials, standard_normal
+from uavcov.optim import cao, per_robot_cao, standard_normal
 from uavcov.optim._cao import _draw_monomials, _first_terms, _n_distinct_monomials, _refresh_terms, _refresh_terms_numpy
+from uavcov.optim._draws import redraw_monomials
 
 MULT = 0x2360ED051FC65DA44385DF649FCCF645
 MASK128 = (1 << 128) - 1

@@ -12,10 +12,11 @@ import pytest
 import uavcov
 from uavcov import Constraints, EscapeSettings, MissionSettings, mission_time, run_mission
 from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError
-from uavcov.experiments import experiment_specs, read_runs, run_specs, settings_hash
+from uavcov.experiments import experiment_specs, read_runs, run_specs
 from uavcov.experiments._results import LATER_RUN_COLUMNS, RUN_COLUMNS
-from uavcov.experiments._sweep import experiment_settings
-from uavcov.optim import CAOSettings, cao, escape_cao
+from uavcov.experiments._sweep import experiment_settings, settings_hash
+from uavcov.optim import CAOSettings, cao
+from uavcov.optim._escape import escape_cao
 from uavcov.paper import TABLE1
 from uavcov.placement import feasibility
 

@@ -39,13 +39,13 @@ from uavcov.experiments import (
     plan_execution,
     read_runs,
     run_specs,
-    settings_hash,
     summarise,
 )
 from uavcov.experiments._results import RUN_COLUMNS
-from uavcov.experiments._sweep import execute_run
+from uavcov.experiments._sweep import execute_run, settings_hash
 from uavcov.paper import _data as paper
-from uavcov.paper import reproduce, table1_markdown
+from uavcov.paper import reproduce
+from uavcov.paper._reports import table1_markdown
 from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s", "start_time_s"}

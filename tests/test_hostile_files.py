@@ -31,8 +31,9 @@ from uavcov.errors import (
     ResultsFormatError,
     ResultsInUseError,
 )
-from uavcov.experiments import experiment_specs, parse_seeds, parse_sweep_config, read_runs, run_specs, settings_hash
+from uavcov.experiments import experiment_specs, parse_seeds, parse_sweep_config, read_runs, run_specs
 from uavcov.experiments._results import CONFIG_FORMAT
+from uavcov.experiments._sweep import settings_hash
 from uavcov.paper import EXPERIMENTS as PAPER_EXPERIMENTS
 from uavcov.paper import _data as paper
 from uavcov.records import load_mission, save_mission

@@ -21,14 +21,12 @@ from rasterio.transform import Affine
 from uavcov import Camera, FlightPlan, PlanSettings, Sensor, Visibility, plan, read_dem, sample_dem, write_plan
 from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
 from uavcov.errors import InfeasibleError, InvalidInputError
-from uavcov.field import (
+from uavcov.field import MAV_FRAME_GLOBAL_RELATIVE_ALT, bbox_area, read_area
+from uavcov.field._area import points_in_rings
+from uavcov.field._outputs import (
     COVERAGE_NODATA,
     MAV_CMD_NAV_LOITER_TIME,
     MAV_CMD_NAV_TAKEOFF,
-    MAV_FRAME_GLOBAL_RELATIVE_ALT,
-    bbox_area,
-    points_in_rings,
-    read_area,
     read_coverage_geotiff,
     read_plan_geojson,
     read_plan_kml,

@@ -276,7 +276,7 @@ def test_point_cloud_renders_and_is_the_union_of_seen_targets(hills_run, tmp_pat
     for x in hills_run.trajectory:
         union |= vis.seen(x)
     expected = vis.targets.points[union]
-    np.testing.assert_array_equal(plotting.seen_points(hills_run, max_configurations=1000), expected)
+    np.testing.assert_array_equal(plotting._figures.seen_points(hills_run, max_configurations=1000), expected)
     trimesh = pytest.importorskip("trimesh")
     cloud = trimesh.load(ply)
     np.testing.assert_allclose(np.asarray(cloud.vertices), expected, atol=1e-6)
@@ -284,19 +284,19 @@ def test_point_cloud_renders_and_is_the_union_of_seen_targets(hills_run, tmp_pat
 
 def test_write_ply_with_colours_reads_back(tmp_path):
     pts = np.array([[0.0, 1.5, -2.25], [3.0, 4.0, 5.0]])
-    path = plotting.write_ply(pts, tmp_path / "c.ply", colors=np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]))
+    path = plotting._writers.write_ply(pts, tmp_path / "c.ply", colors=np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]))
     lines = path.read_text().splitlines()
     assert lines[0] == "ply" and "element vertex 2" in lines and lines.index("end_header") == len(lines) - 3
     body = np.array([line.split() for line in lines[-2:]], dtype=float)
     np.testing.assert_allclose(body[:, :3], pts)
     np.testing.assert_array_equal(body[:, 3:], [[255, 0, 128], [0, 255, 0]])
-    empty = plotting.write_ply(np.empty((0, 3)), tmp_path / "e.ply")
+    empty = plotting._writers.write_ply(np.empty((0, 3)), tmp_path / "e.ply")
     assert "element vertex 0" in empty.read_text()
-    assert "element vertex 0" in plotting.write_ply([], tmp_path / "none.ply").read_text()  # [] is no points too
+    assert "element vertex 0" in plotting._writers.write_ply([], tmp_path / "none.ply").read_text()  # [] is no points too
     with pytest.raises(InvalidInputError):
-        plotting.write_ply(pts, tmp_path / "x.ply", colors=[[300, 0, 0], [0, 0, 0]])
+        plotting._writers.write_ply(pts, tmp_path / "x.ply", colors=[[300, 0, 0], [0, 0, 0]])
     with pytest.raises(InvalidInputError):
-        plotting.write_ply([[0.0, np.nan, 0.0]], tmp_path / "x.ply")
+        plotting._writers.write_ply([[0.0, np.nan, 0.0]], tmp_path / "x.ply")
 
 
 def test_animation_gif(hills_run, tmp_path):
@@ -554,7 +554,7 @@ def test_missing_fields_are_named(hills_run):
     with pytest.raises(ResultsFormatError, match="d_max"):
         plotting.plot_coverage_map(no_range)
     with pytest.raises(ResultsFormatError, match="missing d_max"):
-        plotting.seen_points(no_range)
+        plotting._figures.seen_points(no_range)
     with pytest.raises(ResultsFormatError, match="start"):
         plotting.plot_coverage_curves([hills_run, types.SimpleNamespace(coverage=np.ones(3), settings=None)])
 
@@ -754,7 +754,7 @@ def test_coverage_maps_and_seen_points_of_a_camera_run_are_what_its_cameras_see(
     union = np.zeros(len(vis.targets), dtype=bool)
     for k in range(run.trajectory.shape[0]):
         union |= vis.seen(np.column_stack([run.trajectory[k], run.attitudes[k]]), sensors=[sensor] * 2)
-    np.testing.assert_array_equal(plotting.seen_points(run), vis.targets.points[union])
+    np.testing.assert_array_equal(plotting._figures.seen_points(run), vis.targets.points[union])
 
 
 def test_a_quality_run_animates_and_plots_its_objective(tmp_path, monkeypatch):
@@ -795,11 +795,11 @@ def test_coverage_against_distance_marks_each_start_and_team_size_at_its_means()
         for s in range(3)
     ]
     rows.append({"init": "cvt", "n_uavs": "5", "max_coverage": "", "distance_mean_m": ""})  # a failed run
-    fig = plotting.plot_coverage_distance(rows)
+    fig = plotting._distance.plot_coverage_distance(rows)
     _assert_not_blank(_render(fig))
     ax = fig.axes[0]
     means = sorted((round(x, 6), round(y, 6)) for line in ax.lines for x, y in zip(line.get_xdata(), line.get_ydata(), strict=True))
     expected = sorted((round(30.0 * k + n + 1, 6), round(0.51 + 0.1 * k, 6)) for k in range(2) for n in (5, 8))
     assert [m for m in means if m in expected] == expected
     with pytest.raises(uavcov.errors.ResultsFormatError):
-        plotting.plot_coverage_distance([{"init": "cvt", "n_uavs": "5", "max_coverage": "0.5"}])
+        plotting._distance.plot_coverage_distance([{"init": "cvt", "n_uavs": "5", "max_coverage": "0.5"}])

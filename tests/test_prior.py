@@ -15,17 +15,10 @@ from scipy.spatial import ConvexHull, Delaunay
 from reference import grid_height
 from uavcov import Terrain, gaussian_hills
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.terrain import (
-    Building,
-    Prior,
-    approximate_surface,
-    approximation_error,
-    building_corner_prior,
-    buildings_prior,
-    buildings_terrain,
-    random_gaussian_mixture,
-    sample_prior,
-)
+from uavcov.terrain import Prior, approximate_surface, approximation_error, sample_prior
+from uavcov.terrain._buildings import Building, buildings_terrain
+from uavcov.terrain._hills import random_gaussian_mixture
+from uavcov.terrain._prior import building_corner_prior, buildings_prior
 
 
 @pytest.fixture(scope="module")

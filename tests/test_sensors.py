@@ -365,8 +365,7 @@ def test_missions_refuse_bad_sensor_settings():
 
 
 def test_the_papers_settings_hashes_do_not_see_the_new_sensor_fields():
-    from uavcov.experiments import settings_hash
-    from uavcov.experiments._sweep import experiment_settings
+    from uavcov.experiments._sweep import experiment_settings, settings_hash
     from uavcov.paper import _data as paper
 
     for experiment in paper.EXPERIMENTS.values():

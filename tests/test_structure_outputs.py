@@ -14,17 +14,11 @@ import trimesh
 from structure_meshes import box_on_ground, bridge, face_targets
 from uavcov import Targets, Visibility
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, ResultsFolderError
-from uavcov.field import (
-    GeoAnchor,
-    enu_to_wgs84,
-    local_to_true_heading,
-    read_qgc_plan,
-    read_seen_ply,
-    seen_cloud_bytes,
-    structure_plan,
-    write_seen_ply,
-    write_structure_plan,
-)
+from uavcov.field import GeoAnchor, structure_plan
+from uavcov.field._geodesy import enu_to_wgs84, local_to_true_heading
+from uavcov.field._outputs import read_qgc_plan
+from uavcov.field._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
+from uavcov.field._structure_plan import write_structure_plan
 
 pyproj = pytest.importorskip("pyproj")
 
@@ -225,7 +219,8 @@ def test_bad_plans_are_clear_errors(tmp_path: Path):
 
 
 def test_the_structure_figure_colours_faces_by_their_targets_and_shows_several_sides(tmp_path: Path):
-    from uavcov.plotting import face_seen_share, plot_structure_seen
+    from uavcov.plotting import plot_structure_seen
+    from uavcov.plotting._structures import face_seen_share
 
     surface = bridge()
     targets = face_targets(surface)

@@ -14,13 +14,12 @@ from uavcov.terrain import (
     StructurePrior,
     coarse_structure_prior,
     girder_bridge,
-    lattice_pylon,
     reconstruct_structure,
     reconstruction_error,
     sample_structure_prior,
-    wind_turbine,
 )
 from uavcov.terrain._solids import signed_volume
+from uavcov.terrain._structures import lattice_pylon, wind_turbine
 
 
 @pytest.fixture(scope="module")

@@ -10,16 +10,11 @@ import trimesh
 
 from structure_meshes import box_on_ground, bridge, face_targets
 from uavcov import Camera, Gimbal, MissionSettings, Sensor, Targets, Terrain, Visibility
-from uavcov.engine import GIMBAL_PITCH_LIMITS, camera_axes
+from uavcov.engine import camera_axes
+from uavcov.engine._sensors import GIMBAL_PITCH_LIMITS
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from uavcov.placement import (
-    check_reachable,
-    facing_attitudes,
-    launch_pad_start,
-    random_volume_start,
-    standoff_start,
-    surface_normals,
-)
+from uavcov.placement import facing_attitudes, standoff_start
+from uavcov.placement._starts3d import check_reachable, launch_pad_start, random_volume_start, surface_normals
 
 
 def _trimesh(surface: Terrain) -> trimesh.Trimesh:

@@ -39,13 +39,13 @@ from uavcov.experiments import (
     read_runs,
     run_specs,
     run_sweep,
-    settings_hash,
 )
 from uavcov.experiments._results import CONFIG_FORMAT, RUN_COLUMNS
+from uavcov.experiments._sweep import settings_hash
 from uavcov.paper import EXPERIMENTS as PAPER_EXPERIMENTS
-from uavcov.paper import REPORTS
 from uavcov.paper import _data as paper
 from uavcov.paper import _jobs as jobs
+from uavcov.paper._reports import REPORTS
 from uavcov.records import load_mission
 
 TIMING = {"wall_time_s", "time_measure_s", "time_optimizer_s", "time_feasibility_s", "start_time_s"}

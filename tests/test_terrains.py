@@ -12,21 +12,10 @@ import pytest
 from reference import grid_height
 from uavcov import GeoDem, Terrain, gaussian_hills, read_dem, sample_dem
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, MeshError
-from uavcov.terrain import (
-    Building,
-    GaussianMixture,
-    LocalFrame,
-    buildings_scene,
-    buildings_terrain,
-    clean_mesh,
-    dem_from_array,
-    load_mesh,
-    mesh_terrain,
-    metres_per_degree,
-    perturb_buildings,
-    random_buildings,
-    random_gaussian_mixture,
-)
+from uavcov.terrain import LocalFrame, buildings_scene, dem_from_array, metres_per_degree
+from uavcov.terrain._buildings import Building, buildings_terrain, perturb_buildings, random_buildings
+from uavcov.terrain._hills import GaussianMixture, random_gaussian_mixture
+from uavcov.terrain._meshes import clean_mesh, load_mesh, mesh_terrain
 
 # --------------------------------------------------------------------------------------------
 # Gaussian hills

@@ -21,6 +21,7 @@ MODULES = (
     "uavcov.records",
     "uavcov.experiments",
     "uavcov.field",
+    "uavcov.paper",
     "uavcov.plotting",
 )
 TOP = "uavcov"

@@ -10,8 +10,9 @@ layer, from the bottom up:
 - :mod:`uavcov.placement`: flight limits, the constrained CVT, starts, camera footprints;
 - :mod:`uavcov.optim`: CAO, CAO with escapes from local optima, and CAO's random draws;
 - :func:`run_mission` and :func:`save_mission` (one mission, one file);
-- :mod:`uavcov.experiments`: sweeps, results folders, the paper as data, reports and claims;
+- :mod:`uavcov.experiments`: specs x seeds on an executor into a results folder, sweep files;
 - :mod:`uavcov.field`: areas of interest, flight plans on real DEMs and their files;
+- :mod:`uavcov.paper`: the paper's experiments as data, their reproduction, reports and claims;
 - :mod:`uavcov.plotting`: figures (needs ``uavcov[plot]``; imported on use).
 
 See the README for a quick start.
@@ -19,7 +20,7 @@ See the README for a quick start.
 
 from __future__ import annotations
 
-from . import engine, errors, experiments, field, optim, placement, terrain
+from . import engine, errors, experiments, field, optim, paper, placement, terrain
 from ._core import __version__
 from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility
 from .field import FlightPlan, PlanSettings, plan, write_plan
@@ -39,6 +40,7 @@ __all__ = [
     "optim",
     "experiments",
     "field",
+    "paper",
     # the exact geometry
     "Terrain",
     "Targets",

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._sensors import GIMBAL_PITCH_LIMITS, Camera, Gimbal, Sensor, camera_axes, gimbal_pitch_limits, pack_sensors
+from ._sensors import Camera, Gimbal, Sensor, camera_axes, gimbal_pitch_limits, pack_sensors
 from ._surface import GridInfo, Terrain
 from ._targets import Targets
 from ._visibility import CoverageTracker, UavCounts, Visibility, coverage
@@ -12,7 +12,6 @@ __all__ = [
     "Sensor",
     "Gimbal",
     "camera_axes",
-    "GIMBAL_PITCH_LIMITS",
     "gimbal_pitch_limits",
     "pack_sensors",
     "Terrain",

@@ -12,7 +12,7 @@ from __future__ import annotations
 from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution
 from ._results import ResultsFolder, read_runs
 from ._summary import finished_rows, run_sweep, summarise
-from ._sweep import Experiment, RunSpec, experiment_specs, experiments_hash, parse_seeds, run_specs, settings_hash
+from ._sweep import Experiment, RunSpec, experiment_specs, experiments_hash, parse_seeds, run_specs
 from ._sweep_config import STARTS, SweepConfig, load_sweep_config, parse_sweep_config
 
 __all__ = [
@@ -20,7 +20,6 @@ __all__ = [
     "RunSpec",
     "experiment_specs",
     "run_specs",
-    "settings_hash",
     "experiments_hash",
     "parse_seeds",
     "ExecutionPlan",

@@ -66,7 +66,7 @@ best reached), ``final_coverage`` are shares of the surface; ``best_iteration`` 
 ``wall_time_s`` is the whole mission and ``time_measure_s``, ``time_optimizer_s``,
 ``time_feasibility_s`` its coverage measurements, the optimiser's own work and the constraint
 checks (the rest is prior, S', CVT and start); ``settings_hash`` is
-:func:`uavcov.experiments.settings_hash`; ``error`` is empty for a run that finished;
+:func:`uavcov.experiments._sweep.settings_hash`; ``error`` is empty for a run that finished;
 ``distance_mean_m`` and ``distance_max_m`` are the mean and the largest distance a UAV flew
 (:attr:`uavcov.MissionResult.distance_flown`, metres); ``start_time_s`` is the start's off-line
 time on S' (:attr:`uavcov.MissionResult.start_time_s`: the CVT, or the greedy start's lattice,

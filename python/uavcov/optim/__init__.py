@@ -6,9 +6,9 @@ from collections.abc import Mapping
 from types import MappingProxyType
 
 from ._cao import CAOSettings, Optimizer, OptimizerTrace, cao, per_robot_cao
-from ._draws import redraw_monomials, standard_normal
+from ._draws import standard_normal
 from ._escape import EscapeSettings, escape_cao
-from ._presets import CAO_PRESETS, PRESET_RANGE, cao_preset
+from ._presets import CAO_PRESETS, cao_preset
 
 OPTIMIZERS: Mapping[str, Optimizer] = MappingProxyType({"cao": cao, "per_robot": per_robot_cao, "escape": escape_cao})
 """Optimisers by name, for the mission and the command line."""
@@ -19,16 +19,12 @@ MARGINAL_OPTIMIZERS: frozenset[str] = frozenset({"per_robot", "escape"})
 __all__ = [
     "CAOSettings",
     "OptimizerTrace",
-    "Optimizer",
     "cao",
     "per_robot_cao",
-    "escape_cao",
     "EscapeSettings",
     "OPTIMIZERS",
     "MARGINAL_OPTIMIZERS",
     "standard_normal",
-    "redraw_monomials",
     "CAO_PRESETS",
-    "PRESET_RANGE",
     "cao_preset",
 ]

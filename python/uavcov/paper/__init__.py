@@ -2,24 +2,8 @@
 
 from __future__ import annotations
 
-from ._claims import (
-    PUBLISHED_GAIN,
-    Convergence,
-    PairedGain,
-    RowRobustness,
-    Verdict,
-    ablation_markdown,
-    claims_markdown,
-    convergence,
-    headline,
-    robustness,
-    speed,
-    verdicts,
-    verdicts_markdown,
-)
+from ._claims import PUBLISHED_GAIN, speed
 from ._data import (
-    ABLATION_BASE,
-    ABLATIONS,
     ABLATIONS_BY_NAME,
     BUILDINGS,
     COMPARISON,
@@ -32,46 +16,19 @@ from ._data import (
     PUBLISHED_TABLE1,
     PYRAMID,
     TABLE1,
-    TABLE1_COLUMNS,
-    Ablation,
-    PaperExperiment,
     PublishedValue,
 )
-from ._jobs import REPORT_SEEDS, REPRODUCIBLE, ablate, reproduce, reproduce_all
+from ._jobs import ablate, reproduce, reproduce_all
 from ._oracle import OracleRow, oracle
-from ._reports import (
-    REPORTS,
-    buildings_markdown,
-    comparison_markdown,
-    coverage_curves_csv,
-    example_markdown,
-    pyramid_markdown,
-    table1_markdown,
-)
 
 __all__ = [
     "PUBLISHED_GAIN",
-    "Convergence",
-    "PairedGain",
-    "RowRobustness",
-    "Verdict",
-    "ablation_markdown",
-    "claims_markdown",
-    "convergence",
-    "headline",
-    "robustness",
     "speed",
-    "verdicts",
-    "verdicts_markdown",
-    "REPORT_SEEDS",
-    "REPRODUCIBLE",
     "ablate",
     "reproduce",
     "reproduce_all",
     "OracleRow",
     "oracle",
-    "ABLATION_BASE",
-    "ABLATIONS",
     "ABLATIONS_BY_NAME",
     "BUILDINGS",
     "COMPARISON",
@@ -84,15 +41,5 @@ __all__ = [
     "PUBLISHED_TABLE1",
     "PYRAMID",
     "TABLE1",
-    "TABLE1_COLUMNS",
-    "Ablation",
-    "PaperExperiment",
     "PublishedValue",
-    "REPORTS",
-    "buildings_markdown",
-    "comparison_markdown",
-    "coverage_curves_csv",
-    "example_markdown",
-    "pyramid_markdown",
-    "table1_markdown",
 ]

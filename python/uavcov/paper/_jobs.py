@@ -149,9 +149,9 @@ def ablate(
     command: str | None = None,
     **run_options: Any,
 ) -> list[dict[str, Any]]:
-    """The paper's model and each of :data:`uavcov.paper.ABLATIONS` into ``out``, then ``ablation.md``.
+    """The paper's model and each of :data:`uavcov.paper._data.ABLATIONS` into ``out``, then ``ablation.md``.
 
-    Every variant runs :data:`uavcov.paper.ABLATION_BASE` (N = 5 and 12, the three starts,
+    Every variant runs :data:`uavcov.paper._data.ABLATION_BASE` (N = 5 and 12, the three starts,
     scenarios 0-9 by default) with one change; ``ablation.md`` sets the claims measured on each
     (max coverage per start, the CVT-over-random gain, the convergence share, the robustness)
     beside the paper's model, so that what drives a claim shows as the line that moves it.

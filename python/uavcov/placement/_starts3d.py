@@ -277,7 +277,7 @@ def check_reachable(pitch_deg: Any, gimbals: Any) -> np.ndarray:
     pitch_deg : (n,) array_like of float
         Required pitches, degrees.
     gimbals : str, Gimbal or sequence of them
-        What the team carries: capability names of :data:`uavcov.engine.GIMBAL_PITCH_LIMITS`
+        What the team carries: capability names of :data:`uavcov.engine._sensors.GIMBAL_PITCH_LIMITS`
         or gimbals with a ``pitch_range``. One for the whole team, or a list of options.
 
     Returns

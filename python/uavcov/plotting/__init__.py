@@ -47,22 +47,11 @@ from ._canvas import START_COLOUR as START_COLOUR
 from ._canvas import TRUE_SURFACE_COLOUR as TRUE_SURFACE_COLOUR
 from ._canvas import UNSEEN_COLOUR as UNSEEN_COLOUR
 from ._directory import plot_directory, report_figures
-from ._distance import plot_coverage_distance
-from ._figures import (
-    plot_approximation,
-    plot_coverage_curves,
-    plot_coverage_map,
-    plot_cvt,
-    plot_point_cloud,
-    plot_table1,
-    published_values,
-    seen_points,
-)
-from ._structures import STRUCTURE_VIEWS, face_seen_share, plot_structure_seen
+from ._figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
+from ._structures import plot_structure_seen
 from ._view import find_run, view, write_view
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS
 from ._views import LIGHT as LIGHT
-from ._writers import write_ply
 
 __all__ = [
     "animate_mission",
@@ -76,13 +65,7 @@ __all__ = [
     "report_figures",
     "plot_point_cloud",
     "plot_table1",
-    "plot_coverage_distance",
-    "published_values",
-    "seen_points",
-    "write_ply",
     "plot_structure_seen",
-    "face_seen_share",
-    "STRUCTURE_VIEWS",
     "view",
     "write_view",
     "find_run",

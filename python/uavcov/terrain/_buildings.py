@@ -281,7 +281,7 @@ def buildings_scene(
 
     ``buildings_scene(..., rng=s)`` is ``buildings_terrain(random_buildings(..., rng=s), ...)``;
     call those two yourself when you need the boxes (for example to build the prior map with
-    :func:`uavcov.terrain.buildings_prior`). Parameters are those of :func:`random_buildings`
+    :func:`uavcov.terrain._prior.buildings_prior`). Parameters are those of :func:`random_buildings`
     (footprints snapped to ``spacing``) and :func:`buildings_terrain`. The defaults (24 m
     square, 5 buildings 3-7 m wide and 3-10 m tall, 2 m apart) are starting values: the paper
     gives only the 24 m x 24 m size and "several buildings".
@@ -289,8 +289,8 @@ def buildings_scene(
     Examples
     --------
     >>> import uavcov
-    >>> boxes = uavcov.terrain.random_buildings(rng=0)
-    >>> len(boxes), uavcov.terrain.buildings_scene(rng=0).n_faces == uavcov.terrain.buildings_terrain(boxes).n_faces
+    >>> boxes = uavcov.terrain._buildings.random_buildings(rng=0)
+    >>> len(boxes), uavcov.terrain.buildings_scene(rng=0).n_faces == uavcov.terrain._buildings.buildings_terrain(boxes).n_faces
     (5, True)
     """
     boxes = random_buildings(

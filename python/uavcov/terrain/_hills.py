@@ -159,7 +159,7 @@ def gaussian_hills(
     >>> hills = uavcov.gaussian_hills(rng=0)
     >>> hills
     Terrain(grid 101x101, 10201 vertices, 20000 faces, area 11341.0 m^2)
-    >>> exact = uavcov.terrain.random_gaussian_mixture(rng=0)  # the same hills, as a function
+    >>> exact = uavcov.terrain._hills.random_gaussian_mixture(rng=0)  # the same hills, as a function
     >>> bool(np.isclose(exact.height([[50.0, 50.0]])[0], hills.ground_height([[50.0, 50.0]])[0]))
     True
     """

@@ -484,12 +484,12 @@ def buildings_prior(
     Parameters
     ----------
     buildings : sequence of Building
-        The true boxes (from :func:`uavcov.terrain.random_buildings`).
+        The true boxes (from :func:`uavcov.terrain._buildings.random_buildings`).
     size : float
         Side of the ground square (m).
     kind : {"boxes", "corners"}
         "boxes": the ground plus every building as a box with position, size and height errors
-        (:func:`uavcov.terrain.perturb_buildings`, snapped to ``spacing``), meshed like the
+        (:func:`uavcov.terrain._buildings.perturb_buildings`, snapped to ``spacing``), meshed like the
         true scene but coarser. "corners": S' of :func:`building_corner_prior` (ground corners
         and the roof corners of ``known_fraction`` of the buildings, heights off by
         ``height_error``).
