@@ -1,4 +1,14 @@
-"""The paper as data, its reproduction, its reports and claims (Renzaglia et al., section V)."""
+"""The paper (Renzaglia et al., section V) as data, its reproduction, reports and claims.
+
+The top layer of the library below the plotting and the command line: nothing under it imports
+it (``tests/test_layers.py``). Its experiments (:data:`EXPERIMENTS`: :data:`TABLE1`,
+:data:`PYRAMID`, :data:`EXAMPLE`, :data:`COMPARISON`, :data:`BUILDINGS`) are
+:class:`uavcov.experiments.Experiment` values with every open parameter chosen;
+:func:`reproduce` runs one into a results folder beside the published numbers,
+:func:`reproduce_all` all of them with the claims of section V-C measured, :func:`ablate` the
+ablations; :func:`oracle` is the greedy placement and certified bound of Table 1's scenarios.
+A study of one's own needs only :mod:`uavcov.experiments`.
+"""
 
 from __future__ import annotations
 
@@ -22,24 +32,24 @@ from ._jobs import ablate, reproduce, reproduce_all
 from ._oracle import OracleRow, oracle
 
 __all__ = [
-    "PUBLISHED_GAIN",
-    "speed",
-    "ablate",
     "reproduce",
     "reproduce_all",
-    "OracleRow",
-    "oracle",
-    "ABLATIONS_BY_NAME",
-    "BUILDINGS",
-    "COMPARISON",
-    "DEV_SEEDS",
-    "EXAMPLE",
+    "ablate",
     "EXPERIMENTS",
-    "HELD_OUT_SEEDS",
-    "PUBLISHED_FIG6_MAX",
-    "PUBLISHED_PYRAMID",
-    "PUBLISHED_TABLE1",
-    "PYRAMID",
     "TABLE1",
+    "PYRAMID",
+    "EXAMPLE",
+    "COMPARISON",
+    "BUILDINGS",
+    "ABLATIONS_BY_NAME",
+    "DEV_SEEDS",
+    "HELD_OUT_SEEDS",
     "PublishedValue",
+    "PUBLISHED_TABLE1",
+    "PUBLISHED_PYRAMID",
+    "PUBLISHED_FIG6_MAX",
+    "PUBLISHED_GAIN",
+    "speed",
+    "oracle",
+    "OracleRow",
 ]
