@@ -114,8 +114,8 @@ except BaseException as exc:
         "uavcov.placement.cvt(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), 30000)",
         "uavcov.placement.cvt(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), 10**6)",
         "uavcov.run_mission(uavcov.Terrain.from_grid(np.zeros((11, 11)), 1.0), uavcov.MissionSettings(n_uavs=30000, d_max=5.0))",
-        "from uavcov.experiments._sweep import parse_seeds; parse_seeds('0-999999999')",
-        "from uavcov.experiments._sweep import parse_seeds; parse_seeds(range(10**12))",
+        "from uavcov.experiments._sweep_config import parse_seeds; parse_seeds('0-999999999')",
+        "from uavcov.experiments._sweep_config import parse_seeds; parse_seeds(range(10**12))",
     ],
 )
 def test_huge_sizes_are_refused_before_any_allocation(code):

@@ -12,8 +12,8 @@ from __future__ import annotations
 from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution
 from ._results import ResultsFolder, read_runs
 from ._summary import finished_rows, run_sweep, summarise
-from ._sweep import Experiment, RunSpec, experiment_specs, experiments_hash, parse_seeds, run_specs
-from ._sweep_config import STARTS, SweepConfig, load_sweep_config, parse_sweep_config
+from ._sweep import Experiment, RunSpec, experiment_specs, experiments_hash, run_specs
+from ._sweep_config import STARTS, SweepConfig, load_sweep_config, parse_seeds, parse_sweep_config
 
 __all__ = [
     "Experiment",

@@ -38,7 +38,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .._validate import MAX_RUNS, MAX_SEEDS, MAX_UAVS, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from ..mission import PRIOR_KINDS, MissionResult, MissionSettings, nested_replace, run_mission
@@ -370,51 +370,6 @@ def experiment_specs(
         for n in team_sizes
         for start in starts
     ]
-
-
-def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
-    """Seeds from ``"0-39"``, ``"0,3,7"``, ``"1000-1009,2000"`` or an iterable of ints.
-
-    Raises
-    ------
-    ConfigError
-        Anything else, a negative seed, an empty or reversed range, a repeated seed, or more
-        than a million seeds (:data:`uavcov._validate.MAX_SEEDS`; checked before any list is
-        made).
-    """
-    if isinstance(text, str):
-        seeds: list[int] = []
-        for part in text.replace(" ", "").split(","):
-            if not part:
-                raise ConfigError(f"seeds {text!r}: an empty item")
-            low, dash, high = part.partition("-")
-            try:
-                a = int(low)
-                b = int(high) if dash else a
-            except ValueError:
-                raise ConfigError(f"seeds {text!r}: {part!r} is not a seed or a range like 0-39") from None
-            if b < a:
-                raise ConfigError(f"seeds {text!r}: the range {part} runs backwards")
-            if len(seeds) + (b - a + 1) > MAX_SEEDS:
-                raise ConfigError(f"seeds {text!r}: more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
-            seeds.extend(range(a, b + 1))
-    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable):
-        raise ConfigError(f'seeds must be a string like "0-39" or a list of integers, got {text!r}')
-    else:
-        seeds = []
-        for s in text:
-            if not is_int(s):
-                raise ConfigError(f"seeds must be integers, got {s!r}")
-            if len(seeds) >= MAX_SEEDS:
-                raise ConfigError(f"more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
-            seeds.append(int(s))
-    if not seeds:
-        raise ConfigError("no seeds given")
-    if min(seeds) < 0:
-        raise ConfigError(f"seeds must be >= 0, got {min(seeds)}")
-    if len(set(seeds)) != len(seeds):
-        raise ConfigError("a seed is listed twice")
-    return tuple(seeds)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 """Sweep configuration files (TOML): parsing, validation, and the runs they describe.
 
-A sweep starts from one of the paper's experiments (``base``, Table 1 by default), changes any of
+A sweep starts from one of the experiments it is given (``bases``: the command line gives the
+paper's, :data:`uavcov.paper.EXPERIMENTS`; ``base``, the first by default), changes any of
 its settings, and runs every combination of the lists under ``[sweep]`` for every seed, team size
 and start. See ``examples/sweep.toml``::
 
@@ -52,19 +53,19 @@ import itertools
 import math
 import os
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_UAVS
+from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, is_int
 from ..engine import Camera, Gimbal, Sensor
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..mission import OBJECTIVES
 from ..optim import CAOSettings
 from ..placement import ALTITUDE_REFERENCES, CORNERS, PRESETS, START_KINDS, Constraints, CVTSettings, StartSettings
 from ..terrain import BuildingsGenerator, HillsGenerator
-from ._sweep import Experiment, RunSpec, experiment_specs, parse_seeds
+from ._sweep import Experiment, RunSpec, experiment_specs
 
 STARTS: tuple[str, ...] = START_KINDS
 """Starts a sweep may compare ("pairs": half the team on each of two opposite sides)."""
@@ -537,3 +538,48 @@ def _int_list(value: Any, key: str, source: _Source) -> tuple[int, ...]:
     if len(set(value)) != len(value):
         raise source.error(key, "a value is listed twice")
     return tuple(value)
+
+
+def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
+    """Seeds from ``"0-39"``, ``"0,3,7"``, ``"1000-1009,2000"`` or an iterable of ints.
+
+    Raises
+    ------
+    ConfigError
+        Anything else, a negative seed, an empty or reversed range, a repeated seed, or more
+        than a million seeds (:data:`uavcov._validate.MAX_SEEDS`; checked before any list is
+        made).
+    """
+    if isinstance(text, str):
+        seeds: list[int] = []
+        for part in text.replace(" ", "").split(","):
+            if not part:
+                raise ConfigError(f"seeds {text!r}: an empty item")
+            low, dash, high = part.partition("-")
+            try:
+                a = int(low)
+                b = int(high) if dash else a
+            except ValueError:
+                raise ConfigError(f"seeds {text!r}: {part!r} is not a seed or a range like 0-39") from None
+            if b < a:
+                raise ConfigError(f"seeds {text!r}: the range {part} runs backwards")
+            if len(seeds) + (b - a + 1) > MAX_SEEDS:
+                raise ConfigError(f"seeds {text!r}: more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
+            seeds.extend(range(a, b + 1))
+    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable):
+        raise ConfigError(f'seeds must be a string like "0-39" or a list of integers, got {text!r}')
+    else:
+        seeds = []
+        for s in text:
+            if not is_int(s):
+                raise ConfigError(f"seeds must be integers, got {s!r}")
+            if len(seeds) >= MAX_SEEDS:
+                raise ConfigError(f"more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
+            seeds.append(int(s))
+    if not seeds:
+        raise ConfigError("no seeds given")
+    if min(seeds) < 0:
+        raise ConfigError(f"seeds must be >= 0, got {min(seeds)}")
+    if len(set(seeds)) != len(seeds):
+        raise ConfigError("a seed is listed twice")
+    return tuple(seeds)
