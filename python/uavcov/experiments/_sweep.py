@@ -518,7 +518,8 @@ def run_specs(
 
     Examples
     --------
-    >>> from uavcov.experiments import TABLE1, experiment_specs, run_specs
+    >>> from uavcov.experiments import experiment_specs, run_specs
+    >>> from uavcov.paper import TABLE1
     >>> small = TABLE1.with_changes(**{"terrain.spacing": 4.0, "iterations": 5})
     >>> rows = run_specs(experiment_specs(small, seeds=[0], team_sizes=[5], starts=["cvt"]), workers=1)
     >>> rows[0]["init"], 0.0 < rows[0]["initial_coverage"] <= 1.0

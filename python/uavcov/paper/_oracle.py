@@ -101,7 +101,7 @@ def oracle(
 
     Examples
     --------
-    >>> from uavcov.experiments import TABLE1, oracle
+    >>> from uavcov.paper import TABLE1, oracle
     >>> from uavcov.placement import GreedySettings
     >>> rows = oracle(TABLE1, seeds=[0], team_sizes=[5], settings=GreedySettings(spacing=10.0))
     >>> rows[0].coverage <= rows[0].bound <= rows[0].ceiling
