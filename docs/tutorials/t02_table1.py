@@ -24,7 +24,7 @@ print(len(rows), "runs:", sorted({r["init"] for r in rows}))
 # The rows beside the paper's numbers
 # -----------------------------------
 # ``table1.md`` holds the table with the paper's values; the same text is
-# :func:`uavcov.paper._reports.table1_markdown` of the rows.
+# ``uavcov.paper._reports.table1_markdown`` of the rows.
 print((out / "table1.md").read_text()[:1500])
 
 # %%

@@ -14,7 +14,7 @@ pitch is the gimbal's, from -90 (straight down, nadir) through 0 (level with the
 (straight up, zenith: looking up under a deck). The image's width runs along the camera's right,
 its height along its up (at nadir, the top of the image points along the heading; at zenith, the
 bottom). Which pitches a real gimbal reaches is its :class:`Gimbal`'s ``pitch_range``
-(:data:`GIMBAL_PITCH_LIMITS` gives capability classes); a mission refuses a pitch above the
+(``GIMBAL_PITCH_LIMITS`` gives capability classes); a mission refuses a pitch above the
 horizon unless its gimbal's range reaches it.
 
 Examples
@@ -197,7 +197,7 @@ class Gimbal:
         Optimise each UAV's heading (any value: it wraps; results report it in ``[0, 360)``).
     pitch_range : (float, float), optional
         ``(lowest, highest)`` gimbal pitch in degrees within ``[-90, 90]`` (above 0 the camera
-        looks above the horizon, which only some gimbals can: :data:`GIMBAL_PITCH_LIMITS`):
+        looks above the horizon, which only some gimbals can: ``GIMBAL_PITCH_LIMITS``):
         optimise each UAV's pitch within it (a candidate outside is infeasible, as a position
         outside its band is). ``None`` keeps the pitch fixed.
     alpha0_deg : float, default 10.0
@@ -230,7 +230,7 @@ class Gimbal:
 
     @classmethod
     def preset(cls, capability: str, *, free_yaw: bool = False, alpha0_deg: float = 10.0) -> Gimbal:
-        """A gimbal whose pitch is optimised over a capability class's range (:data:`GIMBAL_PITCH_LIMITS`).
+        """A gimbal whose pitch is optimised over a capability class's range (``GIMBAL_PITCH_LIMITS``).
 
         Examples
         --------
@@ -269,7 +269,7 @@ GIMBAL_PITCH_LIMITS: Mapping[str, tuple[float, float]] = MappingProxyType(
 
 
 def gimbal_pitch_limits(capability: Any) -> tuple[float, float]:
-    """The pitch range of a capability class of :data:`GIMBAL_PITCH_LIMITS`, degrees."""
+    """The pitch range of a capability class of ``GIMBAL_PITCH_LIMITS``, degrees."""
     if not isinstance(capability, str):
         raise InvalidTypeError(f"a gimbal capability must be a string, got {type(capability).__name__}")
     if capability not in GIMBAL_PITCH_LIMITS:

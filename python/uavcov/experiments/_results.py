@@ -2,12 +2,12 @@
 
 A results folder holds
 
-* ``runs.csv``: one row per finished run (the columns of :data:`RUN_COLUMNS`, then one column
+* ``runs.csv``: one row per finished run (the columns of ``RUN_COLUMNS``, then one column
   per swept setting), appended and synced the moment a run finishes, so an interrupted sweep
   loses nothing; a last line cut short by a crash is ignored by the reader and dropped before
   the next append;
 * ``runs/<run_id>.npz``: each run's whole result (:func:`uavcov.records.save_mission`);
-* ``config.json``: what was run (one schema for every command, :func:`config_document`);
+* ``config.json``: what was run (one schema for every command, ``config_document``);
 * ``.uavcov.lock``: held while a process writes, so two sweeps never write one folder at once;
 * and what reports and figures derive from these (Markdown tables, ``coverage.csv``,
   ``figures/``).
@@ -66,7 +66,7 @@ best reached), ``final_coverage`` are shares of the surface; ``best_iteration`` 
 ``wall_time_s`` is the whole mission and ``time_measure_s``, ``time_optimizer_s``,
 ``time_feasibility_s`` its coverage measurements, the optimiser's own work and the constraint
 checks (the rest is prior, S', CVT and start); ``settings_hash`` is
-:func:`uavcov.experiments._sweep.settings_hash`; ``error`` is empty for a run that finished;
+``uavcov.experiments._sweep.settings_hash``; ``error`` is empty for a run that finished;
 ``distance_mean_m`` and ``distance_max_m`` are the mean and the largest distance a UAV flew
 (:attr:`uavcov.MissionResult.distance_flown`, metres); ``start_time_s`` is the start's off-line
 time on S' (:attr:`uavcov.MissionResult.start_time_s`: the CVT, or the greedy start's lattice,
@@ -74,7 +74,7 @@ seen-matrix and greedy; seconds).
 """
 
 LATER_RUN_COLUMNS: tuple[str, ...] = ("distance_mean_m", "distance_max_m", "start_time_s")
-"""The last columns of :data:`RUN_COLUMNS`, added after results folders were published: a
+"""The last columns of ``RUN_COLUMNS``, added after results folders were published: a
 ``runs.csv`` without them is still read, and a sweep resumed in it goes on writing its columns."""
 
 _REQUIRED_COLUMNS = tuple(c for c in RUN_COLUMNS if c not in LATER_RUN_COLUMNS)
@@ -169,14 +169,14 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIR
     """Read a ``runs.csv``: one ``dict`` per run, numbers as numbers, empty cells as None.
 
     A last line without its newline (a write cut off by a crash) is ignored: every complete row
-    is returned. Columns beyond :data:`RUN_COLUMNS` (swept settings) come back as strings.
+    is returned. Columns beyond ``RUN_COLUMNS`` (swept settings) come back as strings.
 
     Parameters
     ----------
     path : path
         The file.
     required : sequence of str
-        Columns the header must have (all of :data:`RUN_COLUMNS` but :data:`LATER_RUN_COLUMNS` by default).
+        Columns the header must have (all of ``RUN_COLUMNS`` but ``LATER_RUN_COLUMNS`` by default).
 
     Raises
     ------
@@ -315,7 +315,7 @@ def config_document(
 
 
 def _is_our_document(document: Any) -> bool:
-    """Whether a parsed ``config.json`` is uavcov's: its ``format`` is :data:`CONFIG_FORMAT`, or it
+    """Whether a parsed ``config.json`` is uavcov's: its ``format`` is ``CONFIG_FORMAT``, or it
     comes from a release before that tag (``uavcov_version`` and ``settings``, no ``format``)."""
     if not isinstance(document, dict):
         return False
@@ -394,7 +394,7 @@ class ResultsFolder:
 
     def columns_for(self, columns: Sequence[str]) -> list[str]:
         """The columns a sweep writing ``columns`` writes here: ``columns``, or, in a ``runs.csv``
-        made before some of :data:`LATER_RUN_COLUMNS`, its own header when that is ``columns``
+        made before some of ``LATER_RUN_COLUMNS``, its own header when that is ``columns``
         without the later ones it lacks (they were added in order)."""
         olders = [[c for c in columns if c not in LATER_RUN_COLUMNS[i:]] for i in range(len(LATER_RUN_COLUMNS))]
         if self.runs_csv.is_file() and not self.runs_csv.is_symlink():
@@ -406,7 +406,7 @@ class ResultsFolder:
         return list(columns)
 
     def check_columns(self, columns: Sequence[str]) -> None:
-        """Refuse a ``runs.csv`` of another kind of sweep (see :meth:`RunsFile.check`)."""
+        """Refuse a ``runs.csv`` of another kind of sweep (see ``RunsFile.check``)."""
         RunsFile.check(self.runs_csv, columns)
 
     def open_runs(self, columns: Sequence[str]) -> RunsFile:

@@ -269,7 +269,7 @@ class RunSpec:
 
     @property
     def settings_hash(self) -> str:
-        """:func:`settings_hash` of the experiment."""
+        """``settings_hash`` of the experiment."""
         return settings_hash(self.experiment)
 
     @property

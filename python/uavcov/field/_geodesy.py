@@ -1,7 +1,7 @@
 """A local east-north-up frame anchored at a WGS84 point, and its exact map to WGS84.
 
 A structure is modelled in metres, x east, y north, z up, with its origin at a surveyed anchor
-(longitude, latitude, ellipsoidal height). :func:`enu_to_wgs84` maps such points to WGS84 by the
+(longitude, latitude, ellipsoidal height). ``enu_to_wgs84`` maps such points to WGS84 by the
 standard chain: the anchor to Earth-centred Earth-fixed (ECEF) coordinates, the ENU offset rotated
 into ECEF, and ECEF back to geodetic coordinates by Bowring's iteration (converged to round-off:
 the tests compare with pyproj's ``+proj=topocentric`` pipeline to 1e-9 degrees and 1e-6 m).

@@ -2,8 +2,8 @@
 
 One vertex per target: ``x y z`` (float64, metres), ``nx ny nz`` (float32, the unit normal; 0
 where the targets have none), ``seen`` (uint8, 1 if some UAV sees it) and ``count`` (int32, how
-many UAVs see it). CloudCompare, MeshLab, Open3D and trimesh read it; :func:`read_seen_ply`
-reads back exactly what :func:`write_seen_ply` writes (and refuses anything else clearly).
+many UAVs see it). CloudCompare, MeshLab, Open3D and trimesh read it; ``read_seen_ply``
+reads back exactly what ``write_seen_ply`` writes (and refuses anything else clearly).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ _MAX_HEADER = 4096
 
 
 def seen_cloud_bytes(targets: Targets, seen_count: Any) -> bytes:
-    """The PLY file of :func:`write_seen_ply`, in memory."""
+    """The PLY file of ``write_seen_ply``, in memory."""
     if not isinstance(targets, Targets):
         raise InvalidTypeError(f"targets must be a uavcov.Targets, got {type(targets).__name__}")
     count = as_float_array(seen_count, "seen_count", ndim=1)
@@ -85,7 +85,7 @@ def write_seen_ply(path: Any, targets: Targets, seen_count: Any) -> None:
 
 
 def read_seen_ply(path: Any) -> dict[str, np.ndarray]:
-    """A file of :func:`write_seen_ply` -> ``{"points", "normals", "seen", "count"}``.
+    """A file of ``write_seen_ply`` -> ``{"points", "normals", "seen", "count"}``.
 
     Raises
     ------

@@ -187,7 +187,7 @@ def plan_structure(
 
 
 def write_structure_mission(mission: StructureMission, out: Any) -> list[Path]:
-    """Write the plan's files (:func:`write_structure_plan`), ``seen.ply`` and ``parts.csv`` into ``out``.
+    """Write the plan's files (``write_structure_plan``), ``seen.ply`` and ``parts.csv`` into ``out``.
 
     Raises
     ------

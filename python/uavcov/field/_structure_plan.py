@@ -2,8 +2,8 @@
 
 A structure's positions are metres east, north and up of a surveyed :class:`GeoAnchor`;
 :func:`structure_plan` maps them, the take-off pad and every waypoint to WGS84
-(:func:`enu_to_wgs84`), turns each camera's heading to true north at its UAV, and checks, when
-given the structure's mesh, that no leg of any route crosses it. :func:`write_structure_plan`
+(``enu_to_wgs84``), turns each camera's heading to true north at its UAV, and checks, when
+given the structure's mesh, that no leg of any route crosses it. ``write_structure_plan``
 writes the files a ground station reads:
 
 =======================  =====================================================================
@@ -242,7 +242,7 @@ _POSITION_COLUMNS = (
 
 
 def render_structure_plan(plan: StructurePlan) -> dict[str, bytes]:
-    """Every file of :func:`write_structure_plan` as ``{name: bytes}``, nothing written."""
+    """Every file of ``write_structure_plan`` as ``{name: bytes}``, nothing written."""
     if not isinstance(plan, StructurePlan):
         raise InvalidTypeError(f"expected a uavcov.field.StructurePlan, got {type(plan).__name__}")
     home = float(plan.takeoff_wgs84[2])

@@ -25,11 +25,11 @@ Steps 2 and 3's surrogate (the design matrix, the ridge fit, the scores of the `
 candidates) runs in Rust, one call per iteration (``uavcov._core.Surrogate``, nalgebra); every
 random draw is ``rng``'s own stream (the Gaussian perturbations through
 :func:`uavcov.optim.standard_normal` and the monomials' refresh through
-:func:`uavcov.optim._draws.redraw_monomials`, numpy's values and generator state computed in Rust), so
+``uavcov.optim._draws.redraw_monomials``, numpy's values and generator state computed in Rust), so
 runs are reproducible from ``rng`` alone. ``_fit_and_score_numpy`` and ``_refresh_terms_numpy``
 are the same maths and draws in numpy, the references the tests hold the kernels to.
 
-Two optimisers share one interface (:class:`Optimizer`): :func:`cao`, centralised over the joint
+Two optimisers share one interface (``Optimizer``): :func:`cao`, centralised over the joint
 ``3N`` state, and :func:`per_robot_cao`, where every UAV fits its own estimator on its own three
 coordinates from its marginal contribution to the coverage.
 
@@ -282,7 +282,7 @@ class OptimizerTrace:
         Seconds spent in ``measure``, in ``feasible``, and in the optimiser's own work (the
         names of :class:`~uavcov.MissionResult`).
     relocations : ndarray, shape (R, 3), int64
-        The escapes of :func:`uavcov.optim._escape.escape_cao`, one row ``(uav, first, last)`` each: the
+        The escapes of ``uavcov.optim._escape.escape_cao``, one row ``(uav, first, last)`` each: the
         UAV flew from its position at iteration ``first`` to the one at ``last`` through the
         configurations in between (every other UAV holding still); empty for other optimisers.
     """
@@ -497,7 +497,7 @@ def _refresh_terms(terms: np.ndarray, strength: np.ndarray, keep_fraction: float
     """Keep the strongest monomials (ties by position) and redraw the others.
 
     :func:`_refresh_terms_numpy`'s terms and draws, made in one Rust call when ``rng`` is
-    numpy's ``PCG64`` (:func:`uavcov.optim._draws.redraw_monomials`), else by that reference.
+    numpy's ``PCG64`` (``uavcov.optim._draws.redraw_monomials``), else by that reference.
     """
     n_terms = terms.shape[0]
     n_keep = math.ceil(keep_fraction * n_terms)

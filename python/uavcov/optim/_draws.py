@@ -6,7 +6,7 @@ values, and leaves the generator in the same state, with a compiled loop (``uavc
 so a seeded run gives the same mission either way.
 
 CAO also redraws some of its monomials every iteration, a dozen small numpy calls (about 20 us);
-:func:`redraw_monomials` makes them in one call, with numpy's ``Generator.integers`` and
+``redraw_monomials`` makes them in one call, with numpy's ``Generator.integers`` and
 ``Generator.random`` reproduced in Rust (``_core.pcg64_integers`` and ``_core.pcg64_random``
 expose those two for the tests).
 """

@@ -1,7 +1,7 @@
 """Escaping CAO's local optima by relocating the UAV that contributes least.
 
 CAO (:func:`uavcov.optim.cao`) climbs the coverage it measures and settles on a local optimum:
-after a while no configuration it measures beats the best one. :func:`escape_cao` runs CAO and,
+after a while no configuration it measures beats the best one. ``escape_cao`` runs CAO and,
 each time it stalls, flies one UAV elsewhere, then resumes CAO. It uses only what the team has
 measured, as CAO does: the team's coverage at every configuration it visited, each UAV's
 exclusive share there (the targets only that UAV sees: what the team loses without it,
@@ -74,7 +74,7 @@ from ._cao import (
 
 @dataclass(frozen=True)
 class EscapeSettings:
-    """Constants of :func:`escape_cao` (CAO's own are the mission's :class:`CAOSettings`).
+    """Constants of ``escape_cao`` (CAO's own are the mission's :class:`CAOSettings`).
 
     Parameters
     ----------

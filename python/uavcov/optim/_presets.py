@@ -40,7 +40,7 @@ CAO_PRESETS: Mapping[str, CAOSettings] = MappingProxyType(
         "plateau": replace(_PAPER, alpha0=5.0, stability=5.0),
     }
 )
-"""CAO's constants by name, for a sensing range of :data:`PRESET_RANGE`."""
+"""CAO's constants by name, for a sensing range of ``PRESET_RANGE``."""
 
 
 def cao_preset(name: str, d_max: float = PRESET_RANGE) -> CAOSettings:

@@ -3,16 +3,16 @@
 Beyond its cells, the paper's section V-C claims that
 
 * the CVT start improves the maximum coverage over the random start by between 5 % and 12 %
-  (6.6, 12.0, 7.0 and 5.4 % for N = 5, 8, 12, 20, from the published means): :func:`headline`
+  (6.6, 12.0, 7.0 and 5.4 % for N = 5, 8, 12, 20, from the published means): ``headline``
   measures the gain per N on paired runs (the same terrain for both starts) with a 95 %
   confidence interval;
 * the CVT start "always reaches the highest portion of covered environment and with the smallest
-  standard deviation": :func:`robustness`;
+  standard deviation": ``robustness``;
 * it does so in fewer iterations: :func:`speed` (iterations to 95 % of the run's best);
-* and CAO converges: :func:`convergence`, the share of runs whose coverage stays within a band
+* and CAO converges: ``convergence``, the share of runs whose coverage stays within a band
   of their best from a given iteration on (read from the stored runs' coverage curves).
 
-Each function returns plain data (frozen dataclasses); :func:`claims_markdown` sets them out with
+Each function returns plain data (frozen dataclasses); ``claims_markdown`` sets them out with
 a verdict each. Nothing here runs a mission.
 """
 
@@ -501,7 +501,7 @@ def verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: 
 
 
 def verdicts_markdown(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: ResultsFolder | None = None) -> str:
-    """:func:`verdicts` as a Markdown table, with how many hold."""
+    """``verdicts`` as a Markdown table, with how many hold."""
     found = verdicts(results, table1_folder)
     lines = [
         "# Every claim at a glance",

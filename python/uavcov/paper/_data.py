@@ -183,7 +183,7 @@ ABLATIONS: tuple[Ablation, ...] = (
         {"optimizer": "per_robot"},
     ),
 )
-"""The ablations ``uavcov reproduce ablation`` runs beside :data:`ABLATION_BASE` (and ``reproduce all``)."""
+"""The ablations ``uavcov reproduce ablation`` runs beside ``ABLATION_BASE`` (and ``reproduce all``)."""
 
 ABLATIONS_BY_NAME: Mapping[str, Ablation] = MappingProxyType({a.name: a for a in ABLATIONS})
 """Every ablation by its name (``ABLATIONS_BY_NAME["plateau-step"]``)."""

@@ -149,9 +149,9 @@ def ablate(
     command: str | None = None,
     **run_options: Any,
 ) -> list[dict[str, Any]]:
-    """The paper's model and each of :data:`uavcov.paper._data.ABLATIONS` into ``out``, then ``ablation.md``.
+    """The paper's model and each of ``uavcov.paper._data.ABLATIONS`` into ``out``, then ``ablation.md``.
 
-    Every variant runs :data:`uavcov.paper._data.ABLATION_BASE` (N = 5 and 12, the three starts,
+    Every variant runs ``uavcov.paper._data.ABLATION_BASE`` (N = 5 and 12, the three starts,
     scenarios 0-9 by default) with one change; ``ablation.md`` sets the claims measured on each
     (max coverage per start, the CVT-over-random gain, the convergence share, the robustness)
     beside the paper's model, so that what drives a claim shows as the line that moves it.
@@ -203,7 +203,7 @@ def reproduce_all(
     out : path
     seeds : "0-39", iterable of int, optional
         The same seeds for every experiment (for a quick look); by default each experiment's
-        own, and :data:`REPORT_SEEDS` where the paper shows a single scenario.
+        own, and ``REPORT_SEEDS`` where the paper shows a single scenario.
     iterations : int, optional
         CAO iterations instead of the experiments' (a quick look, not the paper's runs).
     figures : callable, optional

@@ -3,7 +3,7 @@
 Every function here only reads: rows of ``runs.csv`` (:func:`uavcov.experiments.read_runs`) and the
 runs stored beside it. :func:`summarise` gives mean and sigma per cell; ``table1_markdown`` and
 its siblings set a reproduction beside :mod:`uavcov.experiments`'s published numbers, with the checks
-the reproduction is held to; :func:`coverage_curves_csv` writes the coverage per iteration of
+the reproduction is held to; ``coverage_curves_csv`` writes the coverage per iteration of
 every stored run.
 """
 

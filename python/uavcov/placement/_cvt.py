@@ -113,7 +113,7 @@ class CVTResult:
     converged : bool
         Whether the run stopped on ``tol`` rather than on ``max_iterations``.
     seed : int
-        The u64 seed the run used (see :func:`seed_from_rng`).
+        The u64 seed the run used (see ``seed_from_rng``).
     """
 
     generators: np.ndarray
@@ -304,7 +304,7 @@ def cvt(
         Starting generators, projected onto the surface first; by default ``n`` random points
         drawn like the samples.
     rng : None, int or numpy.random.Generator
-        Randomness; converted to a u64 seed by :func:`seed_from_rng`. The result depends only on
+        Randomness; converted to a u64 seed by ``seed_from_rng``. The result depends only on
         that seed, not on ``n_threads``.
     n_threads : int, optional
         Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:

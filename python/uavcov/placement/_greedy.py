@@ -105,7 +105,7 @@ class GreedyResult:
         Wall time of the seen-matrix and of the greedy with its bound, seconds.
     offline_time_s : float
         Wall time of the whole placement: the matrix and the greedy, and the lattice when
-        :func:`uavcov.placement._starts.greedy_start` made it, seconds.
+        ``uavcov.placement._starts.greedy_start`` made it, seconds.
     """
 
     positions: np.ndarray

@@ -29,7 +29,7 @@ in the paper the approximating surface S':
 start, the one pipeline every mission and experiment goes through. Pushing it to admissible
 positions is :func:`uavcov.placement.closest_admissible`'s job.
 
-A structure's start (``altitude_reference="normal"``, :data:`STRUCTURE_START_KINDS`) goes through
+A structure's start (``altitude_reference="normal"``, ``STRUCTURE_START_KINDS``) goes through
 the same :func:`start_configuration`: the CVT generators flown out along S''s outward normals,
 uniform draws in the admissible volume of the flight limits, or a launch pad on the real ground
 (the pieces of :mod:`uavcov.placement._starts3d`).

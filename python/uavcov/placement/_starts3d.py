@@ -12,10 +12,10 @@ Three starts, each on S' given as a generic :class:`~uavcov.Terrain` mesh:
     structure is made of flat faces meeting at sharp edges, and on a coarse S' a vertex normal
     smears that edge over the whole face (a box's eight vertex normals all point diagonally, so
     a generator in the middle of a wall would be flown out at 55 degrees off the wall's normal).
-:func:`random_volume_start`
+``random_volume_start``
     Uniform in a flight box, kept where a given ``admissible(points) -> bool`` predicate
     accepts (the 3D flight limits), by rejection, deterministic for a given ``rng``.
-:func:`launch_pad_start`
+``launch_pad_start``
     The paper's "corner": a compact square lattice centred on a take-off pad.
 
 The height-field starts (:func:`uavcov.placement.initial_positions`) are untouched.
@@ -277,7 +277,7 @@ def check_reachable(pitch_deg: Any, gimbals: Any) -> np.ndarray:
     pitch_deg : (n,) array_like of float
         Required pitches, degrees.
     gimbals : str, Gimbal or sequence of them
-        What the team carries: capability names of :data:`uavcov.engine._sensors.GIMBAL_PITCH_LIMITS`
+        What the team carries: capability names of ``uavcov.engine._sensors.GIMBAL_PITCH_LIMITS``
         or gimbals with a ``pitch_range``. One for the whole team, or a list of options.
 
     Returns
@@ -365,7 +365,7 @@ def standoff_start(
     standoff : float
         Metres from each generator along its normal (> 0).
     gimbal : str, Gimbal or list of them, default "upward"
-        What the cameras can reach (see :func:`check_reachable`).
+        What the cameras can reach (see ``check_reachable``).
     clip_pitch : bool, default False
         ``False`` refuses a start whose camera would have to look beyond every gimbal's range;
         ``True`` clips such a pitch into the first gimbal's range instead (the camera then does

@@ -6,10 +6,10 @@ flight band: an x-y lattice ``spacing`` metres apart over the flight box (from i
 corner, so that halving the spacing keeps every earlier column), times ``n_heights`` heights
 per column evenly spaced from ``ground + h_min`` to ``min(ground + h_max, z_max)`` (so that
 ``2 n - 1`` heights keep the ``n`` earlier ones), kept where eq. 2's limits accept them
-(:func:`uavcov.placement._constraints.feasible_mask`, one UAV at a time). Where the sensors are cameras,
+(``uavcov.placement._constraints.feasible_mask``, one UAV at a time). Where the sensors are cameras,
 each position is repeated for every orientation ``(yaw, pitch)`` of the settings.
 
-:class:`Viewpoints` is what every generator returns. For a structure, :func:`viewpoint_offsets`
+:class:`Viewpoints` is what every generator returns. For a structure, ``viewpoint_offsets``
 flies points of the surface out along their outward normals (under a deck, beside a pier), with
 ``source="normal offsets"``; nothing downstream changes.
 """
@@ -133,7 +133,7 @@ def viewpoint_lattice(
     Raises
     ------
     InvalidInputError
-        More than :data:`MAX_CANDIDATES` candidates.
+        More than ``MAX_CANDIDATES`` candidates.
     InfeasibleError
         No admissible candidate.
     """
@@ -204,7 +204,7 @@ def viewpoint_offsets(
     The structures' counterpart of :func:`viewpoint_lattice`: under a bridge deck the normal
     points down, beside a pier sideways, so the candidates reach where no lattice over a height
     band goes. Only the admissible ones are kept, each judged alone where it is
-    (:func:`uavcov.placement._constraints.feasible_mask`; with ``Constraints(clearance="standoff")`` the
+    (``uavcov.placement._constraints.feasible_mask``; with ``Constraints(clearance="standoff")`` the
     distances should be at least ``h_min``).
 
     Parameters
@@ -226,7 +226,7 @@ def viewpoint_offsets(
     Raises
     ------
     InvalidInputError
-        No distance, a distance not finite or <= 0, or more than :data:`MAX_CANDIDATES`.
+        No distance, a distance not finite or <= 0, or more than ``MAX_CANDIDATES``.
     InfeasibleError
         No candidate is admissible.
     """

@@ -18,12 +18,12 @@ clustered down to that many triangles, and top views are rasters.
 
 The package is split by what each part owns:
 
-- :mod:`~uavcov.plotting._figures`: one function per paper figure, :func:`seen_points` and
-  :func:`published_values`;
+- :mod:`~uavcov.plotting._figures`: one function per paper figure, ``seen_points`` and
+  ``published_values``;
 - :mod:`~uavcov.plotting._views`: surfaces as polygons (decimation, shading), raster top views,
   hillshade, 3D axes styling;
 - :mod:`~uavcov.plotting._animation`: :func:`animate_mission`;
-- :mod:`~uavcov.plotting._writers`: :func:`write_ply` and the GIF / MP4 writers;
+- :mod:`~uavcov.plotting._writers`: ``write_ply`` and the GIF / MP4 writers;
 - :mod:`~uavcov.plotting._structures`: :func:`plot_structure_seen`, a structure coloured by seen
   from several sides;
 - :mod:`~uavcov.plotting._directory`: :func:`plot_directory`;

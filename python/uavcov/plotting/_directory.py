@@ -40,7 +40,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     - ``<experiment>_max_coverage.png`` and ``<experiment>_initial_coverage.png``: the bars of
       :func:`plot_table1`, beside the paper where it has numbers (only for experiments with
       several runs per start and team size);
-    - ``<experiment>_coverage_distance.png``: :func:`uavcov.plotting._distance.plot_coverage_distance`, max
+    - ``<experiment>_coverage_distance.png``: ``uavcov.plotting._distance.plot_coverage_distance``, max
       coverage against the distance flown (where ``runs.csv`` records it);
     - ``<experiment>_coverage_N<n>_d<d_max>.png``: :func:`plot_coverage_curves` of every stored
       run of that experiment, team size and range, one colour per start (the paper's Fig. 6

@@ -8,8 +8,8 @@
 - :func:`plot_coverage_curves`: coverage per iteration, mean and one sigma per start (Fig. 5d,
   Fig. 6, Fig. 8);
 - :func:`plot_table1`: the means of Table 1 as bars, ours beside the paper's
-  (:func:`published_values`);
-- :func:`plot_point_cloud`: what the team saw (:func:`seen_points`) as a point cloud (Fig. 7,
+  (``published_values``);
+- :func:`plot_point_cloud`: what the team saw (``seen_points``) as a point cloud (Fig. 7,
   right).
 
 Each takes a mission result, a path to a saved run or the objects themselves, draws into a new
@@ -700,18 +700,18 @@ def plot_point_cloud(
     Parameters
     ----------
     source : MissionResult, path to a saved run, or (n, 3) array_like
-        A mission (points from :func:`seen_points`; its final positions drawn too), or the
+        A mission (points from ``seen_points``; its final positions drawn too), or the
         points themselves.
     positions : (N, 3) array_like, optional
         UAV positions to draw.
     max_points : int
         Most points drawn (evenly thinned); the PLY file gets them all.
     max_configurations : int
-        See :func:`seen_points`.
+        See ``seen_points``.
     ax, out, elev, azim, dpi
         As for :func:`plot_approximation`.
     ply : path, optional
-        Also write every seen point there as ASCII PLY (see :func:`write_ply`).
+        Also write every seen point there as ASCII PLY (see ``write_ply``).
 
     Returns
     -------

@@ -76,7 +76,7 @@ def plot_structure_seen(
         ``targets``, per target whether it is seen (a bool or a count of UAVs).
     targets : Targets, optional
         The targets ``seen`` is about; each face then shows the share of its targets seen
-        (:func:`face_seen_share`).
+        (``face_seen_share``).
     positions : (N, 3) array_like, optional
         UAVs to draw.
     views : sequence of (elevation, azimuth)

@@ -1,6 +1,6 @@
 """Writers of files that are not matplotlib figures: PLY point clouds, GIF and MP4 animations.
 
-:func:`write_ply` is public; the animation writers take frames already rendered to RGB arrays
+``write_ply`` is public; the animation writers take frames already rendered to RGB arrays
 (by :func:`uavcov.plotting.animate_mission`).
 """
 

@@ -1,8 +1,8 @@
 """A buildings scene, the paper's realistic environment (its Figs. 7-8): flat ground with box
 buildings, a true 3D mesh with vertical walls.
 
-:func:`random_buildings` draws the boxes, :func:`buildings_terrain` meshes them,
-:func:`buildings_scene` does both, and :func:`perturb_buildings` makes the coarse, erroneous map
+``random_buildings`` draws the boxes, ``buildings_terrain`` meshes them,
+:func:`buildings_scene` does both, and ``perturb_buildings`` makes the coarse, erroneous map
 a prior is built from.
 """
 
@@ -281,8 +281,8 @@ def buildings_scene(
 
     ``buildings_scene(..., rng=s)`` is ``buildings_terrain(random_buildings(..., rng=s), ...)``;
     call those two yourself when you need the boxes (for example to build the prior map with
-    :func:`uavcov.terrain._prior.buildings_prior`). Parameters are those of :func:`random_buildings`
-    (footprints snapped to ``spacing``) and :func:`buildings_terrain`. The defaults (24 m
+    ``uavcov.terrain._prior.buildings_prior``). Parameters are those of ``random_buildings``
+    (footprints snapped to ``spacing``) and ``buildings_terrain``. The defaults (24 m
     square, 5 buildings 3-7 m wide and 3-10 m tall, 2 m apart) are starting values: the paper
     gives only the 24 m x 24 m size and "several buildings".
 

@@ -424,7 +424,7 @@ def sample_dem(window: Any = (150, 190, 150, 190), stride: int = 1) -> GeoDem:
     USA), stored north row first; cells are about 74.6 m east-west and 92.5 m north-south. Its
     coordinates are taken as WGS84 longitude and latitude (EPSG:4326; the sample states no datum,
     and its cells are far coarser than any datum shift); its heights are metres of an unknown
-    vertical datum (:data:`SAMPLE_VERTICAL_DATUM`).
+    vertical datum (``SAMPLE_VERTICAL_DATUM``).
 
     Parameters
     ----------

@@ -60,7 +60,7 @@ class BuildingsGenerator:
     """The paper's realistic scene: ``n_buildings`` boxes on a ``size`` square of flat ground.
 
     The true scene is meshed every ``spacing`` metres; the simplified map the CVT runs on is
-    :func:`uavcov.terrain._prior.buildings_prior` (boxes with position, size and height errors, meshed
+    ``uavcov.terrain._prior.buildings_prior`` (boxes with position, size and height errors, meshed
     every ``map_spacing`` metres).
     """
 

@@ -1,5 +1,5 @@
 """Gaussian hills, the paper's 40 test terrains: a mixture of Gaussians on a square, sampled on an
-elevation grid. :func:`gaussian_hills` draws one; :class:`GaussianMixture` is the underlying
+elevation grid. :func:`gaussian_hills` draws one; ``GaussianMixture`` is the underlying
 analytic height function (exact heights and gradients anywhere, for checks and priors).
 """
 
@@ -144,14 +144,14 @@ def gaussian_hills(
     spacing : float
         Grid spacing (m); ``size`` must be a multiple of it. 1 m gives 101 x 101 vertices.
     n_hills, heights, sigma, rng
-        See :func:`random_gaussian_mixture` (defaults: 7 hills, heights uniform in [5, 25] m,
+        See ``random_gaussian_mixture`` (defaults: 7 hills, heights uniform in [5, 25] m,
         sigma = 10 m). These are starting values to calibrate, not the paper's (unpublished) ones.
 
     Returns
     -------
     Terrain
         Vertex ``(i, j)`` at ``(j * spacing, i * spacing)``, height from the mixture. Use
-        :func:`random_gaussian_mixture` with the same ``rng`` for the analytic height function.
+        ``random_gaussian_mixture`` with the same ``rng`` for the analytic height function.
 
     Examples
     --------

@@ -1,5 +1,5 @@
-"""Mesh files and arrays as surfaces: OBJ / STL / PLY (:func:`load_mesh`, needs ``trimesh``) or
-arrays (:func:`mesh_terrain`), welded and repaired by :func:`clean_mesh` with a
+"""Mesh files and arrays as surfaces: OBJ / STL / PLY (``load_mesh``, needs ``trimesh``) or
+arrays (``mesh_terrain``), welded and repaired by ``clean_mesh`` with a
 :class:`MeshReport` of what was changed, in a recentred :class:`~uavcov.terrain.LocalFrame`.
 
 Elevation grids with a coordinate reference system are :class:`~uavcov.terrain.GeoDem`'s
@@ -26,7 +26,7 @@ from ._frame import LocalFrame
 
 @dataclass(frozen=True)
 class MeshReport:
-    """What :func:`clean_mesh` found and repaired in a mesh (all counts).
+    """What ``clean_mesh`` found and repaired in a mesh (all counts).
 
     Attributes
     ----------
@@ -190,7 +190,7 @@ def mesh_terrain(
     on_defect: str = "repair",
     source: str = "arrays",
 ) -> LoadedMesh:
-    """A triangle mesh (arrays in metres) as a Terrain in a local frame, repaired by :func:`clean_mesh`.
+    """A triangle mesh (arrays in metres) as a Terrain in a local frame, repaired by ``clean_mesh``.
 
     Parameters
     ----------
@@ -252,7 +252,7 @@ def load_mesh(
 
     Multi-part files are concatenated into one surface. Vertices are welded exactly,
     degenerate and duplicate faces dropped (or refused with ``on_defect="raise"``), open
-    boundaries kept; see :func:`mesh_terrain` for the parameters and :class:`MeshReport` for
+    boundaries kept; see ``mesh_terrain`` for the parameters and :class:`MeshReport` for
     what is reported.
 
     Raises

@@ -5,7 +5,7 @@ its (x, y) limits). :func:`sample_prior` draws such points from a true :class:`T
 :func:`approximate_surface` turns any set of known points into S', the piecewise-linear
 interpolant on their Delaunay triangulation (``scipy.spatial.Delaunay`` of the (x, y)
 coordinates), returned as a :class:`Terrain` that the CVT and the plots use.
-:func:`buildings_prior` gives the simplified map of a buildings scene.
+``buildings_prior`` gives the simplified map of a buildings scene.
 
 The rule outside the samples' hull
 ----------------------------------
@@ -484,13 +484,13 @@ def buildings_prior(
     Parameters
     ----------
     buildings : sequence of Building
-        The true boxes (from :func:`uavcov.terrain._buildings.random_buildings`).
+        The true boxes (from ``uavcov.terrain._buildings.random_buildings``).
     size : float
         Side of the ground square (m).
     kind : {"boxes", "corners"}
         "boxes": the ground plus every building as a box with position, size and height errors
-        (:func:`uavcov.terrain._buildings.perturb_buildings`, snapped to ``spacing``), meshed like the
-        true scene but coarser. "corners": S' of :func:`building_corner_prior` (ground corners
+        (``uavcov.terrain._buildings.perturb_buildings``, snapped to ``spacing``), meshed like the
+        true scene but coarser. "corners": S' of ``building_corner_prior`` (ground corners
         and the roof corners of ``known_fraction`` of the buildings, heights off by
         ``height_error``).
     spacing : float

@@ -547,7 +547,7 @@ def load_structure(
 ) -> Structure:
     """Read an STL, OBJ or PLY file (binary or ASCII; needs ``trimesh``) as a :class:`Structure`.
 
-    The mesh is welded and cleaned like :func:`~uavcov.terrain._meshes.load_mesh` (in a local frame whose
+    The mesh is welded and cleaned like ``load_mesh`` (in a local frame whose
     origin is the file's minimum corner). With ``closed=True`` it must be a set of closed solids:
     every edge shared by exactly two faces, wound consistently; solids wound inward are turned
     outward. A ground plane at the model's lowest z is added (``add_ground``), reaching half the
