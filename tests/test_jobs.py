@@ -59,9 +59,9 @@ def test_the_ablation_runs_each_change_beside_the_papers_model(quick):
 
     out, results = quick
     rows = results["ablation"]
-    labels = ["ablation", *(f"ablation-{a.name}" for a in paper._data.ABLATIONS)]
+    labels = ["ablation", *(f"ablation-{a.name}" for a in paper.ABLATIONS)]
     assert sorted({r["experiment"] for r in rows}) == sorted(labels)
-    per_variant = len(paper._data.ABLATION_BASE.team_sizes) * len(paper._data.ABLATION_BASE.starts)
+    per_variant = len(paper.ABLATION_BASE.team_sizes) * len(paper.ABLATION_BASE.starts)
     assert len(rows) == per_variant * len(labels) and not any(r["error"] for r in rows)
     # one settings hash per variant: each runs its own change, and the base is Table 1's model
     hashes = {r["experiment"]: r["settings_hash"] for r in rows}
@@ -75,7 +75,7 @@ def test_the_ablation_runs_each_change_beside_the_papers_model(quick):
     assert load_mission(folder.run_file(by_label["ablation-corner-launch"]["run_id"])).settings.start.corner_altitude == 8.0
     table = (out / "ablation" / "ablation.md").read_text(encoding="utf-8")
     assert table.count("\n| ") == len(labels) + 1  # the header and one line per variant
-    for change in paper._data.ABLATIONS:
+    for change in paper.ABLATIONS:
         assert change.what in table
 
 
@@ -111,7 +111,7 @@ def test_the_command_line_runs_the_ablation_and_refuses_a_choice_within_it(tmp_p
     args = ["reproduce", "ablation", "--out", str(tmp_path / "ab"), "--seeds", "0", "--iterations", "1", "--no-plots", "--workers", "1"]
     assert main(args) == EXIT_OK
     table = (tmp_path / "ab" / "ablation.md").read_text(encoding="utf-8")
-    assert all(change.what in table for change in paper._data.ABLATIONS)
+    assert all(change.what in table for change in paper.ABLATIONS)
     assert "the paper's model" in capsys.readouterr().out  # the table is printed too
     assert main([*args[:3], str(tmp_path / "other"), "--starts", "cvt"]) == EXIT_BAD_INPUT
     errors = [line for line in capsys.readouterr().err.splitlines() if "error:" in line]

@@ -45,7 +45,7 @@ def test_table1_is_the_papers_table():
         assert pub[(n, "random", "initial")] == paper.PublishedValue(rnd_i, rnd_is)
         assert pub[(n, "random", "max")] == paper.PublishedValue(rnd_m, rnd_ms)
         assert pub[(n, "corner", "max")] == paper.PublishedValue(cor_m, cor_ms)
-    assert len(paper.PUBLISHED_TABLE1) == 4 * len(paper._data.TABLE1_COLUMNS)
+    assert len(paper.PUBLISHED_TABLE1) == 4 * len(paper.TABLE1_COLUMNS)
 
 
 def test_pyramid_and_fig6_numbers_are_the_papers():
@@ -126,7 +126,7 @@ def test_every_team_fits_under_the_ceiling(name):
 def test_experiments_pickle_and_compare_equal():
     for e in paper.EXPERIMENTS.values():
         assert pickle.loads(pickle.dumps(e)) == e
-    assert paper._data.PaperExperiment is Experiment
+    assert paper.PaperExperiment is Experiment
 
 
 def test_with_changes_sets_nested_fields_and_refuses_unknown_groups():
@@ -270,5 +270,5 @@ def test_paper_module_runs_nothing():
 
 
 def test_every_ablation_is_found_by_its_own_unique_name():
-    assert list(paper.ABLATIONS_BY_NAME) == [a.name for a in paper._data.ABLATIONS]
-    assert all(paper.ABLATIONS_BY_NAME[a.name] is a for a in paper._data.ABLATIONS)
+    assert list(paper.ABLATIONS_BY_NAME) == [a.name for a in paper.ABLATIONS]
+    assert all(paper.ABLATIONS_BY_NAME[a.name] is a for a in paper.ABLATIONS)
