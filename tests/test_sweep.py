@@ -374,3 +374,16 @@ def test_run_spec_rows_and_ids():
     assert RunSpec(TINY, 3, 2, "random", label="a b/c").run_id.startswith("a_b_c-random-")
     assert settings_hash(TINY.with_changes(seeds=(9,), team_sizes=(7,), starts=("cvt",))) == settings_hash(TINY)
     assert settings_hash(TINY.with_changes(name="other")) == settings_hash(TINY)
+
+
+def test_a_sweep_file_starts_from_the_bases_it_is_given():
+    """experiments knows no paper: the caller gives the bases, and a sweep without ``base`` starts from the first."""
+    own = {"mine": tiny_experiment(), **PAPER_EXPERIMENTS}
+    config = parse_sweep_config({"team_sizes": [2]}, bases=own)
+    assert config.base == "mine" and config.variants[0][0].terrain == own["mine"].terrain
+    assert parse_sweep_config({}, bases=PAPER_EXPERIMENTS).base == "table1"
+    with pytest.raises(ConfigError, match="base"):
+        parse_sweep_config({"base": "table1"}, bases={"mine": tiny_experiment()})
+    for bad in (None, {}, {"mine": 1}, [tiny_experiment()], "table1"):
+        with pytest.raises(InvalidTypeError, match="bases"):
+            parse_sweep_config({}, bases=bad)
