@@ -59,17 +59,11 @@ import numpy as np
 
 from .._validate import as_non_negative_float, as_positive_float, as_positive_int, read_only
 from ..errors import InvalidInputError, InvalidTypeError
-from ._cao import (
-    CAOSettings,
-    FeasibleFn,
-    OptimizerTrace,
-    _as_team_and_marginals,
-    _cao_run,
-    _check_common,
-    _check_start,
-    _Feasibility,
-    _finish,
-)
+from ._cao import _cao_run
+from ._checks import _as_team_and_marginals, _check_common, _check_start, _Feasibility
+from ._protocol import FeasibleFn
+from ._settings import CAOSettings
+from ._trace import OptimizerTrace, _finish
 
 
 @dataclass(frozen=True)
