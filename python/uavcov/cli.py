@@ -481,8 +481,8 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
     """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
     from .errors import ConfigError
     from .field import GeoAnchor, plan_structure, write_structure_mission
-    from .mission import MissionSettings
     from .placement import Constraints, StartSettings
+    from .settings import MissionSettings
     from .terrain import STRUCTURE_SCENES, load_structure
 
     if args.dem is not None or args.sample:

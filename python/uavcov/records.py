@@ -24,9 +24,10 @@ from ._io import atomic_write_with
 from ._validate import read_only
 from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
-from .mission import MissionResult, MissionSettings
+from .mission import MissionResult
 from .optim import OptimizerTrace
 from .placement import START_KINDS, CVTResult
+from .settings import MissionSettings
 
 __all__ = ["FORMAT", "save_mission", "load_mission"]
 

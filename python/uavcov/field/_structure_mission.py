@@ -26,7 +26,8 @@ import numpy as np
 from .._validate import read_only
 from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from ..mission import MissionResult, MissionSettings, run_mission
+from ..mission import MissionResult, run_mission
+from ..settings import MissionSettings
 from ..terrain import Structure, StructureTargets
 from ._geodesy import GeoAnchor
 from ._outputs import write_files
