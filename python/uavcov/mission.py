@@ -22,6 +22,7 @@ start as it was.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -68,6 +69,11 @@ __all__ = ["MissionResult", "run_mission", "mission_time", "iterations_to_fracti
 class MissionResult:
     """What one mission did. Frozen and picklable.
 
+    What the optimiser did is its :attr:`trace`; the run's figures that come from it
+    (:attr:`trajectory`, :attr:`coverage`, :attr:`best_positions`, :attr:`best_iteration`,
+    :attr:`evaluations`, the timings, ...) are properties over it, as ``scipy.optimize``'s
+    ``OptimizeResult`` reads one record.
+
     Attributes
     ----------
     settings : MissionSettings
@@ -89,26 +95,10 @@ class MissionResult:
         positions, or the positions given.
     cvt : CVTResult or None
         The CVT run, for the "cvt" start.
-    trajectory : (K + 1, N, 3) ndarray
-        Positions at every iteration; ``trajectory[0]`` is the admissible start (the camera
-        angles, fixed or free, are :attr:`attitudes`; ``trace.trajectory`` holds the optimiser's
-        whole state).
-    coverage : (K + 1,) ndarray
-        True coverage at every iteration, in [0, 1].
-    best_positions : (N, 3) ndarray
-        The configuration with the highest coverage.
-    best_coverage, initial_coverage, final_coverage : float
-    best_iteration : int
-    iterations_to_95 : int
-        First iteration whose coverage reaches 95 % of ``best_coverage``.
-    evaluations : int
-        Coverage measurements made by the optimiser.
+    trace : OptimizerTrace
+        The optimiser's full record (its ``values`` are the coverage measured).
     wall_time_s : float
         Seconds for the whole mission (prior, start, optimisation).
-    time_measure_s, time_optimizer_s : float
-        Seconds in coverage measurements and in the optimiser's own work.
-    trace : OptimizerTrace
-        The optimiser's full record.
     start_time_s : float
         Seconds to compute the start on S' (its off-line time: the CVT, or the greedy start's
         lattice, seen-matrix and greedy); 0 for given start positions, NaN when not recorded.
@@ -126,21 +116,69 @@ class MissionResult:
     approximation: Terrain
     start_positions: np.ndarray
     cvt: CVTResult | None
-    trajectory: np.ndarray
-    coverage: np.ndarray
-    best_positions: np.ndarray
-    best_coverage: float
-    initial_coverage: float
-    final_coverage: float
-    best_iteration: int
-    iterations_to_95: int
-    evaluations: int
-    wall_time_s: float
-    time_measure_s: float
-    time_optimizer_s: float
     trace: OptimizerTrace = field(repr=False)
+    wall_time_s: float
     start_time_s: float = math.nan
     coverage_by_part: dict[str, float] | None = None
+
+    @functools.cached_property
+    def trajectory(self) -> np.ndarray:
+        """``(K + 1, N, 3)`` positions at every iteration; ``trajectory[0]`` is the admissible start.
+
+        The camera angles, fixed or free, are :attr:`attitudes`; ``trace.trajectory`` holds the
+        optimiser's whole state.
+        """
+        return read_only(np.ascontiguousarray(self.trace.trajectory[..., :3]))
+
+    @property
+    def coverage(self) -> np.ndarray:
+        """``(K + 1,)`` true coverage at every iteration, in [0, 1] (the trace's ``values``)."""
+        return np.asarray(self.trace.values, dtype=np.float64)
+
+    @functools.cached_property
+    def best_positions(self) -> np.ndarray:
+        """``(N, 3)`` the configuration with the highest coverage."""
+        return read_only(np.ascontiguousarray(self.trace.best_positions[..., :3]))
+
+    @property
+    def best_coverage(self) -> float:
+        """The highest coverage measured, at :attr:`best_iteration`."""
+        return float(self.trace.best_value)
+
+    @property
+    def initial_coverage(self) -> float:
+        """Coverage at the admissible start."""
+        return float(self.trace.values[0])
+
+    @property
+    def final_coverage(self) -> float:
+        """Coverage after the last iteration."""
+        return float(self.trace.values[-1])
+
+    @property
+    def best_iteration(self) -> int:
+        """The iteration of :attr:`best_coverage` (the first one on ties)."""
+        return int(self.trace.best_iteration)
+
+    @property
+    def iterations_to_95(self) -> int:
+        """First iteration whose coverage reaches 95 % of :attr:`best_coverage`."""
+        return iterations_to_fraction(self.coverage, 0.95)
+
+    @property
+    def evaluations(self) -> int:
+        """Coverage measurements made by the optimiser."""
+        return int(self.trace.evaluations)
+
+    @property
+    def time_measure_s(self) -> float:
+        """Seconds in coverage measurements."""
+        return float(self.trace.time_measure_s)
+
+    @property
+    def time_optimizer_s(self) -> float:
+        """Seconds in the optimiser's own work."""
+        return float(self.trace.time_optimizer_s)
 
     @property
     def attitudes(self) -> np.ndarray | None:
@@ -459,7 +497,6 @@ def run_mission(
             value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng
         )
 
-    values = np.asarray(trace.values, dtype=float)
     parts = None
     if structure is not None and isinstance(vis.targets, StructureTargets):
         best = np.ascontiguousarray(trace.best_positions)
@@ -474,18 +511,7 @@ def run_mission(
         approximation=approximation,
         start_positions=flying,
         cvt=tessellation,
-        trajectory=read_only(np.ascontiguousarray(trace.trajectory[..., :3])),
-        coverage=values,
-        best_positions=read_only(np.ascontiguousarray(trace.best_positions[..., :3])),
-        best_coverage=float(trace.best_value),
-        initial_coverage=float(values[0]),
-        final_coverage=float(values[-1]),
-        best_iteration=int(trace.best_iteration),
-        iterations_to_95=iterations_to_fraction(values, 0.95),
-        evaluations=int(trace.evaluations),
         wall_time_s=time.perf_counter() - started,
-        time_measure_s=float(trace.time_measure_s),
-        time_optimizer_s=float(trace.time_optimizer_s),
         trace=trace,
         start_time_s=start_time_s,
         coverage_by_part=parts,
