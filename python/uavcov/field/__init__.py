@@ -23,8 +23,8 @@ from ._outputs import (
 )
 from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
 from ._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
-from ._structure_mission import StructureMission, plan_structure, structure_routes, write_structure_mission
-from ._structure_plan import StructurePlan, render_structure_plan, structure_plan, structure_qgc_plan, write_structure_plan
+from ._structure_flight import StructureFlight, render_structure_flight, structure_flight, structure_qgc_plan, write_structure_flight
+from ._structure_plan import StructurePlan, plan_structure, structure_routes, write_structure_plan
 
 __all__ = [
     "AreaOfInterest",
@@ -56,13 +56,13 @@ __all__ = [
     "write_seen_ply",
     "read_seen_ply",
     "seen_cloud_bytes",
-    "StructurePlan",
-    "structure_plan",
+    "StructureFlight",
+    "structure_flight",
     "structure_qgc_plan",
-    "render_structure_plan",
-    "write_structure_plan",
-    "StructureMission",
+    "render_structure_flight",
+    "write_structure_flight",
+    "StructurePlan",
     "plan_structure",
     "structure_routes",
-    "write_structure_mission",
+    "write_structure_plan",
 ]
