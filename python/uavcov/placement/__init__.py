@@ -15,7 +15,6 @@ from ._starts import (
     STRUCTURE_START_KINDS,
     StartSettings,
     greedy_start,
-    initial_positions,
     start_configuration,
 )
 from ._starts3d import (
@@ -46,7 +45,6 @@ __all__ = [
     "seed_from_rng",
     "FootprintFit",
     "fit_footprints",
-    "initial_positions",
     "start_configuration",
     "StartSettings",
     "START_KINDS",
