@@ -433,74 +433,22 @@ def run_mission(
     vis = Visibility(terrain, spec.d_max, targets, n_threads=n_threads)
 
     approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
-    tessellation: CVTResult | None = None
-    start_time_s = 0.0
-    if given is not None:
-        flying = given
+    if given is None:
+        flying, tessellation, start_time_s = _start(spec, approximation, terrain, start_rng, n_threads)
     else:
-        start_began = time.perf_counter()
-        flying, record = start_configuration(
-            spec.start,
-            approximation,
-            terrain,
-            spec.n_uavs,
-            cvt_settings=spec.cvt,
-            rng=start_rng,
-            n_threads=n_threads,
-            d_max=spec.d_max,
-            constraints=constraints,
-        )
-        start_time_s = time.perf_counter() - start_began
-        tessellation = record if isinstance(record, CVTResult) else None
+        flying, tessellation, start_time_s = given, None, 0.0
     attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
     if spec.footprint_start and given is None:
         flying, attitudes = _footprint_start(spec, approximation, flying, attitudes, n_threads)
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
     if spec.start.altitude_reference == "normal" and spec.has_camera:
         attitudes = _facing_start(spec, approximation, x0, n_threads)
-
-    feasible = feasibility(constraints, terrain, n_threads=n_threads)
-    sensors = spec.team_sensors()
-    camera = spec.has_camera
     state = _CameraState(spec, attitudes)
-
-    def poses(x: np.ndarray) -> np.ndarray:
-        return state.poses(x) if camera else x
-
-    optimizer = OPTIMIZERS[spec.optimizer]
-    if spec.optimizer in MARGINAL_OPTIMIZERS:
-
-        @_repeats_the_last
-        def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
-            counts = vis.per_uav(poses(x), sensors=sensors)  # the coverage and the marginals in one pass
-            return counts.coverage, counts.exclusive_share
-
-        extra = {"escape": spec.escape} if spec.optimizer == "escape" else {}
-        trace = optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng, **extra)
-    else:
-        if spec.objective == "coverage" and sensors is None:
-            # One team's measurements along its path: the tracker reuses what each proved.
-            along = vis.tracker()
-
-            @_repeats_the_last
-            def value(x: np.ndarray) -> float:
-                return along.coverage(x)
-
-        else:
-            objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
-
-            @_repeats_the_last
-            def value(x: np.ndarray) -> float:
-                return objective(poses(x), sensors=sensors)
-
-        trace = optimizer(
-            value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng
-        )
-
+    trace = _optimise(spec, terrain, vis, state, x0, optimizer_rng, n_threads)
     parts = None
     if structure is not None and isinstance(vis.targets, StructureTargets):
         best = np.ascontiguousarray(trace.best_positions)
-        seen = vis.seen(poses(best), sensors=sensors) if camera else vis.seen(best)
+        seen = vis.seen(state.poses(best), sensors=spec.team_sensors()) if spec.has_camera else vis.seen(best)
         parts = structure.coverage_by_part(np.asarray(seen, dtype=bool), vis.targets)
     return MissionResult(
         settings=replace(spec, cao=trace.settings),
@@ -516,6 +464,70 @@ def run_mission(
         start_time_s=start_time_s,
         coverage_by_part=parts,
     )
+
+
+def _start(
+    spec: MissionSettings, approximation: Terrain, terrain: Terrain, rng: np.random.Generator, n_threads: int | None
+) -> tuple[np.ndarray, CVTResult | None, float]:
+    """``spec.start`` on S': the positions, the CVT run (for a "cvt" start) and the seconds it took."""
+    began = time.perf_counter()
+    flying, record = start_configuration(
+        spec.start,
+        approximation,
+        terrain,
+        spec.n_uavs,
+        cvt_settings=spec.cvt,
+        rng=rng,
+        n_threads=n_threads,
+        d_max=spec.d_max,
+        constraints=spec.constraints,
+    )
+    return flying, record if isinstance(record, CVTResult) else None, time.perf_counter() - began
+
+
+def _optimise(
+    spec: MissionSettings,
+    terrain: Terrain,
+    vis: Visibility,
+    state: _CameraState,
+    x0: np.ndarray,
+    rng: np.random.Generator,
+    n_threads: int | None,
+) -> OptimizerTrace:
+    """``spec.optimizer`` from the admissible start ``x0``, measuring the true coverage."""
+    feasible = feasibility(spec.constraints, terrain, n_threads=n_threads)
+    sensors = spec.team_sensors()
+    camera = spec.has_camera
+
+    def poses(x: np.ndarray) -> np.ndarray:
+        return state.poses(x) if camera else x
+
+    optimizer = OPTIMIZERS[spec.optimizer]
+    if spec.optimizer in MARGINAL_OPTIMIZERS:
+
+        @_repeats_the_last
+        def measure(x: np.ndarray) -> tuple[float, np.ndarray]:
+            counts = vis.per_uav(poses(x), sensors=sensors)  # the coverage and the marginals in one pass
+            return counts.coverage, counts.exclusive_share
+
+        extra = {"escape": spec.escape} if spec.optimizer == "escape" else {}
+        return optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=rng, **extra)
+    if spec.objective == "coverage" and sensors is None:
+        # One team's measurements along its path: the tracker reuses what each proved.
+        along = vis.tracker()
+
+        @_repeats_the_last
+        def value(x: np.ndarray) -> float:
+            return along.coverage(x)
+
+    else:
+        objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
+
+        @_repeats_the_last
+        def value(x: np.ndarray) -> float:
+            return objective(poses(x), sensors=sensors)
+
+    return optimizer(value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=rng)
 
 
 _Measured = TypeVar("_Measured")
