@@ -2,7 +2,7 @@
 
 :func:`plot_directory` reads ``runs.csv`` through :func:`uavcov.plotting._runs._read_runs` (the
 bars of Table 1; the experiment and start of each stored run) and the runs saved in
-``runs/*.npz``, and calls the figure functions of :mod:`uavcov.plotting._figures` and
+``runs/*.npz``, and calls the figure functions of :mod:`uavcov.plotting._figures`, :mod:`uavcov.plotting._curves` and
 :func:`~uavcov.plotting.animate_mission`. It reads cells with :func:`_runs._number`, so rows may
 hold strings or parsed numbers.
 """
@@ -20,8 +20,9 @@ from ..records import load_mission
 from . import _runs
 from ._animation import animate_mission
 from ._canvas import _close, _finish, _matplotlib
+from ._curves import plot_coverage_curves, plot_table1
 from ._distance import plot_coverage_distance
-from ._figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
+from ._figures import plot_approximation, plot_coverage_map, plot_cvt, plot_point_cloud
 from ._runs import _number
 
 
