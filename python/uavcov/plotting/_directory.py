@@ -10,6 +10,7 @@ hold strings or parsed numbers.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -102,23 +103,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         _close(fig)
         written.append(path)
 
-    by_experiment: dict[str, list[dict[str, Any]]] = {}
-    for row in rows:
-        by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
-    for experiment, group in sorted(by_experiment.items()):
-        cells: dict[tuple[str, float | None], int] = {}
-        for index, row in enumerate(group):
-            if _number(row, "max_coverage", index) is not None:
-                key = (str(row["init"]), _number(row, "n_uavs", index))
-                cells[key] = cells.get(key, 0) + 1
-        if not cells or max(cells.values()) < 2:
-            continue  # one run per bar is a number, not a distribution: the curves show it
-        for metric in ("max_coverage", "initial_coverage"):
-            if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
-                continue
-            emit(plot_table1(group, metric=metric), target / f"{_safe(experiment)}_{metric}.png")
-        if any(_number(r, "distance_mean_m", i) is not None for i, r in enumerate(group) if "distance_mean_m" in r):
-            emit(plot_coverage_distance(group), target / f"{_safe(experiment)}_coverage_distance.png")
+    _bar_figures(rows, target, emit)
 
     # Curves of every stored run; whole results are kept only for the runs drawn one by one.
     row_of = {str(r.get("run_id")): r for r in rows if r.get("run_id")}
@@ -159,6 +144,27 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         if animation and index == 0:
             written.append(animate_mission(r, target / f"{stem}_animation.gif"))
     return written
+
+
+def _bar_figures(rows: list[dict[str, Any]], target: Path, emit: Callable[[Any, Path], None]) -> None:
+    """Table 1's bars (and coverage against distance) of each experiment whose cells hold several runs."""
+    by_experiment: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
+    for experiment, group in sorted(by_experiment.items()):
+        cells: dict[tuple[str, float | None], int] = {}
+        for index, row in enumerate(group):
+            if _number(row, "max_coverage", index) is not None:
+                key = (str(row["init"]), _number(row, "n_uavs", index))
+                cells[key] = cells.get(key, 0) + 1
+        if not cells or max(cells.values()) < 2:
+            continue  # one run per bar is a number, not a distribution: the curves show it
+        for metric in ("max_coverage", "initial_coverage"):
+            if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
+                continue
+            emit(plot_table1(group, metric=metric), target / f"{_safe(experiment)}_{metric}.png")
+        if any(_number(r, "distance_mean_m", i) is not None for i, r in enumerate(group) if "distance_mean_m" in r):
+            emit(plot_coverage_distance(group), target / f"{_safe(experiment)}_coverage_distance.png")
 
 
 def _stored_runs(directory: Path, *, folder: Path | None = None) -> list[Path]:
