@@ -334,19 +334,7 @@ def plot_coverage_map(
         )
     elif view == "top":
         fig, ax = _new_axes(ax, three_d=False, figsize=(6.6, 6.0))
-        image, extent = _top_view(terrain, sight, d, as_positive_int(raster, "raster"), shade=shade, sensors=sensors)
-        ax.imshow(image, extent=extent, origin="lower", interpolation="nearest")
-        if sensors is not None and sight.shape[1] == 5:
-            for outline in footprints(terrain, sight, sensors):
-                if outline.shape[0]:
-                    closed = np.vstack([outline, outline[:1]])
-                    ax.plot(closed[:, 0], closed[:, 1], color=FOOTPRINT_COLOUR, linewidth=1.0)
-        if path is not None:
-            for i in range(path.shape[1]):
-                ax.plot(path[:, i, 0], path[:, i, 1], color="0.1", linewidth=0.8, alpha=0.8)
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("y (m)")
-        ax.set_aspect("equal")
+        _draw_top(ax, terrain, sight, d, path, as_positive_int(raster, "raster"), shade=shade, sensors=sensors)
         ax.set_title(f"Coverage {coverage_value:.3f} (d_max = {d:g} m), top view", fontsize=10)
     else:
         raise InvalidInputError(f"view must be '3d' or 'top', got {view!r}")
@@ -364,6 +352,25 @@ def plot_coverage_map(
     else:
         ax.legend(handles=handles, fontsize=8, framealpha=0.9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return _finish(fig, out, dpi)
+
+
+def _draw_top(
+    ax: Any, terrain: Terrain, sight: np.ndarray, d: float, path: np.ndarray | None, raster: int, *, shade: bool, sensors: Any
+) -> None:
+    """The top view of what ``sight`` sees, the cameras' footprints and the paths flown."""
+    image, extent = _top_view(terrain, sight, d, raster, shade=shade, sensors=sensors)
+    ax.imshow(image, extent=extent, origin="lower", interpolation="nearest")
+    if sensors is not None and sight.shape[1] == 5:
+        for outline in footprints(terrain, sight, sensors):
+            if outline.shape[0]:
+                closed = np.vstack([outline, outline[:1]])
+                ax.plot(closed[:, 0], closed[:, 1], color=FOOTPRINT_COLOUR, linewidth=1.0)
+    if path is not None:
+        for i in range(path.shape[1]):
+            ax.plot(path[:, i, 0], path[:, i, 1], color="0.1", linewidth=0.8, alpha=0.8)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_aspect("equal")
 
 
 def _scatter(ax: Any, pts: np.ndarray, three_d: bool, **style: Any) -> None:
