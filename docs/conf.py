@@ -66,7 +66,7 @@ numpydoc_xref_aliases = {
     "Sensor": "uavcov.engine.Sensor",
     "Camera": "uavcov.engine.Camera",
     "Gimbal": "uavcov.engine.Gimbal",
-    "MissionSettings": "uavcov.mission.MissionSettings",
+    "MissionSettings": "uavcov.settings.MissionSettings",
     "MissionResult": "uavcov.mission.MissionResult",
     "Constraints": "uavcov.placement.Constraints",
     "CVTSettings": "uavcov.placement.CVTSettings",

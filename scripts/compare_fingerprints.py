@@ -1,6 +1,7 @@
 """Compare two folders written by ``scripts/runs_fingerprint.sh``: every number, to the last digit.
 
-Timing columns (wall and CPU seconds) and the versions written into plans are skipped; a column
+Timing columns (wall and CPU seconds), the versions and the command line (it names the output folder)
+written into plans are skipped; a column
 or key present on one side only is reported, not compared. Exit 1 on any difference.
 
 Usage: ``python scripts/compare_fingerprints.py BEFORE AFTER``
@@ -13,7 +14,7 @@ import json
 import sys
 from pathlib import Path
 
-SKIP = ("time", "seconds", "elapsed", "version", "created", "wall", "cpu_s", "_s")
+SKIP = ("time", "seconds", "elapsed", "version", "created", "wall", "cpu_s", "_s", "command")
 
 
 def _timing(name: str) -> bool:
@@ -35,10 +36,10 @@ def _compare_csv(a: Path, b: Path, problems: list[str]) -> None:
     cols_a, cols_b = set(next(iter(ra.values()), {})), set(next(iter(rb.values()), {}))
     for only in sorted(cols_a ^ cols_b):
         print(f"note: {a.parent.name}/{a.name} column {only!r} on one side only")
-    for k in ra:
-        for col in sorted(cols_a & cols_b):
-            if not _timing(col) and ra[k][col] != rb[k][col]:
-                problems.append(f"{a.parent.name}/{a.name} row {k} {col}: {ra[k][col]} != {rb[k][col]}")
+    columns = [c for c in sorted(cols_a & cols_b) if not _timing(c)]
+    problems.extend(
+        f"{a.parent.name}/{a.name} row {k} {col}: {ra[k][col]} != {rb[k][col]}" for k in ra for col in columns if ra[k][col] != rb[k][col]
+    )
 
 
 def _walk(x, y, where: str, problems: list[str]) -> None:

@@ -8,22 +8,13 @@ import pickle
 import numpy as np
 import pytest
 
+from cao_reference import _design, _fit_and_score_numpy, _fit_and_score_robots_numpy, _ridge, _robot_design
 from uavcov import CAOSettings
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from uavcov.optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace, cao, per_robot_cao
-from uavcov.optim._cao import (
-    _all_monomials,
-    _design,
-    _draw_monomials,
-    _fit_and_score,
-    _fit_and_score_numpy,
-    _fit_and_score_robots,
-    _fit_and_score_robots_numpy,
-    _n_distinct_monomials,
-    _ridge,
-    _robot_design,
-)
 from uavcov.optim._escape import escape_cao
+from uavcov.optim._monomials import _all_monomials, _draw_monomials, _n_distinct_monomials
+from uavcov.optim._surrogate import _fit_and_score, _fit_and_score_robots
 
 
 def quadratic(target: np.ndarray, weights: np.ndarray | None = None):
@@ -210,9 +201,8 @@ def test_runs_on_the_rust_and_the_numpy_kernels_are_the_same(monkeypatch, optimi
     terrain = gaussian_hills(spacing=2.0, rng=4)
     spec = MissionSettings(n_uavs=6, d_max=20.0, iterations=40, optimizer=optimizer)
     rust = run_mission(terrain, spec, rng=4, n_threads=1)
-    module = sys.modules["uavcov.optim._cao"]
-    monkeypatch.setattr(module, "_fit_and_score", _fit_and_score_numpy)
-    monkeypatch.setattr(module, "_fit_and_score_robots", _fit_and_score_robots_numpy)
+    monkeypatch.setattr(sys.modules["uavcov.optim._cao"], "_fit_and_score", _fit_and_score_numpy)
+    monkeypatch.setattr(sys.modules["uavcov.optim._per_robot"], "_fit_and_score_robots", _fit_and_score_robots_numpy)
     reference = run_mission(terrain, spec, rng=4, n_threads=1)
     np.testing.assert_allclose(rust.trace.trajectory, reference.trace.trajectory, rtol=0, atol=1e-9)
     np.testing.assert_allclose(rust.coverage, reference.coverage, rtol=0, atol=1e-12)
@@ -702,7 +692,8 @@ def test_each_fit_uses_the_window_of_eq_4(monkeypatch, optimizer):
     """Iteration k fits exactly the measurements l_k ... k - 1, l_k = max(0, k - L - T_h)."""
     import sys
 
-    module = sys.modules["uavcov.optim._cao"]  # the package exports the function cao under that name
+    # the package exports the function cao under the name of its module
+    module = sys.modules["uavcov.optim._cao" if optimizer == "cao" else "uavcov.optim._per_robot"]
     fits: list[np.ndarray] = []
     name = "_fit_and_score" if optimizer == "cao" else "_fit_and_score_robots"
     real_fit = getattr(module, name)

@@ -25,8 +25,8 @@ import pytest
 from uavcov import CAOSettings, _core
 from uavcov.errors import InvalidInputError, SurfaceTooLargeError
 from uavcov.optim import cao, per_robot_cao, standard_normal
-from uavcov.optim._cao import _draw_monomials, _first_terms, _n_distinct_monomials, _refresh_terms, _refresh_terms_numpy
 from uavcov.optim._draws import redraw_monomials
+from uavcov.optim._monomials import _draw_monomials, _first_terms, _n_distinct_monomials, _refresh_terms, _refresh_terms_numpy
 
 MULT = 0x2360ED051FC65DA44385DF649FCCF645
 MASK128 = (1 << 128) - 1
@@ -302,7 +302,7 @@ def test_cao_draws_through_the_kernel_and_runs_as_with_numpy(monkeypatch, optimi
     monkeypatch.setattr(_core, "pcg64_standard_normal", spy)
     ours = optimizer(measure, np.zeros((2, 3)), feasible=None, iterations=30, rng=5, settings=settings)
     assert len(calls) == 30
-    monkeypatch.setattr(sys.modules["uavcov.optim._cao"], "standard_normal", lambda rng, shape: rng.standard_normal(shape))
+    monkeypatch.setattr(sys.modules["uavcov.optim._candidates"], "standard_normal", lambda rng, shape: rng.standard_normal(shape))
     theirs = optimizer(measure, np.zeros((2, 3)), feasible=None, iterations=30, rng=5, settings=settings)
     assert len(calls) == 30
     assert np.array_equal(ours.trajectory, theirs.trajectory)
@@ -486,11 +486,11 @@ def test_cao_refreshes_through_the_kernel_and_runs_as_with_numpy(monkeypatch):
     def measure(x: np.ndarray) -> float:
         return -float(np.sum((x - target) ** 2))
 
-    cao_module = sys.modules["uavcov.optim._cao"]
+    monomials = sys.modules["uavcov.optim._monomials"]
     monkeypatch.setattr(_core, "pcg64_monomials", spy)
     ours = cao(measure, np.zeros((4, 3)), feasible=None, iterations=40, rng=11)
     assert len(calls) == 40 and calls[0] == 10  # the first 10 monomials, then one refresh an iteration
-    monkeypatch.setattr(cao_module, "redraw_monomials", lambda *args: None)
+    monkeypatch.setattr(monomials, "redraw_monomials", lambda *args: None)
     theirs = cao(measure, np.zeros((4, 3)), feasible=None, iterations=40, rng=11)
     assert len(calls) == 40
     assert np.array_equal(ours.trajectory, theirs.trajectory)

@@ -48,7 +48,7 @@ def escaped(hills):
 
 def with_trajectory(result, trajectory):
     trajectory = np.asarray(trajectory, dtype=float)
-    return dataclasses.replace(result, trajectory=trajectory)
+    return dataclasses.replace(result, trace=dataclasses.replace(result.trace, trajectory=trajectory))
 
 
 def test_distance_flown_of_a_hand_computed_trajectory(escaped):

@@ -37,7 +37,7 @@ import numpy as np
 from uavcov.placement._constraints import Constraints, closest_admissible
 from uavcov.placement._cvt import cvt
 from uavcov.errors import UavcovError
-from uavcov.mission import MissionSettings
+from uavcov.settings import MissionSettings
 from uavcov.placement._starts import StartSettings
 from uavcov.engine._surface import Terrain
 from uavcov.engine._targets import Targets

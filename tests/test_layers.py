@@ -28,6 +28,7 @@ LAYERS = {
     "terrain": 3,
     "placement": 4,
     "optim": 4,
+    "settings": 5,
     "mission": 5,
     "records": 5,
     "experiments": 6,
@@ -39,8 +40,8 @@ LAYERS = {
     "__init__": 9,
 }
 # Units of one layer that form one idea and may import each other: the shared helpers, the
-# mission and its record, the command line.
-ONE_IDEA = ({"errors", "_validate", "_io", "_core"}, {"mission", "records"}, {"cli", "__main__", "__init__"})
+# mission's settings, its run and its record, the command line.
+ONE_IDEA = ({"errors", "_validate", "_io", "_core"}, {"settings", "mission", "records"}, {"cli", "__main__", "__init__"})
 # Top-level private modules every layer shares (the extension, argument checks, atomic writes).
 SHARED_PRIVATE = {"_core", "_validate", "_io"}
 

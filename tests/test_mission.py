@@ -241,7 +241,8 @@ def test_start_configuration_is_the_one_start_pipeline(hills):
     on_prime, _ = uavcov.placement.start_configuration(
         StartSettings(kind="corner", altitude=3.0, altitude_reference="prior"), s_prime, hills, 4
     )
-    lattice = uavcov.placement.initial_positions("corner", s_prime, 4)
+    on_the_surface = StartSettings(kind="corner", altitude=0.0, altitude_reference="prior")
+    lattice, _ = uavcov.placement.start_configuration(on_the_surface, s_prime, s_prime, 4)
     np.testing.assert_array_equal(on_prime, lattice + [0.0, 0.0, 3.0])
     above_ground, _ = uavcov.placement.start_configuration(
         StartSettings(kind="corner", altitude=3.0, corner_altitude=6.0), s_prime, hills, 4

@@ -22,6 +22,7 @@ pytest.importorskip("matplotlib")
 import uavcov
 from uavcov import Targets, Visibility, plotting
 from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatError
+from uavcov.plotting import _curves as curve_figures
 from uavcov.plotting import _directory as directory
 from uavcov.plotting import _figures as figures
 from uavcov.plotting import _runs
@@ -177,7 +178,7 @@ def test_coverage_curves_mean_and_band(hills_runs):
 
 def test_curves_of_different_lengths_average_the_runs_that_reached_each_iteration():
     curves = [np.array([0.1, 0.2, 0.3, 0.4]), np.array([0.3, 0.2]), np.array([0.5, 0.5, 0.6])]
-    mean, sigma, count = figures._curve_stats(curves)
+    mean, sigma, count = curve_figures._curve_stats(curves)
     for k in range(4):
         here = [c[k] for c in curves if k < len(c)]
         assert count[k] == len(here)
@@ -559,15 +560,20 @@ def test_missing_fields_are_named(hills_run):
         plotting.plot_coverage_curves([hills_run, types.SimpleNamespace(coverage=np.ones(3), settings=None)])
 
 
+def _with_trace(result, **changes):
+    """``result`` whose optimiser's record has ``changes`` (the result reads its trajectory and coverage there)."""
+    return dataclasses.replace(result, trace=dataclasses.replace(result.trace, **changes))
+
+
 def test_empty_or_broken_arrays_are_refused(hills_run):
     with pytest.raises(ResultsFormatError, match="empty"):
-        plotting.plot_coverage_map(dataclasses.replace(hills_run, trajectory=np.empty((0, 4, 3))))
+        plotting.plot_coverage_map(_with_trace(hills_run, trajectory=np.empty((0, 4, 3))))
     bad = hills_run.trajectory.copy()
     bad[3, 1, 2] = np.nan
     with pytest.raises(ResultsFormatError, match="NaN"):
-        plotting.animate_mission(dataclasses.replace(hills_run, trajectory=bad), "x.gif")
+        plotting.animate_mission(_with_trace(hills_run, trajectory=bad), "x.gif")
     with pytest.raises(ResultsFormatError, match="coverage curve"):
-        plotting.plot_coverage_curves(dataclasses.replace(hills_run, coverage=np.array([])))
+        plotting.plot_coverage_curves(_with_trace(hills_run, values=np.array([])))
 
 
 def test_run_without_cvt_is_refused(hills_runs):

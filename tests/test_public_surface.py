@@ -37,8 +37,6 @@ LIMITS = {
 # Where a user meets a name, beside the package's other modules.
 USER_FACING = ("docs/tutorials", "docs/gallery", "docs/figures", "scripts", "benches", "examples")
 README = "README.md"
-# Names another change renames (one verb and one noun for each plan: issue 41); listed until then.
-BEING_RENAMED = {"field": {"structure_plan"}}
 
 
 def declared_names(init: Path) -> list[str]:
@@ -131,7 +129,7 @@ def surface_problems(root: Path, planted: dict[str, list[str]] | None = None) ->
         used = set(names) & used_outside(root, unit)
         while (more := set(names) & met_through(folder, used)) - used:
             used |= more
-        unused = sorted(set(names) - used - BEING_RENAMED.get(unit, set()))
+        unused = sorted(set(names) - used)
         if unused:
             problems.append(f"uavcov.{unit} lists names only its own modules or the tests use: {unused}; make them private")
     return problems

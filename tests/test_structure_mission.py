@@ -16,7 +16,7 @@ import pytest
 import uavcov
 from uavcov import MissionSettings, run_mission
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.field import GeoAnchor, plan_structure, write_structure_mission
+from uavcov.field import GeoAnchor, plan_structure, write_structure_plan
 from uavcov.field._ply import read_seen_ply
 from uavcov.placement import Constraints, StartSettings, start_configuration
 from uavcov.records import load_mission, save_mission
@@ -199,11 +199,11 @@ def test_the_random_start_is_admissible_by_the_reference(bridge):
 
 def test_a_structure_plan_has_clear_routes_and_writes_the_seen_cloud(bridge, targets, tmp_path):
     mission = plan_structure(bridge, settings(bridge, "cvt", n=6, iterations=10), GeoAnchor(8.5, 47.4, 400.0), targets=targets, rng=0)
-    plan = mission.plan
+    plan = mission.flight
     for k, route in enumerate(plan.routes_local):
         path = np.vstack([plan.takeoff_local + [0, 0, 0.01], route, plan.positions_local[k]])
         assert not ref_moves_cross(bridge, path[:-1], path[1:]).any()
-    written = {p.name for p in write_structure_mission(mission, tmp_path)}
+    written = {p.name for p in write_structure_plan(mission, tmp_path)}
     assert {"seen.ply", "parts.csv", "plan.json", "uav_01.plan"} <= written
     cloud = read_seen_ply(tmp_path / "seen.ply")
     assert np.array_equal(cloud["count"], mission.seen_count)

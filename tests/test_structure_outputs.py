@@ -14,11 +14,11 @@ import trimesh
 from structure_meshes import box_on_ground, bridge, face_targets
 from uavcov import Targets, Visibility
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, ResultsFolderError
-from uavcov.field import GeoAnchor, structure_plan
+from uavcov.field import GeoAnchor
 from uavcov.field._geodesy import enu_to_wgs84, local_to_true_heading
 from uavcov.field._outputs import read_qgc_plan
 from uavcov.field._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
-from uavcov.field._structure_plan import write_structure_plan
+from uavcov.field._structure_flight import structure_flight, write_structure_flight
 
 pyproj = pytest.importorskip("pyproj")
 
@@ -159,8 +159,8 @@ def test_bad_local_points_are_clear_errors():
 def test_a_structure_plan_writes_files_in_wgs84_with_relative_altitudes(tmp_path: Path):
     geo = GeoAnchor(-1.5, 52.0, 80.0)
     positions = np.array([[-18.0, 0.0, 12.0], [18.0, 0.0, 14.0]])
-    plan = structure_plan(positions, geo, takeoff=[0.0, -18.0, 0.0], attitudes=[[90.0, -30.0], [270.0, 20.0]], surface=bridge())
-    written = write_structure_plan(plan, tmp_path / "out")
+    plan = structure_flight(positions, geo, takeoff=[0.0, -18.0, 0.0], attitudes=[[90.0, -30.0], [270.0, 20.0]], surface=bridge())
+    written = write_structure_flight(plan, tmp_path / "out")
     names = sorted(p.name for p in written)
     assert names == ["plan.geojson", "plan.json", "positions.csv", "uav_01.plan", "uav_02.plan", "waypoints.csv"]
     ref = _pyproj_enu_to_wgs84(positions, geo)
@@ -185,33 +185,33 @@ def test_a_route_through_the_structure_is_refused_and_a_route_round_it_is_not():
     surface = bridge()
     geo = GeoAnchor(7.0, 46.0)
     under = [[0.0, 0.0, 7.0]]  # under the deck: the default climb-then-cross route is clear from the side pad
-    structure_plan(under, geo, takeoff=[0.0, -18.0, 0.0], surface=surface)
+    structure_flight(under, geo, takeoff=[0.0, -18.0, 0.0], surface=surface)
     with pytest.raises(InfeasibleError, match="UAV 1's route crosses the structure"):
-        structure_plan(under, geo, takeoff=[0.0, -18.0, 0.0], routes=[[[0.0, -18.0, 15.0], [0.0, 0.0, 15.0]]], surface=surface)
+        structure_flight(under, geo, takeoff=[0.0, -18.0, 0.0], routes=[[[0.0, -18.0, 15.0], [0.0, 0.0, 15.0]]], surface=surface)
     with pytest.raises(InfeasibleError):
-        structure_plan([[0.0, 0.0, 15.0]], geo, takeoff=[0.0, 0.0, 11.0], routes=[[[0.0, 0.0, 5.0]]], surface=surface)
+        structure_flight([[0.0, 0.0, 15.0]], geo, takeoff=[0.0, 0.0, 11.0], routes=[[[0.0, 0.0, 5.0]]], surface=surface)
 
 
 def test_bad_plans_are_clear_errors(tmp_path: Path):
     geo = GeoAnchor(7.0, 46.0)
     with pytest.raises(InvalidInputError):
-        structure_plan([[0.0, 0.0, math.nan]], geo, takeoff=[0.0, 0.0, 0.0])
+        structure_flight([[0.0, 0.0, math.nan]], geo, takeoff=[0.0, 0.0, 0.0])
     with pytest.raises(InvalidInputError):
-        structure_plan(np.zeros((0, 3)), geo, takeoff=[0.0, 0.0, 0.0])
+        structure_flight(np.zeros((0, 3)), geo, takeoff=[0.0, 0.0, 0.0])
     with pytest.raises(InvalidInputError):
-        structure_plan([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0])
+        structure_flight([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0])
     with pytest.raises(InvalidInputError, match="pitch"):
-        structure_plan([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0], attitudes=[[0.0, 120.0]])
+        structure_flight([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0], attitudes=[[0.0, 120.0]])
     with pytest.raises(InvalidInputError):
-        structure_plan([[2e5, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0])
+        structure_flight([[2e5, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0])
     with pytest.raises(InvalidInputError):
-        structure_plan([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0], routes=[])
+        structure_flight([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0], routes=[])
     with pytest.raises(InvalidTypeError):
-        structure_plan([[0.0, 0.0, 5.0]], (7.0, 46.0), takeoff=[0.0, 0.0, 0.0])  # type: ignore[arg-type]
-    plan = structure_plan([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0])
+        structure_flight([[0.0, 0.0, 5.0]], (7.0, 46.0), takeoff=[0.0, 0.0, 0.0])  # type: ignore[arg-type]
+    plan = structure_flight([[0.0, 0.0, 5.0]], geo, takeoff=[0.0, 0.0, 0.0])
     (tmp_path / "file").write_text("x")
     with pytest.raises(ResultsFolderError):
-        write_structure_plan(plan, tmp_path / "file")
+        write_structure_flight(plan, tmp_path / "file")
 
 
 # ------------------------------------------------------------------------------------------------

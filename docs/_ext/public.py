@@ -17,6 +17,7 @@ MODULES = (
     "uavcov.terrain",
     "uavcov.placement",
     "uavcov.optim",
+    "uavcov.settings",
     "uavcov.mission",
     "uavcov.records",
     "uavcov.experiments",

@@ -24,10 +24,11 @@ from . import engine, errors, experiments, field, optim, paper, placement, terra
 from ._core import __version__
 from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility
 from .field import FlightPlan, PlanSettings, plan, write_plan
-from .mission import MissionResult, MissionSettings, mission_time, run_mission
+from .mission import MissionResult, mission_time, run_mission
 from .optim import CAOSettings, EscapeSettings
 from .placement import Constraints, CVTSettings, StartSettings
 from .records import load_mission, save_mission
+from .settings import MissionSettings
 from .terrain import GeoDem, gaussian_hills, read_dem, sample_dem
 
 __all__ = [

@@ -482,9 +482,9 @@ def _plan(args: argparse.Namespace) -> int:
 def _plan_structure(args: argparse.Namespace, started: float) -> int:
     """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
     from .errors import ConfigError
-    from .field import GeoAnchor, plan_structure, write_structure_mission
-    from .mission import MissionSettings
+    from .field import GeoAnchor, plan_structure, write_structure_plan
     from .placement import Constraints, StartSettings
+    from .settings import MissionSettings
     from .terrain import STRUCTURE_SCENES, load_structure
 
     if args.dem is not None or args.sample:
@@ -519,26 +519,26 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
         ),
     )
     lon, lat, alt = args.anchor
-    mission = plan_structure(structure, settings, GeoAnchor(lon, lat, alt), hold_s=args.hold, rng=args.seed, n_threads=args.threads)
-    written = write_structure_mission(mission, args.out)
+    planned = plan_structure(structure, settings, GeoAnchor(lon, lat, alt), hold_s=args.hold, rng=args.seed, n_threads=args.threads)
+    written = write_structure_plan(planned, args.out)
     try:
         from .plotting import plot_structure_seen
 
         figure = Path(args.out) / "seen.png"
-        best = mission.result.best_positions
-        plot_structure_seen(structure.surface, mission.seen_count > 0, targets=mission.targets, positions=best, out=figure)
+        best = planned.result.best_positions
+        plot_structure_seen(structure.surface, planned.seen_count > 0, targets=planned.targets, positions=best, out=figure)
         written.append(figure)
     except ImportError:  # matplotlib is the [plot] extra: the plan stands without the figure
         pass
-    result = mission.result
+    result = planned.result
     print(
         f"uavcov plan: {settings.n_uavs} UAVs round {structure.name}: "
         f"coverage {result.best_coverage:.3f} (start {result.initial_coverage:.3f})"
     )
     for part, share in (result.coverage_by_part or {}).items():
         print(f"  {part}: {share:.3f}")
-    for k in range(mission.plan.n_uavs):
-        lon_k, lat_k, h_k = mission.plan.positions_wgs84[k]
+    for k in range(planned.flight.n_uavs):
+        lon_k, lat_k, h_k = planned.flight.positions_wgs84[k]
         print(f"  UAV {k + 1}: {lon_k:.7f}, {lat_k:.7f}  {h_k:.1f} m (WGS84 ellipsoid)")
     print(f"  wrote {len(written)} files to {args.out}/ in {time.perf_counter() - started:.1f} s: " + ", ".join(p.name for p in written))
     return EXIT_OK

@@ -1,8 +1,6 @@
 """The paper's two-step mission: an off-line start from the prior, then on-line CAO.
 
-A :class:`MissionSettings` says everything one mission runs (team, sensor, what is known
-beforehand, the start, the flight constraints, the CVT and the optimiser), frozen and
-picklable; :func:`run_mission` runs it on a true surface:
+:func:`run_mission` runs a :class:`~uavcov.settings.MissionSettings` on a true surface:
 
 1. the prior: the known points (random samples plus the 4 corners, or the paper's pyramid), or
    an approximating surface S' given directly, and S' from them (:mod:`uavcov.terrain`);
@@ -24,21 +22,16 @@ start as it was.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
-from typing import TYPE_CHECKING, Any, TypeVar
+from dataclasses import dataclass, field, replace
+from typing import Any, TypeVar
 
 import numpy as np
 
 from ._validate import (
-    MAX_ITERATIONS,
-    MAX_PAIR_CHECKS,
-    MAX_SAMPLES,
-    MAX_TRAJECTORY,
-    MAX_UAVS,
-    as_count,
     as_generator,
     as_non_negative_float,
     as_points,
@@ -46,20 +39,18 @@ from ._validate import (
     is_int,
     read_only,
 )
-from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility, camera_axes
+from .engine import Targets, Terrain, Visibility
 from .errors import InvalidInputError, InvalidTypeError
-from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, CAOSettings, EscapeSettings, OptimizerTrace
+from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace
 from .placement import (
-    Constraints,
     CVTResult,
-    CVTSettings,
-    StartSettings,
     closest_admissible,
     facing_attitudes,
     feasibility,
     fit_footprints,
     start_configuration,
 )
+from .settings import MissionSettings
 from .terrain import (
     Prior,
     Structure,
@@ -71,309 +62,17 @@ from .terrain import (
     sample_structure_prior,
 )
 
-__all__ = ["MissionSettings", "MissionResult", "run_mission", "mission_time", "iterations_to_fraction", "PRIOR_KINDS"]
-
-if TYPE_CHECKING:
-    from _typeshed import DataclassInstance
-
-_Settings = TypeVar("_Settings", bound="DataclassInstance")
-
-OBJECTIVES = ("coverage", "quality")
-"""What a mission maximises: the seen share, or the quality-weighted coverage."""
-
-PRIOR_KINDS = ("random", "pyramid")
-"""What :class:`MissionSettings` can sample as the prior (anything else is passed as ``known``)."""
-
-
-def _mission_constraints() -> Constraints:
-    # Bounds are the true surface's; moves are checked on meshes (buildings), not on grids.
-    return Constraints(check_moves=None)
-
-
-@dataclass(frozen=True)
-class MissionSettings:
-    """Every setting of one mission. Frozen and picklable; compare and hash it as a value.
-
-    Attributes
-    ----------
-    n_uavs : int
-        Team size ``N`` (> 0).
-    d_max : float
-        Sensing range, metres (> 0).
-    prior : {"random", "pyramid"}, default "random"
-        What is known beforehand when :func:`run_mission` is not given it (``known=``):
-        ``n_prior`` random points plus the 4 corners, or the 4 corners and the centre.
-    n_prior : int, default 30
-        Random known points for ``prior="random"``.
-    start : StartSettings
-        The start (kind, altitude rule, corner lattice); a CVT start by default.
-    constraints : Constraints
-        The flight constraints of eq. 2 (``h_min``, ``z_max``, ``d_safe``, ``check_moves``);
-        ``bounds=None`` stands for the true surface's x-y bounds and ``check_moves=None`` for
-        "on for general meshes, off for elevation grids".
-    cvt : CVTSettings
-        The constrained CVT's constants (``start.kind == "cvt"``).
-    cao : CAOSettings
-        The optimiser's constants.
-    optimizer : {"cao", "per_robot", "escape"}, default "cao"
-        Centralised CAO, one estimator per UAV, or centralised CAO that relocates its least
-        useful UAV when it stalls (``uavcov.optim._escape.escape_cao``, settings ``escape``).
-    iterations : int, default 500
-        Optimiser iterations (measurements minus one); 0 measures the start only.
-    sensor : Sensor or sequence of Sensor, optional
-        Every UAV's sensor (:mod:`uavcov.engine`), or one per UAV (``n_uavs`` of them: a team
-        that mixes ranges and cameras); ``None`` is the paper's omnidirectional one of range
-        ``d_max``.
-    attitude : (float, float), default (0.0, -90.0)
-        ``(yaw, pitch)`` in degrees of every UAV's camera (heading clockwise from north, gimbal
-        pitch from -90, nadir, to 0, level; above 0 only with a ``gimbal`` whose ``pitch_range``
-        reaches it), fixed during the mission; read when ``sensor`` has a camera.
-    objective : {"coverage", "quality"}, default "coverage"
-        What the optimiser maximises: the seen share, or the quality-weighted coverage
-        (:meth:`uavcov.Visibility.quality_coverage`, centralised CAO only).
-    gimbal : Gimbal, optional
-        Camera angles the optimiser moves beside the positions (heading, pitch within a range;
-        centralised CAO only); ``attitude`` is then where they start. ``None``: fixed angles.
-    footprint_start : bool, default False
-        Lift each start position (any start kind) to the height above S' at which its camera's
-        view of S' best matches its Voronoi cell, and turn the free angles likewise
-        (:func:`uavcov.placement.fit_footprints`, between the flight band's ``h_min`` and
-        ``h_max``, or the camera's range without a ceiling; positions given to
-        :func:`run_mission` are flown as given). Needs a camera.
-    escape : EscapeSettings
-        When the ``"escape"`` optimiser relocates a UAV and how it flies there (read only by it).
-
-    Examples
-    --------
-    >>> spec = MissionSettings(n_uavs=4, d_max=20.0, iterations=50)
-    >>> spec.with_changes(**{"start.kind": "random", "constraints.h_min": 1.0}).start.kind
-    'random'
-    """
-
-    n_uavs: int
-    d_max: float
-    prior: str = "random"
-    n_prior: int = 30
-    start: StartSettings = field(default_factory=StartSettings)
-    constraints: Constraints = field(default_factory=_mission_constraints)
-    cvt: CVTSettings = field(default_factory=CVTSettings)
-    cao: CAOSettings = field(default_factory=CAOSettings)
-    optimizer: str = "cao"
-    iterations: int = 500
-    sensor: Sensor | tuple[Sensor, ...] | None = None
-    attitude: tuple[float, float] = (0.0, -90.0)
-    objective: str = "coverage"
-    gimbal: Gimbal | None = None
-    footprint_start: bool = False
-    escape: EscapeSettings = field(default_factory=EscapeSettings)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "n_uavs", as_count(self.n_uavs, "n_uavs", MAX_UAVS))
-        object.__setattr__(self, "d_max", as_positive_float(self.d_max, "d_max"))
-        object.__setattr__(self, "n_prior", as_count(self.n_prior, "n_prior", MAX_SAMPLES, minimum=0))
-        object.__setattr__(self, "iterations", as_count(self.iterations, "iterations", MAX_ITERATIONS, minimum=0))
-        if self.prior not in PRIOR_KINDS:
-            raise InvalidInputError(f"prior must be one of {PRIOR_KINDS} (pass anything else as known=), got {self.prior!r}")
-        if self.optimizer not in OPTIMIZERS:
-            raise InvalidInputError(f"optimizer must be one of {tuple(OPTIMIZERS)}, got {self.optimizer!r}")
-        nested = (StartSettings, Constraints, CVTSettings, CAOSettings, EscapeSettings)
-        for name, kind in zip(("start", "constraints", "cvt", "cao", "escape"), nested, strict=True):
-            value = getattr(self, name)
-            if not isinstance(value, kind):
-                raise InvalidTypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
-        if isinstance(self.sensor, (list, tuple)):
-            if not all(isinstance(s, Sensor) for s in self.sensor):
-                raise InvalidTypeError("every sensor of a team's sensor list must be a uavcov.Sensor")
-            if len(self.sensor) != self.n_uavs:
-                raise InvalidInputError(f"{len(self.sensor)} sensors for {self.n_uavs} UAVs: give one per UAV, or one for all")
-            object.__setattr__(self, "sensor", tuple(self.sensor))
-        elif self.sensor is not None and not isinstance(self.sensor, Sensor):
-            raise InvalidTypeError(f"sensor must be a uavcov.Sensor, one per UAV, or None, got {type(self.sensor).__name__}")
-        attitude = np.asarray(self.attitude, dtype=np.float64) if not isinstance(self.attitude, (str, bytes)) else None
-        if attitude is None or attitude.shape != (2,):
-            raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
-        camera_axes([attitude[0]], [attitude[1]])  # finite, pitch in [-90, 90]
-        object.__setattr__(self, "attitude", (float(attitude[0]), float(attitude[1])))
-        if self.objective not in OBJECTIVES:
-            raise InvalidInputError(f"objective must be one of {OBJECTIVES}, got {self.objective!r}")
-        if self.objective == "quality" and self.optimizer in MARGINAL_OPTIMIZERS:
-            raise InvalidInputError("the quality objective needs the centralised optimizer 'cao' (per-robot marginals are coverage's)")
-        self._check_camera_options()
-        self._check_size()
-
-    def team_sensors(self) -> list[Sensor] | None:
-        """Each UAV's sensor (``n_uavs`` of them), or ``None`` for the paper's sensor."""
-        if self.sensor is None:
-            return None
-        return list(self.sensor) if isinstance(self.sensor, tuple) else [self.sensor] * self.n_uavs
-
-    @property
-    def has_camera(self) -> bool:
-        """Whether some UAV sees through a camera (poses then carry yaw and pitch)."""
-        sensors = self.team_sensors()
-        return sensors is not None and any(s.camera is not None for s in sensors)
-
-    def _check_camera_options(self) -> None:
-        has_camera = self.has_camera
-        if self.gimbal is not None:
-            if not isinstance(self.gimbal, Gimbal):
-                raise InvalidTypeError(f"gimbal must be a uavcov.Gimbal or None, got {type(self.gimbal).__name__}")
-            if self.gimbal.free_angles and not has_camera:
-                raise InvalidInputError("a gimbal's free angles need a sensor with a camera (sensor=Sensor(..., camera=...))")
-            if self.gimbal.free_angles and self.optimizer != "cao":
-                raise InvalidInputError("optimising camera angles needs the centralised optimizer 'cao'")
-            bounds = self.gimbal.pitch_range
-            if bounds is not None and not bounds[0] <= self.attitude[1] <= bounds[1]:
-                raise InvalidInputError(f"attitude's pitch {self.attitude[1]} lies outside the gimbal's pitch_range {bounds}")
-        bounds = None if self.gimbal is None else self.gimbal.pitch_range
-        if self.attitude[1] > 0.0 and bounds is None:
-            # Above the horizon only a gimbal that says it can: a mapping gimbal cannot point up.
-            raise InvalidInputError(
-                f"attitude's pitch {self.attitude[1]} looks above the horizon: a camera can point up only on a gimbal "
-                "whose pitch_range reaches it (gimbal=Gimbal(pitch_range=...) or Gimbal.preset('upward'))"
-            )
-        if not isinstance(self.footprint_start, (bool, np.bool_)):
-            raise InvalidTypeError(f"footprint_start must be a bool, got {type(self.footprint_start).__name__}")
-        object.__setattr__(self, "footprint_start", bool(self.footprint_start))
-        if self.footprint_start and not has_camera:
-            raise InvalidInputError("footprint_start needs a sensor with a camera")
-
-    @property
-    def free_angles(self) -> tuple[str, ...]:
-        """The camera angles the optimiser moves (``"yaw"``, ``"pitch"``), in their state order."""
-        return () if self.gimbal is None else self.gimbal.free_angles
-
-    def _check_size(self) -> None:
-        """Refuse a mission whose records or optimiser steps would not fit in memory (the size limits
-        of :mod:`uavcov._validate`), before anything is allocated."""
-        positions = (self.iterations + 1) * self.n_uavs
-        if positions > MAX_TRAJECTORY:
-            raise InvalidInputError(
-                f"{self.iterations:,} iterations x {self.n_uavs:,} UAVs would record {positions:,} positions, "
-                f"more than uavcov's limit of {MAX_TRAJECTORY:,}; use fewer iterations or UAVs"
-            )
-        d_safe = self.constraints.d_safe
-        if d_safe is not None and d_safe > 0.0 and self.n_uavs > 1:
-            checks = self.cao.n_candidates * self.n_uavs * (self.n_uavs - 1) // 2
-            if checks > MAX_PAIR_CHECKS:
-                raise InvalidInputError(
-                    f"{self.n_uavs:,} UAVs kept d_safe apart with {self.cao.n_candidates:,} candidates a step need "
-                    f"{checks:,} distance checks a step, more than uavcov's limit of {MAX_PAIR_CHECKS:,}; "
-                    "use fewer UAVs or cao.n_candidates (or d_safe = 0)"
-                )
-
-    def with_changes(self, **changes: Any) -> MissionSettings:
-        """A copy with some fields replaced; nested ones as ``"start.kind"`` or ``"cao.alpha0"``.
-
-        Raises
-        ------
-        InvalidInputError
-            A name that is not a field (the message lists the fields).
-        """
-        return nested_replace(self, changes)
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain ``dict`` (nested settings included), ready for JSON."""
-        return asdict(self)
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> MissionSettings:
-        """The inverse of :meth:`as_dict` (lists where tuples were are accepted).
-
-        Raises
-        ------
-        InvalidInputError
-            An unknown or missing field.
-        InvalidTypeError
-            Not a mapping.
-        """
-        if not isinstance(data, dict):
-            raise InvalidTypeError(f"a mission spec must be a mapping, got {type(data).__name__}")
-        spec: MissionSettings = _build(cls, data, "mission")
-        return spec
-
-
-def _sensor_from_dict(raw: Any, where: str) -> Sensor | tuple[Sensor, ...] | None:
-    if raw is None:
-        return None
-    if isinstance(raw, list):  # one per UAV
-        team = tuple(_sensor_from_dict(one, f"{where}[{k}]") for k, one in enumerate(raw))
-        if any(s is None for s in team):
-            raise InvalidTypeError(f"{where}: a team's sensor list holds a null")
-        return team  # type: ignore[return-value]
-    if not isinstance(raw, dict):
-        raise InvalidTypeError(f"{where} must be a mapping or null, got {type(raw).__name__}")
-    values = dict(raw)
-    camera = values.get("camera")
-    if camera is not None:
-        if not isinstance(camera, dict):
-            raise InvalidTypeError(f"{where}.camera must be a mapping or null, got {type(camera).__name__}")
-        values["camera"] = Camera(**camera)
-    try:
-        return Sensor(**values)
-    except TypeError as exc:
-        raise InvalidInputError(f"{where}: {exc}") from None
-
-
-def _build(cls: type, data: dict[str, Any], where: str) -> Any:
-    nested = {"start": StartSettings, "constraints": Constraints, "cvt": CVTSettings, "cao": CAOSettings, "escape": EscapeSettings}
-    names = {f.name for f in fields(cls)}
-    unknown = sorted(set(data) - names)
-    if unknown:
-        raise InvalidInputError(f"{where}: unknown field(s) {unknown}; the fields are {sorted(names)}")
-    values: dict[str, Any] = {}
-    for key, raw in data.items():
-        if cls is MissionSettings and key == "sensor":
-            values[key] = _sensor_from_dict(raw, f"{where}.sensor")
-        elif cls is MissionSettings and key == "gimbal" and raw is not None:
-            if not isinstance(raw, dict):
-                raise InvalidTypeError(f"{where}.gimbal must be a mapping or null, got {type(raw).__name__}")
-            values[key] = _build(Gimbal, raw, f"{where}.gimbal")
-        elif cls is MissionSettings and key in nested:
-            if not isinstance(raw, dict):
-                raise InvalidTypeError(f"{where}.{key} must be a mapping, got {type(raw).__name__}")
-            values[key] = _build(nested[key], raw, f"{where}.{key}")
-        else:
-            values[key] = tuple(raw) if isinstance(raw, list) else raw
-    try:
-        return cls(**values)
-    except TypeError as exc:  # a required field is missing
-        raise InvalidInputError(f"{where}: {exc}") from None
-
-
-def nested_replace(obj: _Settings, changes: dict[str, Any]) -> _Settings:
-    """``dataclasses.replace`` that also reaches into nested dataclasses by dotted names.
-
-    ``nested_replace(spec, {"start.kind": "random", "iterations": 10})``. ``"__"`` may stand
-    for the dot (keyword-argument friendly).
-
-    Raises
-    ------
-    InvalidInputError
-        A name that is not a field of the object it names.
-    """
-    top: dict[str, Any] = {}
-    inner: dict[str, dict[str, Any]] = {}
-    names = {f.name for f in fields(obj)}
-    for key, value in changes.items():
-        head, _, rest = key.replace("__", ".").partition(".")
-        if head not in names:
-            raise InvalidInputError(f"{type(obj).__name__} has no field {head!r}; its fields are {sorted(names)}")
-        if rest:
-            inner.setdefault(head, {})[rest] = value
-        else:
-            top[head] = value
-    for head, sub in inner.items():
-        current = top.get(head, getattr(obj, head))
-        if not is_dataclass(current) or isinstance(current, type):
-            raise InvalidInputError(f"{type(obj).__name__}.{head} has no fields to set ({sorted(sub)})")
-        top[head] = nested_replace(current, sub)
-    return replace(obj, **top)
+__all__ = ["MissionResult", "run_mission", "mission_time", "iterations_to_fraction"]
 
 
 @dataclass(frozen=True, eq=False)
 class MissionResult:
     """What one mission did. Frozen and picklable.
+
+    What the optimiser did is its :attr:`trace`; the run's figures that come from it
+    (:attr:`trajectory`, :attr:`coverage`, :attr:`best_positions`, :attr:`best_iteration`,
+    :attr:`evaluations`, the timings, ...) are properties over it, as ``scipy.optimize``'s
+    ``OptimizeResult`` reads one record.
 
     Attributes
     ----------
@@ -396,26 +95,10 @@ class MissionResult:
         positions, or the positions given.
     cvt : CVTResult or None
         The CVT run, for the "cvt" start.
-    trajectory : (K + 1, N, 3) ndarray
-        Positions at every iteration; ``trajectory[0]`` is the admissible start (the camera
-        angles, fixed or free, are :attr:`attitudes`; ``trace.trajectory`` holds the optimiser's
-        whole state).
-    coverage : (K + 1,) ndarray
-        True coverage at every iteration, in [0, 1].
-    best_positions : (N, 3) ndarray
-        The configuration with the highest coverage.
-    best_coverage, initial_coverage, final_coverage : float
-    best_iteration : int
-    iterations_to_95 : int
-        First iteration whose coverage reaches 95 % of ``best_coverage``.
-    evaluations : int
-        Coverage measurements made by the optimiser.
+    trace : OptimizerTrace
+        The optimiser's full record (its ``values`` are the coverage measured).
     wall_time_s : float
         Seconds for the whole mission (prior, start, optimisation).
-    time_measure_s, time_optimizer_s : float
-        Seconds in coverage measurements and in the optimiser's own work.
-    trace : OptimizerTrace
-        The optimiser's full record.
     start_time_s : float
         Seconds to compute the start on S' (its off-line time: the CVT, or the greedy start's
         lattice, seen-matrix and greedy); 0 for given start positions, NaN when not recorded.
@@ -433,21 +116,69 @@ class MissionResult:
     approximation: Terrain
     start_positions: np.ndarray
     cvt: CVTResult | None
-    trajectory: np.ndarray
-    coverage: np.ndarray
-    best_positions: np.ndarray
-    best_coverage: float
-    initial_coverage: float
-    final_coverage: float
-    best_iteration: int
-    iterations_to_95: int
-    evaluations: int
-    wall_time_s: float
-    time_measure_s: float
-    time_optimizer_s: float
     trace: OptimizerTrace = field(repr=False)
+    wall_time_s: float
     start_time_s: float = math.nan
     coverage_by_part: dict[str, float] | None = None
+
+    @functools.cached_property
+    def trajectory(self) -> np.ndarray:
+        """``(K + 1, N, 3)`` positions at every iteration; ``trajectory[0]`` is the admissible start.
+
+        The camera angles, fixed or free, are :attr:`attitudes`; ``trace.trajectory`` holds the
+        optimiser's whole state.
+        """
+        return read_only(np.ascontiguousarray(self.trace.trajectory[..., :3]))
+
+    @property
+    def coverage(self) -> np.ndarray:
+        """``(K + 1,)`` true coverage at every iteration, in [0, 1] (the trace's ``values``)."""
+        return np.asarray(self.trace.values, dtype=np.float64)
+
+    @functools.cached_property
+    def best_positions(self) -> np.ndarray:
+        """``(N, 3)`` the configuration with the highest coverage."""
+        return read_only(np.ascontiguousarray(self.trace.best_positions[..., :3]))
+
+    @property
+    def best_coverage(self) -> float:
+        """The highest coverage measured, at :attr:`best_iteration`."""
+        return float(self.trace.best_value)
+
+    @property
+    def initial_coverage(self) -> float:
+        """Coverage at the admissible start."""
+        return float(self.trace.values[0])
+
+    @property
+    def final_coverage(self) -> float:
+        """Coverage after the last iteration."""
+        return float(self.trace.values[-1])
+
+    @property
+    def best_iteration(self) -> int:
+        """The iteration of :attr:`best_coverage` (the first one on ties)."""
+        return int(self.trace.best_iteration)
+
+    @property
+    def iterations_to_95(self) -> int:
+        """First iteration whose coverage reaches 95 % of :attr:`best_coverage`."""
+        return iterations_to_fraction(self.coverage, 0.95)
+
+    @property
+    def evaluations(self) -> int:
+        """Coverage measurements made by the optimiser."""
+        return int(self.trace.evaluations)
+
+    @property
+    def time_measure_s(self) -> float:
+        """Seconds in coverage measurements."""
+        return float(self.trace.time_measure_s)
+
+    @property
+    def time_optimizer_s(self) -> float:
+        """Seconds in the optimiser's own work."""
+        return float(self.trace.time_optimizer_s)
 
     @property
     def attitudes(self) -> np.ndarray | None:
@@ -702,36 +433,71 @@ def run_mission(
     vis = Visibility(terrain, spec.d_max, targets, n_threads=n_threads)
 
     approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
-    tessellation: CVTResult | None = None
-    start_time_s = 0.0
-    if given is not None:
-        flying = given
+    if given is None:
+        flying, tessellation, start_time_s = _start(spec, approximation, terrain, start_rng, n_threads)
     else:
-        start_began = time.perf_counter()
-        flying, record = start_configuration(
-            spec.start,
-            approximation,
-            terrain,
-            spec.n_uavs,
-            cvt_settings=spec.cvt,
-            rng=start_rng,
-            n_threads=n_threads,
-            d_max=spec.d_max,
-            constraints=constraints,
-        )
-        start_time_s = time.perf_counter() - start_began
-        tessellation = record if isinstance(record, CVTResult) else None
+        flying, tessellation, start_time_s = given, None, 0.0
     attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
     if spec.footprint_start and given is None:
         flying, attitudes = _footprint_start(spec, approximation, flying, attitudes, n_threads)
     x0 = closest_admissible(constraints, terrain, flying, climb=spec.start.climb)
     if spec.start.altitude_reference == "normal" and spec.has_camera:
         attitudes = _facing_start(spec, approximation, x0, n_threads)
+    state = _CameraState(spec, attitudes)
+    trace = _optimise(spec, terrain, vis, state, x0, optimizer_rng, n_threads)
+    parts = None
+    if structure is not None and isinstance(vis.targets, StructureTargets):
+        best = np.ascontiguousarray(trace.best_positions)
+        seen = vis.seen(state.poses(best), sensors=spec.team_sensors()) if spec.has_camera else vis.seen(best)
+        parts = structure.coverage_by_part(np.asarray(seen, dtype=bool), vis.targets)
+    return MissionResult(
+        settings=replace(spec, cao=trace.settings),
+        seed=_seed_of(rng),
+        prior_kind=prior_kind,
+        terrain=terrain,
+        prior_points=prior_points,
+        approximation=approximation,
+        start_positions=flying,
+        cvt=tessellation,
+        wall_time_s=time.perf_counter() - started,
+        trace=trace,
+        start_time_s=start_time_s,
+        coverage_by_part=parts,
+    )
 
-    feasible = feasibility(constraints, terrain, n_threads=n_threads)
+
+def _start(
+    spec: MissionSettings, approximation: Terrain, terrain: Terrain, rng: np.random.Generator, n_threads: int | None
+) -> tuple[np.ndarray, CVTResult | None, float]:
+    """``spec.start`` on S': the positions, the CVT run (for a "cvt" start) and the seconds it took."""
+    began = time.perf_counter()
+    flying, record = start_configuration(
+        spec.start,
+        approximation,
+        terrain,
+        spec.n_uavs,
+        cvt_settings=spec.cvt,
+        rng=rng,
+        n_threads=n_threads,
+        d_max=spec.d_max,
+        constraints=spec.constraints,
+    )
+    return flying, record if isinstance(record, CVTResult) else None, time.perf_counter() - began
+
+
+def _optimise(
+    spec: MissionSettings,
+    terrain: Terrain,
+    vis: Visibility,
+    state: _CameraState,
+    x0: np.ndarray,
+    rng: np.random.Generator,
+    n_threads: int | None,
+) -> OptimizerTrace:
+    """``spec.optimizer`` from the admissible start ``x0``, measuring the true coverage."""
+    feasible = feasibility(spec.constraints, terrain, n_threads=n_threads)
     sensors = spec.team_sensors()
     camera = spec.has_camera
-    state = _CameraState(spec, attitudes)
 
     def poses(x: np.ndarray) -> np.ndarray:
         return state.poses(x) if camera else x
@@ -745,58 +511,23 @@ def run_mission(
             return counts.coverage, counts.exclusive_share
 
         extra = {"escape": spec.escape} if spec.optimizer == "escape" else {}
-        trace = optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng, **extra)
+        return optimizer(measure, x0, feasible=feasible, iterations=spec.iterations, settings=spec.cao, rng=rng, **extra)
+    if spec.objective == "coverage" and sensors is None:
+        # One team's measurements along its path: the tracker reuses what each proved.
+        along = vis.tracker()
+
+        @_repeats_the_last
+        def value(x: np.ndarray) -> float:
+            return along.coverage(x)
+
     else:
-        if spec.objective == "coverage" and sensors is None:
-            # One team's measurements along its path: the tracker reuses what each proved.
-            along = vis.tracker()
+        objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
 
-            @_repeats_the_last
-            def value(x: np.ndarray) -> float:
-                return along.coverage(x)
+        @_repeats_the_last
+        def value(x: np.ndarray) -> float:
+            return objective(poses(x), sensors=sensors)
 
-        else:
-            objective = vis.quality_coverage if spec.objective == "quality" else vis.coverage
-
-            @_repeats_the_last
-            def value(x: np.ndarray) -> float:
-                return objective(poses(x), sensors=sensors)
-
-        trace = optimizer(
-            value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=optimizer_rng
-        )
-
-    values = np.asarray(trace.values, dtype=float)
-    parts = None
-    if structure is not None and isinstance(vis.targets, StructureTargets):
-        best = np.ascontiguousarray(trace.best_positions)
-        seen = vis.seen(poses(best), sensors=sensors) if camera else vis.seen(best)
-        parts = structure.coverage_by_part(np.asarray(seen, dtype=bool), vis.targets)
-    return MissionResult(
-        settings=replace(spec, cao=trace.settings),
-        seed=_seed_of(rng),
-        prior_kind=prior_kind,
-        terrain=terrain,
-        prior_points=prior_points,
-        approximation=approximation,
-        start_positions=flying,
-        cvt=tessellation,
-        trajectory=read_only(np.ascontiguousarray(trace.trajectory[..., :3])),
-        coverage=values,
-        best_positions=read_only(np.ascontiguousarray(trace.best_positions[..., :3])),
-        best_coverage=float(trace.best_value),
-        initial_coverage=float(values[0]),
-        final_coverage=float(values[-1]),
-        best_iteration=int(trace.best_iteration),
-        iterations_to_95=iterations_to_fraction(values, 0.95),
-        evaluations=int(trace.evaluations),
-        wall_time_s=time.perf_counter() - started,
-        time_measure_s=float(trace.time_measure_s),
-        time_optimizer_s=float(trace.time_optimizer_s),
-        trace=trace,
-        start_time_s=start_time_s,
-        coverage_by_part=parts,
-    )
+    return optimizer(value, state.initial(x0), feasible=state.feasible(feasible), iterations=spec.iterations, settings=spec.cao, rng=rng)
 
 
 _Measured = TypeVar("_Measured")

@@ -10,6 +10,7 @@ stored runs; a file from an unknown format, or one missing a field, raises
 from __future__ import annotations
 
 import json
+import math
 import numbers
 import os
 import zipfile
@@ -24,9 +25,10 @@ from ._io import atomic_write_with
 from ._validate import read_only
 from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
-from .mission import MissionResult, MissionSettings
+from .mission import MissionResult
 from .optim import OptimizerTrace
 from .placement import START_KINDS, CVTResult
+from .settings import MissionSettings
 
 __all__ = ["FORMAT", "save_mission", "load_mission"]
 
@@ -273,13 +275,15 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             approximation=_surface("approximation", arrays, path),
             start_positions=arrays["start_positions"],
             cvt=cvt,
-            trajectory=read_only(np.ascontiguousarray(trace.trajectory[..., :3])),
-            coverage=arrays["coverage"],
-            best_positions=read_only(np.ascontiguousarray(trace.best_positions[..., :3])),
             trace=trace,
+            wall_time_s=s["wall_time_s"],
+            start_time_s=s.get("start_time_s", math.nan),
             coverage_by_part=None if parts is None else {str(k): float(v) for k, v in parts.items()},
-            **s,
         )
+        # the header's other scalars and the coverage array restate the trace (for readers
+        # without uavcov): the result reads them from the trace, so they must agree with it
+        if not np.array_equal(arrays["coverage"], result.coverage):
+            raise ResultsFormatError(f"{path}: coverage disagrees with the trace's values stored beside it")
         if "distance_flown" in arrays and not np.array_equal(arrays["distance_flown"], result.distance_flown):
             raise ResultsFormatError(f"{path}: distance_flown disagrees with the trajectory stored beside it")
     except ResultsFormatError:

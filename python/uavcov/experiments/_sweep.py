@@ -1,7 +1,7 @@
 """Experiments and sweeps: specs x seeds -> missions on an executor, into a results folder.
 
 An :class:`Experiment` is a family of missions: a scenario generator (one true surface per
-seed), a :class:`~uavcov.mission.MissionSettings`, and the team sizes, starts and seeds it runs.
+seed), a :class:`~uavcov.settings.MissionSettings`, and the team sizes, starts and seeds it runs.
 A :class:`RunSpec` is one of its missions: one seed, one team size, one start. :func:`run_specs`
 runs a list of them on a local process pool (spawn context), a Dask cluster
 (:func:`dask_executor`) or any ``concurrent.futures`` executor, and returns one row per run (a
@@ -41,9 +41,10 @@ from typing import Any
 from .._validate import MAX_RUNS, MAX_UAVS, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
-from ..mission import PRIOR_KINDS, MissionResult, MissionSettings, nested_replace, run_mission
+from ..mission import MissionResult, run_mission
 from ..placement import START_KINDS
 from ..records import save_mission
+from ..settings import PRIOR_KINDS, MissionSettings, nested_replace
 from ..terrain import BuildingsGenerator, HillsGenerator
 from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default

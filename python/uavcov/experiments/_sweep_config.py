@@ -61,9 +61,9 @@ from typing import Any
 from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, is_int
 from ..engine import Camera, Gimbal, Sensor
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
-from ..mission import OBJECTIVES
 from ..optim import CAOSettings
 from ..placement import ALTITUDE_REFERENCES, CORNERS, PRESETS, START_KINDS, Constraints, CVTSettings, StartSettings
+from ..settings import OBJECTIVES
 from ..terrain import BuildingsGenerator, HillsGenerator
 from ._sweep import Experiment, RunSpec, experiment_specs
 

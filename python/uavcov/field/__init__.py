@@ -7,8 +7,8 @@ from ._area import AreaOfInterest, bbox_area, read_area
 from ._geodesy import GeoAnchor
 from ._outputs import MAV_CMD_DO_MOUNT_CONTROL, MAV_FRAME_GLOBAL_RELATIVE_ALT, write_plan
 from ._plan import FlightPlan, PlanSettings, plan
-from ._structure_mission import StructureMission, plan_structure, write_structure_mission
-from ._structure_plan import StructurePlan, structure_plan
+from ._structure_flight import StructureFlight
+from ._structure_plan import StructurePlan, plan_structure, write_structure_plan
 
 __all__ = [
     "AreaOfInterest",
@@ -22,8 +22,7 @@ __all__ = [
     "plan",
     "GeoAnchor",
     "StructurePlan",
-    "structure_plan",
-    "StructureMission",
+    "StructureFlight",
     "plan_structure",
-    "write_structure_mission",
+    "write_structure_plan",
 ]

@@ -82,7 +82,7 @@ def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> n
 def redraw_monomials(
     terms: np.ndarray, strength: np.ndarray, keep: int, count: int, dim: int, rng: np.random.Generator
 ) -> np.ndarray | None:
-    """CAO's monomial refresh, as ``uavcov.optim._cao._refresh_terms_numpy`` makes it, or ``None``.
+    """CAO's monomial refresh, as ``uavcov.optim._monomials._refresh_terms_numpy`` makes it, or ``None``.
 
     Parameters
     ----------

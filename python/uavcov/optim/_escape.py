@@ -59,17 +59,11 @@ import numpy as np
 
 from .._validate import as_non_negative_float, as_positive_float, as_positive_int, read_only
 from ..errors import InvalidInputError, InvalidTypeError
-from ._cao import (
-    CAOSettings,
-    FeasibleFn,
-    OptimizerTrace,
-    _as_team_and_marginals,
-    _cao_run,
-    _check_common,
-    _check_start,
-    _Feasibility,
-    _finish,
-)
+from ._cao import _cao_run
+from ._checks import _as_team_and_marginals, _check_common, _check_start, _Feasibility
+from ._protocol import FeasibleFn
+from ._settings import CAOSettings
+from ._trace import OptimizerTrace, _finish
 
 
 @dataclass(frozen=True)
@@ -229,6 +223,66 @@ def _flight(
 _DEFAULT_CAO = CAOSettings()
 
 
+def _escape_flight(log: _Log, legs_left: int, check: _Feasibility, settings: EscapeSettings) -> list[Any]:
+    """The flight of a stalled team: ``[mover, configurations, checked, found]`` of the first of its
+    least useful UAVs that has a clear way to a destination, or ``[]`` when none has."""
+    current = log.positions[log.size - 1]
+    shares = log.shares[log.size - 1]
+    for mover in np.argsort(shares, kind="stable")[: settings.movers]:
+        for goal in _destinations(log, int(mover), current, float(shares[mover]), settings):
+            flight = _flight(current, int(mover), goal, legs_left, check, settings)
+            if flight is not None:
+                return [int(mover), *flight]
+    return []
+
+
+class _Pieces:
+    """The trace's arrays, gathered from CAO's runs and the escape flights between them."""
+
+    def __init__(self) -> None:
+        self.traj: list[np.ndarray] = []
+        self.values: list[np.ndarray] = []
+        self.measured: list[np.ndarray] = []
+        self.steps: list[np.ndarray] = []
+        self.n_checked: list[np.ndarray] = []
+        self.n_feasible: list[np.ndarray] = []
+
+    def add_run(self, part: OptimizerTrace) -> None:
+        self.traj.append(part.trajectory)
+        self.values.append(part.values)
+        self.measured.append(part.measured)
+        self.steps.append(part.step_sizes)
+        self.n_checked.append(part.n_checked)
+        self.n_feasible.append(part.n_feasible)
+
+    def add_leg(self, leg: np.ndarray, value: float, seen: float) -> None:
+        """A configuration the flight passes through, and what was measured there."""
+        self.traj.append(leg[None])
+        self.values.append(np.array([value]))
+        self.measured.append(np.array([seen]))
+
+    def add_flight(self, n_configurations: int, checked: int, found: int) -> None:
+        """A flight's steps (none: it is not CAO's) and the configurations its planning checked."""
+        self.steps.append(np.zeros(n_configurations))
+        self.n_checked.append(np.array([checked] + [0] * (n_configurations - 1), dtype=np.int64))
+        self.n_feasible.append(np.array([found] + [0] * (n_configurations - 1), dtype=np.int64))
+
+    def trace(self, settings: CAOSettings, t_measure: float, t_feasible: float, t_total: float) -> OptimizerTrace:
+        return _finish(
+            "escape",
+            np.concatenate(self.traj),
+            np.concatenate(self.values),
+            np.concatenate(self.measured),
+            np.concatenate(self.steps),
+            np.concatenate(self.n_checked),
+            np.concatenate(self.n_feasible),
+            settings,
+            t_measure,
+            t_feasible,
+            t_total,
+        )
+
+
 def escape_cao(
     measure: Callable[[np.ndarray], tuple[float, np.ndarray]],
     x0: Any,
@@ -300,12 +354,7 @@ def escape_cao(
         log.add(x, shares)
         return team
 
-    traj: list[np.ndarray] = []
-    values: list[np.ndarray] = []
-    measured: list[np.ndarray] = []
-    steps: list[np.ndarray] = []
-    n_checked: list[np.ndarray] = []
-    n_feasible: list[np.ndarray] = []
+    pieces = _Pieces()
     relocations: list[tuple[int, int, int]] = []
     best = -math.inf
     waited = 0
@@ -324,15 +373,8 @@ def escape_cao(
         if waited < escape.patience or full or here >= n_iter:
             return False
         waited = 0
-        current = log.positions[log.size - 1]
-        shares = log.shares[log.size - 1]
-        for mover in np.argsort(shares, kind="stable")[: escape.movers]:
-            for goal in _destinations(log, int(mover), current, float(shares[mover]), escape):
-                flight = _flight(current, int(mover), goal, n_iter - here, check, escape)
-                if flight is not None:
-                    plan[:] = [int(mover), *flight]
-                    return True
-        return False
+        plan[:] = _escape_flight(log, n_iter - here, check, escape)
+        return bool(plan)
 
     while True:
         run_settings = base
@@ -340,12 +382,7 @@ def escape_cao(
             run_settings = replace(base, alpha0=float(base.step_size(offset)), stability=base.stability + offset)
         plan.clear()
         part = _cao_run(team_value, x, feasible=check, iterations=n_iter - offset, settings=run_settings, rng=rng, stop=stalled)
-        traj.append(part.trajectory)
-        values.append(part.values)
-        measured.append(part.measured)
-        steps.append(part.step_sizes)
-        n_checked.append(part.n_checked)
-        n_feasible.append(part.n_feasible)
+        pieces.add_run(part)
         here = offset + part.n_iterations
         if not plan:
             break
@@ -354,29 +391,12 @@ def escape_cao(
         for leg in path[:-1]:
             value = team_value(leg)
             seen = value + base.measurement_noise * rng.standard_normal() if base.measurement_noise else value
-            traj.append(leg[None])
-            values.append(np.array([value]))
-            measured.append(np.array([seen]))
+            pieces.add_leg(leg, value, seen)
             best = max(best, seen)
-        steps.append(np.zeros(len(path)))
-        n_checked.append(np.array([checked] + [0] * (len(path) - 1), dtype=np.int64))
-        n_feasible.append(np.array([found] + [0] * (len(path) - 1), dtype=np.int64))
+        pieces.add_flight(len(path), checked, found)
         relocations.append((mover, here, here + len(path)))
         offset = here + len(path)
         x = path[-1]
 
-    t_total = time.perf_counter() - t_start
-    trace = _finish(
-        "escape",
-        np.concatenate(traj),
-        np.concatenate(values),
-        np.concatenate(measured),
-        np.concatenate(steps),
-        np.concatenate(n_checked),
-        np.concatenate(n_feasible),
-        base,
-        clock["measure"],
-        check.seconds,
-        t_total,
-    )
+    trace = pieces.trace(base, clock["measure"], check.seconds, time.perf_counter() - t_start)
     return replace(trace, relocations=read_only(np.array(relocations, dtype=np.int64).reshape(-1, 3)))

@@ -13,7 +13,7 @@ from types import MappingProxyType
 
 from .._validate import as_positive_float
 from ..errors import InvalidInputError
-from ._cao import CAOSettings
+from ._settings import CAOSettings
 
 PRESET_RANGE = 25.0
 """The sensing range (metres) the presets' ``alpha0`` is stated for."""

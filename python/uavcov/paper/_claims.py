@@ -363,85 +363,82 @@ def _mean(rows: Iterable[Mapping[str, Any]], column: str, **where: Any) -> float
     return float(np.mean(values)) if values else math.nan
 
 
-def verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: ResultsFolder | None = None) -> list[Verdict]:
-    """Every claim of section V measured on the rows of each experiment (by name), with a verdict.
-
-    ``results`` maps experiment names (``"table1"``, ``"pyramid"``, ``"comparison"``,
-    ``"example"``, ``"buildings"``) to their rows; absent ones are skipped. The convergence
-    claim reads the stored curves of ``table1_folder``.
-    """
+def _table1_verdicts(table1: list[Mapping[str, Any]], table1_folder: ResultsFolder | None) -> list[Verdict]:
+    """Table 1's claims: the cells beside the paper's, the headline gains, robustness, speed, convergence."""
     out: list[Verdict] = []
-    table1 = _paper_starts(results.get("table1", ()))
-    if finished_rows(table1):
-        total = good = 0
-        misses = []
-        for (n, start, metric), value in sorted(paper.PUBLISHED_TABLE1.items()):
-            column = "initial_coverage" if metric == "initial" else "max_coverage"
-            values = [float(r[column]) for r in finished_rows(table1) if int(r["n_uavs"]) == n and r["init"] == start]
-            if len(values) < 2:
-                continue
-            total += 1
-            mean, sigma = float(np.mean(values)), float(np.std(values, ddof=1))
-            ok = abs(mean - value.mean) <= 0.05 + 1e-12 and value.sigma / 2 <= sigma <= value.sigma * 2
-            good += ok
-            if not ok:
-                misses.append(f"{start} {metric} N = {n}: {mean:.2f} ({sigma:.2f})")
+    total = good = 0
+    misses = []
+    for (n, start, metric), value in sorted(paper.PUBLISHED_TABLE1.items()):
+        column = "initial_coverage" if metric == "initial" else "max_coverage"
+        values = [float(r[column]) for r in finished_rows(table1) if int(r["n_uavs"]) == n and r["init"] == start]
+        if len(values) < 2:
+            continue
+        total += 1
+        mean, sigma = float(np.mean(values)), float(np.std(values, ddof=1))
+        ok = abs(mean - value.mean) <= 0.05 + 1e-12 and value.sigma / 2 <= sigma <= value.sigma * 2
+        good += ok
+        if not ok:
+            misses.append(f"{start} {metric} N = {n}: {mean:.2f} ({sigma:.2f})")
+    out.append(
+        Verdict(
+            "Table 1: each mean within 0.05, each sigma within 2x",
+            f"{total} cells",
+            f"{good} of {total}" + (f"; off: {', '.join(misses)}" if misses else ""),
+            total > 0 and good == total,
+        )
+    )
+    for g in headline(table1):
+        published = "-" if g.published is None else _pct(g.published)
         out.append(
             Verdict(
-                "Table 1: each mean within 0.05, each sigma within 2x",
-                f"{total} cells",
-                f"{good} of {total}" + (f"; off: {', '.join(misses)}" if misses else ""),
-                total > 0 and good == total,
+                f"CVT over random, N = {g.n_uavs} (within 2 points)",
+                published,
+                f"{_pct(g.gain)} [{_pct(g.gain_ci[0])}, {_pct(g.gain_ci[1])}], {g.pairs} pairs",
+                g.within(),
             )
         )
-        for g in headline(table1):
-            published = "-" if g.published is None else _pct(g.published)
-            out.append(
-                Verdict(
-                    f"CVT over random, N = {g.n_uavs} (within 2 points)",
-                    published,
-                    f"{_pct(g.gain)} [{_pct(g.gain_ci[0])}, {_pct(g.gain_ci[1])}], {g.pairs} pairs",
-                    g.within(),
-                )
-            )
-        rob = robustness(table1)
+    rob = robustness(table1)
+    out.append(
+        Verdict(
+            "CVT: highest mean max and smallest sigma, every N",
+            "every N",
+            ", ".join(f"N = {r.n_uavs}: {'yes' if r.cvt_highest_mean and r.cvt_smallest_sigma else 'no'}" for r in rob),
+            bool(rob) and all(r.cvt_highest_mean and r.cvt_smallest_sigma for r in rob),
+        )
+    )
+    fast = speed(table1)
+    sizes = sorted({n for n, _ in fast})
+    quicker = {
+        n: all(fast[(n, "cvt")][0] < fast[(n, s)][0] for s in ("random", "corner") if (n, s) in fast) for n in sizes if (n, "cvt") in fast
+    }
+    out.append(
+        Verdict(
+            "CVT needs fewer iterations to 95 % of its best, every N",
+            "fewer",
+            ", ".join(
+                f"N = {n}: {fast[(n, 'cvt')][0]:.0f} vs "
+                + "/".join(f"{fast[(n, s)][0]:.0f}" for s in ("random", "corner") if (n, s) in fast)
+                for n in quicker
+            ),
+            bool(quicker) and all(quicker.values()),
+        )
+    )
+    if table1_folder is not None:
+        c = convergence(table1_folder, table1)
         out.append(
             Verdict(
-                "CVT: highest mean max and smallest sigma, every N",
-                "every N",
-                ", ".join(f"N = {r.n_uavs}: {'yes' if r.cvt_highest_mean and r.cvt_smallest_sigma else 'no'}" for r in rob),
-                bool(rob) and all(r.cvt_highest_mean and r.cvt_smallest_sigma for r in rob),
+                f"CAO converges: within {c.band} of the best from iteration {c.from_iteration} on",
+                ">= 95 % of runs",
+                f"{100.0 * c.share:.1f} % of {c.runs}",
+                bool(c.runs) and c.share >= 0.95,
             )
         )
-        fast = speed(table1)
-        sizes = sorted({n for n, _ in fast})
-        quicker = {
-            n: all(fast[(n, "cvt")][0] < fast[(n, s)][0] for s in ("random", "corner") if (n, s) in fast)
-            for n in sizes
-            if (n, "cvt") in fast
-        }
-        out.append(
-            Verdict(
-                "CVT needs fewer iterations to 95 % of its best, every N",
-                "fewer",
-                ", ".join(
-                    f"N = {n}: {fast[(n, 'cvt')][0]:.0f} vs "
-                    + "/".join(f"{fast[(n, s)][0]:.0f}" for s in ("random", "corner") if (n, s) in fast)
-                    for n in quicker
-                ),
-                bool(quicker) and all(quicker.values()),
-            )
-        )
-        if table1_folder is not None:
-            c = convergence(table1_folder, table1)
-            out.append(
-                Verdict(
-                    f"CAO converges: within {c.band} of the best from iteration {c.from_iteration} on",
-                    ">= 95 % of runs",
-                    f"{100.0 * c.share:.1f} % of {c.runs}",
-                    bool(c.runs) and c.share >= 0.95,
-                )
-            )
+    return out
+
+
+def _other_verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]]) -> list[Verdict]:
+    """The claims of the pyramid, Fig. 6, Fig. 5 and Fig. 8 experiments, each when its rows are there."""
+    out: list[Verdict] = []
     pyramid = list(results.get("pyramid", ()))
     if finished_rows(pyramid):
         got = {m: _mean(pyramid, f"{m}_coverage") for m in ("initial", "max")}
@@ -498,6 +495,20 @@ def verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: 
             )
         )
     return out
+
+
+def verdicts(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: ResultsFolder | None = None) -> list[Verdict]:
+    """Every claim of section V measured on the rows of each experiment (by name), with a verdict.
+
+    ``results`` maps experiment names (``"table1"``, ``"pyramid"``, ``"comparison"``,
+    ``"example"``, ``"buildings"``) to their rows; absent ones are skipped. The convergence
+    claim reads the stored curves of ``table1_folder``.
+    """
+    out: list[Verdict] = []
+    table1 = _paper_starts(results.get("table1", ()))
+    if finished_rows(table1):
+        out += _table1_verdicts(table1, table1_folder)
+    return out + _other_verdicts(results)
 
 
 def verdicts_markdown(results: Mapping[str, Sequence[Mapping[str, Any]]], table1_folder: ResultsFolder | None = None) -> str:

@@ -4,7 +4,7 @@ The paper (Renzaglia et al., arXiv:1901.10272, section V) gives the team sizes, 
 ranges, the number of prior samples and of iterations, and leaves open the terrain's heights and
 variance, the flying altitudes, the safety distance, the corner start and every CAO and CVT
 constant (``docs/paper-setup.md`` lists them). This module fixes all of them as frozen values
-(:class:`uavcov.experiments.Experiment`: a scenario generator, a :class:`~uavcov.mission.MissionSettings`,
+(:class:`uavcov.experiments.Experiment`: a scenario generator, a :class:`~uavcov.settings.MissionSettings`,
 team sizes, starts and seeds), so that one object says exactly what an experiment runs;
 ``docs/calibration.md`` says how each open value was chosen (on development seeds 1000-1039
 only) and ``docs/reproduction.md`` what it gives on seeds 0-39. It holds no code that runs
@@ -26,9 +26,9 @@ from types import MappingProxyType
 from typing import Any
 
 from ..experiments import Experiment
-from ..mission import MissionSettings
 from ..optim import CAO_PRESETS
 from ..placement import Constraints, CVTSettings, StartSettings
+from ..settings import MissionSettings
 from ..terrain import BuildingsGenerator, HillsGenerator
 
 PaperExperiment = Experiment

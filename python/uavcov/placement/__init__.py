@@ -8,7 +8,7 @@ from ._cvt import PRESETS, CVTResult, CVTSettings, cvt
 from ._dual_bound import DualCertificate
 from ._footprints import FootprintFit, fit_footprints
 from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
-from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, initial_positions, start_configuration
+from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, start_configuration
 from ._starts3d import StandoffStart, closest_faces, facing_attitudes, standoff_start
 from ._viewpoints import GreedySettings, Viewpoints, viewpoint_lattice
 
@@ -23,7 +23,6 @@ __all__ = [
     "PRESETS",
     "FootprintFit",
     "fit_footprints",
-    "initial_positions",
     "start_configuration",
     "StartSettings",
     "START_KINDS",

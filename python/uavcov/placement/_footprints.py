@@ -79,6 +79,30 @@ def _principal_yaw(points: np.ndarray, weights: np.ndarray) -> float:
     return math.degrees(math.atan2(east, north)) % 360.0  # compass: clockwise from north (+y)
 
 
+def _pose_facing(
+    surface: Terrain,
+    generator: np.ndarray,
+    height: float,
+    yaw: float,
+    pitch: float,
+    d_max: float,
+    bounds: tuple[float, float, float, float],
+    n_threads: int | None,
+) -> np.ndarray | None:
+    """``(1, 5)`` pose ``height`` above S' whose camera axis meets ``generator``, or ``None`` over nodata."""
+    xy = generator[:2].copy()
+    if pitch > -89.9:  # an oblique camera looks ahead: stand back so its axis meets the cell's generator
+        back = height / math.tan(math.radians(-pitch)) if pitch < 0.0 else 0.0
+        back = min(back, d_max)
+        heading = math.radians(yaw)
+        xy -= back * np.array([math.sin(heading), math.cos(heading)])
+        xy = np.clip(xy, [bounds[0], bounds[1]], [bounds[2], bounds[3]])
+    ground = surface.ground_height(xy[None], n_threads=n_threads)[0]
+    if not np.isfinite(ground):
+        return None
+    return np.array([[xy[0], xy[1], ground + height, yaw, pitch]])
+
+
 def fit_footprints(
     surface: Terrain,
     generators: Any,
@@ -185,17 +209,9 @@ def fit_footprints(
                 yaws = [float(angles[i, 0])]
             for yaw in yaws:
                 for height in height_options:
-                    xy = points[i, :2].copy()
-                    if pitch > -89.9:  # an oblique camera looks ahead: stand back so its axis meets the cell's generator
-                        back = height / math.tan(math.radians(-pitch)) if pitch < 0.0 else 0.0
-                        back = min(back, team[i].d_max)
-                        heading = math.radians(yaw)
-                        xy -= back * np.array([math.sin(heading), math.cos(heading)])
-                        xy = np.clip(xy, [bounds[0], bounds[1]], [bounds[2], bounds[3]])
-                    ground = surface.ground_height(xy[None], n_threads=n_threads)[0]
-                    if not np.isfinite(ground):
+                    pose = _pose_facing(surface, points[i], height, yaw, pitch, team[i].d_max, bounds, n_threads)
+                    if pose is None:
                         continue
-                    pose = np.array([[xy[0], xy[1], ground + height, yaw, pitch]])
                     seen = vis.seen(pose, sensors=sensors)
                     union = cell_weight + float(weights[seen & ~cell].sum())
                     score = float(weights[seen & cell].sum()) / union if union > 0.0 else 0.0

@@ -1,7 +1,7 @@
-"""The initial UAV positions the paper compares: CVT, random, corner and pairs, behind one interface.
+"""The initial UAV positions the paper compares: CVT, random, corner and pairs, behind one door.
 
-:func:`initial_positions` returns ``N`` positions on (or a fixed height above) the given surface,
-in the paper the approximating surface S':
+:func:`start_configuration` places ``N`` UAVs on a surface, in the paper the approximating
+surface S', by the kind its :class:`StartSettings` names, then lifts them to their flying height:
 
 ``"cvt"``
     The generators of the constrained CVT of S' (:func:`uavcov.placement.cvt`).
@@ -21,8 +21,8 @@ in the paper the approximating surface S':
     limits judged on the surface), coverage measured on the surface's own targets with range
     ``d_max`` (:class:`uavcov.placement.CoverageProblem`). In a mission
     (:func:`start_configuration`) the candidates are one layer at the start's altitude above S'
-    and the picks fly at that altitude like every other start's; :func:`initial_positions`
-    returns picks from the whole flight band.
+    and the picks fly at that altitude like every other start's; :func:`greedy_start` returns
+    picks from the whole flight band.
 
 :class:`StartSettings` says how a mission starts: the kind, and the height the start flies at
 (above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
@@ -37,7 +37,6 @@ uniform draws in the admissible volume of the flight limits, or a launch pad on 
 
 from __future__ import annotations
 
-import inspect
 import math
 import time
 from collections.abc import Mapping
@@ -56,7 +55,7 @@ from ._starts3d import launch_pad_start, random_volume_start, surface_normals
 from ._viewpoints import GreedySettings, viewpoint_lattice
 
 START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
-"""The kinds :func:`initial_positions` knows."""
+"""The kinds of :class:`StartSettings` on a height field (a structure's are :data:`STRUCTURE_START_KINDS`)."""
 
 CORNERS = ("sw", "se", "ne", "nw")
 """Corners of the bounding rectangle: south-west is ``(xmin, ymin)``, north is +y, east +x."""
@@ -167,128 +166,6 @@ def greedy_start(
     return replace(result, offline_time_s=time.perf_counter() - started)
 
 
-def _cvt_options(kind: str, cvt_options: Any) -> dict[str, Any]:
-    """The extra keyword arguments for :func:`uavcov.placement.cvt`, checked by name."""
-    if cvt_options is None:
-        return {}
-    if not isinstance(cvt_options, Mapping):
-        raise InvalidTypeError(f"cvt_options must be a mapping, got {type(cvt_options).__name__}")
-    options = dict(cvt_options)
-    if kind != "cvt" and options:
-        raise InvalidInputError(f"cvt_options apply to kind='cvt' only, got kind={kind!r}")
-    own = {"surface", "n", "rng", "n_threads", "options"}
-    known = (set(inspect.signature(cvt).parameters) | set(CVTSettings.__dataclass_fields__)) - own
-    unknown = sorted(set(options) - known)
-    if unknown:
-        raise InvalidInputError(
-            f"cvt_options: unknown or not allowed here {unknown}; allowed {sorted(known)} "
-            "(rng and n_threads go to initial_positions itself)"
-        )
-    return options
-
-
-def initial_positions(
-    kind: str,
-    surface: Terrain,
-    n: int,
-    *,
-    altitude: float = 0.0,
-    rng: Any = None,
-    corner: str = "sw",
-    spacing: float = 3.0,
-    cvt_options: Mapping[str, Any] | None = None,
-    n_threads: int | None = None,
-    d_max: float | None = None,
-    constraints: Constraints | None = None,
-    greedy: GreedySettings | None = None,
-) -> np.ndarray:
-    """Start positions of ``n`` UAVs over ``surface``, by one of the paper's initialisations.
-
-    Parameters
-    ----------
-    kind : {"cvt", "random", "corner", "pairs", "greedy"}
-        The initialisation (see the module docstring).
-    surface : Terrain
-        The surface the starts are computed on (the approximating surface S' in the paper).
-    n : int
-        Number of positions, 1 to 10 million (:data:`uavcov._validate.MAX_SAMPLES`; a "cvt" start
-        allows 10 000, :data:`~uavcov._validate.MAX_GENERATORS`).
-    altitude : float, default 0.0
-        Metres added to every position's z (>= 0). The default leaves the starts on the surface;
-        lifting above the real terrain is :func:`uavcov.placement.closest_admissible`'s job.
-    rng : None, int or numpy.random.Generator
-        Randomness for "cvt" and "random" ("corner" is deterministic and ignores it).
-    corner : {"sw", "se", "ne", "nw"}, default "sw"
-        Which corner of the bounding rectangle the "corner" lattice fills ("sw" is
-        ``(xmin, ymin)``).
-    spacing : float, default 3.0
-        Distance between neighbouring "corner" lattice points, or between the UAVs of a
-        "pairs" side, metres (> 0).
-    cvt_options : mapping, optional
-        Keyword arguments for :func:`uavcov.placement.cvt` ("cvt" only), e.g. ``{"preset": "lloyd"}``.
-    n_threads : int, optional
-        Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
-        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
-    d_max : float, optional
-        The sensing range, metres ("greedy" only, where it is required).
-    constraints : Constraints, optional
-        The flight limits the "greedy" candidates keep to (default ``Constraints()``).
-    greedy : GreedySettings, optional
-        The "greedy" candidates' lattice.
-
-    Returns
-    -------
-    (n, 3) float64 ndarray
-        Positions, metres: on the surface ("greedy": in the flight band above it), plus
-        ``altitude`` in z.
-
-    Raises
-    ------
-    InvalidInputError
-        An unknown kind or corner, ``n < 1``, negative ``altitude``, ``spacing <= 0``, or options
-        :func:`uavcov.placement.cvt` refuses.
-    InfeasibleError
-        The corner lattice does not fit in the region or stands over nodata, or the surface
-        covers almost none of its rectangle ("random").
-    InvalidTypeError
-        ``surface`` is not a Terrain, or an argument of the wrong type.
-    """
-    if not isinstance(kind, str):
-        raise InvalidTypeError(f"kind must be a string, got {type(kind).__name__}")
-    if kind not in START_KINDS:
-        raise InvalidInputError(f"kind must be one of {START_KINDS}, got {kind!r}")
-    if not isinstance(surface, Terrain):
-        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
-    n = as_count(n, "n", MAX_SAMPLES)
-    lift = as_non_negative_float(altitude, "altitude")
-    if not isinstance(corner, str):
-        raise InvalidTypeError(f"corner must be a string, got {type(corner).__name__}")
-    if corner not in CORNERS:
-        raise InvalidInputError(f"corner must be one of {CORNERS}, got {corner!r}")
-    step = as_positive_float(spacing, "spacing")
-    if n_threads is not None:
-        as_positive_int(n_threads, "n_threads")
-    options = _cvt_options(kind, cvt_options)
-
-    if kind == "cvt":
-        positions = cvt(surface, n, rng=rng, n_threads=n_threads, **options).generators
-    elif kind == "random":
-        positions = _random(surface, n, as_generator(rng), n_threads)
-    elif kind == "corner":
-        positions = _corner(surface, n, corner, step, n_threads)
-    elif kind == "pairs":
-        positions = _pairs(surface, n, step, n_threads)
-    else:
-        if d_max is None:
-            raise InvalidInputError("the greedy start needs the sensing range: give d_max")
-        limits = Constraints() if constraints is None else constraints
-        positions = greedy_start(surface, n, d_max, limits, greedy, n_threads=n_threads).positions
-
-    out = np.array(positions, dtype=np.float64)
-    out[:, 2] += lift
-    return out
-
-
 @dataclass(frozen=True)
 class StartSettings:
     """How a mission starts: where on S' the team is placed, and how high it flies.
@@ -395,8 +272,9 @@ def start_configuration(
 ) -> tuple[np.ndarray, CVTResult | GreedyResult | None]:
     """The start of a mission: placed on S', lifted to its flying height.
 
-    The positions are those of :func:`initial_positions` on ``approximation`` (the CVT is run
-    here, so that its record is kept); their height is then ``spec``'s above the reference:
+    The positions are placed on ``approximation`` by ``spec.kind`` (see the module docstring;
+    the CVT's and the greedy placement's records are kept); their height is then ``spec``'s
+    above the reference:
     the real ground under each UAV (``terrain``; S' over a hole of it) or S'. The result still
     has to be made admissible (:func:`uavcov.placement.closest_admissible` with
     ``climb=spec.climb``).
@@ -415,7 +293,8 @@ def start_configuration(
     rng : None, int or numpy.random.Generator
         The start's randomness (CVT or random positions, random heights), drawn in that order.
     n_threads : int, optional
-        Threads for the Rust side (as in :func:`initial_positions`).
+        Threads for the Rust side, 1 to 1024; ``None`` (the default) is rayon's default:
+        ``RAYON_NUM_THREADS`` if set, else every core. Results do not depend on it.
     d_max : float, optional
         The sensing range ("greedy": required).
     constraints : Constraints, optional
@@ -434,7 +313,12 @@ def start_configuration(
     """
     if not isinstance(spec, StartSettings):
         raise InvalidTypeError(f"spec must be a StartSettings, got {type(spec).__name__}")
+    for name, surface in (("approximation", approximation), ("terrain", terrain)):
+        if not isinstance(surface, Terrain):
+            raise InvalidTypeError(f"{name} must be a uavcov Terrain, got {type(surface).__name__}")
     n = as_count(n, "n", MAX_SAMPLES)
+    if n_threads is not None:
+        as_positive_int(n_threads, "n_threads")
     generator = as_generator(rng)
     if spec.altitude_reference == "normal":
         return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads)
@@ -446,10 +330,12 @@ def start_configuration(
     elif spec.kind == "cvt":
         tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
         positions = np.array(tessellation.generators, dtype=np.float64)
+    elif spec.kind == "random":
+        positions = _random(approximation, n, generator, n_threads)
+    elif spec.kind == "corner":
+        positions = _corner(approximation, n, spec.corner, spec.corner_spacing, n_threads)
     else:
-        positions = initial_positions(
-            spec.kind, approximation, n, rng=generator, corner=spec.corner, spacing=spec.corner_spacing, n_threads=n_threads
-        )
+        positions = _pairs(approximation, n, spec.corner_spacing, n_threads)
     if spec.altitude_reference == "ground":
         ground = terrain.ground_height(positions[:, :2], n_threads=n_threads)
         # Over a nodata hole of the real surface there is no ground to measure from: keep S' height.

@@ -18,7 +18,8 @@ clustered down to that many triangles, and top views are rasters.
 
 The package is split by what each part owns:
 
-- :mod:`~uavcov.plotting._figures`: one function per paper figure, ``seen_points`` and
+- :mod:`~uavcov.plotting._figures`: one function per paper figure of one run, and ``seen_points``;
+- :mod:`~uavcov.plotting._curves`: the figures of many runs (coverage curves, Table 1) and
   ``published_values``;
 - :mod:`~uavcov.plotting._views`: surfaces as polygons (decimation, shading), raster top views,
   hillshade, 3D axes styling;
@@ -46,8 +47,9 @@ from ._canvas import SEEN_COLOUR as SEEN_COLOUR
 from ._canvas import START_COLOUR as START_COLOUR
 from ._canvas import TRUE_SURFACE_COLOUR as TRUE_SURFACE_COLOUR
 from ._canvas import UNSEEN_COLOUR as UNSEEN_COLOUR
+from ._curves import plot_coverage_curves, plot_table1
 from ._directory import plot_directory, report_figures
-from ._figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
+from ._figures import plot_approximation, plot_coverage_map, plot_cvt, plot_point_cloud
 from ._structures import plot_structure_seen
 from ._view import find_run, view, write_view
 from ._views import DEFAULT_MAX_POLYGONS as DEFAULT_MAX_POLYGONS

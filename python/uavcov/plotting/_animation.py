@@ -36,6 +36,37 @@ from ._views import _TopView
 from ._writers import _write_gif, _write_mp4
 
 
+def _map_legend(ax: Any, quality: bool, *, footprint: bool) -> None:
+    """The top view's legend, under it: seen (or the view quality), not seen, start, UAV, footprint."""
+    ax.legend(
+        handles=[
+            _patch("#fde725" if quality else SEEN_COLOUR, "view quality 1 (viridis)" if quality else "seen"),
+            _patch(UNSEEN_COLOUR, "not seen"),
+            _marker("start", marker="o", color=START_COLOUR, markersize=4),
+            _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6),
+            *([_line("footprint", color=FOOTPRINT_COLOUR)] if footprint else []),
+        ],
+        fontsize=7,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.17),
+        ncol=5 if footprint else 4,
+        framealpha=0.9,
+    )
+
+
+def _curve_axes(ax: Any, curve: np.ndarray, quality: bool, colour: str) -> tuple[Any, Any]:
+    """The coverage axes, sized for the whole ``curve``; returns its line and its current-iteration dot."""
+    ax.set_xlim(0, max(1, curve.shape[0] - 1))
+    low = float(curve.min())
+    ax.set_ylim(max(0.0, low - 0.05), min(1.0, float(curve.max()) + 0.03) + 1e-3)
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("quality-weighted coverage" if quality else "coverage")
+    ax.grid(True, linewidth=0.4, alpha=0.5)
+    line = ax.plot([], [], color=colour, linewidth=1.5)[0]
+    dot = ax.plot([], [], "o", color="black", markersize=4)[0]
+    return line, dot
+
+
 def animate_mission(
     source: Any,
     out: Any,
@@ -123,28 +154,8 @@ def animate_mission(
     )
     headings = [ax_map.plot([], [], color="black", linewidth=1.0, zorder=4)[0] for _ in outlines]
     arrow = 0.05 * max(view.extent[1] - view.extent[0], view.extent[3] - view.extent[2])
-    ax_map.legend(
-        handles=[
-            _patch("#fde725" if quality else SEEN_COLOUR, "view quality 1 (viridis)" if quality else "seen"),
-            _patch(UNSEEN_COLOUR, "not seen"),
-            _marker("start", marker="o", color=START_COLOUR, markersize=4),
-            _marker("UAV", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6),
-            *([_line("footprint", color=FOOTPRINT_COLOUR)] if outlines else []),
-        ],
-        fontsize=7,
-        loc="upper center",
-        bbox_to_anchor=(0.5, -0.17),
-        ncol=5 if outlines else 4,
-        framealpha=0.9,
-    )
-    ax_curve.set_xlim(0, max(1, curve.shape[0] - 1))
-    low = float(curve.min())
-    ax_curve.set_ylim(max(0.0, low - 0.05), min(1.0, float(curve.max()) + 0.03) + 1e-3)
-    ax_curve.set_xlabel("iteration")
-    ax_curve.set_ylabel("quality-weighted coverage" if quality else "coverage")
-    ax_curve.grid(True, linewidth=0.4, alpha=0.5)
-    line = ax_curve.plot([], [], color=INIT_COLOURS.get(_setting(result, "start") or "", "#1f77b4"), linewidth=1.5)[0]
-    dot = ax_curve.plot([], [], "o", color="black", markersize=4)[0]
+    _map_legend(ax_map, quality, footprint=bool(outlines))
+    line, dot = _curve_axes(ax_curve, curve, quality, INIT_COLOURS.get(_setting(result, "start") or "", "#1f77b4"))
     title = fig.suptitle("", fontsize=10)
 
     images = []

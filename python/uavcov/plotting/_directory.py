@@ -2,7 +2,7 @@
 
 :func:`plot_directory` reads ``runs.csv`` through :func:`uavcov.plotting._runs._read_runs` (the
 bars of Table 1; the experiment and start of each stored run) and the runs saved in
-``runs/*.npz``, and calls the figure functions of :mod:`uavcov.plotting._figures` and
+``runs/*.npz``, and calls the figure functions of :mod:`uavcov.plotting._figures`, :mod:`uavcov.plotting._curves` and
 :func:`~uavcov.plotting.animate_mission`. It reads cells with :func:`_runs._number`, so rows may
 hold strings or parsed numbers.
 """
@@ -10,6 +10,7 @@ hold strings or parsed numbers.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -20,8 +21,9 @@ from ..records import load_mission
 from . import _runs
 from ._animation import animate_mission
 from ._canvas import _close, _finish, _matplotlib
+from ._curves import plot_coverage_curves, plot_table1
 from ._distance import plot_coverage_distance
-from ._figures import plot_approximation, plot_coverage_curves, plot_coverage_map, plot_cvt, plot_point_cloud, plot_table1
+from ._figures import plot_approximation, plot_coverage_map, plot_cvt, plot_point_cloud
 from ._runs import _number
 
 
@@ -101,23 +103,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         _close(fig)
         written.append(path)
 
-    by_experiment: dict[str, list[dict[str, Any]]] = {}
-    for row in rows:
-        by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
-    for experiment, group in sorted(by_experiment.items()):
-        cells: dict[tuple[str, float | None], int] = {}
-        for index, row in enumerate(group):
-            if _number(row, "max_coverage", index) is not None:
-                key = (str(row["init"]), _number(row, "n_uavs", index))
-                cells[key] = cells.get(key, 0) + 1
-        if not cells or max(cells.values()) < 2:
-            continue  # one run per bar is a number, not a distribution: the curves show it
-        for metric in ("max_coverage", "initial_coverage"):
-            if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
-                continue
-            emit(plot_table1(group, metric=metric), target / f"{_safe(experiment)}_{metric}.png")
-        if any(_number(r, "distance_mean_m", i) is not None for i, r in enumerate(group) if "distance_mean_m" in r):
-            emit(plot_coverage_distance(group), target / f"{_safe(experiment)}_coverage_distance.png")
+    _bar_figures(rows, target, emit)
 
     # Curves of every stored run; whole results are kept only for the runs drawn one by one.
     row_of = {str(r.get("run_id")): r for r in rows if r.get("run_id")}
@@ -158,6 +144,27 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
         if animation and index == 0:
             written.append(animate_mission(r, target / f"{stem}_animation.gif"))
     return written
+
+
+def _bar_figures(rows: list[dict[str, Any]], target: Path, emit: Callable[[Any, Path], None]) -> None:
+    """Table 1's bars (and coverage against distance) of each experiment whose cells hold several runs."""
+    by_experiment: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        by_experiment.setdefault(str(row.get("experiment") or "runs"), []).append(row)
+    for experiment, group in sorted(by_experiment.items()):
+        cells: dict[tuple[str, float | None], int] = {}
+        for index, row in enumerate(group):
+            if _number(row, "max_coverage", index) is not None:
+                key = (str(row["init"]), _number(row, "n_uavs", index))
+                cells[key] = cells.get(key, 0) + 1
+        if not cells or max(cells.values()) < 2:
+            continue  # one run per bar is a number, not a distribution: the curves show it
+        for metric in ("max_coverage", "initial_coverage"):
+            if metric not in group[0] or all(_number(r, metric, i) is None for i, r in enumerate(group)):
+                continue
+            emit(plot_table1(group, metric=metric), target / f"{_safe(experiment)}_{metric}.png")
+        if any(_number(r, "distance_mean_m", i) is not None for i, r in enumerate(group) if "distance_mean_m" in r):
+            emit(plot_coverage_distance(group), target / f"{_safe(experiment)}_coverage_distance.png")
 
 
 def _stored_runs(directory: Path, *, folder: Path | None = None) -> list[Path]:

@@ -225,25 +225,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
         )
     first = frames[int(np.searchsorted(shown, best_iteration))]
     seen_scale = [[0.0, _rgb(UNSEEN_COLOUR)], [0.5, _rgb(UNSEEN_COLOUR)], [0.5, _rgb(SEEN_COLOUR)], [1.0, _rgb(SEEN_COLOUR)]]
-    surface = go.Mesh3d(
-        x=points[:, 0],
-        y=points[:, 1],
-        z=points[:, 2],
-        i=faces[:, 0],
-        j=faces[:, 1],
-        k=faces[:, 2],
-        intensity=first.data[0].intensity,
-        intensitymode="vertex",
-        colorscale=seen_scale,
-        cmin=0.0,
-        cmax=1.0,
-        showscale=False,
-        flatshading=False,
-        lighting={"ambient": 0.55, "diffuse": 0.7, "specular": 0.05, "roughness": 0.9},
-        lightposition={"x": -5e4, "y": -5e4, "z": 1e5},
-        name="surface",
-        hoverinfo="x+y+z",
-    )
+    surface = _surface_mesh(go, points, faces, first.data[0].intensity, seen_scale)
     start, best = np.asarray(result.start_positions), np.asarray(result.best_positions)
     known = np.asarray(getattr(result, "prior_points", np.empty((0, 3))), dtype=np.float64).reshape(-1, 3)
     data = [
@@ -274,25 +256,62 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
             )
         )
     fig = go.Figure(data=data, frames=frames)
-    step = {"mode": "immediate", "frame": {"duration": 0, "redraw": True}, "transition": {"duration": 0}}
-    span = np.ptp(bounds, axis=0)
-    relief = float(span[2]) / max(float(span[:2].max()), 1e-9)
     fig.update_layout(
         title={"text": titles[best_iteration], "x": 0.01, "font": {"size": 14}},
         margin={"l": 0, "r": 0, "t": 40, "b": 0},
         legend={"x": 0.01, "y": 0.92, "bgcolor": "rgba(255,255,255,0.7)"},
-        scene={
-            "xaxis": {"title": {"text": "x (m)"}},
-            "yaxis": {"title": {"text": "y (m)"}},
-            "zaxis": {"title": {"text": "z (m)"}},
-            # Flat sites (a DEM km wide, 100 m of relief) keep some height to read.
-            **(
-                {"aspectmode": "data"}
-                if relief >= 0.15
-                else {"aspectmode": "manual", "aspectratio": {"x": span[0] / span[:2].max(), "y": span[1] / span[:2].max(), "z": 0.3}}
-            ),
-        },
-        sliders=[
+        scene=_scene(bounds),
+        **_controls(shown, best_iteration, seen_scale, n_uavs),
+    )
+    return fig
+
+
+def _surface_mesh(go: Any, points: np.ndarray, faces: np.ndarray, intensity: np.ndarray, seen_scale: list[list[Any]]) -> Any:
+    """The surface, its vertices coloured by ``intensity`` on ``seen_scale``."""
+    return go.Mesh3d(
+        x=points[:, 0],
+        y=points[:, 1],
+        z=points[:, 2],
+        i=faces[:, 0],
+        j=faces[:, 1],
+        k=faces[:, 2],
+        intensity=intensity,
+        intensitymode="vertex",
+        colorscale=seen_scale,
+        cmin=0.0,
+        cmax=1.0,
+        showscale=False,
+        flatshading=False,
+        lighting={"ambient": 0.55, "diffuse": 0.7, "specular": 0.05, "roughness": 0.9},
+        lightposition={"x": -5e4, "y": -5e4, "z": 1e5},
+        name="surface",
+        hoverinfo="x+y+z",
+    )
+
+
+def _scene(bounds: np.ndarray) -> dict[str, Any]:
+    """The 3D axes: metres, true to scale unless the site is too flat to read."""
+    span = np.ptp(bounds, axis=0)
+    relief = float(span[2]) / max(float(span[:2].max()), 1e-9)
+    scene: dict[str, Any] = {
+        "xaxis": {"title": {"text": "x (m)"}},
+        "yaxis": {"title": {"text": "y (m)"}},
+        "zaxis": {"title": {"text": "z (m)"}},
+        # Flat sites (a DEM km wide, 100 m of relief) keep some height to read.
+        **(
+            {"aspectmode": "data"}
+            if relief >= 0.15
+            else {"aspectmode": "manual", "aspectratio": {"x": span[0] / span[:2].max(), "y": span[1] / span[:2].max(), "z": 0.3}}
+        ),
+    }
+    return scene
+
+
+def _controls(shown: np.ndarray, best_iteration: int, seen_scale: list[list[Any]], n_uavs: int) -> dict[str, Any]:
+    """The iteration slider, play and pause, and the switch between seen and how many UAVs see it."""
+    step = {"mode": "immediate", "frame": {"duration": 0, "redraw": True}, "transition": {"duration": 0}}
+    return {
+        "sliders": [
             {
                 "active": int(np.searchsorted(shown, best_iteration)),
                 "currentvalue": {"prefix": "iteration "},
@@ -300,7 +319,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
                 "steps": [{"label": str(int(k)), "method": "animate", "args": [[str(int(k))], step]} for k in shown],
             }
         ],
-        updatemenus=[
+        "updatemenus": [
             {
                 "type": "buttons",
                 "direction": "left",
@@ -345,8 +364,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
                 ],
             },
         ],
-    )
-    return fig
+    }
 
 
 def write_view(result: Any, out: str | os.PathLike[str], **options: Any) -> Path:
