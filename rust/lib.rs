@@ -84,15 +84,8 @@ pub mod cvt;
 pub mod error;
 pub mod flight;
 pub mod geometry;
-pub mod grid;
-pub mod heightfield;
-mod horizon;
-pub mod mesh;
-pub mod sampling;
-pub mod sensor;
-mod skyline;
+pub mod surface;
 mod threads;
-pub mod tracking;
 pub mod visibility;
 
 #[cfg(feature = "python")]
@@ -100,5 +93,5 @@ mod python;
 
 pub use error::{Error, Result};
 pub use geometry::Point;
-pub use mesh::Surface;
+pub use surface::Surface;
 pub use visibility::{Path, Targets, UavCounts, Visibility};

@@ -5,7 +5,7 @@
 //! (the elevation grid's 2 x 2-cell tiles on the grid path, the small nodes of parry's BVH on
 //! the mesh path). A sight line whose slope stays above the bounds of its sector is clear of
 //! every box nearer than the first bin that stops it, so only the rest of the line needs the
-//! exact test: the walk of [`crate::heightfield`] or the BVH of [`crate::mesh`].
+//! exact test: the walk of [`crate::surface::heightfield`] or the BVH of [`crate::surface::mesh`].
 //!
 //! Exactness: a triangle the exact test counts has a point within a few ulps of the ray (at
 //! some parameter `t`). If that point is nearer the UAV than the cleared stretch, the box that
@@ -19,8 +19,8 @@
 
 use crate::error::{try_filled, Result};
 use crate::geometry::{Point, SIGHT_FRACTION};
-use crate::grid::{floor_index, pseudo_angle};
-use crate::skyline::{sector_of, Skyline};
+use crate::surface::grid::{floor_index, pseudo_angle};
+use crate::surface::skyline::{sector_of, Skyline};
 
 /// At most this many distance bins and this many sectors in one horizon.
 const MAX_SIDE: f64 = 4096.0;

@@ -12,9 +12,9 @@ use super::Blockers;
 use super::TriangleMesh;
 use crate::error::Result;
 use crate::geometry::{Point, SIGHT_FRACTION};
-use crate::grid::pseudo_angle;
-use crate::horizon::{Horizon, HorizonBuilder, Rest};
-use crate::skyline::{sector_of, SectorEdges, Skyline, SkylineBounds, Span, ALL_SECTORS, REACH};
+use crate::surface::grid::pseudo_angle;
+use crate::surface::horizon::{Horizon, HorizonBuilder, Rest};
+use crate::surface::skyline::{sector_of, SectorEdges, Skyline, SkylineBounds, Span, ALL_SECTORS, REACH};
 
 impl TriangleMesh {
     /// The [`Horizon`] of a UAV at `uav`, for targets up to `radius` metres away horizontally,
@@ -139,7 +139,7 @@ impl TriangleMesh {
     }
 
     /// [`TriangleMesh::line_of_sight`] from the UAV of `horizon`, the same answer to the last
-    /// bit: the horizon clears the sight line up to some distance (see [`crate::horizon`]), and
+    /// bit: the horizon clears the sight line up to some distance (see [`crate::surface::horizon`]), and
     /// the BVH tests the rest.
     ///
     /// Exactness: a triangle the plain test counts has a point within a few ulps of the ray at
@@ -240,8 +240,8 @@ fn plane(xy: [(f64, f64); 3], z: [f64; 3]) -> Option<(f64, (f64, f64))> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::Surface;
-    use crate::skyline::sector_edges;
+    use crate::surface::mesh::Surface;
+    use crate::surface::skyline::sector_edges;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

@@ -5,7 +5,7 @@
 //! a bridge deck, beside a tower) rather than a height straight down (see [`crate::flight`]).
 //!
 //! ```
-//! use uavcov::mesh::Surface;
+//! use uavcov::surface::mesh::Surface;
 //! // A closed unit cube (outward-wound) standing on nothing.
 //! let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0],
 //!              [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0]];

@@ -2,8 +2,8 @@
 //! samples with its own alias-table sampler, in [`crate::cvt`].)
 //!
 //! ```
-//! use uavcov::mesh::Surface;
-//! use uavcov::sampling::default_targets;
+//! use uavcov::surface::mesh::Surface;
+//! use uavcov::visibility::sampling::default_targets;
 //! let s = Surface::from_grid(vec![0.0; 9], 3, 3, 1.0, 1.0, 0.0, 0.0).unwrap();
 //! let (points, weights) = default_targets(&s, 1.0).unwrap();
 //! assert_eq!(points.len(), 9); // a grid's targets are its nodes
@@ -12,7 +12,7 @@
 
 use crate::error::{ensure, try_with_capacity, Result};
 use crate::geometry::{p, Point};
-use crate::mesh::Surface;
+use crate::surface::mesh::Surface;
 
 /// Most targets [`area_targets`] makes (32 bytes each: 3.2 GB).
 pub const MAX_TARGETS: usize = 100_000_000;

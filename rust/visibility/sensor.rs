@@ -12,7 +12,7 @@
 //! this module holds no trigonometry whose last bit could differ from the reference's.
 //!
 //! ```
-//! use uavcov::sensor::{Frustum, Sensor};
+//! use uavcov::visibility::sensor::{Frustum, Sensor};
 //! // A nadir camera (looking down, image top to the north), 90 deg x 60 deg, 2 m to 30 m range.
 //! let nadir = Frustum::new([0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 1.0, 0.5773502691896257)?;
 //! let sensor = Sensor::new(2.0, 30.0, Some(nadir))?;
