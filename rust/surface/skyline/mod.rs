@@ -18,7 +18,10 @@
 //! on demand. The mesh path builds the skylines of its targets the same way, from the triangles
 //! of its BVH ([`SkylineBounds`]).
 //!
-//! Internal to [`crate::visibility`]; it reads only [`crate::surface::grid`].
+//! Internal to [`crate::surface`], and shared by every sight line that ends at a target: the
+//! grid path ([`crate::surface::heightfield`]), the mesh path ([`crate::surface::mesh`]), the
+//! UAVs' horizons (`surface::horizon`) and [`crate::visibility`] with its tracker, which keep the
+//! skylines per chunk of targets. It reads only [`crate::surface::grid`].
 //!
 //! [`HeightField::line_of_sight_to_node`]: crate::surface::heightfield::HeightField::line_of_sight_to_node
 
