@@ -14,8 +14,8 @@ use std::sync::Arc;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use uavcov::mesh::Surface;
-use uavcov::tracking::{CoverageTracker, Margin};
+use uavcov::surface::mesh::Surface;
+use uavcov::visibility::tracking::{CoverageTracker, Margin};
 use uavcov::visibility::{Path, Targets, Visibility};
 
 /// Heights of a sum of 7 Gaussian hills (heights 5-25 m, sigma 10 m) on a `spacing` grid.

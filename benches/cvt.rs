@@ -14,7 +14,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use uavcov::cvt::{constrained_cvt, CvtOptions};
-use uavcov::mesh::Surface;
+use uavcov::surface::mesh::Surface;
 
 #[path = "common/hills.rs"]
 mod hills;

@@ -22,7 +22,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use uavcov::flight::{admissible_mask, Clearance, FlightLimits};
-use uavcov::mesh::Surface;
+use uavcov::surface::mesh::Surface;
 use uavcov::visibility::{Targets, Visibility};
 
 type Point = [f64; 3];

@@ -36,8 +36,8 @@ use rayon::prelude::*;
 
 use crate::error::{ensure, try_filled, Error, Result};
 use crate::geometry::Point;
-use crate::sensor::Sensor;
 use crate::threads;
+use crate::visibility::sensor::Sensor;
 use crate::visibility::{Visibility, HORIZON_BUDGET};
 
 /// Most bytes a seen-matrix may take (1 GiB): 10^4 candidates x 10^4 targets take 12.5 MB.

@@ -1,7 +1,7 @@
 use std::sync::Arc;
 
 use super::*;
-use crate::mesh::Surface;
+use crate::surface::mesh::Surface;
 use crate::visibility::{Path, Targets};
 
 /// A bumpy 30 m x 30 m grid at 1 m.

@@ -10,8 +10,8 @@ use super::{detached, held, invalid, parallel_map, points, points_to_py, to_py_e
 use crate::error::{try_copy, try_with_capacity, Error};
 use crate::flight;
 use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
-use crate::mesh;
-use crate::sampling;
+use crate::surface::mesh;
+use crate::visibility::sampling;
 
 /// `(points (n, 3), weights (n,))`.
 type WeightedPoints<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);

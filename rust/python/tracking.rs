@@ -1,11 +1,11 @@
-//! `uavcov._core.CoverageTracker`: coverage of a moving team (see [`crate::tracking`]).
+//! `uavcov._core.CoverageTracker`: coverage of a moving team (see [`crate::visibility::tracking`]).
 
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use super::visibility::PyVisibility;
 use super::{detached, points};
-use crate::tracking::{CoverageTracker, Margin};
+use crate::visibility::tracking::{CoverageTracker, Margin};
 
 /// The coverage of one team evaluated again and again as it moves (see `uavcov.CoverageTracker`).
 #[derive(Debug)]

@@ -9,8 +9,8 @@ use super::surface::PySurface;
 use super::{detached, held, invalid, points, to_py_err};
 use crate::error::Result;
 use crate::geometry::Point;
-use crate::sensor::{Frustum, Sensor};
 use crate::visibility;
+use crate::visibility::sensor::{Frustum, Sensor};
 
 /// Columns of a packed sensor row: `d_min, d_max`, a camera's `forward (3), right (3), up (3),
 /// tan_h, tan_v` (all NaN for an omnidirectional sensor), the cosine of the largest incidence

@@ -1,7 +1,7 @@
 //! The exact fast path for surfaces built from an elevation grid.
 //!
 //! A [`HeightField`] answers the same questions as the triangle mesh of the grid (see
-//! [`Surface::from_grid`](crate::mesh::Surface::from_grid)) without ever storing that mesh: the
+//! [`Surface::from_grid`](crate::surface::mesh::Surface::from_grid)) without ever storing that mesh: the
 //! triangles are rebuilt from the heights when a query reaches them, with the very same corner
 //! coordinates, so memory is the heights, one `u32` per node and a small pyramid of tiles.
 //!
@@ -23,7 +23,7 @@
 //! the tile's slab test.
 //!
 //! ```
-//! use uavcov::heightfield::HeightField;
+//! use uavcov::surface::heightfield::HeightField;
 //! // A 3 x 3 grid, flat at z = 0 except a 5 m spike at the centre node.
 //! let mut z = vec![0.0; 9];
 //! z[4] = 5.0;
@@ -43,9 +43,9 @@
 //! - `quadtree`: the tile quadtree of lowest and highest heights, for first hits and closest
 //!   points ([`HeightField::first_hit`], [`HeightField::closest_point`]).
 //! - `horizon`: a UAV's horizon, which clears most of a sight line before the walk, and with a
-//!   target's skyline (see `crate::skyline`) often all of it.
+//!   target's skyline (see `crate::surface::skyline`) often all of it.
 
-mod horizon;
+mod grid_horizon;
 mod quadtree;
 mod slab;
 #[cfg(test)]
@@ -58,9 +58,9 @@ use parry3d_f64::math::Vector;
 
 use crate::error::{ensure, try_filled, try_with_capacity, Error, Result};
 use crate::geometry::{triangle_area, Point, MAX_COORDINATE, SIGHT_FRACTION};
-use crate::grid::Grid;
+use crate::surface::grid::Grid;
 
-pub(crate) use crate::horizon::Horizon;
+pub(crate) use crate::surface::horizon::Horizon;
 use quadtree::{build_levels, Level};
 use walk::{build_tops, TopLevel};
 

@@ -5,8 +5,8 @@
 use super::HeightField;
 use crate::error::Result;
 use crate::geometry::{Point, SIGHT_FRACTION};
-use crate::horizon::{Horizon, HorizonBuilder, Rest};
-use crate::skyline::{Skyline, REACH};
+use crate::surface::horizon::{Horizon, HorizonBuilder, Rest};
+use crate::surface::skyline::{Skyline, REACH};
 
 /// The horizon is built from tiles of `2^HORIZON_SHIFT` cells a side.
 const HORIZON_SHIFT: u32 = 1;
@@ -212,7 +212,7 @@ impl HeightField {
     /// `r - reach + 2 eps`, where the horizon (as in [`HeightField::line_of_sight_from`]) or the
     /// walk of that stretch decides.
     ///
-    /// [`REACH`]: crate::skyline::REACH
+    /// [`REACH`]: crate::surface::skyline::REACH
     pub(crate) fn line_of_sight_to_node(&self, horizon: &Horizon, target: Point, skyline: &Skyline) -> bool {
         let (cleared, far, r) = match horizon.beside_skyline(target, skyline, self.skyline_reach(), self.scales.z) {
             Rest::Clear => return true,

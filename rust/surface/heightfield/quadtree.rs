@@ -13,7 +13,7 @@ use parry3d_f64::shape::Triangle;
 use super::slab::{axis, Cast};
 use super::HeightField;
 use crate::geometry::{p, triangle_hit, v, Point};
-use crate::grid::Grid;
+use crate::surface::grid::Grid;
 
 /// The smallest stored tiles are `2^FIRST_SHIFT` cells on a side; below them, cell boxes are
 /// computed from the four corner heights, which the triangle test reads anyway.

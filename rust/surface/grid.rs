@@ -1,11 +1,11 @@
 //! The regular elevation grid a surface is built from, and the plane geometry that the grid's
 //! queries share (`pseudo_angle`, the cheap monotone angle of the horizons and skylines).
 //!
-//! A leaf below [`crate::heightfield`] and the internal `skyline` module: it imports only
+//! A leaf below [`crate::surface::heightfield`] and the internal `skyline` module: it imports only
 //! [`crate::geometry`].
 //!
 //! ```
-//! use uavcov::grid::Grid;
+//! use uavcov::surface::grid::Grid;
 //! // A 2 x 3 grid (rows along y, columns along x) of 1 m cells starting at (10, 20).
 //! let z = vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
 //! let g = Grid { ny: 2, nx: 3, dx: 1.0, dy: 1.0, x0: 10.0, y0: 20.0, z, vertex_of_node: vec![] };
@@ -132,7 +132,7 @@ impl Grid {
     /// point changes when the point moves: `|h(a) - h(b)| <= slope |a - b|` on the whole grid.
     ///
     /// ```
-    /// use uavcov::grid::Grid;
+    /// use uavcov::surface::grid::Grid;
     /// // Rising 1 m per metre along x and 3 m per metre along y: every triangle has slope sqrt(10).
     /// let g = Grid { ny: 2, nx: 3, dx: 1.0, dy: 1.0, x0: 0.0, y0: 0.0, z: vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], vertex_of_node: vec![] };
     /// assert!((g.max_slope().unwrap() - 10f64.sqrt()).abs() < 1e-12);

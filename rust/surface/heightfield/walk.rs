@@ -9,7 +9,7 @@ use parry3d_f64::query::Ray;
 use super::slab::{axis, max, min, Cast};
 use super::HeightField;
 use crate::geometry::{triangle_hit, v, Point};
-use crate::grid::Grid;
+use crate::surface::grid::Grid;
 
 /// Pieces of segment whose footprint box spans at most this many cells a side are tested cell
 /// by cell.

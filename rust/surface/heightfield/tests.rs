@@ -2,9 +2,9 @@
 //! horizons, skylines, vertical and closest-point queries and the mesh tables must agree.
 
 use super::*;
-use crate::grid::pseudo_angle;
-use crate::mesh::Surface;
-use crate::skyline::{sector_of, Stencil};
+use crate::surface::grid::pseudo_angle;
+use crate::surface::mesh::Surface;
+use crate::surface::skyline::{sector_of, Stencil};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
