@@ -536,7 +536,7 @@ def _true_headings(dem: GeoDem, positions: np.ndarray, local_yaw: np.ndarray) ->
     """Compass headings from true north (degrees in [0, 360)) of headings ``local_yaw`` measured
     from the local frame's +y: a projected CRS's grid north is not true north (meridian
     convergence), so each heading is carried to WGS84 by a point 1 m ahead of its UAV."""
-    yaw = np.radians(local_yaw)
+    yaw = np.radians(np.fmod(local_yaw, 360.0))  # reduced exactly first, as the engine does
     ahead = positions.copy()
     ahead[:, 0] += np.sin(yaw)
     ahead[:, 1] += np.cos(yaw)
@@ -544,7 +544,10 @@ def _true_headings(dem: GeoDem, positions: np.ndarray, local_yaw: np.ndarray) ->
     out = np.empty(positions.shape[0])
     for k in range(positions.shape[0]):
         east_per_degree, north_per_degree = metres_per_degree(float(here[k, 1]))
-        east = (there[k, 0] - here[k, 0]) * east_per_degree
+        d_lon = float(there[k, 0] - here[k, 0])
+        if abs(d_lon) > 180.0:  # the 1 m step crossed the antimeridian, where longitudes wrap
+            d_lon -= math.copysign(360.0, d_lon)
+        east = d_lon * east_per_degree
         north = (there[k, 1] - here[k, 1]) * north_per_degree
         out[k] = math.degrees(math.atan2(east, north)) % 360.0
     return out
