@@ -58,6 +58,9 @@ TAKEOFF_FRAMES = ("wgs84", "dem")
 """How a take-off point is given: (longitude, latitude) in WGS84, or (x, y) in the DEM's CRS."""
 
 _FOOTPRINT_VERTICES = 48
+MAX_RANGE_M = 100_000.0
+"""The longest sensing range a plan takes, metres: far beyond a UAV's sensor, and short enough that
+every footprint has a longitude and latitude (a range of 1e300 m has no outline on the Earth)."""
 
 
 @dataclass(frozen=True)
@@ -176,6 +179,12 @@ class PlanSettings:
         )
         for name in ("n_uavs", "d_max", "iterations", "sensor", "attitude", "footprint_start"):
             object.__setattr__(self, name, getattr(mission, name))
+        ranges = [self.d_max] + [s.d_max for s in mission.team_sensors() or []]
+        if max(ranges) > MAX_RANGE_M:
+            raise InvalidInputError(
+                f"a sensing range of {max(ranges):g} m is beyond the {MAX_RANGE_M / 1000:g} km a plan on real ground "
+                "considers (its footprints are drawn on the map)"
+            )
         object.__setattr__(self, "_mission", mission)
 
     @property
