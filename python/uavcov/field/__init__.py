@@ -5,24 +5,21 @@ from __future__ import annotations
 
 from ._area import AREA_FRAMES, AreaOfInterest, bbox_area, points_in_rings, read_area
 from ._geodesy import GeoAnchor, enu_to_wgs84, local_to_true_heading
-from ._outputs import (
-    COVERAGE_NODATA,
+from ._gis_files import COVERAGE_NODATA, read_coverage_geotiff, read_plan_geojson, read_plan_kml
+from ._outputs import render_plan, write_plan
+from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
+from ._plan_tables import read_positions_csv
+from ._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
+from ._qgc import (
     MAV_CMD_DO_MOUNT_CONTROL,
     MAV_CMD_NAV_LOITER_TIME,
     MAV_CMD_NAV_TAKEOFF,
     MAV_CMD_NAV_WAYPOINT,
     MAV_FRAME_GLOBAL_RELATIVE_ALT,
     qgc_plan,
-    read_coverage_geotiff,
-    read_plan_geojson,
-    read_plan_kml,
-    read_positions_csv,
     read_qgc_plan,
-    render_plan,
-    write_plan,
 )
-from ._plan import TAKEOFF_FRAMES, FlightPlan, PlanSettings, plan
-from ._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
+from ._results_folder import check_plan_folder
 from ._structure_mission import StructureMission, plan_structure, structure_routes, write_structure_mission
 from ._structure_plan import StructurePlan, render_structure_plan, structure_plan, structure_qgc_plan, write_structure_plan
 
@@ -33,6 +30,7 @@ __all__ = [
     "points_in_rings",
     "AREA_FRAMES",
     "write_plan",
+    "check_plan_folder",
     "render_plan",
     "qgc_plan",
     "read_qgc_plan",

@@ -22,7 +22,7 @@ import numpy as np
 
 from .._validate import as_float_array
 from ..errors import InvalidInputError, InvalidTypeError
-from ..terrain import GeoDem
+from ..terrain import GeoDem, wrap_longitude
 
 AREA_FRAMES = ("wgs84", "dem")
 """What an area's coordinates are in: WGS84 (longitude, latitude) or the DEM's CRS."""
@@ -91,9 +91,10 @@ class AreaOfInterest:
         return [dem.crs_to_local_xy(ring) for ring in rings]
 
     def wgs84_polygons(self, dem: GeoDem) -> list[list[np.ndarray]]:
-        """The polygons in WGS84 (longitude, latitude), for the files a plan writes."""
+        """The polygons in WGS84 (longitude, latitude), for the files a plan writes: longitudes in
+        ``[-180, 180]``, as GeoJSON and KML require."""
         if self.frame == "wgs84":
-            return [list(rings) for rings in self.polygons]
+            return [[np.column_stack([wrap_longitude(r[:, 0]), r[:, 1]]) for r in rings] for rings in self.polygons]
         return [
             [dem.to_wgs84(np.column_stack([dem.crs_to_local_xy(r), np.zeros(r.shape[0])]))[:, :2] for r in rings] for rings in self.polygons
         ]
@@ -239,7 +240,7 @@ def _geojson_polygons(text: str, where: str) -> list[list[Any]]:
         properties = crs.get("properties") if isinstance(crs, dict) else None
         name = properties.get("name") if isinstance(properties, dict) else None
         if not isinstance(name, str):
-            raise InvalidInputError(f"{where!r}: a 'crs' member must be an object naming its CRS ({{\"properties\": {{\"name\": ...}}}})")
+            raise InvalidInputError(f'{where!r}: a \'crs\' member must be an object naming its CRS ({{"properties": {{"name": ...}}}})')
         if not any(key in name.upper() for key in ("CRS84", "4326")):
             raise InvalidInputError(f"{where!r} declares the CRS {name!r}; GeoJSON areas must be WGS84 longitude, latitude")
     polygons: list[list[Any]] = []

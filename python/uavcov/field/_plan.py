@@ -240,6 +240,9 @@ class FlightPlan:
         Targets seen by at least one UAV (the engine's seen mask).
     seen_count : (T,) int64
         How many UAVs see each target.
+    seed : int or None
+        The seed the plan was made from (``rng`` when an integer): the same seed, settings and
+        DEM give the same plan.
     quality : (T,) float64 or None
         The best view quality of each target over the team (:meth:`uavcov.Visibility.quality`:
         resolution against the sensor's ``good_gsd_m``, times the cosine of the incidence), 0
@@ -285,6 +288,7 @@ class FlightPlan:
     attitudes: np.ndarray | None = None
     attitudes_local: np.ndarray | None = None
     quality: np.ndarray | None = None
+    seed: int | None = None
 
     @property
     def n_uavs(self) -> int:
@@ -538,6 +542,7 @@ def plan(
         attitudes=None if attitudes is None else frozen(attitudes),
         attitudes_local=None if local_attitudes is None else frozen(local_attitudes),
         quality=None if targets.normals is None else frozen(vis.quality(poses, sensors=sensors)),
+        seed=int(rng) if is_int(rng) else None,
     )
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,9 +30,11 @@ from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, MissionSettings, run_mission
 from ..terrain import Structure, StructureTargets
 from ._geodesy import GeoAnchor
-from ._outputs import write_files
 from ._ply import seen_cloud_bytes
+from ._results_folder import write_files
+from ._strict_json import json_bytes
 from ._structure_plan import StructurePlan, render_structure_plan, structure_plan
+from ._structure_report import structure_record, structure_report_md
 
 # Ring of detours round a position, metres out and directions: enough to leave a deck's
 # underside sideways on the scenes' bridges (decks 8-12 m wide) without searching a graph.
@@ -186,17 +189,26 @@ def plan_structure(
     return StructureMission(result=result, targets=chosen, seen_count=read_only(count), plan=flight)
 
 
-def write_structure_mission(mission: StructureMission, out: Any) -> list[Path]:
-    """Write the plan's files (:func:`write_structure_plan`), ``seen.ply`` and ``parts.csv`` into ``out``.
+def write_structure_mission(
+    mission: StructureMission, out: Any, *, command: str | None = None, runtime_s: float | None = None
+) -> list[Path]:
+    """Write the plan's files (:func:`write_structure_plan`), ``seen.ply``, ``parts.csv`` and
+    ``report.md`` into ``out``; ``plan.json`` adds the command, the seed, every setting, the
+    versions and the coverage of the whole and of each part. A plan replaces its folder as a whole.
 
     Raises
     ------
+    ResultsInUseError
+        ``out`` holds files that are not a plan's.
     ResultsFolderError
         ``out`` is a file, or cannot be created or written.
     """
     if not isinstance(mission, StructureMission):
         raise InvalidTypeError(f"mission must be a StructureMission, got {type(mission).__name__}")
     files = render_structure_plan(mission.plan)
+    document = {**json.loads(files["plan.json"]), **structure_record(mission, command, runtime_s)}
+    files["plan.json"] = json_bytes(document, indent=2, what="plan.json")
+    files["report.md"] = structure_report_md(mission, document)
     files["seen.ply"] = seen_cloud_bytes(mission.targets, mission.seen_count)
     table = io.StringIO()
     writer = csv.writer(table, lineterminator="\n")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._buildings import Building, buildings_scene, buildings_terrain, perturb_buildings, random_buildings
-from ._dem import SAMPLE_VERTICAL_DATUM, WGS84, GeoDem, RasterGrid, dem_from_array, read_dem, read_mesh_dem, sample_dem
+from ._dem import SAMPLE_VERTICAL_DATUM, WGS84, GeoDem, RasterGrid, dem_from_array, read_dem, read_mesh_dem, sample_dem, wrap_longitude
 from ._frame import LocalFrame, metres_per_degree
 from ._generators import BuildingsGenerator, HillsGenerator, TerrainGenerator
 from ._hills import GaussianMixture, gaussian_hills, random_gaussian_mixture
@@ -51,6 +51,7 @@ __all__ = [
     "read_dem",
     "read_mesh_dem",
     "sample_dem",
+    "wrap_longitude",
     "WGS84",
     "SAMPLE_VERTICAL_DATUM",
     "LocalFrame",

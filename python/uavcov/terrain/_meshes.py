@@ -350,7 +350,8 @@ def obj_absolute_faces(path: str) -> bytes | None:
             counts[_OBJ_COUNTED[key]] += 1
         elif key == "f":
             if len(words) < 4:
-                raise MeshError(f"{path}: line {number}: a face needs at least 3 vertices, got {raw.strip()[:60].decode('ascii', 'replace')!r}")
+                line = raw.strip()[:60].decode("ascii", "replace")
+                raise MeshError(f"{path}: line {number}: a face needs at least 3 vertices, got {line!r}")
             absolute = [_obj_reference(ref, counts, highest, path, number) for ref in words[1:]]
             if absolute != words[1:]:
                 changed = True
