@@ -368,7 +368,7 @@ def _obj_reference(ref: bytes, counts: list[int], highest: list[tuple[int, int]]
     parts = ref.split(b"/")
     if len(parts) > 3 or not parts[0]:
         raise MeshError(f"{path}: line {number}: {text!r} is not a face vertex (v, v/vt, v//vn or v/vt/vn)")
-    out = []
+    out: list[bytes] = []
     for k, part in enumerate(parts):
         if not part:
             out.append(part)
