@@ -18,7 +18,7 @@ file                     what, in which frame
 ``plan.kml``             the same for Google Earth / QGIS; altitudes ``absolute`` (AMSL)
 ``coverage.tif``         GeoTIFF in the DEM's grid and CRS: band 1 seen (1) or not (0), band 2
                          how many UAVs see the cell; 65535 outside the area and over nodata
-``plan.json``            the settings, the CRSs and datums, the numbers (machine-readable)
+``plan.json``            the command, seed, settings, versions, CRSs and datums, the numbers
 ``report.md``            one page: the map, the numbers, the settings
 ``report.png``           the map: elevation, seen cells, area, footprints, positions, take-off
 =======================  =====================================================================
@@ -28,9 +28,12 @@ take-off point (barometer), and the difference between two DEM heights does not 
 DEM's vertical datum, which is often unknown; the home altitude written as
 ``plannedHomePosition`` is the DEM's height at the take-off point.
 
-Every file is rendered in memory first and written under a temporary name, then renamed
-(``os.replace``): bad input or a failing renderer leaves the folder as it was, and no reader ever
-sees half a file. Each writer has a reader (``read_*``) that the round-trip tests use.
+Every file is rendered in memory first, then the folder is swapped in whole
+(``field/_results_folder.py``): bad input or a failing renderer leaves the folder as it
+was, a new plan leaves nothing of an older one, and a folder of other files is refused. Every
+JSON file is strict (no NaN or Infinity), every CSV cell a finite number or empty, every longitude
+in [-180, 180]. Each writer has a reader (``read_*``) that the round-trip tests use; the writers
+live in one file per kind (``_qgc``, ``_plan_tables``, ``_gis_files``, ``_plan_report``).
 """
 
 from __future__ import annotations

@@ -240,9 +240,6 @@ class FlightPlan:
         Targets seen by at least one UAV (the engine's seen mask).
     seen_count : (T,) int64
         How many UAVs see each target.
-    seed : int or None
-        The seed the plan was made from (``rng`` when an integer): the same seed, settings and
-        DEM give the same plan.
     quality : (T,) float64 or None
         The best view quality of each target over the team (:meth:`uavcov.Visibility.quality`:
         resolution against the sensor's ``good_gsd_m``, times the cosine of the incidence), 0
@@ -261,6 +258,9 @@ class FlightPlan:
     attitudes_local : (N, 2) float64 or None
         The same with the heading from the local frame's +y (the DEM's grid north), as the
         engine poses the cameras.
+    seed : int or None
+        The seed the plan was made from (``rng`` when an integer): the same seed, settings and
+        DEM give the same plan.
     """
 
     settings: PlanSettings
