@@ -554,3 +554,15 @@ def test_a_bbox_area_and_a_geojson_area_with_longitudes_past_180_write_wrapped(t
     documents = read_back_strictly(out)
     areas = [f for f in documents["plan.geojson"]["features"] if f["properties"]["kind"] == "area"]
     assert areas and in_range(lonlats(areas))
+
+
+@pytest.mark.parametrize("west, width", [(179.99, 0.02), (0.0, 350.0), (-190.0, 20.0)])
+def test_longitudes_of_either_sign_land_on_a_dem_that_counts_past_180(west: float, width: float):
+    columns = 10 if width < 1 else int(width)
+    dem = dem_from_array(np.ones((6, columns)), (width / columns, 0.0, west, 0.0, -0.001, 45.0), "EPSG:4326")
+    middle = float(wrap_longitude([west + 0.75 * width])[0])  # three quarters across: past 180 on the wide one
+    for lon in (middle, middle - 360.0, middle + 360.0):  # the same meridian, counted three ways
+        if abs(lon) <= 360.0:
+            local = dem.from_wgs84([[lon, 44.998]])
+            assert dem.terrain.bounds[0, 0] <= local[0, 0] <= dem.terrain.bounds[1, 0]  # on the DEM
+            assert dem.to_wgs84(local)[0, 0] == pytest.approx(middle, abs=1e-9)

@@ -235,7 +235,8 @@ class GeoDem:
         else:
             x, y = _transformer(WGS84, self.crs).transform(array[:, 0], array[:, 1])
         if self.geographic:  # a DEM across the antimeridian may count longitudes past 180: meet it there
-            x = _unwrap_longitude(np.asarray(x, dtype=np.float64), float(self.frame.origin[0]))
+            centre = float(self.frame.to_source(self.terrain.bounds.mean(axis=0, keepdims=True))[0, 0])
+            x = _unwrap_longitude(np.asarray(x, dtype=np.float64), centre)
         return self.from_crs(np.column_stack([x, y, height]))
 
     def crs_to_local_xy(self, xy: Any) -> np.ndarray:
