@@ -23,16 +23,9 @@ from uavcov.cli import EXIT_BAD_INPUT, EXIT_OK, main
 from uavcov.errors import InfeasibleError, InvalidInputError
 from uavcov.field import MAV_FRAME_GLOBAL_RELATIVE_ALT, bbox_area, read_area
 from uavcov.field._area import points_in_rings
-from uavcov.field._outputs import (
-    COVERAGE_NODATA,
-    MAV_CMD_NAV_LOITER_TIME,
-    MAV_CMD_NAV_TAKEOFF,
-    read_coverage_geotiff,
-    read_plan_geojson,
-    read_plan_kml,
-    read_positions_csv,
-    read_qgc_plan,
-)
+from uavcov.field._gis_files import COVERAGE_NODATA, read_coverage_geotiff, read_plan_geojson, read_plan_kml
+from uavcov.field._plan_tables import read_positions_csv
+from uavcov.field._qgc import MAV_CMD_NAV_LOITER_TIME, MAV_CMD_NAV_TAKEOFF, read_qgc_plan
 from uavcov.optim import cao_preset
 from uavcov.terrain import dem_from_array, read_mesh_dem
 

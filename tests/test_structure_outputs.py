@@ -16,8 +16,8 @@ from uavcov import Targets, Visibility
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, ResultsFolderError
 from uavcov.field import GeoAnchor
 from uavcov.field._geodesy import enu_to_wgs84, local_to_true_heading
-from uavcov.field._outputs import read_qgc_plan
 from uavcov.field._ply import read_seen_ply, seen_cloud_bytes, write_seen_ply
+from uavcov.field._qgc import read_qgc_plan
 from uavcov.field._structure_flight import structure_flight, write_structure_flight
 
 pyproj = pytest.importorskip("pyproj")

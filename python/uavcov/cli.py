@@ -367,12 +367,15 @@ def _plot(args: argparse.Namespace) -> int:
 
 
 def _view(args: argparse.Namespace) -> int:
-    from .errors import MissingExtraError
+    from .errors import MissingExtraError, ResultsFolderError
 
     try:
         from .plotting import find_run, write_view
     except ImportError as exc:
         raise MissingExtraError(f"the view is not available: pip install 'uavcov[view]' ({exc})") from exc
+    folder = Path(args.out).absolute().parent
+    if not folder.is_dir():  # before the view is drawn, which takes seconds
+        raise ResultsFolderError(f"cannot write {args.out}: the folder {folder} does not exist")
     run = find_run(args.run_or_dir, args.run_name)
     out = write_view(run, args.out, max_vertices=args.max_vertices, max_frames=args.max_frames)
     size = out.stat().st_size / 1e6
@@ -413,7 +416,7 @@ _MESH_SUFFIXES = (".obj", ".stl", ".ply")
 def _plan(args: argparse.Namespace) -> int:
     from .engine import Camera, Gimbal, Sensor
     from .errors import ConfigError
-    from .field import PlanSettings, bbox_area, plan, read_area, write_plan
+    from .field import PlanSettings, bbox_area, check_plan_folder, plan, read_area, write_plan
     from .terrain import read_dem, read_mesh_dem, sample_dem
 
     started = time.perf_counter()
@@ -423,6 +426,7 @@ def _plan(args: argparse.Namespace) -> int:
         raise ConfigError("--anchor places a structure (--structure); a DEM states its own georeference")
     if (args.dem is None) == (not args.sample):
         raise ConfigError("give either a DEM file or the bundled sample (--sample), not both and not neither")
+    check_plan_folder(args.out)  # before the work: a folder of other files is refused, never wiped
     if args.sample:
         if args.crs is not None:
             raise ConfigError("the sample's CRS is known (WGS 84): --crs is for DEM files")
@@ -482,7 +486,7 @@ def _plan(args: argparse.Namespace) -> int:
 def _plan_structure(args: argparse.Namespace, started: float) -> int:
     """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
     from .errors import ConfigError
-    from .field import GeoAnchor, plan_structure, write_structure_plan
+    from .field import GeoAnchor, check_plan_folder, plan_structure, write_structure_plan
     from .placement import Constraints, StartSettings
     from .settings import MissionSettings
     from .terrain import STRUCTURE_SCENES, load_structure
@@ -500,6 +504,7 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
     ):
         if value is not None:
             raise ConfigError(f"{flag} is for a DEM's plan, not a structure's")
+    check_plan_folder(args.out)
     if args.structure in STRUCTURE_SCENES:
         structure = STRUCTURE_SCENES[args.structure](rng=args.seed)
     elif Path(args.structure).suffix.lower() in _MESH_SUFFIXES:
@@ -520,7 +525,8 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
     )
     lon, lat, alt = args.anchor
     planned = plan_structure(structure, settings, GeoAnchor(lon, lat, alt), hold_s=args.hold, rng=args.seed, n_threads=args.threads)
-    written = write_structure_plan(planned, args.out)
+    command = "uavcov " + shlex.join(args.argv)
+    written = write_structure_plan(planned, args.out, command=command, runtime_s=time.perf_counter() - started)
     try:
         from .plotting import plot_structure_seen
 

@@ -9,6 +9,7 @@ stored runs; a file from an unknown format, or one missing a field, raises
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import numbers
@@ -207,6 +208,10 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
     path = _as_path(path)
     if not path.is_file():
         raise ResultsFormatError(f"no run file at {path}")
+    with contextlib.suppress(OSError), open(path, "rb") as handle:
+        magic = handle.read(6)
+        if magic and not magic.startswith((b"PK", b"\x93NUMPY")):  # numpy would speak of pickles
+            raise ResultsFormatError(f"{path} is not a uavcov run file: not a .npz archive (a run is what save_mission writes)")
     try:
         data = np.load(path, allow_pickle=False)
         if not isinstance(data, np.lib.npyio.NpzFile):  # a bare .npy array, not an archive

@@ -284,6 +284,16 @@ def _fov(value: Any, name: str) -> float:
     return math.radians(degrees)
 
 
+def _reduce_degrees(angle: Any) -> np.ndarray:
+    """An angle in degrees reduced exactly into ``(-360, 360)`` before any trigonometry.
+
+    ``fmod`` is exact in floating point, so a heading of 1e300 degrees points where
+    ``fmod(1e300, 360)`` does; converting first (``radians(1e300)``) would round away every digit
+    that says where. Angles already in ``(-360, 360)`` come back unchanged, bit for bit.
+    """
+    return np.fmod(np.asarray(angle, dtype=np.float64), 360.0)
+
+
 def camera_axes(yaw_deg: Any, pitch_deg: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The camera's unit axes in the world frame (x east, y north, z up), each ``(N, 3)``.
 
@@ -310,7 +320,7 @@ def camera_axes(yaw_deg: Any, pitch_deg: Any) -> tuple[np.ndarray, np.ndarray, n
         raise InvalidInputError("yaw and pitch must be finite")
     if ((pitch < -90.0) | (pitch > 90.0)).any():
         raise InvalidInputError(f"pitch must be in [-90, 90] degrees (nadir to zenith), got {pitch.tolist()}")
-    y, p = np.radians(yaw), np.radians(pitch)
+    y, p = np.radians(_reduce_degrees(yaw)), np.radians(pitch)
     sy, cy, sp, cp = np.sin(y), np.cos(y), np.sin(p), np.cos(p)
     forward = np.column_stack([sy * cp, cy * cp, sp])
     right = np.column_stack([cy, -sy, np.zeros_like(y)])

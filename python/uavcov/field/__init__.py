@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from ._area import AreaOfInterest, bbox_area, read_area
 from ._geodesy import GeoAnchor
-from ._outputs import MAV_CMD_DO_MOUNT_CONTROL, MAV_FRAME_GLOBAL_RELATIVE_ALT, write_plan
+from ._outputs import write_plan
 from ._plan import FlightPlan, PlanSettings, plan
+from ._qgc import MAV_CMD_DO_MOUNT_CONTROL, MAV_FRAME_GLOBAL_RELATIVE_ALT
+from ._results_folder import check_plan_folder
 from ._structure_flight import StructureFlight
 from ._structure_plan import StructurePlan, plan_structure, write_structure_plan
 
@@ -15,6 +17,7 @@ __all__ = [
     "bbox_area",
     "read_area",
     "write_plan",
+    "check_plan_folder",
     "MAV_CMD_DO_MOUNT_CONTROL",
     "MAV_FRAME_GLOBAL_RELATIVE_ALT",
     "PlanSettings",

@@ -12,6 +12,7 @@ either way.
 from __future__ import annotations
 
 import json
+import math
 import os
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
@@ -21,7 +22,7 @@ import numpy as np
 
 from .._validate import as_float_array
 from ..errors import InvalidInputError, InvalidTypeError
-from ..terrain import GeoDem
+from ..terrain import GeoDem, wrap_longitude
 
 AREA_FRAMES = ("wgs84", "dem")
 """What an area's coordinates are in: WGS84 (longitude, latitude) or the DEM's CRS."""
@@ -90,9 +91,10 @@ class AreaOfInterest:
         return [dem.crs_to_local_xy(ring) for ring in rings]
 
     def wgs84_polygons(self, dem: GeoDem) -> list[list[np.ndarray]]:
-        """The polygons in WGS84 (longitude, latitude), for the files a plan writes."""
+        """The polygons in WGS84 (longitude, latitude), for the files a plan writes: longitudes in
+        ``[-180, 180]``, as GeoJSON and KML require."""
         if self.frame == "wgs84":
-            return [list(rings) for rings in self.polygons]
+            return [[np.column_stack([wrap_longitude(r[:, 0]), r[:, 1]]) for r in rings] for rings in self.polygons]
         return [
             [dem.to_wgs84(np.column_stack([dem.crs_to_local_xy(r), np.zeros(r.shape[0])]))[:, :2] for r in rings] for rings in self.polygons
         ]
@@ -167,38 +169,108 @@ def read_area(path: Any) -> AreaOfInterest:
     return AreaOfInterest(tuple(tuple(rings) for rings in polygons), frame="wgs84", source=text_path)
 
 
+_MAX_NESTING = 32
+"""How deep GeoJSON geometries may nest (collections of collections): far beyond any real file."""
+
+
+def _member(node: dict[str, Any], key: str, kind: type, what: str, where: str) -> Any:
+    """``node[key]``, which must be a ``kind`` (JSON's list or object), else a clear error."""
+    value = node.get(key)
+    if not isinstance(value, kind):
+        expected = "an array" if kind is list else "an object"
+        raise InvalidInputError(f"{where!r}: the {what}'s {key!r} must be {expected}, got {_json_kind(value)}")
+    return value
+
+
+def _json_kind(value: Any) -> str:
+    names = {dict: "an object", list: "an array", str: "a string", bool: "a boolean", type(None): "null", int: "a number"}
+    return names.get(type(value), "a number")
+
+
+def _position(value: Any, where: str) -> list[float]:
+    """A GeoJSON position: 2 or 3 finite numbers (longitude, latitude[, height]) -> (longitude, latitude)."""
+    if not isinstance(value, list) or not 2 <= len(value) <= 3:
+        raise InvalidInputError(f"{where!r}: a position must be [longitude, latitude] (an array of 2 or 3 numbers), got {_short(value)}")
+    numbers = [_finite(v) for v in value]
+    if None in numbers:
+        raise InvalidInputError(f"{where!r}: a position must hold finite numbers, got {_short(value)}")
+    return [float(v) for v in numbers[:2]]  # type: ignore[arg-type]
+
+
+def _finite(value: Any) -> float | None:
+    """``value`` as a finite float, or None (a string, a boolean, NaN, an integer beyond float)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    try:
+        number = float(value)
+    except OverflowError:
+        return None
+    return number if math.isfinite(number) else None
+
+
+def _short(value: Any) -> str:
+    text = json.dumps(value) if not isinstance(value, float) or math.isfinite(value) else repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _polygon(coordinates: Any, where: str) -> list[list[list[float]]]:
+    """A GeoJSON Polygon's coordinates: an array of rings, each an array of positions."""
+    if not isinstance(coordinates, list) or not coordinates:
+        raise InvalidInputError(f"{where!r}: a Polygon's coordinates must be an array of rings, got {_short(coordinates)}")
+    rings = []
+    for ring in coordinates:
+        if not isinstance(ring, list):
+            raise InvalidInputError(f"{where!r}: a Polygon ring must be an array of positions, got {_short(ring)}")
+        rings.append([_position(p, where) for p in ring])
+    return rings
+
+
 def _geojson_polygons(text: str, where: str) -> list[list[Any]]:
+    """Every polygon of a GeoJSON text, each member checked against RFC 7946 before it is used."""
     try:
         document = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidInputError(f"{where!r} is neither GeoJSON nor KML: {exc}") from None
+    except RecursionError:
+        raise InvalidInputError(f"{where!r} nests arrays or objects too deeply to be a GeoJSON area") from None
     if not isinstance(document, dict):
-        raise InvalidInputError(f"{where!r} is not a GeoJSON object")
+        raise InvalidInputError(f"{where!r} is not a GeoJSON object (it is {_json_kind(document)})")
     crs = document.get("crs")
     if crs is not None:
-        name = str(crs.get("properties", {}).get("name", "")) if isinstance(crs, dict) else str(crs)
+        properties = crs.get("properties") if isinstance(crs, dict) else None
+        name = properties.get("name") if isinstance(properties, dict) else None
+        if not isinstance(name, str):
+            raise InvalidInputError(f'{where!r}: a \'crs\' member must be an object naming its CRS ({{"properties": {{"name": ...}}}})')
         if not any(key in name.upper() for key in ("CRS84", "4326")):
             raise InvalidInputError(f"{where!r} declares the CRS {name!r}; GeoJSON areas must be WGS84 longitude, latitude")
     polygons: list[list[Any]] = []
 
-    def visit(node: Any) -> None:
-        if not isinstance(node, dict):
-            return
-        kind = node.get("type")
+    def visit(node: Any, depth: int) -> None:
+        if depth > _MAX_NESTING:
+            raise InvalidInputError(f"{where!r} nests GeoJSON collections more than {_MAX_NESTING} deep")
+        if node is None:
+            return  # a Feature without geometry
+        if not isinstance(node, dict) or not isinstance(node.get("type"), str):
+            raise InvalidInputError(f"{where!r}: expected a GeoJSON object with a 'type', got {_short(node)}")
+        kind = node["type"]
         if kind == "FeatureCollection":
-            for feature in node.get("features") or []:
-                visit(feature)
+            for feature in _member(node, "features", list, kind, where):
+                visit(feature, depth + 1)
         elif kind == "Feature":
-            visit(node.get("geometry"))
+            if "geometry" not in node:
+                raise InvalidInputError(f"{where!r}: a Feature must have a 'geometry' member")
+            visit(node["geometry"], depth + 1)
         elif kind == "GeometryCollection":
-            for geometry in node.get("geometries") or []:
-                visit(geometry)
+            for geometry in _member(node, "geometries", list, kind, where):
+                visit(geometry, depth + 1)
         elif kind == "Polygon":
-            polygons.append(list(node.get("coordinates") or []))
+            polygons.append(_polygon(_member(node, "coordinates", list, kind, where), where))
         elif kind == "MultiPolygon":
-            polygons.extend(list(p) for p in node.get("coordinates") or [])
+            polygons.extend(_polygon(p, where) for p in _member(node, "coordinates", list, kind, where))
+        elif kind not in ("Point", "MultiPoint", "LineString", "MultiLineString"):
+            raise InvalidInputError(f"{where!r}: {kind!r} is not a GeoJSON type")
 
-    visit(document)
+    visit(document, 0)
     return polygons
 
 
@@ -223,7 +295,14 @@ def _kml_polygons(text: str, where: str) -> list[list[Any]]:
 
 
 def _kml_coordinates(text: str, where: str) -> list[list[float]]:
-    try:
-        return [[float(v) for v in token.split(",")[:2]] for token in text.split()]
-    except ValueError:
-        raise InvalidInputError(f"{where!r}: KML coordinates must be 'lon,lat[,alt]' tuples, got {text.strip()[:60]!r}") from None
+    positions = []
+    for token in text.split():
+        values = token.split(",")
+        try:
+            numbers = [float(v) for v in values]
+        except ValueError:
+            numbers = []
+        if not 2 <= len(numbers) <= 3 or not all(math.isfinite(v) for v in numbers):
+            raise InvalidInputError(f"{where!r}: KML coordinates must be 'lon,lat[,alt]' tuples of finite numbers, got {token[:60]!r}")
+        positions.append(numbers[:2])
+    return positions

@@ -141,9 +141,10 @@ def local_to_true_heading(points: Any, yaw_deg: Any, anchor: GeoAnchor) -> np.nd
     degrees); the heading is turned by it exactly, through ECEF.
     """
     local = _as_local(points)
-    yaw = np.radians(as_float_array(yaw_deg, "yaw_deg", ndim=1))
-    if yaw.shape[0] != local.shape[0] or not np.isfinite(yaw).all():
+    degrees = as_float_array(yaw_deg, "yaw_deg", ndim=1)
+    if degrees.shape[0] != local.shape[0] or not np.isfinite(degrees).all():
         raise InvalidInputError("yaw_deg must be one finite heading per point")
+    yaw = np.radians(np.fmod(degrees, 360.0))  # reduced exactly first: radians(1e300) keeps no heading
     geodetic = enu_to_wgs84(local, anchor)
     direction = np.column_stack([np.sin(yaw), np.cos(yaw), np.zeros_like(yaw)]) @ anchor.rotation()
     out = np.empty(local.shape[0])

@@ -59,6 +59,9 @@ TAKEOFF_FRAMES = ("wgs84", "dem")
 """How a take-off point is given: (longitude, latitude) in WGS84, or (x, y) in the DEM's CRS."""
 
 _FOOTPRINT_VERTICES = 48
+MAX_RANGE_M = 100_000.0
+"""The longest sensing range a plan takes, metres: far beyond a UAV's sensor, and short enough that
+every footprint has a longitude and latitude (a range of 1e300 m has no outline on the Earth)."""
 
 
 @dataclass(frozen=True)
@@ -177,6 +180,12 @@ class PlanSettings:
         )
         for name in ("n_uavs", "d_max", "iterations", "sensor", "attitude", "footprint_start"):
             object.__setattr__(self, name, getattr(mission, name))
+        ranges = [self.d_max] + [s.d_max for s in mission.team_sensors() or []]
+        if max(ranges) > MAX_RANGE_M:
+            raise InvalidInputError(
+                f"a sensing range of {max(ranges):g} m is beyond the {MAX_RANGE_M / 1000:g} km a plan on real ground "
+                "considers (its footprints are drawn on the map)"
+            )
         object.__setattr__(self, "_mission", mission)
 
     @property
@@ -250,6 +259,9 @@ class FlightPlan:
     attitudes_local : (N, 2) float64 or None
         The same with the heading from the local frame's +y (the DEM's grid north), as the
         engine poses the cameras.
+    seed : int or None
+        The seed the plan was made from (``rng`` when an integer): the same seed, settings and
+        DEM give the same plan.
     """
 
     settings: PlanSettings
@@ -277,6 +289,7 @@ class FlightPlan:
     attitudes: np.ndarray | None = None
     attitudes_local: np.ndarray | None = None
     quality: np.ndarray | None = None
+    seed: int | None = None
 
     @property
     def n_uavs(self) -> int:
@@ -530,6 +543,7 @@ def plan(
         attitudes=None if attitudes is None else frozen(attitudes),
         attitudes_local=None if local_attitudes is None else frozen(local_attitudes),
         quality=None if targets.normals is None else frozen(vis.quality(poses, sensors=sensors)),
+        seed=int(rng) if is_int(rng) else None,
     )
 
 
@@ -537,7 +551,7 @@ def _true_headings(dem: GeoDem, positions: np.ndarray, local_yaw: np.ndarray) ->
     """Compass headings from true north (degrees in [0, 360)) of headings ``local_yaw`` measured
     from the local frame's +y: a projected CRS's grid north is not true north (meridian
     convergence), so each heading is carried to WGS84 by a point 1 m ahead of its UAV."""
-    yaw = np.radians(local_yaw)
+    yaw = np.radians(np.fmod(local_yaw, 360.0))  # reduced exactly first, as the engine does
     ahead = positions.copy()
     ahead[:, 0] += np.sin(yaw)
     ahead[:, 1] += np.cos(yaw)
@@ -545,7 +559,10 @@ def _true_headings(dem: GeoDem, positions: np.ndarray, local_yaw: np.ndarray) ->
     out = np.empty(positions.shape[0])
     for k in range(positions.shape[0]):
         east_per_degree, north_per_degree = metres_per_degree(float(here[k, 1]))
-        east = (there[k, 0] - here[k, 0]) * east_per_degree
+        d_lon = float(there[k, 0] - here[k, 0])
+        if abs(d_lon) > 180.0:  # the 1 m step crossed the antimeridian, where longitudes wrap
+            d_lon -= math.copysign(360.0, d_lon)
+        east = d_lon * east_per_degree
         north = (there[k, 1] - here[k, 1]) * north_per_degree
         out[k] = math.degrees(math.atan2(east, north)) % 360.0
     return out

@@ -27,7 +27,6 @@ to it; give ``routes`` where that crosses the structure (under a deck, the check
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,11 +38,15 @@ from .._validate import MAX_UAVS, as_float_array, as_non_negative_float, as_posi
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._geodesy import GeoAnchor, enu_to_wgs84, local_to_true_heading
-from ._outputs import MAV_CMD_NAV_LOITER_TIME, MAV_CMD_NAV_TAKEOFF, MAV_CMD_NAV_WAYPOINT, _csv, qgc_document, qgc_items, write_files
+from ._plan_tables import _csv
+from ._qgc import MAV_CMD_NAV_LOITER_TIME, MAV_CMD_NAV_TAKEOFF, MAV_CMD_NAV_WAYPOINT, qgc_document, qgc_items
+from ._results_folder import write_files
+from ._strict_json import json_bytes
 
 # A take-off leg starts on the pad: it is checked from this far above it, so that the pad's own
 # ground does not count as a crossing.
 _LIFT_OFF_M = 0.01
+STRUCTURE_PLAN_FORMAT = "uavcov.structure_plan/1"
 _ALTITUDE_FRAME = "relative to home: metres above the take-off pad (MAV_FRAME_GLOBAL_RELATIVE_ALT = 3, QGroundControl AltitudeMode 1)"
 
 
@@ -260,7 +263,7 @@ def render_structure_flight(plan: StructureFlight) -> dict[str, bytes]:
     header = ("uav", "seq", "east_m", "north_m", "up_m", "longitude", "latitude", "height_ellipsoid_m", "height_home_m")
     files["waypoints.csv"] = _csv(waypoints, header)
     for k in range(plan.n_uavs):
-        files[f"uav_{k + 1:02d}.plan"] = (json.dumps(structure_qgc_plan(plan, k), indent=4) + "\n").encode("utf-8")
+        files[f"uav_{k + 1:02d}.plan"] = json_bytes(structure_qgc_plan(plan, k), indent=4, what=f"uav_{k + 1:02d}.plan")
     features: list[dict[str, Any]] = [
         {
             "type": "Feature",
@@ -284,7 +287,7 @@ def render_structure_flight(plan: StructureFlight) -> dict[str, bytes]:
                 "properties": {"kind": "route", "uav": k + 1},
             }
         )
-    files["plan.geojson"] = (json.dumps({"type": "FeatureCollection", "features": features}, indent=1) + "\n").encode("utf-8")
+    files["plan.geojson"] = json_bytes({"type": "FeatureCollection", "features": features}, indent=1, what="plan.geojson")
     document = {
         "anchor": {"longitude": plan.anchor.longitude, "latitude": plan.anchor.latitude, "height_ellipsoid_m": plan.anchor.height},
         "local_frame": "east, north, up metres from the anchor (x east, y north, z up)",
@@ -298,8 +301,9 @@ def render_structure_flight(plan: StructureFlight) -> dict[str, bytes]:
         "hold_s": plan.hold_s,
         "cruise_speed": plan.cruise_speed,
         "hover_speed": plan.hover_speed,
+        "format": STRUCTURE_PLAN_FORMAT,
     }
-    files["plan.json"] = (json.dumps(document, indent=2) + "\n").encode("utf-8")
+    files["plan.json"] = json_bytes(document, indent=2, what="plan.json")
     return files
 
 

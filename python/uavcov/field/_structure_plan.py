@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -30,9 +31,11 @@ from ..mission import MissionResult, run_mission
 from ..settings import MissionSettings
 from ..terrain import Structure, StructureTargets
 from ._geodesy import GeoAnchor
-from ._outputs import write_files
 from ._ply import seen_cloud_bytes
+from ._results_folder import write_files
+from ._strict_json import json_bytes
 from ._structure_flight import StructureFlight, render_structure_flight, structure_flight
+from ._structure_report import structure_record, structure_report_md
 
 # Ring of detours round a position, metres out and directions: enough to leave a deck's
 # underside sideways on the scenes' bridges (decks 8-12 m wide) without searching a graph.
@@ -187,17 +190,24 @@ def plan_structure(
     return StructurePlan(result=result, targets=chosen, seen_count=read_only(count), flight=flight)
 
 
-def write_structure_plan(plan: StructurePlan, out: Any) -> list[Path]:
-    """Write the plan's files (``write_structure_flight``), ``seen.ply`` and ``parts.csv`` into ``out``.
+def write_structure_plan(plan: StructurePlan, out: Any, *, command: str | None = None, runtime_s: float | None = None) -> list[Path]:
+    """Write the plan's files (``write_structure_flight``), ``seen.ply``, ``parts.csv`` and
+    ``report.md`` into ``out``; ``plan.json`` adds the command, the seed, every setting, the
+    versions and the coverage of the whole and of each part. A plan replaces its folder as a whole.
 
     Raises
     ------
+    ResultsInUseError
+        ``out`` holds files that are not a plan's.
     ResultsFolderError
         ``out`` is a file, or cannot be created or written.
     """
     if not isinstance(plan, StructurePlan):
         raise InvalidTypeError(f"plan must be a StructurePlan, got {type(plan).__name__}")
     files = render_structure_flight(plan.flight)
+    document = {**json.loads(files["plan.json"]), **structure_record(plan, command, runtime_s)}
+    files["plan.json"] = json_bytes(document, indent=2, what="plan.json")
+    files["report.md"] = structure_report_md(plan, document)
     files["seen.ply"] = seen_cloud_bytes(plan.targets, plan.seen_count)
     table = io.StringIO()
     writer = csv.writer(table, lineterminator="\n")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._buildings import buildings_scene
-from ._dem import GeoDem, RasterGrid, dem_from_array, read_dem, read_mesh_dem, sample_dem
+from ._dem import GeoDem, RasterGrid, dem_from_array, read_dem, read_mesh_dem, sample_dem, wrap_longitude
 from ._frame import LocalFrame, metres_per_degree
 from ._generators import BuildingsGenerator, HillsGenerator
 from ._hills import gaussian_hills
@@ -27,6 +27,7 @@ __all__ = [
     "read_dem",
     "read_mesh_dem",
     "sample_dem",
+    "wrap_longitude",
     "LocalFrame",
     "metres_per_degree",
     "HillsGenerator",

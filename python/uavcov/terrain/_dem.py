@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import functools
 import os
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -76,6 +77,55 @@ class RasterGrid:
     def pixel_of_node(self, i: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The raster pixel ``(row, col)`` of terrain grid nodes ``(i, j)`` (its own inverse)."""
         return self.node_of_pixel(np.asarray(i), np.asarray(j))
+
+
+def wrap_longitude(lon: Any) -> np.ndarray:
+    """Longitudes (degrees) in ``[-180, 180]``, as GeoJSON, KML and QGroundControl require.
+
+    Values already in range are returned bit for bit; the others are reduced exactly
+    (``fmod`` is exact in floating point), so 180.006 becomes -179.994.
+    """
+    values = np.asarray(lon, dtype=np.float64)
+    outside = np.abs(values) > 180.0
+    if not outside.any():
+        return values
+    reduced = np.fmod(values, 360.0)
+    reduced = np.where(reduced > 180.0, reduced - 360.0, np.where(reduced < -180.0, reduced + 360.0, reduced))
+    return np.where(outside, reduced, values)
+
+
+def _unwrap_longitude(lon: np.ndarray, centre: float) -> np.ndarray:
+    """Longitudes moved by whole turns to within 180 degrees of ``centre`` (those already there unchanged)."""
+    far = np.abs(lon - centre) > 180.0
+    if not far.any():
+        return lon
+    return np.where(far, lon + 360.0 * np.round((centre - lon) / 360.0), lon)
+
+
+def _check_domain(crs: str, is_wgs84: bool, x: np.ndarray, y: np.ndarray, tolerance: float, source: str, name: str) -> None:
+    """Refuse source coordinates outside the CRS's domain: every point must have a finite longitude
+    and latitude that maps back to it (pyproj returns inf, or another point, outside a projection's
+    domain), longitudes within [-360, 360] and latitudes within [-90, 90]."""
+    if is_wgs84:
+        lon, lat = x, y
+    else:
+        lon, lat = (np.asarray(v, dtype=np.float64) for v in _transformer(crs, WGS84).transform(x, y))
+    bad = ~(np.isfinite(lon) & np.isfinite(lat)) | (np.abs(lon) > 360.0) | (np.abs(lat) > 90.0)
+    if not is_wgs84 and not bad.any():
+        back_x, back_y = (np.asarray(v, dtype=np.float64) for v in _transformer(WGS84, crs).transform(lon, lat))
+        bad = ~(np.isfinite(back_x) & np.isfinite(back_y)) | (np.hypot(back_x - x, back_y - y) > tolerance)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise InvalidInputError(
+            f"{source} lies outside the domain of its CRS ({name}): its point ({x[k]:.10g}, {y[k]:.10g}) has no "
+            "longitude and latitude there; check the geotransform and the CRS"
+        )
+
+
+def _extent_samples(x0: float, x1: float, y0: float, y1: float) -> tuple[np.ndarray, np.ndarray]:
+    """The corners, edge midpoints and centre of a box: where a DEM's extent meets its CRS's domain."""
+    xs, ys = np.meshgrid([x0, 0.5 * (x0 + x1), x1], [y0, 0.5 * (y0 + y1), y1])
+    return xs.ravel(), ys.ravel()
 
 
 @functools.lru_cache(maxsize=16)
@@ -158,9 +208,16 @@ class GeoDem:
         vertical datum)."""
         source = self.to_crs(local)
         if self.is_wgs84:
-            return source
-        lon, lat = _transformer(self.crs, WGS84).transform(source[:, 0], source[:, 1])
-        return np.column_stack([lon, lat, source[:, 2]])
+            lon, lat = source[:, 0], source[:, 1]
+        else:
+            lon, lat = _transformer(self.crs, WGS84).transform(source[:, 0], source[:, 1])
+        lon, lat = np.asarray(lon, dtype=np.float64), np.asarray(lat, dtype=np.float64)
+        if not (np.isfinite(lon).all() and np.isfinite(lat).all() and (np.abs(lat) <= 90.0).all()):
+            raise InvalidInputError(
+                f"points of {self.source or 'the DEM'} lie outside the domain of its CRS ({self.crs_name}): "
+                "they have no longitude and latitude"
+            )
+        return np.column_stack([wrap_longitude(lon), lat, source[:, 2]])
 
     def from_wgs84(self, lonlat: Any) -> np.ndarray:
         """``(n, 2)`` or ``(n, 3)`` (longitude, latitude[, height]) -> local ``(n, 3)`` metres
@@ -177,6 +234,9 @@ class GeoDem:
             x, y = array[:, 0], array[:, 1]
         else:
             x, y = _transformer(WGS84, self.crs).transform(array[:, 0], array[:, 1])
+        if self.geographic:  # a DEM across the antimeridian may count longitudes past 180: meet it there
+            centre = float(self.frame.to_source(self.terrain.bounds.mean(axis=0, keepdims=True))[0, 0])
+            x = _unwrap_longitude(np.asarray(x, dtype=np.float64), centre)
         return self.from_crs(np.column_stack([x, y, height]))
 
     def crs_to_local_xy(self, xy: Any) -> np.ndarray:
@@ -322,7 +382,15 @@ def dem_from_array(
     if not (a > 0.0 and e != 0.0):
         raise InvalidInputError(f"{source} has an unusable pixel size ({a}, {e})")
     wkt, name, geographic, datum, factor, is_wgs84 = _crs_facts(crs)
-    rows = heights.shape[0]
+    rows, cols = heights.shape
+    x_edges, y_edges = (c, c + cols * a), (f, f + rows * e)
+    if geographic and (max(abs(v) for v in x_edges) > 360.0 or cols * a > 360.0):
+        raise InvalidInputError(
+            f"{source}: longitudes {min(x_edges):.10g}..{max(x_edges):.10g} are not on the Earth "
+            "(a geographic DEM lies within [-360, 360] degrees and spans at most 360)"
+        )
+    if not geographic:
+        _check_domain(wkt, is_wgs84, *_extent_samples(*x_edges, *y_edges), 1e-3 * min(a, abs(e)), source, name)
     # Pixel centres are the grid nodes: x_j = c + (j + 1/2) a, y_i = f + (i + 1/2) e.
     if e < 0.0:
         south_first = heights[::-1]
@@ -375,19 +443,30 @@ def read_dem(path: Any, *, crs: Any = None, band: int = 1) -> GeoDem:
         raise InvalidInputError(f"DEM file {text!r} does not exist or is not a file")
     band = as_positive_int(band, "band")
     try:
-        with rasterio.open(text) as dataset:
-            if band > dataset.count:
-                raise InvalidInputError(f"{text} has {dataset.count} band(s), asked for band {band}")
-            rows, cols = dataset.height, dataset.width
-            if rows * cols > 100_000_000:  # before reading: 800 MB of float64
-                raise InvalidInputError(f"{text} has {rows} x {cols} pixels; crop it to at most 100 million for a plan")
-            data = dataset.read(band, masked=True)
-            transform = tuple(dataset.transform)[:6]
-            file_crs = dataset.crs
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")  # rasterio's warnings become this function's errors, in the user's words
+            with rasterio.open(text) as dataset:
+                if band > dataset.count:
+                    raise InvalidInputError(f"{text} has {dataset.count} band(s), asked for band {band}")
+                kind = np.dtype(dataset.dtypes[band - 1]).kind
+                if kind not in "iuf":
+                    raise InvalidInputError(f"{text} holds {dataset.dtypes[band - 1]} values, not heights (a DEM's band is real numbers)")
+                rows, cols = dataset.height, dataset.width
+                if rows * cols > 100_000_000:  # before reading: 800 MB of float64
+                    raise InvalidInputError(f"{text} has {rows} x {cols} pixels; crop it to at most 100 million for a plan")
+                georeferenced = not (dataset.transform.is_identity and not dataset.gcps[0])
+                data = dataset.read(band, masked=True)
+                transform = tuple(dataset.transform)[:6]
+                file_crs = dataset.crs
     except InvalidInputError:
         raise
     except Exception as exc:  # noqa: BLE001 - rasterio raises its own hierarchy (and GDAL's) for unreadable files
         raise InvalidInputError(f"cannot read {text} as a raster: {exc}") from None
+    if not georeferenced or any(type(w.message).__name__ == "NotGeoreferencedWarning" for w in caught):
+        raise InvalidInputError(
+            f"{text} is not geo-referenced (it has no geotransform): a DEM is a GeoTIFF (or a raster GDAL reads) "
+            "that places its pixels on the Earth"
+        )
     if file_crs is None:
         if crs is None:
             raise InvalidInputError(f"{text} states no CRS: give its CRS (for example crs='EPSG:32633', --crs on the command line)")
@@ -413,6 +492,8 @@ def read_mesh_dem(path: Any, crs: Any, *, up: str = "z") -> GeoDem:
     if geographic or factor != 1.0:
         raise InvalidInputError(f"a mesh's vertices must be in a projected CRS in metres, got {name}")
     mesh = load_mesh(path, up=up)
+    (x0, y0, _), (x1, y1, _) = mesh.frame.to_source(mesh.terrain.bounds)
+    _check_domain(wkt, is_wgs84, *_extent_samples(x0, x1, y0, y1), 1e-3, mesh.source, name)
     return GeoDem(mesh.terrain, mesh.frame, wkt, name, False, datum, None, is_wgs84, mesh.source, 0, mesh.mesh_report)
 
 

@@ -8,6 +8,7 @@ Elevation grids with a coordinate reference system are :class:`~uavcov.terrain.G
 
 from __future__ import annotations
 
+import io
 import os
 from dataclasses import dataclass
 from typing import Any
@@ -91,6 +92,19 @@ def _existing_path(path: Any, what: str, error: type[Exception]) -> str:
     return text
 
 
+MAX_COORDINATE_M = 1e15
+"""The largest coordinate magnitude a surface holds, metres (the engine's bound: a coordinate there
+still resolves 0.125 m; beyond it areas and sight lines lose their meaning)."""
+
+
+def _within_coordinate_bound(points: np.ndarray, what: str) -> None:
+    """Refuse a coordinate beyond :data:`MAX_COORDINATE_M` with the engine's own message."""
+    beyond = np.abs(points) > MAX_COORDINATE_M
+    if beyond.any():
+        i = int(np.flatnonzero(beyond.any(axis=1))[0])
+        raise MeshError(f"{what} {i} has a coordinate beyond 1e15 m in magnitude: {points[i].tolist()}")
+
+
 def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshReport]:
     """Repair a triangle mesh: merge coincident vertices, drop degenerate and duplicate faces.
 
@@ -123,6 +137,7 @@ def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshR
     points = as_float_array(vertices, "vertices", nonfinite_error=MeshError)
     if points.ndim != 2 or points.shape[1] != 3:
         raise MeshError(f"vertices must have shape (V, 3), got {points.shape}")
+    _within_coordinate_bound(points, "vertex")
     triangles = as_index_array(faces, "faces")
     if triangles.shape[0] == 0:
         raise MeshError("the mesh has no faces")
@@ -221,6 +236,9 @@ def mesh_terrain(
         points = np.column_stack([points[:, 0], -points[:, 2], points[:, 1]])
     if points.shape[0] == 0:
         raise MeshError("the mesh has no vertices")
+    # Before recentring: at 1e300 a 4 m cube's corners are one float, and recentring would make
+    # it a flat thing rather than an error.
+    _within_coordinate_bound(points, "vertex")
     if origin is None:
         frame_origin = points.min(axis=0)
     else:
@@ -267,9 +285,14 @@ def load_mesh(
     except ImportError as exc:
         raise MissingExtraError("reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)") from exc
     path_text = _existing_path(path, "mesh", MeshError)
+    source: Any = path_text
+    if path_text.lower().endswith(".obj"):
+        rewritten = obj_absolute_faces(path_text)
+        if rewritten is not None:
+            source = io.BytesIO(rewritten)
     try:
         # process=False: we weld and clean ourselves, with a report, rather than silently.
-        loaded = trimesh.load(path_text, force="mesh", process=False)
+        loaded = trimesh.load(source, file_type="obj" if source is not path_text else None, force="mesh", process=False)
     except Exception as exc:  # trimesh raises many kinds (ValueError, KeyError, IndexError ...)
         raise MeshError(f"cannot parse {path_text!r} as a mesh: {exc}") from exc
     vertices = getattr(loaded, "vertices", None)
@@ -290,3 +313,79 @@ def load_mesh(
         if path_text in str(exc):
             raise
         raise MeshError(f"{path_text}: {exc}") from exc
+
+
+_OBJ_COUNTED = {"v": 0, "vt": 1, "vn": 2}  # the lists an OBJ face's v/vt/vn references count into
+_OBJ_NAMES = ("vertex", "texture coordinate", "normal")
+
+
+def obj_absolute_faces(path: str) -> bytes | None:
+    """Check every face of an OBJ file; return its text with relative (negative) references made
+    absolute, or None when it has none.
+
+    OBJ counts vertices from 1, and -1 is the last vertex defined *before* the face. trimesh
+    misplaces faces that break the first rule (``f 0 2 3``) and counts negative references from
+    the end of the file, so both are settled here, where the line is still known.
+
+    Raises
+    ------
+    MeshError
+        A face with fewer than 3 vertices, a reference that is not an integer, 0, or beyond
+        what the file defines (the message names the line).
+    """
+    try:
+        with open(path, "rb") as handle:
+            lines = handle.read().split(b"\n")
+    except OSError as exc:
+        raise MeshError(f"cannot read {path!r}: {exc}") from None
+    counts = [0, 0, 0]
+    highest = [(0, 0), (0, 0), (0, 0)]  # per list: the largest positive reference and its line
+    changed = False
+    for number, raw in enumerate(lines, start=1):
+        words = raw.split()
+        if not words:
+            continue
+        key = words[0].decode("ascii", "replace")
+        if key in _OBJ_COUNTED:
+            counts[_OBJ_COUNTED[key]] += 1
+        elif key == "f":
+            if len(words) < 4:
+                line = raw.strip()[:60].decode("ascii", "replace")
+                raise MeshError(f"{path}: line {number}: a face needs at least 3 vertices, got {line!r}")
+            absolute = [_obj_reference(ref, counts, highest, path, number) for ref in words[1:]]
+            if absolute != words[1:]:
+                changed = True
+                lines[number - 1] = b"f " + b" ".join(absolute)
+    for k, (index, number) in enumerate(highest):
+        if index > counts[k]:
+            raise MeshError(f"{path}: line {number}: a face references {_OBJ_NAMES[k]} {index}, but the file defines {counts[k]}")
+    return b"\n".join(lines) if changed else None
+
+
+def _obj_reference(ref: bytes, counts: list[int], highest: list[tuple[int, int]], path: str, number: int) -> bytes:
+    """One ``v[/vt[/vn]]`` reference, checked, with relative indices made absolute."""
+    text = ref.decode("ascii", "replace")[:40]
+    parts = ref.split(b"/")
+    if len(parts) > 3 or not parts[0]:
+        raise MeshError(f"{path}: line {number}: {text!r} is not a face vertex (v, v/vt, v//vn or v/vt/vn)")
+    out: list[bytes] = []
+    for k, part in enumerate(parts):
+        if not part:
+            out.append(part)
+            continue
+        try:
+            index = int(part)
+        except ValueError:
+            raise MeshError(f"{path}: line {number}: {text!r} is not a face vertex (references are integers)") from None
+        if index == 0:
+            raise MeshError(f"{path}: line {number}: a face references {_OBJ_NAMES[k]} 0, but OBJ counts from 1")
+        if index < 0:
+            if counts[k] + index < 0:
+                raise MeshError(f"{path}: line {number}: the relative reference {index} reaches before the first {_OBJ_NAMES[k]}")
+            index = counts[k] + index + 1
+            out.append(str(index).encode())
+            continue
+        if index > highest[k][0]:
+            highest[k] = (index, number)
+        out.append(part)
+    return b"/".join(out)
