@@ -28,6 +28,7 @@ use crate::grid::Grid;
 use crate::heightfield::HeightField;
 use crate::skyline::Skylines;
 
+mod closest;
 mod sight;
 pub(crate) mod standoff;
 

@@ -64,6 +64,7 @@ from ._results import (
     json_default,
     read_runs,
 )
+from ._structures import StructuresExperiment, reproduce_structures
 from ._sweep import Experiment, RunSpec, execute_run, experiment_specs, experiments_hash, parse_seeds, run_specs, settings_hash
 from ._sweep_config import PRIORS, STARTS, SweepConfig, load_sweep_config, parse_sweep_config
 
@@ -141,6 +142,8 @@ __all__ = [
     "execute_run",
     "run_specs",
     "parse_seeds",
+    "StructuresExperiment",
+    "reproduce_structures",
     "SweepConfig",
     "load_sweep_config",
     "parse_sweep_config",

@@ -4,6 +4,14 @@ from __future__ import annotations
 
 from ._buildings import Building, buildings_scene, buildings_terrain, perturb_buildings, random_buildings
 from ._dem import SAMPLE_VERTICAL_DATUM, WGS84, GeoDem, RasterGrid, dem_from_array, read_dem, read_mesh_dem, sample_dem
+from ._families import (
+    STRUCTURE_FAMILIES,
+    arch_bridge_family,
+    building_family,
+    girder_bridge_family,
+    pylon_family,
+    tower_family,
+)
 from ._frame import LocalFrame, metres_per_degree
 from ._generators import BuildingsGenerator, HillsGenerator, TerrainGenerator
 from ._hills import GaussianMixture, gaussian_hills, random_gaussian_mixture
@@ -84,6 +92,12 @@ __all__ = [
     "lattice_pylon",
     "load_structure",
     "height_field_violation",
+    "STRUCTURE_FAMILIES",
+    "building_family",
+    "girder_bridge_family",
+    "arch_bridge_family",
+    "tower_family",
+    "pylon_family",
     "StructurePrior",
     "sample_structure_prior",
     "coarse_structure_prior",
