@@ -69,10 +69,7 @@ class _Faces:
     def __init__(self, surface: Terrain) -> None:
         v, f = surface.vertices, surface.faces
         self.a, self.b, self.c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
-        cross = np.cross(self.b - self.a, self.c - self.a)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            unit = cross / np.linalg.norm(cross, axis=1)[:, None]
-        self.unit = np.where(np.isfinite(unit), unit, 0.0)  # a degenerate face has no direction
+        self.unit = surface.face_normals  # the engine's; zero for a degenerate face
         self.lo = np.minimum(np.minimum(self.a, self.b), self.c)
         self.hi = np.maximum(np.maximum(self.a, self.b), self.c)
         scale = float(np.abs(surface.bounds).max()) + float(np.ptp(surface.bounds, axis=0).max())
