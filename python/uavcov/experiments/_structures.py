@@ -279,13 +279,41 @@ def reproduce_structures(
     else:
         config_path.write_text(json.dumps(config, indent=2, sort_keys=True) + "\n", encoding="utf-8")
     say = progress or (lambda message: None)
-    dev = [(f, s, seed, o) for f in experiment.families for s in STARTS for seed in experiment.dev_seeds for o in experiment.offsets]
+    dev = _dev_tasks(experiment)
     say(f"{len(dev)} development runs")
     dev_rows = _run_tasks(experiment, dev, rows_path, workers)
     chosen = choose_offsets(experiment, dev_rows)
-    report = [(f, s, seed, chosen[s]) for f in experiment.families for seed in experiment.report_seeds for s in STARTS]
-    report += [(f, REFERENCE, seed, 0.0) for f in experiment.families for seed in experiment.report_seeds]
+    report = _report_tasks(experiment, chosen)
     say(f"offsets chosen {chosen}; {len(report)} report runs")
     rows = _run_tasks(experiment, report, rows_path, workers)
     write_report(folder / REPORT, experiment, chosen, rows, dev_rows)
     return rows
+
+
+def _dev_tasks(experiment: StructuresExperiment) -> list[Task]:
+    return [(f, s, seed, o) for f in experiment.families for s in STARTS for seed in experiment.dev_seeds for o in experiment.offsets]
+
+
+def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, float]) -> list[Task]:
+    tasks = [(f, s, seed, chosen[s]) for f in experiment.families for seed in experiment.report_seeds for s in STARTS]
+    return tasks + [(f, REFERENCE, seed, 0.0) for f in experiment.families for seed in experiment.report_seeds]
+
+
+def report_from_folder(folder: str | os.PathLike[str]) -> str:
+    """The report's Markdown rebuilt from a finished results folder (``config.json``, ``rows.jsonl``)."""
+    from ._structures_report import report_markdown
+
+    path = Path(folder)
+    settings = json.loads((path / CONFIG).read_text(encoding="utf-8"))["settings"]
+    fields: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()}
+    experiment = StructuresExperiment(**fields)
+    done = {_key(r): r for r in _read_rows(path / ROWS)}
+    missing = [t for t in _dev_tasks(experiment) if t not in done]
+    if missing:
+        raise ConfigError(f"{path} misses {len(missing)} development run(s): finish it with --resume")
+    dev_rows = [done[t] for t in _dev_tasks(experiment)]
+    chosen = choose_offsets(experiment, dev_rows)
+    report = _report_tasks(experiment, chosen)
+    if any(t not in done for t in report):
+        raise ConfigError(f"{path} misses report runs: finish it with --resume")
+    return report_markdown(experiment, chosen, [done[t] for t in report], dev_rows)

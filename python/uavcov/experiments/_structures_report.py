@@ -56,8 +56,14 @@ def family_summary(rows: list[dict[str, Any]], family: str) -> dict[str, Any]:
 
 def write_report(path: Path, experiment: Any, chosen: dict[str, float], rows: list[dict[str, Any]], dev_rows: list[dict[str, Any]]) -> None:
     """``structures.md`` (and ``figures/structures.png`` with matplotlib) beside ``rows.jsonl``."""
+    path.write_text(report_markdown(experiment, chosen, rows, dev_rows), encoding="utf-8")
+    _figure(path.parent / "figures" / "structures.png", experiment, rows)
+
+
+def report_markdown(experiment: Any, chosen: dict[str, float], rows: list[dict[str, Any]], dev_rows: list[dict[str, Any]]) -> str:
+    """The report's Markdown: one line per family, paired over the report seeds."""
     lines = [
-        "# Structures no one tuned on: the 3D prior's start against the height-field prior's",
+        "### Structures no one tuned on: the 3D prior's start against the height-field prior's",
         "",
         (
             f"Families {', '.join(experiment.families)}; report seeds {list(experiment.report_seeds)}, development seeds "
@@ -84,8 +90,7 @@ def write_report(path: Path, experiment: Any, chosen: dict[str, float], rows: li
     if errors:
         lines += ["", "Failed runs:", ""] + [f"- {r['family']} {r['start']} seed {r['seed']}: {r['error']}" for r in errors]
     lines.append("")
-    path.write_text("\n".join(lines), encoding="utf-8")
-    _figure(path.parent / "figures" / "structures.png", experiment, rows)
+    return "\n".join(lines)
 
 
 def _figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:

@@ -286,8 +286,8 @@ def fly_out(
     # The first step outside S' at the standoff; else (a generator in a concave corner, which
     # no step along its normal frees) the first step outside S', left to the flight limits.
     chosen = np.where(clear.any(axis=0), np.argmax(clear, axis=0), np.argmax(outside, axis=0))
-    pending = ~outside.any(axis=0)
-    positions = trials[chosen, np.arange(base.shape[0])]
+    pending = np.asarray(~outside.any(axis=0), dtype=bool)
+    positions: np.ndarray = trials[chosen, np.arange(base.shape[0])]
     top = float(surface.bounds[1, 2])
     positions[pending] = np.column_stack([base[pending, :2], np.full(int(pending.sum()), top + distance_out)])
     return positions, pending
