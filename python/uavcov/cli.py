@@ -241,8 +241,9 @@ def _reproduce_structures(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from .errors import ConfigError
-    from .experiments import available_cores, parse_seeds
-    from .experiments._structures import REPORT, StructuresExperiment, reproduce_structures
+    from .experiments import StructuresExperiment, available_cores, parse_seeds, reproduce_structures
+
+    report = "structures.md"  # what reproduce_structures writes beside rows.jsonl and config.json
 
     _refuse_choice_within(args, "structures")
     if args.scheduler is not None or args.dask_workers is not None:
@@ -256,8 +257,8 @@ def _reproduce_structures(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     workers = args.workers or available_cores()
     rows = reproduce_structures(out, experiment, workers=workers, resume=bool(args.resume), progress=_say)
-    print((out / REPORT).read_text(encoding="utf-8"))
-    _say(f"{len(rows)} run(s) in {time.perf_counter() - started:.1f} s; results in {out}/: rows.jsonl, config.json, {REPORT}, figures/")
+    print((out / report).read_text(encoding="utf-8"))
+    _say(f"{len(rows)} run(s) in {time.perf_counter() - started:.1f} s; results in {out}/: rows.jsonl, config.json, {report}, figures/")
     return EXIT_RUNS_FAILED if any(r["error"] for r in rows) else EXIT_OK
 
 

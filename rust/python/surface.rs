@@ -16,6 +16,9 @@ use crate::sampling;
 /// `(points (n, 3), weights (n,))`.
 type WeightedPoints<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 
+/// `(closest points (n, 3), face indices (n,))`.
+type PointsOnFaces<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>);
+
 /// A triangle mesh with its BVH (see `uavcov.Terrain`).
 #[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "Surface")]
@@ -185,12 +188,7 @@ impl PySurface {
     /// The closest surface point to each point and the index of a triangle holding it:
     /// `(points (n, 3), faces (n,))`.
     #[pyo3(signature = (points, n_threads=0))]
-    fn closest_face<'py>(
-        &self,
-        py: Python<'py>,
-        points: PyReadonlyArray2<'_, f64>,
-        n_threads: usize,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>)> {
+    fn closest_face<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<PointsOnFaces<'py>> {
         let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
         detached(py, || s.triangle_mesh().map(|_| ()))?; // a grid's mesh, built once outside the pool
