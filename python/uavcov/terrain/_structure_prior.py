@@ -5,7 +5,7 @@ area-uniform, optional Gaussian noise, normals) or a coarse model (:func:`coarse
 boxes around the parts, or the mesh decimated by vertex clustering).
 :func:`reconstruct_structure` makes S' (a closed, outward-wound mesh) from either;
 :func:`reconstruction_error` measures S' against the truth (Hausdorff both ways, mean distance,
-area ratio). ``python scripts/structure_reconstruction.py`` writes the table of docs/structures.md.
+area ratio, the share of S' facing into the structure). ``python scripts/structure_reconstruction.py`` writes the table of docs/structures.md.
 """
 
 from __future__ import annotations
@@ -271,12 +271,16 @@ def reconstruct_structure(
     Parameters
     ----------
     prior : StructurePrior
-    method : {"auto", "model", "alpha", "hulls", "poisson", "ball_pivoting"}
-        ``"auto"``: the coarse model when the prior has one, else the default for points,
-        ``"alpha"`` (chosen by measurement, see docs/structures.md). ``"alpha"``: the alpha
-        shape of the points' Delaunay tetrahedra (scipy). ``"hulls"``: convex hulls of k-means
-        clusters of the points. ``"poisson"``, ``"ball_pivoting"``: Open3D's (optional extra,
-        need normals).
+    method : {"auto", "model", "oriented", "alpha", "hulls", "poisson", "ball_pivoting"}
+        ``"auto"``: the coarse model when the prior has one, else ``"oriented"`` for points with
+        normals and ``"alpha"`` without (chosen by the missions they give, docs/structures.md).
+        ``"oriented"``: the Delaunay tetrahedra the known normals put inside, their boundary
+        (the outer surface only, wound outward). ``"alpha"``: the alpha shape of the points'
+        Delaunay tetrahedra with its cavities filled (scipy). ``"hulls"``: convex hulls of
+        k-means clusters of the points. ``"poisson"``, ``"ball_pivoting"``: Open3D's (optional
+        extra, need normals), keeping the pieces no other encloses, each turned outward. Every
+        method first refuses degenerate points (too few distinct, non-finite or beyond 1e15 m,
+        on a line or a plane, zero normals).
     alpha : float, optional
         Circumradius limit of ``"alpha"`` (m); default the least that leaves no point out.
     clusters : int, optional
