@@ -5,7 +5,8 @@ area-uniform, optional Gaussian noise, normals) or a coarse model (:func:`coarse
 boxes around the parts, or the mesh decimated by vertex clustering).
 :func:`reconstruct_structure` makes S' (a closed, outward-wound mesh) from either;
 :func:`reconstruction_error` measures S' against the truth (Hausdorff both ways, mean distance,
-area ratio, the share of S' facing into the structure). ``python scripts/structure_reconstruction.py`` writes the table of docs/structures.md.
+area ratio, the share of S' facing into the structure). ``python scripts/structure_reconstruction.py``
+writes the table of docs/structures.md.
 """
 
 from __future__ import annotations
