@@ -173,3 +173,24 @@ def test_families_are_closed_outward_solids_seeded_by_rng(family: str, seed: int
     # A point well above everything is outside; the targets have outward normals and weights.
     targets = a.targets(spacing=2.0)
     assert len(targets) > 100 and np.all(targets.weights > 0)
+
+
+def test_a_family_written_to_a_mesh_file_goes_through_the_same_pipeline(tmp_path) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    building = STRUCTURE_FAMILIES["building"](rng=3)
+    solid = building.surface.faces[building.face_parts != building.ground_part]
+    path = tmp_path / "building.stl"
+    trimesh.Trimesh(building.surface.vertices, solid, process=False).export(path)
+    loaded = uavcov.terrain.load_structure(path)
+    surface = reconstruct_structure(sample_structure_prior(loaded, 100, rng=0), rng=0)
+    start = standoff_start(surface, 8, 3.0, rng=0)
+    assert not surface.inside(start.positions).any()
+    # fly_out's contract: the first step along the normal outside S' at the standoff, else the
+    # first outside S' (S''s bottom: flown down, no step gets 3 m from the ground-level faces).
+    steps = np.array([1.0, 1.5, 2.0, 3.0, 4.0])[:, None, None]
+    trials = start.anchors[None] + steps * 3.0 * start.normals[None]
+    outside = ~surface.inside(trials.reshape(-1, 3)).reshape(5, 8)
+    clear = outside & (surface.distance(trials.reshape(-1, 3)).reshape(5, 8) >= 3.0 - 1e-9)
+    pick = np.where(clear.any(axis=0), clear.argmax(axis=0), outside.argmax(axis=0))
+    assert np.allclose(start.positions, trials[pick, np.arange(8)])
+    assert "structure" in loaded.part_names and loaded.surface.n_faces > solid.shape[0]
