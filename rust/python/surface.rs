@@ -16,6 +16,9 @@ use crate::visibility::sampling;
 /// `(points (n, 3), weights (n,))`.
 type WeightedPoints<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 
+/// `(closest points (n, 3), face indices (n,))`.
+type PointsOnFaces<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>);
+
 /// A triangle mesh with its BVH (see `uavcov.Terrain`).
 #[derive(Debug)]
 #[pyclass(module = "uavcov._core", frozen, name = "Surface")]
@@ -180,6 +183,24 @@ impl PySurface {
         let pts = super::points(py, &points, "points")?;
         let s = &self.inner;
         Ok(points_to_py(py, parallel_map(py, n_threads, &pts, |&q| s.closest_point(q))?))
+    }
+
+    /// The closest surface point to each point and the index of a triangle holding it:
+    /// `(points (n, 3), faces (n,))`.
+    #[pyo3(signature = (points, n_threads=0))]
+    fn closest_face<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<PointsOnFaces<'py>> {
+        let pts = super::points(py, &points, "points")?;
+        let s = &self.inner;
+        detached(py, || s.triangle_mesh().map(|_| ()))?; // a grid's mesh, built once outside the pool
+        let found = parallel_map(py, n_threads, &pts, |&q| s.closest_face(q).unwrap_or(([f64::NAN; 3], 0)))?;
+        let faces: Vec<i64> = found.iter().map(|&(_, f)| f as i64).collect();
+        Ok((points_to_py(py, found.into_iter().map(|(q, _)| q).collect()), faces.into_pyarray(py)))
+    }
+
+    /// The right-hand unit normal of each triangle, `(F, 3)`.
+    fn face_normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = &self.inner;
+        Ok(points_to_py(py, detached(py, || s.face_normals())?))
     }
 
     /// The least 3D distance from each point to the surface.

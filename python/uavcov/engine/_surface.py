@@ -209,6 +209,20 @@ class Terrain:
         return read_only(self._surface.face_areas())
 
     @property
+    def face_normals(self) -> np.ndarray:
+        """``(F, 3)`` right-hand unit normal of each triangle (outward on a mesh wound
+        counter-clockwise seen from outside; zero for a degenerate triangle).
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((2, 2)), spacing=1.0)
+        >>> flat.face_normals.tolist()
+        [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
+        """
+        return read_only(self._surface.face_normals())
+
+    @property
     def bounds(self) -> np.ndarray:
         """``(2, 3)`` array ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]``, metres."""
         return read_only(self._surface.bounds())
@@ -350,6 +364,25 @@ class Terrain:
                [10.,  5.,  0.]])
         """
         return self._surface.closest_point(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+
+    def closest_face(self, points: Any, *, n_threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The surface point closest to each point and the triangle it lies on (parry's point
+        projection with its feature): ``(n, 3)`` in; ``(n, 3)`` points, metres, and ``(n,)``
+        int64 face indices out.
+
+        On an edge or a vertex the face is one of the triangles sharing it. ``n_threads`` as in
+        :meth:`ground_height`.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((2, 2)), spacing=1.0)
+        >>> point, face = flat.closest_face([[0.2, 0.7, 3.0]])
+        >>> point.tolist(), flat.face_normals[face].tolist()
+        ([[0.2, 0.7, 0.0]], [[0.0, 0.0, 1.0]])
+        """
+        closest, face = self._surface.closest_face(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+        return closest, np.asarray(face, dtype=np.int64)
 
     def distance(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
         """The least 3D distance from each point to the surface: ``(n, 3)`` in, ``(n,)`` out, metres.

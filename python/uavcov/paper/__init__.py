@@ -6,7 +6,8 @@ it (``tests/test_layers.py``). Its experiments (:data:`EXPERIMENTS`: :data:`TABL
 :class:`uavcov.experiments.Experiment` values with every open parameter chosen;
 :func:`reproduce` runs one into a results folder beside the published numbers,
 :func:`reproduce_all` all of them with the claims of section V-C measured, :func:`ablate` the
-ablations; :func:`oracle` is the greedy placement and certified bound of Table 1's scenarios.
+ablations; :func:`oracle` is the greedy placement and certified bound of Table 1's scenarios;
+:func:`reproduce_structures` the project's own study of structures no one tuned on.
 A study of one's own needs only :mod:`uavcov.experiments`.
 """
 
@@ -17,7 +18,6 @@ from ._data import (
     ABLATIONS_BY_NAME,
     BUILDINGS,
     COMPARISON,
-    DEV_SEEDS,
     EXAMPLE,
     EXPERIMENTS,
     HELD_OUT_SEEDS,
@@ -30,6 +30,7 @@ from ._data import (
 )
 from ._jobs import ablate, reproduce, reproduce_all
 from ._oracle import OracleRow, oracle
+from ._structures import StructuresExperiment, reproduce_structures
 
 __all__ = [
     "reproduce",
@@ -42,7 +43,6 @@ __all__ = [
     "COMPARISON",
     "BUILDINGS",
     "ABLATIONS_BY_NAME",
-    "DEV_SEEDS",
     "HELD_OUT_SEEDS",
     "PublishedValue",
     "PUBLISHED_TABLE1",
@@ -52,4 +52,6 @@ __all__ = [
     "speed",
     "oracle",
     "OracleRow",
+    "StructuresExperiment",
+    "reproduce_structures",
 ]

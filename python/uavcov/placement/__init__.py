@@ -10,7 +10,7 @@ from ._footprints import FootprintFit, fit_footprints
 from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
 from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, start_configuration
 from ._starts3d import StandoffStart, closest_faces, facing_attitudes, standoff_start
-from ._viewpoints import GreedySettings, Viewpoints, viewpoint_lattice
+from ._viewpoints import GreedySettings, Viewpoints, viewpoint_lattice, viewpoint_offsets
 
 __all__ = [
     "World",
@@ -29,6 +29,7 @@ __all__ = [
     "CORNERS",
     "ALTITUDE_REFERENCES",
     "standoff_start",
+    "viewpoint_offsets",
     "StandoffStart",
     "facing_attitudes",
     "closest_faces",

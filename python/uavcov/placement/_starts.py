@@ -51,7 +51,7 @@ from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._constraints import Constraints, feasible_mask
 from ._cvt import CVTResult, CVTSettings, cvt
 from ._greedy import CoverageProblem, GreedyResult
-from ._starts3d import launch_pad_start, random_volume_start, surface_normals
+from ._starts3d import fly_out, launch_pad_start, random_volume_start, surface_normals
 from ._viewpoints import GreedySettings, viewpoint_lattice
 
 START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
@@ -384,7 +384,11 @@ def _structure_start(
         # pier sideways, where "above S'" would put every UAV on top of the structure.
         tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
         anchors, normals = surface_normals(approximation, tessellation.generators)
-        return anchors + spec.altitude * normals, tessellation
+        if not spec.altitude > 0.0:
+            return anchors, tessellation
+        # Outside S' and at the standoff from it: a normal into a fold of S' flies farther out.
+        positions, _ = fly_out(approximation, anchors, normals, spec.altitude, n_threads=n_threads)
+        return positions, tessellation
     xmin, ymin, xmax, ymax = limits.flight_box
     low = float(np.asarray(terrain.bounds)[0, 2])
     if spec.kind == "random":

@@ -4,8 +4,9 @@ Three starts, each on S' given as a generic :class:`~uavcov.Terrain` mesh:
 
 :func:`standoff_start`
     The CVT generators of S' (:func:`uavcov.placement.cvt`, general on meshes), each flown out
-    along S''s outward normal at the generator to ``standoff`` metres, with the camera looking
-    back along the inward normal (heading and pitch from the normal, :func:`facing_attitudes`).
+    along S''s outward normal at the generator to ``standoff`` metres (farther, or lifted, where
+    that point would be inside S' or nearer to it: :func:`fly_out`), with the camera looking
+    back at its generator (heading and pitch from the normal, :func:`facing_attitudes`).
     The normal is the *face* normal of the triangle the generator lies on (on an edge or vertex
     shared by several, the mean of their distinct planes' normals), not an interpolated vertex
     normal (nor an area-weighted one): a
@@ -68,10 +69,7 @@ class _Faces:
     def __init__(self, surface: Terrain) -> None:
         v, f = surface.vertices, surface.faces
         self.a, self.b, self.c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
-        cross = np.cross(self.b - self.a, self.c - self.a)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            unit = cross / np.linalg.norm(cross, axis=1)[:, None]
-        self.unit = np.where(np.isfinite(unit), unit, 0.0)  # a degenerate face has no direction
+        self.unit = surface.face_normals  # the engine's; zero for a degenerate face
         self.lo = np.minimum(np.minimum(self.a, self.b), self.c)
         self.hi = np.maximum(np.maximum(self.a, self.b), self.c)
         scale = float(np.abs(surface.bounds).max()) + float(np.ptp(surface.bounds, axis=0).max())
@@ -227,6 +225,74 @@ def _triangle_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarra
     return distance
 
 
+def _is_closed(faces: np.ndarray) -> bool:
+    """Whether every edge is met once in each direction (closed solids wound consistently)."""
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    forward = np.unique(edges, axis=0)
+    backward = np.unique(edges[:, ::-1], axis=0)
+    return forward.shape == backward.shape and bool((forward == backward).all())
+
+
+# How far along its normal a generator is tried, in standoffs, before it is lifted instead.
+_FLY_OUT_STEPS = (1.0, 1.5, 2.0, 3.0, 4.0)
+
+
+def fly_out(
+    surface: Terrain, anchors: Any, normals: Any, standoff: float, *, n_threads: int | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points ``standoff`` out from S' along its outward normals, each outside S' and at least
+    ``standoff`` from it.
+
+    Each anchor is flown out to ``standoff`` metres along its normal; where that point is inside
+    S' (a normal facing into a fold of S'; ray parity, when S' is closed) or nearer than
+    ``standoff`` to another part of it, the anchor is flown out farther (1.5, 2, 3, 4
+    standoffs), and the first point outside S' at the standoff is kept. Where no step reaches
+    the standoff (a generator in a concave corner: the ground stays as near however far it
+    goes), the first step outside S' is kept and the flight limits settle its distance. One that
+    no step takes out of S' is *lifted*: put straight above its anchor at ``standoff`` over
+    S''s top, which is outside S' and at least ``standoff`` from it whatever S' is; the flight
+    limits then bring it back down against the real structure.
+
+    Parameters
+    ----------
+    surface : Terrain
+        S', wound outward.
+    anchors, normals : (n, 3) array_like of float
+        Points on S' and S''s outward unit normals there.
+    standoff : float
+        Metres (> 0).
+    n_threads : int, optional
+
+    Returns
+    -------
+    positions : (n, 3) float64 ndarray
+    lifted : (n,) bool ndarray
+        The positions that were lifted over S'.
+    """
+    surface = _check_surface(surface)
+    base = as_points(anchors, "anchors")
+    direction = as_points(normals, "normals")
+    if direction.shape != base.shape:
+        raise InvalidInputError(f"{direction.shape[0]} normals for {base.shape[0]} anchors")
+    distance_out = as_positive_float(standoff, "standoff")
+    # Ray parity tells inside from outside only on a closed S' (a reconstruction); on an open
+    # one (a deck sheet, a ground plane) a point under the sheet would count as inside.
+    closed = _is_closed(surface.faces)
+    tolerance = 1e-9 * max(1.0, float(np.abs(surface.bounds).max()))
+    trials = base[None] + np.asarray(_FLY_OUT_STEPS)[:, None, None] * distance_out * direction[None]  # (steps, n, 3)
+    flat = trials.reshape(-1, 3)
+    outside = (~surface.inside(flat, n_threads=n_threads) if closed else np.ones(flat.shape[0], dtype=bool)).reshape(trials.shape[:2])
+    clear = outside & (surface.distance(flat, n_threads=n_threads) >= distance_out - tolerance).reshape(trials.shape[:2])
+    # The first step outside S' at the standoff; else (a generator in a concave corner, which
+    # no step along its normal frees) the first step outside S', left to the flight limits.
+    chosen = np.where(clear.any(axis=0), np.argmax(clear, axis=0), np.argmax(outside, axis=0))
+    pending = np.asarray(~outside.any(axis=0), dtype=bool)
+    positions: np.ndarray = trials[chosen, np.arange(base.shape[0])]
+    top = float(surface.bounds[1, 2])
+    positions[pending] = np.column_stack([base[pending, :2], np.full(int(pending.sum()), top + distance_out)])
+    return positions, pending
+
+
 def facing_attitudes(directions: Any) -> np.ndarray:
     """The heading and gimbal pitch that point a camera's optical axis along each direction.
 
@@ -325,10 +391,12 @@ class StandoffStart:
         Heading and pitch, degrees, pointing each camera along the inward normal (at its
         anchor), clipped to the gimbal's range only if asked to.
     distance : (n,) float64
-        Each position's least distance to S', metres: ``standoff`` unless another part of S' is
-        nearer (a concave corner); the flight limits settle such starts.
+        Each position's least distance to S', metres: at least ``standoff`` (:func:`fly_out`
+        flies a generator farther out where another part of S' is nearer).
     tessellation : CVTResult
         The CVT run.
+    lifted : (n,) bool
+        The positions no step along the normal freed, lifted over S' (:func:`fly_out`).
     """
 
     positions: np.ndarray
@@ -337,10 +405,12 @@ class StandoffStart:
     attitudes: np.ndarray
     distance: np.ndarray
     tessellation: CVTResult
+    lifted: np.ndarray
 
     def __post_init__(self) -> None:
         for name in ("positions", "anchors", "normals", "attitudes", "distance"):
             object.__setattr__(self, name, read_only(np.array(getattr(self, name), dtype=np.float64)))
+        object.__setattr__(self, "lifted", read_only(np.array(self.lifted, dtype=bool)))
 
 
 def standoff_start(
@@ -354,7 +424,8 @@ def standoff_start(
     rng: Any = None,
     n_threads: int | None = None,
 ) -> StandoffStart:
-    """CVT generators of ``surface`` flown out along its outward normals to ``standoff`` metres.
+    """CVT generators of ``surface`` flown out along its outward normals to ``standoff`` metres
+    (each outside S' and at least ``standoff`` from it, see :func:`fly_out`).
 
     Parameters
     ----------
@@ -390,8 +461,8 @@ def standoff_start(
         raise InvalidTypeError(f"clip_pitch must be a bool, got {type(clip_pitch).__name__}")
     tessellation = cvt(surface, n, cvt_settings, rng=rng, n_threads=n_threads)
     anchors, normals = surface_normals(surface, tessellation.generators)
-    positions = anchors + distance_out * normals
-    attitudes = facing_attitudes(-normals)
+    positions, lifted = fly_out(surface, anchors, normals, distance_out, n_threads=n_threads)
+    attitudes = facing_attitudes(anchors - positions)
     if clip_pitch:
         first = gimbal[0] if isinstance(gimbal, (list, tuple)) and gimbal else gimbal
         low, high = _pitch_limits(first)
@@ -399,7 +470,7 @@ def standoff_start(
     else:
         check_reachable(attitudes[:, 1], gimbal)
     distance = np.linalg.norm(positions - surface.closest_point(positions, n_threads=n_threads), axis=1)
-    return StandoffStart(positions, anchors, normals, attitudes, distance, tessellation)
+    return StandoffStart(positions, anchors, normals, attitudes, distance, tessellation, lifted)
 
 
 def random_volume_start(

@@ -116,8 +116,7 @@ def plot_structure_seen(
 
     triangles = surface.vertices[surface.faces]
     if ground is None:
-        cross = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
-        up = cross[:, 2] >= np.cos(np.radians(1.0)) * np.linalg.norm(cross, axis=1)
+        up = surface.face_normals[:, 2] >= np.cos(np.radians(1.0))
         low = float(surface.bounds[0][2])
         floor = np.isclose(triangles[:, :, 2], low, rtol=0.0, atol=1e-9 * (1.0 + abs(low))).all(axis=1)
         ground_mask = up & floor

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ._buildings import buildings_scene
 from ._dem import GeoDem, RasterGrid, dem_from_array, read_dem, read_mesh_dem, sample_dem, wrap_longitude
+from ._families import STRUCTURE_FAMILIES
 from ._frame import LocalFrame, metres_per_degree
 from ._generators import BuildingsGenerator, HillsGenerator
 from ._hills import gaussian_hills
@@ -47,6 +48,7 @@ __all__ = [
     "facade",
     "load_structure",
     "height_field_violation",
+    "STRUCTURE_FAMILIES",
     "StructurePrior",
     "sample_structure_prior",
     "coarse_structure_prior",

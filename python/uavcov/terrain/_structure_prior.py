@@ -5,11 +5,13 @@ area-uniform, optional Gaussian noise, normals) or a coarse model (:func:`coarse
 boxes around the parts, or the mesh decimated by vertex clustering).
 :func:`reconstruct_structure` makes S' (a closed, outward-wound mesh) from either;
 :func:`reconstruction_error` measures S' against the truth (Hausdorff both ways, mean distance,
-area ratio). ``python scripts/structure_reconstruction.py`` writes the table of docs/structures.md.
+area ratio, the share of S' facing into the structure). ``python scripts/structure_reconstruction.py``
+writes the table of docs/structures.md.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -18,12 +20,13 @@ import numpy as np
 from .._validate import as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
+from ._outer_surface import alpha_solid, check_prior_points, oriented_solid, outer_shells
 from ._solids import box, face_normals, join, signed_volume
 from ._structures import CONTACT, Structure, connected_faces
 
 MAX_PRIOR_POINTS = 10_000_000
 PRIOR_KINDS = ("points", "boxes", "decimated")
-RECONSTRUCTION_METHODS = ("auto", "model", "alpha", "hulls", "poisson", "ball_pivoting")
+RECONSTRUCTION_METHODS = ("auto", "model", "oriented", "alpha", "hulls", "poisson", "ball_pivoting")
 MIN_POINTS = 20
 
 
@@ -195,46 +198,6 @@ def coarse_structure_prior(structure: Structure, kind: str = "boxes", *, cell: f
     return StructurePrior(model.vertices, None, kind, model, 0.0)
 
 
-def _alpha_shape(points: np.ndarray, alpha: float | None) -> tuple[np.ndarray, np.ndarray]:
-    """Boundary of the union of the Delaunay tetrahedra with circumradius <= alpha, outward.
-
-    The default alpha is the least that leaves no point outside the shape (every point a
-    corner of a kept tetrahedron), so the result is never empty.
-    """
-    from scipy.spatial import Delaunay, QhullError
-
-    try:
-        tetra = Delaunay(points).simplices
-    except (QhullError, ValueError) as exc:
-        raise InvalidInputError(f"the known points span no volume (all on a plane or a line?): {exc}") from None
-    p = points[tetra]
-    a = p[:, 1:] - p[:, :1]  # (T, 3, 3)
-    rhs = 0.5 * np.einsum("tij,tij->ti", a, a)
-    det = np.linalg.det(a)
-    flat = np.abs(det) <= 1e-12 * np.abs(a).max() ** 3
-    centre = np.zeros((tetra.shape[0], 3))
-    centre[~flat] = np.linalg.solve(a[~flat], rhs[~flat][..., None])[..., 0]
-    radius = np.where(flat, np.inf, np.linalg.norm(centre, axis=1))
-    if alpha is None:
-        least = np.full(points.shape[0], np.inf)
-        for k in range(4):
-            np.minimum.at(least, tetra[:, k], radius)
-        alpha = float(least.max())
-        if not np.isfinite(alpha):
-            raise InvalidInputError("some known points are in no tetrahedron of positive volume")
-    kept = tetra[radius <= alpha]
-    if kept.shape[0] == 0:
-        raise InvalidInputError(f"alpha={alpha} keeps no tetrahedron; use a larger alpha")
-    opposite = [(1, 2, 3, 0), (0, 3, 2, 1), (0, 1, 3, 2), (0, 2, 1, 3)]
-    tri = np.concatenate([kept[:, list(o[:3])] for o in opposite])
-    apex = np.concatenate([kept[:, o[3]] for o in opposite])
-    normal = np.cross(points[tri[:, 1]] - points[tri[:, 0]], points[tri[:, 2]] - points[tri[:, 0]])
-    inward = np.einsum("ij,ij->i", normal, points[apex] - points[tri[:, 0]]) > 0
-    tri[inward] = tri[inward][:, ::-1]
-    _, inverse, counts = np.unique(np.sort(tri, axis=1), axis=0, return_inverse=True, return_counts=True)
-    return points, tri[counts[inverse.reshape(-1)] == 1]
-
-
 def _cluster_hulls(points: np.ndarray, clusters: int | None, generator: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     """Convex hulls of k-means clusters of the points (k = n / 10 by default), each outward."""
     from scipy.cluster.vq import kmeans2
@@ -268,22 +231,30 @@ def _open3d(points: np.ndarray, normals: np.ndarray | None, method: str, depth: 
         import open3d
     except ImportError as exc:
         raise MissingExtraError(f"method={method!r} needs Open3D: pip install 'uavcov[reconstruct]' (or pip install open3d-cpu)") from exc
-    cloud = open3d.geometry.PointCloud(open3d.utility.Vector3dVector(np.array(points)))
     if normals is None:
         raise InvalidInputError(f"method={method!r} needs points with normals (sample_structure_prior(..., normals=True))")
-    cloud.normals = open3d.utility.Vector3dVector(np.array(normals))
-    if method == "poisson":
-        mesh, _ = open3d.geometry.TriangleMesh.create_from_point_cloud_poisson(cloud, depth=depth)
-    else:
-        spacing = np.asarray(cloud.compute_nearest_neighbor_distance())
-        radius = float(np.median(spacing)) * 1.5
-        mesh = open3d.geometry.TriangleMesh.create_from_point_cloud_ball_pivoting(
-            cloud, open3d.utility.DoubleVector([radius, 2 * radius, 4 * radius])
-        )
+    # A repeated point is one sample: Open3D's octree and ball pivoting each mishandle copies.
+    _, first = np.unique(points, axis=0, return_index=True)
+    first = np.sort(first)
+    unit = normals[first] / np.linalg.norm(normals[first], axis=1)[:, None]
+    cloud = open3d.geometry.PointCloud(open3d.utility.Vector3dVector(np.array(points[first])))
+    cloud.normals = open3d.utility.Vector3dVector(unit)
+    try:
+        if method == "poisson":
+            mesh, _ = open3d.geometry.TriangleMesh.create_from_point_cloud_poisson(cloud, depth=depth)
+        else:
+            spacing = np.asarray(cloud.compute_nearest_neighbor_distance())
+            radius = float(np.median(spacing)) * 1.5
+            mesh = open3d.geometry.TriangleMesh.create_from_point_cloud_ball_pivoting(
+                cloud, open3d.utility.DoubleVector([radius, 2 * radius, 4 * radius])
+            )
+    except RuntimeError as exc:
+        reason = re.sub(r"\x1b\[[0-9;]*m", "", str(exc)).strip()
+        raise InvalidInputError(f"Open3D's {method} reconstruction failed on the known points: {reason}") from None
     return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.triangles, dtype=np.int64)
 
 
-DEFAULT_METHOD = "alpha"
+DEFAULT_METHOD = "oriented"
 
 
 def reconstruct_structure(
@@ -301,12 +272,16 @@ def reconstruct_structure(
     Parameters
     ----------
     prior : StructurePrior
-    method : {"auto", "model", "alpha", "hulls", "poisson", "ball_pivoting"}
-        ``"auto"``: the coarse model when the prior has one, else the default for points,
-        ``"alpha"`` (chosen by measurement, see docs/structures.md). ``"alpha"``: the alpha
-        shape of the points' Delaunay tetrahedra (scipy). ``"hulls"``: convex hulls of k-means
-        clusters of the points. ``"poisson"``, ``"ball_pivoting"``: Open3D's (optional extra,
-        need normals).
+    method : {"auto", "model", "oriented", "alpha", "hulls", "poisson", "ball_pivoting"}
+        ``"auto"``: the coarse model when the prior has one, else ``"oriented"`` for points with
+        normals and ``"alpha"`` without (chosen by the missions they give, docs/structures.md).
+        ``"oriented"``: the Delaunay tetrahedra the known normals put inside, their boundary
+        (the outer surface only, wound outward). ``"alpha"``: the alpha shape of the points'
+        Delaunay tetrahedra with its cavities filled (scipy). ``"hulls"``: convex hulls of
+        k-means clusters of the points. ``"poisson"``, ``"ball_pivoting"``: Open3D's (optional
+        extra, need normals), keeping the pieces no other encloses, each turned outward. Every
+        method first refuses degenerate points (too few distinct, non-finite or beyond 1e15 m,
+        on a line or a plane, zero normals).
     alpha : float, optional
         Circumradius limit of ``"alpha"`` (m); default the least that leaves no point out.
     clusters : int, optional
@@ -341,30 +316,29 @@ def reconstruct_structure(
             raise InvalidInputError("method='model' needs a coarse prior (coarse_structure_prior)")
         return prior.model
     if method == "auto":
-        method = DEFAULT_METHOD
+        method = DEFAULT_METHOD if prior.normals is not None else "alpha"
     points = prior.points
     min_points = as_count(min_points, "min_points", MAX_PRIOR_POINTS, minimum=4)
     if points.shape[0] < min_points:
         raise InvalidInputError(f"{points.shape[0]} known points are too sparse to reconstruct a structure (at least {min_points})")
-    if method == "alpha":
-        vertices, faces = _alpha_shape(points, None if alpha is None else as_positive_float(alpha, "alpha"))
+    # Every method gets the same checked cloud: nothing degenerate reaches scipy or Open3D.
+    check_prior_points(points, prior.normals, min_points)
+    if method == "oriented":
+        if prior.normals is None:
+            raise InvalidInputError("method='oriented' needs points with normals (sample_structure_prior(..., normals=True))")
+        vertices, faces = oriented_solid(points, prior.normals)
+    elif method == "alpha":
+        vertices, faces = alpha_solid(points, None if alpha is None else as_positive_float(alpha, "alpha"))
     elif method == "hulls":
         vertices, faces = _cluster_hulls(points, clusters, as_generator(rng))
     else:
         vertices, faces = _open3d(points, prior.normals, method, as_count(poisson_depth, "poisson_depth", 12))
+        if faces.shape[0]:
+            faces = outer_shells(vertices, faces, points, prior.normals)
     if faces.shape[0] == 0:
         raise InvalidInputError(f"method={method!r} made no surface from {points.shape[0]} points")
-    if method in ("alpha", "hulls"):
-        if not signed_volume(vertices, faces) > 0:
-            raise InvalidInputError(f"method={method!r} made a surface with no outward orientation")
-    elif prior.normals is not None:
-        from scipy.spatial import cKDTree
-
-        normal, _ = face_normals(vertices, faces)
-        centre = vertices[faces].mean(axis=1)
-        _, nearest = cKDTree(points).query(centre)
-        if np.einsum("ij,ij->i", normal, prior.normals[nearest]).mean() < 0:
-            faces = faces[:, ::-1]
+    if method in ("oriented", "alpha", "hulls") and not signed_volume(vertices, faces) > 0:
+        raise InvalidInputError(f"method={method!r} made a surface with no outward orientation")
     return Terrain(vertices, faces, drop_degenerate=True)
 
 
@@ -387,6 +361,10 @@ class ReconstructionError:
         Area of S' over the structure's area.
     n_samples : int
         Points drawn on each surface.
+    inward_area_share : float
+        Share of S''s area facing into the structure: the sampled points of S' whose face's
+        outward normal points against the outward normal of the structure's face closest to them
+        (the faces a start would fly out along into the structure).
     """
 
     hausdorff_m: float
@@ -397,6 +375,7 @@ class ReconstructionError:
     mean_approx_to_truth_m: float
     area_ratio: float
     n_samples: int
+    inward_area_share: float
 
 
 def reconstruction_error(truth: Structure, approx: Terrain, *, n_samples: int = 20_000, rng: Any = 0) -> ReconstructionError:
@@ -414,9 +393,14 @@ def reconstruction_error(truth: Structure, approx: Terrain, *, n_samples: int = 
     true_faces = truth.surface.faces[truth.face_mask(include_ground=False)]
     true_surface = Terrain(truth.surface.vertices, true_faces)
     on_truth, _ = _sample_faces(truth.surface.vertices, true_faces, n_samples, generator)
-    on_approx, _ = _sample_faces(approx.vertices, approx.faces, n_samples, generator)
+    on_approx, approx_face = _sample_faces(approx.vertices, approx.faces, n_samples, generator)
     to_approx = np.linalg.norm(approx.closest_point(on_truth) - on_truth, axis=1)
     to_truth = np.linalg.norm(true_surface.closest_point(on_approx) - on_approx, axis=1)
+    # Which way the solid faces, contact faces included: S''s bottom faces the ground as the
+    # structure's contact faces do, and must not be judged against the nearest wall.
+    solid = Terrain(truth.surface.vertices, truth.surface.faces[_solid_faces(truth)])
+    _, true_face = solid.closest_face(on_approx)
+    facing = np.einsum("ij,ij->i", approx.face_normals[approx_face], solid.face_normals[true_face])
     return ReconstructionError(
         hausdorff_m=float(max(to_approx.max(), to_truth.max())),
         hausdorff_truth_to_approx_m=float(to_approx.max()),
@@ -426,4 +410,5 @@ def reconstruction_error(truth: Structure, approx: Terrain, *, n_samples: int = 
         mean_approx_to_truth_m=float(to_truth.mean()),
         area_ratio=float(approx.area / true_surface.area),
         n_samples=n_samples,
+        inward_area_share=float(np.mean(facing < 0.0)),
     )

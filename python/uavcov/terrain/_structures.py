@@ -276,8 +276,14 @@ def arch_bridge(*, rng: Any = None, step: float = 1.0) -> Structure:
     g = as_generator(rng)
     span = _jitter(g, 40.0, 0.05)
     rise = float(g.uniform(6.5, 7.5))
+    return _assemble("arch_bridge", arch_pieces(span, rise, 1.8, step), ground(-15.0, span + 15.0, -16.0, 16.0, 2.0))
+
+
+def arch_pieces(span: float, rise: float, clearance: float, step: float) -> list[Piece]:
+    """An arch bridge's solids: two parabolic ribs of ``span`` and ``rise``, four columns on
+    each, a deck ``clearance`` above the crown's top, parapets and abutments (m)."""
     thickness = 0.9
-    deck_bottom = rise + thickness + 1.8
+    deck_bottom = rise + thickness + clearance
     top = deck_bottom + 0.7
     column_xs = span * np.array([0.15, 0.3, 0.7, 0.85])
     half_width = 0.3
@@ -314,7 +320,7 @@ def arch_bridge(*, rng: Any = None, step: float = 1.0) -> Structure:
         pieces.append(box((-3.0, y0, top), (span + 3.0, y1, top + 1.0), "parapets", down=CONTACT, step=step))
     for x0, x1 in ((-3.0, 0.0), (span, span + 3.0)):
         pieces.append(box((x0, -4.0, 0.0), (x1, 4.0, deck_bottom), "abutments", up=CONTACT, step=step))
-    return _assemble("arch_bridge", pieces, ground(-15.0, span + 15.0, -16.0, 16.0, 2.0))
+    return pieces
 
 
 def wind_turbine(*, rng: Any = None) -> Structure:
@@ -415,8 +421,15 @@ def lattice_pylon(*, rng: Any = None) -> Structure:
     Parts: ground, legs, braces, crossarm, contact.
     """
     g = as_generator(rng)
-    base, leg = _jitter(g, 6.0, 0.05), 0.5
-    panels, panel = 10, _jitter(g, 3.0, 0.05)
+    base = _jitter(g, 6.0, 0.05)
+    panel = _jitter(g, 3.0, 0.05)
+    pieces = pylon_pieces(base, 0.5, 10, panel, 6.0)
+    return _assemble("lattice_pylon", pieces, ground(-15.0, base + 15.0, -12.0, base + 12.0, 1.5))
+
+
+def pylon_pieces(base: float, leg: float, panels: int, panel: float, arm: float) -> list[Piece]:
+    """A pylon's solids: four square ``leg``-wide legs on a ``base`` square, ``panels`` zigzag
+    braces of ``panel`` metres on each face, a cross-arm reaching ``arm`` beyond the legs (m)."""
     height = panels * panel
     corners = (0.0, base - leg)
     pieces = [box((x0, y0, 0.0), (x0 + leg, y0 + leg, height), "legs", up=CONTACT, step=1.5) for x0 in corners for y0 in corners]
@@ -432,8 +445,8 @@ def lattice_pylon(*, rng: Any = None) -> Structure:
                     square = [(along, outer, z), (along, outer + depth, z), (along, outer + depth, z + rise), (along, outer, z + rise)]
                     rings.append([(p[0], p[1], p[2]) if axis == 0 else (p[1], p[0], p[2]) for p in square])
                 pieces.append(loft(np.asarray(rings, dtype=np.float64), "braces", caps=(CONTACT, CONTACT)))
-    pieces.append(box((-6.0, 0.0, height), (base + 6.0, base, height + 1.0), "crossarm", step=1.0))
-    return _assemble("lattice_pylon", pieces, ground(-15.0, base + 15.0, -12.0, base + 12.0, 1.5))
+    pieces.append(box((-arm, 0.0, height), (base + arm, base, height + 1.0), "crossarm", step=1.0))
+    return pieces
 
 
 STRUCTURE_SCENES: dict[str, Callable[..., Structure]] = {

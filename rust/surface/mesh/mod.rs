@@ -28,6 +28,7 @@ use crate::surface::grid::Grid;
 use crate::surface::heightfield::HeightField;
 use crate::surface::skyline::Skylines;
 
+mod closest;
 mod sight;
 pub(crate) mod standoff;
 

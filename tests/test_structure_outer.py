@@ -1,0 +1,196 @@
+"""S' seen from outside (issue 42): the outer surface only, wound outward, degenerate priors
+refused before any foreign library sees them (issue 43, class 1), starts flown out of S'."""
+
+from __future__ import annotations
+
+import importlib.util
+
+import numpy as np
+import pytest
+
+import uavcov
+from uavcov.errors import InvalidInputError
+from uavcov.placement import cvt, standoff_start
+from uavcov.placement._starts3d import _triangle_distance, fly_out, surface_normals
+from uavcov.terrain import (
+    STRUCTURE_FAMILIES,
+    Structure,
+    StructurePrior,
+    reconstruct_structure,
+    reconstruction_error,
+    sample_structure_prior,
+)
+from uavcov.terrain._solids import signed_volume
+
+BOX = np.array([[0, 0, 0], [12, 0, 0], [12, 9, 0], [0, 9, 0], [0, 0, 16], [12, 0, 16], [12, 9, 16], [0, 9, 16]], float)
+WALLS = [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]]
+HAS_OPEN3D = importlib.util.find_spec("open3d") is not None
+
+
+def issue_box() -> Structure:
+    """The issue's plain box on a ground sheet, built independently of the scenes' code."""
+    ground = np.array([[-20, -20, 0], [30, -20, 0], [30, 30, 0], [-20, 30, 0]], float)
+    vertices = np.vstack([ground, BOX])
+    faces = np.vstack([[[0, 1, 2], [0, 2, 3]], np.array(WALLS) + 4])
+    return Structure("box", uavcov.Terrain(vertices, faces), np.array([0, 0, 1, 1] + [2] * 10), ("ground", "contact", "building"), 0)
+
+
+def _in_box(points: np.ndarray) -> np.ndarray:
+    return ((points > [0, 0, 0]) & (points < [12, 9, 16])).all(axis=1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_issue_box_gives_no_start_inside(seed: int) -> None:
+    box = issue_box()
+    surface = reconstruct_structure(sample_structure_prior(box, 100, rng=seed), rng=seed)
+    anchors, normals = surface_normals(surface, cvt(surface, 8, rng=seed).generators)
+    assert not _in_box(anchors + 6.0 * normals).any()  # the issue's own check: 8, 5, 6 of 8 before
+    start = standoff_start(surface, 8, 6.0, rng=seed)
+    assert not _in_box(start.positions).any()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_alpha_shape_is_one_outward_shell_with_no_cavity(seed: int) -> None:
+    box = issue_box()
+    surface = reconstruct_structure(sample_structure_prior(box, 100, rng=seed), rng=seed)
+    error = reconstruction_error(box, surface, n_samples=4000, rng=seed)
+    assert error.inward_area_share < 0.01
+    # Closed: every edge in two faces, once each way; the volume is the hull's order, not a shell's.
+    edges = np.concatenate([surface.faces[:, [0, 1]], surface.faces[:, [1, 2]], surface.faces[:, [2, 0]]])
+    assert {tuple(e) for e in edges.tolist()} == {tuple(e) for e in edges[:, ::-1].tolist()}
+    volume = signed_volume(surface.vertices, surface.faces)
+    assert 0.6 * 12 * 9 * 16 < volume <= 12 * 9 * 16 + 1e-6
+    # Every point inside S' (ray parity) is inside the box: S' is filled, not hollow.
+    centre = np.array([[6.0, 4.5, 8.0]])
+    assert surface.inside(centre)[0]
+
+
+def test_the_inward_share_counts_a_flipped_surface() -> None:
+    # A box 1 % inside the true one: each point's closest true face is the parallel one (but
+    # within 1 % of an edge), so the share is the flipped faces' area share.
+    box = issue_box()
+    shrunk = (BOX - [6.0, 4.5, 8.0]) * 0.99 + [6.0, 4.5, 8.0]
+    walls = np.array(WALLS)
+    assert reconstruction_error(box, uavcov.Terrain(shrunk, walls), n_samples=4000).inward_area_share == 0.0
+    assert reconstruction_error(box, uavcov.Terrain(shrunk, walls[:, ::-1]), n_samples=4000).inward_area_share > 0.97
+    # Every other triangle turned: half of every wall's area, whatever the walls' sizes.
+    half = walls.copy()
+    half[::2] = half[::2, ::-1]
+    share = reconstruction_error(box, uavcov.Terrain(shrunk, half), n_samples=20_000, rng=1).inward_area_share
+    assert abs(share - 0.5) < 0.03
+
+
+def test_closest_face_agrees_with_a_brute_force_search() -> None:
+    rng = np.random.default_rng(3)
+    surface = uavcov.Terrain(BOX, np.array(WALLS))
+    queries = rng.uniform(-10, 25, size=(300, 3))
+    closest, face = surface.closest_face(queries)
+    v, f = surface.vertices, surface.faces
+    # Brute force: every query against every triangle (Ericson's closest point, in numpy).
+    q = np.repeat(queries, f.shape[0], axis=0)
+    a, b, c = (np.tile(v[f[:, k]], (queries.shape[0], 1)) for k in range(3))
+    every = _triangle_distance(q, a, b, c).reshape(queries.shape[0], f.shape[0])
+    held = every[np.arange(queries.shape[0]), face]
+    assert np.allclose(held, every.min(axis=1), rtol=0, atol=1e-9)
+    assert np.allclose(np.linalg.norm(closest - queries, axis=1), surface.distance(queries))
+    normals = surface.face_normals
+    assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
+    centre = v[f].mean(axis=1)
+    assert np.all(np.einsum("ij,ij->i", normals, centre - [6.0, 4.5, 8.0]) > 0)
+
+
+DEGENERATE = {
+    "identical": np.ones((50, 3)),
+    "collinear": np.outer(np.arange(50.0), [1.0, 1.0, 1.0]),
+    "coplanar": np.column_stack([np.random.default_rng(0).random((50, 2)) * 10, np.zeros(50)]),
+    "tilted plane": np.random.default_rng(1).random((60, 2)) @ np.array([[1.0, 2.0, 3.0], [-2.0, 1.0, 0.5]]),
+    "too few": np.random.default_rng(2).random((5, 3)),
+    "few distinct": np.repeat(np.random.default_rng(3).random((6, 3)), 10, axis=0),
+    "huge": np.random.default_rng(4).random((50, 3)) * 1e300,
+}
+
+
+@pytest.mark.parametrize("method", ["alpha", "hulls", "poisson", "ball_pivoting"])
+@pytest.mark.parametrize("name", sorted(DEGENERATE))
+def test_every_method_refuses_a_degenerate_prior_before_reconstructing(method: str, name: str) -> None:
+    points = DEGENERATE[name]
+    prior = StructurePrior(points, np.tile([0.0, 0.0, 1.0], (points.shape[0], 1)), "points")
+    # Refused by the shared check, so with or without Open3D installed: never a crash or a
+    # foreign exception (Open3D's Poisson segfaulted on the identical points).
+    with pytest.raises(InvalidInputError, match=r"known points|too sparse|beyond"):
+        reconstruct_structure(prior, method=method)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_non_finite_points_or_normals_are_refused(bad: float) -> None:
+    points = np.random.default_rng(0).random((50, 3))
+    points[7, 1] = bad
+    with pytest.raises(InvalidInputError):
+        reconstruct_structure(StructurePrior(points, None, "points"))
+    normals = np.tile([0.0, 0.0, 1.0], (50, 1))
+    normals[3] = [0.0, 0.0, 0.0]
+    with pytest.raises(InvalidInputError, match="normals"):
+        reconstruct_structure(StructurePrior(np.random.default_rng(0).random((50, 3)), normals, "points"))
+
+
+@pytest.mark.skipif(not HAS_OPEN3D, reason="Open3D (the reconstruct extra) is not installed")
+@pytest.mark.parametrize("method", ["poisson", "ball_pivoting"])
+def test_open3d_surfaces_keep_the_outer_shell_wound_outward(method: str) -> None:
+    box = issue_box()
+    surface = reconstruct_structure(sample_structure_prior(box, 2000, rng=0), method=method)
+    error = reconstruction_error(box, surface, n_samples=4000)
+    assert error.inward_area_share < 0.05
+
+
+def test_fly_out_keeps_every_start_outside_and_at_the_standoff() -> None:
+    surface = uavcov.Terrain(BOX, np.array(WALLS))
+    anchors = np.array([[6.0, 0.0, 8.0], [6.0, 0.0, 8.0], [6.0, 0.0, 8.0]])
+    # Outward; into the box with room to come out of its far side; into it with none.
+    normals = np.array([[0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
+    # 5 m: out of the far side at 15 m; 2.5 m: no step reaches the standoff, the first outside
+    # (10 m, 1 m from the wall) is kept; 1 m: no step leaves the box, lifted over its top.
+    for standoff, expected, lift in ((5.0, [6.0, 15.0, 8.0], False), (2.5, [6.0, 10.0, 8.0], False), (1.0, [6.0, 0.0, 17.0], True)):
+        positions, lifted = fly_out(surface, anchors[:2], normals[:2], standoff)
+        assert np.allclose(positions, [[6.0, -standoff, 8.0], expected])
+        assert lifted.tolist() == [False, lift]
+        assert not surface.inside(positions).any()
+        assert surface.distance(positions[:1])[0] >= standoff - 1e-9
+    with pytest.raises(InvalidInputError):
+        fly_out(surface, anchors, normals[:2], 1.0)
+
+
+@pytest.mark.parametrize("family", sorted(STRUCTURE_FAMILIES))
+@pytest.mark.parametrize("seed", [0, 1])
+def test_families_are_closed_outward_solids_seeded_by_rng(family: str, seed: int) -> None:
+    make = STRUCTURE_FAMILIES[family]
+    a, b = make(rng=seed), make(rng=seed)
+    assert np.array_equal(a.surface.vertices, b.surface.vertices) and np.array_equal(a.surface.faces, b.surface.faces)
+    assert not np.array_equal(make(rng=seed + 7).surface.vertices.shape, (0, 3))
+    solid = a.surface.faces[a.face_parts != a.ground_part]
+    edges = np.concatenate([solid[:, [0, 1]], solid[:, [1, 2]], solid[:, [2, 0]]])
+    assert {tuple(e) for e in edges.tolist()} == {tuple(e) for e in edges[:, ::-1].tolist()}
+    assert signed_volume(a.surface.vertices, solid) > 0
+    # A point well above everything is outside; the targets have outward normals and weights.
+    targets = a.targets(spacing=2.0)
+    assert len(targets) > 100 and np.all(targets.weights > 0)
+
+
+def test_a_family_written_to_a_mesh_file_goes_through_the_same_pipeline(tmp_path) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    building = STRUCTURE_FAMILIES["building"](rng=3)
+    solid = building.surface.faces[building.face_parts != building.ground_part]
+    path = tmp_path / "building.stl"
+    trimesh.Trimesh(building.surface.vertices, solid, process=False).export(path)
+    loaded = uavcov.terrain.load_structure(path)
+    surface = reconstruct_structure(sample_structure_prior(loaded, 100, rng=0), rng=0)
+    start = standoff_start(surface, 8, 3.0, rng=0)
+    assert not surface.inside(start.positions).any()
+    # fly_out's contract: the first step along the normal outside S' at the standoff, else the
+    # first outside S' (S''s bottom: flown down, no step gets 3 m from the ground-level faces).
+    steps = np.array([1.0, 1.5, 2.0, 3.0, 4.0])[:, None, None]
+    trials = start.anchors[None] + steps * 3.0 * start.normals[None]
+    outside = ~surface.inside(trials.reshape(-1, 3)).reshape(5, 8)
+    clear = outside & (surface.distance(trials.reshape(-1, 3)).reshape(5, 8) >= 3.0 - 1e-9)
+    pick = np.where(clear.any(axis=0), clear.argmax(axis=0), outside.argmax(axis=0))
+    assert np.allclose(start.positions, trials[pick, np.arange(8)])
+    assert "structure" in loaded.part_names and loaded.surface.n_faces > solid.shape[0]
