@@ -31,6 +31,9 @@ LAYERS = {
     "records": 5,
     "experiments": 6,
     "field": 6,
+    # The flown mission: above the mission and the optimiser it wraps, and above field (its PLY
+    # writer) and experiments (the buildings scenario it flies); under plotting and the CLI.
+    "sim": 6.5,
     "plotting": 7,
     "cli": 8,
     "__main__": 8,
