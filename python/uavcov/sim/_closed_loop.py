@@ -198,7 +198,7 @@ class _FlownMeasure:
         self.legs.append(leg)
         reached = self.team.positions
         self.reached.append(reached)
-        self.exact.append(float(self.vis.coverage(reached, n_threads=1)))
+        self.exact.append(float(self.vis.coverage(reached)))
         self.sensed.append(self._sense() if self.sim.render else math.nan)
         return self.exact[-1] if self.sim.measurement == "exact" else self.sensed[-1]
 

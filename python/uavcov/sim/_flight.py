@@ -28,6 +28,10 @@ closest of RotorPy's sets to the paper's Parrot AR.Drone 2.0 (0.42 kg with the i
 about 0.18 m arms); ``docs/realistic.md`` compares them."""
 
 _GRAVITY = 9.81  # m/s^2, RotorPy's value
+# A rest-to-rest leg's 7th-degree polynomial peaks at 35/16 of its average speed mid-leg; RotorPy's
+# cap on the mid-leg speed must allow it, or its QP has no solution.
+_PEAK_OVER_AVERAGE = 2.2
+_PEAK_ACCELERATION = 7.5132  # the polynomial's peak acceleration in units of L / T^2
 
 
 def _rotorpy() -> Any:
@@ -73,9 +77,14 @@ class FlightSettings:
     vehicle : str, default "hummingbird"
         RotorPy parameter set (:data:`VEHICLES`).
     speed : float, default 1.5
-        Average speed of a leg's minimum-snap reference, m/s (RotorPy's time allocation).
-    max_speed : float, default 3.0
-        Most speed the reference may reach mid-leg, m/s.
+        Average speed of a leg's minimum-snap reference, m/s (RotorPy's time allocation: a leg
+        of length ``L`` lasts ``L / speed``). A leg from rest to rest is one 7th-degree
+        polynomial, whose peak speed is ``35/16 = 2.19`` times the average (3.3 m/s at 1.5 m/s).
+    max_acceleration : float, default 2.0
+        Most acceleration of the reference, m/s^2: a leg of length ``L`` averages at most
+        ``sqrt(max_acceleration L / 7.51)`` (the polynomial's peak acceleration is ``7.51 L / T^2``).
+        Short legs at full speed ask for accelerations the attitude loop cannot follow (the
+        motors saturate at zero speed and the vehicle falls: measured at 11 m/s^2).
     dt : float, default 0.01
         Control period, seconds: the controller runs and the dynamics integrate (RotorPy's
         RK45) once per period.
@@ -96,7 +105,7 @@ class FlightSettings:
 
     vehicle: str = "hummingbird"
     speed: float = 1.5
-    max_speed: float = 3.0
+    max_acceleration: float = 2.0
     dt: float = 0.01
     settle_position: float = 0.1
     settle_speed: float = 0.1
@@ -108,10 +117,10 @@ class FlightSettings:
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
             raise InvalidInputError(f"vehicle must be one of {VEHICLES}, got {self.vehicle!r}")
-        for name in ("speed", "max_speed", "dt", "settle_position", "settle_speed", "max_leg_s", "collision_distance"):
+        for name in ("speed", "max_acceleration", "dt", "settle_position", "settle_speed", "max_leg_s", "collision_distance"):
             object.__setattr__(self, name, as_positive_float(getattr(self, name), name))
-        if self.max_speed < self.speed:
-            raise InvalidInputError(f"max_speed {self.max_speed} is below the average speed {self.speed}")
+        if self.speed > 20.0 or self.max_acceleration > 20.0:
+            raise InvalidInputError(f"speed {self.speed} m/s, max_acceleration {self.max_acceleration} m/s^2: at most 20 each")
         if self.dt > 0.05:
             raise InvalidInputError(f"dt = {self.dt} s is too coarse for the attitude loop (at most 0.05 s)")
         if self.max_leg_s > 3600.0:
@@ -227,9 +236,9 @@ class Team:
             if np.linalg.norm(goal - state["x"]) < 0.1:  # MinSnap drops legs under 0.1 m: a step instead
                 references.append(rp["HoverTraj"](x0=goal.copy()))
                 continue
-            ms = rp["MinSnap"](
-                np.stack([state["x"], goal]), v_avg=self.settings.speed, v_max=self.settings.max_speed, verbose=False
-            )
+            length = float(np.linalg.norm(goal - state["x"]))
+            speed = min(self.settings.speed, math.sqrt(self.settings.max_acceleration * length / _PEAK_ACCELERATION))
+            ms = rp["MinSnap"](np.stack([state["x"], goal]), v_avg=speed, v_max=_PEAK_OVER_AVERAGE * speed, verbose=False)
             references.append(ms)
             end = max(end, float(ms.t_keyframes[-1]))
         return references, end
