@@ -52,9 +52,10 @@ class SimSettings:
         mission's ``d_max`` at 64 x 128 pixels; ``render=False`` renders nothing.
     render : bool, default True
         Whether the cameras render (needed by ``measurement="sensed"``, the fused map and the gap).
-    observe_radius : float, default 0.5
-        A target counts as sensed when a depth point lies this close, metres (the targets'
-        spacing on the buildings scene).
+    observe_radius : float, optional
+        A target counts as sensed when a depth point lies this close, metres; ``None`` (the
+        default) is the camera's pixel width at full range (:attr:`DepthCamera.footprint_m`),
+        with which the sensed coverage tends to the exact one as the resolution rises.
     voxel_size : float, default 0.25
         The fused map's voxels, metres.
     """
@@ -63,7 +64,7 @@ class SimSettings:
     measurement: str = "exact"
     camera: DepthCamera | None = None
     render: bool = True
-    observe_radius: float = 0.5
+    observe_radius: float | None = None
     voxel_size: float = 0.25
 
     def __post_init__(self) -> None:
@@ -75,7 +76,8 @@ class SimSettings:
             raise InvalidTypeError(f"camera must be a DepthCamera or None, got {type(self.camera).__name__}")
         if self.measurement == "sensed" and not self.render:
             raise InvalidInputError("the sensed measurement needs the cameras to render (render=True)")
-        object.__setattr__(self, "observe_radius", as_positive_float(self.observe_radius, "observe_radius"))
+        if self.observe_radius is not None:
+            object.__setattr__(self, "observe_radius", as_positive_float(self.observe_radius, "observe_radius"))
         object.__setattr__(self, "voxel_size", as_positive_float(self.voxel_size, "voxel_size"))
 
     def camera_for(self, d_max: float) -> DepthCamera:
@@ -184,7 +186,8 @@ class _FlownMeasure:
         ]
         cloud = np.concatenate(points) if points else np.empty((0, 3))
         self.map.add(cloud)
-        return sensed_coverage(self.vis.targets, cloud, self.sim.observe_radius)
+        radius = self.sim.observe_radius if self.sim.observe_radius is not None else self.camera.footprint_m
+        return sensed_coverage(self.vis.targets, cloud, radius)
 
     def __call__(self, x: np.ndarray) -> float:
         goals = np.array(x[:, :3], dtype=np.float64)

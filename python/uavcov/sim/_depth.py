@@ -85,6 +85,16 @@ class DepthCamera:
         """The paper's sensor as a depth camera: every direction within ``range_m``, ``2r x r`` pixels."""
         return cls(width=2 * resolution, height=resolution, fov_deg=(360.0, 180.0), range_m=range_m, noise_sd=noise_sd)
 
+    @property
+    def footprint_m(self) -> float:
+        """A pixel's width at full range, metres: ``range_m`` times its largest angular size.
+
+        The sensed coverage counts a target observed when a depth point lies this close
+        (:func:`uavcov.sim.sensed_coverage`): with it the sensed share tends to the exact one as
+        the resolution rises (``docs/realistic.md``), where a fixed radius over-counts.
+        """
+        return float(self.range_m * max(np.radians(self.fov_deg[0]) / self.width, np.radians(self.fov_deg[1]) / self.height))
+
     def directions(self) -> np.ndarray:
         """``(height * width, 3)`` unit rays in the camera frame (x forward, y left, z up), row by row."""
         h_fov, v_fov = np.radians(self.fov_deg)
