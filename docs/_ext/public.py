@@ -21,6 +21,7 @@ MODULES = (
     "uavcov.records",
     "uavcov.experiments",
     "uavcov.field",
+    "uavcov.sim",
     "uavcov.plotting",
 )
 TOP = "uavcov"

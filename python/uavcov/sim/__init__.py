@@ -12,6 +12,7 @@ from __future__ import annotations
 from ._closed_loop import MEASUREMENTS, FlownMission, SimSettings, fly_mission
 from ._depth import DepthCamera, camera_rotation
 from ._flight import VEHICLES, FlightSettings, Leg, Team, hover_rotor_speed, vehicle_parameters
+from ._realistic import REALISTIC_SEEDS, reproduce_realistic
 from ._safety import SafetyReport, check_flight
 from ._voxels import VoxelMap, observed_targets, sensed_coverage
 
@@ -33,4 +34,6 @@ __all__ = [
     "sensed_coverage",
     "SafetyReport",
     "check_flight",
+    "reproduce_realistic",
+    "REALISTIC_SEEDS",
 ]
