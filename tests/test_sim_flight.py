@@ -11,16 +11,16 @@ import pytest
 
 pytest.importorskip("rotorpy")
 
-from rotorpy.controllers.quadrotor_control import SE3Control  # noqa: E402
-from rotorpy.trajectories.minsnap import MinSnap  # noqa: E402
-from rotorpy.vehicles.hummingbird_params import quad_params  # noqa: E402
-from rotorpy.vehicles.multirotor import Multirotor  # noqa: E402
-from reference import closest_point_on_mesh, ground_height_mesh  # noqa: E402
+from rotorpy.controllers.quadrotor_control import SE3Control
+from rotorpy.trajectories.minsnap import MinSnap
+from rotorpy.vehicles.hummingbird_params import quad_params
+from rotorpy.vehicles.multirotor import Multirotor
 
-import uavcov  # noqa: E402
-from uavcov.errors import FlightError, InvalidInputError, InvalidTypeError  # noqa: E402
-from uavcov.experiments import BUILDINGS  # noqa: E402
-from uavcov.sim import FlightSettings, SimSettings, Team, fly_mission, hover_rotor_speed  # noqa: E402
+import uavcov
+from reference import closest_point_on_mesh, ground_height_mesh
+from uavcov.errors import FlightError, InvalidInputError, InvalidTypeError
+from uavcov.experiments import BUILDINGS
+from uavcov.sim import FlightSettings, SimSettings, Team, fly_mission, hover_rotor_speed
 
 
 def test_hover_holds_still_at_rotorpy_hover_speed() -> None:
@@ -41,7 +41,14 @@ def test_a_step_to_a_waypoint_is_rotorpys_own_flight() -> None:
     settings = FlightSettings(speed=1.0, max_acceleration=5.0)
     leg = Team.hovering([start], settings).fly([goal])
     hover = hover_rotor_speed(quad_params)
-    state = {"x": start.copy(), "v": np.zeros(3), "q": np.array([0.0, 0.0, 0.0, 1.0]), "w": np.zeros(3), "wind": np.zeros(3), "rotor_speeds": np.full(4, hover)}
+    state = {
+        "x": start.copy(),
+        "v": np.zeros(3),
+        "q": np.array([0.0, 0.0, 0.0, 1.0]),
+        "w": np.zeros(3),
+        "wind": np.zeros(3),
+        "rotor_speeds": np.full(4, hover),
+    }
     vehicle, controller = Multirotor(quad_params, initial_state=state), SE3Control(quad_params)
     reference = MinSnap(np.stack([start, goal]), v_avg=1.0, v_max=2.2, verbose=False)
     t = 0.0
@@ -119,7 +126,17 @@ def test_a_waypoint_inside_a_building_is_a_clear_error() -> None:
 
 @pytest.mark.parametrize(
     "changes",
-    [{"speed": 0.0}, {"speed": float("nan")}, {"speed": 1e300}, {"dt": 0.5}, {"wind": (1.0, 2.0)}, {"wind": (1e3, 0, 0)}, {"vehicle": "ardrone"}, {"dwell_s": -1.0}, {"max_leg_s": 1e9}],
+    [
+        {"speed": 0.0},
+        {"speed": float("nan")},
+        {"speed": 1e300},
+        {"dt": 0.5},
+        {"wind": (1.0, 2.0)},
+        {"wind": (1e3, 0, 0)},
+        {"vehicle": "ardrone"},
+        {"dwell_s": -1.0},
+        {"max_leg_s": 1e9},
+    ],
 )
 def test_flight_settings_refuse_hostile_values(changes: dict[str, object]) -> None:
     with pytest.raises(InvalidInputError):

@@ -91,5 +91,8 @@ class FlightError(UavcovError, RuntimeError):
     (a waypoint it cannot reach, wind beyond its thrust), or it hit the surface.
 
     :mod:`uavcov.sim` raises it from a single flight, and records it as the failure of a mission
-    (``FlownMission.failure``) when a whole mission flies.
+    (``FlownMission.failure``) when a whole mission flies. ``leg`` holds the states flown until
+    the failure (a ``uavcov.sim.Leg``), or None.
     """
+
+    leg: object | None = None

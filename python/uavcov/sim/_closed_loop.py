@@ -169,7 +169,9 @@ class FlownMission:
 class _FlownMeasure:
     """The measurement CAO calls: fly to ``x``, sense where the team is, answer the chosen value."""
 
-    def __init__(self, team: Team, vis: Visibility, terrain: Terrain, sim: SimSettings, camera: DepthCamera, rng: np.random.Generator) -> None:
+    def __init__(
+        self, team: Team, vis: Visibility, terrain: Terrain, sim: SimSettings, camera: DepthCamera, rng: np.random.Generator
+    ) -> None:
         self.team, self.vis, self.terrain, self.sim, self.camera, self.rng = team, vis, terrain, sim, camera, rng
         self.map = VoxelMap(sim.voxel_size)
         self.legs: list[Leg] = []
@@ -196,7 +198,8 @@ class _FlownMeasure:
         try:
             leg = self.team.fly(goals)
         except FlightError as exc:
-            self.legs.append(exc.leg)
+            if isinstance(exc.leg, Leg):
+                self.legs.append(exc.leg)
             raise
         self.legs.append(leg)
         reached = self.team.positions
@@ -250,11 +253,17 @@ def fly_mission(
     if not isinstance(sim, SimSettings):
         raise InvalidTypeError(f"sim must be a SimSettings, got {type(sim).__name__}")
     if settings.optimizer != "cao" or settings.sensor is not None or settings.gimbal is not None or settings.objective != "coverage":
-        raise InvalidInputError("a flown mission runs centralised CAO on the coverage of the paper's sensor (optimizer='cao', no sensor or gimbal)")
+        raise InvalidInputError(
+            "a flown mission runs centralised CAO on the coverage of the paper's sensor (optimizer='cao', no sensor or gimbal)"
+        )
     generator = as_generator(rng)
     seq = generator.bit_generator.seed_seq
+    if not isinstance(seq, np.random.SeedSequence):
+        raise InvalidTypeError("rng must be None, an int, a SeedSequence or a Generator seeded by a SeedSequence")
     first_child = seq.n_children_spawned
-    offline = run_mission(terrain, settings.with_changes(iterations=0), known=known, start_positions=start_positions, n_threads=1, rng=generator)
+    offline = run_mission(
+        terrain, settings.with_changes(iterations=0), known=known, start_positions=start_positions, n_threads=1, rng=generator
+    )
     optimizer_rng = _optimizer_stream(seq, first_child, generator.bit_generator)
     (noise_rng,) = generator.spawn(1)
     spec = offline.settings
@@ -264,14 +273,28 @@ def fly_mission(
     measure = _FlownMeasure(team, vis, terrain, sim, sim.camera_for(spec.d_max), noise_rng)
     failure = None
     try:
-        cao(measure, x0, feasible=feasibility(spec.constraints, terrain, n_threads=1), iterations=settings.iterations, settings=spec.cao, rng=optimizer_rng)
+        cao(
+            measure,
+            x0,
+            feasible=feasibility(spec.constraints, terrain, n_threads=1),
+            iterations=settings.iterations,
+            settings=spec.cao,
+            rng=optimizer_rng,
+        )
     except FlightError as exc:
         failure = str(exc)
     return _record(replace(spec, iterations=settings.iterations), sim, rng, x0, measure, terrain, started, failure)
 
 
 def _record(
-    spec: MissionSettings, sim: SimSettings, rng: Any, x0: np.ndarray, measure: _FlownMeasure, terrain: Terrain, started: float, failure: str | None
+    spec: MissionSettings,
+    sim: SimSettings,
+    rng: Any,
+    x0: np.ndarray,
+    measure: _FlownMeasure,
+    terrain: Terrain,
+    started: float,
+    failure: str | None,
 ) -> FlownMission:
     legs, n = measure.legs, spec.n_uavs
     n_done = len(measure.exact)  # legs whose measurement was taken (a failed leg has none)
@@ -281,7 +304,11 @@ def _record(
     states = np.concatenate([leg.positions for leg in legs]) if legs else np.empty((0, n, 3))
     states_time = np.concatenate([leg.time + t0 for leg, t0 in zip(legs, starts_of_legs, strict=True)]) if legs else np.empty(0)
     leg_of_state = np.concatenate([np.full(leg.time.size, k) for k, leg in enumerate(legs)]) if legs else np.empty(0, int)
-    safety = check_flight(terrain, spec.constraints, states, leg_of_state, np.array(measure.starts), np.array(measure.goals)) if len(states) else None
+    safety = (
+        check_flight(terrain, spec.constraints, states, leg_of_state, np.array(measure.starts), np.array(measure.goals))
+        if len(states)
+        else None
+    )
 
     def stack(rows: list[np.ndarray]) -> np.ndarray:
         return read_only(np.array(rows).reshape(-1, n, 3))

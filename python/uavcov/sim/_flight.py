@@ -314,4 +314,6 @@ class Team:
 
     def _settled(self, x: np.ndarray, v: np.ndarray, goals: np.ndarray) -> bool:
         cfg = self.settings
-        return bool((np.linalg.norm(x - goals, axis=1) <= cfg.settle_position).all() and (np.linalg.norm(v, axis=1) <= cfg.settle_speed).all())
+        return bool(
+            (np.linalg.norm(x - goals, axis=1) <= cfg.settle_position).all() and (np.linalg.norm(v, axis=1) <= cfg.settle_speed).all()
+        )

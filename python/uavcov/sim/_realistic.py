@@ -113,7 +113,10 @@ def _curve_rows(flown: FlownMission, start: str) -> list[dict[str, Any]]:
 
 def _table(rows: list[dict[str, Any]]) -> str:
     lines = [
-        "| start | runs | failed | flown best | kinematic best | flown - kinematic | sensed gap | flight time (s) | time to 95 % (s) | energy per UAV (kJ) | min clearance (m) | max deviation (m) | violations |",
+        (
+            "| start | runs | failed | flown best | kinematic best | flown - kinematic | sensed gap | flight time (s) "
+            "| time to 95 % (s) | energy per UAV (kJ) | min clearance (m) | max deviation (m) | violations |"
+        ),
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for start in sorted({r["start"] for r in rows}):
@@ -125,8 +128,10 @@ def _table(rows: list[dict[str, Any]]) -> str:
             return f"{values.mean():.{digits}f} ({values.std():.{digits}f})" if values.size else "-"
 
         lines.append(
-            f"| {start} | {len(mine)} | {sum(bool(r['failure']) for r in mine)} | {stat('flown_best')} | {stat('kinematic_best')} | "
-            f"{stat('best_difference')} | {stat('mean_sensed_gap')} | {stat('flight_time_s', digits=0)} | {stat('time_to_95_s', digits=0)} | "
+            f"| {start} | {len(mine)} | {sum(bool(r['failure']) for r in mine)} | {stat('flown_best')} | "
+            f"{stat('kinematic_best')} | "
+            f"{stat('best_difference')} | {stat('mean_sensed_gap')} | {stat('flight_time_s', digits=0)} | "
+            f"{stat('time_to_95_s', digits=0)} | "
             f"{stat('energy_j_mean', 1e-3, 1)} | {stat('min_clearance_m', digits=2)} | {stat('max_deviation_m', digits=2)} | "
             f"{sum(int(r['violations']) for r in mine)} |"
         )
@@ -135,9 +140,9 @@ def _table(rows: list[dict[str, Any]]) -> str:
 
 def _figures(out: Path, curves: dict[str, list[FlownMission]]) -> list[str]:
     try:
-        import matplotlib
+        import matplotlib as mpl
 
-        matplotlib.use("Agg")
+        mpl.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError as exc:
         raise MissingExtraError(f"the realistic figures need matplotlib: pip install 'uavcov[plot]' ({exc})") from exc
@@ -214,7 +219,9 @@ def reproduce_realistic(
             curve_rows.extend(_curve_rows(flown, start))
             curves[start].append(flown)
             if start == starts[0] and seed == chosen[0] and len(flown.map_points):
-                write_seen_ply(folder / f"realistic_cloud_s{seed:04d}_{start}.ply", Targets(flown.map_points), np.ones(len(flown.map_points)))
+                write_seen_ply(
+                    folder / f"realistic_cloud_s{seed:04d}_{start}.ply", Targets(flown.map_points), np.ones(len(flown.map_points))
+                )
             atomic_write(folder / "runs.csv", _csv(rows, _COLUMNS))
     atomic_write(folder / "coverage.csv", _csv(curve_rows, ("seed", "start", "k", "clock_s", "energy_j", "exact", "sensed")))
     figures = _figures(folder, curves)
