@@ -9,7 +9,7 @@ import pytest
 
 import uavcov
 from uavcov.errors import InvalidInputError, InvalidTypeError
-from uavcov.sim import DepthCamera, VoxelMap, camera_rotation, observed_targets, sensed_coverage
+from uavcov.sim import DepthCamera, VoxelMap, camera_rotation, check_flight, observed_targets, sensed_coverage
 from uavcov.terrain import buildings_scene
 
 
@@ -153,3 +153,27 @@ def test_sensed_coverage_approaches_the_exact_one_as_the_resolution_rises(seed: 
     # Measured: 0.139, 0.044, 0.002 (seed 0); 0.126, 0.031, 0.005 (seed 1).
     assert gaps[0] > gaps[1] > gaps[2], gaps
     assert gaps[2] < 0.015, gaps
+
+
+def test_check_flight_counts_each_limit_on_a_plane() -> None:
+    plane = _flat(0.0)
+    limits = uavcov.placement.Constraints(h_min=1.0, h_max=5.0, z_max=6.0, d_safe=1.0).resolve(plane)
+    starts = np.array([[[2.0, 2.0, 2.0], [8.0, 8.0, 2.0]]])
+    goals = np.array([[[6.0, 2.0, 2.0], [8.0, 8.0, 2.0]]])
+    states = np.array(
+        [
+            [[3.0, 2.5, 2.0], [8.0, 8.0, 2.0]],  # 0.5 m off the move, fine
+            [[6.5, 2.0, 0.5], [8.0, 8.0, 2.0]],  # past the goal by 0.5 m, under h_min
+            [[6.0, 2.0, 5.5], [8.0, 8.0, 2.0]],  # over h_max
+            [[7.8, 7.9, 2.0], [8.0, 8.0, 2.0]],  # crowding the other vehicle
+        ]
+    )
+    report = check_flight(plane, limits, states, np.zeros(4, dtype=int), starts, goals)
+    assert (report.below_h_min, report.above_h_max, report.above_z_max, report.straight_above_h_max) == (1, 1, 0, 0)
+    assert report.too_close == 2  # both vehicles of the crowded state
+    assert report.violations == 4 and not report.safe
+    assert report.min_clearance == pytest.approx(0.5) and report.max_clearance == pytest.approx(5.5)
+    # The crowding state is farthest from its move (foot at the goal (6, 2, 2)) and past it by 1.8 m.
+    assert report.max_deviation == pytest.approx(math.hypot(1.8, 5.9), abs=1e-9)
+    assert report.max_overshoot == pytest.approx(1.8, abs=1e-9)
+    assert report.min_separation == pytest.approx(math.hypot(0.2, 0.1))

@@ -57,6 +57,10 @@ _COLUMNS = (
     "min_distance_m",
     "min_separation_m",
     "violations",
+    "below_h_min",
+    "above_h_max",
+    "straight_above_h_max",
+    "too_close",
     "max_deviation_m",
     "max_overshoot_m",
     "failure",
@@ -88,6 +92,10 @@ def realistic_rows(flown: FlownMission, kinematic_best: float, start: str) -> di
         "min_distance_m": safety.min_distance if safety else math.nan,
         "min_separation_m": safety.min_separation if safety else math.nan,
         "violations": safety.violations if safety else 0,
+        "below_h_min": safety.below_h_min if safety else 0,
+        "above_h_max": safety.above_h_max if safety else 0,
+        "straight_above_h_max": safety.straight_above_h_max if safety else 0,
+        "too_close": safety.too_close if safety else 0,
         "max_deviation_m": safety.max_deviation if safety else math.nan,
         "max_overshoot_m": safety.max_overshoot if safety else math.nan,
         "failure": flown.failure or "",
@@ -115,9 +123,10 @@ def _table(rows: list[dict[str, Any]]) -> str:
     lines = [
         (
             "| start | runs | failed | flown best | kinematic best | flown - kinematic | sensed gap | flight time (s) "
-            "| time to 95 % (s) | energy per UAV (kJ) | min clearance (m) | max deviation (m) | violations |"
+            "| time to 95 % (s) | energy per UAV (kJ) | min clearance (m) | max deviation (m) | states under h_min "
+            "| over h_max (straight moves) |"
         ),
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for start in sorted({r["start"] for r in rows}):
         mine = [r for r in rows if r["start"] == start]
@@ -133,7 +142,8 @@ def _table(rows: list[dict[str, Any]]) -> str:
             f"{stat('best_difference')} | {stat('mean_sensed_gap')} | {stat('flight_time_s', digits=0)} | "
             f"{stat('time_to_95_s', digits=0)} | "
             f"{stat('energy_j_mean', 1e-3, 1)} | {stat('min_clearance_m', digits=2)} | {stat('max_deviation_m', digits=2)} | "
-            f"{sum(int(r['violations']) for r in mine)} |"
+            f"{sum(int(r['below_h_min']) for r in mine)} | "
+            f"{sum(int(r['above_h_max']) for r in mine)} ({sum(int(r['straight_above_h_max']) for r in mine)}) |"
         )
     return "\n".join(lines) + "\n"
 

@@ -42,6 +42,14 @@ class SafetyReport:
         States outside the x-y bounds.
     violations : int
         States that break some limit.
+    below_h_min, above_h_max, above_z_max, too_close : int
+        States under ``h_min`` (or touching the mesh), over ``h_max``, over ``z_max``, and
+        closer than ``d_safe`` to another vehicle. ``h_max`` binds the waypoints only (eq. 2): a
+        straight move from above a roof past its edge crosses it as well, so this count is
+        compared with :attr:`straight_above_h_max`.
+    straight_above_h_max : int
+        The same count for the straight commanded moves sampled at the same instants (each
+        state's foot on its move): what the kinematic model flies through.
     max_deviation : float
         Farthest a state strayed from its straight commanded move (the margin by which the
         limits must be tightened for the flown path to keep them).
@@ -57,6 +65,11 @@ class SafetyReport:
     max_altitude: float
     out_of_bounds: int
     violations: int
+    below_h_min: int
+    above_h_max: int
+    above_z_max: int
+    too_close: int
+    straight_above_h_max: int
     max_deviation: float
     max_overshoot: float
 
@@ -66,9 +79,10 @@ class SafetyReport:
         return self.violations == 0
 
 
-def _segment_offsets(points: np.ndarray, start: np.ndarray, goal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _segment_offsets(points: np.ndarray, start: np.ndarray, goal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Distance of each point ``(M, N, 3)`` to its straight move ``start -> goal`` (same shape),
-    and how far past the goal it lies along the move (its distance to the goal for a move of 0)."""
+    how far past the goal it lies along the move (its distance to the goal for a move of 0), and
+    its foot on the move."""
     move = goal - start
     length = np.linalg.norm(move, axis=2)
     unit = np.divide(move, length[..., None], out=np.zeros_like(move), where=length[..., None] > 0)
@@ -76,7 +90,7 @@ def _segment_offsets(points: np.ndarray, start: np.ndarray, goal: np.ndarray) ->
     foot = start + np.clip(along, 0.0, length)[..., None] * unit
     deviation = np.linalg.norm(points - foot, axis=2)
     overshoot = np.where(length > 0, np.maximum(along - length, 0.0), np.linalg.norm(points - goal, axis=2))
-    return deviation, overshoot
+    return deviation, overshoot, foot
 
 
 def check_flight(
@@ -112,13 +126,20 @@ def check_flight(
     if constraints.h_max is not None:
         bad |= clearance > constraints.h_max
     separation = np.inf
+    crowded = np.zeros((m, n), dtype=bool)
     if n > 1:
         gaps = np.linalg.norm(positions[:, :, None, :] - positions[:, None, :, :], axis=3)
         gaps[:, np.arange(n), np.arange(n)] = np.inf
         separation = float(gaps.min())
         if constraints.d_safe:
-            bad |= (gaps < constraints.d_safe).any(axis=2)
-    deviation, overshoot = _segment_offsets(positions, starts[leg_of_state], goals[leg_of_state])
+            crowded = (gaps < constraints.d_safe).any(axis=2)
+            bad |= crowded
+    deviation, overshoot, feet = _segment_offsets(positions, starts[leg_of_state], goals[leg_of_state])
+    low = (clearance < constraints.h_min) | (distance <= 0.0)
+    high = np.zeros_like(low) if constraints.h_max is None else clearance > constraints.h_max
+    straight_high = 0
+    if constraints.h_max is not None:
+        straight_high = int((terrain.clearance(feet.reshape(-1, 3)) > constraints.h_max).sum())
     return SafetyReport(
         n_states=int(m * n),
         min_clearance=float(clearance.min()),
@@ -128,6 +149,11 @@ def check_flight(
         max_altitude=float(positions[..., 2].max()),
         out_of_bounds=int(outside.sum()),
         violations=int(bad.sum()),
+        below_h_min=int(low.sum()),
+        above_h_max=int(high.sum()),
+        above_z_max=int((positions[..., 2] > constraints.z_max).sum()),
+        too_close=int(crowded.sum()),
+        straight_above_h_max=straight_high,
         max_deviation=float(deviation.max()),
         max_overshoot=float(overshoot.max()),
     )
