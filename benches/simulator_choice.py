@@ -46,9 +46,8 @@ def rotorpy_case(method: str) -> None:
     print(f"rotorpy {method}: hover drift {np.abs(path).max():.2g} m, {speed:.2f} sim s / wall s")
     path, speed = fly(np.array([1.0, 0.0, 0.0]))
     t90 = 0.01 * (np.argmax(path[:, 0] > 0.9) + 1)
-    print(
-        f"rotorpy {method}: step max {path[:, 0].max():.4f} m, final error {np.abs(path[-1] - [1, 0, 0]).max():.2g} m, t90 {t90:.2f} s, {speed:.2f} sim s / wall s"
-    )
+    error = np.abs(path[-1] - [1, 0, 0]).max()
+    print(f"rotorpy {method}: step max {path[:, 0].max():.4f} m, final error {error:.2g} m, t90 {t90:.2f} s, {speed:.2f} sim s / wall s")
 
 
 def pyflyt_case() -> None:
