@@ -177,3 +177,12 @@ def test_check_flight_counts_each_limit_on_a_plane() -> None:
     assert report.max_deviation == pytest.approx(math.hypot(1.8, 5.9), abs=1e-9)
     assert report.max_overshoot == pytest.approx(1.8, abs=1e-9)
     assert report.min_separation == pytest.approx(math.hypot(0.2, 0.1))
+
+
+@pytest.mark.parametrize("bad", [["--starts", "corner"], ["--seeds", "x-y"], ["--starts", "cvt,random"]])
+def test_reproduce_realistic_refuses_bad_choices_in_one_line(tmp_path: object, capsys: pytest.CaptureFixture[str], bad: list[str]) -> None:
+    from uavcov.cli import EXIT_BAD_INPUT, main
+
+    assert main(["reproduce", "realistic", "--out", str(tmp_path), *bad]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "error" in err[0]
