@@ -159,3 +159,13 @@ def test_fly_mission_refuses_what_it_cannot_fly() -> None:
     team = Team.hovering([[0.0, 0.0, 5.0]], FlightSettings())
     with pytest.raises(InvalidInputError):
         team.fly([[0.0, 0.0, 5.0], [1.0, 1.0, 5.0]])
+
+
+def test_cao_can_maximise_the_sensed_coverage() -> None:
+    terrain, known = _scene()
+    spec = BUILDINGS.mission_settings(4, "cvt").with_changes(iterations=2)
+    flown = fly_mission(terrain, spec, SimSettings(measurement="sensed"), known=known, rng=1000)
+    assert flown.failure is None and np.isfinite(flown.sensed).all()
+    assert np.array_equal(flown.measured, flown.sensed)
+    assert np.abs(flown.sensed - flown.exact).max() < 0.1  # 64 x 128 pixels: within a few hundredths
+    assert len(flown.map_points) > 1000
