@@ -33,6 +33,9 @@ LAYERS = {
     "records": 5,
     "experiments": 6,
     "field": 6,
+    # The flown mission: above the mission and the optimiser it wraps; under the paper, whose
+    # realistic scenario it flies.
+    "sim": 6,
     "paper": 7,
     "plotting": 8,
     "cli": 9,

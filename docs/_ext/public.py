@@ -23,6 +23,7 @@ MODULES = (
     "uavcov.experiments",
     "uavcov.field",
     "uavcov.paper",
+    "uavcov.sim",
     "uavcov.plotting",
 )
 TOP = "uavcov"

@@ -5,7 +5,7 @@ Commands
 ``uavcov demo``
     The paper's illustrative example end to end (9 UAVs, d_max = 35 m, 30 prior samples, CVT
     start, then CAO): prints a summary, writes runs.csv, the run and its figures to ``--out``.
-``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|structures|all``
+``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|structures|realistic|all``
     One of the paper's experiments; writes runs.csv, the runs, config.json and ``<name>.md``.
 ``uavcov sweep CONFIG.toml``
     Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
@@ -190,6 +190,8 @@ def _reproduce(args: argparse.Namespace) -> int:
         return _reproduce_ablation(args)
     if args.experiment == "structures":
         return _reproduce_structures(args)
+    if args.experiment == "realistic":
+        return _reproduce_realistic(args)
     out = Path(args.out or f"out/{args.experiment}")
     started = time.perf_counter()
     with _execution(args) as options:
@@ -214,6 +216,23 @@ def _reproduce(args: argparse.Namespace) -> int:
         if figures:
             _say(f"{len(figures)} figure(s) in {Path(figures[0]).parent}/ (`uavcov plot {out}` adds an animation)")
     return code
+
+
+def _reproduce_realistic(args: argparse.Namespace) -> int:
+    """The paper's realistic scenario flown (uavcov.sim, the ``sim`` extra): serial, one core."""
+    from .paper import reproduce_realistic
+
+    out = Path(args.out or "out/realistic")
+    rows = reproduce_realistic(
+        out,
+        seeds=args.seeds,
+        starts=args.starts or ("cvt", "pairs"),
+        iterations=200 if args.iterations is None else args.iterations,
+    )
+    print((out / "realistic.md").read_text(encoding="utf-8"))
+    failed = sum(bool(r["failure"]) for r in rows)
+    _say(f"{len(rows)} flown run(s), {failed} failed, in {out}/")
+    return 0
 
 
 def _refuse_choice_within(args: argparse.Namespace, what: str) -> None:
@@ -607,7 +626,7 @@ def _parser() -> argparse.ArgumentParser:
 
     reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
     reproduce.add_argument(
-        "experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "all")
+        "experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "all")
     )
     reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")

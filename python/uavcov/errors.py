@@ -20,6 +20,7 @@ __all__ = [
     "ResultsInUseError",
     "MissingExtraError",
     "SchedulerTimeoutError",
+    "FlightError",
 ]
 
 
@@ -83,3 +84,15 @@ class MissingExtraError(UavcovError, ImportError):
 
 class SchedulerTimeoutError(UavcovError, TimeoutError):
     """A Dask scheduler did not answer in time."""
+
+
+class FlightError(UavcovError, RuntimeError):
+    """A simulated flight failed: a vehicle did not settle at its waypoint in the time allowed
+    (a waypoint it cannot reach, wind beyond its thrust), or it hit the surface.
+
+    :mod:`uavcov.sim` raises it from a single flight, and records it as the failure of a mission
+    (``FlownMission.failure``) when a whole mission flies. ``leg`` holds the states flown until
+    the failure (a ``uavcov.sim.Leg``), or None.
+    """
+
+    leg: object | None = None

@@ -254,6 +254,38 @@ impl PySurface {
         Ok(detached(py, || flight::admissible_mask(s, &limits, &current, &cand, n_threads))?.into_pyarray(py))
     }
 
+    /// Distance along each ray `origins[k] + t directions[k]` (unit directions) to its first
+    /// triangle, metres, `0 <= t <= t_max` (directions are normalised); inf where the ray meets
+    /// none (a depth camera's pixels).
+    #[pyo3(signature = (origins, directions, t_max, n_threads=0))]
+    fn first_hits<'py>(
+        &self,
+        py: Python<'py>,
+        origins: PyReadonlyArray2<'_, f64>,
+        directions: PyReadonlyArray2<'_, f64>,
+        t_max: f64,
+        n_threads: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let origins = points(py, &origins, "origins")?;
+        let directions = points(py, &directions, "directions")?;
+        if origins.len() != directions.len() {
+            return Err(invalid(py, format!("origins has {} rays but directions has {}", origins.len(), directions.len())));
+        }
+        if !(t_max.is_finite() && t_max > 0.0 && t_max <= MAX_COORDINATE) {
+            return Err(invalid(py, format!("t_max must be positive and finite, at most {MAX_COORDINATE:e}, got {t_max}")));
+        }
+        let mut rays: Vec<(Point, Point)> = try_with_capacity(origins.len(), "a copy of the rays").map_err(|e| to_py_err(py, e))?;
+        for (k, (o, d)) in origins.into_iter().zip(directions).enumerate() {
+            let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            if !(norm > 1e-12 && norm.is_finite()) {
+                return Err(invalid(py, format!("direction {k} has length {norm}: every ray needs a direction")));
+            }
+            rays.push((o, [d[0] / norm, d[1] / norm, d[2] / norm])); // unit, so t is metres
+        }
+        let s = &self.inner; // a grid answers from its height field: no triangle mesh is built
+        Ok(parallel_map(py, n_threads, &rays, |&(o, d)| s.first_hit(o, d, t_max).unwrap_or(f64::INFINITY))?.into_pyarray(py))
+    }
+
     /// Whether each closed segment `a[k] -> b[k]` crosses no triangle.
     #[pyo3(signature = (a, b, n_threads=0))]
     fn segments_clear<'py>(

@@ -7,6 +7,7 @@ from ._area import AreaOfInterest, bbox_area, read_area
 from ._geodesy import GeoAnchor
 from ._outputs import write_plan
 from ._plan import FlightPlan, PlanSettings, plan
+from ._ply import write_seen_ply
 from ._qgc import MAV_CMD_DO_MOUNT_CONTROL, MAV_FRAME_GLOBAL_RELATIVE_ALT
 from ._results_folder import check_plan_folder
 from ._structure_flight import StructureFlight
@@ -28,4 +29,5 @@ __all__ = [
     "StructureFlight",
     "plan_structure",
     "write_structure_plan",
+    "write_seen_ply",
 ]

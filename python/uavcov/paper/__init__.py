@@ -30,6 +30,7 @@ from ._data import (
 )
 from ._jobs import ablate, reproduce, reproduce_all
 from ._oracle import OracleRow, oracle
+from ._realistic import reproduce_realistic
 from ._structures import StructuresExperiment, reproduce_structures
 
 __all__ = [
@@ -54,4 +55,5 @@ __all__ = [
     "OracleRow",
     "StructuresExperiment",
     "reproduce_structures",
+    "reproduce_realistic",
 ]
