@@ -197,3 +197,26 @@ def test_bad_input_is_a_clear_error(kwargs: dict[str, Any], error: type[Exceptio
 def test_refuses_what_is_not_a_coverage_problem() -> None:
     with pytest.raises(InvalidTypeError):
         exact_placement("problem", 3)  # type: ignore[arg-type]
+
+
+def test_the_oracle_solves_the_optimum_and_the_report_sets_each_start_against_it(tmp_path: Any) -> None:
+    from uavcov.experiments import TABLE1, oracle
+    from uavcov.experiments._bounds import bounds_markdown, read_bounds, write_bounds
+    from uavcov.experiments._results import ResultsFolder
+
+    small = TABLE1.with_changes(**{"terrain.size": 40.0})
+    plain = oracle(small, seeds=[0], team_sizes=[2, 3], settings=GreedySettings(spacing=5.0), n_threads=2)
+    rows = oracle(small, seeds=[0], team_sizes=[2, 3], settings=GreedySettings(spacing=5.0), n_threads=2, exact=True)
+    for row, without in zip(rows, plain, strict=True):
+        assert row.optimum_status == "optimal" and not without.optimum_status and math.isnan(without.optimum)
+        assert row.coverage <= row.optimum <= row.optimum_bound <= row.bound + 1e-12
+        assert (row.coverage, row.bound) == (without.coverage, without.bound)  # the other columns do not move
+    folder = ResultsFolder(tmp_path / "with")
+    assert read_bounds(write_bounds(folder, rows)) == rows
+    old = write_bounds(ResultsFolder(tmp_path / "without"), plain)
+    assert "optimum" not in old.read_text().splitlines()[0] and read_bounds(old) == plain
+    runs = [{"seed": 0, "n_uavs": r.n_uavs, "init": "cvt", "max_coverage": 0.9 * r.optimum, "error": ""} for r in rows]
+    text = bounds_markdown(runs, rows)
+    assert "## Table 1 against the lattice optimum" in text
+    assert "| 2 | 1 | 1 |" in text and "| 0.900 |" in text
+    assert "lattice optimum" not in bounds_markdown(runs, plain)

@@ -58,6 +58,12 @@ def read_bounds(path: str | Path) -> list[OracleRow]:
     return rows
 
 
+def _runs_of(runs: Iterable[Mapping[str, Any]], scenarios: Mapping[tuple[int, int], Any]) -> tuple[list[Mapping[str, Any]], list[str]]:
+    """The finished runs on ``scenarios`` (keyed by seed and team size), and the starts among them, in table order."""
+    ok = [r for r in finished_rows(runs) if (int(r["seed"]), int(r["n_uavs"])) in scenarios]
+    return ok, [s for s in _STARTS if any(r["init"] == s for r in ok)]
+
+
 def _interval(values: np.ndarray) -> str:
     """``mean [low, high]``, a 95 % Student's t interval (the mean alone for one value)."""
     from scipy import stats
@@ -80,9 +86,8 @@ def bounds_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleRo
         The oracle on the same scenarios and team sizes.
     """
     bound_of = {(r.seed, r.n_uavs): r for r in bounds}
-    ok = [r for r in finished_rows(runs) if (int(r["seed"]), int(r["n_uavs"])) in bound_of]
+    ok, starts = _runs_of(runs, bound_of)
     sizes = sorted({int(r["n_uavs"]) for r in ok})
-    starts = [s for s in _STARTS if any(r["init"] == s for r in ok)]
     lines = [
         "# Table 1 against the certified bound",
         "",
@@ -150,8 +155,7 @@ def optimum_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleR
         The oracle with ``exact=True`` on the same scenarios and team sizes.
     """
     solved = {(r.seed, r.n_uavs): r for r in bounds if r.optimum_status}
-    ok = [r for r in finished_rows(runs) if (int(r["seed"]), int(r["n_uavs"])) in solved]
-    starts = [s for s in _STARTS if any(r["init"] == s for r in ok)]
+    ok, starts = _runs_of(runs, solved)
     lines = [
         "## Table 1 against the lattice optimum",
         "",

@@ -52,7 +52,7 @@ MAX_MODEL_BYTES = 4 << 30
 # copy and the LP factor (measured on Table 1's terrains: about 60 per non-zero at peak).
 _BYTES_PER_NONZERO = 64
 # Solver shares carry the rounding of summing up to T float64 weights (as the LP dual bound's).
-_ROUNDING = 4.0 * np.finfo(np.float64).eps
+_ROUNDING = 4.0 * float(np.finfo(np.float64).eps)
 # More conflict pairs than this many per candidate: one aggregated row per candidate instead.
 _PAIRS_PER_CANDIDATE = 4
 
@@ -169,12 +169,13 @@ def conflict_pairs(positions: np.ndarray, d_safe: float) -> np.ndarray:
 
     if d_safe <= 0.0 or positions.shape[0] < 2:
         return np.zeros((0, 2), dtype=np.int64)
-    pairs = cKDTree(positions).query_pairs(d_safe, output_type="ndarray").astype(np.int64)
+    pairs: np.ndarray = np.asarray(cKDTree(positions).query_pairs(d_safe, output_type="ndarray"), dtype=np.int64)
     if pairs.size == 0:
         return np.zeros((0, 2), dtype=np.int64)
     offset = positions[pairs[:, 0]] - positions[pairs[:, 1]]
     pairs = pairs[np.einsum("ij,ij->i", offset, offset) < d_safe * d_safe]
-    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    ordered: np.ndarray = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    return ordered
 
 
 def _conflict_rows(pairs: np.ndarray, n_candidates: int) -> tuple[object, np.ndarray]:
@@ -381,9 +382,9 @@ def _result(
         positions=read_only(positions[picks].copy()),
         poses=None if poses is None else read_only(poses[picks].copy()),
         picks=read_only(picks),
-        coverage=search.coverage,
-        bound=bound,
-        gap=bound - search.coverage,
+        coverage=float(search.coverage),
+        bound=float(bound),
+        gap=float(bound - search.coverage),
         status=status,
         k=k,
         incumbent="solver" if search.from_solver else "greedy",
