@@ -15,7 +15,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import asdict, fields
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -144,6 +144,24 @@ def bounds_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleRo
     return text
 
 
+@dataclass(frozen=True)
+class _Solved:
+    """An oracle row's optimum columns, present."""
+
+    n_uavs: int
+    coverage: float
+    optimum: float
+    optimum_bound: float
+    optimum_status: str
+    optimum_time_s: float
+
+    @classmethod
+    def of(cls, row: OracleRow) -> _Solved:
+        if row.optimum is None or row.optimum_bound is None or row.optimum_time_s is None:
+            raise ResultsFormatError(f"seed {row.seed}, N = {row.n_uavs}: an optimum status without its values")
+        return cls(row.n_uavs, row.coverage, row.optimum, row.optimum_bound, row.optimum_status, row.optimum_time_s)
+
+
 def optimum_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleRow]) -> str:
     """Each start's best coverage as a share of its scenario's lattice optimum, per team size.
 
@@ -154,7 +172,7 @@ def optimum_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleR
     bounds : sequence of OracleRow
         The oracle with ``exact=True`` on the same scenarios and team sizes.
     """
-    solved = {(r.seed, r.n_uavs): r for r in bounds if r.optimum_status}
+    solved = {(r.seed, r.n_uavs): _Solved.of(r) for r in bounds if r.optimum_status}
     ok, starts = _runs_of(runs, solved)
     lines = [
         "## Table 1 against the lattice optimum",

@@ -59,13 +59,13 @@ class OracleRow:
         Greedy's online bound and the LP relaxation's dual bound, each certified on its own.
     dual_time_s : float
         Seconds for the LP and the evaluation of its dual certificate.
-    optimum, optimum_bound : float
+    optimum, optimum_bound : float or None
         With ``exact=True``: the best coverage of ``n_uavs`` separated candidates the integer
         program found, and its proven bound (equal within the gap target when
-        ``optimum_status == "optimal"``); NaN without.
+        ``optimum_status == "optimal"``); None without.
     optimum_status : str
         :attr:`uavcov.placement.ExactResult.status`, or ``""`` without ``exact``.
-    optimum_time_s : float
+    optimum_time_s : float or None
         Seconds for the integer program (model and solver).
     """
 
@@ -81,10 +81,10 @@ class OracleRow:
     online_bound: float
     dual_bound: float
     dual_time_s: float
-    optimum: float = float("nan")
-    optimum_bound: float = float("nan")
+    optimum: float | None = None
+    optimum_bound: float | None = None
     optimum_status: str = ""
-    optimum_time_s: float = float("nan")
+    optimum_time_s: float | None = None
 
 
 def oracle(
