@@ -274,17 +274,21 @@ def exact_placement(
     deadline = started + time_limit
     # two rounds: a third of the time to find a better placement, which removes candidates, then
     # the rest on the program of the candidates left (one round with a node limit: deterministic)
+    survivors, model = np.zeros(0, dtype=np.int64), None
     for share in (1.0,) if node_limit is not None else (1.0 / 3.0, 1.0):
-        survivors = _survivors(seen, shares, certificate.u, k, search)
-        before = time.perf_counter()
-        model = _model(problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes)
-        search.model_time += time.perf_counter() - before
+        left = _survivors(seen, shares, certificate.u, k, search)
+        if model is None or not np.array_equal(left, survivors):  # the same candidates: the same program
+            survivors = left
+            before = time.perf_counter()
+            model = _model(problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes)
+            search.model_time += time.perf_counter() - before
         remaining = deadline - time.perf_counter()
         if remaining <= 0.0:
             break
         _round(problem, search, survivors, model, k, (share * remaining, gap, node_limit))
         if search.status == "optimal":
             break
+    assert model is not None  # the first round always builds it
     return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
 
 
