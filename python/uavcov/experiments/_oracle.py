@@ -64,7 +64,7 @@ class OracleRow:
         program found, and its proven bound (equal within the gap target when
         ``optimum_status == "optimal"``); None without.
     optimum_status : str
-        :attr:`uavcov.placement.ExactResult.status`, or ``""`` without ``exact``.
+        ``ExactResult.status``, or ``""`` without ``exact``.
     optimum_time_s : float or None
         Seconds for the integer program (model and solver).
     """

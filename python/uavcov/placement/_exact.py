@@ -82,7 +82,8 @@ class ExactResult:
         ``bound - coverage`` (share): at most this much better placement may exist; 0 up to the
         gap target when ``status == "optimal"``.
     status : str
-        One of :data:`STATUSES`.
+        ``"optimal"`` (proved within the gap target), ``"time limit"`` or ``"node limit"``
+        (stopped: ``gap`` states how far off it may be).
     k : int
         Team size asked for.
     incumbent : str
@@ -223,8 +224,9 @@ def exact_placement(
         Relative gap at which the solver stops and calls the placement optimal.
     node_limit : int, optional
         Branch-and-bound nodes the solver may explore (deterministic, unlike the time limit).
-    max_model_bytes : int, default :data:`MAX_MODEL_BYTES`
-        Memory the program may take (estimated from its non-zeros before it is built).
+    max_model_bytes : int, default 4 GiB
+        Memory the program may take (estimated from the matrix's size and its non-zeros before
+        either is built).
 
     Returns
     -------
