@@ -221,3 +221,10 @@ def test_the_oracle_solves_the_optimum_and_the_report_sets_each_start_against_it
     assert "## Table 1 against the lattice optimum" in text
     assert "| 2 | 1 | 1 |" in text and "| 0.900 |" in text
     assert "lattice optimum" not in bounds_markdown(runs, plain)
+
+
+def test_greedy_proved_optimal_by_its_bound_needs_no_program() -> None:
+    problem = _terrain_problem()
+    everyone = exact_placement(problem, problem.viewpoints.n)  # every candidate: greedy reaches the ceiling
+    assert everyone.status == "optimal" and everyone.n_rows == 0 and everyone.incumbent == "greedy"
+    assert everyone.coverage == everyone.bound == problem.ceiling()

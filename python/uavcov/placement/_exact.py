@@ -100,7 +100,8 @@ class ExactResult:
         Candidates left in the program: those the LP dual bound does not exclude from every
         placement better than greedy's.
     n_rows : int
-        Rows of targets in the program (groups of targets seen by the same candidates).
+        Rows of targets in the program (groups of targets seen by the same candidates); 0 when
+        greedy's placement was proved optimal without one (its bound met its coverage).
     n_conflict_rows : int
         Separation rows.
     n_nodes : int
@@ -277,7 +278,9 @@ def exact_placement(
     # two rounds: a third of the time to find a better placement, which removes candidates, then
     # the rest on the program of the candidates left (one round with a node limit: deterministic)
     survivors, model = np.zeros(0, dtype=np.int64), None
-    for share in (1.0,) if node_limit is not None else (1.0 / 3.0, 1.0):
+    if search.bound - search.coverage <= gap * search.bound:  # greedy is already proved optimal: no program
+        search.status = "optimal"
+    for share in () if search.status == "optimal" else (1.0,) if node_limit is not None else (1.0 / 3.0, 1.0):
         left = _survivors(seen, shares, certificate.u, k, search)
         if model is None or not np.array_equal(left, survivors):  # the same candidates: the same program
             survivors = left
@@ -290,7 +293,6 @@ def exact_placement(
         _round(problem, search, survivors, model, k, (share * remaining, gap, node_limit))
         if search.status == "optimal":
             break
-    assert model is not None  # the first round always builds it
     return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
 
 
@@ -373,7 +375,7 @@ def _result(
     greedy: GreedyResult,
     search: _Search,
     survivors: np.ndarray,
-    model: _Program,
+    model: _Program | None,
     k: int,
     d_safe: float,
     gap: float,
@@ -400,8 +402,8 @@ def _result(
         f"on these {problem._matrix.n_targets} targets",
         n_candidates=problem.viewpoints.n,
         n_kept=int(survivors.size),
-        n_rows=model.n_rows,
-        n_conflict_rows=model.n_conflict_rows,
+        n_rows=0 if model is None else model.n_rows,
+        n_conflict_rows=0 if model is None else model.n_conflict_rows,
         n_nodes=search.n_nodes,
         model_time_s=search.model_time,
         solve_time_s=search.solve_time,
