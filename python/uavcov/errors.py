@@ -13,6 +13,7 @@ __all__ = [
     "InvalidTypeError",
     "MeshError",
     "SurfaceTooLargeError",
+    "ModelTooLargeError",
     "ConfigError",
     "InfeasibleError",
     "ResultsFormatError",
@@ -55,6 +56,14 @@ class SurfaceTooLargeError(InvalidInputError):
     A general mesh, and the mesh method (``method="mesh"``) on a grid, keep a BVH over every
     triangle and are refused beyond 10 million triangles; the grid method of a terrain built with
     :meth:`~uavcov.engine.Terrain.from_grid` needs no triangle list (up to 2^32 nodes).
+    """
+
+
+class ModelTooLargeError(InvalidInputError):
+    """An optimisation model would need more memory than allowed (checked before it is built).
+
+    :func:`uavcov.placement.exact_placement` estimates its integer program from the non-zeros of
+    the seen-matrix; fewer candidates or targets, or a larger ``max_model_bytes``, make it fit.
     """
 
 

@@ -9,6 +9,10 @@ smaller of greedy's online bound (Leskovec et al. 2007) and the LP relaxation's 
 (:meth:`uavcov.placement.CoverageProblem.dual_bound`), which stays informative where the online
 bound reaches 1 (N >= 8 on Table 1's terrains). One matrix serves every team size of a scenario.
 
+With ``exact=True`` each row also holds the lattice optimum itself
+(:func:`uavcov.placement.exact_placement`: integer programming, greedy as the fallback, the
+solver's proven bound), so each start's coverage can be set against the optimum, not a bound on it.
+
 What its numbers are: ``coverage`` is a placement any team could fly (an admissible, separated
 configuration of candidates); ``bound`` is certified for the best ``N`` candidates of the lattice
 (no ``N`` of them see more), not for positions off the lattice, which can see a little more (see
@@ -21,11 +25,12 @@ import functools
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 from ..engine import Visibility
 from ..errors import InvalidTypeError
 from ..experiments import Experiment, local_executor
-from ..placement import CoverageProblem, GreedySettings, viewpoint_lattice
+from ..placement import CoverageProblem, ExactResult, GreedySettings, exact_placement, viewpoint_lattice
 
 
 @dataclass(frozen=True)
@@ -53,6 +58,14 @@ class OracleRow:
         Greedy's online bound and the LP relaxation's dual bound, each certified on its own.
     dual_time_s : float
         Seconds for the LP and the evaluation of its dual certificate.
+    optimum, optimum_bound : float or None
+        With ``exact=True``: the best coverage of ``n_uavs`` separated candidates the integer
+        program found, and its proven bound (equal within the gap target when
+        ``optimum_status == "optimal"``); None without.
+    optimum_status : str
+        ``ExactResult.status``, or ``""`` without ``exact``.
+    optimum_time_s : float or None
+        Seconds for the integer program (model and solver).
     """
 
     seed: int
@@ -67,6 +80,10 @@ class OracleRow:
     online_bound: float
     dual_bound: float
     dual_time_s: float
+    optimum: float | None = None
+    optimum_bound: float | None = None
+    optimum_status: str = ""
+    optimum_time_s: float | None = None
 
 
 def oracle(
@@ -77,6 +94,8 @@ def oracle(
     settings: GreedySettings | None = None,
     n_threads: int | None = None,
     workers: int | None = None,
+    exact: bool = False,
+    time_limit: float = 60.0,
 ) -> list[OracleRow]:
     """The full-knowledge oracle of every scenario and team size of ``experiment``.
 
@@ -93,6 +112,10 @@ def oracle(
     workers : int, optional
         Processes, one scenario each at a time (``None`` or 1: in this process); the rows do
         not depend on it.
+    exact : bool, default False
+        Also solve each row to the lattice optimum (:func:`uavcov.placement.exact_placement`).
+    time_limit : float, default 60.0
+        Seconds the integer program of one row may take (then its gap is stated).
 
     Returns
     -------
@@ -111,7 +134,15 @@ def oracle(
         raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
     sizes = experiment.team_sizes if team_sizes is None else tuple(team_sizes)
     chosen = [int(s) for s in (experiment.seeds if seeds is None else tuple(seeds))]
-    one = functools.partial(_scenario_rows, experiment, sizes=tuple(int(n) for n in sizes), settings=settings, n_threads=n_threads)
+    one = functools.partial(
+        _scenario_rows,
+        experiment,
+        sizes=tuple(int(n) for n in sizes),
+        settings=settings,
+        n_threads=n_threads,
+        exact=exact,
+        time_limit=time_limit,
+    )
     if workers is None or workers <= 1 or len(chosen) <= 1:
         parts = [one(seed) for seed in chosen]
     else:  # scenarios are independent: a process each, rows the same as in sequence
@@ -121,7 +152,14 @@ def oracle(
 
 
 def _scenario_rows(
-    experiment: Experiment, seed: int, *, sizes: tuple[int, ...], settings: GreedySettings | None, n_threads: int | None
+    experiment: Experiment,
+    seed: int,
+    *,
+    sizes: tuple[int, ...],
+    settings: GreedySettings | None,
+    n_threads: int | None,
+    exact: bool = False,
+    time_limit: float = 60.0,
 ) -> list[OracleRow]:
     """The oracle of one scenario: its lattice and matrix once, then every team size."""
     mission = experiment.mission
@@ -134,8 +172,10 @@ def _scenario_rows(
     use_separation = settings is None or settings.separation
     rows = []
     for n in sizes:
-        result = problem.greedy(n, limits.d_safe if use_separation else 0.0)
+        d_safe = limits.d_safe if use_separation else 0.0
+        result = problem.greedy(n, d_safe)
         certificate = problem.dual_bound(n)
+        best = exact_placement(problem, n, d_safe, time_limit=time_limit) if exact else None
         rows.append(
             OracleRow(
                 seed=seed,
@@ -150,6 +190,17 @@ def _scenario_rows(
                 online_bound=result.bound,
                 dual_bound=certificate.bound,
                 dual_time_s=certificate.solve_time_s,
+                **(_optimum_columns(best) if best is not None else {}),
             )
         )
     return rows
+
+
+def _optimum_columns(best: ExactResult) -> dict[str, Any]:
+    """The optimum's columns of an :class:`OracleRow`."""
+    return {
+        "optimum": best.coverage,
+        "optimum_bound": best.bound,
+        "optimum_status": best.status,
+        "optimum_time_s": best.model_time_s + best.solve_time_s,
+    }

@@ -1,11 +1,12 @@
 """Where a team may fly and where it starts: flight limits, the constrained CVT, starts, camera footprints,
-candidate viewpoints and the greedy placement with its certified bound."""
+candidate viewpoints, the greedy placement with its certified bound, and the exact placement."""
 
 from __future__ import annotations
 
 from ._constraints import Constraints, World, closest_admissible, feasibility
 from ._cvt import PRESETS, CVTResult, CVTSettings, cvt
 from ._dual_bound import DualCertificate
+from ._exact import ExactResult, exact_placement
 from ._footprints import FootprintFit, fit_footprints
 from ._greedy import CoverageBound, CoverageProblem, GreedyResult, coverage_bound, greedy_placement
 from ._starts import ALTITUDE_REFERENCES, CORNERS, START_KINDS, StartSettings, start_configuration
@@ -42,4 +43,6 @@ __all__ = [
     "DualCertificate",
     "greedy_placement",
     "coverage_bound",
+    "ExactResult",
+    "exact_placement",
 ]

@@ -1,0 +1,161 @@
+"""The exact placement (integer programming) on Table 1's terrains, beside greedy and the LP bound.
+
+Three parts, each optional:
+
+* ``--sweep``: the oracle with ``exact=True`` (:func:`uavcov.paper.oracle`) on ``--seeds``
+  (Table 1's terrains, 5 m lattice x 3 heights, the true surface, d_max = 25 m, d_safe = 1 m),
+  one terrain at a time, each row appended to ``--rows`` (a JSON line; rerunning skips the rows
+  there); then per team size the instances, how many were proved optimal (relative gap <= 1e-4),
+  and the median seconds of greedy, the LP dual bound and the integer program, all from the same
+  run; with ``--runs runs.csv`` (a Table 1 folder's) each start's max coverage as a share of the
+  optimum (the markdown of :func:`uavcov.paper._bounds.optimum_markdown`);
+* ``--refine``: the optimum on lattices of 5, 2.5 and 1.25 m (each holds the coarser one) for
+  ``--refine-seeds``;
+* ``--cao``: CAO (Table 1's mission, 500 iterations) started from the optimum's positions, against
+  the optimum: how much positions off the lattice add.
+
+Run as::
+
+    OPENBLAS_NUM_THREADS=1 nice .venv/bin/python benches/exact_placement.py --sweep --seeds 0-39 --rows /tmp/exact_rows.jsonl
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+import uavcov
+from uavcov.experiments import parse_seeds
+from uavcov.experiments import finished_rows
+from uavcov.paper import TABLE1, OracleRow, oracle
+from uavcov.paper._bounds import optimum_markdown
+from uavcov.placement import CoverageProblem, GreedySettings, exact_placement, viewpoint_lattice
+
+
+def _sweep(seeds: list[int], sizes: tuple[int, ...], rows_path: Path, time_limit: float, threads: int) -> list[OracleRow]:
+    done: dict[tuple[int, int], OracleRow] = {}
+    if rows_path.exists():
+        for line in rows_path.read_text().splitlines():
+            row = OracleRow(**json.loads(line))
+            done[(row.seed, row.n_uavs)] = row
+    for seed in seeds:
+        missing = [n for n in sizes if (seed, n) not in done]
+        if not missing:
+            continue
+        started = time.perf_counter()
+        found = oracle(TABLE1, seeds=[seed], team_sizes=missing, n_threads=threads, exact=True, time_limit=time_limit)
+        with rows_path.open("a") as handle:
+            for row in found:
+                handle.write(json.dumps(dataclasses.asdict(row)) + "\n")
+                done[(row.seed, row.n_uavs)] = row
+        load = os.getloadavg()[0]
+        print(
+            f"seed {seed}: {time.perf_counter() - started:.1f} s, load {load:.1f}, "
+            + ", ".join(f"N={r.n_uavs} {r.optimum_status} {r.optimum:.4f} ({r.optimum_time_s:.1f} s)" for r in found),
+            flush=True,
+        )
+    return [done[(s, n)] for s in seeds for n in sizes if (s, n) in done]
+
+
+def _summary(rows: list[OracleRow], sizes: tuple[int, ...]) -> None:
+    print(
+        "\n| N | instances | proved (gap <= 1e-4) | greedy s | LP dual s | exact s (median) | exact s (max) "
+        "| greedy | optimum | LP bound | largest gap left |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for n in sizes:
+        of_n = [r for r in rows if r.n_uavs == n]
+        if not of_n:
+            continue
+        proved = sum(r.optimum_status == "optimal" for r in of_n)
+        print(
+            f"| {n} | {len(of_n)} | {proved} | {np.median([r.greedy_time_s for r in of_n]):.3f} | "
+            f"{np.median([r.dual_time_s for r in of_n]):.2f} | {np.median([r.optimum_time_s for r in of_n]):.2f} | "
+            f"{max(r.optimum_time_s for r in of_n):.1f} | {np.mean([r.coverage for r in of_n]):.4f} | "
+            f"{np.mean([r.optimum for r in of_n]):.4f} | {np.mean([r.dual_bound for r in of_n]):.4f} | "
+            f"{max(r.optimum_bound - r.optimum for r in of_n):.5f} |"
+        )
+    for r in rows:
+        if r.optimum_status != "optimal":
+            print(f"  seed {r.seed} N={r.n_uavs}: {r.optimum_status}, {r.optimum:.4f} of at most {r.optimum_bound:.4f}")
+
+
+def _problem(seed: int, spacing: float, threads: int) -> tuple[uavcov.Terrain, float, CoverageProblem]:
+    terrain = TABLE1.terrain.make(seed)
+    limits = TABLE1.mission.constraints.resolve(terrain)
+    lattice = viewpoint_lattice(terrain, limits, GreedySettings(spacing=spacing, n_heights=3), n_threads=threads)
+    return terrain, limits.d_safe, CoverageProblem(uavcov.Visibility(terrain, TABLE1.d_max, n_threads=threads), lattice, n_threads=threads)
+
+
+def _refine(seeds: list[int], sizes: tuple[int, ...], spacings: list[float], time_limit: float, threads: int) -> None:
+    print("\n| lattice | candidates | rows | " + " | ".join(f"N={n} greedy / optimum (status, s)" for n in sizes) + " |")
+    print("|---|---|---|" + "---|" * len(sizes))
+    for seed in seeds:
+        for spacing in spacings:
+            _, d_safe, problem = _problem(seed, spacing, threads)
+            results = [exact_placement(problem, n, d_safe, time_limit=time_limit) for n in sizes]
+            cells = [f"{r.greedy_coverage:.4f} / {r.coverage:.4f} ({r.status}, {r.model_time_s + r.solve_time_s:.0f})" for r in results]
+            print(f"| seed {seed}, {spacing:g} m | {problem.viewpoints.n} | {results[0].n_rows} | " + " | ".join(cells) + " |", flush=True)
+
+
+def _cao(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: int) -> None:
+    print("\n| N | terrains | proved | optimum | CAO from the optimum, max | max / optimum (min-max) |")
+    print("|---|---|---|---|---|---|")
+    for n in sizes:
+        shares, optima, bests, proved = [], [], [], 0
+        for seed in seeds:
+            terrain, d_safe, problem = _problem(seed, 5.0, threads)
+            best = exact_placement(problem, n, d_safe, time_limit=time_limit)
+            run = uavcov.run_mission(
+                terrain, replace(TABLE1.mission, n_uavs=n), start_positions=best.positions, n_threads=threads, rng=seed
+            )
+            proved += best.status == "optimal"
+            optima.append(best.coverage)
+            bests.append(run.best_coverage)
+            shares.append(run.best_coverage / best.coverage)
+        s = np.array(shares)
+        print(
+            f"| {n} | {len(seeds)} | {np.mean(optima):.4f} | {np.mean(bests):.4f} | {s.mean():.4f} ({s.min():.4f}-{s.max():.4f}) |",
+            flush=True,
+        )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--sweep", action="store_true")
+    parser.add_argument("--seeds", default="0-39")
+    parser.add_argument("--sizes", type=int, nargs="+", default=list(TABLE1.team_sizes))
+    parser.add_argument("--rows", type=Path, default=Path("exact_rows.jsonl"))
+    parser.add_argument("--runs", type=Path, help="a Table 1 runs.csv: each start's max as a share of the optimum")
+    parser.add_argument("--refine", action="store_true")
+    parser.add_argument("--refine-seeds", default="0-1")
+    parser.add_argument("--spacings", type=float, nargs="+", default=[5.0, 2.5, 1.25])
+    parser.add_argument("--cao", action="store_true")
+    parser.add_argument("--cao-seeds", default="0-4")
+    parser.add_argument("--time-limit", type=float, default=60.0)
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args()
+    sizes = tuple(args.sizes)
+    if args.sweep:
+        rows = _sweep(list(parse_seeds(args.seeds)), sizes, args.rows, args.time_limit, args.threads)
+        _summary(rows, sizes)
+        if args.runs is not None:
+            import csv
+
+            with args.runs.open() as handle:
+                print("\n" + optimum_markdown(finished_rows(list(csv.DictReader(handle))), rows))
+    if args.refine:
+        _refine(list(parse_seeds(args.refine_seeds)), sizes, args.spacings, args.time_limit, args.threads)
+    if args.cao:
+        _cao(list(parse_seeds(args.cao_seeds)), sizes, args.time_limit, args.threads)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,478 @@
+"""The best placement of ``k`` candidate viewpoints, proved by integer programming.
+
+Greedy (:meth:`uavcov.placement.CoverageProblem.greedy`) and the certified bounds say how far a
+placement is from the best ``k`` candidates at most; :func:`exact_placement` finds that best
+placement, with the solver's proof. Weighted maximum coverage with separation is the integer
+program
+
+    max  sum_g W_g z_g
+    s.t. z_g <= sum_{s sees g} x_s      (a row per group g of targets)
+         sum_s x_s = k                   (<= k when the separation admits no k candidates)
+         x_a + x_b <= 1                  (a pair closer than d_safe)
+         x in {0, 1},  0 <= z <= 1
+
+where a group holds the targets seen by exactly the same candidates (their weights summed: the
+rows are identical otherwise), found by hashing each target's column of the seen-matrix; targets
+no candidate sees are left out (they add nothing to any placement). Candidates go first that no
+placement better than greedy's can hold: the LP relaxation's dual point (the certificate of
+:meth:`uavcov.placement.CoverageProblem.dual_bound`) bounds every placement holding a candidate
+``s`` by its own dual value plus the ``k - 1`` largest others; below greedy's coverage, ``s`` is
+out (weak duality: exact, whatever the dual point). When the pairs closer than
+``d_safe`` outnumber the candidates several times (cameras: every orientation at a position
+conflicts with the others), each candidate's later neighbours share one row instead,
+``|N(a)| x_a + sum_{b in N(a)} x_b <= |N(a)|``, the same integer points in fewer rows.
+
+scipy's HiGHS (``scipy.optimize.milp``, branch and cut) solves it; its proven dual bound is the
+certificate. It takes no starting solution, so greedy's placement is the fallback: when the
+solver stops at its time or node limit the result is the better of greedy's placement and the
+solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and the LP
+dual bound (each certified on its own). The solver and the evaluation are sequential and exact:
+the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with the
+node limit instead of the time limit not on the machine's speed either.
+
+What the optimum is the optimum of: *these candidates* on *these targets* (as every bound of
+:mod:`uavcov.placement._greedy`); positions off the candidates may see more.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import MAX_UAVS, as_count, as_non_negative_float, as_positive_float, as_positive_int, read_only
+from ..errors import InvalidTypeError, ModelTooLargeError
+from ._greedy import CoverageProblem, GreedyResult
+
+MAX_MODEL_BYTES = 4 << 30
+"""Default memory allowed for the integer program (estimated before it is built): 4 GiB."""
+
+# Bytes per constraint non-zero through scipy's sparse matrix, HiGHS's column copy, its presolved
+# copy and the LP factor (measured on Table 1's terrains: about 60 per non-zero at peak).
+_BYTES_PER_NONZERO = 64
+# Solver shares carry the rounding of summing up to T float64 weights (as the LP dual bound's).
+_ROUNDING = 4.0 * float(np.finfo(np.float64).eps)
+# More conflict pairs than this many per candidate: one aggregated row per candidate instead.
+_PAIRS_PER_CANDIDATE = 4
+
+STATUSES = ("optimal", "time limit", "node limit")
+"""What :attr:`ExactResult.status` may say: proved optimal (within the gap target), or stopped at
+the time or the node limit (then :attr:`ExactResult.gap` states how far off it may be)."""
+
+
+@dataclass(frozen=True)
+class ExactResult:
+    """The best placement of ``k`` candidates found, and the proof of how good it is.
+
+    Attributes
+    ----------
+    positions : (n, 3) float64 ndarray
+        The chosen candidates, metres, in index order.
+    poses : (n, 5) float64 ndarray or None
+        Their ``(x, y, z, yaw, pitch)`` for camera candidates.
+    picks : (n,) int64 ndarray
+        The candidates' indices, increasing.
+    coverage : float
+        The placement's weighted share of the targets seen (as greedy's coverage is summed).
+    bound : float
+        Proven: no ``k`` candidates kept ``d_safe`` apart see more. The solver's dual bound, or,
+        stopped early, the smallest of it, greedy's online bound and the LP dual bound.
+    gap : float
+        ``bound - coverage`` (share): at most this much better placement may exist; 0 up to the
+        gap target when ``status == "optimal"``.
+    status : str
+        ``"optimal"`` (proved within the gap target), ``"time limit"`` or ``"node limit"``
+        (stopped: ``gap`` states how far off it may be).
+    k : int
+        Team size asked for.
+    incumbent : str
+        Where the placement comes from: ``"solver"``, or ``"greedy"`` when the solver found
+        nothing better (greedy's placement may be optimal).
+    d_safe : float
+        Separation kept between the chosen candidates, metres.
+    greedy_coverage : float
+        Greedy's coverage on the same problem (the result is never below it).
+    holds_for : str
+        What the bound bounds, in words.
+    n_candidates : int
+    n_kept : int
+        Candidates left in the program: those the LP dual bound does not exclude from every
+        placement better than greedy's.
+    n_rows : int
+        Rows of targets in the program (groups of targets seen by the same candidates); 0 when
+        greedy's placement was proved optimal without one (its bound met its coverage).
+    n_conflict_rows : int
+        Separation rows.
+    n_nodes : int
+        Branch-and-bound nodes the solver explored.
+    model_time_s, solve_time_s : float
+        Wall time of grouping the targets and building the program, and of the solver, seconds.
+    """
+
+    positions: np.ndarray
+    poses: np.ndarray | None
+    picks: np.ndarray
+    coverage: float
+    bound: float
+    gap: float
+    status: str
+    k: int
+    incumbent: str
+    d_safe: float
+    greedy_coverage: float
+    holds_for: str
+    n_candidates: int
+    n_kept: int
+    n_rows: int
+    n_conflict_rows: int
+    n_nodes: int
+    model_time_s: float
+    solve_time_s: float
+
+    @property
+    def relative_gap(self) -> float:
+        """``gap / bound`` (0 when the bound is 0)."""
+        return self.gap / self.bound if self.bound > 0 else 0.0
+
+
+def target_groups(seen: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Targets seen by exactly the same candidates, grouped.
+
+    Parameters
+    ----------
+    seen : (C, T) bool ndarray
+        Which candidate sees which target.
+
+    Returns
+    -------
+    first : (G,) int64 ndarray
+        A target of each group (its lowest index), groups in the order of their first target.
+    group : (T,) int64 ndarray
+        Each target's group.
+    """
+    seen = np.asarray(seen, dtype=bool)
+    _n_candidates, n_targets = seen.shape
+    if n_targets == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    # each target's column packed into bytes, hashed as one opaque value by np.unique
+    packed = np.ascontiguousarray(np.packbits(seen, axis=0).T)
+    keys = packed.view(np.dtype((np.void, packed.shape[1]))).ravel()
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")  # groups numbered by first target: independent of the hash order
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    return first[order].astype(np.int64), rank[inverse.ravel()].astype(np.int64)
+
+
+def conflict_pairs(positions: np.ndarray, d_safe: float) -> np.ndarray:
+    """``(P, 2)`` int64: the pairs ``a < b`` of ``positions`` closer than ``d_safe`` (as greedy keeps them apart)."""
+    from scipy.spatial import cKDTree
+
+    if d_safe <= 0.0 or positions.shape[0] < 2:
+        return np.zeros((0, 2), dtype=np.int64)
+    pairs: np.ndarray = np.asarray(cKDTree(positions).query_pairs(d_safe, output_type="ndarray"), dtype=np.int64)
+    if pairs.size == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    offset = positions[pairs[:, 0]] - positions[pairs[:, 1]]
+    pairs = pairs[np.einsum("ij,ij->i", offset, offset) < d_safe * d_safe]
+    ordered: np.ndarray = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    return ordered
+
+
+def _conflict_rows(pairs: np.ndarray, n_candidates: int) -> tuple[object, np.ndarray]:
+    """The separation rows: one per pair, or one per candidate over its later neighbours when pairs are many."""
+    from scipy.sparse import coo_matrix
+
+    if pairs.shape[0] <= _PAIRS_PER_CANDIDATE * n_candidates:
+        rows = np.repeat(np.arange(pairs.shape[0]), 2)
+        matrix = coo_matrix((np.ones(rows.size), (rows, pairs.ravel())), shape=(pairs.shape[0], n_candidates))
+        return matrix.tocsr(), np.ones(pairs.shape[0])
+    owners, degree = np.unique(pairs[:, 0], return_counts=True)
+    row_of = np.full(n_candidates, -1, dtype=np.int64)
+    row_of[owners] = np.arange(owners.size)
+    rows = np.concatenate([row_of[owners], row_of[pairs[:, 0]]])
+    cols = np.concatenate([owners, pairs[:, 1]])
+    values = np.concatenate([degree.astype(np.float64), np.ones(pairs.shape[0])])
+    matrix = coo_matrix((values, (rows, cols)), shape=(owners.size, n_candidates))
+    return matrix.tocsr(), degree.astype(np.float64)
+
+
+def exact_placement(
+    problem: CoverageProblem,
+    k: int,
+    d_safe: float = 0.0,
+    *,
+    time_limit: float = 60.0,
+    gap: float = 1e-4,
+    node_limit: int | None = None,
+    max_model_bytes: int = MAX_MODEL_BYTES,
+) -> ExactResult:
+    """The best ``k`` of ``problem``'s candidates kept ``d_safe`` apart, by integer programming.
+
+    Parameters
+    ----------
+    problem : CoverageProblem
+        The candidates and which targets each sees (terrain lattices, structure offsets, camera
+        poses alike).
+    k : int
+        Team size.
+    d_safe : float, default 0.0
+        Least distance between two chosen candidates, metres (pairs closer conflict, as in greedy).
+    time_limit : float, default 60.0
+        Seconds the solver may take (wall time: the result then depends on the machine's speed).
+    gap : float, default 1e-4
+        Relative gap at which the solver stops and calls the placement optimal.
+    node_limit : int, optional
+        Branch-and-bound nodes the solver may explore (deterministic, unlike the time limit).
+    max_model_bytes : int, default 4 GiB
+        Memory the program may take (estimated from the matrix's size and its non-zeros before
+        either is built).
+
+    Returns
+    -------
+    ExactResult
+        Never below greedy's coverage; ``bound >= coverage`` always.
+
+    Raises
+    ------
+    ModelTooLargeError
+        The program would take more than ``max_model_bytes``.
+    InvalidInputError, InvalidTypeError
+        A bad ``k``, ``d_safe``, ``time_limit``, ``gap``, ``node_limit`` or ``max_model_bytes``.
+
+    Examples
+    --------
+    >>> import uavcov
+    >>> from uavcov.placement import Constraints, CoverageProblem, GreedySettings, exact_placement, viewpoint_lattice
+    >>> hills = uavcov.gaussian_hills(size=30.0, spacing=1.0, n_hills=3, rng=1)
+    >>> lattice = viewpoint_lattice(hills, Constraints(h_min=2.0, h_max=10.0, z_max=60.0), GreedySettings(spacing=6.0, n_heights=1))
+    >>> best = exact_placement(CoverageProblem(uavcov.Visibility(hills, 8.0), lattice), 3)
+    >>> best.status, best.greedy_coverage <= best.coverage <= best.bound
+    ('optimal', True)
+    """
+    if not isinstance(problem, CoverageProblem):
+        raise InvalidTypeError(f"problem must be a uavcov.placement.CoverageProblem, got {type(problem).__name__}")
+    k = as_count(k, "k", MAX_UAVS)
+    d_safe = as_non_negative_float(d_safe, "d_safe")
+    time_limit = as_positive_float(time_limit, "time_limit")
+    gap = as_non_negative_float(gap, "gap")
+    if node_limit is not None:
+        node_limit = as_count(node_limit, "node_limit", 1 << 40)
+    max_model_bytes = as_positive_int(max_model_bytes, "max_model_bytes")
+    n_candidates, n_targets = problem.viewpoints.n, problem._matrix.n_targets
+    # the dense matrix and the LP dual's float copy of it come first: refused before they are made
+    if n_candidates * n_targets * 9 > max_model_bytes:
+        raise ModelTooLargeError(
+            f"{n_candidates:,} candidates x {n_targets:,} targets take {n_candidates * n_targets * 9 / 2**30:.1f} GiB "
+            f"as the program's matrices, more than max_model_bytes = {max_model_bytes / 2**30:.1f} GiB: use fewer candidates or targets"
+        )
+    greedy = problem.greedy(k, d_safe)
+    started = time.perf_counter()
+    seen = problem.dense()
+    weights = np.asarray(problem._visibility.targets.weights, dtype=np.float64)
+    shares = weights / weights.sum()
+    certificate = problem.dual_bound(k)
+    search = _Search(greedy.picks, greedy.coverage, min(greedy.bound, certificate.bound))
+    deadline = started + time_limit
+    # two rounds: a third of the time to find a better placement, which removes candidates, then
+    # the rest on the program of the candidates left (one round with a node limit: deterministic)
+    survivors, model = np.zeros(0, dtype=np.int64), None
+    if search.bound - search.coverage <= gap * search.bound:  # greedy is already proved optimal: no program
+        search.status = "optimal"
+    for share in () if search.status == "optimal" else (1.0,) if node_limit is not None else (1.0 / 3.0, 1.0):
+        left = _survivors(seen, shares, certificate.u, k, search)
+        if model is None or not np.array_equal(left, survivors):  # the same candidates: the same program
+            survivors = left
+            before = time.perf_counter()
+            model = _model(problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes)
+            search.model_time += time.perf_counter() - before
+        remaining = deadline - time.perf_counter()
+        if remaining <= 0.0:
+            break
+        _round(problem, search, survivors, model, k, (share * remaining, gap, node_limit))
+        if search.status == "optimal":
+            break
+    return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
+
+
+@dataclass
+class _Search:
+    """The best placement so far and the smallest proven bound, over the rounds."""
+
+    picks: np.ndarray
+    coverage: float
+    bound: float
+    from_solver: bool = False
+    status: str = "time limit"
+    n_nodes: int = 0
+    model_time: float = 0.0
+    solve_time: float = 0.0
+
+
+def _model(
+    problem: CoverageProblem,
+    seen: np.ndarray,
+    shares: np.ndarray,
+    survivors: np.ndarray,
+    d_safe: float,
+    k: int,
+    *,
+    exactly: bool,
+    max_model_bytes: int,
+) -> _Program:
+    """The program on the candidates ``survivors``, its targets grouped; refused when too large."""
+    first, group = target_groups(seen[survivors])
+    weights = np.bincount(group, weights=shares, minlength=first.size)
+    columns = seen[np.ix_(survivors, first)]
+    kept = columns.any(axis=0)  # a group no candidate sees adds nothing to any placement
+    columns, weights = columns[:, kept], weights[kept]
+    pairs = conflict_pairs(problem.viewpoints.positions[survivors], d_safe)
+    nonzeros = int(np.count_nonzero(columns)) + int(columns.shape[1]) + 2 * int(pairs.shape[0]) + survivors.size
+    if nonzeros * _BYTES_PER_NONZERO > max_model_bytes:
+        raise ModelTooLargeError(
+            f"the integer program would have {nonzeros:,} non-zeros, about {nonzeros * _BYTES_PER_NONZERO / 2**30:.1f} GiB, "
+            f"more than max_model_bytes = {max_model_bytes / 2**30:.1f} GiB: use fewer candidates or targets"
+        )
+    return _program(columns, weights, pairs, k, exactly=exactly)
+
+
+def _round(
+    problem: CoverageProblem, search: _Search, survivors: np.ndarray, model: _Program, k: int, limits: tuple[float, float, int | None]
+) -> None:
+    """HiGHS on ``model`` within ``limits`` (seconds, relative gap, nodes); ``search`` takes its placement if better, and its bound.
+
+    The solver's bound holds for the placements of the
+    candidates left; every other placement is below the best coverage so far, so
+    ``max(bound, coverage)`` holds for all.
+    """
+    from scipy.optimize import milp
+
+    time_limit, gap, node_limit = limits
+    options: dict[str, object] = {"time_limit": time_limit, "mip_rel_gap": gap, "presolve": True}
+    if node_limit is not None:
+        options["node_limit"] = node_limit
+    started = time.perf_counter()
+    result = milp(model.cost, integrality=model.integrality, bounds=model.bounds, constraints=model.constraints, options=options)
+    search.solve_time += time.perf_counter() - started
+    search.n_nodes += int(getattr(result, "mip_node_count", 0) or 0)
+    if result.x is not None:
+        chosen = survivors[np.flatnonzero(result.x[: survivors.size] > 0.5)]
+        value = _coverage_of(problem, chosen)
+        if value > search.coverage:
+            search.picks, search.coverage, search.from_solver = chosen, value, True
+    proven = getattr(result, "mip_dual_bound", None)
+    if proven is not None and np.isfinite(proven):
+        search.bound = min(search.bound, max(-float(proven) + (k + 1) * problem._matrix.n_targets * _ROUNDING, search.coverage))
+    if result.status == 0 or search.bound - search.coverage <= gap * search.bound:
+        search.status = "optimal"
+    elif node_limit is not None and int(getattr(result, "mip_node_count", 0) or 0) >= node_limit:
+        search.status = "node limit"
+
+
+def _result(
+    problem: CoverageProblem,
+    greedy: GreedyResult,
+    search: _Search,
+    survivors: np.ndarray,
+    model: _Program | None,
+    k: int,
+    d_safe: float,
+    gap: float,
+) -> ExactResult:
+    """The search as an :class:`ExactResult`."""
+    picks = np.sort(np.asarray(search.picks, dtype=np.int64))
+    bound = max(search.bound, search.coverage)  # every bound holds for this placement too
+    status = "optimal" if bound - search.coverage <= gap * bound else search.status
+    positions = problem.viewpoints.positions
+    poses = problem.viewpoints.poses
+    return ExactResult(
+        positions=read_only(positions[picks].copy()),
+        poses=None if poses is None else read_only(poses[picks].copy()),
+        picks=read_only(picks),
+        coverage=float(search.coverage),
+        bound=float(bound),
+        gap=float(bound - search.coverage),
+        status=status,
+        k=k,
+        incumbent="solver" if search.from_solver else "greedy",
+        d_safe=d_safe,
+        greedy_coverage=greedy.coverage,
+        holds_for=f"the best {k} of these candidates ({problem.viewpoints.description}) kept {d_safe:g} m apart, "
+        f"on these {problem._matrix.n_targets} targets",
+        n_candidates=problem.viewpoints.n,
+        n_kept=int(survivors.size),
+        n_rows=0 if model is None else model.n_rows,
+        n_conflict_rows=0 if model is None else model.n_conflict_rows,
+        n_nodes=search.n_nodes,
+        model_time_s=search.model_time,
+        solve_time_s=search.solve_time,
+    )
+
+
+def _survivors(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: int, best: _Search) -> np.ndarray:
+    """The candidates that may belong to a placement better than the best so far, increasing (its picks always).
+
+    The LP dual point ``u`` bounds every placement ``S`` of ``k`` candidates by
+    ``sum_{s in S} c_s + sum_t (shares_t - u_t)`` with ``c_s = sum_{t seen by s} u_t`` (weak
+    duality, as :mod:`uavcov.placement._dual_bound`); a placement holding ``s`` is then at most
+    ``c_s`` plus the ``k - 1`` largest of the other ``c``. A candidate whose bound is below
+    the best coverage so far is in no better placement, and is left out of the program.
+    """
+    u = np.clip(u, 0.0, shares)
+    per_candidate = np.concatenate([seen[a : a + 4096].astype(np.float64) @ u for a in range(0, seen.shape[0], 4096)])
+    rest = float(np.sum(shares - u))
+    top = np.sort(per_candidate)[::-1][: k + 1]
+    if top.size < k + 1:
+        return np.arange(seen.shape[0], dtype=np.int64)
+    # c_s + the k - 1 largest others: the k largest when s is among them, else s and the k - 1 largest
+    others = np.where(per_candidate >= top[k - 1], float(np.sum(top[:k])) - per_candidate, float(np.sum(top[: k - 1])))
+    margin = (k + 1) * max(seen.shape[1], 1) * _ROUNDING
+    keep = per_candidate + others + rest + margin >= best.coverage
+    keep[best.picks] = True
+    return np.flatnonzero(keep).astype(np.int64)
+
+
+@dataclass(frozen=True)
+class _Program:
+    """The integer program in scipy's form, and its sizes."""
+
+    cost: np.ndarray
+    integrality: np.ndarray
+    bounds: object
+    constraints: object
+    n_rows: int
+    n_conflict_rows: int
+
+
+def _program(columns: np.ndarray, shares: np.ndarray, pairs: np.ndarray, k: int, *, exactly: bool) -> _Program:
+    """Variables ``x`` (one per candidate) then ``z`` (one per group); rows as in the module's docstring."""
+    from scipy.optimize import Bounds, LinearConstraint
+    from scipy.sparse import csr_matrix, hstack, identity, vstack
+
+    n_candidates, n_groups = columns.shape
+    coverage_rows = hstack([-csr_matrix(columns.T, dtype=np.float64), identity(n_groups, format="csr")])
+    conflicts, conflict_upper = _conflict_rows(pairs, n_candidates)
+    blocks = [coverage_rows, hstack([csr_matrix(np.ones((1, n_candidates))), csr_matrix((1, n_groups))])]
+    upper = [np.zeros(n_groups), np.array([float(k)])]
+    lower = [np.full(n_groups, -np.inf), np.array([float(k) if exactly else 0.0])]
+    if conflict_upper.size:
+        blocks.append(hstack([conflicts, csr_matrix((conflict_upper.size, n_groups))]))
+        upper.append(conflict_upper)
+        lower.append(np.full(conflict_upper.size, -np.inf))
+    matrix = vstack(blocks, format="csr")
+    return _Program(
+        cost=np.concatenate([np.zeros(n_candidates), -shares]),
+        integrality=np.concatenate([np.ones(n_candidates), np.zeros(n_groups)]),
+        bounds=Bounds(np.zeros(n_candidates + n_groups), np.ones(n_candidates + n_groups)),
+        constraints=LinearConstraint(matrix, np.concatenate(lower), np.concatenate(upper)),
+        n_rows=n_groups,
+        n_conflict_rows=int(conflict_upper.size),
+    )
+
+
+def _coverage_of(problem: CoverageProblem, picks: np.ndarray) -> float:
+    """The picks' share of the targets, summed exactly as greedy's coverage is (in Rust, target order)."""
+    seen = problem.dense()[picks].any(axis=0) if picks.size else np.zeros(problem._matrix.n_targets, dtype=bool)
+    coverage, _ = problem._matrix.bound(np.ascontiguousarray(seen), max(int(picks.size), 1), problem._n_threads)
+    return float(coverage)
