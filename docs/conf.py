@@ -107,6 +107,8 @@ html_theme = "pydata_sphinx_theme"
 html_title = f"uavcov {release}"
 html_theme_options = {
     "navigation_depth": 2,
+    # Every top-level page in the bar (short titles, set in index.md's toctree), none in "More".
+    "header_links_before_dropdown": 7,
     "show_toc_level": 2,
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
