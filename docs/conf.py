@@ -27,6 +27,7 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax served from the site itself: equations render offline
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
@@ -114,6 +115,8 @@ html_theme_options = {
     "footer_end": ["sphinx-version"],
     "secondary_sidebar_items": ["page-toc"],
 }
+# Pages with no section below them get no (empty) section navigation on the left.
+html_sidebars = {"index": [], "getting-started": [], "method": []}
 html_static_path: list[str] = []
 html_show_sourcelink = False
 # The figures the Markdown pages show live in docs/figures and are copied with the pages.

@@ -109,3 +109,14 @@ def test_the_gallery_embeds_the_3d_view(site: Path, driver: Any) -> None:
     legend = driver.execute_script("return Array.from(document.querySelectorAll('.legendtext')).map(t => t.textContent);")
     assert {"surface: seen", "surface: not seen"} <= set(legend), legend
     assert not _severe(driver)
+
+
+def test_the_methods_equations_render_offline(site: Path, driver: Any) -> None:
+    """MathJax is served by the site itself (sphinx-mathjax-offline): with the network cut, every
+    equation of the method page is typeset, none left as TeX."""
+    _open(driver, site / "method.html")
+    typeset = "document.querySelectorAll('mjx-container').length"
+    assert wait_until(driver, f"return {typeset} >= 10;", 60.0), driver.execute_script(f"return {typeset};")
+    text = driver.execute_script("return document.querySelector('article').innerText;")
+    assert "\\mathbf" not in text and "\\frac" not in text, "TeX left untypeset on the method page"
+    assert not _severe(driver)
