@@ -6,7 +6,7 @@ The 3D view
 coloured by what the team sees at the shown iteration (or, a button, by how many UAVs see each
 point), the UAVs, their paths, starts and best positions, and a slider over iterations. Drag to
 turn it, scroll to zoom. ``uavcov view RUN --out view.html`` writes the same figure as one HTML
-file that opens with no network. Here 9 UAVs on the paper's example terrain (100 m x 100 m),
+file that opens with no network. Here 9 UAVs on a Gaussian-hill terrain (100 m x 100 m),
 60 CAO iterations, the surface drawn on a 51 x 51 grid.
 """
 
