@@ -559,7 +559,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Multi-UAV visual coverage of partially known 3D surfaces (Renzaglia et al.): "
         "the paper's experiments, sweeps and figures.",
     )
-    from . import __version__
+    from ._core import __version__
 
     parser.add_argument("--version", action="version", version=f"uavcov {__version__}", help="print uavcov's version and exit")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
