@@ -27,6 +27,7 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax served from the site itself: equations render offline
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
@@ -107,11 +108,15 @@ html_theme = "pydata_sphinx_theme"
 html_title = f"uavcov {release}"
 html_theme_options = {
     "navigation_depth": 2,
+    # Every top-level page in the bar (short titles, set in index.md's toctree), none in "More".
+    "header_links_before_dropdown": 7,
     "show_toc_level": 2,
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
     "secondary_sidebar_items": ["page-toc"],
 }
+# Pages with no section below them get no (empty) section navigation on the left.
+html_sidebars = {"index": [], "getting-started": [], "method": []}
 html_static_path: list[str] = []
 html_show_sourcelink = False
 # The figures the Markdown pages show live in docs/figures and are copied with the pages.

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up a virtualenv (.venv, or $UAVCOV_VENV), builds and installs uavcov with its test extras,
 # then runs every check: the Rust core's formatting, lints and tests (no Python needed), the
-# Python package's lints and types, and the Python suite with the doctests.
+# Python package's lints and types, the Python suite with the doctests, the documentation site,
+# and that site opened in headless Chromium.
 # Extra arguments go to pytest, e.g. `bash scripts/test.sh -k visibility`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,9 +24,11 @@ echo "== ruff (lint and format)"
 "$venv/bin/ruff" format --check python tests benches scripts docs/figures docs/conf.py docs/_ext docs/_inventories docs/tutorials docs/gallery
 echo "== mypy (the package)"
 "$venv/bin/mypy"
-echo "== pytest (the suite, with the README's quick start)"
-"$venv/bin/python" -m pytest -q -p no:cacheprovider tests "$@"
+echo "== pytest (the suite, with the README's quick start; the site's test runs after the site is built)"
+"$venv/bin/python" -m pytest -q -p no:cacheprovider tests --ignore=tests/test_site.py "$@"
 echo "== doctests (the installed package's docstrings)"
 "$venv/bin/python" -m pytest -q -p no:cacheprovider --doctest-modules --pyargs uavcov
 echo "== docs (the site, warnings are errors, every tutorial run)"
 UAVCOV_VENV="$venv" bash scripts/docs.sh
+echo "== the site in headless Chromium (getting started, the gallery)"
+"$venv/bin/python" -m pytest -q -p no:cacheprovider tests/test_site.py

@@ -9,12 +9,15 @@ developer's machine, and fails under CI (``CI`` set), where they must be present
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import shutil
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -65,7 +68,7 @@ class PageReport:
 
 # Rendered: plotly has laid the figure out and drawn its WebGL scene (a 3D plot's canvas exists
 # and has a size); a 2D plot needs only the layout.
-_RENDERED = """
+RENDERED = """
 const div = document.querySelector('.js-plotly-plot');
 if (!div || !div._fullLayout) return false;
 const scene = div.querySelector('.gl-container canvas');
@@ -73,12 +76,14 @@ return !div._fullLayout.scene || (scene !== null && scene.width > 0 && scene.hei
 """
 
 
-def open_page(html: Path, *, timeout_s: float = 60.0, settle_s: float = 1.0) -> PageReport:
-    """Load ``html`` in headless Chromium with no network and report on it (see :class:`PageReport`)."""
-    from PIL import Image
+@contextlib.contextmanager
+def chromium(*, window: tuple[int, int] = (1200, 900)) -> Iterator[Any]:
+    """A headless Chromium (selenium's driver) with the network cut, quit on exit.
+
+    Skips (fails under CI) without Chromium, its driver or selenium: see :func:`require_chromium`.
+    """
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
-    from selenium.webdriver.common.by import By
 
     browser, driver_path = require_chromium()
     options = webdriver.ChromeOptions()
@@ -87,7 +92,7 @@ def open_page(html: Path, *, timeout_s: float = 60.0, settle_s: float = 1.0) -> 
         "--headless=new",
         "--no-sandbox",  # CI runs as root
         "--disable-dev-shm-usage",
-        "--window-size=1200,900",
+        f"--window-size={window[0]},{window[1]}",
         # WebGL without a GPU: SwiftShader, which Chromium now enables only when asked.
         "--use-angle=swiftshader",
         "--enable-unsafe-swiftshader",
@@ -102,20 +107,34 @@ def open_page(html: Path, *, timeout_s: float = 60.0, settle_s: float = 1.0) -> 
     os.environ.setdefault("SE_OFFLINE", "true")  # selenium's manager must fetch nothing
     driver = webdriver.Chrome(options=options, service=Service(executable_path=driver_path))
     try:
-        driver.set_page_load_timeout(timeout_s)
+        yield driver
+    finally:
+        driver.quit()
+
+
+def wait_until(driver: Any, script: str, timeout_s: float) -> bool:
+    """Whether ``script`` (JavaScript returning a boolean) became true within ``timeout_s``."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if driver.execute_script(script):
+            return True
+        time.sleep(0.2)
+    return False
+
+
+def open_page(html: Path, *, timeout_s: float = 60.0, settle_s: float = 1.0) -> PageReport:
+    """Load ``html`` in headless Chromium with no network and report on it (see :class:`PageReport`)."""
+    from PIL import Image
+    from selenium.webdriver.common.by import By
+
+    with chromium() as driver:
+        # Loading is not rendering: a loaded machine takes seconds to load even a blank page.
+        driver.set_page_load_timeout(max(timeout_s, 30.0))
         driver.get(Path(html).resolve().as_uri())
-        deadline = time.monotonic() + timeout_s
-        rendered = False
-        while time.monotonic() < deadline:
-            if driver.execute_script(_RENDERED):
-                rendered = True
-                break
-            time.sleep(0.2)
+        rendered = wait_until(driver, RENDERED, timeout_s)
         time.sleep(settle_s)  # WebGL draws on the next animation frames
         plots = driver.find_elements(By.CSS_SELECTOR, ".js-plotly-plot")
         png = plots[0].screenshot_as_png if plots else driver.get_screenshot_as_png()
         image = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"))
         errors = tuple(str(entry.get("message", "")) for entry in driver.get_log("browser") if entry.get("level") == "SEVERE")
-    finally:
-        driver.quit()
     return PageReport(errors=errors, rendered=rendered, screenshot=image)

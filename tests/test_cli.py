@@ -278,3 +278,23 @@ def test_plot_redraws_figures_from_a_results_directory(tmp_path, capsys):
     printed = capsys.readouterr().out.split()
     assert printed and all(Path(p).is_file() and Path(p).parent == figures for p in printed)
     assert any(p.endswith(".png") for p in printed)
+
+
+def test_version_and_help_texts_match_the_readme(capsys):
+    """``uavcov --version`` prints the package's version; the help names what the README names."""
+    import uavcov
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == EXIT_OK
+    assert capsys.readouterr().out.strip() == f"uavcov {uavcov.__version__}"
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    assert "uavcov --version" in readme
+    with pytest.raises(SystemExit):
+        main(["view", "--help"])
+    view_help = capsys.readouterr().out
+    assert "--run RUN_ID" in view_help and "--run RUN_ID" in readme
+    with pytest.raises(SystemExit):
+        main(["plan", "--help"])
+    plan_help = " ".join(capsys.readouterr().out.split())
+    assert "N sparse points (default full)" in plan_help

@@ -809,3 +809,45 @@ def test_coverage_against_distance_marks_each_start_and_team_size_at_its_means()
     assert [m for m in means if m in expected] == expected
     with pytest.raises(uavcov.errors.ResultsFormatError):
         plotting._distance.plot_coverage_distance([{"init": "cvt", "n_uavs": "5", "max_coverage": "0.5"}])
+
+
+def test_the_structure_figures_views_keep_their_labels_apart_and_fill_the_figure():
+    """Side by side, each view's labels (its z label included) end before the next view's begin,
+    and the views fill the height: no empty strip above the legend."""
+    from uavcov.terrain import girder_bridge
+
+    surface = girder_bridge(rng=0).surface
+    seen = np.random.default_rng(0).random(surface.n_faces) < 0.6
+    fig = plotting.plot_structure_seen(surface, seen.astype(float))
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    axes = [ax for ax in fig.axes if ax.name == "3d"]
+    boxes = [ax.get_tightbbox(renderer) for ax in axes]
+    height = fig.bbox.height
+    for row in (boxes[:2], boxes[2:]):
+        left, right = row
+        assert left.x1 <= right.x0, (left, right)
+    legend = fig.legends[0].get_window_extent(renderer)
+    lowest = min(box.y0 for box in boxes[2:])
+    assert lowest - legend.y1 < 0.08 * height, "an empty strip between the views and the legend"
+    assert all(box.y1 <= fig._suptitle.get_window_extent(renderer).y0 + 1 for box in boxes[:2])
+
+
+def test_the_3d_view_has_a_key_for_seen_and_not_seen(hills_run):
+    """The surface's two colours are named in the legend, after the traces the frames update."""
+    pytest.importorskip("plotly")
+    from uavcov.plotting._canvas import SEEN_COLOUR, UNSEEN_COLOUR
+
+    fig = plotting.view(hills_run, max_frames=3)
+    names = [trace.name for trace in fig.data]
+    assert names[-2:] == ["surface: seen", "surface: not seen"]
+    colours = [trace.marker.color for trace in fig.data[-2:]]
+    assert colours == ["rgb({},{},{})".format(*(round(255 * c) for c in colour)) for colour in (SEEN_COLOUR, UNSEEN_COLOUR)]
+    scale = fig.data[0].colorscale
+    assert scale[0][1] == colours[1] and scale[-1][1] == colours[0]  # the key is the surface's own colours
+    # The whole scene sits above the slider, seen from farther than plotly's default eye.
+    assert fig.layout.scene.domain.y[0] > 0.05
+    eye = fig.layout.scene.camera.eye
+    assert np.linalg.norm([eye.x, eye.y, eye.z]) > np.linalg.norm([1.25, 1.25, 1.25])

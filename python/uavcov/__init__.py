@@ -15,7 +15,8 @@ layer, from the bottom up:
 - :mod:`uavcov.paper`: the paper's experiments as data, their reproduction, reports and claims;
 - :mod:`uavcov.plotting`: figures (needs ``uavcov[plot]``; imported on use).
 
-See the README for a quick start.
+Getting started (install, the README's two commands, a first mission in ten lines): the
+documentation site's getting-started page, ``docs/getting-started.md``.
 """
 
 from __future__ import annotations

@@ -614,6 +614,9 @@ def _parser() -> argparse.ArgumentParser:
         description="Multi-UAV visual coverage of partially known 3D surfaces (Renzaglia et al.): "
         "the paper's experiments, sweeps and figures.",
     )
+    from ._core import __version__
+
+    parser.add_argument("--version", action="version", version=f"uavcov {__version__}", help="print uavcov's version and exit")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     demo = commands.add_parser("demo", help="the paper's illustrative example end to end, in seconds")
@@ -653,7 +656,12 @@ def _parser() -> argparse.ArgumentParser:
     view = commands.add_parser("view", help="one self-contained HTML file with an interactive 3D view of a run")
     view.add_argument("run_or_dir", metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs")
     view.add_argument("--out", default="view.html", help="the HTML file to write (default view.html)")
-    view.add_argument("--run", dest="run_name", help="in a folder, the run to show (its file name without .npz; default the first)")
+    view.add_argument(
+        "--run",
+        dest="run_name",
+        metavar="RUN_ID",
+        help="in a folder, the run to show (its run_id: the file name without .npz; default the first)",
+    )
     view.add_argument(
         "--max-vertices", type=_int_at_least(16), default=40_000, help="vertices of the drawn surface, at most (default 40000)"
     )
@@ -699,7 +707,9 @@ def _parser() -> argparse.ArgumentParser:
     where = planning.add_mutually_exclusive_group()
     where.add_argument("--aoi", metavar="AREA", help="area of interest: a GeoJSON or KML polygon file (WGS 84)")
     where.add_argument("--bbox", type=_floats(4, "XMIN,YMIN,XMAX,YMAX"), metavar="XMIN,YMIN,XMAX,YMAX", help="area of interest: a box")
-    planning.add_argument("--prior", type=_prior, default="full", help="what is known beforehand: full (the DEM) or N sparse points")
+    planning.add_argument(
+        "--prior", type=_prior, default="full", help="what is known beforehand: full (the DEM) or N sparse points (default full)"
+    )
     planning.add_argument(
         "--camera", type=_floats(2, "HFOV,VFOV in degrees"), metavar="HFOV,VFOV", help="a camera (default: omnidirectional)"
     )

@@ -83,6 +83,10 @@ def _document(fp: FlightPlan, command: str | None, runtime_s: float | None) -> d
     }
 
 
+_UNSEEN_WASH = (0.55, 0.1, 0.65)
+"""The plan map's wash over unseen cells: purple, a hue the ``terrain`` colormap has nowhere."""
+
+
 def _map_png(fp: FlightPlan) -> bytes:
     try:
         import matplotlib as mpl
@@ -106,8 +110,11 @@ def _map_png(fp: FlightPlan) -> bytes:
         seen[:] = np.nan
         assert fp.target_pixels is not None
         seen[fp.target_pixels[:, 0], fp.target_pixels[:, 1]] = fp.seen
-        overlay = np.ma.masked_where(~(seen == 0), seen)  # grey out the unseen cells of the area
-        axes.imshow(overlay, extent=extent, cmap="Greys", vmin=-1, vmax=0.5, alpha=0.55, origin="upper" if e < 0 else "lower")
+        # The unseen cells of the area in a colour the terrain colormap never uses (its greys and
+        # browns are high ground), named in the legend.
+        overlay = np.ma.masked_where(~(seen == 0), seen)
+        unseen = mpl.colors.ListedColormap([_UNSEEN_WASH])
+        axes.imshow(overlay, extent=extent, cmap=unseen, alpha=0.6, origin="upper" if e < 0 else "lower", interpolation="nearest")
     else:
         points = dem.to_crs(fp.targets.points)
         shown = axes.scatter(points[:, 0], points[:, 1], c=points[:, 2], s=2, cmap="terrain")
@@ -130,7 +137,12 @@ def _map_png(fp: FlightPlan) -> bytes:
         axes.annotate(str(k + 1), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
     home = dem.to_crs(fp.takeoff_local.reshape(1, 3))[0]
     axes.scatter([home[0]], [home[1]], marker="^", color="yellow", edgecolor="black", s=80, zorder=4, label="take-off")
-    axes.legend(loc="lower right", fontsize=8)
+    from matplotlib.patches import Patch
+
+    handles, _ = axes.get_legend_handles_labels()
+    if grid is not None and raster is not None:
+        handles.append(Patch(facecolor=_UNSEEN_WASH, alpha=0.6, edgecolor="0.3", linewidth=0.5, label="not seen"))
+    axes.legend(handles=handles, loc="lower right", fontsize=8)
     if dem.geographic:
         mid = float(np.mean(positions[:, 1]))
         axes.set_aspect(1.0 / max(math.cos(math.radians(mid)), 1e-6))
@@ -141,7 +153,7 @@ def _map_png(fp: FlightPlan) -> bytes:
         axes.set_aspect("equal")
         axes.set_xlabel(f"x ({dem.crs_name})")
         axes.set_ylabel("y")
-    axes.set_title(f"{fp.n_uavs} UAVs: {100 * fp.coverage:.1f} % of the area seen (grey: not seen)", fontsize=10)
+    axes.set_title(f"{fp.n_uavs} UAVs: {100 * fp.coverage:.1f} % of the area seen", fontsize=10)
     values = fp.mission.coverage
     curve.plot(np.arange(values.shape[0]), values, color="tab:blue")
     curve.set_xlabel("CAO iteration")

@@ -98,7 +98,8 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
 
     def emit(fig: Any, path: Path) -> None:
         if stamp:
-            fig.text(0.998, 0.998, stamp, ha="right", va="top", fontsize=7, color="0.45")
+            # The bottom right corner: titles are centred at the top, axis labels centred below.
+            fig.text(0.998, 0.002, stamp, ha="right", va="bottom", fontsize=7, color="0.45")
         _finish(fig, path, dpi)
         _close(fig)
         written.append(path)

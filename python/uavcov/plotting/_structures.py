@@ -140,7 +140,11 @@ def plot_structure_seen(
 
     columns = 2 if len(angles) == 4 else min(len(angles), 3)
     rows = -(-len(angles) // columns)
-    fig = Figure(figsize=(4.6 * columns, 4.2 * rows + 0.6))
+    # Rows as tall as the views' flat boxes need (a structure is long and low), and room between
+    # columns for the z labels of two neighbouring views, which face each other.
+    height = 2.9 * rows + 1.05
+    fig = Figure(figsize=(5.0 * columns, height))
+    fig.subplots_adjust(left=0.02, right=0.96, bottom=0.3 / height, top=1.0 - 0.75 / height, wspace=0.22, hspace=0.1)
     bounds = _scene_bounds(surface.vertices, *([uavs] if uavs is not None else []))
     for k, (elev, azim) in enumerate(angles):
         ax = fig.add_subplot(rows, columns, k + 1, projection="3d")
@@ -157,12 +161,13 @@ def plot_structure_seen(
             )
         side = "below, without the ground" if elev < 0 else "above"
         _style_3d(ax, bounds, elev=elev, azim=azim, title=f"from {side} (elevation {elev:g}, azimuth {azim:g} deg)")
+        ax.set_box_aspect(ax.get_box_aspect(), zoom=1.15)  # the scene fills its panel, not its ticks' margin
     seen_area = float(np.nansum(np.nan_to_num(share) * surface.face_areas))
     known_area = float(surface.face_areas[np.isfinite(share)].sum())
     handles = [_patch(SEEN_COLOUR, "seen"), _patch(UNSEEN_COLOUR, "not seen")]
     if uavs is not None:
         handles.append(_marker("UAVs", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6))
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9)
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9, bbox_to_anchor=(0.5, 0.0))
     share_text = f"{100.0 * seen_area / known_area:.1f} % of the area seen" if known_area > 0 else "no target"
     fig.suptitle(title or f"structure coloured by seen: {share_text}", fontsize=11)
     return _finish(fig, out, dpi)

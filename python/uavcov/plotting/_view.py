@@ -255,6 +255,15 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
                 first.data[3], mode="lines", line={"color": FOOTPRINT_COLOUR, "width": 4}, name="camera footprints", hoverinfo="skip"
             )
         )
+    # The key to the surface's colours: two legend entries that draw nothing (plotly's legend
+    # has no entry for a mesh's colours). Last, so the traces the frames update keep their places.
+    for colour, label in ((SEEN_COLOUR, "surface: seen"), (UNSEEN_COLOUR, "surface: not seen")):
+        data.append(
+            go.Scatter3d(
+                x=[None], y=[None], z=[None], mode="markers", name=label, hoverinfo="skip",
+                marker={"size": 10, "color": _rgb(colour), "symbol": "square", "line": {"color": "rgb(80,80,80)", "width": 1}},
+            )
+        )  # fmt: skip
     fig = go.Figure(data=data, frames=frames)
     fig.update_layout(
         title={"text": titles[best_iteration], "x": 0.01, "font": {"size": 14}},
@@ -294,6 +303,9 @@ def _scene(bounds: np.ndarray) -> dict[str, Any]:
     span = np.ptp(bounds, axis=0)
     relief = float(span[2]) / max(float(span[:2].max()), 1e-9)
     scene: dict[str, Any] = {
+        # Above the slider, and seen from far enough that the near corner stays in the frame.
+        "domain": {"x": [0.0, 1.0], "y": [0.12, 0.94]},
+        "camera": {"eye": {"x": 1.45, "y": 1.45, "z": 1.05}, "center": {"x": 0.0, "y": 0.0, "z": -0.12}},
         "xaxis": {"title": {"text": "x (m)"}},
         "yaxis": {"title": {"text": "y (m)"}},
         "zaxis": {"title": {"text": "z (m)"}},

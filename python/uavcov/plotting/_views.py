@@ -222,7 +222,7 @@ def _style_3d(ax: Any, bounds: np.ndarray, *, elev: float, azim: float, title: s
     ax.set_box_aspect((span[0], span[1], span[2] * exaggeration))
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    ax.set_zlabel("z (m)" if exaggeration < 1.05 else f"z (m, vertical x{exaggeration:.1f})")
+    ax.set_zlabel("z (m)" if exaggeration < 1.05 else f"z (m, x{exaggeration:.1f})")
     ax.view_init(elev=elev, azim=azim)
     from matplotlib.ticker import MaxNLocator
 
