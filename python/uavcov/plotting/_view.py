@@ -255,15 +255,8 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
                 first.data[3], mode="lines", line={"color": FOOTPRINT_COLOUR, "width": 4}, name="camera footprints", hoverinfo="skip"
             )
         )
-    # The key to the surface's colours: two legend entries that draw nothing (plotly's legend
-    # has no entry for a mesh's colours). Last, so the traces the frames update keep their places.
-    for colour, label in ((SEEN_COLOUR, "surface: seen"), (UNSEEN_COLOUR, "surface: not seen")):
-        data.append(
-            go.Scatter3d(
-                x=[None], y=[None], z=[None], mode="markers", name=label, hoverinfo="skip",
-                marker={"size": 10, "color": _rgb(colour), "symbol": "square", "line": {"color": "rgb(80,80,80)", "width": 1}},
-            )
-        )  # fmt: skip
+    # Last, so the traces the frames update keep their places.
+    data += _surface_key(go)
     fig = go.Figure(data=data, frames=frames)
     fig.update_layout(
         title={"text": titles[best_iteration], "x": 0.01, "font": {"size": 14}},
@@ -296,6 +289,18 @@ def _surface_mesh(go: Any, points: np.ndarray, faces: np.ndarray, intensity: np.
         name="surface",
         hoverinfo="x+y+z",
     )
+
+
+def _surface_key(go: Any) -> list[Any]:
+    """The key to the surface's colours: two legend entries that draw nothing (plotly's legend
+    has no entry for a mesh's colours)."""
+    return [
+        go.Scatter3d(
+            x=[None], y=[None], z=[None], mode="markers", name=label, hoverinfo="skip",
+            marker={"size": 10, "color": _rgb(colour), "symbol": "square", "line": {"color": "rgb(80,80,80)", "width": 1}},
+        )
+        for colour, label in ((SEEN_COLOUR, "surface: seen"), (UNSEEN_COLOUR, "surface: not seen"))
+    ]  # fmt: skip
 
 
 def _scene(bounds: np.ndarray) -> dict[str, Any]:

@@ -1,0 +1,56 @@
+"""The ``uavcov`` command line (also ``python -m uavcov``): parses arguments, calls the library.
+
+Commands
+--------
+``uavcov demo``
+    The paper's illustrative example end to end (9 UAVs, d_max = 35 m, 30 prior samples, CVT
+    start, then CAO): prints a summary, writes runs.csv, the run and its figures to ``--out``.
+``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|structures|realistic|all``
+    One of the paper's experiments; writes runs.csv, the runs, config.json and ``<name>.md``.
+``uavcov sweep CONFIG.toml``
+    Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.
+``uavcov plot DIR``
+    Redraws every figure from the runs stored in DIR (needs ``uavcov[plot]``).
+``uavcov view RUN_OR_DIR --out view.html``
+    One self-contained HTML file (opens offline) with an interactive 3D view of a run: the
+    surface coloured by what the team sees, the UAVs, paths and footprints, a slider over
+    iterations (needs ``uavcov[view]``).
+``uavcov plan DEM.tif|--sample``
+    A flight plan on a real DEM (needs ``uavcov[geo]``): the paper's CVT start and CAO, then
+    QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and a report in ``--out``.
+
+Exit codes: 0 done; 1 done, but some runs failed (their errors are in runs.csv); 2 bad input
+(nothing already in ``--out`` was changed); 130 interrupted (every finished run is in runs.csv;
+rerun with ``--resume``).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+
+from ._common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, _one_line, _say
+from ._parser import _parser
+
+__all__ = ["main", "EXIT_OK", "EXIT_RUNS_FAILED", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED"]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit code (see the module docstring)."""
+    from ..errors import UavcovError
+
+    args = _parser().parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # the report states the command that made it
+    try:
+        return int(args.run(args))
+    except UavcovError as exc:
+        _say(f"uavcov {args.command}: error: {_one_line(exc)}")
+        return EXIT_BAD_INPUT
+    except (OSError, MemoryError) as exc:  # the system refused (disk full, no permission, no memory): one line too
+        _say(f"uavcov {args.command}: error: {type(exc).__name__}: {_one_line(exc)}")
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        out = getattr(args, "out", None)
+        where = f" in {out}/runs.csv" if out else ""
+        _say(f"\ninterrupted: every finished run is saved{where}; rerun with --resume to continue")
+        return EXIT_INTERRUPTED
