@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from uavcov.errors import InvalidInputError, InvalidTypeError, MeshError
-from uavcov.terrain import STRUCTURE_SCENES, Structure, StructureTargets, girder_bridge, height_field_violation, load_structure
+from uavcov.structures import STRUCTURE_SCENES, Structure, StructureTargets, girder_bridge, height_field_violation, load_structure
 
 SCENES = sorted(STRUCTURE_SCENES)
 
