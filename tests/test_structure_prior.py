@@ -1,4 +1,4 @@
-"""Partial knowledge of a structure and S' (uavcov.terrain): priors, reconstruction, its error."""
+"""Partial knowledge of a structure and S' (uavcov.structures): priors, reconstruction, its error."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Structure scenes and mesh files as structures (uavcov.terrain), against trimesh and an
+"""Structure scenes and mesh files as structures (uavcov.structures), against trimesh and an
 independent winding-number inside test."""
 
 from __future__ import annotations
