@@ -1,6 +1,6 @@
 """Where a 500-iteration mission on a structure spends its time (issue 35).
 
-The mission: the girder bridge (``uavcov.terrain.girder_bridge``, seed 0, 7 404 triangles, 6 108
+The mission: the girder bridge (``uavcov.structures.girder_bridge``, seed 0, 7 404 triangles, 6 108
 targets 1 m apart on the structure), 12 UAVs, d_max = 15 m, the 3D prior (100 points, alpha
 shape), the CVT start flown 6 m out along S''s normals, standoff limits (h_min 2 m, d_safe 1 m,
 z_max 10 m over the top, every move checked), 500 CAO iterations, one Rust thread. Prints, per
@@ -19,7 +19,7 @@ import time
 
 from uavcov import MissionSettings, run_mission
 from uavcov.placement import Constraints, StartSettings
-from uavcov.terrain import girder_bridge
+from uavcov.structures import girder_bridge
 
 
 def main() -> None:

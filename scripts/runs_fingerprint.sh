@@ -16,7 +16,7 @@ python - "$out/structure_mission.json" <<'PY'
 import json, sys
 import uavcov
 from uavcov.placement import Constraints, StartSettings
-from uavcov.terrain import girder_bridge
+from uavcov.structures import girder_bridge
 
 bridge = girder_bridge(rng=0)
 settings = uavcov.MissionSettings(

@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Choose reconstruct_structure's default by the mission it gives (issue 42), on development seeds.
 
-For each family of :data:`uavcov.terrain.STRUCTURE_FAMILIES` and development seed, the same 100
+For each family of :data:`uavcov.structures.STRUCTURE_FAMILIES` and development seed, the same 100
 known points (with normals) are turned into S' by each dependency-light method, and the same
 ``cvt3d`` mission (the experiment's settings, S' given directly) runs on each; the table is the
 mean best coverage, the mean number of start points inside the real structure before
@@ -24,7 +24,7 @@ from uavcov.experiments import parse_seeds
 from uavcov.paper import StructuresExperiment
 from uavcov.paper._structures import _limits
 from uavcov.placement import StartSettings
-from uavcov.terrain import STRUCTURE_FAMILIES, reconstruct_structure, reconstruction_error, sample_structure_prior
+from uavcov.structures import STRUCTURE_FAMILIES, reconstruct_structure, reconstruction_error, sample_structure_prior
 
 METHODS = ("oriented", "alpha", "hulls")
 

@@ -1,11 +1,11 @@
 #!/usr/bin/env python
 """Reconstruction error of S' on every structure scene: the table of docs/structures.md.
 
-For each scene of :data:`uavcov.terrain.STRUCTURE_SCENES` (seed 0), 30, 100 and 300 known points
-(:func:`uavcov.terrain.sample_structure_prior`, no noise, with normals, prior seeds 0, 1 and 2) are
-turned into S' by every method of :func:`uavcov.terrain.reconstruct_structure` (Open3D's only
-when it is installed), and the two coarse models (:func:`uavcov.terrain.coarse_structure_prior`)
-are measured too; :func:`uavcov.terrain.reconstruction_error` with 20,000 samples a surface.
+For each scene of :data:`uavcov.structures.STRUCTURE_SCENES` (seed 0), 30, 100 and 300 known points
+(:func:`uavcov.structures.sample_structure_prior`, no noise, with normals, prior seeds 0, 1 and 2) are
+turned into S' by every method of :func:`uavcov.structures.reconstruct_structure` (Open3D's only
+when it is installed), and the two coarse models (:func:`uavcov.structures.coarse_structure_prior`)
+are measured too; :func:`uavcov.structures.reconstruction_error` with 20,000 samples a surface.
 Each cell is the median over the three prior seeds. The table replaces the part of
 docs/structures.md between its markers (the file is made when missing)::
 
@@ -23,7 +23,7 @@ import sys
 import numpy as np
 
 from uavcov.errors import UavcovError
-from uavcov.terrain import (
+from uavcov.structures import (
     STRUCTURE_SCENES,
     coarse_structure_prior,
     height_field_violation,
@@ -31,8 +31,8 @@ from uavcov.terrain import (
     reconstruction_error,
     sample_structure_prior,
 )
-from uavcov.terrain._structure_prior import DEFAULT_METHOD
-from uavcov.terrain._structures import solid_components
+from uavcov.structures._structure_prior import DEFAULT_METHOD
+from uavcov.structures._structures import solid_components
 
 BEGIN = "<!-- reconstruction table: made by python scripts/structure_reconstruction.py -->"
 END = "<!-- end of reconstruction table -->"
@@ -41,8 +41,8 @@ PRIOR_SEEDS = (0, 1, 2)
 HEADER = """# Structures
 
 Issue 35: 3D structures (not height fields) and the prior S' made from partial knowledge of them.
-Scenes: `uavcov.terrain.STRUCTURE_SCENES`; priors and reconstruction:
-`uavcov.terrain.sample_structure_prior`, `coarse_structure_prior`, `reconstruct_structure`,
+Scenes: `uavcov.structures.STRUCTURE_SCENES`; priors and reconstruction:
+`uavcov.structures.sample_structure_prior`, `coarse_structure_prior`, `reconstruct_structure`,
 `reconstruction_error` (see docs/design.md).
 
 """

@@ -26,7 +26,8 @@ from uavcov.placement import (
 )
 from uavcov.placement._starts import greedy_start
 from uavcov.placement._viewpoints import viewpoint_offsets
-from uavcov.terrain import buildings_scene, girder_bridge
+from uavcov.structures import girder_bridge
+from uavcov.terrain import buildings_scene
 
 
 def _hills(size: float = 30.0, spacing: float = 1.0, seed: int = 3) -> uavcov.Terrain:

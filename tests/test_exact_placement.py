@@ -22,7 +22,7 @@ from uavcov.placement import (
     viewpoint_lattice,
     viewpoint_offsets,
 )
-from uavcov.terrain import girder_bridge
+from uavcov.structures import girder_bridge
 
 
 def _terrain_problem(n_threads: int = 2) -> CoverageProblem:

@@ -23,7 +23,8 @@ from uavcov.errors import InvalidInputError, MeshError, ResultsFolderError, Resu
 from uavcov.field import GeoAnchor, bbox_area, check_plan_folder, read_area
 from uavcov.field._geodesy import local_to_true_heading
 from uavcov.records import load_mission
-from uavcov.terrain import dem_from_array, load_structure, wrap_longitude
+from uavcov.structures import load_structure
+from uavcov.terrain import dem_from_array, wrap_longitude
 from uavcov.terrain._meshes import load_mesh
 
 rasterio = pytest.importorskip("rasterio")

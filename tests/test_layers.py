@@ -1,6 +1,6 @@
 """The package's layers, enforced: every import of every module points down, never at a caller.
 
-Layers from the bottom up (docs/design.md): the shared helpers, ``engine``, ``terrain``,
+Layers from the bottom up (docs/design.md): the shared helpers, ``engine``, ``terrain``, ``structures``,
 ``placement`` and ``optim``, the mission (``mission.py``, ``records.py``), ``experiments`` and
 ``field``, the paper (``paper``: its experiments, reproduction, reports and claims, which
 ``plotting`` draws beside the runs), ``plotting``, and the command line on top. A module imports from a lower layer, or
@@ -26,6 +26,8 @@ LAYERS = {
     "_core": 1,
     "engine": 2,
     "terrain": 3,
+    # Structures, not height fields: a structure file is read with terrain's mesh loader.
+    "structures": 3.5,
     "placement": 4,
     "optim": 4,
     "settings": 5,

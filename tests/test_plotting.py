@@ -814,7 +814,7 @@ def test_coverage_against_distance_marks_each_start_and_team_size_at_its_means()
 def test_the_structure_figures_views_keep_their_labels_apart_and_fill_the_figure():
     """Side by side, each view's labels (its z label included) end before the next view's begin,
     and the views fill the height: no empty strip above the legend."""
-    from uavcov.terrain import girder_bridge
+    from uavcov.structures import girder_bridge
 
     surface = girder_bridge(rng=0).surface
     seen = np.random.default_rng(0).random(surface.n_faces) < 0.6

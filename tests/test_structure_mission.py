@@ -20,8 +20,9 @@ from uavcov.field import GeoAnchor, plan_structure, write_structure_plan
 from uavcov.field._ply import read_seen_ply
 from uavcov.placement import Constraints, StartSettings, start_configuration
 from uavcov.records import load_mission, save_mission
-from uavcov.terrain import girder_bridge, sample_prior
-from uavcov.terrain._structures import lattice_pylon
+from uavcov.structures import girder_bridge
+from uavcov.structures._structures import lattice_pylon
+from uavcov.terrain import sample_prior
 
 trimesh = pytest.importorskip("trimesh")
 

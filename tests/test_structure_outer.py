@@ -12,7 +12,7 @@ import uavcov
 from uavcov.errors import InvalidInputError
 from uavcov.placement import cvt, standoff_start
 from uavcov.placement._starts3d import _triangle_distance, fly_out, surface_normals
-from uavcov.terrain import (
+from uavcov.structures import (
     STRUCTURE_FAMILIES,
     Structure,
     StructurePrior,
@@ -20,7 +20,7 @@ from uavcov.terrain import (
     reconstruction_error,
     sample_structure_prior,
 )
-from uavcov.terrain._solids import signed_volume
+from uavcov.structures._solids import signed_volume
 
 BOX = np.array([[0, 0, 0], [12, 0, 0], [12, 9, 0], [0, 9, 0], [0, 0, 16], [12, 0, 16], [12, 9, 16], [0, 9, 16]], float)
 WALLS = [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]]
@@ -181,7 +181,7 @@ def test_a_family_written_to_a_mesh_file_goes_through_the_same_pipeline(tmp_path
     solid = building.surface.faces[building.face_parts != building.ground_part]
     path = tmp_path / "building.stl"
     trimesh.Trimesh(building.surface.vertices, solid, process=False).export(path)
-    loaded = uavcov.terrain.load_structure(path)
+    loaded = uavcov.structures.load_structure(path)
     surface = reconstruct_structure(sample_structure_prior(loaded, 100, rng=0), rng=0)
     start = standoff_start(surface, 8, 3.0, rng=0)
     assert not surface.inside(start.positions).any()

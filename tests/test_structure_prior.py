@@ -1,4 +1,4 @@
-"""Partial knowledge of a structure and S' (uavcov.terrain): priors, reconstruction, its error."""
+"""Partial knowledge of a structure and S' (uavcov.structures): priors, reconstruction, its error."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 from uavcov.engine import Terrain
 from uavcov.errors import InvalidInputError, InvalidTypeError, MissingExtraError
-from uavcov.terrain import (
+from uavcov.structures import (
     StructurePrior,
     coarse_structure_prior,
     girder_bridge,
@@ -18,8 +18,8 @@ from uavcov.terrain import (
     reconstruction_error,
     sample_structure_prior,
 )
-from uavcov.terrain._solids import signed_volume
-from uavcov.terrain._structures import lattice_pylon, wind_turbine
+from uavcov.structures._solids import signed_volume
+from uavcov.structures._structures import lattice_pylon, wind_turbine
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Structure scenes and mesh files as structures (uavcov.terrain), against trimesh and an
+"""Structure scenes and mesh files as structures (uavcov.structures), against trimesh and an
 independent winding-number inside test."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from uavcov.errors import InvalidInputError, InvalidTypeError, MeshError
-from uavcov.terrain import STRUCTURE_SCENES, Structure, StructureTargets, girder_bridge, height_field_violation, load_structure
+from uavcov.structures import STRUCTURE_SCENES, Structure, StructureTargets, girder_bridge, height_field_violation, load_structure
 
 SCENES = sorted(STRUCTURE_SCENES)
 

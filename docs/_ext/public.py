@@ -15,6 +15,7 @@ MODULES = (
     "uavcov.errors",
     "uavcov.engine",
     "uavcov.terrain",
+    "uavcov.structures",
     "uavcov.placement",
     "uavcov.optim",
     "uavcov.settings",

@@ -12,9 +12,9 @@ coloured by what they see, from three sides above and one from below
 import numpy as np
 
 import uavcov
-from uavcov import placement, plotting, terrain
+from uavcov import placement, plotting, structures
 
-bridge = terrain.girder_bridge(rng=0)
+bridge = structures.girder_bridge(rng=0)
 start = placement.standoff_start(bridge.surface, 6, 8.0, rng=0)
 sensor = uavcov.Sensor(20.0, camera=uavcov.Camera.from_fov(80.0, 60.0))
 poses = np.column_stack([start.positions, start.attitudes])

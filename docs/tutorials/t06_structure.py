@@ -3,8 +3,8 @@ A structure
 ===========
 
 Beyond terrains, a surface may be a structure that is not a height field: a bridge whose deck
-hides its underside from above. :mod:`uavcov.terrain` builds five procedural scenes
-(:data:`uavcov.terrain.STRUCTURE_SCENES`); :func:`uavcov.placement.standoff_start` places a team
+hides its underside from above. :mod:`uavcov.structures` builds five procedural scenes
+(:data:`uavcov.structures.STRUCTURE_SCENES`); :func:`uavcov.placement.standoff_start` places a team
 by a CVT on the surface, each UAV flown out along its generator's outward normal, its camera
 facing back at the surface. Here a girder bridge, six cameras 8 m off the surface, and what they
 see (see ``docs/structures.md`` for the scenes, the 3D prior and its reconstruction).
@@ -14,9 +14,9 @@ see (see ``docs/structures.md`` for the scenes, the 3D prior and its reconstruct
 import numpy as np
 
 import uavcov
-from uavcov import placement, plotting, terrain
+from uavcov import placement, plotting, structures
 
-bridge = terrain.girder_bridge(rng=0)
+bridge = structures.girder_bridge(rng=0)
 print(bridge.name, bridge.surface.n_faces, "faces, parts:", ", ".join(bridge.part_names))
 
 start = placement.standoff_start(bridge.surface, 6, 8.0, rng=0)

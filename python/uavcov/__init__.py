@@ -7,6 +7,8 @@ layer, from the bottom up:
 - :mod:`uavcov.engine`: surfaces, targets, sensors, exact visibility and the tracker;
 - :mod:`uavcov.terrain`: what a surface is made from (hills, buildings, mesh files, DEMs) and
   the prior S';
+- :mod:`uavcov.structures`: structures that are not height fields (bridges, towers, mesh files)
+  and their S';
 - :mod:`uavcov.placement`: flight limits, the constrained CVT, starts, camera footprints;
 - :mod:`uavcov.optim`: CAO, CAO with escapes from local optima, and CAO's random draws;
 - :func:`run_mission` and :func:`save_mission` (one mission, one file);
@@ -21,7 +23,7 @@ documentation site's getting-started page, ``docs/getting-started.md``.
 
 from __future__ import annotations
 
-from . import engine, errors, experiments, field, optim, paper, placement, terrain
+from . import engine, errors, experiments, field, optim, paper, placement, structures, terrain
 from ._core import __version__
 from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility
 from .field import FlightPlan, PlanSettings, plan, write_plan
@@ -38,6 +40,7 @@ __all__ = [
     # the layers
     "engine",
     "terrain",
+    "structures",
     "placement",
     "optim",
     "experiments",

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from typing import Any
 
 import numpy as np
@@ -283,3 +284,18 @@ def read_only(array: np.ndarray) -> np.ndarray:
     """
     array.setflags(write=False)
     return array
+
+
+def existing_path(path: Any, what: str, error: type[Exception]) -> str:
+    """``path`` as a string, checked to name an existing file; ``error`` (naming ``what``) when it does not.
+
+    Raises ``InvalidTypeError`` when ``path`` is neither a string nor ``os.PathLike``.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
+    text = os.fspath(path)
+    if not os.path.exists(text):
+        raise error(f"{what} file {text!r} does not exist")
+    if os.path.isdir(text):
+        raise error(f"{what} path {text!r} is a directory, not a file")
+    return text

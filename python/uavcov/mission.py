@@ -3,7 +3,7 @@
 :func:`run_mission` runs a :class:`~uavcov.settings.MissionSettings` on a true surface:
 
 1. the prior: the known points (random samples plus the 4 corners, or the paper's pyramid), or
-   an approximating surface S' given directly, and S' from them (:mod:`uavcov.terrain`);
+   an approximating surface S' given directly, and S' from them (:mod:`uavcov.terrain`, :mod:`uavcov.structures`);
 2. the start on S' (:func:`uavcov.placement.start_configuration`: the constrained CVT, or a random,
    corner or pairs start), lifted to flying height and moved to the closest admissible
    positions above the real surface (the UAVs sense the ground, paper section V-B);
@@ -51,16 +51,8 @@ from .placement import (
     start_configuration,
 )
 from .settings import MissionSettings
-from .terrain import (
-    Prior,
-    Structure,
-    StructurePrior,
-    StructureTargets,
-    approximate_surface,
-    reconstruct_structure,
-    sample_prior,
-    sample_structure_prior,
-)
+from .structures import Structure, StructurePrior, StructureTargets, reconstruct_structure, sample_structure_prior
+from .terrain import Prior, approximate_surface, sample_prior
 
 __all__ = ["MissionResult", "run_mission", "mission_time", "iterations_to_fraction"]
 
@@ -103,7 +95,7 @@ class MissionResult:
         Seconds to compute the start on S' (its off-line time: the CVT, or the greedy start's
         lattice, seen-matrix and greedy); 0 for given start positions, NaN when not recorded.
     coverage_by_part : dict of str to float, optional
-        For a mission on a :class:`~uavcov.terrain.Structure` (targets with parts): the
+        For a mission on a :class:`~uavcov.structures.Structure` (targets with parts): the
         weighted share of each part's targets seen by :attr:`best_positions` ("deck_top",
         "deck_underside", "piers", ...); ``None`` otherwise.
     """
@@ -366,17 +358,17 @@ def run_mission(
     terrain : Terrain or Structure
         The true surface S. The optimiser sees it only through coverage measurements and the
         constraint checks (clearance below each UAV, and moves crossing no surface). A
-        :class:`~uavcov.terrain.Structure` (a bridge, a tower: not a height field) needs
+        :class:`~uavcov.structures.Structure` (a bridge, a tower: not a height field) needs
         ``settings.constraints.clearance == "standoff"``; its prior is then ``n_prior`` random
-        points on it (:func:`~uavcov.terrain.sample_structure_prior`) reconstructed into S' by
-        :func:`~uavcov.terrain.reconstruct_structure` (no ground plane), its targets
-        :meth:`~uavcov.terrain.Structure.targets`, and the result has :attr:`MissionResult.coverage_by_part`.
+        points on it (:func:`~uavcov.structures.sample_structure_prior`) reconstructed into S' by
+        :func:`~uavcov.structures.reconstruct_structure` (no ground plane), its targets
+        :meth:`~uavcov.structures.Structure.targets`, and the result has :attr:`MissionResult.coverage_by_part`.
     settings : MissionSettings
         Everything the mission runs.
     known : Prior, StructurePrior, (n, 2 or 3) array_like, or Terrain, optional
         What is known beforehand, instead of what ``settings.prior`` samples: a
         :class:`~uavcov.terrain.Prior` (a height field's: S' by ``approximate_surface``), a
-        :class:`~uavcov.terrain.StructurePrior` (S' by ``reconstruct_structure``), known
+        :class:`~uavcov.structures.StructurePrior` (S' by ``reconstruct_structure``), known
         positions or points, or an approximating surface S' given directly (e.g. a buildings map).
     start_positions : (N, 3) array_like, optional
         Positions of your own to start from (metres, used as given: no lift), instead of

@@ -90,7 +90,7 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
     from ..field import GeoAnchor, check_plan_folder, plan_structure, write_structure_plan
     from ..placement import Constraints, StartSettings
     from ..settings import MissionSettings
-    from ..terrain import STRUCTURE_SCENES, load_structure
+    from ..structures import STRUCTURE_SCENES, load_structure
 
     if args.dem is not None or args.sample:
         raise ConfigError("--structure plans round a structure: give no DEM and no --sample")

@@ -1,6 +1,6 @@
 """A structure's plan: its mission made into what a crew flies and inspects, the seen cloud, the parts.
 
-:func:`plan_structure` runs :func:`uavcov.run_mission` on a :class:`~uavcov.terrain.Structure`
+:func:`plan_structure` runs :func:`uavcov.run_mission` on a :class:`~uavcov.structures.Structure`
 (standoff limits), finds for each UAV a route from the take-off pad that crosses no face of the
 structure, and geo-references it from a WGS84 anchor (``structure_flight``);
 :func:`write_structure_plan` writes the plan's files, the seen point cloud (PLY) and the
@@ -29,7 +29,7 @@ from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, run_mission
 from ..settings import MissionSettings
-from ..terrain import Structure, StructureTargets
+from ..structures import Structure, StructureTargets
 from ._geodesy import GeoAnchor
 from ._ply import seen_cloud_bytes
 from ._results_folder import write_files

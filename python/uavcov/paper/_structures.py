@@ -1,13 +1,13 @@
 """The structures experiment (issue 42): ``uavcov reproduce structures``.
 
-On seeded structures of :data:`uavcov.terrain.STRUCTURE_FAMILIES` that no one tuned on (the
+On seeded structures of :data:`uavcov.structures.STRUCTURE_FAMILIES` that no one tuned on (the
 family's seed is the run's seed), the README's structure settings (8 UAVs, d_max 15 m, 100
 known points, a 2 m standoff, every move checked), two starts, each one
 :func:`uavcov.run_mission` with the 3D flight limits:
 
 ``cvt3d``
     The 3D prior (``n_prior`` random points on the structure), S' by
-    :func:`~uavcov.terrain.reconstruct_structure` (the outer surface, wound outward), CVT on S',
+    :func:`~uavcov.structures.reconstruct_structure` (the outer surface, wound outward), CVT on S',
     each generator flown out of S' along its normal (:func:`~uavcov.placement.fly_out`).
 ``cvt_hf``
     The height-field prior (``n_prior`` random x-y points of the structure's top and the four
@@ -55,7 +55,7 @@ class StructuresExperiment:
     Attributes
     ----------
     families : tuple of str
-        Keys of :data:`uavcov.terrain.STRUCTURE_FAMILIES`.
+        Keys of :data:`uavcov.structures.STRUCTURE_FAMILIES`.
     report_seeds, dev_seeds : tuple of int
         The structures reported, and those the offsets are chosen on (disjoint).
     n_uavs : int
@@ -89,7 +89,7 @@ class StructuresExperiment:
     target_spacing: float = 1.0
 
     def __post_init__(self) -> None:
-        from ..terrain import STRUCTURE_FAMILIES
+        from ..structures import STRUCTURE_FAMILIES
 
         unknown = [f for f in self.families if f not in STRUCTURE_FAMILIES]
         if unknown or not self.families:
@@ -105,7 +105,7 @@ Task = tuple[str, str, int, float]
 
 
 def _structure(experiment: StructuresExperiment, family: str, seed: int) -> Any:
-    from ..terrain import STRUCTURE_FAMILIES
+    from ..structures import STRUCTURE_FAMILIES
 
     return STRUCTURE_FAMILIES[family](rng=seed)
 
@@ -142,7 +142,8 @@ def _reference(experiment: StructuresExperiment, family: str, seed: int) -> dict
 def _mission(experiment: StructuresExperiment, family: str, start: str, seed: int, offset: float) -> dict[str, Any]:
     from ..mission import MissionSettings, run_mission
     from ..placement import StartSettings
-    from ..terrain import reconstruction_error, sample_prior
+    from ..structures import reconstruction_error
+    from ..terrain import sample_prior
 
     structure = _structure(experiment, family, seed)
     limits = _limits(experiment, structure)

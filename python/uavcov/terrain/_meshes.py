@@ -9,7 +9,6 @@ Elevation grids with a coordinate reference system are :class:`~uavcov.terrain.G
 from __future__ import annotations
 
 import io
-import os
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,9 +18,10 @@ from .._validate import (
     as_float_array,
     as_index_array,
     as_positive_float,
+    existing_path,
 )
 from ..engine import Terrain
-from ..errors import InvalidInputError, InvalidTypeError, MeshError, MissingExtraError
+from ..errors import InvalidInputError, MeshError, MissingExtraError
 from ._frame import LocalFrame
 
 
@@ -79,17 +79,6 @@ class LoadedMesh:
     frame: LocalFrame
     source: str
     mesh_report: MeshReport
-
-
-def _existing_path(path: Any, what: str, error: type[Exception]) -> str:
-    if not isinstance(path, (str, os.PathLike)):
-        raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
-    text = os.fspath(path)
-    if not os.path.exists(text):
-        raise error(f"{what} file {text!r} does not exist")
-    if os.path.isdir(text):
-        raise error(f"{what} path {text!r} is a directory, not a file")
-    return text
 
 
 MAX_COORDINATE_M = 1e15
@@ -284,7 +273,7 @@ def load_mesh(
         import trimesh
     except ImportError as exc:
         raise MissingExtraError("reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)") from exc
-    path_text = _existing_path(path, "mesh", MeshError)
+    path_text = existing_path(path, "mesh", MeshError)
     source: Any = path_text
     if path_text.lower().endswith(".obj"):
         rewritten = obj_absolute_faces(path_text)

@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_generator, as_positive_float, read_only
+from .._validate import as_generator, as_positive_float, existing_path, read_only
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
-from ._meshes import _existing_path, load_mesh
+from ..terrain import load_mesh
 from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume
 
 GROUND = "ground"
@@ -575,7 +575,7 @@ def load_structure(
     MissingExtraError
         trimesh is not installed.
     """
-    text = _existing_path(path, "mesh", MeshError)
+    text = existing_path(path, "mesh", MeshError)
     size = os.path.getsize(text)
     if size == 0:
         raise MeshError(f"{text!r} is empty")
