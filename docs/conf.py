@@ -69,7 +69,7 @@ numpydoc_xref_aliases = {
     "Gimbal": "uavcov.engine.Gimbal",
     "MissionSettings": "uavcov.settings.MissionSettings",
     "MissionResult": "uavcov.mission.MissionResult",
-    "Constraints": "uavcov.placement.Constraints",
+    "Constraints": "uavcov.limits.Constraints",
     "CVTSettings": "uavcov.placement.CVTSettings",
     "StartSettings": "uavcov.placement.StartSettings",
     "CAOSettings": "uavcov.optim.CAOSettings",

@@ -26,6 +26,10 @@ LAYERS = {
     "_core": 1,
     "engine": 2,
     "terrain": 3,
+    # Where a team may fly, then the candidate viewpoints and how good a placement can be: above
+    # the surfaces they judge, under the starts (the greedy start is cover's) and the optimisers.
+    "limits": 3.7,
+    "cover": 3.8,
     "placement": 4,
     "optim": 4,
     "settings": 5,

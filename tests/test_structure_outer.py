@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 import uavcov
+from uavcov.cover._faces import _triangle_distance, surface_normals
 from uavcov.errors import InvalidInputError
 from uavcov.placement import cvt, standoff_start
-from uavcov.placement._starts3d import _triangle_distance, fly_out, surface_normals
+from uavcov.placement._starts3d import fly_out
 from uavcov.terrain import (
     STRUCTURE_FAMILIES,
     Structure,

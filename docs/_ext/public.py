@@ -15,6 +15,8 @@ MODULES = (
     "uavcov.errors",
     "uavcov.engine",
     "uavcov.terrain",
+    "uavcov.limits",
+    "uavcov.cover",
     "uavcov.placement",
     "uavcov.optim",
     "uavcov.settings",
