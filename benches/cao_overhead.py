@@ -41,7 +41,7 @@ def own_work(n_uavs: int, optimizer: str, iterations: int, seed: int) -> dict[st
 
 
 def paper_terrain(n_uavs: int, optimizer: str, iterations: int, seed: int, world: dict) -> dict[str, float]:
-    from uavcov.placement import closest_admissible, feasibility
+    from uavcov.limits import closest_admissible, feasibility
 
     terrain, vis, constraints = world["terrain"], world["vis"], world["constraints"]
     rng = np.random.default_rng(seed)

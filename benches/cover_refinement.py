@@ -19,8 +19,8 @@ import time
 import numpy as np
 
 from uavcov import Visibility
+from uavcov.cover import CoverageProblem, GreedySettings, viewpoint_lattice
 from uavcov.paper import TABLE1, oracle
-from uavcov.placement import CoverageProblem, GreedySettings, viewpoint_lattice
 
 
 def main() -> None:

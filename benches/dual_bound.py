@@ -15,8 +15,8 @@ import argparse
 import numpy as np
 
 from uavcov import Visibility
+from uavcov.cover import CoverageProblem, viewpoint_lattice
 from uavcov.paper import TABLE1
-from uavcov.placement import CoverageProblem, viewpoint_lattice
 
 
 def main() -> None:

@@ -32,10 +32,10 @@ from pathlib import Path
 import numpy as np
 
 import uavcov
+from uavcov.cover import CoverageProblem, GreedySettings, exact_placement, viewpoint_lattice
 from uavcov.experiments import finished_rows, parse_seeds
 from uavcov.paper import TABLE1, OracleRow, oracle
 from uavcov.paper._bounds import optimum_markdown
-from uavcov.placement import CoverageProblem, GreedySettings, exact_placement, viewpoint_lattice
 
 
 def _sweep(seeds: list[int], sizes: tuple[int, ...], rows_path: Path, time_limit: float, threads: int) -> list[OracleRow]:

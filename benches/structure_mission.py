@@ -18,7 +18,8 @@ import statistics
 import time
 
 from uavcov import MissionSettings, run_mission
-from uavcov.placement import Constraints, StartSettings
+from uavcov.limits import Constraints
+from uavcov.placement import StartSettings
 from uavcov.structures import girder_bridge
 
 

@@ -41,6 +41,8 @@ exclude_patterns = [
     "**.ipynb_checkpoints",
     "tutorials/README.rst",
     "gallery/README.rst",
+    # reports written by the experiments beside their figures (each has a page that shows it)
+    "figures/**/*.md",
 ]
 nitpicky = True
 # The docstrings' signatures are read from the numpydoc sections (types with shapes and units),
@@ -69,7 +71,7 @@ numpydoc_xref_aliases = {
     "Gimbal": "uavcov.engine.Gimbal",
     "MissionSettings": "uavcov.settings.MissionSettings",
     "MissionResult": "uavcov.mission.MissionResult",
-    "Constraints": "uavcov.placement.Constraints",
+    "Constraints": "uavcov.limits.Constraints",
     "CVTSettings": "uavcov.placement.CVTSettings",
     "StartSettings": "uavcov.placement.StartSettings",
     "CAOSettings": "uavcov.optim.CAOSettings",

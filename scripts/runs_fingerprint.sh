@@ -15,7 +15,8 @@ uavcov plan --structure girder_bridge --anchor 5.0,45.0,200.0 --uavs 6 --d-max 1
 python - "$out/structure_mission.json" <<'PY'
 import json, sys
 import uavcov
-from uavcov.placement import Constraints, StartSettings
+from uavcov.limits import Constraints
+from uavcov.placement import StartSettings
 from uavcov.structures import girder_bridge
 
 bridge = girder_bridge(rng=0)

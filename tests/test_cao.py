@@ -574,7 +574,7 @@ def flat_plane_case():
     except ImportError as exc:
         pytest.skip(f"uavcov engine not available: {exc}")
     from uavcov import Constraints
-    from uavcov.placement import feasibility
+    from uavcov.limits import feasibility
 
     # a 44 m square at z = 0, 1 m targets; at h_min = 2 m a UAV sees a disk of radius 10 m.
     # Four such disks fit in the square without overlap, so the optimum is 4 pi 10^2 / 44^2
@@ -593,7 +593,7 @@ def flat_plane_case():
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_flat_plane_four_uavs_from_the_corner_reach_95_percent(flat_plane_case, seed):
-    from uavcov.placement._constraints import trajectory_feasible
+    from uavcov.limits._constraints import trajectory_feasible
 
     terrain, vis, optimum, constraints, feasible, corner = flat_plane_case
     tr = cao(vis.coverage, corner, feasible=feasible, iterations=500, rng=seed)
@@ -623,7 +623,7 @@ def test_flat_plane_per_robot_variant(flat_plane_case):
 
     tr = per_robot_cao(measure, corner, feasible=feasible, iterations=400, rng=0)
     assert tr.best_value >= 0.95 * optimum
-    from uavcov.placement._constraints import trajectory_feasible
+    from uavcov.limits._constraints import trajectory_feasible
 
     assert trajectory_feasible(constraints, terrain, tr.trajectory).all()
 
@@ -659,7 +659,7 @@ def test_constraints_hold_at_every_iteration_on_real_scenes(optimizer):
     except ImportError as exc:
         pytest.skip(f"uavcov engine not available: {exc}")
     from uavcov import Constraints
-    from uavcov.placement import closest_admissible, feasibility
+    from uavcov.limits import closest_admissible, feasibility
 
     hills = gaussian_hills(size=50.0, spacing=2.0, sigma=6.0, rng=1001)
     town = buildings_scene(size=24.0, spacing=1.0, rng=1002)

@@ -15,8 +15,8 @@ import pytest
 
 from uavcov import Constraints
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from uavcov.placement import closest_admissible, feasibility
-from uavcov.placement._constraints import feasible_mask, trajectory_feasible
+from uavcov.limits import closest_admissible, feasibility
+from uavcov.limits._constraints import feasible_mask, trajectory_feasible
 
 # ---------------------------------------------------------------------------------------------
 # An analytic world: ground z = ground on [0, size]^2, closed boxes standing on it

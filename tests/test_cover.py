@@ -1,4 +1,4 @@
-"""Candidate viewpoints, the seen-matrix, lazy greedy and the certified bound (uavcov.placement)."""
+"""Candidate viewpoints, the seen-matrix, lazy greedy and the certified bound (uavcov.cover)."""
 
 from __future__ import annotations
 
@@ -11,21 +11,14 @@ import numpy as np
 import pytest
 
 import uavcov
+from uavcov.cover import CoverageProblem, GreedySettings, Viewpoints, coverage_bound, greedy_placement, viewpoint_lattice
+from uavcov.cover._viewpoints import viewpoint_offsets
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, SurfaceTooLargeError
 from uavcov.experiments._sweep import settings_hash
+from uavcov.limits import Constraints
 from uavcov.paper import TABLE1, oracle
-from uavcov.placement import (
-    Constraints,
-    CoverageProblem,
-    GreedySettings,
-    StartSettings,
-    Viewpoints,
-    coverage_bound,
-    greedy_placement,
-    viewpoint_lattice,
-)
+from uavcov.placement import StartSettings
 from uavcov.placement._starts import greedy_start
-from uavcov.placement._viewpoints import viewpoint_offsets
 from uavcov.structures import girder_bridge
 from uavcov.terrain import buildings_scene
 
@@ -271,7 +264,7 @@ def test_the_oracle_places_admissibly_on_the_true_surface() -> None:
     untimed = {"matrix_time_s": 0.0, "greedy_time_s": 0.0, "dual_time_s": 0.0}
     parallel = oracle(small, seeds=[0, 1], team_sizes=[2, 4], settings=GreedySettings(spacing=5.0), n_threads=1, workers=2)
     assert [dataclasses.replace(r, **untimed) for r in parallel] == [dataclasses.replace(r, **untimed) for r in rows]
-    assert uavcov.placement._constraints.feasible_mask(limits, terrain, by_hand.positions, by_hand.positions[None])[0]
+    assert uavcov.limits._constraints.feasible_mask(limits, terrain, by_hand.positions, by_hand.positions[None])[0]
 
 
 def test_normal_offsets_reach_under_a_bridge_deck_and_greedy_sees_its_underside() -> None:

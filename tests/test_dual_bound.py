@@ -1,4 +1,4 @@
-"""The LP relaxation's dual bound (uavcov.placement.CoverageProblem.dual_bound) and its report."""
+"""The LP relaxation's dual bound (uavcov.cover.CoverageProblem.dual_bound) and its report."""
 
 from __future__ import annotations
 
@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 
 import uavcov
+from uavcov.cover import CoverageProblem, GreedySettings, Viewpoints, viewpoint_lattice
 from uavcov.experiments._results import ResultsFolder
+from uavcov.limits import Constraints
 from uavcov.paper import OracleRow
 from uavcov.paper._bounds import bounds_markdown, read_bounds, write_bounds
-from uavcov.placement import Constraints, CoverageProblem, GreedySettings, Viewpoints, viewpoint_lattice
 from uavcov.terrain import buildings_scene
 
 

@@ -15,10 +15,10 @@ from uavcov.errors import InvalidInputError, InvalidTypeError, ResultsFormatErro
 from uavcov.experiments import experiment_specs, read_runs, run_specs
 from uavcov.experiments._results import LATER_RUN_COLUMNS, RUN_COLUMNS
 from uavcov.experiments._sweep import experiment_settings, settings_hash
+from uavcov.limits import feasibility
 from uavcov.optim import CAOSettings, cao
 from uavcov.optim._escape import escape_cao
 from uavcov.paper import TABLE1
-from uavcov.placement import feasibility
 
 
 @pytest.fixture(scope="module")

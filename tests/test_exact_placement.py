@@ -1,4 +1,4 @@
-"""The exact placement by integer programming (uavcov.placement.exact_placement) against brute force."""
+"""The exact placement by integer programming (uavcov.cover.exact_placement) against brute force."""
 
 from __future__ import annotations
 
@@ -11,17 +11,9 @@ import numpy as np
 import pytest
 
 import uavcov
+from uavcov.cover import CoverageProblem, GreedySettings, Viewpoints, _exact, exact_placement, viewpoint_lattice, viewpoint_offsets
 from uavcov.errors import InvalidInputError, InvalidTypeError, ModelTooLargeError
-from uavcov.placement import (
-    Constraints,
-    CoverageProblem,
-    GreedySettings,
-    Viewpoints,
-    _exact,
-    exact_placement,
-    viewpoint_lattice,
-    viewpoint_offsets,
-)
+from uavcov.limits import Constraints
 from uavcov.structures import girder_bridge
 
 

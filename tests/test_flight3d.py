@@ -18,8 +18,8 @@ from tiny import tiny_experiment
 from uavcov import Constraints, Terrain
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from uavcov.experiments._sweep import experiment_settings, settings_hash
-from uavcov.placement import closest_admissible, feasibility
-from uavcov.placement._constraints import feasible_mask, trajectory_feasible
+from uavcov.limits import closest_admissible, feasibility
+from uavcov.limits._constraints import feasible_mask, trajectory_feasible
 
 trimesh = pytest.importorskip("trimesh")
 

@@ -34,7 +34,7 @@ TIMEOUT_S = 5.0
 WORKER = r"""
 import json, math, sys
 import numpy as np
-from uavcov.placement._constraints import Constraints, closest_admissible
+from uavcov.limits._constraints import Constraints, closest_admissible
 from uavcov.placement._cvt import cvt
 from uavcov.errors import UavcovError
 from uavcov.settings import MissionSettings

@@ -28,6 +28,10 @@ LAYERS = {
     "terrain": 3,
     # Structures, not height fields: a structure file is read with terrain's mesh loader.
     "structures": 3.5,
+    # Where a team may fly, then the candidate viewpoints and how good a placement can be: above
+    # the surfaces they judge, under the starts (the greedy start is cover's) and the optimisers.
+    "limits": 3.7,
+    "cover": 3.8,
     "placement": 4,
     "optim": 4,
     "settings": 5,

@@ -10,8 +10,8 @@ import pytest
 import uavcov
 from uavcov import CAOSettings, Constraints, CVTSettings, MissionSettings, StartSettings, run_mission
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError, UavcovError
+from uavcov.limits._constraints import trajectory_feasible
 from uavcov.mission import iterations_to_fraction
-from uavcov.placement._constraints import trajectory_feasible
 from uavcov.records import load_mission, save_mission
 
 

@@ -157,7 +157,7 @@ def test_sensed_coverage_approaches_the_exact_one_as_the_resolution_rises(seed: 
 
 def test_check_flight_counts_each_limit_on_a_plane() -> None:
     plane = _flat(0.0)
-    limits = uavcov.placement.Constraints(h_min=1.0, h_max=5.0, z_max=6.0, d_safe=1.0).resolve(plane)
+    limits = uavcov.limits.Constraints(h_min=1.0, h_max=5.0, z_max=6.0, d_safe=1.0).resolve(plane)
     starts = np.array([[[2.0, 2.0, 2.0], [8.0, 8.0, 2.0]]])
     goals = np.array([[[6.0, 2.0, 2.0], [8.0, 8.0, 2.0]]])
     states = np.array(

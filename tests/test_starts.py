@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from uavcov import Terrain, errors
-from uavcov.placement import CORNERS, START_KINDS, Constraints, CVTSettings, StartSettings, cvt, start_configuration
+from uavcov.limits import Constraints
+from uavcov.placement import CORNERS, START_KINDS, CVTSettings, StartSettings, cvt, start_configuration
 
 
 def _slope(x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -18,7 +18,8 @@ from uavcov import MissionSettings, run_mission
 from uavcov.errors import InvalidInputError, InvalidTypeError
 from uavcov.field import GeoAnchor, plan_structure, write_structure_plan
 from uavcov.field._ply import read_seen_ply
-from uavcov.placement import Constraints, StartSettings, start_configuration
+from uavcov.limits import Constraints
+from uavcov.placement import StartSettings, start_configuration
 from uavcov.records import load_mission, save_mission
 from uavcov.structures import girder_bridge
 from uavcov.structures._structures import lattice_pylon
@@ -287,8 +288,8 @@ def _boxes_on_ground(boxes) -> uavcov.Terrain:
 
 
 def test_closest_admissible_gets_out_of_a_building_low_down_and_out_of_a_wedge():
-    from uavcov.placement import closest_admissible
-    from uavcov.placement._constraints import feasible_mask
+    from uavcov.limits import closest_admissible
+    from uavcov.limits._constraints import feasible_mask
 
     # a wide block on the ground: from a point inside it 1 m up, the nearest face is its base on
     # the ground, and going out through it leads under the ground (it used to oscillate for ever)

@@ -9,9 +9,11 @@ import numpy as np
 import pytest
 
 import uavcov
+from uavcov.cover import surface_normals
+from uavcov.cover._faces import _triangle_distance
 from uavcov.errors import InvalidInputError
 from uavcov.placement import cvt, standoff_start
-from uavcov.placement._starts3d import _triangle_distance, fly_out, surface_normals
+from uavcov.placement._starts3d import fly_out
 from uavcov.structures import (
     STRUCTURE_FAMILIES,
     Structure,

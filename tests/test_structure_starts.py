@@ -10,11 +10,12 @@ import trimesh
 
 from structure_meshes import box_on_ground, bridge, face_targets
 from uavcov import Camera, Gimbal, MissionSettings, Sensor, Targets, Terrain, Visibility
+from uavcov.cover._faces import surface_normals
 from uavcov.engine import camera_axes
 from uavcov.engine._sensors import GIMBAL_PITCH_LIMITS
 from uavcov.errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from uavcov.placement import facing_attitudes, standoff_start
-from uavcov.placement._starts3d import check_reachable, launch_pad_start, random_volume_start, surface_normals
+from uavcov.placement._starts3d import check_reachable, launch_pad_start, random_volume_start
 
 
 def _trimesh(surface: Terrain) -> trimesh.Trimesh:
@@ -281,7 +282,7 @@ def test_a_mission_optimises_a_pitch_above_the_horizon_within_its_gimbal():
 
 def test_closest_faces_on_a_fine_mesh_with_a_large_face_match_brute_force():
     from uavcov import gaussian_hills
-    from uavcov.placement import closest_faces
+    from uavcov.cover import closest_faces
 
     hills = gaussian_hills(size=30.0, spacing=1.0, rng=2)
     # A fine mesh (1800 faces) and one large floating triangle above it, far bigger than the rest.

@@ -16,6 +16,8 @@ MODULES = (
     "uavcov.engine",
     "uavcov.terrain",
     "uavcov.structures",
+    "uavcov.limits",
+    "uavcov.cover",
     "uavcov.placement",
     "uavcov.optim",
     "uavcov.settings",

@@ -3,8 +3,8 @@ How far from the best: the certified bound
 ==========================================
 
 With a finite set of candidate viewpoints (a lattice over the flight band,
-:func:`uavcov.placement.viewpoint_lattice`), coverage is a weighted maximum-coverage problem.
-:class:`uavcov.placement.CoverageProblem` builds which candidate sees which target (bitsets, in
+:func:`uavcov.cover.viewpoint_lattice`), coverage is a weighted maximum-coverage problem.
+:class:`uavcov.cover.CoverageProblem` builds which candidate sees which target (bitsets, in
 Rust), places ``k`` UAVs by lazy greedy, and certifies an upper bound on what ANY ``k`` of the
 candidates can see together: the smaller of the online bound (greedy's coverage plus the ``k``
 largest marginal gains) and the LP relaxation's dual bound. The true best lies in the band
@@ -16,13 +16,13 @@ import numpy as np
 from matplotlib.figure import Figure
 
 import uavcov
-from uavcov import placement
+from uavcov import cover
 
 terrain = uavcov.gaussian_hills(size=100.0, spacing=2.0, n_hills=5, heights=(10.0, 30.0), sigma=12.0, rng=0)
 limits = uavcov.Constraints(h_min=5.0, h_max=25.0)
-candidates = placement.viewpoint_lattice(terrain, limits, placement.GreedySettings(spacing=8.0, n_heights=2))
+candidates = cover.viewpoint_lattice(terrain, limits, cover.GreedySettings(spacing=8.0, n_heights=2))
 vis = uavcov.Visibility(terrain, d_max=25.0)
-problem = placement.CoverageProblem(vis, candidates)
+problem = cover.CoverageProblem(vis, candidates)
 teams = np.arange(1, 11)
 greedy = [problem.greedy(int(k)).coverage for k in teams]
 bound = [problem.certified_bound(int(k)) for k in teams]

@@ -9,7 +9,11 @@ layer, from the bottom up:
   the prior S';
 - :mod:`uavcov.structures`: structures that are not height fields (bridges, towers, mesh files)
   and their S';
-- :mod:`uavcov.placement`: flight limits, the constrained CVT, starts, camera footprints;
+- :mod:`uavcov.limits`: where a team may fly (flight limits, feasibility, the closest admissible
+  configuration);
+- :mod:`uavcov.cover`: candidate viewpoints, the greedy placement with its certified bound, the
+  exact placement;
+- :mod:`uavcov.placement`: the constrained CVT, starts, camera footprints;
 - :mod:`uavcov.optim`: CAO, CAO with escapes from local optima, and CAO's random draws;
 - :func:`run_mission` and :func:`save_mission` (one mission, one file);
 - :mod:`uavcov.experiments`: specs x seeds on an executor into a results folder, sweep files;
@@ -23,13 +27,14 @@ documentation site's getting-started page, ``docs/getting-started.md``.
 
 from __future__ import annotations
 
-from . import engine, errors, experiments, field, optim, paper, placement, structures, terrain
+from . import cover, engine, errors, experiments, field, limits, optim, paper, placement, structures, terrain
 from ._core import __version__
 from .engine import Camera, Gimbal, Sensor, Targets, Terrain, Visibility
 from .field import FlightPlan, PlanSettings, plan, write_plan
+from .limits import Constraints
 from .mission import MissionResult, mission_time, run_mission
 from .optim import CAOSettings, EscapeSettings
-from .placement import Constraints, CVTSettings, StartSettings
+from .placement import CVTSettings, StartSettings
 from .records import load_mission, save_mission
 from .settings import MissionSettings
 from .terrain import GeoDem, gaussian_hills, read_dem, sample_dem
@@ -41,6 +46,8 @@ __all__ = [
     "engine",
     "terrain",
     "structures",
+    "limits",
+    "cover",
     "placement",
     "optim",
     "experiments",

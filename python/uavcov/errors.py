@@ -62,7 +62,7 @@ class SurfaceTooLargeError(InvalidInputError):
 class ModelTooLargeError(InvalidInputError):
     """An optimisation model would need more memory than allowed (checked before it is built).
 
-    :func:`uavcov.placement.exact_placement` estimates its integer program from the non-zeros of
+    :func:`uavcov.cover.exact_placement` estimates its integer program from the non-zeros of
     the seen-matrix; fewer candidates or targets, or a larger ``max_model_bytes``, make it fit.
     """
 

@@ -41,15 +41,9 @@ from ._validate import (
 )
 from .engine import Targets, Terrain, Visibility
 from .errors import InvalidInputError, InvalidTypeError
+from .limits import closest_admissible, feasibility
 from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, OptimizerTrace
-from .placement import (
-    CVTResult,
-    closest_admissible,
-    facing_attitudes,
-    feasibility,
-    fit_footprints,
-    start_configuration,
-)
+from .placement import CVTResult, facing_attitudes, fit_footprints, start_configuration
 from .settings import MissionSettings
 from .structures import Structure, StructurePrior, StructureTargets, reconstruct_structure, sample_structure_prior
 from .terrain import Prior, approximate_surface, sample_prior

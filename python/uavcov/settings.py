@@ -26,8 +26,9 @@ from ._validate import (
 )
 from .engine import Camera, Gimbal, Sensor, camera_axes
 from .errors import InvalidInputError, InvalidTypeError
+from .limits import Constraints
 from .optim import MARGINAL_OPTIMIZERS, OPTIMIZERS, CAOSettings, EscapeSettings
-from .placement import Constraints, CVTSettings, StartSettings
+from .placement import CVTSettings, StartSettings
 
 __all__ = ["MissionSettings", "PRIOR_KINDS", "OBJECTIVES", "nested_replace"]
 

@@ -88,7 +88,8 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
     """``uavcov plan --structure NAME|MESH --anchor LON,LAT,ALT``: a team round a structure."""
     from ..errors import ConfigError
     from ..field import GeoAnchor, check_plan_folder, plan_structure, write_structure_plan
-    from ..placement import Constraints, StartSettings
+    from ..limits import Constraints
+    from ..placement import StartSettings
     from ..settings import MissionSettings
     from ..structures import STRUCTURE_SCENES, load_structure
 

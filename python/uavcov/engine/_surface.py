@@ -480,11 +480,11 @@ class Terrain:
     ) -> np.ndarray:
         """Which candidate configurations keep the flight limits of eq. 2, in one Rust pass.
 
-        The fused form of ``uavcov.placement._constraints.feasible_mask``'s checks (x-y ``bounds``,
+        The fused form of ``uavcov.limits._constraints.feasible_mask``'s checks (x-y ``bounds``,
         ``z_max``, clearance in ``[h_min, h_max]``, pairs ``d_safe`` apart, moves from
         ``current`` crossing no triangle when ``check_moves``), with the same answers; that
         function calls it when the world is a ``Terrain`` and takes the limits from a
-        :class:`~uavcov.placement.Constraints`, which is the way to use it.
+        :class:`~uavcov.limits.Constraints`, which is the way to use it.
 
         Parameters
         ----------

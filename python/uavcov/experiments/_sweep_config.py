@@ -19,7 +19,7 @@ and start. See ``examples/sweep.toml``::
     spacing = 1.0
 
     [start]                       # any field of uavcov.placement.StartSettings (altitude, climb, ...)
-    [constraints]                 # h_min, z_max, d_safe, check_moves (uavcov.placement.Constraints)
+    [constraints]                 # h_min, z_max, d_safe, check_moves (uavcov.limits.Constraints)
     [cao]                         # any field of uavcov.optim.CAOSettings
     [cvt]                         # any field of uavcov.placement.CVTSettings
 
@@ -61,8 +61,9 @@ from typing import Any
 from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, is_int
 from ..engine import Camera, Gimbal, Sensor
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
+from ..limits import Constraints
 from ..optim import CAOSettings
-from ..placement import ALTITUDE_REFERENCES, CORNERS, PRESETS, START_KINDS, Constraints, CVTSettings, StartSettings
+from ..placement import ALTITUDE_REFERENCES, CORNERS, PRESETS, START_KINDS, CVTSettings, StartSettings
 from ..settings import OBJECTIVES
 from ..terrain import BuildingsGenerator, HillsGenerator
 from ._sweep import Experiment, RunSpec, experiment_specs

@@ -48,9 +48,10 @@ from .._validate import (
 )
 from ..engine import Gimbal, Sensor, Targets, Terrain, Visibility, camera_axes
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
+from ..limits import Constraints
 from ..mission import MissionResult, run_mission
 from ..optim import CAOSettings, cao_preset
-from ..placement import Constraints, CVTSettings, StartSettings
+from ..placement import CVTSettings, StartSettings
 from ..settings import MissionSettings
 from ..terrain import GeoDem, approximate_surface, metres_per_degree, sample_node_prior
 from ._area import AreaOfInterest

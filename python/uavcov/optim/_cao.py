@@ -98,11 +98,11 @@ def cao(
         positions alone; a mission that optimises camera angles appends them, scaled so that one
         unit of the step is ``Gimbal.alpha0_deg / alpha0`` degrees, :class:`uavcov.Gimbal`). Every
         coordinate is perturbed by the same ``alpha_k`` (eq. 5). Must be feasible (see
-        :func:`uavcov.placement.closest_admissible`).
+        :func:`uavcov.limits.closest_admissible`).
     feasible : callable or None
         ``feasible(current, candidates)`` with ``current`` ``(N, d)`` and ``candidates``
         ``(M, N, d)`` returns an ``(M,)`` bool mask of admissible candidates (see
-        :func:`uavcov.placement.feasibility`). ``None`` means unconstrained.
+        :func:`uavcov.limits.feasibility`). ``None`` means unconstrained.
     iterations : int
         ``K >= 0`` moves; the run measures ``K + 1`` configurations.
     settings : CAOSettings

@@ -77,4 +77,4 @@ class _Feasibility:
 
 def _check_start(check: _Feasibility, x0: np.ndarray) -> None:
     if not check(x0, x0[None])[0]:
-        raise InfeasibleError("the start configuration is infeasible; move it first with uavcov.placement.closest_admissible")
+        raise InfeasibleError("the start configuration is infeasible; move it first with uavcov.limits.closest_admissible")

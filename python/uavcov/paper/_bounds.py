@@ -176,7 +176,7 @@ def optimum_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleR
         "## Table 1 against the lattice optimum",
         "",
         "Optimum: per terrain, the best N candidates of the same lattice kept 1 m apart, by integer programming",
-        "(`uavcov.placement.exact_placement`, HiGHS; proved within a relative gap of 1e-4 where 'proved' counts it,",
+        "(`uavcov.cover.exact_placement`, HiGHS; proved within a relative gap of 1e-4 where 'proved' counts it,",
         "else the gap left at the time limit). Shares are max coverage / optimum per terrain: mean [95 % t interval];",
         "above 1 where CAO's positions off the lattice beat every lattice placement. Where not proved, 'optimum' is the",
         "best placement found (never below greedy's) and the certified bound says how far above it the optimum may be.",

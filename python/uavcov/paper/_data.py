@@ -26,8 +26,9 @@ from types import MappingProxyType
 from typing import Any
 
 from ..experiments import Experiment
+from ..limits import Constraints
 from ..optim import CAO_PRESETS
-from ..placement import Constraints, CVTSettings, StartSettings
+from ..placement import CVTSettings, StartSettings
 from ..settings import MissionSettings
 from ..terrain import BuildingsGenerator, HillsGenerator
 

@@ -6,11 +6,11 @@ resolved against the true surface), the seen-matrix of those candidates on the t
 mission measures coverage on (the true surface's default targets, range ``d_max``), then for
 each team size the lazy greedy (picks kept ``d_safe`` apart) and its certified bound: the
 smaller of greedy's online bound (Leskovec et al. 2007) and the LP relaxation's dual bound
-(:meth:`uavcov.placement.CoverageProblem.dual_bound`), which stays informative where the online
+(:meth:`uavcov.cover.CoverageProblem.dual_bound`), which stays informative where the online
 bound reaches 1 (N >= 8 on Table 1's terrains). One matrix serves every team size of a scenario.
 
 With ``exact=True`` each row also holds the lattice optimum itself
-(:func:`uavcov.placement.exact_placement`: integer programming, greedy as the fallback, the
+(:func:`uavcov.cover.exact_placement`: integer programming, greedy as the fallback, the
 solver's proven bound), so each start's coverage can be set against the optimum, not a bound on it.
 
 What its numbers are: ``coverage`` is a placement any team could fly (an admissible, separated
@@ -27,10 +27,10 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
+from ..cover import CoverageProblem, ExactResult, GreedySettings, exact_placement, viewpoint_lattice
 from ..engine import Visibility
 from ..errors import InvalidTypeError
 from ..experiments import Experiment, local_executor
-from ..placement import CoverageProblem, ExactResult, GreedySettings, exact_placement, viewpoint_lattice
 
 
 @dataclass(frozen=True)
@@ -113,7 +113,7 @@ def oracle(
         Processes, one scenario each at a time (``None`` or 1: in this process); the rows do
         not depend on it.
     exact : bool, default False
-        Also solve each row to the lattice optimum (:func:`uavcov.placement.exact_placement`).
+        Also solve each row to the lattice optimum (:func:`uavcov.cover.exact_placement`).
     time_limit : float, default 60.0
         Seconds the integer program of one row may take (then its gap is stated).
 
@@ -125,7 +125,7 @@ def oracle(
     Examples
     --------
     >>> from uavcov.paper import TABLE1, oracle
-    >>> from uavcov.placement import GreedySettings
+    >>> from uavcov.cover import GreedySettings
     >>> rows = oracle(TABLE1, seeds=[0], team_sizes=[5], settings=GreedySettings(spacing=10.0))
     >>> rows[0].coverage <= rows[0].bound <= rows[0].ceiling
     True

@@ -196,7 +196,7 @@ def reproduce_realistic(
     out : path
         Results folder (created).
     seeds : iterable of int or str, optional
-        Scenes (default :data:`REALISTIC_SEEDS`; a string such as ``"0-4"``).
+        Scenes (default ``REALISTIC_SEEDS``; a string such as ``"0-4"``).
     starts : iterable of str, default ("cvt", "pairs")
     iterations : int, default 200
         CAO iterations of every run.

@@ -14,10 +14,10 @@ known points, a 2 m standoff, every move checked), two starts, each one
     corners, S' by Delaunay in x-y), CVT on it, ``offset`` metres above it.
 
 Per structure, the full-knowledge reference: greedy on viewpoints 3, 6 and 9 m out along the
-*true* structure's normals (:func:`~uavcov.placement.viewpoint_offsets`), the same team and
-separation, with its certified bound (:func:`~uavcov.placement.greedy_placement`). Every run
+*true* structure's normals (:func:`~uavcov.cover.viewpoint_offsets`), the same team and
+separation, with its certified bound (:func:`~uavcov.cover.greedy_placement`). Every run
 records its best coverage as a share of both, how many of its start points lie inside a solid
-of the real structure before :func:`~uavcov.placement.closest_admissible`, and (``cvt3d``) the
+of the real structure before :func:`~uavcov.limits.closest_admissible`, and (``cvt3d``) the
 share of S''s area facing into the structure.
 
 The open setting, each start's offset from S', is chosen on the development seeds; the report
@@ -111,7 +111,7 @@ def _structure(experiment: StructuresExperiment, family: str, seed: int) -> Any:
 
 
 def _limits(experiment: StructuresExperiment, structure: Any) -> Any:
-    from ..placement import Constraints
+    from ..limits import Constraints
 
     top = float(structure.surface.bounds[1, 2])
     return Constraints(
@@ -120,8 +120,8 @@ def _limits(experiment: StructuresExperiment, structure: Any) -> Any:
 
 
 def _reference(experiment: StructuresExperiment, family: str, seed: int) -> dict[str, Any]:
+    from ..cover import greedy_placement, viewpoint_offsets
     from ..engine import Visibility
-    from ..placement import greedy_placement, viewpoint_offsets
 
     structure = _structure(experiment, family, seed)
     limits = _limits(experiment, structure)

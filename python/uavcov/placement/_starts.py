@@ -17,9 +17,9 @@ surface S', by the kind its :class:`StartSettings` names, then lifts them to the
     the west edge, half at the east edge, ``spacing`` metres apart and ``spacing / 2`` in.
 ``"greedy"``
     What the paper dismissed as too costly: a global placement on S'. Lazy greedy over an
-    admissible lattice of viewpoints above the surface (:func:`uavcov.placement.viewpoint_lattice`,
+    admissible lattice of viewpoints above the surface (:func:`uavcov.cover.viewpoint_lattice`,
     limits judged on the surface), coverage measured on the surface's own targets with range
-    ``d_max`` (:class:`uavcov.placement.CoverageProblem`). In a mission
+    ``d_max`` (:class:`uavcov.cover.CoverageProblem`). In a mission
     (:func:`start_configuration`) the candidates are one layer at the start's altitude above S'
     and the picks fly at that altitude like every other start's; :func:`greedy_start` returns
     picks from the whole flight band.
@@ -27,7 +27,7 @@ surface S', by the kind its :class:`StartSettings` names, then lifts them to the
 :class:`StartSettings` says how a mission starts: the kind, and the height the start flies at
 (above the real ground the UAVs sense, or above S'); :func:`start_configuration` builds that
 start, the one pipeline every mission and experiment goes through. Pushing it to admissible
-positions is :func:`uavcov.placement.closest_admissible`'s job.
+positions is :func:`uavcov.limits.closest_admissible`'s job.
 
 A structure's start (``altitude_reference="normal"``, ``STRUCTURE_START_KINDS``) goes through
 the same :func:`start_configuration`: the CVT generators flown out along S''s outward normals,
@@ -46,13 +46,12 @@ from typing import Any
 import numpy as np
 
 from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
+from ..cover import CoverageProblem, GreedyResult, GreedySettings, surface_normals, viewpoint_lattice
 from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from ._constraints import Constraints, feasible_mask
+from ..limits import Constraints, feasibility
 from ._cvt import CVTResult, CVTSettings, cvt
-from ._greedy import CoverageProblem, GreedyResult
-from ._starts3d import fly_out, launch_pad_start, random_volume_start, surface_normals
-from ._viewpoints import GreedySettings, viewpoint_lattice
+from ._starts3d import fly_out, launch_pad_start, random_volume_start
 
 START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
 """The kinds of :class:`StartSettings` on a height field (a structure's are :data:`STRUCTURE_START_KINDS`)."""
@@ -152,7 +151,7 @@ def greedy_start(
 ) -> GreedyResult:
     """The ``"greedy"`` start: lazy greedy of ``n`` viewpoints on ``surface`` alone (S' in a mission).
 
-    Candidates are :func:`uavcov.placement.viewpoint_lattice` over ``surface`` under
+    Candidates are :func:`uavcov.cover.viewpoint_lattice` over ``surface`` under
     ``constraints``; coverage is measured on ``surface``'s default targets with range ``d_max``;
     picks are kept ``constraints.d_safe`` apart unless ``settings.separation`` is off. The
     result's ``matrix_time_s + greedy_time_s`` plus the lattice's time is the start's off-line
@@ -188,7 +187,7 @@ class StartSettings:
         ``corner_altitude`` (else ``altitude``) above it.
     climb : float, default 0.0
         A UAV that the real ground forces up (under ``h_min`` of clearance) is put this many
-        metres above ``h_min`` (:func:`uavcov.placement.closest_admissible`). Left exactly on
+        metres above ``h_min`` (:func:`uavcov.limits.closest_admissible`). Left exactly on
         the ``h_min`` boundary, a UAV makes every candidate that lowers it infeasible; with ``k``
         UAVs there, only ``2**-k`` of CAO's joint candidates are feasible.
     corner : {"sw", "se", "ne", "nw"}, default "sw"
@@ -276,7 +275,7 @@ def start_configuration(
     the CVT's and the greedy placement's records are kept); their height is then ``spec``'s
     above the reference:
     the real ground under each UAV (``terrain``; S' over a hole of it) or S'. The result still
-    has to be made admissible (:func:`uavcov.placement.closest_admissible` with
+    has to be made admissible (:func:`uavcov.limits.closest_admissible` with
     ``climb=spec.climb``).
 
     Parameters
@@ -396,8 +395,10 @@ def _structure_start(
         # true surface leaves, which the UAVs sense; separation is kept between the draws.
         alone = replace(limits, d_safe=0.0, check_moves=False)
 
+        feasible = feasibility(alone, terrain, n_threads=n_threads)
+
         def admissible(points: np.ndarray) -> np.ndarray:
-            return feasible_mask(alone, terrain, points[:1], points[:, None, :], n_threads=n_threads)
+            return np.asarray(feasible(points[:1], points[:, None, :]), dtype=bool)
 
         top = limits.z_max
         if not top > low:

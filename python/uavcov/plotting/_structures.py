@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 
 from .._validate import as_float_array, as_points, as_positive_int
+from ..cover import closest_faces
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError
-from ..placement import closest_faces
 from ._canvas import END_COLOUR, SEEN_COLOUR, UNSEEN_COLOUR, _finish, _marker, _matplotlib, _patch
 from ._views import DEFAULT_MAX_POLYGONS, _blend, _draw_polygons, _mesh_polygons, _scene_bounds, _style_3d
 
@@ -37,7 +37,7 @@ def _numbers(seen: Any) -> np.ndarray:
 def face_seen_share(surface: Terrain, targets: Targets, seen: Any) -> np.ndarray:
     """Per face of ``surface``, the weighted share of the targets on it that are seen (NaN where none lies).
 
-    Each target belongs to its closest face (:func:`uavcov.placement.closest_faces`; between
+    Each target belongs to its closest face (:func:`uavcov.cover.closest_faces`; between
     faces that touch, the one facing as the target's normal says).
     """
     if not isinstance(targets, Targets):

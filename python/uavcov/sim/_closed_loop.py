@@ -21,9 +21,9 @@ import numpy as np
 from .._validate import as_generator, as_positive_float, read_only
 from ..engine import Terrain, Visibility
 from ..errors import FlightError, InvalidInputError, InvalidTypeError
+from ..limits import feasibility
 from ..mission import MissionSettings, run_mission
 from ..optim import cao
-from ..placement import feasibility
 from ._depth import DepthCamera, camera_rotation
 from ._flight import FlightSettings, Leg, Team
 from ._safety import SafetyReport, check_flight

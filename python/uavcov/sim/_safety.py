@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..engine import Terrain
-from ..placement import Constraints
+from ..limits import Constraints
 
 __all__ = ["SafetyReport", "check_flight"]
 

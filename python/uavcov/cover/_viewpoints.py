@@ -1,12 +1,12 @@
 """Candidate viewpoints: where a UAV may be placed, as a finite set a greedy can choose from.
 
 A coverage problem over a finite set of candidate viewpoints is a weighted maximum-coverage
-problem (see :mod:`uavcov.placement._greedy`). For terrain the candidates are a lattice over the
+problem (see :mod:`uavcov.cover._greedy`). For terrain the candidates are a lattice over the
 flight band: an x-y lattice ``spacing`` metres apart over the flight box (from its lower-left
 corner, so that halving the spacing keeps every earlier column), times ``n_heights`` heights
 per column evenly spaced from ``ground + h_min`` to ``min(ground + h_max, z_max)`` (so that
 ``2 n - 1`` heights keep the ``n`` earlier ones), kept where eq. 2's limits accept them
-(``uavcov.placement._constraints.feasible_mask``, one UAV at a time). Where the sensors are cameras,
+(``uavcov.limits.feasibility``, one UAV at a time). Where the sensors are cameras,
 each position is repeated for every orientation ``(yaw, pitch)`` of the settings.
 
 :class:`Viewpoints` is what every generator returns. For a structure, ``viewpoint_offsets``
@@ -25,12 +25,15 @@ import numpy as np
 from .._validate import as_count, as_finite_float, as_float_array, as_positive_float, as_positive_int, read_only
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
-from ._constraints import _MARGIN, Constraints, feasible_mask
-from ._starts3d import surface_normals
+from ..limits import Constraints, feasibility
+from ._faces import surface_normals
 
 MAX_CANDIDATES = 1_000_000
 """Most candidate viewpoints one problem may hold (10^6 x 10^4 targets is 1.25 GB of bits: the
 Rust side refuses over 1 GiB with :class:`uavcov.errors.SurfaceTooLargeError`)."""
+# The flight band's ends are moved in by this much, so that the limits' exact checks never
+# refuse a lattice point on round-off (the same metre fraction closest_admissible aims inside by).
+_BAND_INSET = 1e-6
 
 
 @dataclass(frozen=True)
@@ -99,7 +102,7 @@ class Viewpoints:
 def _admissible_alone(limits: Constraints, world: Terrain, points: np.ndarray, n_threads: int | None) -> np.ndarray:
     """The ``(n, 3)`` points the limits accept, each as a lone UAV where it is (no move to check)."""
     alone = replace(limits, check_moves=False)
-    kept: np.ndarray = points[feasible_mask(alone, world, points[:1], points[:, None, :], n_threads=n_threads)]
+    kept: np.ndarray = points[np.asarray(feasibility(alone, world, n_threads=n_threads)(points[:1], points[:, None, :]), dtype=bool)]
     return kept
 
 
@@ -162,10 +165,10 @@ def viewpoint_lattice(
     ground = world.ground_height(xy, n_threads=n_threads)
     keep = np.isfinite(ground)
     xy, ground = xy[keep], ground[keep]
-    # the band's ends moved in by _MARGIN, so the exact checks never refuse them on round-off
-    low = ground + limits.h_min + _MARGIN
+    # the band's ends moved in by _BAND_INSET, so the exact checks never refuse them on round-off
+    low = ground + limits.h_min + _BAND_INSET
     top = np.minimum(ground + limits.h_max, limits.z_max) if limits.h_max is not None else np.full_like(ground, limits.z_max)
-    high = top - _MARGIN
+    high = top - _BAND_INSET
     fraction = np.linspace(0.0, 1.0, settings.n_heights) if settings.n_heights > 1 else np.zeros(1)
     z = low[:, None] + fraction[None, :] * (high - low)[:, None]
     points = np.column_stack([np.repeat(xy, settings.n_heights, axis=0), z.ravel()])
@@ -204,7 +207,7 @@ def viewpoint_offsets(
     The structures' counterpart of :func:`viewpoint_lattice`: under a bridge deck the normal
     points down, beside a pier sideways, so the candidates reach where no lattice over a height
     band goes. Only the admissible ones are kept, each judged alone where it is
-    (``uavcov.placement._constraints.feasible_mask``; with ``Constraints(clearance="standoff")`` the
+    (``uavcov.limits.feasibility``; with ``Constraints(clearance="standoff")`` the
     distances should be at least ``h_min``).
 
     Parameters

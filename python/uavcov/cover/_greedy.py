@@ -1,6 +1,6 @@
 """Greedy placement on candidate viewpoints, and a certified bound on the best placement.
 
-With a finite set of candidate viewpoints (:class:`uavcov.placement.Viewpoints`), coverage is a
+With a finite set of candidate viewpoints (:class:`uavcov.cover.Viewpoints`), coverage is a
 weighted maximum-coverage problem, monotone and submodular. :class:`CoverageProblem` builds, in
 Rust, which candidate sees which target (a bitset per candidate, ``uavcov._core.SeenMatrix``:
 the answers of :meth:`uavcov.Visibility.seen` for each candidate alone), then
@@ -14,7 +14,7 @@ the answers of :meth:`uavcov.Visibility.seen` for each candidate alone), then
   largest marginal gains of the candidates given ``A``; nor more than the ceiling, the weight
   of the targets any candidate sees;
 * :meth:`CoverageProblem.dual_bound`: the LP relaxation's bound, certified by a dual-feasible
-  point evaluated on the full matrix (:mod:`uavcov.placement._dual_bound`); informative where
+  point evaluated on the full matrix (:mod:`uavcov.cover._dual_bound`); informative where
   the online bound reaches the ceiling (larger teams). :meth:`CoverageProblem.certified_bound`
   keeps the smaller of the two.
 
@@ -297,7 +297,8 @@ def greedy_placement(
     Examples
     --------
     >>> import uavcov
-    >>> from uavcov.placement import Constraints, GreedySettings, greedy_placement, viewpoint_lattice
+    >>> from uavcov.cover import GreedySettings, greedy_placement, viewpoint_lattice
+    >>> from uavcov.limits import Constraints
     >>> hills = uavcov.gaussian_hills(size=40.0, spacing=1.0, n_hills=3, rng=1)
     >>> limits = Constraints(h_min=2.0, h_max=10.0, z_max=60.0, d_safe=1.0)
     >>> lattice = viewpoint_lattice(hills, limits, GreedySettings(spacing=5.0))

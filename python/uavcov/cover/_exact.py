@@ -1,6 +1,6 @@
 """The best placement of ``k`` candidate viewpoints, proved by integer programming.
 
-Greedy (:meth:`uavcov.placement.CoverageProblem.greedy`) and the certified bounds say how far a
+Greedy (:meth:`uavcov.cover.CoverageProblem.greedy`) and the certified bounds say how far a
 placement is from the best ``k`` candidates at most; :func:`exact_placement` finds that best
 placement, with the solver's proof. Weighted maximum coverage with separation is the integer
 program
@@ -15,7 +15,7 @@ where a group holds the targets seen by exactly the same candidates (their weigh
 rows are identical otherwise), found by hashing each target's column of the seen-matrix; targets
 no candidate sees are left out (they add nothing to any placement). Candidates go first that no
 placement better than greedy's can hold: the LP relaxation's dual point (the certificate of
-:meth:`uavcov.placement.CoverageProblem.dual_bound`) bounds every placement holding a candidate
+:meth:`uavcov.cover.CoverageProblem.dual_bound`) bounds every placement holding a candidate
 ``s`` by its own dual value plus the ``k - 1`` largest others; below greedy's coverage, ``s`` is
 out (weak duality: exact, whatever the dual point). When the pairs closer than
 ``d_safe`` outnumber the candidates several times (cameras: every orientation at a position
@@ -31,7 +31,7 @@ the answer does not depend on ``n_threads`` (which only builds the seen-matrix),
 node limit instead of the time limit not on the machine's speed either.
 
 What the optimum is the optimum of: *these candidates* on *these targets* (as every bound of
-:mod:`uavcov.placement._greedy`); positions off the candidates may see more.
+:mod:`uavcov.cover._greedy`); positions off the candidates may see more.
 """
 
 from __future__ import annotations
@@ -244,7 +244,8 @@ def exact_placement(
     Examples
     --------
     >>> import uavcov
-    >>> from uavcov.placement import Constraints, CoverageProblem, GreedySettings, exact_placement, viewpoint_lattice
+    >>> from uavcov.cover import CoverageProblem, GreedySettings, exact_placement, viewpoint_lattice
+    >>> from uavcov.limits import Constraints
     >>> hills = uavcov.gaussian_hills(size=30.0, spacing=1.0, n_hills=3, rng=1)
     >>> lattice = viewpoint_lattice(hills, Constraints(h_min=2.0, h_max=10.0, z_max=60.0), GreedySettings(spacing=6.0, n_heights=1))
     >>> best = exact_placement(CoverageProblem(uavcov.Visibility(hills, 8.0), lattice), 3)
@@ -252,7 +253,7 @@ def exact_placement(
     ('optimal', True)
     """
     if not isinstance(problem, CoverageProblem):
-        raise InvalidTypeError(f"problem must be a uavcov.placement.CoverageProblem, got {type(problem).__name__}")
+        raise InvalidTypeError(f"problem must be a uavcov.cover.CoverageProblem, got {type(problem).__name__}")
     k = as_count(k, "k", MAX_UAVS)
     d_safe = as_non_negative_float(d_safe, "d_safe")
     time_limit = as_positive_float(time_limit, "time_limit")
@@ -415,7 +416,7 @@ def _survivors(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: int, best
 
     The LP dual point ``u`` bounds every placement ``S`` of ``k`` candidates by
     ``sum_{s in S} c_s + sum_t (shares_t - u_t)`` with ``c_s = sum_{t seen by s} u_t`` (weak
-    duality, as :mod:`uavcov.placement._dual_bound`); a placement holding ``s`` is then at most
+    duality, as :mod:`uavcov.cover._dual_bound`); a placement holding ``s`` is then at most
     ``c_s`` plus the ``k - 1`` largest of the other ``c``. A candidate whose bound is below
     the best coverage so far is in no better placement, and is left out of the program.
     """
