@@ -65,6 +65,9 @@ class Surface:
     def closest_face(
         self, points: npt.NDArray[np.float64], n_threads: int = 0
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]: ...
+    def faces_at_closest(
+        self, points: npt.NDArray[np.float64], n_threads: int = 0
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
     def segments_clear(self, a: npt.NDArray[np.float64], b: npt.NDArray[np.float64], n_threads: int = 0) -> npt.NDArray[np.bool_]: ...
     def first_hits(
         self, origins: npt.NDArray[np.float64], directions: npt.NDArray[np.float64], t_max: float, n_threads: int = 0

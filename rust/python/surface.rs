@@ -18,6 +18,7 @@ type WeightedPoints<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>
 
 /// `(closest points (n, 3), face indices (n,))`.
 type PointsOnFaces<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>);
+type FaceSets<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>);
 
 /// A triangle mesh with its BVH (see `uavcov.Terrain`).
 #[derive(Debug)]
@@ -195,6 +196,26 @@ impl PySurface {
         let found = parallel_map(py, n_threads, &pts, |&q| s.closest_face(q).unwrap_or(([f64::NAN; 3], 0)))?;
         let faces: Vec<i64> = found.iter().map(|&(_, f)| f as i64).collect();
         Ok((points_to_py(py, found.into_iter().map(|(q, _)| q).collect()), faces.into_pyarray(py)))
+    }
+
+    /// The closest surface point to each point and every triangle holding it, as a CSR list:
+    /// `(points (n, 3), start (n + 1,), faces (m,))`, point `i`'s faces `faces[start[i]:start[i + 1]]`.
+    #[pyo3(signature = (points, n_threads=0))]
+    fn faces_at_closest<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, n_threads: usize) -> PyResult<FaceSets<'py>> {
+        let pts = super::points(py, &points, "points")?;
+        let s = &self.inner;
+        detached(py, || s.triangle_mesh().map(|_| ()))?; // a grid's mesh, built once outside the pool
+        let found = parallel_map(py, n_threads, &pts, |&q| s.faces_at_closest(q).unwrap_or(([f64::NAN; 3], Vec::new())))?;
+        let mut start: Vec<i64> = Vec::with_capacity(found.len() + 1);
+        start.push(0);
+        let mut faces: Vec<i64> = Vec::new();
+        let mut closest = Vec::with_capacity(found.len());
+        for (q, held) in found {
+            faces.extend(held.into_iter().map(|f| f as i64));
+            start.push(faces.len() as i64);
+            closest.push(q);
+        }
+        Ok((points_to_py(py, closest), start.into_pyarray(py), faces.into_pyarray(py)))
     }
 
     /// The right-hand unit normal of each triangle, `(F, 3)`.

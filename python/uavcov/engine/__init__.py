@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._sensors import Camera, Gimbal, Sensor, camera_axes, gimbal_pitch_limits, pack_sensors
-from ._surface import GridInfo, Terrain
+from ._surface import GridInfo, Terrain, as_mesh_surface
 from ._targets import Targets
 from ._visibility import CoverageTracker, UavCounts, Visibility, coverage
 
@@ -16,6 +16,7 @@ __all__ = [
     "pack_sensors",
     "Terrain",
     "GridInfo",
+    "as_mesh_surface",
     "Targets",
     "Visibility",
     "CoverageTracker",

@@ -384,6 +384,36 @@ class Terrain:
         closest, face = self._surface.closest_face(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
         return closest, np.asarray(face, dtype=np.int64)
 
+    def faces_at_closest(self, points: Any, *, n_threads: int | None = None) -> tuple[np.ndarray, list[np.ndarray]]:
+        """The surface point closest to each point and *every* triangle holding it.
+
+        Inside a face, that face; on an edge or a vertex, every triangle sharing it; where two
+        solids touch face to face (a pier's top under a deck), the triangles of both. A
+        triangle holds the point when it lies within ``1e-9`` of the mesh's scale (largest
+        coordinate magnitude plus largest extent, at least 1 m) of it (parry's point
+        projection, then its BVH). ``n_threads`` as in :meth:`ground_height`.
+
+        Returns
+        -------
+        closest : (n, 3) float64 ndarray
+            Metres (as :meth:`closest_point`).
+        faces : list of (k,) int64 ndarray
+            Each point's triangles, in increasing order.
+
+        Examples
+        --------
+        >>> import numpy as np, uavcov
+        >>> flat = uavcov.Terrain.from_grid(np.zeros((2, 2)), spacing=1.0)
+        >>> point, faces = flat.faces_at_closest([[0.2, 0.7, 3.0], [0.5, 0.5, 1.0]])
+        >>> point.tolist(), [f.tolist() for f in faces]  # the second on the diagonal: both triangles
+        ([[0.2, 0.7, 0.0], [0.5, 0.5, 0.0]], [[1], [0, 1]])
+        """
+        closest, start, faces = self._surface.faces_at_closest(as_points(points, "points", allow_empty=True), as_n_threads(n_threads))
+        if not closest.shape[0]:
+            return closest, []
+        held = np.asarray(faces, dtype=np.int64)
+        return closest, np.split(held, np.asarray(start, dtype=np.int64)[1:-1])
+
     def distance(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
         """The least 3D distance from each point to the surface: ``(n, 3)`` in, ``(n,)`` out, metres.
 
@@ -559,6 +589,32 @@ class Terrain:
             return rust(cur, cand, (xmin, ymin, xmax, ymax), *limits, threads, clearance)
 
         return check
+
+
+def as_mesh_surface(surface: Any, purpose: str) -> Terrain:
+    """``surface`` itself when it is a :class:`Terrain` with faces of positive area.
+
+    What every query of faces and normals needs first (a start on S', the normals a viewpoint
+    flies out along).
+
+    Parameters
+    ----------
+    surface : Terrain
+    purpose : str
+        What needs the faces, for the message (e.g. ``"a start"``).
+
+    Raises
+    ------
+    InvalidTypeError
+        Not a Terrain.
+    InvalidInputError
+        No face, or no area.
+    """
+    if not isinstance(surface, Terrain):
+        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+    if surface.n_faces == 0 or surface.area <= 0.0:
+        raise InvalidInputError(f"surface has no area: {purpose} needs a mesh with faces")
+    return surface
 
 
 def _pair(value: Any, name: str, *, positive: bool) -> tuple[float, float]:

@@ -43,7 +43,7 @@ from .._validate import (
     read_only,
 )
 from ..cover import surface_normals
-from ..engine import Gimbal, Terrain, gimbal_pitch_limits
+from ..engine import Gimbal, Terrain, as_mesh_surface, gimbal_pitch_limits
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._cvt import CVTResult, CVTSettings, cvt
 
@@ -51,14 +51,6 @@ from ._cvt import CVTResult, CVTSettings, cvt
 # _MIN_BATCH large, so a feasible share of the box under about 1/(rounds * batch) exhausts them.
 _MAX_ROUNDS = 200
 _MIN_BATCH = 256
-
-
-def _check_surface(surface: Any) -> Terrain:
-    if not isinstance(surface, Terrain):
-        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
-    if surface.n_faces == 0 or surface.area <= 0.0:
-        raise InvalidInputError("surface has no area: a start needs a mesh with faces")
-    return surface
 
 
 def _is_closed(faces: np.ndarray) -> bool:
@@ -105,7 +97,7 @@ def fly_out(
     lifted : (n,) bool ndarray
         The positions that were lifted over S'.
     """
-    surface = _check_surface(surface)
+    surface = as_mesh_surface(surface, "a start")
     base = as_points(anchors, "anchors")
     direction = as_points(normals, "normals")
     if direction.shape != base.shape:
@@ -290,7 +282,7 @@ def standoff_start(
     InvalidInputError
         An empty mesh, ``standoff <= 0``, a bad ``n``.
     """
-    surface = _check_surface(surface)
+    surface = as_mesh_surface(surface, "a start")
     n = as_count(n, "n", MAX_GENERATORS)
     distance_out = as_positive_float(standoff, "standoff")
     if not isinstance(clip_pitch, bool):
