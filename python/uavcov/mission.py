@@ -420,7 +420,9 @@ def run_mission(
 
     approximation, prior_points, prior_kind = _approximation(terrain, spec, known, prior_rng)
     if given is None:
-        flying, tessellation, start_time_s = _start(spec, approximation, terrain, start_rng, n_threads)
+        # The known points' normals see parts S' misses (a girder, a balcony): no start there.
+        keep_out = known.behind if isinstance(known, StructurePrior) and known.normals is not None else None
+        flying, tessellation, start_time_s = _start(spec, approximation, terrain, start_rng, n_threads, keep_out)
     else:
         flying, tessellation, start_time_s = given, None, 0.0
     attitudes = np.broadcast_to(np.asarray(spec.attitude, dtype=np.float64), (spec.n_uavs, 2))
@@ -453,7 +455,12 @@ def run_mission(
 
 
 def _start(
-    spec: MissionSettings, approximation: Terrain, terrain: Terrain, rng: np.random.Generator, n_threads: int | None
+    spec: MissionSettings,
+    approximation: Terrain,
+    terrain: Terrain,
+    rng: np.random.Generator,
+    n_threads: int | None,
+    keep_out: Callable[[np.ndarray], Any] | None = None,
 ) -> tuple[np.ndarray, CVTResult | None, float]:
     """``spec.start`` on S': the positions, the CVT run (for a "cvt" start) and the seconds it took."""
     began = time.perf_counter()
@@ -467,6 +474,7 @@ def _start(
         n_threads=n_threads,
         d_max=spec.d_max,
         constraints=spec.constraints,
+        keep_out=keep_out,
     )
     return flying, record if isinstance(record, CVTResult) else None, time.perf_counter() - began
 

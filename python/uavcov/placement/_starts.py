@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -268,6 +268,7 @@ def start_configuration(
     n_threads: int | None = None,
     d_max: float | None = None,
     constraints: Constraints | None = None,
+    keep_out: Callable[[np.ndarray], Any] | None = None,
 ) -> tuple[np.ndarray, CVTResult | GreedyResult | None]:
     """The start of a mission: placed on S', lifted to its flying height.
 
@@ -301,6 +302,9 @@ def start_configuration(
         For a structure's start (``altitude_reference="normal"``): "random" draws in their
         admissible volume over ``terrain``, "launch_pad" stands at a corner of their x-y bounds
         (``None``: the defaults with ``clearance="standoff"``).
+    keep_out : callable, optional
+        For a structure's "cvt" start: points known to be inside the structure besides S'
+        (``StructurePrior.behind``), which no generator is flown to (see ``fly_out``).
 
     Returns
     -------
@@ -320,7 +324,7 @@ def start_configuration(
         as_positive_int(n_threads, "n_threads")
     generator = as_generator(rng)
     if spec.altitude_reference == "normal":
-        return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads)
+        return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads, keep_out)
     tessellation: CVTResult | GreedyResult | None = None
     if spec.kind == "greedy":
         tessellation = _greedy_layer(spec, approximation, n, d_max, constraints, n_threads)
@@ -371,6 +375,7 @@ def _structure_start(
     constraints: Constraints | None,
     generator: np.random.Generator,
     n_threads: int | None,
+    keep_out: Callable[[np.ndarray], Any] | None = None,
 ) -> tuple[np.ndarray, CVTResult | None]:
     """A start around a structure (``altitude_reference="normal"``), see :class:`StartSettings`."""
     if constraints is None:
@@ -386,7 +391,9 @@ def _structure_start(
         if not spec.altitude > 0.0:
             return anchors, tessellation
         # Outside S' and at the standoff from it: a normal into a fold of S' flies farther out.
-        positions, _ = fly_out(approximation, anchors, normals, spec.altitude, n_threads=n_threads)
+        # Never under the real ground (sensed; S' has none): S''s bottom faces down.
+        floor = float(np.asarray(terrain.bounds)[0, 2])
+        positions, _ = fly_out(approximation, anchors, normals, spec.altitude, floor=floor, keep_out=keep_out, n_threads=n_threads)
         return positions, tessellation
     xmin, ymin, xmax, ymax = limits.flight_box
     low = float(np.asarray(terrain.bounds)[0, 2])

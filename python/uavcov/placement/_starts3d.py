@@ -35,6 +35,7 @@ from .._validate import (
     MAX_GENERATORS,
     MAX_SAMPLES,
     as_count,
+    as_finite_float,
     as_float_array,
     as_generator,
     as_non_negative_float,
@@ -66,7 +67,14 @@ _FLY_OUT_STEPS = (1.0, 1.5, 2.0, 3.0, 4.0)
 
 
 def fly_out(
-    surface: Terrain, anchors: Any, normals: Any, standoff: float, *, n_threads: int | None = None
+    surface: Terrain,
+    anchors: Any,
+    normals: Any,
+    standoff: float,
+    *,
+    floor: float | None = None,
+    keep_out: Callable[[np.ndarray], Any] | None = None,
+    n_threads: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Points ``standoff`` out from S' along its outward normals, each outside S' and at least
     ``standoff`` from it.
@@ -81,6 +89,16 @@ def fly_out(
     S''s top, which is outside S' and at least ``standoff`` from it whatever S' is; the flight
     limits then bring it back down against the real structure.
 
+    With ``floor`` (the height of the real ground, which the team senses: S' has none), no step
+    goes below ``floor + standoff``: a generator on S''s bottom (closed underneath at the lowest
+    known points, facing down) flown down would land under the ground, so its step is raised to
+    the standoff over the ground and then judged as any other (outside S', at the standoff from
+    it).
+
+    With ``keep_out`` (a predicate of what else is known to be solid: the known points' vote,
+    :meth:`uavcov.structures.StructurePrior.behind`, which sees a girder or a balcony S' does not
+    resolve), a step it marks counts as inside S': the generator is flown farther, or lifted.
+
     Parameters
     ----------
     surface : Terrain
@@ -89,6 +107,10 @@ def fly_out(
         Points on S' and S''s outward unit normals there.
     standoff : float
         Metres (> 0).
+    floor : float, optional
+        The real ground's height, metres: no position below ``floor + standoff``.
+    keep_out : callable, optional
+        ``keep_out(points (m, 3)) -> (m,)`` bool: points known to be inside the structure.
     n_threads : int, optional
 
     Returns
@@ -108,8 +130,16 @@ def fly_out(
     closed = _is_closed(surface.faces)
     tolerance = 1e-9 * max(1.0, float(np.abs(surface.bounds).max()))
     trials = base[None] + np.asarray(_FLY_OUT_STEPS)[:, None, None] * distance_out * direction[None]  # (steps, n, 3)
+    if floor is not None:
+        trials[..., 2] = np.maximum(trials[..., 2], as_finite_float(floor, "floor") + distance_out)
     flat = trials.reshape(-1, 3)
-    outside = (~surface.inside(flat, n_threads=n_threads) if closed else np.ones(flat.shape[0], dtype=bool)).reshape(trials.shape[:2])
+    outside = ~surface.inside(flat, n_threads=n_threads) if closed else np.ones(flat.shape[0], dtype=bool)
+    if keep_out is not None:
+        known_inside = np.asarray(keep_out(flat))
+        if known_inside.shape != (flat.shape[0],) or known_inside.dtype != np.bool_:
+            raise InvalidInputError(f"keep_out must return a ({flat.shape[0]},) bool array, got {known_inside.dtype} {known_inside.shape}")
+        outside &= ~known_inside
+    outside = outside.reshape(trials.shape[:2])
     clear = outside & (surface.distance(flat, n_threads=n_threads) >= distance_out - tolerance).reshape(trials.shape[:2])
     # The first step outside S' at the standoff; else (a generator in a concave corner, which
     # no step along its normal frees) the first step outside S', left to the flight limits.

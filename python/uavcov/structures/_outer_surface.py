@@ -141,6 +141,23 @@ def alpha_solid(points: np.ndarray, alpha: float | None) -> tuple[np.ndarray, np
 _VOTERS = 6
 
 
+def normal_vote(points: np.ndarray, normals: np.ndarray, queries: np.ndarray) -> np.ndarray:
+    """Where the known points put each query: negative behind their tangent planes (inside).
+
+    The mean over the query's six nearest known points of ``n_i . (q - p_i) / |q - p_i|^2``
+    (closer points weigh more; ``normals`` unit).
+    """
+    from scipy.spatial import cKDTree
+
+    k = min(_VOTERS, points.shape[0])
+    _, nearest = cKDTree(points).query(queries, k=k)
+    nearest = nearest.reshape(queries.shape[0], k)
+    offset = queries[:, None, :] - points[nearest]
+    squared = np.maximum(np.einsum("tki,tki->tk", offset, offset), 1e-300)
+    vote: np.ndarray = (np.einsum("tki,tki->tk", offset, normals[nearest]) / squared).mean(axis=1)
+    return vote
+
+
 def oriented_solid(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The Delaunay tetrahedra the known normals put inside, and their boundary, wound outward.
 
@@ -152,7 +169,7 @@ def oriented_solid(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray,
     the normals can. The boundary between inside and outside tetrahedra (and the convex hull)
     is closed by construction and has no inner shell.
     """
-    from scipy.spatial import Delaunay, QhullError, cKDTree
+    from scipy.spatial import Delaunay, QhullError
 
     points, first = np.unique(points, axis=0, return_index=True)
     normals = normals[first] / np.linalg.norm(normals[first], axis=1)[:, None]
@@ -161,13 +178,7 @@ def oriented_solid(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray,
     except (QhullError, ValueError) as exc:
         raise InvalidInputError(f"the known points span no volume (all on a plane or a line?): {exc}") from None
     tetra, neighbours = triangulation.simplices, triangulation.neighbors
-    centre = points[tetra].mean(axis=1)
-    k = min(_VOTERS, points.shape[0])
-    _, nearest = cKDTree(points).query(centre, k=k)
-    offset = centre[:, None, :] - points[nearest]
-    squared = np.maximum(np.einsum("tki,tki->tk", offset, offset), 1e-300)
-    vote = (np.einsum("tki,tki->tk", offset, normals[nearest]) / squared).mean(axis=1)
-    solid = vote < 0.0
+    solid = normal_vote(points, normals, points[tetra].mean(axis=1)) < 0.0
     # A flat tetrahedron (four points of one wall) has no side of its own: the flat ones joined
     # to the hull through flat ones are outside, the rest inside, so no face lies between two
     # flat tetrahedra (where no corner would tell its orientation).

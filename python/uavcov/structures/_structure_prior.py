@@ -20,7 +20,8 @@ import numpy as np
 from .._validate import as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
-from ._outer_surface import alpha_solid, check_prior_points, oriented_solid, outer_shells
+from ._facing import facing_into
+from ._outer_surface import alpha_solid, check_prior_points, normal_vote, oriented_solid, outer_shells
 from ._solids import box, face_normals, join, signed_volume
 from ._structures import CONTACT, Structure, connected_faces
 
@@ -68,6 +69,29 @@ class StructurePrior:
             raise InvalidTypeError(f"model must be a Terrain, got {type(self.model).__name__}")
         if (self.kind == "points") != (self.model is None):
             raise InvalidInputError("a 'points' prior has no model; a coarse prior needs one")
+
+    def behind(self, points: Any) -> np.ndarray:
+        """Whether the known points' normals put each point inside the structure.
+
+        The vote of :func:`reconstruct_structure`'s ``"oriented"`` method (the six nearest known
+        points, closer ones weighing more, see it behind their tangent planes): evidence of a
+        part S' may not resolve, as a girder or a balcony between known points. All ``False``
+        without normals.
+
+        Parameters
+        ----------
+        points : (m, 3) array_like of float
+            Metres.
+
+        Returns
+        -------
+        (m,) bool ndarray
+        """
+        queries = as_points(points, "points", allow_empty=True)
+        if self.normals is None or not queries.shape[0]:
+            return np.zeros(queries.shape[0], dtype=bool)
+        unit = self.normals / np.linalg.norm(self.normals, axis=1)[:, None]
+        return np.asarray(normal_vote(self.points, unit, queries) < 0.0, dtype=bool)
 
     def __reduce__(self) -> tuple[Any, ...]:
         normals = None if self.normals is None else np.array(self.normals)
@@ -362,9 +386,13 @@ class ReconstructionError:
     n_samples : int
         Points drawn on each surface.
     inward_area_share : float
-        Share of S''s area facing into the structure: the sampled points of S' whose face's
-        outward normal points against the outward normal of the structure's face closest to them
-        (the faces a start would fly out along into the structure).
+        Share of S''s area facing into the structure: the sampled points of S' whose outward
+        normal points into a real solid (the faces a start would fly out along into the
+        structure). Outside the solids, judged against the outward normal of the nearest real
+        face (of those holding the nearest point, the one agreeing best); inside one, by the way
+        out along the normal's own line (``n`` faces in when the solid reaches farther along
+        ``n`` than against it), so that a face of S' lying a little inside a wall with the wall's
+        normal does not count: orientation, not position (``structures/_facing.py``).
     """
 
     hausdorff_m: float
@@ -399,8 +427,7 @@ def reconstruction_error(truth: Structure, approx: Terrain, *, n_samples: int = 
     # Which way the solid faces, contact faces included: S''s bottom faces the ground as the
     # structure's contact faces do, and must not be judged against the nearest wall.
     solid = Terrain(truth.surface.vertices, truth.surface.faces[_solid_faces(truth)])
-    _, true_face = solid.closest_face(on_approx)
-    facing = np.einsum("ij,ij->i", approx.face_normals[approx_face], solid.face_normals[true_face])
+    into = facing_into(solid, on_approx, approx.face_normals[approx_face])
     return ReconstructionError(
         hausdorff_m=float(max(to_approx.max(), to_truth.max())),
         hausdorff_truth_to_approx_m=float(to_approx.max()),
@@ -410,5 +437,5 @@ def reconstruction_error(truth: Structure, approx: Terrain, *, n_samples: int = 
         mean_approx_to_truth_m=float(to_truth.mean()),
         area_ratio=float(approx.area / true_surface.area),
         n_samples=n_samples,
-        inward_area_share=float(np.mean(facing < 0.0)),
+        inward_area_share=float(np.mean(into)),
     )
