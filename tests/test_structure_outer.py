@@ -7,10 +7,10 @@ import importlib.util
 
 import numpy as np
 import pytest
+import trimesh
 
 import uavcov
 from uavcov.cover import surface_normals
-from uavcov.cover._faces import _triangle_distance
 from uavcov.errors import InvalidInputError
 from uavcov.placement import cvt, standoff_start
 from uavcov.placement._starts3d import fly_out
@@ -88,10 +88,7 @@ def test_closest_face_agrees_with_a_brute_force_search() -> None:
     queries = rng.uniform(-10, 25, size=(300, 3))
     closest, face = surface.closest_face(queries)
     v, f = surface.vertices, surface.faces
-    # Brute force: every query against every triangle (Ericson's closest point, in numpy).
-    q = np.repeat(queries, f.shape[0], axis=0)
-    a, b, c = (np.tile(v[f[:, k]], (queries.shape[0], 1)) for k in range(3))
-    every = _triangle_distance(q, a, b, c).reshape(queries.shape[0], f.shape[0])
+    every = _every_distance(surface, queries)
     held = every[np.arange(queries.shape[0]), face]
     assert np.allclose(held, every.min(axis=1), rtol=0, atol=1e-9)
     assert np.allclose(np.linalg.norm(closest - queries, axis=1), surface.distance(queries))
@@ -99,6 +96,70 @@ def test_closest_face_agrees_with_a_brute_force_search() -> None:
     assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
     centre = v[f].mean(axis=1)
     assert np.all(np.einsum("ij,ij->i", normals, centre - [6.0, 4.5, 8.0]) > 0)
+
+
+def _every_distance(surface: uavcov.Terrain, queries: np.ndarray) -> np.ndarray:
+    """Brute force: every query against every triangle (trimesh's point-triangle closest point)."""
+    triangles = surface.vertices[surface.faces]
+    n, f = queries.shape[0], triangles.shape[0]
+    near = trimesh.triangles.closest_point(np.tile(triangles, (n, 1, 1)), np.repeat(queries, f, axis=0))
+    distance: np.ndarray = np.linalg.norm(near - np.repeat(queries, f, axis=0), axis=1).reshape(n, f)
+    return distance
+
+
+def test_the_faces_at_the_closest_point_are_every_face_a_brute_force_finds_there() -> None:
+    # The box's faces, edges and corners (where two to six triangles hold the closest point),
+    # its faces' diagonals, and random points, against every triangle by trimesh.
+    rng = np.random.default_rng(5)
+    surface = uavcov.Terrain(BOX, np.array(WALLS))
+    corners = BOX + rng.uniform(0.5, 3.0, size=(8, 1)) * np.sign(BOX - [6.0, 4.5, 8.0])
+    edges = np.array([[6.0, -2.0, -2.0], [14.0, 4.5, 18.0], [-1.0, 10.0, 8.0], [6.0, 4.5, 17.0]])
+    queries = np.vstack([corners, edges, rng.uniform(-10, 25, size=(300, 3))])
+    closest, holding = surface.faces_at_closest(queries)
+    assert np.allclose(closest, surface.closest_point(queries), rtol=0, atol=0)
+    on_surface = _every_distance(surface, closest)
+    for k, faces in enumerate(holding):
+        assert faces.tolist() == np.flatnonzero(on_surface[k] <= 1e-9).tolist(), queries[k]
+    normals = surface.face_normals
+    planes = [len(np.unique(np.round(normals[faces], 9), axis=0)) for faces in holding[:12]]
+    assert planes == [3] * 8 + [2, 2, 2, 1]  # corners, edges, one face's diagonal (two triangles)
+    assert len(holding[11]) == 2
+    empty_points, empty_faces = surface.faces_at_closest(np.empty((0, 3)))
+    assert empty_points.shape == (0, 3) and empty_faces == []
+
+
+@pytest.mark.parametrize("bad", [[[np.nan, 0.0, 0.0]], [[1e300, 0.0, 0.0]], [[0.0, 0.0]], "points"])
+def test_faces_at_closest_refuses_bad_points(bad: object) -> None:
+    surface = uavcov.Terrain(BOX, np.array(WALLS))
+    with pytest.raises((uavcov.errors.InvalidInputError, uavcov.errors.InvalidTypeError)):
+        surface.faces_at_closest(bad)
+
+
+def test_the_inward_share_is_orientation_not_position() -> None:
+    # The true surface and copies of it shrunk into it or grown around it, each as is (0) and
+    # inverted (1): a face of S' a little inside a wall with the wall's normal does not face in.
+    box = issue_box()
+    walls = np.array(WALLS)
+    centre = np.array([6.0, 4.5, 8.0])
+    for scale in (1.0, 0.9, 0.5, 1.1):
+        copy = (BOX - centre) * scale + centre
+        assert reconstruction_error(box, uavcov.Terrain(copy, walls), n_samples=4000).inward_area_share == 0.0, scale
+        assert reconstruction_error(box, uavcov.Terrain(copy, walls[:, ::-1]), n_samples=4000).inward_area_share == 1.0, scale
+    # A 0.8 m slab (a deck) and a thinner slab of S' inside it, 0.2 m in from the deck's top and
+    # underside: each face of S' is judged by its normal's way out along its line (0.2 m ahead,
+    # 0.6 m behind), not by the nearest real face alone.
+    deck = np.array([[0, 0, 10], [40, 0, 10], [40, 8, 10], [0, 8, 10], [0, 0, 10.8], [40, 0, 10.8], [40, 8, 10.8], [0, 8, 10.8]], float)
+    ground = np.array([[-20, -20, 0], [60, -20, 0], [60, 30, 0], [-20, 30, 0]], float)
+    bridge = Structure(
+        "deck",
+        uavcov.Terrain(np.vstack([ground, deck]), np.vstack([[[0, 1, 2], [0, 2, 3]], walls + 4])),
+        np.array([0, 0] + [1] * 12),
+        ("ground", "deck"),
+        0,
+    )
+    inner = np.array([[x, y, z] for z in (10.2, 10.6) for x, y in ((1, 1), (39, 1), (39, 7), (1, 7))], float)
+    assert reconstruction_error(bridge, uavcov.Terrain(inner, walls), n_samples=4000).inward_area_share == 0.0
+    assert reconstruction_error(bridge, uavcov.Terrain(inner, walls[:, ::-1]), n_samples=4000).inward_area_share == 1.0
 
 
 DEGENERATE = {

@@ -75,7 +75,7 @@ class StructuresExperiment:
 
     families: tuple[str, ...] = ("building", "girder_bridge", "arch_bridge", "tower", "pylon")
     report_seeds: tuple[int, ...] = (0, 1, 2, 3, 4, 5, 6, 7)
-    dev_seeds: tuple[int, ...] = (1000, 1001)
+    dev_seeds: tuple[int, ...] = (1000, 1001, 1002, 1003)
     n_uavs: int = 8
     d_max: float = 15.0
     h_min: float = 2.0
@@ -83,7 +83,7 @@ class StructuresExperiment:
     ceiling: float = 10.0
     n_prior: int = 100
     iterations: int = 100
-    offsets: tuple[float, ...] = (3.0, 6.0)
+    offsets: tuple[float, ...] = (2.5, 3.0, 4.0, 6.0)
     reference_distances: tuple[float, ...] = (3.0, 6.0, 9.0)
     reference_spacing: float = 3.0
     target_spacing: float = 1.0

@@ -5,11 +5,14 @@ A face of S' *faces into the structure* when its outward normal points into a re
 start flown out along it goes into the structure instead of away from it. Judged at a point
 ``x`` of S' with unit normal ``n``, by where ``x`` lies:
 
-- **outside the real solids, or on their surface**: against the outward normal of the real
-  surface at the point nearest to ``x`` (the engine's :meth:`~uavcov.Terrain.faces_at_closest`;
-  where several triangles hold that point, the one agreeing best with ``n``, so that two solids
-  touching face to face, or an edge, do not pick the wrong side at random). ``n`` faces in when
-  it points against it (``n . m < 0``): towards the solid ``x`` stands in front of.
+- **outside the real solids**: against the way out there, the direction ``g`` from the nearest
+  point of the real surface to ``x`` (the gradient of the signed distance; the outward face
+  normal in front of a face, between two faces' normals beside an edge). ``n`` faces in when it
+  points against it (``n . g < 0``): towards the solid ``x`` stands in front of.
+- **on the real surface** (``x`` within rounding of it): against the outward normals of the
+  triangles holding ``x`` (the engine's :meth:`~uavcov.Terrain.faces_at_closest`), the one
+  agreeing best with ``n``, so that where two solids touch face to face the wrong side is not
+  picked at random.
 - **inside a real solid** (S' bulging into a part): the nearest real face is no guide there (in
   a 0.8 m deck a point below the middle is nearer the underside whatever S' approximates), so
   the normal is judged by the way out along its own line: ``n`` faces in when the solid
@@ -45,9 +48,14 @@ def facing_into(solid: Terrain, points: np.ndarray, normals: np.ndarray) -> np.n
     (n,) bool ndarray
     """
     unit = solid.face_normals
-    _, holding = solid.faces_at_closest(points, n_threads=1)
+    closest, holding = solid.faces_at_closest(points, n_threads=1)
     agreement = np.array([float((unit[faces] @ n).max()) if faces.size else 0.0 for faces, n in zip(holding, normals, strict=True)])
-    into = agreement < 0.0
+    away = points - closest
+    distance = np.linalg.norm(away, axis=1)
+    # Off the surface the way out is the direction from the nearest point (the signed distance's
+    # gradient: at an edge or a corner, between its faces' normals); on it, the faces' own.
+    apart = distance > 1e-9 * max(1.0, float(np.abs(solid.bounds).max()))
+    into = np.where(apart, np.einsum("ij,ij->i", away, normals) < 0.0, agreement < 0.0)
     inside = solid.inside(points, n_threads=1)
     if inside.any():
         origin, direction = points[inside], normals[inside]

@@ -155,8 +155,8 @@ mod tests {
         // Inside a face, on an edge (two triangles of one face and two of the next), at a
         // corner, and on a face's diagonal.
         for (q, expected) in [
-            ([0.3, 0.6, 4.0], vec![2_usize]),
-            ([0.5, -3.0, -3.0], vec![0, 1, 4]),
+            ([0.3, 0.6, 4.0], vec![3_usize]),
+            ([0.5, -3.0, -3.0], vec![1, 4]),
             ([2.0, 2.0, 2.0], vec![2, 3, 6, 7, 10, 11]),
             ([0.5, 0.5, 5.0], vec![2, 3]),
         ] {
