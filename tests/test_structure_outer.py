@@ -257,3 +257,57 @@ def test_a_family_written_to_a_mesh_file_goes_through_the_same_pipeline(tmp_path
     pick = np.where(clear.any(axis=0), clear.argmax(axis=0), outside.argmax(axis=0))
     assert np.allclose(start.positions, trials[pick, np.arange(8)])
     assert "structure" in loaded.part_names and loaded.surface.n_faces > solid.shape[0]
+
+
+def test_fly_out_stays_over_the_ground_and_out_of_what_the_known_points_put_inside() -> None:
+    # A box S' standing on the ground at z = 0: a generator on its bottom is flown down; with the
+    # floor it is raised to the standoff over the ground instead (and, under the box, is inside
+    # S' there, so it is flown on or lifted); keep_out marks a slab beside the box as solid.
+    surface = uavcov.Terrain(BOX, np.array(WALLS))
+    anchors = np.array([[11.9, 4.5, 0.0], [12.0, 4.5, 8.0], [6.0, 9.0, 8.0]])
+    normals = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    free, _ = fly_out(surface, anchors, normals, 2.0)
+    assert free[0, 2] < 0.0  # without the floor: under the ground
+    positions, lifted = fly_out(surface, anchors, normals, 2.0, floor=0.0)
+    assert (positions[:, 2] >= 2.0 - 1e-12).all() and not surface.inside(positions).any()
+    assert np.allclose(positions[1:], [[14.0, 4.5, 8.0], [6.0, 11.0, 8.0]])
+
+    def slab(points: np.ndarray) -> np.ndarray:
+        return np.asarray((points[:, 0] > 12.5) & (points[:, 0] < 15.5), dtype=bool)
+
+    kept, _ = fly_out(surface, anchors, normals, 2.0, floor=0.0, keep_out=slab)
+    assert not slab(kept).any() and np.allclose(kept[1], [16.0, 4.5, 8.0])  # 2 standoffs out: past the slab
+    with pytest.raises(InvalidInputError, match="keep_out"):
+        fly_out(surface, anchors, normals, 2.0, keep_out=lambda p: np.zeros(len(p)))  # not bool
+    with pytest.raises(InvalidInputError):
+        fly_out(surface, anchors, normals, 2.0, floor=float("nan"))
+
+
+def test_the_known_points_vote_inside_the_box_and_not_outside() -> None:
+    prior = sample_structure_prior(issue_box(), 100, rng=0)
+    inside = prior.behind([[6.0, 4.5, 8.0], [1.0, 1.0, 1.0], [11.0, 8.0, 15.0]])
+    outside = prior.behind([[6.0, 4.5, 20.0], [-3.0, 4.5, 8.0], [6.0, 12.0, 8.0], [15.0, 12.0, 18.0]])
+    assert inside.all() and not outside.any()
+    assert prior.behind(np.empty((0, 3))).shape == (0,)
+    bare = StructurePrior(prior.points, None, "points")
+    assert not bare.behind([[6.0, 4.5, 8.0]]).any()  # no normals, no evidence
+    with pytest.raises(InvalidInputError):
+        prior.behind([[np.nan, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize("family", sorted(STRUCTURE_FAMILIES))
+def test_the_3d_start_stays_out_of_the_real_structure_on_development_seeds(family: str) -> None:
+    # The mission's own start (CVT on S', flown out with the floor and the known points' vote),
+    # on development seeds only, judged against the real structure it does not know.
+    from uavcov.limits import Constraints
+    from uavcov.placement import StartSettings, start_configuration
+
+    for seed in (1000, 1001):
+        structure = STRUCTURE_FAMILIES[family](rng=seed)
+        prior = sample_structure_prior(structure, 100, rng=seed)
+        surface = reconstruct_structure(prior, rng=seed)
+        spec = StartSettings(kind="cvt", altitude=3.0, altitude_reference="normal")
+        limits = Constraints(clearance="standoff", h_min=2.0, check_moves=True)
+        positions, _ = start_configuration(spec, surface, structure.surface, 8, rng=seed, constraints=limits, keep_out=prior.behind)
+        assert not structure.surface.inside(positions).any(), (family, seed)
+        assert (positions[:, 2] >= structure.surface.bounds[0, 2] + 3.0 - 1e-9).all()
