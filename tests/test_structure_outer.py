@@ -268,7 +268,7 @@ def test_fly_out_stays_over_the_ground_and_out_of_what_the_known_points_put_insi
     normals = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     free, _ = fly_out(surface, anchors, normals, 2.0)
     assert free[0, 2] < 0.0  # without the floor: under the ground
-    positions, lifted = fly_out(surface, anchors, normals, 2.0, floor=0.0)
+    positions, _ = fly_out(surface, anchors, normals, 2.0, floor=0.0)
     assert (positions[:, 2] >= 2.0 - 1e-12).all() and not surface.inside(positions).any()
     assert np.allclose(positions[1:], [[14.0, 4.5, 8.0], [6.0, 11.0, 8.0]])
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._sensors import Camera, Gimbal, Sensor, camera_axes, gimbal_pitch_limits, pack_sensors
-from ._surface import GridInfo, Terrain, as_mesh_surface
+from ._surface import GridInfo, Terrain, as_mesh_surface, degenerate_faces
 from ._targets import Targets
 from ._visibility import CoverageTracker, UavCounts, Visibility, coverage
 
@@ -17,6 +17,7 @@ __all__ = [
     "Terrain",
     "GridInfo",
     "as_mesh_surface",
+    "degenerate_faces",
     "Targets",
     "Visibility",
     "CoverageTracker",

@@ -103,7 +103,7 @@ class Terrain:
         if f.min() < 0 or f.max() >= v.shape[0]:
             raise MeshError(f"face indices must lie in [0, {v.shape[0]}), found {f.min()}..{f.max()}")
         if drop_degenerate:
-            f = f[~_degenerate_faces(v, f)]
+            f = f[~degenerate_faces(v, f)]
             if f.shape[0] == 0:
                 raise MeshError("every face of the mesh is degenerate (zero area)")
         self._init(_core.Surface(v, f), None)
@@ -633,8 +633,23 @@ def _pair(value: Any, name: str, *, positive: bool) -> tuple[float, float]:
     return (check(values[0], name), check(values[1], name))
 
 
-def _degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Faces whose area is zero relative to the mesh size (the rule the Rust core enforces)."""
+def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Which faces have zero area relative to the mesh's size: the rule the Rust core enforces,
+    so a mesh cleaned by it is never refused (a Terrain cannot be built to ask it first).
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64 ndarray
+        Finite, metres.
+    faces : (F, 3) int64 ndarray
+        Indices into ``vertices``.
+
+    Returns
+    -------
+    (F,) bool ndarray
+        Area at most ``1e-13`` times the squared diagonal of the vertices' bounding box (ten
+        times the core's threshold, so rounding never lets one through to it).
+    """
     a, b, c = (vertices[faces[:, k]] for k in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     diagonal = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))

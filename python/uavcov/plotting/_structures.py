@@ -133,7 +133,7 @@ def plot_structure_seen(
         face = np.arange(surface.n_faces)
     colours = _blend(share[face], UNSEEN_COLOUR, SEEN_COLOUR)
     above_ground = ~ground_mask[face]
-    facing = np.cross(polys[:, 1] - polys[:, 0], polys[:, 2] - polys[:, 0])
+    facing = surface.face_normals[face]  # each drawn polygon's face, the engine's normal
 
     _matplotlib()
     from matplotlib.figure import Figure

@@ -263,7 +263,7 @@ def _outline_edges(surface: Terrain, max_all: int = 600) -> tuple[np.ndarray, st
     owner = np.tile(np.arange(faces.shape[0]), 3)
     order = np.argsort(inverse, kind="stable")
     first = np.searchsorted(inverse[order], np.arange(unique.shape[0]))
-    normals = _normals(np.asarray(surface.vertices)[faces])
+    normals = np.asarray(surface.face_normals)
     pair = counts == 2
     a = owner[order[first[pair]]]
     b = owner[order[first[pair] + 1]]

@@ -218,7 +218,7 @@ def _fill_against_normals(points: np.ndarray, normals: np.ndarray, tetra: np.nda
                 continue
             triangle = tetra[face][:, list(corners)]
             a = points[triangle[:, 0]]
-            normal = np.cross(points[triangle[:, 1]] - a, points[triangle[:, 2]] - a)
+            normal, _ = face_normals(points, triangle)
             # Outward: away from the solid tetrahedron's own corner off the face.
             normal[np.einsum("ij,ij->i", normal, points[tetra[face, k]] - a) > 0] *= -1.0
             contradicted = (np.einsum("ij,itj->it", normal, normals[triangle]) < 0.0).any(axis=1)
@@ -255,7 +255,7 @@ def _boundary(points: np.ndarray, tetra: np.ndarray, neighbours: np.ndarray, sol
         inner[-1] = np.where((across >= 0)[:, None], inner[-1], middle)
     faces = np.concatenate(tri)
     a = points[faces[:, 0]]
-    normal = np.cross(points[faces[:, 1]] - a, points[faces[:, 2]] - a)
+    normal, _ = face_normals(points, faces)
     towards_solid = np.einsum("ij,ij->i", normal, np.concatenate(inner) - a)
     towards_outside = np.einsum("ij,ij->i", normal, np.nan_to_num(np.concatenate(outer) - a))
     inward = np.where(np.abs(towards_solid) >= np.abs(towards_outside), towards_solid > 0, towards_outside < 0)

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..engine import Terrain
+
 
 @dataclass(frozen=True)
 class Piece:
@@ -31,11 +33,12 @@ def signed_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
 
 
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit right-hand normals ``(F, 3)`` and areas ``(F,)`` of the faces."""
-    a, b, c = (vertices[faces[:, k]] for k in range(3))
-    cross = np.cross(b - a, c - a)
-    double_area = np.linalg.norm(cross, axis=1)
-    return cross / np.where(double_area > 0, double_area, 1.0)[:, None], 0.5 * double_area
+    """Unit right-hand normals ``(F, 3)`` (zero for a degenerate face) and areas ``(F,)`` of the
+    faces, from the engine (the one owner of mesh geometry)."""
+    if not faces.shape[0]:
+        return np.empty((0, 3)), np.empty(0)
+    surface = Terrain(vertices, faces)
+    return np.array(surface.face_normals), np.array(surface.face_areas)
 
 
 def _outward(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

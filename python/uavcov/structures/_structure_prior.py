@@ -239,7 +239,7 @@ def _cluster_hulls(points: np.ndarray, clusters: int | None, generator: np.rando
         except QhullError:
             continue
         tri = hull.simplices.copy()
-        normal = np.cross(member[tri[:, 1]] - member[tri[:, 0]], member[tri[:, 2]] - member[tri[:, 0]])
+        normal, _ = face_normals(member, tri)
         inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
         tri[inward] = tri[inward][:, ::-1]
         vertices.append(member)

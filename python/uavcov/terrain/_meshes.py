@@ -20,7 +20,7 @@ from .._validate import (
     as_positive_float,
     existing_path,
 )
-from ..engine import Terrain
+from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError, MeshError, MissingExtraError
 from ._frame import LocalFrame
 
@@ -143,14 +143,11 @@ def clean_mesh(vertices: Any, faces: Any) -> tuple[np.ndarray, np.ndarray, MeshR
     merged = points.shape[0] - unique_points.shape[0]
     triangles = inverse[triangles]
 
-    a, b, c = (unique_points[triangles[:, k]] for k in range(3))
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
-    diagonal = float(np.linalg.norm(unique_points.max(axis=0) - unique_points.min(axis=0)))
     t0, t1, t2 = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     repeated = (t0 == t1) | (t1 == t2) | (t0 == t2)
     # The zero-area rule of Terrain (relative to the bounding-box diagonal), so that nothing
     # this keeps is refused there.
-    degenerate = repeated | (area <= 1e-13 * diagonal * diagonal)
+    degenerate = repeated | degenerate_faces(unique_points, triangles)
     triangles = triangles[~degenerate]
     if triangles.shape[0] == 0:
         raise MeshError("every face of the mesh is degenerate (zero area)")
