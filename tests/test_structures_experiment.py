@@ -55,7 +55,12 @@ def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Pa
         handle.write('{"family": "pylon", "start": "cvt3')
     resumed = reproduce_structures(cut, SMALL, resume=True)
     assert _without_time(resumed) == _without_time(whole)
-    assert (cut / "structures.md").read_text(encoding="utf-8").count("| pylon |") == 1
+    report = (cut / "structures.md").read_text(encoding="utf-8")
+    assert report.count("| pylon |") == 2 and report.count("| all |") == 1  # the table and why it falls short
+    # Every row says which parts it saw; greedy's also each part's share of the targets.
+    assert all(r["parts"] for r in resumed)
+    weights = next(r for r in resumed if r["start"] == "greedy")["part_weights"]
+    assert abs(sum(weights.values()) - 1.0) < 1e-12
 
 
 def test_a_used_folder_needs_resume_and_the_same_settings(tmp_path: Path) -> None:

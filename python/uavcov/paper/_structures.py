@@ -129,14 +129,18 @@ def _reference(experiment: StructuresExperiment, family: str, seed: int) -> dict
     candidates = viewpoint_offsets(
         structure.surface, limits, experiment.reference_distances, spacing=experiment.reference_spacing, n_threads=1
     )
-    placed = greedy_placement(
-        Visibility(structure.surface, experiment.d_max, targets, n_threads=1),
-        candidates,
-        experiment.n_uavs,
-        d_safe=experiment.d_safe,
-        n_threads=1,
-    )
-    return {"coverage": placed.coverage, "bound": placed.bound, "candidates": placed.n_candidates}
+    vis = Visibility(structure.surface, experiment.d_max, targets, n_threads=1)
+    placed = greedy_placement(vis, candidates, experiment.n_uavs, d_safe=experiment.d_safe, n_threads=1)
+    seen = np.asarray(vis.seen(np.ascontiguousarray(placed.positions)), dtype=bool)
+    total = float(targets.weights.sum())
+    weights = {name: float(targets.weights[targets.parts == k].sum()) / total for k, name in enumerate(structure.part_names)}
+    return {
+        "coverage": placed.coverage,
+        "bound": placed.bound,
+        "candidates": placed.n_candidates,
+        "parts": structure.coverage_by_part(seen, targets),
+        "part_weights": {name: w for name, w in weights.items() if w > 0.0},
+    }
 
 
 def _mission(experiment: StructuresExperiment, family: str, start: str, seed: int, offset: float) -> dict[str, Any]:
@@ -164,6 +168,7 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         "initial": result.initial_coverage,
         "best": result.best_coverage,
         "inside_before": int(structure.surface.inside(result.start_positions, n_threads=1).sum()),
+        "parts": dict(result.coverage_by_part or {}),
     }
     if start == "cvt3d":
         # The S' the start was placed on.

@@ -25,14 +25,26 @@ def _by_seed(rows: list[dict[str, Any]], family: str, start: str) -> dict[int, d
     return {r["seed"]: r for r in rows if r["family"] == family and r["start"] == start and not r["error"]}
 
 
-def family_summary(rows: list[dict[str, Any]], family: str) -> dict[str, Any]:
-    """The numbers of one family's line: paired over the seeds where all three runs finished."""
-    three, flat, greedy = (_by_seed(rows, family, s) for s in ("cvt3d", "cvt_hf", "greedy"))
-    seeds = sorted(set(three) & set(flat) & set(greedy))
-    best3 = np.array([three[s]["best"] for s in seeds])
-    best_hf = np.array([flat[s]["best"] for s in seeds])
-    reference = np.array([greedy[s]["coverage"] for s in seeds])
-    bound = np.array([greedy[s]["bound"] for s in seeds])
+def _triples(rows: list[dict[str, Any]], families: list[str]) -> list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]]:
+    """(cvt3d, cvt_hf, greedy) rows of each seed of ``families`` where all three finished."""
+    out = []
+    for family in families:
+        three, flat, greedy = (_by_seed(rows, family, s) for s in ("cvt3d", "cvt_hf", "greedy"))
+        out += [(three[s], flat[s], greedy[s]) for s in sorted(set(three) & set(flat) & set(greedy))]
+    return out
+
+
+def family_summary(rows: list[dict[str, Any]], family: str | list[str]) -> dict[str, Any]:
+    """The numbers of one family's line (or of several families' pairs pooled): paired over the
+    seeds where all three runs finished."""
+    families = [family] if isinstance(family, str) else list(family)
+    triples = _triples(rows, families)
+    seeds = triples
+    three = [t for t, _, _ in triples]
+    best3 = np.array([t["best"] for t, _, _ in triples])
+    best_hf = np.array([f["best"] for _, f, _ in triples])
+    reference = np.array([g["coverage"] for _, _, g in triples])
+    bound = np.array([g["bound"] for _, _, g in triples])
     mean, low, high = paired_interval(best3, best_hf)
     return {
         "seeds": len(seeds),
@@ -46,11 +58,54 @@ def family_summary(rows: list[dict[str, Any]], family: str) -> dict[str, Any]:
         "of_greedy_hf": float(np.mean(best_hf / reference)) if seeds else math.nan,
         "greedy": float(reference.mean()) if seeds else math.nan,
         "bound": float(bound.mean()) if seeds else math.nan,
-        "inside_3d": sum(r["inside_before"] for r in three.values()),
-        "inside_hf": sum(r["inside_before"] for r in flat.values()),
-        "inward_mean": float(np.mean([r["inward_share"] for r in three.values()])) if three else math.nan,
-        "inward_max": float(np.max([r["inward_share"] for r in three.values()])) if three else math.nan,
-        "errors": sum(1 for r in rows if r["family"] == family and r["error"]),
+        "inside_3d": sum(r["inside_before"] for r in _all(rows, families, "cvt3d")),
+        "inside_hf": sum(r["inside_before"] for r in _all(rows, families, "cvt_hf")),
+        "inward_mean": float(np.mean([r["inward_share"] for r in three])) if three else math.nan,
+        "inward_max": float(np.max([r["inward_share"] for r in three])) if three else math.nan,
+        "errors": sum(1 for r in rows if r["family"] in families and r["error"]),
+    }
+
+
+def _all(rows: list[dict[str, Any]], families: list[str], start: str) -> list[dict[str, Any]]:
+    return [r for r in rows if r["family"] in families and r["start"] == start and not r["error"]]
+
+
+def shortfall(rows: list[dict[str, Any]], family: str) -> dict[str, Any]:
+    """Why the 3D start falls short of the full-knowledge greedy on one family (measured).
+
+    The initial coverage of both starts and its paired interval, what CAO added to each, and
+    the part whose coverage falls most short of greedy's, weighted by its share of the
+    structure's targets (the part's contribution to the gap), with the 3D start's and greedy's
+    coverage of it.
+    """
+    triples = _triples(rows, [family])
+    initial3 = np.array([t["initial"] for t, _, _ in triples])
+    initial_hf = np.array([f["initial"] for _, f, _ in triples])
+    mean, low, high = paired_interval(initial3, initial_hf)
+    gaps: dict[str, list[float]] = {}
+    cover3: dict[str, list[float]] = {}
+    cover_g: dict[str, list[float]] = {}
+    for t, _, g in triples:
+        weights = g.get("part_weights", {})
+        for part, weight in weights.items():
+            if part in t.get("parts", {}) and part in g.get("parts", {}):
+                gaps.setdefault(part, []).append(weight * (g["parts"][part] - t["parts"][part]))
+                cover3.setdefault(part, []).append(t["parts"][part])
+                cover_g.setdefault(part, []).append(g["parts"][part])
+    worst = max(gaps, key=lambda p: float(np.mean(gaps[p]))) if gaps else ""
+    return {
+        "initial_3d": float(initial3.mean()) if triples else math.nan,
+        "initial_hf": float(initial_hf.mean()) if triples else math.nan,
+        "initial_gain": mean,
+        "initial_low": low,
+        "initial_high": high,
+        "cao_3d": float(np.mean([t["best"] - t["initial"] for t, _, _ in triples])) if triples else math.nan,
+        "cao_hf": float(np.mean([f["best"] - f["initial"] for _, f, _ in triples])) if triples else math.nan,
+        "gap": float(np.mean([g["coverage"] - t["best"] for t, _, g in triples])) if triples else math.nan,
+        "worst_part": worst,
+        "worst_gap": float(np.mean(gaps[worst])) if worst else math.nan,
+        "worst_3d": float(np.mean(cover3[worst])) if worst else math.nan,
+        "worst_greedy": float(np.mean(cover_g[worst])) if worst else math.nan,
     }
 
 
@@ -79,12 +134,34 @@ def report_markdown(experiment: Any, chosen: dict[str, float], rows: list[dict[s
         ),
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for family in experiment.families:
+    for family in [*experiment.families, list(experiment.families)]:
         s = family_summary(rows, family)
         lines.append(
-            f"| {family} | {s['seeds']} | {s['cvt3d']:.3f} | {s['cvt_hf']:.3f} | {s['gain']:+.3f} [{s['low']:+.3f}, {s['high']:+.3f}] "
+            f"| {'all' if isinstance(family, list) else family} | {s['seeds']} | {s['cvt3d']:.3f} | {s['cvt_hf']:.3f} "
+            f"| {s['gain']:+.3f} [{s['low']:+.3f}, {s['high']:+.3f}] "
             f"| {s['of_greedy_3d']:.3f} | {s['of_bound_3d']:.3f} | {s['of_greedy_hf']:.3f} | {s['greedy']:.3f} | {s['bound']:.3f} "
             f"| {s['inside_3d']} / {s['inside_hf']} | {100 * s['inward_mean']:.2f} % / {100 * s['inward_max']:.2f} % | {s['errors']} |"
+        )
+    lines += [
+        "",
+        (
+            "Where the 3D start stays short of greedy (means over the report seeds): each start's initial coverage and the paired "
+            "interval of 3D - HF on it, what CAO added to each, the gap to greedy, and the part contributing most to it (its share "
+            "of the targets times greedy's coverage of it minus the 3D start's best; the two coverages beside it)."
+        ),
+        "",
+        (
+            "| family | initial 3D | initial HF | initial 3D - HF [95 % CI] | CAO added 3D | CAO added HF | greedy - 3D "
+            "| part most missed: gap (3D / greedy) |"
+        ),
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for family in experiment.families:
+        w = shortfall(rows, family)
+        lines.append(
+            f"| {family} | {w['initial_3d']:.3f} | {w['initial_hf']:.3f} | {w['initial_gain']:+.3f} [{w['initial_low']:+.3f}, "
+            f"{w['initial_high']:+.3f}] | {w['cao_3d']:+.3f} | {w['cao_hf']:+.3f} | {w['gap']:+.3f} | {w['worst_part'] or '-'}: "
+            f"{w['worst_gap']:+.3f} ({w['worst_3d']:.3f} / {w['worst_greedy']:.3f}) |"
         )
     errors = [r for r in rows + dev_rows if r["error"]]
     if errors:
