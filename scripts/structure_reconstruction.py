@@ -124,7 +124,7 @@ def table() -> str:
         f"prior seeds {', '.join(map(str, PRIOR_SEEDS))}; H(S->S') is the farthest a point of the structure is from S' "
         "(what S' misses), H(S'->S) the farthest a point of S' is from the structure (what it invents), mean the mean "
         "of the two mean distances, area the area of S' over the structure's, inward the share of S''s area whose normal "
-        "opposes the nearest true face's (reconstruction_error.inward_area_share). "
+        "points into a real solid (reconstruction_error.inward_area_share; see the notes). "
         + ("Open3D's methods were measured (open3d installed)." if has_open3d else "Open3D is not installed: its methods are left out."),
         "",
         "| scene | prior | method | H(S->S') m | H(S'->S) m | mean m | area S'/S | inward |",
