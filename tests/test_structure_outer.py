@@ -124,6 +124,9 @@ def test_the_faces_at_the_closest_point_are_every_face_a_brute_force_finds_there
     planes = [len(np.unique(np.round(normals[faces], 9), axis=0)) for faces in holding[:12]]
     assert planes == [3] * 8 + [2, 2, 2, 1]  # corners, edges, one face's diagonal (two triangles)
     assert len(holding[11]) == 2
+    one, by_one = surface.faces_at_closest(queries, n_threads=1)
+    four, by_four = surface.faces_at_closest(queries, n_threads=4)
+    assert np.array_equal(one, four) and all(np.array_equal(a, b) for a, b in zip(by_one, by_four, strict=True))
     empty_points, empty_faces = surface.faces_at_closest(np.empty((0, 3)))
     assert empty_points.shape == (0, 3) and empty_faces == []
 
