@@ -18,6 +18,10 @@ known points, a 2 m standoff, every move checked), two starts, each one
     (:func:`~uavcov.placement.fly_out`), greedy picks by the coverage each adds on S' (the
     structure's ``"greedy"`` start). It tells the prior from the CVT's objective (generators
     spread evenly over S', not placed for coverage).
+``cvt_true``
+    A diagnostic: ``cvt3d`` with the real structure's solid surface in place of S' (a perfect
+    prior), at ``cvt3d``'s chosen offset (none of its own to choose). It tells what the CVT's
+    objective reaches when the prior is not the limit.
 
 Per structure, the full-knowledge reference: greedy on viewpoints 3, 6 and 9 m out along the
 *true* structure's normals (:func:`~uavcov.cover.viewpoint_offsets`), the same team and
@@ -48,6 +52,8 @@ import numpy as np
 from ..errors import ConfigError, UavcovError
 
 STARTS = ("cvt3d", "cvt_hf", "greedy3d")
+DIAGNOSTICS = {"cvt_true": "cvt3d"}
+"""Report-only starts, each run at the offset chosen for the start it names."""
 CANDIDATE_STARTS = ("greedy3d",)
 """The starts with a candidate spacing on S' to choose besides the offset."""
 REFERENCE = "greedy"
@@ -182,7 +188,11 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         constraints=limits,
     )
     targets = structure.targets(spacing=experiment.target_spacing)
-    known = sample_prior(structure.surface, experiment.n_prior, kind="random", rng=seed) if start == "cvt_hf" else None
+    known: Any = None
+    if start == "cvt_hf":
+        known = sample_prior(structure.surface, experiment.n_prior, kind="random", rng=seed)
+    elif start == "cvt_true":
+        known = _true_solid(structure)
     result = run_mission(structure, settings, known=known, targets=targets, rng=seed, n_threads=1)
     row: dict[str, Any] = {
         "initial": result.initial_coverage,
@@ -190,10 +200,18 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         "inside_before": int(structure.surface.inside(result.start_positions, n_threads=1).sum()),
         "parts": dict(result.coverage_by_part or {}),
     }
-    if start != "cvt_hf":
+    if start in ("cvt3d", "greedy3d"):
         # The S' the start was placed on.
         row["inward_share"] = reconstruction_error(structure, result.approximation, n_samples=4000, rng=seed).inward_area_share
     return row
+
+
+def _true_solid(structure: Any) -> Any:
+    """The real structure's surface without its ground sheet (``cvt_true``'s S')."""
+    from ..engine import Terrain
+    from ..structures._structure_prior import _solid_faces
+
+    return Terrain(structure.surface.vertices, structure.surface.faces[_solid_faces(structure)])
 
 
 def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
@@ -334,7 +352,8 @@ def _dev_tasks(experiment: StructuresExperiment) -> list[Task]:
 
 
 def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, tuple[float, float]]) -> list[Task]:
-    tasks = [(f, s, seed, *chosen[s]) for f in experiment.families for seed in experiment.report_seeds for s in STARTS]
+    settings = {**chosen, **{d: chosen[s] for d, s in DIAGNOSTICS.items()}}
+    tasks = [(f, s, seed, *settings[s]) for f in experiment.families for seed in experiment.report_seeds for s in settings]
     return tasks + [(f, REFERENCE, seed, 0.0, 0.0) for f in experiment.families for seed in experiment.report_seeds]
 
 
