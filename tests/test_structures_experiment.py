@@ -43,10 +43,11 @@ def _without_time(rows: list[dict]) -> list[dict]:
 
 def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Path) -> None:
     whole = reproduce_structures(tmp_path / "whole", SMALL)
-    assert len(whole) == 5 and not any(r["error"] for r in whole)
-    assert {r["start"] for r in whole} == {"cvt3d", "cvt_hf", "greedy3d", "cvt_true", "greedy"}
-    # The diagnostic takes the CVT on S''s offset and is run on the report seed only.
-    assert next(r for r in whole if r["start"] == "cvt_true")["offset"] == 6.0
+    assert len(whole) == 6 and not any(r["error"] for r in whole)
+    assert {r["start"] for r in whole} == {"cvt3d", "cvt_hf", "greedy3d", "cvt_true", "greedy_true", "greedy"}
+    # The diagnostics take the settings chosen on S' and run on the report seed only.
+    settings = {r["start"]: (r["offset"], r["spacing"]) for r in whole}
+    assert settings["cvt_true"] == settings["cvt3d"] and settings["greedy_true"] == settings["greedy3d"] == (6.0, 6.0)
     cut = tmp_path / "cut"
     child = subprocess.Popen([sys.executable, "-c", CHILD, str(cut)])
     rows = cut / "rows.jsonl"
@@ -66,8 +67,8 @@ def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Pa
     resumed = reproduce_structures(cut, SMALL, resume=True)
     assert _without_time(resumed) == _without_time(whole)
     report = (cut / "structures.md").read_text(encoding="utf-8")
-    # The table (three 3D starts), greedy on S' against the CVT, and why each falls short.
-    assert report.count("| pylon |") == 7 and report.count("| all |") == 4
+    # The table (four 3D starts), greedy on S' against the CVT, and why each falls short.
+    assert report.count("| pylon |") == 9 and report.count("| all |") == 5
     # Every row says which parts it saw; greedy's also each part's share of the targets.
     assert all(r["parts"] for r in resumed)
     weights = next(r for r in resumed if r["start"] == "greedy")["part_weights"]

@@ -18,10 +18,10 @@ known points, a 2 m standoff, every move checked), two starts, each one
     (:func:`~uavcov.placement.fly_out`), greedy picks by the coverage each adds on S' (the
     structure's ``"greedy"`` start). It tells the prior from the CVT's objective (generators
     spread evenly over S', not placed for coverage).
-``cvt_true``
-    A diagnostic: ``cvt3d`` with the real structure's solid surface in place of S' (a perfect
-    prior), at ``cvt3d``'s chosen offset (none of its own to choose). It tells what the CVT's
-    objective reaches when the prior is not the limit.
+``cvt_true``, ``greedy_true``
+    Diagnostics: ``cvt3d`` and ``greedy3d`` with the real structure's solid surface in place of
+    S' (a perfect prior), at the settings chosen for them (none of their own to choose). They
+    tell what each start's objective reaches when the prior is not the limit.
 
 Per structure, the full-knowledge reference: greedy on viewpoints 3, 6 and 9 m out along the
 *true* structure's normals (:func:`~uavcov.cover.viewpoint_offsets`), the same team and
@@ -52,9 +52,9 @@ import numpy as np
 from ..errors import ConfigError, UavcovError
 
 STARTS = ("cvt3d", "cvt_hf", "greedy3d")
-DIAGNOSTICS = {"cvt_true": "cvt3d"}
+DIAGNOSTICS = {"cvt_true": "cvt3d", "greedy_true": "greedy3d"}
 """Report-only starts, each run at the offset chosen for the start it names."""
-CANDIDATE_STARTS = ("greedy3d",)
+CANDIDATE_STARTS = ("greedy3d", "greedy_true")
 """The starts with a candidate spacing on S' to choose besides the offset."""
 REFERENCE = "greedy"
 ROWS = "rows.jsonl"
@@ -191,7 +191,7 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
     known: Any = None
     if start == "cvt_hf":
         known = sample_prior(structure.surface, experiment.n_prior, kind="random", rng=seed)
-    elif start == "cvt_true":
+    elif start in DIAGNOSTICS:
         known = _true_solid(structure)
     result = run_mission(structure, settings, known=known, targets=targets, rng=seed, n_threads=1)
     row: dict[str, Any] = {
@@ -207,7 +207,7 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
 
 
 def _true_solid(structure: Any) -> Any:
-    """The real structure's surface without its ground sheet (``cvt_true``'s S')."""
+    """The real structure's surface without its ground sheet (the diagnostics' S')."""
     from ..engine import Terrain
     from ..structures._structure_prior import _solid_faces
 

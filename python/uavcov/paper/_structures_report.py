@@ -25,10 +25,16 @@ def _by_seed(rows: list[dict[str, Any]], family: str, start: str) -> dict[int, d
     return {r["seed"]: r for r in rows if r["family"] == family and r["start"] == start and not r["error"]}
 
 
-THREE_D = ("cvt3d", "greedy3d", "cvt_true")
-"""The 3D starts (the 3D prior's two, and the CVT on the true surface), each paired with the
+THREE_D = ("cvt3d", "greedy3d", "cvt_true", "greedy_true")
+"""The 3D starts (the 3D prior's two, and both on the true surface), each paired with the
 height-field prior's (``cvt_hf``)."""
-NAMES = {"cvt3d": "CVT on S'", "greedy3d": "greedy on S'", "cvt_true": "CVT on the true surface", "cvt_hf": "height-field CVT"}
+NAMES = {
+    "cvt3d": "CVT on S'",
+    "greedy3d": "greedy on S'",
+    "cvt_true": "CVT on the true surface",
+    "greedy_true": "greedy on the true surface",
+    "cvt_hf": "height-field CVT",
+}
 
 
 def _triples(rows: list[dict[str, Any]], families: list[str], start: str) -> list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]]:
@@ -159,8 +165,8 @@ def report_markdown(experiment: Any, chosen: dict[str, Any], rows: list[dict[str
             f"{experiment.d_safe:g} m, every move checked, {experiment.iterations} iterations. Full knowledge: greedy on viewpoints "
             f"{list(experiment.reference_distances)} m out along the true normals, with its certified bound. Two starts on the 3D "
             "prior's S': the CVT's generators, and greedy's picks by the coverage each adds on S' (the reference's greedy on what "
-            "the start knows); and, to tell the prior from the CVT's objective, the CVT on the true structure's surface (a perfect "
-            "prior) at the offset chosen for the CVT on S'. Each against the height-field prior's CVT start (HF) on the same seeds."
+            "the start knows); and, to tell the prior from each start's objective, both on the true structure's surface (a perfect "
+            "prior) with the settings chosen for them on S'. Each against the height-field prior's CVT start (HF) on the same seeds."
         ),
         "",
         (
