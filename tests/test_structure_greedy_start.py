@@ -93,4 +93,4 @@ def test_bad_greedy_starts_are_clear_errors() -> None:
     with pytest.raises(InfeasibleError):
         structure_greedy_start(_spec(), surface, box.surface, 8, 15.0, Constraints(clearance="standoff", z_max=1.0))
     with pytest.raises(InfeasibleError):
-        structure_greedy_start(_spec(spacing=30.0), surface, box.surface, 50, 15.0, LIMITS)
+        structure_greedy_start(_spec(spacing=30.0), surface, box.surface, 300, 15.0, LIMITS)
