@@ -209,9 +209,9 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
 def _true_solid(structure: Any) -> Any:
     """The real structure's surface without its ground sheet (the diagnostics' S')."""
     from ..engine import Terrain
-    from ..structures._structure_prior import _solid_faces
 
-    return Terrain(structure.surface.vertices, structure.surface.faces[_solid_faces(structure)])
+    ground = -1 if structure.ground_part is None else structure.ground_part
+    return Terrain(structure.surface.vertices, structure.surface.faces[structure.face_parts != ground])
 
 
 def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
