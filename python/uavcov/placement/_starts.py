@@ -172,7 +172,7 @@ class StartSettings:
 
     Attributes
     ----------
-    kind : {"cvt", "random", "corner", "pairs", "launch_pad"}, default "cvt"
+    kind : {"cvt", "random", "corner", "pairs", "greedy", "launch_pad"}, default "cvt"
         The initialisation (see the module docstring); computed on S'. ``"launch_pad"`` only
         with ``altitude_reference="normal"``, ``"corner"`` and ``"pairs"`` only without.
     altitude : float, default 5.0
@@ -182,7 +182,9 @@ class StartSettings:
         on take-off; S' where the real surface has a hole), or S' itself (the paper's reading:
         the CVT generators lie on S'). ``"normal"`` is a structure's start
         (:func:`start_configuration`): "cvt" flies each generator ``altitude`` metres out along
-        S''s outward normal (a standoff, under a deck as well as above it); "random" draws the
+        S''s outward normal (a standoff, under a deck as well as above it); "greedy" picks
+        among points of S' ``greedy.spacing`` apart flown out the same way, by the coverage each
+        adds on S' (``structure_greedy_start``; needs ``d_max``); "random" draws the
         team uniformly in the admissible volume of the flight limits (``altitude`` unused);
         "launch_pad" puts a compact lattice on the real ground at ``corner`` of the flight box,
         ``corner_altitude`` (else ``altitude``) above it.
