@@ -17,13 +17,21 @@ from uavcov.paper import StructuresExperiment, reproduce_structures
 from uavcov.paper._structures_report import paired_interval
 
 SMALL = StructuresExperiment(
-    families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, reference_spacing=6.0, target_spacing=2.0
+    families=("pylon",),
+    report_seeds=(0,),
+    dev_seeds=(1000,),
+    offsets=(6.0,),
+    iterations=3,
+    reference_spacing=6.0,
+    target_spacing=2.0,
+    greedy_spacings=(6.0,),
 )
 CHILD = """
 import sys
 from uavcov.paper import StructuresExperiment, reproduce_structures
 experiment = StructuresExperiment(
-    families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, reference_spacing=6.0, target_spacing=2.0
+    families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, reference_spacing=6.0, target_spacing=2.0,
+    greedy_spacings=(6.0,),
 )
 reproduce_structures(sys.argv[1], experiment, workers=1)
 """
@@ -35,8 +43,11 @@ def _without_time(rows: list[dict]) -> list[dict]:
 
 def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Path) -> None:
     whole = reproduce_structures(tmp_path / "whole", SMALL)
-    assert len(whole) == 3 and not any(r["error"] for r in whole)
-    assert {r["start"] for r in whole} == {"cvt3d", "cvt_hf", "greedy"}
+    assert len(whole) == 6 and not any(r["error"] for r in whole)
+    assert {r["start"] for r in whole} == {"cvt3d", "cvt_hf", "greedy3d", "cvt_true", "greedy_true", "greedy"}
+    # The diagnostics take the settings chosen on S' and run on the report seed only.
+    settings = {r["start"]: (r["offset"], r["spacing"]) for r in whole}
+    assert settings["cvt_true"] == settings["cvt3d"] and settings["greedy_true"] == settings["greedy3d"] == (6.0, 6.0)
     cut = tmp_path / "cut"
     child = subprocess.Popen([sys.executable, "-c", CHILD, str(cut)])
     rows = cut / "rows.jsonl"
@@ -56,7 +67,8 @@ def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Pa
     resumed = reproduce_structures(cut, SMALL, resume=True)
     assert _without_time(resumed) == _without_time(whole)
     report = (cut / "structures.md").read_text(encoding="utf-8")
-    assert report.count("| pylon |") == 2 and report.count("| all |") == 1  # the table and why it falls short
+    # The table (four 3D starts), greedy on S' against the CVT, and why each falls short.
+    assert report.count("| pylon |") == 9 and report.count("| all |") == 5
     # Every row says which parts it saw; greedy's also each part's share of the targets.
     assert all(r["parts"] for r in resumed)
     weights = next(r for r in resumed if r["start"] == "greedy")["part_weights"]
@@ -79,6 +91,10 @@ def test_a_used_folder_needs_resume_and_the_same_settings(tmp_path: Path) -> Non
         {"families": ()},
         {"report_seeds": (1000,)},
         {"offsets": ()},
+        {"offsets": (float("nan"),)},
+        {"greedy_spacings": ()},
+        {"greedy_spacings": (0.0,)},
+        {"greedy_spacings": (-2.0,)},
     ],
 )
 def test_bad_settings_are_config_errors(bad: dict) -> None:

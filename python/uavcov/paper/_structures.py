@@ -12,6 +12,16 @@ known points, a 2 m standoff, every move checked), two starts, each one
 ``cvt_hf``
     The height-field prior (``n_prior`` random x-y points of the structure's top and the four
     corners, S' by Delaunay in x-y), CVT on it, ``offset`` metres above it.
+``greedy3d``
+    The 3D prior's S' as for ``cvt3d``, and on it the full-knowledge reference's greedy: points
+    of S' ``spacing`` metres apart flown out along S''s normals the way the CVT generators are
+    (:func:`~uavcov.placement.fly_out`), greedy picks by the coverage each adds on S' (the
+    structure's ``"greedy"`` start). It tells the prior from the CVT's objective (generators
+    spread evenly over S', not placed for coverage).
+``cvt_true``, ``greedy_true``
+    Diagnostics: ``cvt3d`` and ``greedy3d`` with the real structure's solid surface in place of
+    S' (a perfect prior), at the settings chosen for them (none of their own to choose). They
+    tell what each start's objective reaches when the prior is not the limit.
 
 Per structure, the full-knowledge reference: greedy on viewpoints 3, 6 and 9 m out along the
 *true* structure's normals (:func:`~uavcov.cover.viewpoint_offsets`), the same team and
@@ -20,8 +30,8 @@ records its best coverage as a share of both, how many of its start points lie i
 of the real structure before :func:`~uavcov.limits.closest_admissible`, and (``cvt3d``) the
 share of S''s area facing into the structure.
 
-The open setting, each start's offset from S', is chosen on the development seeds; the report
-is on the report seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs
+The open settings, each start's offset from S' (and ``greedy3d``'s candidate spacing on S'), are
+chosen on the development seeds; the report is on the report seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs
 finish (a run cut off by a kill leaves at most a torn last line, dropped on resume), so
 ``resume=True`` skips every finished run and the rows equal an uninterrupted run's.
 """
@@ -41,7 +51,11 @@ import numpy as np
 
 from ..errors import ConfigError, UavcovError
 
-STARTS = ("cvt3d", "cvt_hf")
+STARTS = ("cvt3d", "cvt_hf", "greedy3d")
+DIAGNOSTICS = {"cvt_true": "cvt3d", "greedy_true": "greedy3d"}
+"""Report-only starts, each run at the offset chosen for the start it names."""
+CANDIDATE_STARTS = ("greedy3d", "greedy_true")
+"""The starts with a candidate spacing on S' to choose besides the offset."""
 REFERENCE = "greedy"
 ROWS = "rows.jsonl"
 CONFIG = "config.json"
@@ -67,6 +81,8 @@ class StructuresExperiment:
         CAO iterations per run.
     offsets : tuple of float
         Candidate offsets from S' of each start (m), chosen on the development seeds.
+    greedy_spacings : tuple of float
+        Candidate spacings of ``greedy3d``'s points on S' (m), chosen on the development seeds.
     reference_distances : tuple of float
         The full-knowledge candidates' offsets along the true normals (m).
     reference_spacing, target_spacing : float
@@ -84,6 +100,7 @@ class StructuresExperiment:
     n_prior: int = 100
     iterations: int = 100
     offsets: tuple[float, ...] = (2.5, 3.0, 4.0, 6.0)
+    greedy_spacings: tuple[float, ...] = (2.0, 4.0)
     reference_distances: tuple[float, ...] = (3.0, 6.0, 9.0)
     reference_spacing: float = 3.0
     target_spacing: float = 1.0
@@ -96,12 +113,15 @@ class StructuresExperiment:
             raise ConfigError(f"families must be among {sorted(STRUCTURE_FAMILIES)}, got {list(self.families)}")
         if set(self.report_seeds) & set(self.dev_seeds):
             raise ConfigError(f"report seeds {sorted(set(self.report_seeds) & set(self.dev_seeds))} are also development seeds")
-        if not self.report_seeds or not self.dev_seeds or not self.offsets:
-            raise ConfigError("the experiment needs report seeds, development seeds and offsets")
+        if not self.report_seeds or not self.dev_seeds or not self.offsets or not self.greedy_spacings:
+            raise ConfigError("the experiment needs report seeds, development seeds, offsets and greedy spacings")
+        if not all(np.isfinite(v) and v > 0 for v in (*self.offsets, *self.greedy_spacings)):
+            raise ConfigError(f"offsets and greedy spacings must be finite and > 0 m, got {self.offsets} and {self.greedy_spacings}")
 
 
-Task = tuple[str, str, int, float]
-"""(family, start, seed, offset); start ``"greedy"`` is the reference (offset 0)."""
+Task = tuple[str, str, int, float, float]
+"""(family, start, seed, offset, spacing); start ``"greedy"`` is the reference (offset 0), spacing
+is ``greedy3d``'s (0 for the other starts)."""
 
 
 def _structure(experiment: StructuresExperiment, family: str, seed: int) -> Any:
@@ -143,7 +163,8 @@ def _reference(experiment: StructuresExperiment, family: str, seed: int) -> dict
     }
 
 
-def _mission(experiment: StructuresExperiment, family: str, start: str, seed: int, offset: float) -> dict[str, Any]:
+def _mission(experiment: StructuresExperiment, family: str, start: str, seed: int, offset: float, spacing: float) -> dict[str, Any]:
+    from ..cover import GreedySettings
     from ..mission import MissionSettings, run_mission
     from ..placement import StartSettings
     from ..structures import reconstruction_error
@@ -151,8 +172,13 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
 
     structure = _structure(experiment, family, seed)
     limits = _limits(experiment, structure)
-    reference = "normal" if start == "cvt3d" else "prior"
-    begin = StartSettings(kind="cvt", altitude=offset, altitude_reference=reference, climb=0.5)
+    reference = "prior" if start == "cvt_hf" else "normal"
+    if start in CANDIDATE_STARTS:
+        begin = StartSettings(
+            kind="greedy", altitude=offset, altitude_reference=reference, climb=0.5, greedy=GreedySettings(spacing=spacing)
+        )
+    else:
+        begin = StartSettings(kind="cvt", altitude=offset, altitude_reference=reference, climb=0.5)
     settings = MissionSettings(
         n_uavs=experiment.n_uavs,
         d_max=experiment.d_max,
@@ -162,7 +188,11 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         constraints=limits,
     )
     targets = structure.targets(spacing=experiment.target_spacing)
-    known = sample_prior(structure.surface, experiment.n_prior, kind="random", rng=seed) if start == "cvt_hf" else None
+    known: Any = None
+    if start == "cvt_hf":
+        known = sample_prior(structure.surface, experiment.n_prior, kind="random", rng=seed)
+    elif start in DIAGNOSTICS:
+        known = _true_solid(structure)
     result = run_mission(structure, settings, known=known, targets=targets, rng=seed, n_threads=1)
     row: dict[str, Any] = {
         "initial": result.initial_coverage,
@@ -170,19 +200,30 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         "inside_before": int(structure.surface.inside(result.start_positions, n_threads=1).sum()),
         "parts": dict(result.coverage_by_part or {}),
     }
-    if start == "cvt3d":
+    if start in ("cvt3d", "greedy3d"):
         # The S' the start was placed on.
         row["inward_share"] = reconstruction_error(structure, result.approximation, n_samples=4000, rng=seed).inward_area_share
     return row
 
 
+def _true_solid(structure: Any) -> Any:
+    """The real structure's surface without its ground sheet (the diagnostics' S')."""
+    from ..engine import Terrain
+
+    ground = -1 if structure.ground_part is None else structure.ground_part
+    return Terrain(structure.surface.vertices, structure.surface.faces[structure.face_parts != ground])
+
+
 def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
     """One row: a mission, or the reference (``start == "greedy"``); errors are recorded, not raised."""
-    family, start, seed, offset = task
-    row: dict[str, Any] = {"family": family, "start": start, "seed": seed, "offset": offset, "error": ""}
+    family, start, seed, offset, spacing = task
+    row: dict[str, Any] = {"family": family, "start": start, "seed": seed, "offset": offset, "spacing": spacing, "error": ""}
     began = time.perf_counter()
     try:
-        row.update(_reference(experiment, family, seed) if start == REFERENCE else _mission(experiment, family, start, seed, offset))
+        if start == REFERENCE:
+            row.update(_reference(experiment, family, seed))
+        else:
+            row.update(_mission(experiment, family, start, seed, offset, spacing))
     except UavcovError as exc:
         row["error"] = f"{type(exc).__name__}: {exc}"
     row["time_s"] = time.perf_counter() - began
@@ -190,7 +231,7 @@ def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
 
 
 def _key(row: dict[str, Any]) -> Task:
-    return (str(row["family"]), str(row["start"]), int(row["seed"]), float(row["offset"]))
+    return (str(row["family"]), str(row["start"]), int(row["seed"]), float(row["offset"]), float(row.get("spacing", 0.0)))
 
 
 def _read_rows(path: Path) -> list[dict[str, Any]]:
@@ -231,17 +272,25 @@ def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Pa
     return [done[t] for t in tasks]
 
 
-def _mean(rows: list[dict[str, Any]], family: str, start: str, offset: float) -> float:
-    values = [r["best"] for r in rows if r["family"] == family and r["start"] == start and r["offset"] == offset and not r["error"]]
+def _mean(rows: list[dict[str, Any]], family: str, start: str, setting: tuple[float, float]) -> float:
+    values = [r["best"] for r in rows if _key(r)[:2] == (family, start) and _key(r)[3:] == setting and not r["error"]]
     return float(np.mean(values)) if values else -np.inf
 
 
-def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]]) -> dict[str, float]:
-    """Each start's offset: the best mean best coverage over every family's development seeds."""
+def _settings(experiment: StructuresExperiment, start: str) -> list[tuple[float, float]]:
+    """A start's (offset, spacing) candidates on the development seeds."""
+    spacings = experiment.greedy_spacings if start in CANDIDATE_STARTS else (0.0,)
+    return [(o, s) for o in experiment.offsets for s in spacings]
+
+
+def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]]) -> dict[str, tuple[float, float]]:
+    """Each start's (offset, spacing): the best mean best coverage over every family's development
+    seeds (ties: the smaller offset, then the wider spacing, the fewer candidates)."""
     chosen = {}
     for start in STARTS:
-        score = {o: float(np.mean([_mean(rows, f, start, o) for f in experiment.families])) for o in experiment.offsets}
-        chosen[start] = max(experiment.offsets, key=lambda o: (score[o], -o))
+        options = _settings(experiment, start)
+        score = {o: float(np.mean([_mean(rows, f, start, o) for f in experiment.families])) for o in options}
+        chosen[start] = max(options, key=lambda o: (score[o], -o[0], o[1]))
     return chosen
 
 
@@ -297,12 +346,15 @@ def reproduce_structures(
 
 
 def _dev_tasks(experiment: StructuresExperiment) -> list[Task]:
-    return [(f, s, seed, o) for f in experiment.families for s in STARTS for seed in experiment.dev_seeds for o in experiment.offsets]
+    return [
+        (f, s, seed, *o) for f in experiment.families for s in STARTS for seed in experiment.dev_seeds for o in _settings(experiment, s)
+    ]
 
 
-def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, float]) -> list[Task]:
-    tasks = [(f, s, seed, chosen[s]) for f in experiment.families for seed in experiment.report_seeds for s in STARTS]
-    return tasks + [(f, REFERENCE, seed, 0.0) for f in experiment.families for seed in experiment.report_seeds]
+def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, tuple[float, float]]) -> list[Task]:
+    settings = {**chosen, **{d: chosen[s] for d, s in DIAGNOSTICS.items()}}
+    tasks = [(f, s, seed, *settings[s]) for f in experiment.families for seed in experiment.report_seeds for s in settings]
+    return tasks + [(f, REFERENCE, seed, 0.0, 0.0) for f in experiment.families for seed in experiment.report_seeds]
 
 
 def report_from_folder(folder: str | os.PathLike[str]) -> str:

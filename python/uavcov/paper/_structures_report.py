@@ -25,20 +25,32 @@ def _by_seed(rows: list[dict[str, Any]], family: str, start: str) -> dict[int, d
     return {r["seed"]: r for r in rows if r["family"] == family and r["start"] == start and not r["error"]}
 
 
-def _triples(rows: list[dict[str, Any]], families: list[str]) -> list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]]:
-    """(cvt3d, cvt_hf, greedy) rows of each seed of ``families`` where all three finished."""
+THREE_D = ("cvt3d", "greedy3d", "cvt_true", "greedy_true")
+"""The 3D starts (the 3D prior's two, and both on the true surface), each paired with the
+height-field prior's (``cvt_hf``)."""
+NAMES = {
+    "cvt3d": "CVT on S'",
+    "greedy3d": "greedy on S'",
+    "cvt_true": "CVT on the true surface",
+    "greedy_true": "greedy on the true surface",
+    "cvt_hf": "height-field CVT",
+}
+
+
+def _triples(rows: list[dict[str, Any]], families: list[str], start: str) -> list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]]:
+    """(``start``, cvt_hf, greedy) rows of each seed of ``families`` where all three finished."""
     out = []
     for family in families:
-        three, flat, greedy = (_by_seed(rows, family, s) for s in ("cvt3d", "cvt_hf", "greedy"))
+        three, flat, greedy = (_by_seed(rows, family, s) for s in (start, "cvt_hf", "greedy"))
         out += [(three[s], flat[s], greedy[s]) for s in sorted(set(three) & set(flat) & set(greedy))]
     return out
 
 
-def family_summary(rows: list[dict[str, Any]], family: str | list[str]) -> dict[str, Any]:
-    """The numbers of one family's line (or of several families' pairs pooled): paired over the
-    seeds where all three runs finished."""
+def family_summary(rows: list[dict[str, Any]], family: str | list[str], start: str = "cvt3d") -> dict[str, Any]:
+    """The numbers of one 3D start's line on one family (or on several families' pairs pooled):
+    paired with the height-field prior's start over the seeds where both and the reference finished."""
     families = [family] if isinstance(family, str) else list(family)
-    triples = _triples(rows, families)
+    triples = _triples(rows, families, start)
     seeds = triples
     three = [t for t, _, _ in triples]
     best3 = np.array([t["best"] for t, _, _ in triples])
@@ -48,37 +60,52 @@ def family_summary(rows: list[dict[str, Any]], family: str | list[str]) -> dict[
     mean, low, high = paired_interval(best3, best_hf)
     return {
         "seeds": len(seeds),
-        "cvt3d": float(best3.mean()) if seeds else math.nan,
-        "cvt_hf": float(best_hf.mean()) if seeds else math.nan,
+        "initial_3d": float(np.mean([t["initial"] for t in three])) if seeds else math.nan,
+        "initial_hf": float(np.mean([f["initial"] for _, f, _ in triples])) if seeds else math.nan,
+        "best_3d": float(best3.mean()) if seeds else math.nan,
+        "best_hf": float(best_hf.mean()) if seeds else math.nan,
         "gain": mean,
         "low": low,
         "high": high,
         "of_greedy_3d": float(np.mean(best3 / reference)) if seeds else math.nan,
+        "of_greedy_3d_min": float(np.min(best3 / reference)) if seeds else math.nan,
         "of_bound_3d": float(np.mean(best3 / bound)) if seeds else math.nan,
         "of_greedy_hf": float(np.mean(best_hf / reference)) if seeds else math.nan,
         "greedy": float(reference.mean()) if seeds else math.nan,
         "bound": float(bound.mean()) if seeds else math.nan,
-        "inside_3d": sum(r["inside_before"] for r in _all(rows, families, "cvt3d")),
+        "inside_3d": sum(r["inside_before"] for r in _all(rows, families, start)),
         "inside_hf": sum(r["inside_before"] for r in _all(rows, families, "cvt_hf")),
-        "inward_mean": float(np.mean([r["inward_share"] for r in three])) if three else math.nan,
-        "inward_max": float(np.max([r["inward_share"] for r in three])) if three else math.nan,
-        "errors": sum(1 for r in rows if r["family"] in families and r["error"]),
+        "inward_mean": float(np.mean([r.get("inward_share", math.nan) for r in three])) if three else math.nan,
+        "inward_max": float(np.max([r.get("inward_share", math.nan) for r in three])) if three else math.nan,
+        "errors": sum(1 for r in rows if r["family"] in families and r["start"] in (start, "cvt_hf", "greedy") and r["error"]),
     }
+
+
+def start_against_start(rows: list[dict[str, Any]], family: str | list[str], key: str) -> tuple[float, float, float]:
+    """Greedy on S' minus CVT on S' in ``key`` (``"initial"`` or ``"best"``), paired over the seeds."""
+    families = [family] if isinstance(family, str) else list(family)
+    pairs = [
+        (g[s][key], c[s][key])
+        for f in families
+        for g, c in [(_by_seed(rows, f, "greedy3d"), _by_seed(rows, f, "cvt3d"))]
+        for s in sorted(set(g) & set(c))
+    ]
+    return paired_interval([a for a, _ in pairs], [b for _, b in pairs])
 
 
 def _all(rows: list[dict[str, Any]], families: list[str], start: str) -> list[dict[str, Any]]:
     return [r for r in rows if r["family"] in families and r["start"] == start and not r["error"]]
 
 
-def shortfall(rows: list[dict[str, Any]], family: str) -> dict[str, Any]:
-    """Why the 3D start falls short of the full-knowledge greedy on one family (measured).
+def shortfall(rows: list[dict[str, Any]], family: str, start: str = "cvt3d") -> dict[str, Any]:
+    """Why a 3D start falls short of the full-knowledge greedy on one family (measured).
 
     The initial coverage of both starts and its paired interval, what CAO added to each, and
     the part whose coverage falls most short of greedy's, weighted by its share of the
     structure's targets (the part's contribution to the gap), with the 3D start's and greedy's
     coverage of it.
     """
-    triples = _triples(rows, [family])
+    triples = _triples(rows, [family], start)
     initial3 = np.array([t["initial"] for t, _, _ in triples])
     initial_hf = np.array([f["initial"] for _, f, _ in triples])
     mean, low, high = paired_interval(initial3, initial_hf)
@@ -109,60 +136,91 @@ def shortfall(rows: list[dict[str, Any]], family: str) -> dict[str, Any]:
     }
 
 
-def write_report(path: Path, experiment: Any, chosen: dict[str, float], rows: list[dict[str, Any]], dev_rows: list[dict[str, Any]]) -> None:
+def write_report(path: Path, experiment: Any, chosen: dict[str, Any], rows: list[dict[str, Any]], dev_rows: list[dict[str, Any]]) -> None:
     """``structures.md`` (and ``figures/structures.png`` with matplotlib) beside ``rows.jsonl``."""
     path.write_text(report_markdown(experiment, chosen, rows, dev_rows), encoding="utf-8")
     _figure(path.parent / "figures" / "structures.png", experiment, rows)
 
 
-def report_markdown(experiment: Any, chosen: dict[str, float], rows: list[dict[str, Any]], dev_rows: list[dict[str, Any]]) -> str:
-    """The report's Markdown: one line per family, paired over the report seeds."""
+def _percent(share: float) -> str:
+    return "-" if math.isnan(share) else f"{100 * share:.2f} %"
+
+
+def _chosen_words(chosen: dict[str, Any]) -> str:
+    words = []
+    for start, (offset, spacing) in chosen.items():
+        words.append(f"{NAMES.get(start, start)} {offset:g} m" + (f", points of S' {spacing:g} m apart" if spacing else ""))
+    return "; ".join(words)
+
+
+def report_markdown(experiment: Any, chosen: dict[str, Any], rows: list[dict[str, Any]], dev_rows: list[dict[str, Any]]) -> str:
+    """The report's Markdown: one line per family and 3D start, paired over the report seeds."""
     lines = [
-        "### Structures no one tuned on: the 3D prior's start against the height-field prior's",
+        "### Structures no one tuned on: the 3D prior's starts against the height-field prior's",
         "",
         (
             f"Families {', '.join(experiment.families)}; report seeds {list(experiment.report_seeds)}, development seeds "
-            f"{list(experiment.dev_seeds)} (offsets chosen there: {chosen}). {experiment.n_uavs} UAVs, d_max {experiment.d_max:g} m, "
-            f"{experiment.n_prior} known points, standoff {experiment.h_min:g} m, separation {experiment.d_safe:g} m, every move "
-            f"checked, {experiment.iterations} iterations. Full knowledge: greedy on viewpoints {list(experiment.reference_distances)} "
-            "m out along the true normals, with its certified bound."
+            f"{list(experiment.dev_seeds)} (offsets from S' chosen there: {_chosen_words(chosen)}). {experiment.n_uavs} UAVs, "
+            f"d_max {experiment.d_max:g} m, {experiment.n_prior} known points, standoff {experiment.h_min:g} m, separation "
+            f"{experiment.d_safe:g} m, every move checked, {experiment.iterations} iterations. Full knowledge: greedy on viewpoints "
+            f"{list(experiment.reference_distances)} m out along the true normals, with its certified bound. Two starts on the 3D "
+            "prior's S': the CVT's generators, and greedy's picks by the coverage each adds on S' (the reference's greedy on what "
+            "the start knows); and, to tell the prior from each start's objective, both on the true structure's surface (a perfect "
+            "prior) with the settings chosen for them on S'. Each against the height-field prior's CVT start (HF) on the same seeds."
         ),
         "",
         (
-            "| family | seeds | 3D prior, mean best | height-field prior, mean best | 3D - HF [95 % CI] | 3D / greedy | 3D / bound "
+            "| family | 3D start | seeds | initial 3D / HF | best 3D / HF | 3D - HF best [95 % CI] | 3D / greedy (min) | 3D / bound "
             "| HF / greedy | greedy | bound | starts inside the structure (3D / HF) | S' facing inward (mean / max) | failed runs |"
         ),
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for family in [*experiment.families, list(experiment.families)]:
-        s = family_summary(rows, family)
+        for start in THREE_D:
+            s = family_summary(rows, family, start)
+            lines.append(
+                f"| {'all' if isinstance(family, list) else family} | {NAMES[start]} | {s['seeds']} "
+                f"| {s['initial_3d']:.3f} / {s['initial_hf']:.3f} | {s['best_3d']:.3f} / {s['best_hf']:.3f} "
+                f"| {s['gain']:+.3f} [{s['low']:+.3f}, {s['high']:+.3f}] "
+                f"| {s['of_greedy_3d']:.3f} ({s['of_greedy_3d_min']:.3f}) | {s['of_bound_3d']:.3f} | {s['of_greedy_hf']:.3f} "
+                f"| {s['greedy']:.3f} | {s['bound']:.3f} | {s['inside_3d']} / {s['inside_hf']} "
+                f"| {_percent(s['inward_mean'])} / {_percent(s['inward_max'])} | {s['errors']} |"
+            )
+    lines += [
+        "",
+        "Greedy on S' against the CVT on S', paired over the report seeds (the same S', the same known points):",
+        "",
+        "| family | initial: greedy - CVT [95 % CI] | best: greedy - CVT [95 % CI] |",
+        "|---|---|---|",
+    ]
+    for family in [*experiment.families, list(experiment.families)]:
+        first, best = (start_against_start(rows, family, key) for key in ("initial", "best"))
         lines.append(
-            f"| {'all' if isinstance(family, list) else family} | {s['seeds']} | {s['cvt3d']:.3f} | {s['cvt_hf']:.3f} "
-            f"| {s['gain']:+.3f} [{s['low']:+.3f}, {s['high']:+.3f}] "
-            f"| {s['of_greedy_3d']:.3f} | {s['of_bound_3d']:.3f} | {s['of_greedy_hf']:.3f} | {s['greedy']:.3f} | {s['bound']:.3f} "
-            f"| {s['inside_3d']} / {s['inside_hf']} | {100 * s['inward_mean']:.2f} % / {100 * s['inward_max']:.2f} % | {s['errors']} |"
+            f"| {'all' if isinstance(family, list) else family} | {first[0]:+.3f} [{first[1]:+.3f}, {first[2]:+.3f}] "
+            f"| {best[0]:+.3f} [{best[1]:+.3f}, {best[2]:+.3f}] |"
         )
     lines += [
         "",
         (
-            "Where the 3D start stays short of greedy (means over the report seeds): each start's initial coverage and the paired "
-            "interval of 3D - HF on it, what CAO added to each, the gap to greedy, and the part contributing most to it (its share "
-            "of the targets times greedy's coverage of it minus the 3D start's best; the two coverages beside it)."
+            "Where each 3D start stays short of greedy (means over the report seeds): each start's initial coverage and the "
+            "paired interval of 3D - HF on it, what CAO added to each, the gap to greedy, and the part contributing most to it "
+            "(its share of the targets times greedy's coverage of it minus the 3D start's best; the two coverages beside it)."
         ),
         "",
         (
-            "| family | initial 3D | initial HF | initial 3D - HF [95 % CI] | CAO added 3D | CAO added HF | greedy - 3D "
+            "| family | 3D start | initial 3D | initial HF | initial 3D - HF [95 % CI] | CAO added 3D | CAO added HF | greedy - 3D "
             "| part most missed: gap (3D / greedy) |"
         ),
-        "|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for family in experiment.families:
-        w = shortfall(rows, family)
-        lines.append(
-            f"| {family} | {w['initial_3d']:.3f} | {w['initial_hf']:.3f} | {w['initial_gain']:+.3f} [{w['initial_low']:+.3f}, "
-            f"{w['initial_high']:+.3f}] | {w['cao_3d']:+.3f} | {w['cao_hf']:+.3f} | {w['gap']:+.3f} | {w['worst_part'] or '-'}: "
-            f"{w['worst_gap']:+.3f} ({w['worst_3d']:.3f} / {w['worst_greedy']:.3f}) |"
-        )
+        for start in THREE_D:
+            w = shortfall(rows, family, start)
+            lines.append(
+                f"| {family} | {NAMES[start]} | {w['initial_3d']:.3f} | {w['initial_hf']:.3f} | {w['initial_gain']:+.3f} "
+                f"[{w['initial_low']:+.3f}, {w['initial_high']:+.3f}] | {w['cao_3d']:+.3f} | {w['cao_hf']:+.3f} | {w['gap']:+.3f} "
+                f"| {w['worst_part'] or '-'}: {w['worst_gap']:+.3f} ({w['worst_3d']:.3f} / {w['worst_greedy']:.3f}) |"
+            )
     errors = [r for r in rows + dev_rows if r["error"]]
     if errors:
         lines += ["", "Failed runs:", ""] + [f"- {r['family']} {r['start']} seed {r['seed']}: {r['error']}" for r in errors]
@@ -180,16 +238,18 @@ def _figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:
         return
     path.parent.mkdir(parents=True, exist_ok=True)
     families = list(experiment.families)
-    summaries = [family_summary(rows, f) for f in families]
+    cvt = [family_summary(rows, f, "cvt3d") for f in families]
+    greedy = [family_summary(rows, f, "greedy3d") for f in families]
     x = np.arange(len(families))
     fig, ax = plt.subplots(figsize=(8, 4))
-    for shift, key, label in (
-        (-0.3, "cvt3d", "3D prior start"),
-        (-0.1, "cvt_hf", "height-field prior start"),
-        (0.1, "greedy", "full-knowledge greedy"),
-        (0.3, "bound", "certified bound"),
+    for shift, values, label in (
+        (-0.32, [s["best_3d"] for s in cvt], "CVT on S' (3D prior)"),
+        (-0.16, [s["best_3d"] for s in greedy], "greedy on S' (3D prior)"),
+        (0.0, [s["best_hf"] for s in cvt], "height-field prior's CVT"),
+        (0.16, [s["greedy"] for s in cvt], "full-knowledge greedy"),
+        (0.32, [s["bound"] for s in cvt], "certified bound"),
     ):
-        ax.bar(x + shift, [s[key] for s in summaries], width=0.2, label=label)
+        ax.bar(x + shift, values, width=0.16, label=label)
     ax.set_xticks(x, families)
     ax.set_ylabel("mean best coverage")
     ax.set_ylim(0.0, 1.0)

@@ -31,8 +31,9 @@ positions is :func:`uavcov.limits.closest_admissible`'s job.
 
 A structure's start (``altitude_reference="normal"``, ``STRUCTURE_START_KINDS``) goes through
 the same :func:`start_configuration`: the CVT generators flown out along S''s outward normals,
-uniform draws in the admissible volume of the flight limits, or a launch pad on the real ground
-(the pieces of :mod:`uavcov.placement._starts3d`).
+greedy's picks among viewpoints flown out the same way (coverage counted on S'), uniform draws
+in the admissible volume of the flight limits, or a launch pad on the real ground (the pieces
+of :mod:`uavcov.placement._starts3d`).
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
-from ..cover import CoverageProblem, GreedyResult, GreedySettings, surface_normals, viewpoint_lattice
+from ..cover import CoverageProblem, GreedyResult, GreedySettings, greedy_placement, surface_normals, viewpoint_lattice
 from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints, feasibility
@@ -63,7 +64,7 @@ ALTITUDE_REFERENCES = ("ground", "prior", "normal")
 """What a start's altitude is measured from: the real ground under each UAV, S' straight below,
 or S' along its outward normal (a structure: a 3D standoff)."""
 
-STRUCTURE_START_KINDS = ("cvt", "random", "launch_pad")
+STRUCTURE_START_KINDS = ("cvt", "greedy", "random", "launch_pad")
 """The kinds a structure's start (``altitude_reference="normal"``, :func:`start_configuration`) knows."""
 
 # Rounds of redraws over nodata before "random" gives up: each round redraws every missing point,
@@ -171,7 +172,7 @@ class StartSettings:
 
     Attributes
     ----------
-    kind : {"cvt", "random", "corner", "pairs", "launch_pad"}, default "cvt"
+    kind : {"cvt", "random", "corner", "pairs", "greedy", "launch_pad"}, default "cvt"
         The initialisation (see the module docstring); computed on S'. ``"launch_pad"`` only
         with ``altitude_reference="normal"``, ``"corner"`` and ``"pairs"`` only without.
     altitude : float, default 5.0
@@ -181,7 +182,9 @@ class StartSettings:
         on take-off; S' where the real surface has a hole), or S' itself (the paper's reading:
         the CVT generators lie on S'). ``"normal"`` is a structure's start
         (:func:`start_configuration`): "cvt" flies each generator ``altitude`` metres out along
-        S''s outward normal (a standoff, under a deck as well as above it); "random" draws the
+        S''s outward normal (a standoff, under a deck as well as above it); "greedy" picks
+        among points of S' ``greedy.spacing`` apart flown out the same way, by the coverage each
+        adds on S' (``structure_greedy_start``; needs ``d_max``); "random" draws the
         team uniformly in the admissible volume of the flight limits (``altitude`` unused);
         "launch_pad" puts a compact lattice on the real ground at ``corner`` of the flight box,
         ``corner_altitude`` (else ``altitude``) above it.
@@ -203,7 +206,8 @@ class StartSettings:
     greedy : GreedySettings, default GreedySettings()
         The "greedy" start's candidate lattice on S': its x-y spacing and camera angles (one
         layer of viewpoints ``altitude`` above S'; the picks then fly at ``altitude`` above the
-        reference, as every start does).
+        reference, as every start does). A structure's: ``spacing`` is the distance between
+        the points of S' flown out (``n_heights`` and the camera angles unused).
     """
 
     kind: str = "cvt"
@@ -303,8 +307,9 @@ def start_configuration(
         admissible volume over ``terrain``, "launch_pad" stands at a corner of their x-y bounds
         (``None``: the defaults with ``clearance="standoff"``).
     keep_out : callable, optional
-        For a structure's "cvt" start: points known to be inside the structure besides S'
-        (``StructurePrior.behind``), which no generator is flown to (see ``fly_out``).
+        For a structure's "cvt" and "greedy" starts: points known to be inside the structure
+        besides S' (``StructurePrior.behind``), which no generator or candidate is flown to (see
+        ``fly_out``).
 
     Returns
     -------
@@ -324,6 +329,9 @@ def start_configuration(
         as_positive_int(n_threads, "n_threads")
     generator = as_generator(rng)
     if spec.altitude_reference == "normal":
+        if spec.kind == "greedy":
+            placed = structure_greedy_start(spec, approximation, terrain, n, d_max, constraints, keep_out=keep_out, n_threads=n_threads)
+            return np.array(placed.positions, dtype=np.float64), placed
         return _structure_start(spec, approximation, terrain, n, cvt_settings, constraints, generator, n_threads, keep_out)
     tessellation: CVTResult | GreedyResult | None = None
     if spec.kind == "greedy":
@@ -366,6 +374,88 @@ def _greedy_layer(
     return placed
 
 
+def _structure_limits(constraints: Constraints | None, terrain: Terrain) -> Constraints:
+    """A structure start's flight limits resolved on the real surface (default: a standoff, every move checked)."""
+    if constraints is None:
+        constraints = Constraints(clearance="standoff", check_moves=True)
+    if not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
+    return constraints.resolve(terrain)
+
+
+def structure_greedy_start(
+    spec: StartSettings,
+    approximation: Terrain,
+    terrain: Terrain,
+    n: int,
+    d_max: float | None,
+    constraints: Constraints | None = None,
+    *,
+    keep_out: Callable[[np.ndarray], Any] | None = None,
+    n_threads: int | None = None,
+) -> GreedyResult:
+    """A structure's ``"greedy"`` start: the full-knowledge reference's greedy, on S' alone.
+
+    Candidates are points of S' about ``spec.greedy.spacing`` metres apart, each flown
+    ``spec.altitude`` metres out along S''s outward normal by :func:`fly_out` (outside S', at the
+    standoff from it, over the real ground's lowest point, out of ``keep_out``), as the CVT
+    start's generators are; those outside the flight box or over the ceiling are dropped.
+    Greedy then picks ``n`` of them, ``d_safe`` apart, by the share of S''s own targets each adds
+    within ``d_max`` (:func:`uavcov.cover.greedy_placement`). What the
+    start knows is S' and the known points only; the real structure enters with
+    :func:`uavcov.limits.closest_admissible`, as for every start.
+
+    Parameters
+    ----------
+    spec : StartSettings
+        ``kind="greedy"``, ``altitude_reference="normal"``, ``altitude > 0`` (metres).
+    approximation, terrain : Terrain
+        S' and the real surface (only its lowest point, the sensed ground, is used).
+    n : int
+    d_max : float
+        Sensing range, metres.
+    constraints : Constraints, optional
+    keep_out : callable, optional
+        See :func:`fly_out`.
+    n_threads : int, optional
+
+    Returns
+    -------
+    GreedyResult
+        The picks (coverage and bound are S''s, not the real structure's).
+
+    Raises
+    ------
+    InvalidInputError
+        No ``d_max`` (or not finite and > 0), or ``altitude`` 0.
+    InfeasibleError
+        Fewer than ``n`` admissible candidates ``d_safe`` apart.
+    """
+    if d_max is None:
+        raise InvalidInputError("the greedy start needs the sensing range: give d_max")
+    d_max = as_positive_float(d_max, "d_max")
+    if not spec.altitude > 0.0:
+        raise InvalidInputError("a structure's greedy start needs altitude > 0 (its candidates' standoff from S')")
+    started = time.perf_counter()
+    limits = _structure_limits(constraints, terrain)
+    spacing = spec.greedy.spacing
+    anchors, normals = surface_normals(approximation, approximation.default_targets(density=1.0 / spacing**2).points)
+    floor = float(np.asarray(terrain.bounds)[0, 2])
+    candidates, _ = fly_out(approximation, anchors, normals, spec.altitude, floor=floor, keep_out=keep_out, n_threads=n_threads)
+    # fly_out keeps the standoff from S'; the flight box and the ceiling are known too. (The limits'
+    # own check on S' would also ask for S' straight below, which beside a wall there is not.)
+    xmin, ymin, xmax, ymax = limits.flight_box
+    x, y, z = candidates.T
+    candidates = candidates[(x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= limits.z_max)]
+    if candidates.shape[0] < n:
+        raise InfeasibleError(f"only {candidates.shape[0]} of the greedy start's viewpoints around S' are admissible, {n} UAVs to place")
+    visibility = Visibility(approximation, d_max, n_threads=n_threads)
+    placed = greedy_placement(visibility, candidates, n, d_safe=limits.d_safe if spec.greedy.separation else 0.0, n_threads=n_threads)
+    if placed.positions.shape[0] < n:
+        raise InfeasibleError(f"the greedy start placed only {placed.positions.shape[0]} of {n} UAVs d_safe apart around S'")
+    return replace(placed, offline_time_s=time.perf_counter() - started)
+
+
 def _structure_start(
     spec: StartSettings,
     approximation: Terrain,
@@ -378,11 +468,7 @@ def _structure_start(
     keep_out: Callable[[np.ndarray], Any] | None = None,
 ) -> tuple[np.ndarray, CVTResult | None]:
     """A start around a structure (``altitude_reference="normal"``), see :class:`StartSettings`."""
-    if constraints is None:
-        constraints = Constraints(clearance="standoff", check_moves=True)
-    if not isinstance(constraints, Constraints):
-        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
-    limits = constraints.resolve(terrain)
+    limits = _structure_limits(constraints, terrain)
     if spec.kind == "cvt":
         # Along S''s face normal at each generator: under a deck the UAV goes down, beside a
         # pier sideways, where "above S'" would put every UAV on top of the structure.
