@@ -98,9 +98,7 @@ def bounded_milp(arguments: dict[str, Any], deadline: float) -> MilpOutcome:
     options = dict(arguments.get("options") or {})
     options["time_limit"] = max(_SOLVER_SHARE * left, 1e-3)
     payload = pickle.dumps({**arguments, "options": options}, protocol=pickle.HIGHEST_PROTOCOL)
-    child = subprocess.Popen(
-        [sys.executable, "-c", _CHILD], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL
-    )
+    child = subprocess.Popen([sys.executable, "-c", _CHILD], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
     output = b""
     try:
         output, _ = child.communicate(payload, timeout=max(deadline + _GRACE_S - time.perf_counter(), 1e-3))

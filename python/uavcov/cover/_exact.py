@@ -22,13 +22,22 @@ out (weak duality: exact, whatever the dual point). When the pairs closer than
 conflicts with the others), each candidate's later neighbours share one row instead,
 ``|N(a)| x_a + sum_{b in N(a)} x_b <= |N(a)|``, the same integer points in fewer rows.
 
+Before the program, greedy's placement is improved by best-improvement swaps of one pick
+(:func:`uavcov.cover._swap_search.swap_search`), which both narrows the gap and lets the dual point
+exclude more candidates; without separation, candidates another one dominates (sees a superset
+of) leave too (:func:`uavcov.cover._swap_search.undominated`).
+
 scipy's HiGHS (``scipy.optimize.milp``, branch and cut) solves it; its proven dual bound is the
-certificate. It takes no starting solution, so greedy's placement is the fallback: when the
-solver stops at its time or node limit the result is the better of greedy's placement and the
-solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and the LP
-dual bound (each certified on its own). The solver and the evaluation are sequential and exact:
-the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with the
-node limit instead of the time limit not on the machine's speed either.
+certificate. The time limit is hard: it counts from the call, and HiGHS runs in a child process
+(:mod:`uavcov.cover._bounded_milp`) that gets a share of the time left and is killed one second
+past the deadline, because HiGHS does not check its clock inside every step (its presolve took
+21.8 s of a 6.2 s limit on Table 1's terrains; two 60 s solves took about 504 s before this).
+scipy's ``milp`` takes no starting solution, so the swaps' placement is the fallback: when the
+solver stops at its time or node limit (or is killed) the result is the better of that placement
+and the solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and
+the LP dual bound (each certified on its own). Swaps, solver and evaluation are sequential and
+exact: the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with
+the node limit instead of the time limit (and time enough) not on the machine's speed either.
 
 What the optimum is the optimum of: *these candidates* on *these targets* (as every bound of
 :mod:`uavcov.cover._greedy`); positions off the candidates may see more.
@@ -89,8 +98,13 @@ class ExactResult:
     k : int
         Team size asked for.
     incumbent : str
-        Where the placement comes from: ``"solver"``, or ``"greedy"`` when the solver found
-        nothing better (greedy's placement may be optimal).
+        Where the placement comes from: ``"greedy"``, ``"swaps"`` (greedy's improved by
+        swapping one pick at a time) or ``"solver"`` (HiGHS found a better one).
+    solver : str
+        What became of HiGHS: ``"not run"`` (greedy's bound proved it optimal first),
+        ``"finished"``, ``"stopped at its limit"`` (its own time, node or gap limit), or
+        ``"killed at the deadline"`` (it overran; its work is lost, the bounds of greedy and
+        the LP stand).
     d_safe : float
         Separation kept between the chosen candidates, metres.
     greedy_coverage : float
@@ -100,7 +114,7 @@ class ExactResult:
     n_candidates : int
     n_kept : int
         Candidates left in the program: those the LP dual bound does not exclude from every
-        placement better than greedy's.
+        placement better than the incumbent, less the dominated ones.
     n_rows : int
         Rows of targets in the program (groups of targets seen by the same candidates); 0 when
         greedy's placement was proved optimal without one (its bound met its coverage).
@@ -108,8 +122,9 @@ class ExactResult:
         Separation rows.
     n_nodes : int
         Branch-and-bound nodes the solver explored.
-    model_time_s, solve_time_s : float
-        Wall time of grouping the targets and building the program, and of the solver, seconds.
+    model_time_s, swap_time_s, solve_time_s : float
+        Wall time of reducing the candidates and building the program, of the swaps, and of the
+        solver (its child process included), seconds.
     """
 
     positions: np.ndarray
@@ -224,7 +239,8 @@ def exact_placement(
     d_safe : float, default 0.0
         Least distance between two chosen candidates, metres (pairs closer conflict, as in greedy).
     time_limit : float, default 60.0
-        Seconds the solver may take (wall time: the result then depends on the machine's speed).
+        Seconds the call may take from its start (wall time: the result then depends on the
+        machine's speed); hard, up to the child's start-up and a one-second grace.
     gap : float, default 1e-4
         Relative gap at which the solver stops and calls the placement optimal.
     node_limit : int, optional
@@ -285,10 +301,13 @@ def exact_placement(
         search.status = "optimal"
     else:
         _improve(problem, seen, shares, search, d_safe, deadline)
+    if search.status != "optimal" and search.bound - search.coverage <= gap * search.bound:  # the swaps met the bound
+        search.status = "optimal"
+    elif search.status != "optimal":
         before = time.perf_counter()
         survivors = _survivors(seen, shares, certificate.u, k, search)
         if conflict_pairs(problem.viewpoints.positions[survivors], d_safe).size == 0:
-            first, group = target_groups(seen[survivors])
+            first, _group = target_groups(seen[survivors])
             survivors = survivors[undominated(seen[np.ix_(survivors, first)], k, deadline)]
         model = _model(problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes)
         search.model_time += time.perf_counter() - before

@@ -25,9 +25,7 @@ _IMPROVEMENT = 1e-12
 _DOMINANCE_WORK = 4e10
 
 
-def swap_search(
-    columns: np.ndarray, weights: np.ndarray, picks: np.ndarray, conflicts: object | None, deadline: float
-) -> np.ndarray:
+def swap_search(columns: np.ndarray, weights: np.ndarray, picks: np.ndarray, conflicts: object | None, deadline: float) -> np.ndarray:
     """Best-improvement swaps of one pick for one candidate from ``picks`` until none gains (or ``deadline``).
 
     Parameters
