@@ -296,3 +296,22 @@ def test_dominated_candidates_are_those_another_sees_more_than() -> None:
     )
     assert undominated(columns, 2, time.perf_counter() + 60.0).tolist() == [False, True, True, False, False]
     assert undominated(columns, 3, time.perf_counter() + 60.0).all()  # fewer than k left: all kept
+
+
+def test_the_sweep_summary_counts_proved_gaps_and_the_overshoot() -> None:
+    from uavcov.paper import OracleRow
+    from uavcov.paper._bounds import optimum_sweep_markdown
+
+    def row(seed: int, n: int, optimum: float, bound: float, status: str, seconds: float) -> OracleRow:
+        return OracleRow(seed, n, 0.5, 1.0, 1.0, 10, 0.1, 0.1, "", 1.0, 1.0, 0.1, optimum, bound, status, seconds)
+
+    rows = [
+        row(0, 5, 0.7, 0.7, "optimal", 2.0),
+        row(1, 5, 0.7, 0.7005, "time limit", 61.5),  # relative gap 7.1e-4
+        row(0, 8, 0.9, 0.91, "time limit", 60.5),
+        OracleRow(1, 8, 0.5, 1.0, 1.0, 10, 0.1, 0.1, "", 1.0, 1.0, 0.1),  # without the optimum's columns: skipped
+    ]
+    lines = optimum_sweep_markdown(rows, 60.0).splitlines()
+    assert lines[2].startswith("| 5 | 2 | 1 | 2 | ") and lines[2].endswith("| 61.5 | +1.5 |")
+    assert lines[3].startswith("| 8 | 1 | 0 | 0 | 1.1e-02 | 1.1e-02 | 60.5 | 60.5 | +0.5 |")
+    assert lines[4].startswith("| all | 3 | 1 | 2 | ")
