@@ -81,7 +81,13 @@ def certificate_value(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: in
 
 
 def dual_bound(
-    seen: np.ndarray, weights: np.ndarray, k: int, points: np.ndarray | None = None, cell: float | None = None
+    seen: np.ndarray,
+    weights: np.ndarray,
+    k: int,
+    points: np.ndarray | None = None,
+    cell: float | None = None,
+    *,
+    time_limit: float | None = None,
 ) -> DualCertificate:
     """The LP relaxation's dual certificate for the best ``k`` of ``seen``'s candidates.
 
@@ -103,6 +109,8 @@ def dual_bound(
         The targets, metres (needed with ``cell``).
     cell : float, optional
         Cluster size, metres; ``None``: every target its own row (the full LP).
+    time_limit : float, optional
+        Seconds HiGHS may take; stopped, the certificate is the trivial point (still a bound).
 
     Returns
     -------
@@ -142,7 +150,8 @@ def dual_bound(
         b_ub[-1] = k
         cost = np.concatenate([np.zeros(n_candidates), -cluster_weight])
         bounds = [(0.0, None)] * n_candidates + [(0.0, 1.0)] * n_clusters
-        result = linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs-ipm")
+        options = {} if time_limit is None else {"time_limit": max(float(time_limit), 1e-3)}
+        result = linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs-ipm", options=options)
         if result.status == 0:
             lp_value = float(-result.fun)
             y = np.clip(-np.asarray(result.ineqlin.marginals[:n_clusters], dtype=np.float64), 0.0, cluster_weight)

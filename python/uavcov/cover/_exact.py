@@ -53,6 +53,7 @@ import numpy as np
 from .._validate import MAX_UAVS, as_count, as_non_negative_float, as_positive_float, as_positive_int, read_only
 from ..errors import InvalidTypeError, ModelTooLargeError
 from ._bounded_milp import bounded_milp
+from ._dual_bound import dual_bound
 from ._greedy import CoverageProblem, GreedyResult
 from ._swap_search import swap_search, undominated
 
@@ -64,6 +65,10 @@ MAX_MODEL_BYTES = 4 << 30
 _BYTES_PER_NONZERO = 64
 # Solver shares carry the rounding of summing up to T float64 weights (as the LP dual bound's).
 _ROUNDING = 4.0 * float(np.finfo(np.float64).eps)
+# The LP dual bound's clusters, metres (as CoverageProblem.dual_bound's default).
+_DUAL_CELL = 3.0
+# Seconds left below which no program is built (the child's start-up alone takes about one).
+_LEAST_SOLVER_S = 2.0
 # More conflict pairs than this many per candidate: one aggregated row per candidate instead.
 _PAIRS_PER_CANDIDATE = 4
 
@@ -294,7 +299,10 @@ def exact_placement(
     seen = problem.dense()
     weights = np.asarray(problem._visibility.targets.weights, dtype=np.float64)
     shares = weights / weights.sum()
-    certificate = problem.dual_bound(k)
+    targets = problem._visibility.targets
+    certificate = dual_bound(
+        seen, targets.weights, k, targets.points, _DUAL_CELL, time_limit=0.5 * max(deadline - time.perf_counter(), 0.0)
+    )
     search = _Search(greedy.picks, greedy.coverage, min(greedy.bound, certificate.bound))
     survivors, model = np.zeros(0, dtype=np.int64), None
     if search.bound - search.coverage <= gap * search.bound:  # greedy is already proved optimal: no program
@@ -303,7 +311,7 @@ def exact_placement(
         _improve(problem, seen, shares, search, d_safe, deadline)
     if search.status != "optimal" and search.bound - search.coverage <= gap * search.bound:  # the swaps met the bound
         search.status = "optimal"
-    elif search.status != "optimal":
+    elif search.status != "optimal" and deadline - time.perf_counter() > _LEAST_SOLVER_S:
         before = time.perf_counter()
         survivors = _survivors(seen, shares, certificate.u, k, search)
         if conflict_pairs(problem.viewpoints.positions[survivors], d_safe).size == 0:
