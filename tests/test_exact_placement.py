@@ -239,7 +239,7 @@ def test_a_tight_limit_on_a_large_instance_returns_its_incumbent_with_a_stated_g
     result = exact_placement(problem, 8, d_safe, time_limit=3.0)
     wall = time.perf_counter() - started
     assert result.status == "time limit" and result.gap > 0.0
-    assert result.solver in ("killed at the deadline", "stopped at its limit")
+    assert result.solver in ("not run", "killed at the deadline", "stopped at its limit")
     assert result.greedy_coverage <= result.coverage < result.bound <= problem.greedy(8, d_safe).bound
     assert wall < 3.0 + 30.0  # a hang check (the limit is hard: the solver's child is killed), not a speed test
     _assert_separated(result.positions, d_safe)

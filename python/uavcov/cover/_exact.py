@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -299,21 +300,22 @@ def exact_placement(
     seen = problem.dense()
     weights = np.asarray(problem._visibility.targets.weights, dtype=np.float64)
     shares = weights / weights.sum()
+    seen_csr = _sparse(seen)
     targets = problem._visibility.targets
     certificate = dual_bound(
-        seen, targets.weights, k, targets.points, _DUAL_CELL, time_limit=0.5 * max(deadline - time.perf_counter(), 0.0)
+        seen, targets.weights, k, targets.points, _DUAL_CELL, time_limit=0.5 * max(deadline - time.perf_counter(), 0.0), sparse=seen_csr
     )
     search = _Search(greedy.picks, greedy.coverage, min(greedy.bound, certificate.bound))
     survivors, model = np.zeros(0, dtype=np.int64), None
     if search.bound - search.coverage <= gap * search.bound:  # greedy is already proved optimal: no program
         search.status = "optimal"
     else:
-        _improve(problem, seen, shares, search, d_safe, deadline)
+        _improve(problem, seen, seen_csr, shares, search, d_safe, deadline)
     if search.status != "optimal" and search.bound - search.coverage <= gap * search.bound:  # the swaps met the bound
         search.status = "optimal"
     elif search.status != "optimal" and deadline - time.perf_counter() > _LEAST_SOLVER_S:
         before = time.perf_counter()
-        survivors = _survivors(seen, shares, certificate.u, k, search)
+        survivors = _survivors(seen_csr, shares, certificate.u, k, search)
         if conflict_pairs(problem.viewpoints.positions[survivors], d_safe).size == 0:
             first, _group = target_groups(seen[survivors])
             survivors = survivors[undominated(seen[np.ix_(survivors, first)], k, deadline)]
@@ -323,7 +325,9 @@ def exact_placement(
     return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
 
 
-def _improve(problem: CoverageProblem, seen: np.ndarray, shares: np.ndarray, search: _Search, d_safe: float, deadline: float) -> None:
+def _improve(
+    problem: CoverageProblem, seen: np.ndarray, seen_csr: Any, shares: np.ndarray, search: _Search, d_safe: float, deadline: float
+) -> None:
     """Swaps from greedy's placement (:func:`swap_search`); ``search`` takes the result if it covers more."""
     from scipy.sparse import coo_matrix
 
@@ -336,7 +340,7 @@ def _improve(problem: CoverageProblem, seen: np.ndarray, shares: np.ndarray, sea
     if pairs.size:
         both = np.concatenate([pairs, pairs[:, ::-1]])
         conflicts = coo_matrix((np.ones(both.shape[0]), (both[:, 0], both[:, 1])), shape=(n, n)).tocsc()
-    picks = swap_search(seen[:, first].astype(np.float64), weights, search.picks, conflicts, deadline)
+    picks = swap_search(seen_csr[:, first], weights, search.picks, conflicts, deadline)
     value = _coverage_of(problem, picks)
     if value > search.coverage:
         search.picks, search.coverage, search.incumbent = picks, value, "swaps"
@@ -473,7 +477,7 @@ def _result(
     )
 
 
-def _survivors(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: int, best: _Search) -> np.ndarray:
+def _survivors(seen: Any, shares: np.ndarray, u: np.ndarray, k: int, best: _Search) -> np.ndarray:
     """The candidates that may belong to a placement better than the best so far, increasing (its picks always).
 
     The LP dual point ``u`` bounds every placement ``S`` of ``k`` candidates by
@@ -483,7 +487,7 @@ def _survivors(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: int, best
     the best coverage so far is in no better placement, and is left out of the program.
     """
     u = np.clip(u, 0.0, shares)
-    per_candidate = np.concatenate([seen[a : a + 4096].astype(np.float64) @ u for a in range(0, seen.shape[0], 4096)])
+    per_candidate = np.asarray(seen @ u).ravel()
     rest = float(np.sum(shares - u))
     top = np.sort(per_candidate)[::-1][: k + 1]
     if top.size < k + 1:
@@ -532,6 +536,14 @@ def _program(columns: np.ndarray, shares: np.ndarray, pairs: np.ndarray, k: int,
         n_rows=n_groups,
         n_conflict_rows=int(conflict_upper.size),
     )
+
+
+def _sparse(seen: np.ndarray) -> Any:
+    """``seen`` as a 0/1 float64 CSR matrix, made from its non-zeros (no dense float copy)."""
+    from scipy.sparse import csr_matrix
+
+    rows, cols = np.nonzero(seen)
+    return csr_matrix((np.ones(rows.size), (rows, cols)), shape=seen.shape)
 
 
 def _coverage_of(problem: CoverageProblem, picks: np.ndarray) -> float:

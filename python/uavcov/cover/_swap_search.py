@@ -16,6 +16,7 @@ separation the swap may break it, so this step is only taken when no two candida
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import numpy as np
 
@@ -25,13 +26,13 @@ _IMPROVEMENT = 1e-12
 _DOMINANCE_WORK = 4e10
 
 
-def swap_search(columns: np.ndarray, weights: np.ndarray, picks: np.ndarray, conflicts: object | None, deadline: float) -> np.ndarray:
+def swap_search(columns: Any, weights: np.ndarray, picks: np.ndarray, conflicts: object | None, deadline: float) -> np.ndarray:
     """Best-improvement swaps of one pick for one candidate from ``picks`` until none gains (or ``deadline``).
 
     Parameters
     ----------
-    columns : (C, G) float64 ndarray
-        1 where a candidate sees a target group.
+    columns : (C, G) float64 ndarray or scipy sparse matrix
+        1 where a candidate sees a target group (sparse: the products skip the zeros).
     weights : (G,) float64 ndarray
         Each group's share.
     picks : (k,) int64 ndarray
@@ -46,18 +47,26 @@ def swap_search(columns: np.ndarray, weights: np.ndarray, picks: np.ndarray, con
     (k,) int64 ndarray
         The picks after the last improving swap, increasing; never covering less than ``picks``.
     """
+    from scipy.sparse import csr_matrix, issparse
+
+    matrix: Any = columns.tocsr() if issparse(columns) else csr_matrix(columns, dtype=np.float64)
     picks = np.array(picks, dtype=np.int64)
-    count = columns[picks].sum(axis=0)
+
+    def row(candidate: int) -> np.ndarray:
+        return np.asarray(matrix[[candidate]].todense()).ravel()
+
+    count = np.asarray(matrix[picks].sum(axis=0)).ravel()
     while picks.size and time.perf_counter() < deadline:
-        taken = np.zeros(columns.shape[0], dtype=bool)
+        taken = np.zeros(matrix.shape[0], dtype=bool)
         taken[picks] = True
-        near = np.zeros(columns.shape[0]) if conflicts is None else np.asarray(conflicts[:, picks].sum(axis=1)).ravel()  # type: ignore[index]
+        near = np.zeros(matrix.shape[0]) if conflicts is None else np.asarray(conflicts[:, picks].sum(axis=1)).ravel()  # type: ignore[index]
         best = (_IMPROVEMENT, -1, -1)
         for slot, pick in enumerate(picks):
-            after = count - columns[pick]
+            sees = row(pick)
+            after = count - sees
             uncovered = after == 0.0
-            loss = float(weights[uncovered & (columns[pick] > 0.0)].sum())
-            gains = columns @ np.where(uncovered, weights, 0.0) - loss
+            loss = float(weights[uncovered & (sees > 0.0)].sum())
+            gains = np.asarray(matrix @ np.where(uncovered, weights, 0.0)).ravel() - loss
             blocked = taken.copy()
             if conflicts is not None:
                 own = np.asarray(conflicts[:, [pick]].todense()).ravel()  # type: ignore[index]
@@ -69,7 +78,7 @@ def swap_search(columns: np.ndarray, weights: np.ndarray, picks: np.ndarray, con
         if best[1] < 0:
             break
         _, slot, candidate = best
-        count += columns[candidate] - columns[picks[slot]]
+        count += row(candidate) - row(int(picks[slot]))
         picks[slot] = candidate
     return np.sort(picks)
 
