@@ -252,6 +252,7 @@ def test_the_solver_child_is_killed_at_the_deadline() -> None:
     seen = problem.dense()
     shares = problem._visibility.targets.weights / problem._visibility.targets.weights.sum()
     model = _exact._model(problem, seen, shares, np.arange(seen.shape[0]), d_safe, 8, exactly=True, max_model_bytes=1 << 32)
+    assert model is not None
     arguments = {"c": model.cost, "integrality": model.integrality, "bounds": model.bounds, "constraints": model.constraints}
     started = time.perf_counter()
     outcome = bounded_milp({**arguments, "options": {"presolve": True}}, started + 0.2)

@@ -319,9 +319,12 @@ def exact_placement(
         if conflict_pairs(problem.viewpoints.positions[survivors], d_safe).size == 0:
             first, _group = target_groups(seen[survivors])
             survivors = survivors[undominated(seen[np.ix_(survivors, first)], k, deadline)]
-        model = _model(problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes)
+        model = _model(
+            problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes, deadline=deadline
+        )
         search.model_time += time.perf_counter() - before
-        _round(problem, search, survivors, model, k, (deadline, gap, node_limit))
+        if model is not None:  # else the deadline passed while it was made: the solver is not run
+            _round(problem, search, survivors, model, k, (deadline, gap, node_limit))
     return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
 
 
@@ -373,9 +376,12 @@ def _model(
     *,
     exactly: bool,
     max_model_bytes: int,
-) -> _Program:
-    """The program on the candidates ``survivors``, its targets grouped; refused when too large."""
+    deadline: float = float("inf"),
+) -> _Program | None:
+    """The program on the candidates ``survivors``, its targets grouped; refused when too large, None past ``deadline``."""
     first, group = target_groups(seen[survivors])
+    if time.perf_counter() > deadline:
+        return None
     weights = np.bincount(group, weights=shares, minlength=first.size)
     columns = seen[np.ix_(survivors, first)]
     kept = columns.any(axis=0)  # a group no candidate sees adds nothing to any placement
@@ -387,7 +393,7 @@ def _model(
             f"the integer program would have {nonzeros:,} non-zeros, about {nonzeros * _BYTES_PER_NONZERO / 2**30:.1f} GiB, "
             f"more than max_model_bytes = {max_model_bytes / 2**30:.1f} GiB: use fewer candidates or targets"
         )
-    return _program(columns, weights, pairs, k, exactly=exactly)
+    return None if time.perf_counter() > deadline else _program(columns, weights, pairs, k, exactly=exactly)
 
 
 # HiGHS's presolve finds nothing to remove in these programs (Table 1: 0 rows, 0 columns) and
@@ -518,7 +524,9 @@ def _program(columns: np.ndarray, shares: np.ndarray, pairs: np.ndarray, k: int,
     from scipy.sparse import csr_matrix, hstack, identity, vstack
 
     n_candidates, n_groups = columns.shape
-    coverage_rows = hstack([-csr_matrix(columns.T, dtype=np.float64), identity(n_groups, format="csr")])
+    group_of, candidate_of = np.nonzero(columns.T)  # the sparse rows straight from the non-zeros: no dense float copy
+    seen_by = csr_matrix((-np.ones(group_of.size), (group_of, candidate_of)), shape=(n_groups, n_candidates))
+    coverage_rows = hstack([seen_by, identity(n_groups, format="csr")])
     conflicts, conflict_upper = _conflict_rows(pairs, n_candidates)
     blocks = [coverage_rows, hstack([csr_matrix(np.ones((1, n_candidates))), csr_matrix((1, n_groups))])]
     upper = [np.zeros(n_groups), np.array([float(k)])]
