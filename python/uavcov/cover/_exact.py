@@ -32,6 +32,8 @@ certificate. The time limit is hard: it counts from the call, and HiGHS runs in 
 (:mod:`uavcov.cover._bounded_milp`) that gets a share of the time left and is killed one second
 past the deadline, because HiGHS does not check its clock inside every step (its presolve took
 21.8 s of a 6.2 s limit on Table 1's terrains; two 60 s solves took about 504 s before this).
+The steps before it keep to the deadline as well: the LP dual bound gets half the time left, the
+swaps stop at the deadline, and no program is made with under ``_LEAST_SOLVER_S`` left.
 scipy's ``milp`` takes no starting solution, so the swaps' placement is the fallback: when the
 solver stops at its time or node limit (or is killed) the result is the better of that placement
 and the solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and
