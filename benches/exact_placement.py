@@ -167,6 +167,30 @@ def _structures(families: list[str], seeds: list[int], time_limit: float, rows_p
             )
 
 
+def _direct(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: int, highs: list[str]) -> None:
+    """``exact_placement`` on each terrain and team size with HiGHS's options changed (``key=value``): what each step did."""
+    from uavcov.cover import _exact
+
+    for item in highs:
+        key, value = item.split("=", 1)
+        _exact._HIGHS_OPTIONS[key] = {"True": True, "False": False}.get(
+            value, value if not value.replace(".", "").isdigit() else float(value)
+        )
+    print(f"HiGHS options {_exact._HIGHS_OPTIONS}, {time_limit:g} s")
+    for seed in seeds:
+        _, d_safe, problem = _problem(seed, 5.0, threads)
+        for n in sizes:
+            started = time.perf_counter()
+            r = exact_placement(problem, n, d_safe, time_limit=time_limit)
+            wall = time.perf_counter() - started
+            print(
+                f"terrain {seed} N {n}: wall {wall:.1f} s, {r.status}, solver {r.solver}, incumbent {r.incumbent}, "
+                f"greedy {r.greedy_coverage:.4f}, best {r.coverage:.4f}, bound {r.bound:.4f}, gap {r.gap:.4f}, "
+                f"kept {r.n_kept}/{r.n_candidates}, rows {r.n_rows}, nodes {r.n_nodes}, load {os.getloadavg()[0]:.2f}",
+                flush=True,
+            )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--sweep", action="store_true")
@@ -179,6 +203,9 @@ def main() -> None:
     parser.add_argument("--spacings", type=float, nargs="+", default=[5.0, 2.5, 1.25])
     parser.add_argument("--cao", action="store_true")
     parser.add_argument("--cao-seeds", default="0-4")
+    parser.add_argument("--direct", action="store_true", help="exact_placement on --direct-seeds x --sizes, one line each")
+    parser.add_argument("--direct-seeds", default="0-3")
+    parser.add_argument("--highs", nargs="*", default=[], help="HiGHS options for --direct, key=value")
     parser.add_argument("--structures", action="store_true")
     parser.add_argument("--structure-seeds", default="0-1")
     parser.add_argument("--families", nargs="+", default=["building", "girder_bridge", "arch_bridge", "tower", "pylon"])
@@ -199,6 +226,8 @@ def main() -> None:
         _refine(list(parse_seeds(args.refine_seeds)), sizes, args.spacings, args.time_limit, args.threads)
     if args.cao:
         _cao(list(parse_seeds(args.cao_seeds)), sizes, args.time_limit, args.threads)
+    if args.direct:
+        _direct(list(parse_seeds(args.direct_seeds)), sizes, args.time_limit, args.threads, args.highs)
     if args.structures:
         _structures(args.families, list(parse_seeds(args.structure_seeds)), args.time_limit, args.structure_rows)
 
