@@ -94,18 +94,23 @@ def _problem(seed: int, spacing: float, threads: int) -> tuple[uavcov.Terrain, f
 
 
 def _refine(seeds: list[int], sizes: tuple[int, ...], spacings: list[float], time_limit: float, threads: int) -> None:
-    print("\n| lattice | candidates | rows | " + " | ".join(f"N={n} greedy / optimum (status, s)" for n in sizes) + " |")
-    print("|---|---|---|" + "---|" * len(sizes))
+    print("\n| terrain, lattice | candidates | " + " | ".join(f"N={n} greedy / best / bound (status, s)" for n in sizes) + " |")
+    print("|---|---|" + "---|" * len(sizes))
     for seed in seeds:
         for spacing in spacings:
             _, d_safe, problem = _problem(seed, spacing, threads)
-            results = [exact_placement(problem, n, d_safe, time_limit=time_limit) for n in sizes]
-            cells = [f"{r.greedy_coverage:.4f} / {r.coverage:.4f} ({r.status}, {r.model_time_s + r.solve_time_s:.0f})" for r in results]
-            print(f"| seed {seed}, {spacing:g} m | {problem.viewpoints.n} | {results[0].n_rows} | " + " | ".join(cells) + " |", flush=True)
+            cells = []
+            for n in sizes:
+                started = time.perf_counter()
+                r = exact_placement(problem, n, d_safe, time_limit=time_limit)
+                wall = time.perf_counter() - started
+                cells.append(f"{r.greedy_coverage:.4f} / {r.coverage:.4f} / {r.bound:.4f} ({r.status}, {wall:.0f})")
+            load = os.getloadavg()[0]
+            print(f"| {seed}, {spacing:g} m | {problem.viewpoints.n} | " + " | ".join(cells) + f" |  load {load:.1f}", flush=True)
 
 
 def _cao(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: int) -> None:
-    print("\n| N | terrains | proved | optimum | CAO from the optimum, max | max / optimum (min-max) |")
+    print("\n| N | terrains | proved | best on the lattice | CAO from it, max | max / best on the lattice (min-max) |")
     print("|---|---|---|---|---|---|")
     for n in sizes:
         shares, optima, bests, proved = [], [], [], 0
@@ -121,9 +126,69 @@ def _cao(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: i
             shares.append(run.best_coverage / best.coverage)
         s = np.array(shares)
         print(
-            f"| {n} | {len(seeds)} | {np.mean(optima):.4f} | {np.mean(bests):.4f} | {s.mean():.4f} ({s.min():.4f}-{s.max():.4f}) |",
+            f"| {n} | {len(seeds)} | {proved} | {np.mean(optima):.4f} | {np.mean(bests):.4f} | "
+            f"{s.mean():.4f} ({s.min():.4f}-{s.max():.4f}) |  load {os.getloadavg()[0]:.1f}",
             flush=True,
         )
+
+
+def _structures(families: list[str], seeds: list[int], time_limit: float, rows_path: Path) -> None:
+    """The structures experiment's full-knowledge reference solved exactly, beside greedy and its missions' best."""
+    from uavcov.cover import viewpoint_offsets
+    from uavcov.paper._structures import StructuresExperiment, _limits, _structure
+
+    experiment = StructuresExperiment()
+    missions: dict[tuple[str, int, str], float] = {}
+    chosen = {"cvt3d": 3.0, "cvt_hf": 6.0}  # the offsets docs/structures.md reports (chosen on its development seeds)
+    for line in rows_path.read_text().splitlines() if rows_path.is_file() else []:
+        row = json.loads(line)
+        if row.get("start") in chosen and row.get("offset") == chosen[row["start"]] and not row.get("error"):
+            missions[(row["family"], int(row["seed"]), row["start"])] = float(row["best"])
+    print("\n| family, seed | candidates | greedy | best | bound | status | s | 3D-prior mission / best | HF-prior mission / best |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for family in families:
+        for seed in seeds:
+            structure = _structure(experiment, family, seed)
+            limits = _limits(experiment, structure)
+            candidates = viewpoint_offsets(
+                structure.surface, limits, experiment.reference_distances, spacing=experiment.reference_spacing, n_threads=1
+            )
+            targets = structure.targets(spacing=experiment.target_spacing)
+            visibility = uavcov.Visibility(structure.surface, experiment.d_max, targets, n_threads=1)
+            problem = CoverageProblem(visibility, candidates, n_threads=1)
+            started = time.perf_counter()
+            r = exact_placement(problem, experiment.n_uavs, experiment.d_safe, time_limit=time_limit)
+            wall = time.perf_counter() - started
+            shares = [f"{missions[(family, seed, s)] / r.coverage:.3f}" if (family, seed, s) in missions else "-" for s in chosen]
+            print(
+                f"| {family}, {seed} | {candidates.n} | {r.greedy_coverage:.4f} | {r.coverage:.4f} | {r.bound:.4f} | "
+                f"{r.status} | {wall:.0f} | " + " | ".join(shares) + f" |  load {os.getloadavg()[0]:.1f}",
+                flush=True,
+            )
+
+
+def _direct(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: int, highs: list[str]) -> None:
+    """``exact_placement`` on each terrain and team size with HiGHS's options changed (``key=value``): what each step did."""
+    from uavcov.cover import _exact
+
+    for item in highs:
+        key, value = item.split("=", 1)
+        _exact._HIGHS_OPTIONS[key] = {"True": True, "False": False}.get(
+            value, value if not value.replace(".", "").isdigit() else float(value)
+        )
+    print(f"HiGHS options {_exact._HIGHS_OPTIONS}, {time_limit:g} s")
+    for seed in seeds:
+        _, d_safe, problem = _problem(seed, 5.0, threads)
+        for n in sizes:
+            started = time.perf_counter()
+            r = exact_placement(problem, n, d_safe, time_limit=time_limit)
+            wall = time.perf_counter() - started
+            print(
+                f"terrain {seed} N {n}: wall {wall:.1f} s, {r.status}, solver {r.solver}, incumbent {r.incumbent}, "
+                f"greedy {r.greedy_coverage:.4f}, best {r.coverage:.4f}, bound {r.bound:.4f}, gap {r.gap:.4f}, "
+                f"kept {r.n_kept}/{r.n_candidates}, rows {r.n_rows}, nodes {r.n_nodes}, load {os.getloadavg()[0]:.2f}",
+                flush=True,
+            )
 
 
 def main() -> None:
@@ -138,6 +203,13 @@ def main() -> None:
     parser.add_argument("--spacings", type=float, nargs="+", default=[5.0, 2.5, 1.25])
     parser.add_argument("--cao", action="store_true")
     parser.add_argument("--cao-seeds", default="0-4")
+    parser.add_argument("--direct", action="store_true", help="exact_placement on --direct-seeds x --sizes, one line each")
+    parser.add_argument("--direct-seeds", default="0-3")
+    parser.add_argument("--highs", nargs="*", default=[], help="HiGHS options for --direct, key=value")
+    parser.add_argument("--structures", action="store_true")
+    parser.add_argument("--structure-seeds", default="0-1")
+    parser.add_argument("--families", nargs="+", default=["building", "girder_bridge", "arch_bridge", "tower", "pylon"])
+    parser.add_argument("--structure-rows", type=Path, default=Path("docs/structures_experiment/rows.jsonl"))
     parser.add_argument("--time-limit", type=float, default=60.0)
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args()
@@ -154,6 +226,10 @@ def main() -> None:
         _refine(list(parse_seeds(args.refine_seeds)), sizes, args.spacings, args.time_limit, args.threads)
     if args.cao:
         _cao(list(parse_seeds(args.cao_seeds)), sizes, args.time_limit, args.threads)
+    if args.direct:
+        _direct(list(parse_seeds(args.direct_seeds)), sizes, args.time_limit, args.threads, args.highs)
+    if args.structures:
+        _structures(args.families, list(parse_seeds(args.structure_seeds)), args.time_limit, args.structure_rows)
 
 
 if __name__ == "__main__":

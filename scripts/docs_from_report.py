@@ -49,6 +49,7 @@ This page is generated, numbers and figures alike:
 ```
 uavcov reproduce all --out out/all --workers 2 --threads 1
 python scripts/docs_from_report.py out/all
+python scripts/optimum_docs.py ROWS --runs out/all/table1/runs.csv  # the lattice optimum (benches/README.md)
 ```
 
 """

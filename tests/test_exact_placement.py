@@ -5,6 +5,7 @@ from __future__ import annotations
 import itertools
 import math
 import pickle
+import time
 from typing import Any
 
 import numpy as np
@@ -220,3 +221,98 @@ def test_greedy_proved_optimal_by_its_bound_needs_no_program() -> None:
     everyone = exact_placement(problem, problem.viewpoints.n)  # every candidate: greedy reaches the ceiling
     assert everyone.status == "optimal" and everyone.n_rows == 0 and everyone.incumbent == "greedy"
     assert everyone.coverage == everyone.bound == problem.ceiling()
+
+
+def _table1_problem() -> tuple[CoverageProblem, float]:
+    """Table 1's first terrain on its 5 m lattice (1,323 candidates): a program HiGHS cannot finish in seconds."""
+    from uavcov.paper import TABLE1
+
+    terrain = TABLE1.terrain.make(0)
+    limits = TABLE1.mission.constraints.resolve(terrain)
+    lattice = viewpoint_lattice(terrain, limits, GreedySettings(spacing=5.0, n_heights=3), n_threads=2)
+    return CoverageProblem(uavcov.Visibility(terrain, TABLE1.d_max, n_threads=2), lattice, n_threads=2), limits.d_safe
+
+
+def test_a_tight_limit_on_a_large_instance_returns_its_incumbent_with_a_stated_gap() -> None:
+    problem, d_safe = _table1_problem()
+    started = time.perf_counter()
+    result = exact_placement(problem, 8, d_safe, time_limit=3.0)
+    wall = time.perf_counter() - started
+    assert result.status == "time limit" and result.gap > 0.0
+    assert result.solver in ("not run", "killed at the deadline", "stopped at its limit")
+    assert result.greedy_coverage <= result.coverage < result.bound <= problem.greedy(8, d_safe).bound
+    assert wall < 3.0 + 30.0  # a hang check (the limit is hard: the solver's child is killed), not a speed test
+    _assert_separated(result.positions, d_safe)
+
+
+def test_the_solver_child_is_killed_at_the_deadline() -> None:
+    from uavcov.cover._bounded_milp import _GRACE_S, bounded_milp
+
+    problem, d_safe = _table1_problem()
+    seen = problem.dense()
+    shares = problem._visibility.targets.weights / problem._visibility.targets.weights.sum()
+    model = _exact._model(problem, seen, shares, np.arange(seen.shape[0]), d_safe, 8, exactly=True, max_model_bytes=1 << 32)
+    assert model is not None
+    arguments = {"c": model.cost, "integrality": model.integrality, "bounds": model.bounds, "constraints": model.constraints}
+    started = time.perf_counter()
+    outcome = bounded_milp({**arguments, "options": {"presolve": True}}, started + 0.2)
+    assert outcome.killed or outcome.status == 1  # killed, or stopped by its own (shorter) limit
+    assert not outcome.killed or (outcome.x is None and math.isnan(outcome.dual_bound))
+    assert time.perf_counter() - started < 0.2 + _GRACE_S + 10.0  # hang check
+    assert bounded_milp(arguments, started - 1.0).killed  # no time left: no child at all
+
+
+def test_swaps_never_lose_coverage_and_keep_the_separation() -> None:
+    from scipy.sparse import coo_matrix
+
+    from uavcov.cover._swap_search import swap_search
+
+    problem = _terrain_problem()
+    seen = problem.dense()
+    shares = problem._visibility.targets.weights / problem._visibility.targets.weights.sum()
+    for k, d_safe in [(3, 0.0), (5, 4.0), (8, 6.5)]:
+        greedy = problem.greedy(k, d_safe)
+        pairs = _exact.conflict_pairs(problem.viewpoints.positions, d_safe)
+        both = np.concatenate([pairs, pairs[:, ::-1]])
+        n = seen.shape[0]
+        conflicts = coo_matrix((np.ones(len(both)), (both[:, 0], both[:, 1])), shape=(n, n)).tocsc() if pairs.size else None
+        picks = swap_search(seen.astype(np.float64), shares, greedy.picks, conflicts, time.perf_counter() + 60.0)
+        assert picks.size == k == np.unique(picks).size
+        assert seen[picks].any(axis=0) @ shares >= greedy.coverage - 1e-12
+        _assert_separated(problem.viewpoints.positions[picks], d_safe)
+
+
+def test_dominated_candidates_are_those_another_sees_more_than() -> None:
+    from uavcov.cover._swap_search import undominated
+
+    columns = np.array(
+        [
+            [1, 1, 0, 0],  # inside candidate 2's
+            [0, 0, 1, 1],  # kept: nobody sees both its groups but candidate 3, which is its twin with a higher index
+            [1, 1, 1, 0],
+            [0, 0, 1, 1],  # dominated by its twin 1 (the lower index stays)
+            [0, 0, 0, 0],  # sees nothing
+        ],
+        dtype=bool,
+    )
+    assert undominated(columns, 2, time.perf_counter() + 60.0).tolist() == [False, True, True, False, False]
+    assert undominated(columns, 3, time.perf_counter() + 60.0).all()  # fewer than k left: all kept
+
+
+def test_the_sweep_summary_counts_proved_gaps_and_the_overshoot() -> None:
+    from uavcov.paper import OracleRow
+    from uavcov.paper._bounds import optimum_sweep_markdown
+
+    def row(seed: int, n: int, optimum: float, bound: float, status: str, seconds: float) -> OracleRow:
+        return OracleRow(seed, n, 0.5, 1.0, 1.0, 10, 0.1, 0.1, "", 1.0, 1.0, 0.1, optimum, bound, status, seconds)
+
+    rows = [
+        row(0, 5, 0.7, 0.7, "optimal", 2.0),
+        row(1, 5, 0.7, 0.7005, "time limit", 61.5),  # relative gap 7.1e-4
+        row(0, 8, 0.9, 0.91, "time limit", 60.5),
+        OracleRow(1, 8, 0.5, 1.0, 1.0, 10, 0.1, 0.1, "", 1.0, 1.0, 0.1),  # without the optimum's columns: skipped
+    ]
+    lines = optimum_sweep_markdown(rows, 60.0).splitlines()
+    assert lines[2].startswith("| 5 | 2 | 1 | 2 | ") and lines[2].endswith("| 61.5 | +1.5 |")
+    assert lines[3].startswith("| 8 | 1 | 0 | 0 | 1.1e-02 | 1.1e-02 | 60.5 | 60.5 | +0.5 |")
+    assert lines[4].startswith("| all | 3 | 1 | 2 | ")

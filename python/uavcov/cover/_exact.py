@@ -22,13 +22,24 @@ out (weak duality: exact, whatever the dual point). When the pairs closer than
 conflicts with the others), each candidate's later neighbours share one row instead,
 ``|N(a)| x_a + sum_{b in N(a)} x_b <= |N(a)|``, the same integer points in fewer rows.
 
+Before the program, greedy's placement is improved by best-improvement swaps of one pick
+(:func:`uavcov.cover._swap_search.swap_search`), which both narrows the gap and lets the dual point
+exclude more candidates; without separation, candidates another one dominates (sees a superset
+of) leave too (:func:`uavcov.cover._swap_search.undominated`).
+
 scipy's HiGHS (``scipy.optimize.milp``, branch and cut) solves it; its proven dual bound is the
-certificate. It takes no starting solution, so greedy's placement is the fallback: when the
-solver stops at its time or node limit the result is the better of greedy's placement and the
-solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and the LP
-dual bound (each certified on its own). The solver and the evaluation are sequential and exact:
-the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with the
-node limit instead of the time limit not on the machine's speed either.
+certificate. The time limit is hard: it counts from the call, and HiGHS runs in a child process
+(:mod:`uavcov.cover._bounded_milp`) that gets a share of the time left and is killed one second
+past the deadline, because HiGHS does not check its clock inside every step (its presolve took
+21.8 s of a 6.2 s limit on Table 1's terrains; two 60 s solves took about 504 s before this).
+The steps before it keep to the deadline as well: the LP dual bound gets half the time left, the
+swaps stop at the deadline, and no program is made with under ``_LEAST_SOLVER_S`` left.
+scipy's ``milp`` takes no starting solution, so the swaps' placement is the fallback: when the
+solver stops at its time or node limit (or is killed) the result is the better of that placement
+and the solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and
+the LP dual bound (each certified on its own). Swaps, solver and evaluation are sequential and
+exact: the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with
+the node limit instead of the time limit (and time enough) not on the machine's speed either.
 
 What the optimum is the optimum of: *these candidates* on *these targets* (as every bound of
 :mod:`uavcov.cover._greedy`); positions off the candidates may see more.
@@ -38,12 +49,16 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from .._validate import MAX_UAVS, as_count, as_non_negative_float, as_positive_float, as_positive_int, read_only
 from ..errors import InvalidTypeError, ModelTooLargeError
+from ._bounded_milp import bounded_milp
+from ._dual_bound import dual_bound
 from ._greedy import CoverageProblem, GreedyResult
+from ._swap_search import swap_search, undominated
 
 MAX_MODEL_BYTES = 4 << 30
 """Default memory allowed for the integer program (estimated before it is built): 4 GiB."""
@@ -53,6 +68,10 @@ MAX_MODEL_BYTES = 4 << 30
 _BYTES_PER_NONZERO = 64
 # Solver shares carry the rounding of summing up to T float64 weights (as the LP dual bound's).
 _ROUNDING = 4.0 * float(np.finfo(np.float64).eps)
+# The LP dual bound's clusters, metres (as CoverageProblem.dual_bound's default).
+_DUAL_CELL = 3.0
+# Seconds left below which no program is built (the child's start-up alone takes about one).
+_LEAST_SOLVER_S = 2.0
 # More conflict pairs than this many per candidate: one aggregated row per candidate instead.
 _PAIRS_PER_CANDIDATE = 4
 
@@ -87,8 +106,13 @@ class ExactResult:
     k : int
         Team size asked for.
     incumbent : str
-        Where the placement comes from: ``"solver"``, or ``"greedy"`` when the solver found
-        nothing better (greedy's placement may be optimal).
+        Where the placement comes from: ``"greedy"``, ``"swaps"`` (greedy's improved by
+        swapping one pick at a time) or ``"solver"`` (HiGHS found a better one).
+    solver : str
+        What became of HiGHS: ``"not run"`` (greedy's bound proved it optimal first),
+        ``"finished"``, ``"stopped at its limit"`` (its own time, node or gap limit), or
+        ``"killed at the deadline"`` (it overran; its work is lost, the bounds of greedy and
+        the LP stand).
     d_safe : float
         Separation kept between the chosen candidates, metres.
     greedy_coverage : float
@@ -98,7 +122,7 @@ class ExactResult:
     n_candidates : int
     n_kept : int
         Candidates left in the program: those the LP dual bound does not exclude from every
-        placement better than greedy's.
+        placement better than the incumbent, less the dominated ones.
     n_rows : int
         Rows of targets in the program (groups of targets seen by the same candidates); 0 when
         greedy's placement was proved optimal without one (its bound met its coverage).
@@ -106,8 +130,9 @@ class ExactResult:
         Separation rows.
     n_nodes : int
         Branch-and-bound nodes the solver explored.
-    model_time_s, solve_time_s : float
-        Wall time of grouping the targets and building the program, and of the solver, seconds.
+    model_time_s, swap_time_s, solve_time_s : float
+        Wall time of reducing the candidates and building the program, of the swaps, and of the
+        solver (its child process included), seconds.
     """
 
     positions: np.ndarray
@@ -128,7 +153,9 @@ class ExactResult:
     n_conflict_rows: int
     n_nodes: int
     model_time_s: float
+    swap_time_s: float
     solve_time_s: float
+    solver: str
 
     @property
     def relative_gap(self) -> float:
@@ -220,7 +247,8 @@ def exact_placement(
     d_safe : float, default 0.0
         Least distance between two chosen candidates, metres (pairs closer conflict, as in greedy).
     time_limit : float, default 60.0
-        Seconds the solver may take (wall time: the result then depends on the machine's speed).
+        Seconds the call may take from its start (wall time: the result then depends on the
+        machine's speed); hard, up to the child's start-up and a one-second grace.
     gap : float, default 1e-4
         Relative gap at which the solver stops and calls the placement optimal.
     node_limit : int, optional
@@ -268,33 +296,60 @@ def exact_placement(
             f"{n_candidates:,} candidates x {n_targets:,} targets take {n_candidates * n_targets * 9 / 2**30:.1f} GiB "
             f"as the program's matrices, more than max_model_bytes = {max_model_bytes / 2**30:.1f} GiB: use fewer candidates or targets"
         )
-    greedy = problem.greedy(k, d_safe)
     started = time.perf_counter()
+    deadline = started + time_limit
+    greedy = problem.greedy(k, d_safe)
     seen = problem.dense()
     weights = np.asarray(problem._visibility.targets.weights, dtype=np.float64)
     shares = weights / weights.sum()
-    certificate = problem.dual_bound(k)
+    seen_csr = _sparse(seen)
+    targets = problem._visibility.targets
+    certificate = dual_bound(
+        seen, targets.weights, k, targets.points, _DUAL_CELL, time_limit=0.5 * max(deadline - time.perf_counter(), 0.0), sparse=seen_csr
+    )
     search = _Search(greedy.picks, greedy.coverage, min(greedy.bound, certificate.bound))
-    deadline = started + time_limit
-    # two rounds: a third of the time to find a better placement, which removes candidates, then
-    # the rest on the program of the candidates left (one round with a node limit: deterministic)
     survivors, model = np.zeros(0, dtype=np.int64), None
     if search.bound - search.coverage <= gap * search.bound:  # greedy is already proved optimal: no program
         search.status = "optimal"
-    for share in () if search.status == "optimal" else (1.0,) if node_limit is not None else (1.0 / 3.0, 1.0):
-        left = _survivors(seen, shares, certificate.u, k, search)
-        if model is None or not np.array_equal(left, survivors):  # the same candidates: the same program
-            survivors = left
-            before = time.perf_counter()
-            model = _model(problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes)
-            search.model_time += time.perf_counter() - before
-        remaining = deadline - time.perf_counter()
-        if remaining <= 0.0:
-            break
-        _round(problem, search, survivors, model, k, (share * remaining, gap, node_limit))
-        if search.status == "optimal":
-            break
+    else:
+        _improve(problem, seen, seen_csr, shares, search, d_safe, deadline)
+    if search.status != "optimal" and search.bound - search.coverage <= gap * search.bound:  # the swaps met the bound
+        search.status = "optimal"
+    elif search.status != "optimal" and deadline - time.perf_counter() > _LEAST_SOLVER_S:
+        before = time.perf_counter()
+        survivors = _survivors(seen_csr, shares, certificate.u, k, search)
+        if conflict_pairs(problem.viewpoints.positions[survivors], d_safe).size == 0:
+            first, _group = target_groups(seen[survivors])
+            survivors = survivors[undominated(seen[np.ix_(survivors, first)], k, deadline)]
+        model = _model(
+            problem, seen, shares, survivors, d_safe, k, exactly=greedy.picks.size == k, max_model_bytes=max_model_bytes, deadline=deadline
+        )
+        search.model_time += time.perf_counter() - before
+        if model is not None:  # else the deadline passed while it was made: the solver is not run
+            _round(problem, search, survivors, model, k, (deadline, gap, node_limit))
     return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
+
+
+def _improve(
+    problem: CoverageProblem, seen: np.ndarray, seen_csr: Any, shares: np.ndarray, search: _Search, d_safe: float, deadline: float
+) -> None:
+    """Swaps from greedy's placement (:func:`swap_search`); ``search`` takes the result if it covers more."""
+    from scipy.sparse import coo_matrix
+
+    before = time.perf_counter()
+    first, group = target_groups(seen)
+    weights = np.bincount(group, weights=shares, minlength=first.size)
+    pairs = conflict_pairs(problem.viewpoints.positions, d_safe)
+    n = seen.shape[0]
+    conflicts = None
+    if pairs.size:
+        both = np.concatenate([pairs, pairs[:, ::-1]])
+        conflicts = coo_matrix((np.ones(both.shape[0]), (both[:, 0], both[:, 1])), shape=(n, n)).tocsc()
+    picks = swap_search(seen_csr[:, first], weights, search.picks, conflicts, deadline)
+    value = _coverage_of(problem, picks)
+    if value > search.coverage:
+        search.picks, search.coverage, search.incumbent = picks, value, "swaps"
+    search.swap_time = time.perf_counter() - before
 
 
 @dataclass
@@ -304,11 +359,13 @@ class _Search:
     picks: np.ndarray
     coverage: float
     bound: float
-    from_solver: bool = False
+    incumbent: str = "greedy"
+    solver: str = "not run"
     status: str = "time limit"
     n_nodes: int = 0
     model_time: float = 0.0
     solve_time: float = 0.0
+    swap_time: float = 0.0
 
 
 def _model(
@@ -321,9 +378,12 @@ def _model(
     *,
     exactly: bool,
     max_model_bytes: int,
-) -> _Program:
-    """The program on the candidates ``survivors``, its targets grouped; refused when too large."""
+    deadline: float = float("inf"),
+) -> _Program | None:
+    """The program on the candidates ``survivors``, its targets grouped; refused when too large, None past ``deadline``."""
     first, group = target_groups(seen[survivors])
+    if time.perf_counter() > deadline:
+        return None
     weights = np.bincount(group, weights=shares, minlength=first.size)
     columns = seen[np.ix_(survivors, first)]
     kept = columns.any(axis=0)  # a group no candidate sees adds nothing to any placement
@@ -335,39 +395,51 @@ def _model(
             f"the integer program would have {nonzeros:,} non-zeros, about {nonzeros * _BYTES_PER_NONZERO / 2**30:.1f} GiB, "
             f"more than max_model_bytes = {max_model_bytes / 2**30:.1f} GiB: use fewer candidates or targets"
         )
-    return _program(columns, weights, pairs, k, exactly=exactly)
+    return None if time.perf_counter() > deadline else _program(columns, weights, pairs, k, exactly=exactly)
+
+
+# HiGHS's presolve finds nothing to remove in these programs (Table 1: 0 rows, 0 columns) and
+# took 21.8 s on a 1.5-million-non-zero one before the root LP started: switched off.
+_HIGHS_OPTIONS: dict[str, object] = {"presolve": False}
 
 
 def _round(
     problem: CoverageProblem, search: _Search, survivors: np.ndarray, model: _Program, k: int, limits: tuple[float, float, int | None]
 ) -> None:
-    """HiGHS on ``model`` within ``limits`` (seconds, relative gap, nodes); ``search`` takes its placement if better, and its bound.
+    """HiGHS on ``model`` until the deadline (a child process killed then), the relative gap or the node limit.
 
-    The solver's bound holds for the placements of the
-    candidates left; every other placement is below the best coverage so far, so
-    ``max(bound, coverage)`` holds for all.
+    ``search`` takes its placement if better, and its bound. The solver's bound holds for the
+    placements of the candidates left; every other placement is below the best coverage so far
+    (or matched by one of the candidates left), so ``max(bound, coverage)`` holds for all.
     """
-    from scipy.optimize import milp
-
-    time_limit, gap, node_limit = limits
-    options: dict[str, object] = {"time_limit": time_limit, "mip_rel_gap": gap, "presolve": True}
+    deadline, gap, node_limit = limits
+    options: dict[str, object] = {"mip_rel_gap": gap, **_HIGHS_OPTIONS}
     if node_limit is not None:
         options["node_limit"] = node_limit
-    started = time.perf_counter()
-    result = milp(model.cost, integrality=model.integrality, bounds=model.bounds, constraints=model.constraints, options=options)
-    search.solve_time += time.perf_counter() - started
-    search.n_nodes += int(getattr(result, "mip_node_count", 0) or 0)
-    if result.x is not None:
-        chosen = survivors[np.flatnonzero(result.x[: survivors.size] > 0.5)]
+    arguments = {
+        "c": model.cost,
+        "integrality": model.integrality,
+        "bounds": model.bounds,
+        "constraints": model.constraints,
+        "options": options,
+    }
+    outcome = bounded_milp(arguments, deadline)
+    search.solve_time += outcome.wall_s
+    search.n_nodes += outcome.n_nodes
+    if outcome.killed:
+        search.solver = "killed at the deadline"
+        return
+    search.solver = "finished" if outcome.status == 0 else "stopped at its limit"
+    if outcome.x is not None:
+        chosen = survivors[np.flatnonzero(outcome.x[: survivors.size] > 0.5)]
         value = _coverage_of(problem, chosen)
         if value > search.coverage:
-            search.picks, search.coverage, search.from_solver = chosen, value, True
-    proven = getattr(result, "mip_dual_bound", None)
-    if proven is not None and np.isfinite(proven):
-        search.bound = min(search.bound, max(-float(proven) + (k + 1) * problem._matrix.n_targets * _ROUNDING, search.coverage))
-    if result.status == 0 or search.bound - search.coverage <= gap * search.bound:
+            search.picks, search.coverage, search.incumbent = chosen, value, "solver"
+    if np.isfinite(outcome.dual_bound):
+        search.bound = min(search.bound, max(-outcome.dual_bound + (k + 1) * problem._matrix.n_targets * _ROUNDING, search.coverage))
+    if outcome.status == 0 or search.bound - search.coverage <= gap * search.bound:
         search.status = "optimal"
-    elif node_limit is not None and int(getattr(result, "mip_node_count", 0) or 0) >= node_limit:
+    elif node_limit is not None and outcome.n_nodes >= node_limit:
         search.status = "node limit"
 
 
@@ -396,7 +468,8 @@ def _result(
         gap=float(bound - search.coverage),
         status=status,
         k=k,
-        incumbent="solver" if search.from_solver else "greedy",
+        incumbent=search.incumbent,
+        solver=search.solver,
         d_safe=d_safe,
         greedy_coverage=greedy.coverage,
         holds_for=f"the best {k} of these candidates ({problem.viewpoints.description}) kept {d_safe:g} m apart, "
@@ -407,11 +480,12 @@ def _result(
         n_conflict_rows=0 if model is None else model.n_conflict_rows,
         n_nodes=search.n_nodes,
         model_time_s=search.model_time,
+        swap_time_s=search.swap_time,
         solve_time_s=search.solve_time,
     )
 
 
-def _survivors(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: int, best: _Search) -> np.ndarray:
+def _survivors(seen: Any, shares: np.ndarray, u: np.ndarray, k: int, best: _Search) -> np.ndarray:
     """The candidates that may belong to a placement better than the best so far, increasing (its picks always).
 
     The LP dual point ``u`` bounds every placement ``S`` of ``k`` candidates by
@@ -421,7 +495,7 @@ def _survivors(seen: np.ndarray, shares: np.ndarray, u: np.ndarray, k: int, best
     the best coverage so far is in no better placement, and is left out of the program.
     """
     u = np.clip(u, 0.0, shares)
-    per_candidate = np.concatenate([seen[a : a + 4096].astype(np.float64) @ u for a in range(0, seen.shape[0], 4096)])
+    per_candidate = np.asarray(seen @ u).ravel()
     rest = float(np.sum(shares - u))
     top = np.sort(per_candidate)[::-1][: k + 1]
     if top.size < k + 1:
@@ -452,7 +526,9 @@ def _program(columns: np.ndarray, shares: np.ndarray, pairs: np.ndarray, k: int,
     from scipy.sparse import csr_matrix, hstack, identity, vstack
 
     n_candidates, n_groups = columns.shape
-    coverage_rows = hstack([-csr_matrix(columns.T, dtype=np.float64), identity(n_groups, format="csr")])
+    group_of, candidate_of = np.nonzero(columns.T)  # the sparse rows straight from the non-zeros: no dense float copy
+    seen_by = csr_matrix((-np.ones(group_of.size), (group_of, candidate_of)), shape=(n_groups, n_candidates))
+    coverage_rows = hstack([seen_by, identity(n_groups, format="csr")])
     conflicts, conflict_upper = _conflict_rows(pairs, n_candidates)
     blocks = [coverage_rows, hstack([csr_matrix(np.ones((1, n_candidates))), csr_matrix((1, n_groups))])]
     upper = [np.zeros(n_groups), np.array([float(k)])]
@@ -470,6 +546,14 @@ def _program(columns: np.ndarray, shares: np.ndarray, pairs: np.ndarray, k: int,
         n_rows=n_groups,
         n_conflict_rows=int(conflict_upper.size),
     )
+
+
+def _sparse(seen: np.ndarray) -> Any:
+    """``seen`` as a 0/1 float64 CSR matrix, made from its non-zeros (no dense float copy)."""
+    from scipy.sparse import csr_matrix
+
+    rows, cols = np.nonzero(seen)
+    return csr_matrix((np.ones(rows.size), (rows, cols)), shape=seen.shape)
 
 
 def _coverage_of(problem: CoverageProblem, picks: np.ndarray) -> float:

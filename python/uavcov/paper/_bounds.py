@@ -210,3 +210,31 @@ def optimum_markdown(runs: Iterable[Mapping[str, Any]], bounds: Sequence[OracleR
 def _mean_of(rows: Sequence[Mapping[str, Any]], column: str) -> str:
     values = [float(r[column]) for r in rows if r.get(column) is not None and not math.isnan(float(r[column]))]
     return f"{np.mean(values):.2f}" if values else "-"
+
+
+def optimum_sweep_markdown(bounds: Sequence[OracleRow], time_limit: float) -> str:
+    """The exact placement's sweep per team size: proved, gaps, wall times and the overshoot past ``time_limit``.
+
+    Parameters
+    ----------
+    bounds : sequence of OracleRow
+        Oracle rows with the optimum's columns (others are skipped).
+    time_limit : float
+        The limit the rows were solved with, seconds (the overshoot is each row's whole
+        ``exact_placement`` call minus it).
+    """
+    solved = [_Solved.of(r) for r in bounds if r.optimum_status]
+    lines = [
+        "| N | instances | proved (gap <= 1e-4) | gap <= 1e-3 | gap median | gap max | s median | s max | overshoot max s |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    groups = [(str(n), [b for b in solved if b.n_uavs == n]) for n in sorted({b.n_uavs for b in solved})]
+    for label, rows in [*groups, ("all", solved)] if solved else []:
+        relative = np.array([(b.optimum_bound - b.optimum) / b.optimum_bound if b.optimum_bound > 0 else 0.0 for b in rows])
+        times = np.array([b.optimum_time_s for b in rows])
+        lines.append(
+            f"| {label} | {len(rows)} | {sum(b.optimum_status == 'optimal' for b in rows)} | {int(np.sum(relative <= 1e-3))} | "
+            f"{np.median(relative):.1e} | {relative.max():.1e} | {np.median(times):.1f} | {times.max():.1f} | "
+            f"{times.max() - time_limit:+.1f} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -65,7 +65,7 @@ class OracleRow:
     optimum_status : str
         ``ExactResult.status``, or ``""`` without ``exact``.
     optimum_time_s : float or None
-        Seconds for the integer program (model and solver).
+        Wall time of the whole exact_placement call (greedy, LP, swaps, program, solver), seconds.
     """
 
     seed: int
@@ -175,7 +175,9 @@ def _scenario_rows(
         d_safe = limits.d_safe if use_separation else 0.0
         result = problem.greedy(n, d_safe)
         certificate = problem.dual_bound(n)
+        before = time.perf_counter()
         best = exact_placement(problem, n, d_safe, time_limit=time_limit) if exact else None
+        exact_time = time.perf_counter() - before  # the whole call: greedy, LP, swaps, program, solver
         rows.append(
             OracleRow(
                 seed=seed,
@@ -190,17 +192,17 @@ def _scenario_rows(
                 online_bound=result.bound,
                 dual_bound=certificate.bound,
                 dual_time_s=certificate.solve_time_s,
-                **(_optimum_columns(best) if best is not None else {}),
+                **(_optimum_columns(best, exact_time) if best is not None else {}),
             )
         )
     return rows
 
 
-def _optimum_columns(best: ExactResult) -> dict[str, Any]:
+def _optimum_columns(best: ExactResult, wall_s: float) -> dict[str, Any]:
     """The optimum's columns of an :class:`OracleRow`."""
     return {
         "optimum": best.coverage,
         "optimum_bound": best.bound,
         "optimum_status": best.status,
-        "optimum_time_s": best.model_time_s + best.solve_time_s,
+        "optimum_time_s": wall_s,
     }
