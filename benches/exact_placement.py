@@ -135,17 +135,19 @@ def _cao(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: i
 def _structures(families: list[str], seeds: list[int], time_limit: float, rows_path: Path) -> None:
     """The structures experiment's full-knowledge reference solved exactly, beside greedy and its missions' best."""
     from uavcov.cover import viewpoint_offsets
-    from uavcov.paper._structures import StructuresExperiment, _limits, _structure
+    from uavcov.paper._structures import STARTS, StructuresExperiment, _limits, _structure
 
     experiment = StructuresExperiment()
+    # The report seeds' rows are at each start's offset chosen on the development seeds.
     missions: dict[tuple[str, int, str], float] = {}
-    chosen = {"cvt3d": 3.0, "cvt_hf": 6.0}  # the offsets docs/structures.md reports (chosen on its development seeds)
     for line in rows_path.read_text().splitlines() if rows_path.is_file() else []:
         row = json.loads(line)
-        if row.get("start") in chosen and row.get("offset") == chosen[row["start"]] and not row.get("error"):
+        if row.get("start") in STARTS and int(row["seed"]) in experiment.report_seeds and not row.get("error"):
             missions[(row["family"], int(row["seed"]), row["start"])] = float(row["best"])
-    print("\n| family, seed | candidates | greedy | best | bound | status | s | 3D-prior mission / best | HF-prior mission / best |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    names = {"cvt3d": "CVT on S'", "cvt_hf": "height-field prior", "greedy3d": "greedy on S'"}
+    columns = " | ".join(f"{names.get(s, s)} / best" for s in STARTS)
+    print(f"\n| family, seed | candidates | greedy | best | bound | status | s | {columns} |")
+    print("|---|---|---|---|---|---|---|" + "---|" * len(STARTS))
     for family in families:
         for seed in seeds:
             structure = _structure(experiment, family, seed)
@@ -159,7 +161,7 @@ def _structures(families: list[str], seeds: list[int], time_limit: float, rows_p
             started = time.perf_counter()
             r = exact_placement(problem, experiment.n_uavs, experiment.d_safe, time_limit=time_limit)
             wall = time.perf_counter() - started
-            shares = [f"{missions[(family, seed, s)] / r.coverage:.3f}" if (family, seed, s) in missions else "-" for s in chosen]
+            shares = [f"{missions[(family, seed, s)] / r.coverage:.3f}" if (family, seed, s) in missions else "-" for s in STARTS]
             print(
                 f"| {family}, {seed} | {candidates.n} | {r.greedy_coverage:.4f} | {r.coverage:.4f} | {r.bound:.4f} | "
                 f"{r.status} | {wall:.0f} | " + " | ".join(shares) + f" |  load {os.getloadavg()[0]:.1f}",
