@@ -56,7 +56,8 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 
 def _reproduce_realistic(args: argparse.Namespace) -> int:
-    """The paper's realistic scenario flown (uavcov.sim, the ``sim`` extra): serial, one core."""
+    """The paper's realistic scenario flown (uavcov.sim, the ``sim`` extra): serial, one core,
+    resumable (``--resume``); once every run is in, ``--resume`` only rewrites the report."""
     from ..paper import reproduce_realistic
 
     out = Path(args.out or "out/realistic")
@@ -64,7 +65,10 @@ def _reproduce_realistic(args: argparse.Namespace) -> int:
         out,
         seeds=args.seeds,
         starts=args.starts or ("cvt", "pairs"),
+        measurements=args.measurements or ("exact", "sensed"),
         iterations=200 if args.iterations is None else args.iterations,
+        resume=bool(args.resume),
+        progress=_say,
     )
     print((out / "realistic.md").read_text(encoding="utf-8"))
     failed = sum(bool(r["failure"]) for r in rows)

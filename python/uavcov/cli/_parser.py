@@ -67,6 +67,9 @@ def _parser() -> argparse.ArgumentParser:
     reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")
     reproduce.add_argument("--iterations", type=_non_negative_int, help="CAO iterations instead of the experiment's")
     reproduce.add_argument("--no-plots", action="store_true", help="skip the figures (drawn when uavcov[plot] is installed)")
+    reproduce.add_argument(
+        "--measurements", type=_str_list, metavar="M,M", help="realistic only: CAO's measurements, among exact,sensed (default both)"
+    )
     _add_execution(reproduce)
     reproduce.set_defaults(run=_reproduce)
 
