@@ -27,14 +27,22 @@ import numpy as np
 
 from ..engine import Targets
 from ..errors import ConfigError, InvalidInputError
-from ..experiments import parse_seeds
+from ..experiments import Experiment, parse_seeds
 from ..field import write_seen_ply
 from ..mission import run_mission
 from ..sim import MEASUREMENTS, FlownMission, SimSettings, fly_mission, save_flown
-from ._data import BUILDINGS
+from ._data import BUILDINGS, TABLE1
 from ._jsonl import append_row, read_rows
 
-__all__ = ["REALISTIC_SEEDS", "REALISTIC_DEV_SEEDS", "reproduce_realistic", "realistic_rows"]
+__all__ = [
+    "REALISTIC_SEEDS",
+    "REALISTIC_DEV_SEEDS",
+    "FLOWN_TABLE1_SEEDS",
+    "reproduce_realistic",
+    "reproduce_flown_table1",
+    "realistic_rows",
+    "fly_experiment",
+]
 
 REALISTIC_SEEDS: tuple[int, ...] = tuple(range(20))
 """The 20 scenes of the realistic scenario (held-out seeds, as the buildings experiment's)."""
@@ -104,10 +112,13 @@ def _finite(values: np.ndarray) -> list[float | None]:
     return [float(v) if math.isfinite(v) else None for v in np.asarray(values, dtype=np.float64)]
 
 
-def _run(seed: int, start: str, measurement: str, iterations: int, sim: SimSettings, folder: Path, first: bool) -> dict[str, Any]:
+def _run(
+    experiment: Experiment, n_uavs: int, task: tuple[int, str, str], iterations: int, sim: SimSettings, folder: Path, first: bool
+) -> dict[str, Any]:
     """Fly one task and its kinematic twin; the row carries the curves the report draws."""
-    terrain, known = BUILDINGS.terrain.make(seed), BUILDINGS.known(seed)
-    spec = BUILDINGS.mission_settings(4, start).with_changes(iterations=iterations)
+    seed, start, measurement = task
+    terrain, known = experiment.terrain.make(seed), experiment.known(seed)
+    spec = experiment.mission_settings(n_uavs, start).with_changes(iterations=iterations)
     flown = fly_mission(terrain, spec, replace(sim, measurement=measurement), known=known, rng=seed)
     kinematic = run_mission(terrain, spec, known=known, n_threads=1, rng=seed)
     name = f"s{seed:04d}_{start}_{measurement}"
@@ -127,21 +138,20 @@ def _run(seed: int, start: str, measurement: str, iterations: int, sim: SimSetti
 
 
 def _config(
-    seeds: tuple[int, ...], starts: tuple[str, ...], measurements: tuple[str, ...], iterations: int, sim: SimSettings
+    name: str,
+    n_uavs: int,
+    seeds: tuple[int, ...],
+    starts: tuple[str, ...],
+    measurements: tuple[str, ...],
+    iterations: int,
+    sim: SimSettings,
 ) -> dict[str, Any]:
-    return json.loads(
-        json.dumps(
-            {
-                "experiment": "realistic",
-                "seeds": seeds,
-                "starts": starts,
-                "measurements": measurements,
-                "iterations": iterations,
-                "sim": asdict(sim),
-            },
-            default=str,
-        )
-    )
+    """What a results folder was run with (JSON-ready): a resumed run must match it."""
+    config = {
+        "experiment": name, "n_uavs": n_uavs, "seeds": seeds, "starts": starts, "measurements": measurements,
+        "iterations": iterations, "sim": asdict(sim),
+    }  # fmt: skip
+    return dict(json.loads(json.dumps(config, default=str)))
 
 
 def reproduce_realistic(
@@ -182,8 +192,6 @@ def reproduce_realistic(
     list of dict
         The rows, in task order (scene, start, measurement).
     """
-    from ._realistic_report import write_realistic_report
-
     chosen = REALISTIC_SEEDS if seeds is None else tuple(parse_seeds(seeds) if isinstance(seeds, str) else seeds)
     starts, measurements = tuple(starts), tuple(measurements)
     if not starts or not set(starts) <= set(STARTS):
@@ -191,27 +199,68 @@ def reproduce_realistic(
     if not measurements or not set(measurements) <= set(MEASUREMENTS):
         raise InvalidInputError(f"measurements must be among {MEASUREMENTS}, got {measurements}")
     sim = SimSettings() if sim is None else sim
-    folder = Path(out)
+    config = _config("realistic", 4, chosen, starts, measurements, iterations, sim)
+    return fly_experiment(Path(out), BUILDINGS, config, sim, resume=resume, progress=progress)
+
+
+def fly_experiment(
+    folder: Path,
+    experiment: Experiment,
+    config: dict[str, Any],
+    sim: SimSettings,
+    *,
+    resume: bool,
+    progress: Callable[[str], None] | None,
+) -> list[dict[str, Any]]:
+    """Fly every task of ``config`` (scene x start x measurement) not yet in ``folder``'s rows, one
+    by one, each row appended as it finishes; then rewrite the report from the rows."""
+    from ._realistic_report import write_realistic_report
+
     folder.mkdir(parents=True, exist_ok=True)
-    config = _config(chosen, starts, measurements, iterations, sim)
     config_path, rows_path = folder / CONFIG, folder / ROWS
     if config_path.exists() or rows_path.exists():
         if not resume:
-            raise ConfigError(f"{folder} holds a realistic run already: resume it (--resume) or choose another --out")
+            raise ConfigError(f"{folder} holds a flown experiment already: resume it (--resume) or choose another --out")
         if json.loads(config_path.read_text(encoding="utf-8")) != config:
             raise ConfigError(f"{folder} was run with other settings; choose another --out")
     else:
         config_path.write_text(json.dumps(config, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    tasks = [(seed, start, m) for seed in chosen for start in starts for m in measurements]
+    tasks = [(seed, start, m) for seed in config["seeds"] for start in config["starts"] for m in config["measurements"]]
     done = {(r["seed"], r["start"], r["measurement"]): r for r in read_rows(rows_path)}
     say = progress or (lambda message: None)
     for k, task in enumerate(tasks):
         if task in done:
             continue
-        row = _run(*task, iterations, sim, folder, first=k == 0)
+        row = _run(experiment, config["n_uavs"], task, config["iterations"], sim, folder, first=k == 0)
         append_row(rows_path, row)
         done[task] = row
-        say(f"{len(done)}/{len(tasks)}: scene {task[0]} {task[1]} {task[2]}: best {row['flown_best']:.3f} "
-            f"(kinematic {row['kinematic_best']:.3f}), {row['flight_time_s']:.0f} s flown in {row['wall_time_s']:.0f} s")  # fmt: skip
+        outcome = f"failed: {row['failure']}" if row["failure"] else f"best {row['flown_best']:.3f} (kinematic {row['kinematic_best']:.3f})"
+        say(f"{len(done)}/{len(tasks)}: scene {task[0]} {task[1]} {task[2]}: {outcome}, {row['wall_time_s']:.0f} s")
     write_realistic_report(folder)
     return [done[t] for t in tasks]
+
+
+FLOWN_TABLE1_SEEDS: tuple[int, ...] = (0, 1, 2)
+"""The terrains of Table 1 flown at N = 12 (the first three of its held-out seeds)."""
+
+
+def reproduce_flown_table1(
+    out: str | os.PathLike[str],
+    *,
+    seeds: Iterable[int] | str | None = None,
+    starts: Iterable[str] = ("cvt", "random", "corner"),
+    iterations: int = 100,
+    sim: SimSettings | None = None,
+    resume: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> list[dict[str, Any]]:
+    """Table 1 at N = 12 flown against kinematic on a few terrains (resumable, as
+    :func:`reproduce_realistic`): the paper's three starts, CAO on the exact measurement (the
+    table's), ``iterations`` CAO iterations (the table's 500 are 5 times the flight)."""
+    chosen = FLOWN_TABLE1_SEEDS if seeds is None else tuple(parse_seeds(seeds) if isinstance(seeds, str) else seeds)
+    starts = tuple(starts)
+    if not starts or not set(starts) <= {"cvt", "random", "corner"}:
+        raise InvalidInputError(f"starts must be among ('cvt', 'random', 'corner'), got {starts}")
+    sim = SimSettings(render=False) if sim is None else sim
+    config = _config("table1", 12, chosen, starts, ("exact",), iterations, sim)
+    return fly_experiment(Path(out), TABLE1, config, sim, resume=resume, progress=progress)
