@@ -179,10 +179,21 @@ def test_check_flight_counts_each_limit_on_a_plane() -> None:
     assert report.min_separation == pytest.approx(math.hypot(0.2, 0.1))
 
 
-@pytest.mark.parametrize("bad", [["--starts", "corner"], ["--seeds", "x-y"], ["--starts", "cvt,random"]])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        ["realistic", "--starts", "corner"],
+        ["realistic", "--seeds", "x-y"],
+        ["realistic", "--starts", "cvt,random"],
+        ["realistic", "--measurements", "guessed"],
+        ["realistic", "--measurements", "exact,psychic"],
+        ["flown-table1", "--starts", "pairs"],
+        ["flown-table1", "--measurements", "sensed"],
+    ],
+)
 def test_reproduce_realistic_refuses_bad_choices_in_one_line(tmp_path: object, capsys: pytest.CaptureFixture[str], bad: list[str]) -> None:
     from uavcov.cli import EXIT_BAD_INPUT, main
 
-    assert main(["reproduce", "realistic", "--out", str(tmp_path), *bad]) == EXIT_BAD_INPUT
+    assert main(["reproduce", *bad, "--out", str(tmp_path)]) == EXIT_BAD_INPUT
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "error" in err[0]

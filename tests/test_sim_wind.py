@@ -76,3 +76,34 @@ def test_gusts_beyond_thrust_are_a_recorded_failure_and_the_rows_are_kept(tmp_pa
     run = load_flown(tmp_path / "states" / "s1000_cvt_exact.npz")
     assert run.failure == rows[0]["failure"] and run.flown_states.shape[0] > 0
     assert (tmp_path / "realistic.md").is_file()
+
+
+def test_the_flown_experiment_resumes_to_the_rows_of_an_uninterrupted_run(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Rows appended one by one: a run cut off mid-write (a torn last line) resumes to the rows of
+    an uninterrupted run; a folder of other settings, or one resumed without --resume, is refused."""
+    from uavcov.errors import ConfigError
+    from uavcov.paper import BUILDINGS
+    from uavcov.paper._realistic import _config, fly_experiment
+    from uavcov.sim import SimSettings
+
+    sim = SimSettings()
+    config = _config("realistic", 4, (1000,), ("cvt",), ("exact", "sensed"), 1, sim)
+    whole = fly_experiment(tmp_path / "whole", BUILDINGS, config, sim, resume=False, progress=None)
+    cut = tmp_path / "cut"
+    fly_experiment(cut, BUILDINGS, config, sim, resume=False, progress=None)
+    lines = (cut / "rows.jsonl").read_text().splitlines()
+    (cut / "rows.jsonl").write_text(lines[0] + "\n" + lines[1][: len(lines[1]) // 2])  # killed mid-write
+    with pytest.raises(ConfigError, match="resume"):
+        fly_experiment(cut, BUILDINGS, config, sim, resume=False, progress=None)
+    other = _config("realistic", 4, (1000,), ("cvt",), ("exact", "sensed"), 2, sim)
+    with pytest.raises(ConfigError, match="other settings"):
+        fly_experiment(cut, BUILDINGS, other, sim, resume=True, progress=None)
+    said: list[str] = []
+    resumed = fly_experiment(cut, BUILDINGS, config, sim, resume=True, progress=said.append)
+    assert len(said) == 1 and "sensed" in said[0]  # only the torn run flew again
+
+    def same(row: dict) -> dict:  # type: ignore[type-arg]
+        return {k: v for k, v in row.items() if k != "wall_time_s"}
+
+    assert [same(r) for r in resumed] == [same(r) for r in whole]
+    assert "2 of 2 runs done" in (cut / "realistic.md").read_text()

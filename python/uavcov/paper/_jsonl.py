@@ -25,8 +25,14 @@ def read_rows(path: Path) -> list[dict[str, Any]]:
 
 
 def append_row(path: Path, row: dict[str, Any]) -> None:
-    """Append ``row`` as one line, on disk before returning."""
+    """Append ``row`` as one line, on disk before returning (after a line torn by a kill, on a line
+    of its own: the torn one stays unreadable, this one is read)."""
+    torn = False
+    if path.exists() and path.stat().st_size:
+        with path.open("rb") as tail:
+            tail.seek(-1, os.SEEK_END)
+            torn = tail.read(1) != b"\n"
     with path.open("a", encoding="utf-8") as handle:
-        handle.write(json.dumps(row, sort_keys=True) + "\n")
+        handle.write(("\n" if torn else "") + json.dumps(row, sort_keys=True) + "\n")
         handle.flush()
         os.fsync(handle.fileno())
