@@ -34,8 +34,9 @@ def numpy_flight(integrator_kwargs: dict | None) -> tuple[np.ndarray, float]:
     hover = hover_rotor_speed(quad_params)
     state = {"x": np.array([0.0, 0.0, 2.0]), "v": np.zeros(3), "q": np.array([0.0, 0.0, 0.0, 1.0]), "w": np.zeros(3),
              "wind": np.zeros(3), "rotor_speeds": np.full(4, hover)}  # fmt: skip
-    vehicle, controller, reference = Multirotor(quad_params, initial_state=state, integrator_kwargs=integrator_kwargs), SE3Control(quad_params), HoverTraj(x0=GOAL)
-    n, rows, t = int(round(SECONDS / DT)), [], 0.0
+    vehicle = Multirotor(quad_params, initial_state=state, integrator_kwargs=integrator_kwargs)
+    controller, reference = SE3Control(quad_params), HoverTraj(x0=GOAL)
+    n, rows, t = round(SECONDS / DT), [], 0.0
     began = time.perf_counter()
     for _ in range(n):
         state = vehicle.step(state, controller.update(t, state, reference.update(t)), DT)
@@ -63,7 +64,7 @@ def torch_flight(batch: int) -> tuple[np.ndarray, float]:
     flat = {"x": torch.tensor(np.tile(GOAL, (batch, 1))), "x_dot": zeros, "x_ddot": zeros, "x_dddot": zeros, "x_ddddot": zeros,
             "yaw": torch.zeros(batch, dtype=torch.double), "yaw_dot": torch.zeros(batch, dtype=torch.double),
             "yaw_ddot": torch.zeros(batch, dtype=torch.double)}  # fmt: skip
-    n, rows, t = int(round(SECONDS / DT)), [], 0.0
+    n, rows, t = round(SECONDS / DT), [], 0.0
     began = time.perf_counter()
     with torch.no_grad():
         for _ in range(n):
@@ -80,7 +81,9 @@ def main() -> None:
     args = parser.parse_args()
     torch.set_num_threads(1)
     reference, _ = numpy_flight(None)
-    print("| vehicle | batch | ms per period (median) | us per vehicle and period | x real time, 4 vehicles | path from RotorPy's RK45 (m) |")
+    print(
+        "| vehicle | batch | ms per period (median) | us per vehicle and period | x real time, 4 vehicles | path from RotorPy's RK45 (m) |"
+    )
     print("|---|---|---|---|---|---|")
     for name, kwargs in (("numpy RK45 (RotorPy's default)", None), ("numpy RK23 (uavcov's default)", {"method": "RK23", "first_step": DT})):
         runs = [numpy_flight(kwargs) for _ in range(args.repeats)]
