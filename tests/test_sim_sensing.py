@@ -177,6 +177,8 @@ def test_check_flight_counts_each_limit_on_a_plane() -> None:
     assert report.max_deviation == pytest.approx(math.hypot(1.8, 5.9), abs=1e-9)
     assert report.max_overshoot == pytest.approx(1.8, abs=1e-9)
     assert report.min_separation == pytest.approx(math.hypot(0.2, 0.1))
+    # The straight moves (feet of the states on them) stay 2 m over the plane: none under h_min.
+    assert report.straight_below_h_min == 0 and report.straight_min_distance == pytest.approx(2.0)
 
 
 @pytest.mark.parametrize(

@@ -54,7 +54,7 @@ _COLUMNS = (
     "seed", "start", "measurement", "iterations", "flown_best", "kinematic_best", "best_difference", "flown_initial",
     "kinematic_initial", "sensed_best", "mean_sensed_gap", "flight_time_s", "time_to_95_s", "energy_j_mean", "energy_j_max",
     "distance_m_mean", "min_clearance_m", "min_distance_m", "min_separation_m", "violations", "below_h_min", "above_h_max",
-    "straight_above_h_max", "too_close", "max_deviation_m", "max_overshoot_m", "failure", "wall_time_s",
+    "straight_above_h_max", "straight_below_h_min", "straight_min_distance_m", "too_close", "max_deviation_m", "max_overshoot_m", "failure", "wall_time_s",
 )  # fmt: skip
 ROWS = "rows.jsonl"
 CONFIG = "config.json"
@@ -88,6 +88,8 @@ def realistic_rows(flown: FlownMission, kinematic_best: float, start: str) -> di
         "below_h_min": safety.below_h_min if safety else 0,
         "above_h_max": safety.above_h_max if safety else 0,
         "straight_above_h_max": safety.straight_above_h_max if safety else 0,
+        "straight_below_h_min": safety.straight_below_h_min if safety else 0,
+        "straight_min_distance_m": safety.straight_min_distance if safety else math.nan,
         "too_close": safety.too_close if safety else 0,
         "max_deviation_m": safety.max_deviation if safety else math.nan,
         "max_overshoot_m": safety.max_overshoot if safety else math.nan,
