@@ -54,7 +54,8 @@ _COLUMNS = (
     "seed", "start", "measurement", "iterations", "flown_best", "kinematic_best", "best_difference", "flown_initial",
     "kinematic_initial", "sensed_best", "mean_sensed_gap", "flight_time_s", "time_to_95_s", "energy_j_mean", "energy_j_max",
     "distance_m_mean", "min_clearance_m", "min_distance_m", "min_separation_m", "violations", "below_h_min", "above_h_max",
-    "straight_above_h_max", "straight_below_h_min", "straight_min_distance_m", "too_close", "max_deviation_m", "max_overshoot_m", "failure", "wall_time_s",
+    "straight_above_h_max", "straight_below_h_min", "straight_min_distance_m", "too_close", "max_deviation_m",
+    "max_overshoot_m", "failure", "wall_time_s",
 )  # fmt: skip
 ROWS = "rows.jsonl"
 CONFIG = "config.json"
