@@ -180,20 +180,11 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
     MissingExtraError
         plotly is not installed (the ``uavcov[view]`` extra).
     """
-    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 16:
-        raise InvalidInputError(f"max_vertices must be an integer >= 16, got {max_vertices!r}")
-    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 2:
-        raise InvalidInputError(f"max_frames must be an integer >= 2, got {max_frames!r}")
+    result, traj, curve = _checked(result, max_vertices, max_frames)
     go = _plotly()
-    if isinstance(result, (str, os.PathLike)) and is_flown_file(result):
-        result = load_flown(result)  # a flown mission (uavcov.sim): its states are drawn, not only its waypoints
-    result = _as_result(result, _NEEDS)
     flown = _flown_paths(result)
+    paths_name = "paths so far" if flown is None else "flown paths so far (the simulated states)"
     terrain: Terrain = result.terrain
-    traj = _trajectory(result.trajectory)
-    curve = np.asarray(result.coverage, dtype=np.float64)
-    if curve.shape[0] != traj.shape[0]:
-        raise ResultsFormatError(f"the coverage curve has {curve.shape[0]} values for {traj.shape[0]} positions of the trajectory")
     n_uavs = traj.shape[1]
     best_iteration = int(result.best_iteration)
     points, faces = _view_surface(terrain, int(max_vertices))
@@ -209,12 +200,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
         seen = _seen_by_each(vis, poses, frame_sensors)
         best = f"best {float(result.best_coverage):.3f} at iteration {best_iteration}"
         title = f"iteration {k} of {traj.shape[0] - 1}: coverage {curve[k]:.3f} ({best})"
-        if flown is None:
-            x, y, z = _lines([traj[: k + 1, i] for i in range(n_uavs)])
-        else:  # the states flown until the measurement at iteration k
-            states, measured_at = flown
-            upto = int(np.searchsorted(states[0], measured_at[k], side="right"))
-            x, y, z = _lines([np.vstack([traj[0, i], states[1][:upto, i]]) for i in range(n_uavs)])
+        x, y, z = _lines(_paths_until(traj, flown, k))
         traces = [
             # Counts as the smallest integers that hold them: each frame stores one per vertex.
             go.Mesh3d(intensity=seen.sum(axis=0).astype(np.uint8 if n_uavs < 256 else np.uint16)),
@@ -242,13 +228,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
     known = np.asarray(getattr(result, "prior_points", np.empty((0, 3))), dtype=np.float64).reshape(-1, 3)
     data = [
         surface,
-        go.Scatter3d(
-            first.data[1],
-            mode="lines",
-            line={"color": "rgb(25,25,25)", "width": 3},
-            name="paths so far" if flown is None else "flown paths so far (the simulated states)",
-            hoverinfo="skip",
-        ),
+        go.Scatter3d(first.data[1], mode="lines", line={"color": "rgb(25,25,25)", "width": 3}, name=paths_name, hoverinfo="skip"),
         go.Scatter3d(
             first.data[2],
             mode="markers+text",
@@ -284,6 +264,33 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
         **_controls(shown, best_iteration, seen_scale, n_uavs),
     )
     return fig
+
+
+def _checked(result: Any, max_vertices: Any, max_frames: Any) -> tuple[Any, np.ndarray, np.ndarray]:
+    """The view's arguments checked: the result (read from its file: a mission's, or a flown
+    mission's whose states are drawn), its trajectory and its coverage curve."""
+    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 16:
+        raise InvalidInputError(f"max_vertices must be an integer >= 16, got {max_vertices!r}")
+    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 2:
+        raise InvalidInputError(f"max_frames must be an integer >= 2, got {max_frames!r}")
+    if isinstance(result, (str, os.PathLike)) and is_flown_file(result):
+        result = load_flown(result)
+    result = _as_result(result, _NEEDS)
+    traj = _trajectory(result.trajectory)
+    curve = np.asarray(result.coverage, dtype=np.float64)
+    if curve.shape[0] != traj.shape[0]:
+        raise ResultsFormatError(f"the coverage curve has {curve.shape[0]} values for {traj.shape[0]} positions of the trajectory")
+    return result, traj, curve
+
+
+def _paths_until(traj: np.ndarray, flown: tuple[tuple[np.ndarray, np.ndarray], np.ndarray] | None, k: int) -> list[np.ndarray]:
+    """Each UAV's path up to iteration ``k``: its waypoints, or for a flown run the states flown
+    until the measurement at iteration ``k``."""
+    if flown is None:
+        return [traj[: k + 1, i] for i in range(traj.shape[1])]
+    (times, states), measured_at = flown
+    upto = int(np.searchsorted(times, measured_at[k], side="right"))
+    return [np.vstack([traj[0, i], states[:upto, i]]) for i in range(traj.shape[1])]
 
 
 _FLOWN_POINTS_PER_UAV = 4000  # states drawn per UAV and frame, at most: the HTML stays a few MB
