@@ -175,7 +175,7 @@ def reproduce_realistic(
     out : path
         Results folder (created): ``config.json``, ``rows.jsonl``, ``states/``, the report.
     seeds : iterable of int or str, optional
-        Scenes (default :data:`REALISTIC_SEEDS`; a string such as ``"0-4"``).
+        Scenes (default the 20 scenes 0-19, ``REALISTIC_SEEDS``; a string such as ``"0-4"``).
     starts : iterable of str, default ("cvt", "pairs")
     measurements : iterable of str, default ("exact", "sensed")
         CAO's measurement (:data:`uavcov.sim.MEASUREMENTS`); each is one run per scene and start.
