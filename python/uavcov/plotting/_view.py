@@ -293,7 +293,7 @@ def _paths_until(traj: np.ndarray, flown: tuple[tuple[np.ndarray, np.ndarray], n
     return [np.vstack([traj[0, i], states[:upto, i]]) for i in range(traj.shape[1])]
 
 
-_FLOWN_POINTS_PER_UAV = 4000  # states drawn per UAV and frame, at most: the HTML stays a few MB
+_FLOWN_POINTS_PER_UAV = 1500  # states drawn per UAV, at most: a 200-iteration run's page is about 10 MB
 
 
 def _flown_paths(result: Any) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray] | None:
