@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -199,3 +200,33 @@ def test_reproduce_realistic_refuses_bad_choices_in_one_line(tmp_path: object, c
     assert main(["reproduce", *bad, "--out", str(tmp_path)]) == EXIT_BAD_INPUT
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "error" in err[0]
+
+
+def test_a_flown_run_file_is_told_apart_and_hostile_files_are_refused(tmp_path: Path) -> None:
+    """``is_flown_file`` says False for anything but a flown run; ``load_flown`` refuses each
+    hostile file with ResultsFormatError (a mission's run, bytes, an empty file, a bare array,
+    a header of another format, a missing file)."""
+    import json
+
+    from uavcov.errors import ResultsFormatError
+    from uavcov.records import save_mission
+    from uavcov.sim import FLOWN_FORMAT, is_flown_file, load_flown
+
+    hills = uavcov.gaussian_hills(size=20.0, spacing=2.0, n_hills=2, rng=0)
+    mission = save_mission(uavcov.run_mission(hills, uavcov.MissionSettings(n_uavs=2, d_max=10.0, iterations=2), rng=0), tmp_path / "m.npz")
+    garbage = tmp_path / "g.npz"
+    garbage.write_bytes(b"\x00\x01not a zip" * 10)
+    empty = tmp_path / "e.npz"
+    empty.write_bytes(b"")
+    bare = tmp_path / "a.npy"
+    np.save(bare, np.arange(3))
+    other = tmp_path / "o.npz"
+    np.savez(other, header=np.array(json.dumps({"format": "uavcov-flown-0"})))
+    wrong = tmp_path / "w.npz"
+    np.savez(wrong, header=np.array(json.dumps({"format": FLOWN_FORMAT})), reached=np.zeros((2, 2, 3)))
+    for path in (mission, garbage, empty, bare, other, tmp_path / "missing.npz"):
+        assert not is_flown_file(path)
+    assert is_flown_file(wrong)  # its header says so; its arrays do not
+    for path in (mission, garbage, empty, bare, other, wrong, tmp_path / "missing.npz"):
+        with pytest.raises(ResultsFormatError):
+            load_flown(path)
