@@ -210,8 +210,11 @@ def realistic_report_markdown(config: dict[str, Any], rows: list[dict[str, Any]]
             "commanded moves sampled at the same instants, what the kinematic model flies (where the rows have them).\n"
         ),
         _safety_table(rows),
-        "The paper's finding (the CVT start higher and faster than two pairs), scene by scene:\n",
-        _finding(rows),
+        *(
+            ["The paper's finding (the CVT start higher and faster than two pairs), scene by scene:\n", _finding(rows)]
+            if {"cvt", "pairs"} <= {r["start"] for r in rows}
+            else []
+        ),
         *(f"![{name}]({name})\n" for name in figures),
     ]
     return "\n".join(parts)
