@@ -35,11 +35,8 @@ def test_hover_holds_still_at_rotorpy_hover_speed() -> None:
     assert leg.duration_s == pytest.approx(2.0 + 0.01, abs=0.011)
 
 
-def test_a_step_to_a_waypoint_is_rotorpys_own_flight() -> None:
-    """The team's leg equals RotorPy's own loop (its example's: SE3Control on a MinSnap reference)."""
-    start, goal = np.array([0.0, 0.0, 2.0]), np.array([3.0, -1.0, 2.5])
-    settings = FlightSettings(speed=1.0, max_acceleration=5.0)
-    leg = Team.hovering([start], settings).fly([goal])
+def _rotorpy_step(start: np.ndarray, goal: np.ndarray, n: int, integrator_kwargs: dict | None) -> np.ndarray:
+    """RotorPy's own loop (its example's: SE3Control on a MinSnap reference), ``n`` control periods."""
     hover = hover_rotor_speed(quad_params)
     state = {
         "x": start.copy(),
@@ -49,15 +46,44 @@ def test_a_step_to_a_waypoint_is_rotorpys_own_flight() -> None:
         "wind": np.zeros(3),
         "rotor_speeds": np.full(4, hover),
     }
-    vehicle, controller = Multirotor(quad_params, initial_state=state), SE3Control(quad_params)
+    vehicle = Multirotor(quad_params, initial_state=state, integrator_kwargs=integrator_kwargs)
+    controller = SE3Control(quad_params)
     reference = MinSnap(np.stack([start, goal]), v_avg=1.0, v_max=2.2, verbose=False)
-    t = 0.0
-    for k in range(len(leg.time)):
+    t, rows = 0.0, []
+    for _ in range(n):
         state = vehicle.step(state, controller.update(t, state, reference.update(t)), 0.01)
         t += 0.01
-        assert np.array_equal(state["x"], leg.positions[k, 0])
+        rows.append(np.concatenate([state["x"], state["rotor_speeds"]]))
+    return np.array(rows)
+
+
+@pytest.mark.parametrize("integrator", ["rk23", "rk45"])
+def test_a_step_to_a_waypoint_is_rotorpys_own_flight(integrator: str) -> None:
+    """The team's leg is, state for state and bit for bit, RotorPy's own loop with the same
+    integrator settings."""
+    start, goal = np.array([0.0, 0.0, 2.0]), np.array([3.0, -1.0, 2.5])
+    settings = FlightSettings(speed=1.0, max_acceleration=5.0, integrator=integrator)
+    leg = Team.hovering([start], settings).fly([goal])
+    own = _rotorpy_step(start, goal, len(leg.time), settings.integrator_kwargs)
+    assert np.array_equal(own[:, :3], leg.positions[:, 0])
+    assert np.array_equal(own[:, 3:], leg.rotor_speeds[:, 0])
     assert np.linalg.norm(leg.positions[-1, 0] - goal) <= settings.settle_position
     assert leg.settled_s >= float(np.linalg.norm(goal - start))  # no earlier than the reference ends
+
+
+def test_the_default_integrator_flies_rotorpys_default_configuration() -> None:
+    """The default (RK23 from one step of dt) against RotorPy's default Multirotor (adaptive RK45)
+    and a tight DOP853 reference: the 3 m step and the hover after it within 1e-4 m, rotor speeds
+    within 2 rad/s (0.4 % of hover). docs/realistic.md states the measured differences."""
+    start, goal = np.array([0.0, 0.0, 2.0]), np.array([3.0, -1.0, 2.5])
+    fast = _rotorpy_step(start, goal, 600, FlightSettings().integrator_kwargs)
+    default = _rotorpy_step(start, goal, 600, None)
+    tight = _rotorpy_step(start, goal, 600, {"method": "DOP853", "rtol": 1e-10, "atol": 1e-12})
+    assert np.abs(fast[:, :3] - default[:, :3]).max() < 1e-4
+    assert np.abs(fast[:, :3] - tight[:, :3]).max() < 1e-4
+    assert np.abs(fast[:, 3:] - default[:, 3:]).max() < 2.0
+    assert np.abs(fast[-100:, :3] - goal).max() < 1e-3  # the hover after the step holds the waypoint
+    assert np.abs(fast[:, :3] - default[:, :3]).max() > 0.0  # a different integrator, not the same one
 
 
 def _scene(seed: int = 1000) -> tuple[uavcov.Terrain, uavcov.Terrain]:
@@ -136,6 +162,11 @@ def test_a_waypoint_inside_a_building_is_a_clear_error() -> None:
         {"vehicle": "ardrone"},
         {"dwell_s": -1.0},
         {"max_leg_s": 1e9},
+        {"gusts": (-1.0, 0.0, 0.0)},
+        {"gusts": (float("nan"), 0.0, 0.0)},
+        {"gusts": (1e300, 0.0, 0.0)},
+        {"gusts": "strong"},
+        {"integrator": "euler"},
     ],
 )
 def test_flight_settings_refuse_hostile_values(changes: dict[str, object]) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -177,12 +178,55 @@ def test_check_flight_counts_each_limit_on_a_plane() -> None:
     assert report.max_deviation == pytest.approx(math.hypot(1.8, 5.9), abs=1e-9)
     assert report.max_overshoot == pytest.approx(1.8, abs=1e-9)
     assert report.min_separation == pytest.approx(math.hypot(0.2, 0.1))
+    # The straight moves (feet of the states on them) stay 2 m over the plane: none under h_min.
+    assert report.straight_below_h_min == 0 and report.straight_min_distance == pytest.approx(2.0)
 
 
-@pytest.mark.parametrize("bad", [["--starts", "corner"], ["--seeds", "x-y"], ["--starts", "cvt,random"]])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        ["realistic", "--starts", "corner"],
+        ["realistic", "--seeds", "x-y"],
+        ["realistic", "--starts", "cvt,random"],
+        ["realistic", "--measurements", "guessed"],
+        ["realistic", "--measurements", "exact,psychic"],
+        ["flown-table1", "--starts", "pairs"],
+        ["flown-table1", "--measurements", "sensed"],
+    ],
+)
 def test_reproduce_realistic_refuses_bad_choices_in_one_line(tmp_path: object, capsys: pytest.CaptureFixture[str], bad: list[str]) -> None:
     from uavcov.cli import EXIT_BAD_INPUT, main
 
-    assert main(["reproduce", "realistic", "--out", str(tmp_path), *bad]) == EXIT_BAD_INPUT
+    assert main(["reproduce", *bad, "--out", str(tmp_path)]) == EXIT_BAD_INPUT
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "error" in err[0]
+
+
+def test_a_flown_run_file_is_told_apart_and_hostile_files_are_refused(tmp_path: Path) -> None:
+    """``is_flown_file`` says False for anything but a flown run; ``load_flown`` refuses each
+    hostile file with ResultsFormatError (a mission's run, bytes, an empty file, a bare array,
+    a header of another format, a missing file)."""
+    import json
+
+    from uavcov.errors import ResultsFormatError
+    from uavcov.records import save_mission
+    from uavcov.sim import FLOWN_FORMAT, is_flown_file, load_flown
+
+    hills = uavcov.gaussian_hills(size=20.0, spacing=2.0, n_hills=2, rng=0)
+    mission = save_mission(uavcov.run_mission(hills, uavcov.MissionSettings(n_uavs=2, d_max=10.0, iterations=2), rng=0), tmp_path / "m.npz")
+    garbage = tmp_path / "g.npz"
+    garbage.write_bytes(b"\x00\x01not a zip" * 10)
+    empty = tmp_path / "e.npz"
+    empty.write_bytes(b"")
+    bare = tmp_path / "a.npy"
+    np.save(bare, np.arange(3))
+    other = tmp_path / "o.npz"
+    np.savez(other, header=np.array(json.dumps({"format": "uavcov-flown-0"})))
+    wrong = tmp_path / "w.npz"
+    np.savez(wrong, header=np.array(json.dumps({"format": FLOWN_FORMAT})), reached=np.zeros((2, 2, 3)))
+    for path in (mission, garbage, empty, bare, other, tmp_path / "missing.npz"):
+        assert not is_flown_file(path)
+    assert is_flown_file(wrong)  # its header says so; its arrays do not
+    for path in (mission, garbage, empty, bare, other, wrong, tmp_path / "missing.npz"):
+        with pytest.raises(ResultsFormatError):
+            load_flown(path)

@@ -175,3 +175,40 @@ def test_the_browser_check_catches_a_blank_canvas_and_a_network_fetch(tmp_path: 
     fetching = tmp_path / "fetching.html"
     fetching.write_text('<html><body><script src="http://example.invalid/plotly.js"></script></body></html>')
     assert open_page(fetching, timeout_s=2.0, settle_s=0.0).errors  # offline: the fetch fails loudly
+
+
+def test_a_flown_run_shows_the_states_flown_not_only_the_waypoints(tmp_path: Path) -> None:
+    """A realistic run's view (uavcov.sim's saved states): each frame's paths are the simulated
+    states up to that measurement, ending where the UAVs measured; the CLI finds it in states/."""
+    pytest.importorskip("rotorpy")
+    from uavcov.paper import BUILDINGS
+    from uavcov.sim import SimSettings, fly_mission, load_flown, save_flown
+
+    terrain, known = BUILDINGS.terrain.make(1000), BUILDINGS.known(1000)
+    spec = BUILDINGS.mission_settings(4, "cvt").with_changes(iterations=3)
+    flown = fly_mission(terrain, spec, SimSettings(render=False), known=known, rng=1000)
+    path = save_flown(flown, tmp_path / "states" / "s1000_cvt_exact.npz", terrain)
+    run = load_flown(path)
+    assert np.array_equal(run.flown_states, flown.states) and np.array_equal(run.trajectory, flown.reached)
+    fig = plotting.view(path, max_frames=4)
+    assert "flown" in fig.data[1].name
+    last = fig.frames[-1].data[1]
+    xyz = np.column_stack([last.x, last.y, last.z]).astype(np.float64)
+    paths = np.split(xyz, np.flatnonzero(np.isnan(xyz[:, 0])))
+    paths = [p[~np.isnan(p[:, 0])] for p in paths]
+    assert len(paths) == 4
+    for i, p in enumerate(paths):
+        assert p.shape[0] > flown.reached.shape[0] + 10  # the states, not K + 1 waypoints
+        assert np.allclose(p[-1], flown.reached[-1, i], atol=1e-4)  # ends where the UAV measured
+        assert np.allclose(p[0], flown.start[i], atol=1e-4)
+    # The states stray from the straight moves between waypoints: the drawn path is the flight.
+    assert flown.safety is not None and flown.safety.max_deviation > 0.0
+    assert main(["view", str(tmp_path), "--out", str(tmp_path / "flown.html"), "--max-frames", "3"]) == EXIT_OK
+    assert (tmp_path / "flown.html").stat().st_size > 10_000
+    broken = tmp_path / "broken" / "s.npz"
+    broken.parent.mkdir()
+    broken.write_bytes(path.read_bytes()[:200])
+    with pytest.raises(ResultsFormatError):
+        plotting.view(broken)
+    with pytest.raises(ResultsFormatError):
+        load_flown(broken)

@@ -5,7 +5,7 @@ Commands
 ``uavcov demo``
     The paper's illustrative example end to end (9 UAVs, d_max = 35 m, 30 prior samples, CVT
     start, then CAO): prints a summary, writes runs.csv, the run and its figures to ``--out``.
-``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|structures|realistic|all``
+``uavcov reproduce table1|pyramid|example|comparison|buildings|ablation|structures|realistic|flown-table1|all``
     One of the paper's experiments; writes runs.csv, the runs, config.json and ``<name>.md``.
 ``uavcov sweep CONFIG.toml``
     Any grid of settings (see ``examples/sweep.toml``); writes summary.md beside the runs.

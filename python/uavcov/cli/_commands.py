@@ -27,7 +27,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         return _reproduce_ablation(args)
     if args.experiment == "structures":
         return _reproduce_structures(args)
-    if args.experiment == "realistic":
+    if args.experiment in ("realistic", "flown-table1"):
         return _reproduce_realistic(args)
     out = Path(args.out or f"out/{args.experiment}")
     started = time.perf_counter()
@@ -56,16 +56,33 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 
 def _reproduce_realistic(args: argparse.Namespace) -> int:
-    """The paper's realistic scenario flown (uavcov.sim, the ``sim`` extra): serial, one core."""
-    from ..paper import reproduce_realistic
+    """The paper's realistic scenario flown (uavcov.sim, the ``sim`` extra): serial, one core,
+    resumable (``--resume``); once every run is in, ``--resume`` only rewrites the report."""
+    from ..errors import InvalidInputError
+    from ..paper import reproduce_flown_table1, reproduce_realistic
 
-    out = Path(args.out or "out/realistic")
-    rows = reproduce_realistic(
-        out,
-        seeds=args.seeds,
-        starts=args.starts or ("cvt", "pairs"),
-        iterations=200 if args.iterations is None else args.iterations,
-    )
+    out = Path(args.out or f"out/{args.experiment}")
+    if args.experiment == "flown-table1":
+        if args.measurements:
+            raise InvalidInputError("--measurements is the realistic scenario's: Table 1 flown measures exactly")
+        rows = reproduce_flown_table1(
+            out,
+            seeds=args.seeds,
+            starts=args.starts or ("cvt", "random", "corner"),
+            iterations=100 if args.iterations is None else args.iterations,
+            resume=bool(args.resume),
+            progress=_say,
+        )
+    else:
+        rows = reproduce_realistic(
+            out,
+            seeds=args.seeds,
+            starts=args.starts or ("cvt", "pairs"),
+            measurements=args.measurements or ("exact", "sensed"),
+            iterations=200 if args.iterations is None else args.iterations,
+            resume=bool(args.resume),
+            progress=_say,
+        )
     print((out / "realistic.md").read_text(encoding="utf-8"))
     failed = sum(bool(r["failure"]) for r in rows)
     _say(f"{len(rows)} flown run(s), {failed} failed, in {out}/")

@@ -59,7 +59,8 @@ def _parser() -> argparse.ArgumentParser:
 
     reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
     reproduce.add_argument(
-        "experiment", choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "all")
+        "experiment",
+        choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "flown-table1", "all"),
     )
     reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
@@ -67,6 +68,9 @@ def _parser() -> argparse.ArgumentParser:
     reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")
     reproduce.add_argument("--iterations", type=_non_negative_int, help="CAO iterations instead of the experiment's")
     reproduce.add_argument("--no-plots", action="store_true", help="skip the figures (drawn when uavcov[plot] is installed)")
+    reproduce.add_argument(
+        "--measurements", type=_str_list, metavar="M,M", help="realistic only: CAO's measurements, among exact,sensed (default both)"
+    )
     _add_execution(reproduce)
     reproduce.set_defaults(run=_reproduce)
 

@@ -30,7 +30,8 @@ from ._data import (
 )
 from ._jobs import ablate, reproduce, reproduce_all
 from ._oracle import OracleRow, oracle
-from ._realistic import reproduce_realistic
+from ._realistic import reproduce_flown_table1, reproduce_realistic
+from ._realistic_report import write_realistic_report
 from ._structures import StructuresExperiment, reproduce_structures
 
 __all__ = [
@@ -56,4 +57,6 @@ __all__ = [
     "StructuresExperiment",
     "reproduce_structures",
     "reproduce_realistic",
+    "reproduce_flown_table1",
+    "write_realistic_report",
 ]

@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, UavcovError
+from ._jsonl import append_row, read_rows
 
 STARTS = ("cvt3d", "cvt_hf", "greedy3d")
 DIAGNOSTICS = {"cvt_true": "cvt3d", "greedy_true": "greedy3d"}
@@ -234,31 +235,13 @@ def _key(row: dict[str, Any]) -> Task:
     return (str(row["family"]), str(row["start"]), int(row["seed"]), float(row["offset"]), float(row.get("spacing", 0.0)))
 
 
-def _read_rows(path: Path) -> list[dict[str, Any]]:
-    rows = []
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                rows.append(json.loads(line))
-            except json.JSONDecodeError:
-                continue  # a line torn by a kill mid-write: that run runs again
-    return rows
-
-
-def _append(path: Path, row: dict[str, Any]) -> None:
-    with path.open("a", encoding="utf-8") as handle:
-        handle.write(json.dumps(row, sort_keys=True) + "\n")
-        handle.flush()
-        os.fsync(handle.fileno())
-
-
 def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Path, workers: int) -> list[dict[str, Any]]:
-    done = {_key(r): r for r in _read_rows(path)}
+    done = {_key(r): r for r in read_rows(path)}
     todo = [t for t in tasks if t not in done]
     if workers <= 1 or len(todo) <= 1:
         for task in todo:
             row = run_task(experiment, task)
-            _append(path, row)
+            append_row(path, row)
             done[task] = row
     else:
         with ProcessPoolExecutor(max_workers=workers) as pool:
@@ -267,7 +250,7 @@ def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Pa
                 finished, running = wait(running, return_when=FIRST_COMPLETED)
                 for future in finished:
                     row = future.result()
-                    _append(path, row)
+                    append_row(path, row)
                     done[_key(row)] = row
     return [done[t] for t in tasks]
 
@@ -365,7 +348,7 @@ def report_from_folder(folder: str | os.PathLike[str]) -> str:
     settings = json.loads((path / CONFIG).read_text(encoding="utf-8"))["settings"]
     fields: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()}
     experiment = StructuresExperiment(**fields)
-    done = {_key(r): r for r in _read_rows(path / ROWS)}
+    done = {_key(r): r for r in read_rows(path / ROWS)}
     missing = [t for t in _dev_tasks(experiment) if t not in done]
     if missing:
         raise ConfigError(f"{path} misses {len(missing)} development run(s): finish it with --resume")

@@ -32,6 +32,7 @@ import numpy as np
 from .._io import atomic_write
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError, MissingExtraError, ResultsFormatError
+from ..sim import is_flown_file, load_flown
 from ._cameras import _outline
 from ._canvas import END_COLOUR, FOOTPRINT_COLOUR, SEEN_COLOUR, UNSEEN_COLOUR
 from ._directory import _stored_runs
@@ -151,8 +152,11 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
 
     Parameters
     ----------
-    result : MissionResult or path
-        A mission's result, or the ``.npz`` of one saved by :func:`uavcov.records.save_mission`.
+    result : MissionResult, FlownRun or path
+        A mission's result, or the ``.npz`` of one saved by :func:`uavcov.records.save_mission`;
+        or a flown mission (:class:`uavcov.sim.FlownRun`, the ``.npz`` of
+        :func:`uavcov.sim.save_flown`: what ``uavcov reproduce realistic`` writes in ``states/``),
+        whose paths are the simulated states flown, the UAVs where they measured.
     max_vertices : int, optional
         Vertices of the drawn surface, at most (default 40 000); a larger surface is decimated
         for the view only.
@@ -176,17 +180,11 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
     MissingExtraError
         plotly is not installed (the ``uavcov[view]`` extra).
     """
-    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 16:
-        raise InvalidInputError(f"max_vertices must be an integer >= 16, got {max_vertices!r}")
-    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 2:
-        raise InvalidInputError(f"max_frames must be an integer >= 2, got {max_frames!r}")
+    result, traj, curve = _checked(result, max_vertices, max_frames)
     go = _plotly()
-    result = _as_result(result, _NEEDS)
+    flown = _flown_paths(result)
+    paths_name = "paths so far" if flown is None else "flown paths so far (the simulated states)"
     terrain: Terrain = result.terrain
-    traj = _trajectory(result.trajectory)
-    curve = np.asarray(result.coverage, dtype=np.float64)
-    if curve.shape[0] != traj.shape[0]:
-        raise ResultsFormatError(f"the coverage curve has {curve.shape[0]} values for {traj.shape[0]} positions of the trajectory")
     n_uavs = traj.shape[1]
     best_iteration = int(result.best_iteration)
     points, faces = _view_surface(terrain, int(max_vertices))
@@ -202,7 +200,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
         seen = _seen_by_each(vis, poses, frame_sensors)
         best = f"best {float(result.best_coverage):.3f} at iteration {best_iteration}"
         title = f"iteration {k} of {traj.shape[0] - 1}: coverage {curve[k]:.3f} ({best})"
-        x, y, z = _lines([traj[: k + 1, i] for i in range(n_uavs)])
+        x, y, z = _lines(_paths_until(traj, flown, k))
         traces = [
             # Counts as the smallest integers that hold them: each frame stores one per vertex.
             go.Mesh3d(intensity=seen.sum(axis=0).astype(np.uint8 if n_uavs < 256 else np.uint16)),
@@ -230,7 +228,7 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
     known = np.asarray(getattr(result, "prior_points", np.empty((0, 3))), dtype=np.float64).reshape(-1, 3)
     data = [
         surface,
-        go.Scatter3d(first.data[1], mode="lines", line={"color": "rgb(25,25,25)", "width": 3}, name="paths so far", hoverinfo="skip"),
+        go.Scatter3d(first.data[1], mode="lines", line={"color": "rgb(25,25,25)", "width": 3}, name=paths_name, hoverinfo="skip"),
         go.Scatter3d(
             first.data[2],
             mode="markers+text",
@@ -266,6 +264,55 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
         **_controls(shown, best_iteration, seen_scale, n_uavs),
     )
     return fig
+
+
+def _checked(result: Any, max_vertices: Any, max_frames: Any) -> tuple[Any, np.ndarray, np.ndarray]:
+    """The view's arguments checked: the result (read from its file: a mission's, or a flown
+    mission's whose states are drawn), its trajectory and its coverage curve."""
+    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 16:
+        raise InvalidInputError(f"max_vertices must be an integer >= 16, got {max_vertices!r}")
+    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 2:
+        raise InvalidInputError(f"max_frames must be an integer >= 2, got {max_frames!r}")
+    if isinstance(result, (str, os.PathLike)) and is_flown_file(result):
+        result = load_flown(result)
+    result = _as_result(result, _NEEDS)
+    traj = _trajectory(result.trajectory)
+    curve = np.asarray(result.coverage, dtype=np.float64)
+    if curve.shape[0] != traj.shape[0]:
+        raise ResultsFormatError(f"the coverage curve has {curve.shape[0]} values for {traj.shape[0]} positions of the trajectory")
+    return result, traj, curve
+
+
+def _paths_until(traj: np.ndarray, flown: tuple[tuple[np.ndarray, np.ndarray], np.ndarray] | None, k: int) -> list[np.ndarray]:
+    """Each UAV's path up to iteration ``k``: its waypoints, or for a flown run the states flown
+    until the measurement at iteration ``k``."""
+    if flown is None:
+        return [traj[: k + 1, i] for i in range(traj.shape[1])]
+    (times, states), measured_at = flown
+    upto = int(np.searchsorted(times, measured_at[k], side="right"))
+    return [np.vstack([traj[0, i], states[:upto, i]]) for i in range(traj.shape[1])]
+
+
+_FLOWN_POINTS_PER_UAV = 1500  # states drawn per UAV, at most: a 200-iteration run's page is about 10 MB
+
+
+def _flown_paths(result: Any) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray] | None:
+    """For a flown run (:class:`uavcov.sim.FlownRun`): ``((times, states), measured_at_s)``, the
+    states thinned evenly to at most :data:`_FLOWN_POINTS_PER_UAV` (every measurement's own state
+    kept, so each frame's path ends where the UAVs are); None for a kinematic run."""
+    states = getattr(result, "flown_states", None)
+    if states is None:
+        return None
+    times = np.asarray(result.flown_time, dtype=np.float64)
+    measured_at = np.asarray(result.measured_at_s, dtype=np.float64)
+    states = np.asarray(states, dtype=np.float64)
+    if states.ndim != 3 or times.shape != (states.shape[0],) or measured_at.shape != (np.asarray(result.coverage).shape[0],):
+        raise ResultsFormatError("the flown run's states, their times and its measurements do not match")
+    keep = np.unique(np.r_[np.linspace(0, max(len(times) - 1, 0), min(len(times), _FLOWN_POINTS_PER_UAV)).astype(np.int64),
+                           np.clip(np.searchsorted(times, measured_at) , 0, max(len(times) - 1, 0))])  # fmt: skip
+    if not len(times):
+        keep = np.empty(0, np.int64)
+    return (times[keep], states[keep]), measured_at
 
 
 def _surface_mesh(go: Any, points: np.ndarray, faces: np.ndarray, intensity: np.ndarray, seen_scale: list[list[Any]]) -> Any:
@@ -426,9 +473,9 @@ def find_run(path: str | os.PathLike[str], run: str | None = None) -> Path:
         return where
     if not where.is_dir():
         raise ResultsFormatError(f"no run or folder at {where}")
-    runs = _stored_runs(where) or _stored_runs(where, folder=where)
+    runs = _stored_runs(where) or _stored_runs(where, folder=where) or _stored_runs(where, folder=where / "states")
     if not runs:
-        raise ResultsFormatError(f"{where} holds no runs (neither runs/*.npz nor *.npz)")
+        raise ResultsFormatError(f"{where} holds no runs (neither runs/*.npz, *.npz nor a flown experiment's states/*.npz)")
     if run is None:
         return runs[0]
     for candidate in runs:

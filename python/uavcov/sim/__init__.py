@@ -12,9 +12,11 @@ from __future__ import annotations
 
 from ._closed_loop import MEASUREMENTS, FlownMission, SimSettings, fly_mission
 from ._depth import DepthCamera, camera_rotation
-from ._flight import VEHICLES, FlightSettings, Leg, Team, hover_rotor_speed, vehicle_parameters
+from ._flight import INTEGRATORS, VEHICLES, FlightSettings, Leg, Team, hover_rotor_speed, vehicle_parameters
+from ._record import FLOWN_FORMAT, FlownRun, is_flown_file, load_flown, save_flown
 from ._safety import SafetyReport, check_flight
 from ._voxels import VoxelMap, observed_targets, sensed_coverage
+from ._wind import DrydenGusts, dryden_scales
 
 __all__ = [
     "fly_mission",
@@ -25,6 +27,9 @@ __all__ = [
     "Team",
     "Leg",
     "VEHICLES",
+    "INTEGRATORS",
+    "DrydenGusts",
+    "dryden_scales",
     "hover_rotor_speed",
     "vehicle_parameters",
     "DepthCamera",
@@ -33,5 +38,10 @@ __all__ = [
     "observed_targets",
     "sensed_coverage",
     "SafetyReport",
+    "FlownRun",
+    "save_flown",
+    "load_flown",
+    "is_flown_file",
+    "FLOWN_FORMAT",
     "check_flight",
 ]

@@ -111,6 +111,9 @@ class FlownMission:
         Mission time of every recorded state.
     states : (M, N, 3) ndarray
         Every recorded position (each control period).
+    leg_ends_s : (L,) ndarray
+        Mission time at the end of each leg flown (leg ``k`` ends at measurement ``k``; a failed
+        last leg has none).
     distance_m, energy_j : (N,) ndarray
         Each vehicle's distance flown and rotor energy (joules) over the mission.
     leg_energy_j : (L, N) ndarray
@@ -136,6 +139,7 @@ class FlownMission:
     clock: np.ndarray
     states_time: np.ndarray
     states: np.ndarray
+    leg_ends_s: np.ndarray
     distance_m: np.ndarray
     energy_j: np.ndarray
     leg_energy_j: np.ndarray
@@ -238,7 +242,8 @@ def fly_mission(
         As :func:`uavcov.mission.run_mission`'s.
     rng : None, int or numpy.random.Generator
         Seeds the prior, the start and the optimiser exactly as ``run_mission(..., rng=rng)``
-        does (so a flown mission and its kinematic twin share them), then the depth noise.
+        does (so a flown mission and its kinematic twin share them), then the depth noise and
+        the gusts (:attr:`FlightSettings.gusts`): the same seed flies the same states twice.
 
     Returns
     -------
@@ -265,11 +270,11 @@ def fly_mission(
         terrain, settings.with_changes(iterations=0), known=known, start_positions=start_positions, n_threads=1, rng=generator
     )
     optimizer_rng = _optimizer_stream(seq, first_child, generator.bit_generator)
-    (noise_rng,) = generator.spawn(1)
+    noise_rng, wind_rng = generator.spawn(2)  # the depth noise's stream is spawn(1)'s: unchanged by the gusts
     spec = offline.settings
     x0 = np.array(offline.trajectory[0])
     vis = Visibility(terrain, spec.d_max, n_threads=1)
-    team = Team.hovering(x0, sim.flight, terrain)
+    team = Team.hovering(x0, sim.flight, terrain, rng=wind_rng)
     measure = _FlownMeasure(team, vis, terrain, sim, sim.camera_for(spec.d_max), noise_rng)
     failure = None
     try:
@@ -325,6 +330,7 @@ def _record(
         clock=read_only(clock),
         states_time=read_only(states_time),
         states=read_only(states),
+        leg_ends_s=read_only(np.asarray(ends, dtype=np.float64)),
         distance_m=read_only(np.sum([leg.distance_m for leg in legs], axis=0) if legs else np.zeros(n)),
         energy_j=read_only(np.sum([leg.energy_j for leg in legs], axis=0) if legs else np.zeros(n)),
         leg_energy_j=read_only(np.array([leg.energy_j for leg in legs]).reshape(-1, n)),

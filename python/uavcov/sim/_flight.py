@@ -3,9 +3,11 @@
 RotorPy (the ``uavcov[sim]`` extra, ``docs/realistic.md`` says why this simulator) provides
 everything that flies: the vehicle's parameter set, its rigid-body dynamics with rotor drag and
 motor lag (``Multirotor``), the SE(3) geometric controller (``SE3Control``), the minimum-snap
-reference between two waypoints (``MinSnap``) and the wind (``ConstantWind``). This module only
-steps them together for the team, stops a leg once every vehicle has settled, and records every
-state. Nothing here is stochastic: the same waypoints give the same flight, to the last bit.
+reference between two waypoints (``MinSnap``) and the constant wind (``ConstantWind``); the gusts
+are :class:`~uavcov.sim.DrydenGusts` (``_wind.py`` says why not RotorPy's). This module only steps
+them together for the team, stops a leg once every vehicle has settled, and records every state.
+Without gusts nothing here is stochastic; with them the team's generator draws them: the same
+waypoints and seed give the same flight, to the last bit.
 """
 
 from __future__ import annotations
@@ -16,16 +18,20 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_positive_float, read_only
+from .._validate import as_finite_float, as_generator, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import FlightError, InvalidInputError, MissingExtraError
+from ._wind import DrydenGusts
 
-__all__ = ["FlightSettings", "Leg", "Team", "VEHICLES", "hover_rotor_speed", "vehicle_parameters"]
+__all__ = ["FlightSettings", "INTEGRATORS", "Leg", "Team", "VEHICLES", "hover_rotor_speed", "vehicle_parameters"]
 
 VEHICLES = ("hummingbird",)
 """RotorPy parameter sets a team can fly: the AscTec Hummingbird (0.50 kg, 0.17 m arms), the
 closest of RotorPy's sets to the paper's Parrot AR.Drone 2.0 (0.42 kg with the indoor hull,
 about 0.18 m arms); ``docs/realistic.md`` compares them."""
+
+INTEGRATORS = ("rk23", "rk45")
+"""How each control period is integrated (:attr:`FlightSettings.integrator`); ``"rk45"`` is RotorPy's default."""
 
 _GRAVITY = 9.81  # m/s^2, RotorPy's value
 # A rest-to-rest leg's 7th-degree polynomial peaks at 35/16 of its average speed mid-leg; RotorPy's
@@ -101,6 +107,15 @@ class FlightSettings:
         it into drag on the frame and the rotors).
     collision_distance : float, default 0.02
         A state closer than this to the surface (3D distance, m) is a collision: the leg fails.
+    gusts : (float, float, float), default (0, 0, 0)
+        Standard deviation of Dryden gusts on top of ``wind``, m/s per axis (:class:`DrydenGusts`,
+        one independent process per vehicle, drawn from the mission's ``rng``).
+    integrator : {"rk23", "rk45"}, default "rk23"
+        How RotorPy's ``Multirotor`` integrates each control period (its ``integrator_kwargs``,
+        scipy's ``solve_ivp``): ``"rk45"`` is RotorPy's default (adaptive RK45 from scipy's
+        initial step); ``"rk23"`` is adaptive RK23 at RotorPy's tolerances starting from one
+        step of ``dt``, 1.7 times as fast, within 6e-5 m of ``"rk45"`` on a 3 m step and
+        within 1e-4 m of a tight DOP853 reference (``benches/realistic_mission.py``, ``docs/realistic.md``).
     """
 
     vehicle: str = "hummingbird"
@@ -113,6 +128,8 @@ class FlightSettings:
     max_leg_s: float = 30.0
     wind: tuple[float, float, float] = (0.0, 0.0, 0.0)
     collision_distance: float = 0.02
+    gusts: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    integrator: str = "rk23"
 
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
@@ -133,6 +150,17 @@ class FlightSettings:
         if wind is None or wind.shape != (3,) or not np.isfinite(wind).all() or np.abs(wind).max() > 100.0:
             raise InvalidInputError(f"wind must be 3 finite speeds of at most 100 m/s, got {self.wind!r}")
         object.__setattr__(self, "wind", (float(wind[0]), float(wind[1]), float(wind[2])))
+        gusts = np.asarray(self.gusts, dtype=np.float64) if not isinstance(self.gusts, (str, bytes)) else None
+        if gusts is None or gusts.shape != (3,) or not np.isfinite(gusts).all() or gusts.min() < 0.0 or gusts.max() > 50.0:
+            raise InvalidInputError(f"gusts must be 3 standard deviations in [0, 50] m/s, got {self.gusts!r}")
+        object.__setattr__(self, "gusts", (float(gusts[0]), float(gusts[1]), float(gusts[2])))
+        if self.integrator not in INTEGRATORS:
+            raise InvalidInputError(f"integrator must be one of {INTEGRATORS}, got {self.integrator!r}")
+
+    @property
+    def integrator_kwargs(self) -> dict[str, Any] | None:
+        """What RotorPy's ``Multirotor`` passes to scipy's ``solve_ivp`` (None: its default)."""
+        return None if self.integrator == "rk45" else {"method": "RK23", "first_step": self.dt}
 
 
 @dataclass(frozen=True)
@@ -182,6 +210,24 @@ class Leg:
         return np.asarray(np.linalg.norm(np.diff(self.positions, axis=0), axis=2).sum(axis=0))
 
 
+class _HeldAtEnd:
+    """A reference whose flat output past its end is computed once: ``MinSnap.update`` clips the
+    time to its last keyframe, so every later call returns the same values (bit for bit)."""
+
+    def __init__(self, reference: Any, end: float) -> None:
+        self.reference, self.end, self.held = reference, end, None
+
+    def update(self, t: float) -> Any:
+        if t < self.end:
+            return self.reference.update(t)
+        if self.held is None:
+            self.held = self.reference.update(self.end)
+        return self.held
+
+
+_CHECK_EVERY = 100  # control periods between two checks of the team against the mesh (one Rust call)
+
+
 @dataclass
 class Team:
     """N vehicles at rest or in flight: their RotorPy models, controllers and current states.
@@ -196,12 +242,16 @@ class Team:
     states: list[dict[str, np.ndarray]]
     _vehicle: Any = field(repr=False)
     _controller: Any = field(repr=False)
-    _wind: Any = field(repr=False)
+    _winds: list[Any] = field(repr=False)
     _params: dict[str, Any] = field(repr=False)
 
     @classmethod
-    def hovering(cls, positions: Any, settings: FlightSettings, terrain: Terrain | None = None) -> Team:
-        """A team hovering at ``positions`` ``(N, 3)`` (level, at rest, rotors at hover speed)."""
+    def hovering(cls, positions: Any, settings: FlightSettings, terrain: Terrain | None = None, *, rng: Any = None) -> Team:
+        """A team hovering at ``positions`` ``(N, 3)`` (level, at rest, rotors at hover speed).
+
+        ``rng`` (None, an int or a Generator, SPEC 7) draws the gusts, one independent stream per
+        vehicle; without gusts nothing is drawn.
+        """
         rp = _rotorpy()
         params = vehicle_parameters(settings.vehicle)
         x0 = np.asarray(positions, dtype=np.float64)
@@ -219,9 +269,20 @@ class Team:
             }
             for p in x0
         ]
-        vehicle = rp["Multirotor"](params, initial_state=states[0], control_abstraction="cmd_motor_speeds", aero=True)
-        wind = rp["ConstantWind"](*settings.wind)
-        return cls(settings, terrain, states, vehicle, rp["SE3Control"](params), wind, params)
+        vehicle = rp["Multirotor"](
+            params,
+            initial_state=states[0],
+            control_abstraction="cmd_motor_speeds",
+            aero=True,
+            integrator_kwargs=settings.integrator_kwargs,
+        )
+        winds: list[Any]
+        if any(settings.gusts):
+            streams = as_generator(rng).spawn(len(x0))
+            winds = [DrydenGusts(settings.wind, settings.gusts, settings.dt, float(p[2]), g) for p, g in zip(x0, streams, strict=True)]
+        else:
+            winds = [rp["ConstantWind"](*settings.wind)] * len(x0)
+        return cls(settings, terrain, states, vehicle, rp["SE3Control"](params), winds, params)
 
     @property
     def positions(self) -> np.ndarray:
@@ -239,7 +300,7 @@ class Team:
             length = float(np.linalg.norm(goal - state["x"]))
             speed = min(self.settings.speed, math.sqrt(self.settings.max_acceleration * length / _PEAK_ACCELERATION))
             ms = rp["MinSnap"](np.stack([state["x"], goal]), v_avg=speed, v_max=_PEAK_OVER_AVERAGE * speed, verbose=False)
-            references.append(ms)
+            references.append(_HeldAtEnd(ms, float(ms.t_keyframes[-1])))
             end = max(end, float(ms.t_keyframes[-1]))
         return references, end
 
@@ -259,55 +320,78 @@ class Team:
         cfg = self.settings
         references, end = self._references(goals)
         deadline = end + cfg.max_leg_s
-        rows: list[tuple[float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
-        t, settled_at = 0.0, math.nan
+        times: list[float] = []
+        rows: list[list[dict[str, np.ndarray]]] = []  # RotorPy returns a new state each step: kept as is
+        t, settled_at, checked = 0.0, math.nan, 0
         while True:
             for k, ref in enumerate(references):
                 state = self.states[k]
-                state["wind"] = np.asarray(self._wind.update(t, state["x"]), dtype=np.float64)
+                state["wind"] = np.asarray(self._winds[k].update(t, state["x"]), dtype=np.float64)
                 control = self._controller.update(t, state, ref.update(t))
                 self.states[k] = self._vehicle.step(state, control, cfg.dt)
             t += cfg.dt
+            times.append(t)
+            rows.append(list(self.states))
             x = np.array([s["x"] for s in self.states])
             v = np.array([s["v"] for s in self.states])
-            rotors = np.array([s["rotor_speeds"] for s in self.states])
-            rows.append((t, x, v, np.array([s["q"] for s in self.states]), rotors))
             problem = self._problem(x, v, goals, t, deadline)
+            done = False
+            if problem is None:
+                if math.isnan(settled_at) and t >= end and self._settled(x, v, goals):
+                    settled_at = t
+                done = not math.isnan(settled_at) and t >= settled_at + cfg.dwell_s - 1e-9
+            if problem is not None or done or len(rows) - checked >= _CHECK_EVERY:
+                hit = self._collision(rows, times, checked)
+                checked = len(rows)
+                if hit is not None:
+                    problem, rows, times = hit[0], rows[: hit[1] + 1], times[: hit[1] + 1]
             if problem is not None:
                 error = FlightError(problem)
-                error.leg = self._leg(rows, math.nan)  # what flew, for the mission's record
+                error.leg = self._leg(times, rows, math.nan)  # what flew, for the mission's record
                 raise error
-            if math.isnan(settled_at) and t >= end and self._settled(x, v, goals):
-                settled_at = t
-            if not math.isnan(settled_at) and t >= settled_at + cfg.dwell_s - 1e-9:
-                return self._leg(rows, settled_at)
+            if done:
+                return self._leg(times, rows, settled_at)
+
+    def _collision(self, rows: list[list[dict[str, np.ndarray]]], times: list[float], since: int) -> tuple[str, int] | None:
+        """The first state since row ``since`` within ``collision_distance`` of the surface (one
+        call for the whole stretch), as the reason and its row, or None."""
+        if self.terrain is None or since >= len(rows):
+            return None
+        x = np.array([[s["x"] for s in row] for row in rows[since:]])
+        gap = self.terrain.distance(x.reshape(-1, 3), n_threads=1).reshape(x.shape[:2])
+        hits = np.flatnonzero((gap < self.settings.collision_distance).any(axis=1))
+        if not hits.size:
+            return None
+        row = since + int(hits[0])
+        k = int(np.argmin(gap[hits[0]]))
+        where = np.round(x[hits[0], k], 2).tolist()
+        return f"vehicle {k} hit the surface at t = {times[row]:.2f} s of the leg (at {where})", row
 
     def _problem(self, x: np.ndarray, v: np.ndarray, goals: np.ndarray, t: float, deadline: float) -> str | None:
-        """Why the leg must stop now (diverged, collided, out of time), or None."""
+        """Why the leg must stop now (diverged, out of time), or None; collisions are checked in
+        stretches by :meth:`_collision`."""
         if not (np.isfinite(x).all() and np.isfinite(v).all()):
             return f"the flight diverged at t = {t:.2f} s of the leg (non-finite state)"
-        if self.terrain is not None:
-            gap = self.terrain.distance(x, n_threads=1)
-            if (gap < self.settings.collision_distance).any():
-                k = int(np.argmin(gap))
-                return f"vehicle {k} hit the surface at t = {t:.2f} s of the leg (at {np.round(x[k], 2).tolist()})"
         if t > deadline:
             worst = float(np.linalg.norm(x - goals, axis=1).max())
             return (
                 f"the team did not settle within {self.settings.max_leg_s:g} s after its references ended "
-                f"(worst vehicle {worst:.2f} m from its waypoint; wind {self.settings.wind} m/s): waypoint out of reach"
+                f"(worst vehicle {worst:.2f} m from its waypoint; wind {self.settings.wind} m/s, "
+                f"gusts {self.settings.gusts} m/s): waypoint out of reach"
             )
         return None
 
-    def _leg(self, rows: list[tuple[float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]], settled_at: float) -> Leg:
-        times = np.array([r[0] for r in rows])
-        rotor_speeds = np.stack([r[4] for r in rows])
+    def _leg(self, times: list[float], rows: list[list[dict[str, np.ndarray]]], settled_at: float) -> Leg:
+        def stacked(key: str) -> np.ndarray:
+            return read_only(np.array([[s[key] for s in row] for row in rows]))
+
+        rotor_speeds = stacked("rotor_speeds")
         return Leg(
-            time=read_only(times),
-            positions=read_only(np.stack([r[1] for r in rows])),
-            velocities=read_only(np.stack([r[2] for r in rows])),
-            quaternions=read_only(np.stack([r[3] for r in rows])),
-            rotor_speeds=read_only(rotor_speeds),
+            time=read_only(np.array(times)),
+            positions=stacked("x"),
+            velocities=stacked("v"),
+            quaternions=stacked("q"),
+            rotor_speeds=rotor_speeds,
             power=read_only(self._params["k_m"] * (rotor_speeds**3).sum(axis=2)),
             settled_s=float(settled_at),
         )

@@ -50,6 +50,14 @@ class SafetyReport:
     straight_above_h_max : int
         The same count for the straight commanded moves sampled at the same instants (each
         state's foot on its move): what the kinematic model flies through.
+    straight_below_h_min : int
+        States whose foot on the straight move lies under ``h_min``: eq. 2 binds the waypoints,
+        and a straight move between two admissible ones can pass under ``h_min`` (over a ridge,
+        a roof's edge) as the kinematic model flies it.
+    straight_min_distance : float
+        Least 3D distance to the surface of those feet: how close the kinematic model's moves
+        come to the surface (the paper's limits bound the clearance straight down, not the
+        distance to a wall beside the UAV).
     max_deviation : float
         Farthest a state strayed from its straight commanded move (the margin by which the
         limits must be tightened for the flown path to keep them).
@@ -72,6 +80,8 @@ class SafetyReport:
     straight_above_h_max: int
     max_deviation: float
     max_overshoot: float
+    straight_below_h_min: int = 0
+    straight_min_distance: float = float("nan")
 
     @property
     def safe(self) -> bool:
@@ -137,9 +147,8 @@ def check_flight(
     deviation, overshoot, feet = _segment_offsets(positions, starts[leg_of_state], goals[leg_of_state])
     low = (clearance < constraints.h_min) | (distance <= 0.0)
     high = np.zeros_like(low) if constraints.h_max is None else clearance > constraints.h_max
-    straight_high = 0
-    if constraints.h_max is not None:
-        straight_high = int((terrain.clearance(feet.reshape(-1, 3)) > constraints.h_max).sum())
+    foot_clearance = terrain.clearance(feet.reshape(-1, 3))
+    straight_high = 0 if constraints.h_max is None else int((foot_clearance > constraints.h_max).sum())
     return SafetyReport(
         n_states=int(m * n),
         min_clearance=float(clearance.min()),
@@ -156,4 +165,6 @@ def check_flight(
         straight_above_h_max=straight_high,
         max_deviation=float(deviation.max()),
         max_overshoot=float(overshoot.max()),
+        straight_below_h_min=int((foot_clearance < constraints.h_min).sum()),
+        straight_min_distance=float(terrain.distance(feet.reshape(-1, 3)).min()),
     )

@@ -1,0 +1,180 @@
+"""A flown mission on disk: what ``uavcov view`` draws (the states flown, not only the waypoints).
+
+:func:`save_flown` writes one ``.npz`` (the true surface, the waypoints, the reached
+configurations and their coverage, every recorded state and when each measurement was taken);
+:func:`load_flown` reads it back as a :class:`FlownRun`, which has the names the interactive view
+reads from a mission result (``terrain``, ``trajectory``, ``coverage``, ``best_positions``, ...)
+plus the flown states.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import zipfile
+import zlib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._io import atomic_write_with
+from .._validate import read_only
+from ..engine import Terrain
+from ..errors import InvalidTypeError, ResultsFormatError
+from ..mission import MissionSettings
+from ._closed_loop import FlownMission
+
+__all__ = ["FlownRun", "save_flown", "load_flown", "FLOWN_FORMAT"]
+
+FLOWN_FORMAT = "uavcov-flown-1"
+"""The ``format`` of a flown run's header."""
+
+_ARRAYS = ("start", "commanded", "reached", "exact", "sensed", "clock", "states", "states_time", "leg_ends_s")
+
+
+@dataclass(frozen=True)
+class FlownRun:
+    """A flown mission as saved: the surface it flew over and what it flew. Metres, seconds.
+
+    Attributes
+    ----------
+    terrain : Terrain
+    settings : MissionSettings
+    seed : int or None
+    measurement : str
+        What CAO maximised (``"exact"`` or ``"sensed"``).
+    failure : str or None
+    start_positions : (N, 3) ndarray
+    commanded, trajectory : (K + 1, N, 3) ndarray
+        The waypoints CAO chose, and the configurations reached there (where it measured).
+    coverage, sensed : (K + 1,) ndarray
+        Exact and sensed coverage at each reached configuration.
+    measured_at_s : (K + 1,) ndarray
+        Mission time of each measurement (the clock of :attr:`flown_time`).
+    flown_states : (M, N, 3) ndarray
+        Every recorded position.
+    flown_time : (M,) ndarray
+        Mission time of each recorded state.
+    """
+
+    terrain: Terrain
+    settings: MissionSettings
+    seed: int | None
+    measurement: str
+    failure: str | None
+    start_positions: np.ndarray
+    commanded: np.ndarray
+    trajectory: np.ndarray
+    coverage: np.ndarray
+    sensed: np.ndarray
+    measured_at_s: np.ndarray
+    flown_states: np.ndarray
+    flown_time: np.ndarray
+
+    @property
+    def best_iteration(self) -> int:
+        """The measurement of the highest exact coverage (the first on ties)."""
+        return int(np.argmax(self.coverage))
+
+    @property
+    def best_coverage(self) -> float:
+        return float(self.coverage[self.best_iteration])
+
+    @property
+    def best_positions(self) -> np.ndarray:
+        """``(N, 3)`` the reached configuration of :attr:`best_iteration`."""
+        return np.asarray(self.trajectory[self.best_iteration])
+
+    @property
+    def prior_points(self) -> np.ndarray:
+        return np.empty((0, 3))
+
+
+def save_flown(flown: FlownMission, path: str | os.PathLike[str], terrain: Terrain) -> Path:
+    """Write ``flown`` and the surface it flew over (``terrain``) to ``path`` (``.npz``, atomically)."""
+    if not isinstance(flown, FlownMission):
+        raise InvalidTypeError(f"flown must be a FlownMission, got {type(flown).__name__}")
+    if not isinstance(terrain, Terrain):
+        raise InvalidTypeError(f"terrain must be a Terrain, got {type(terrain).__name__}")
+    header = {
+        "format": FLOWN_FORMAT,
+        "spec": flown.settings.as_dict(),
+        "seed": flown.seed,
+        "measurement": flown.sim.measurement,
+        "failure": flown.failure,
+    }
+    arrays = {
+        "header": np.array(json.dumps(header)),
+        "terrain_vertices": np.asarray(terrain.vertices),
+        "terrain_faces": np.asarray(terrain.faces),
+        **{name: np.asarray(getattr(flown, name)) for name in _ARRAYS},
+    }
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_with(out, lambda handle: np.savez_compressed(handle, **arrays))  # type: ignore[arg-type]
+    return out
+
+
+def is_flown_file(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is an ``.npz`` written by :func:`save_flown` (False for anything else)."""
+    try:
+        with np.load(Path(path), allow_pickle=False) as data:
+            return "header" in data.files and json.loads(str(data["header"])).get("format") == FLOWN_FORMAT
+    except Exception:  # noqa: BLE001 - any unreadable file is simply not a flown run
+        return False
+
+
+def load_flown(path: str | os.PathLike[str]) -> FlownRun:
+    """Read a run written by :func:`save_flown`.
+
+    Raises
+    ------
+    ResultsFormatError
+        Not a readable flown run (missing, corrupt, another format, arrays of the wrong shapes).
+    """
+    file = Path(path)
+    if not file.is_file():
+        raise ResultsFormatError(f"no flown run at {file}")
+    try:
+        with np.load(file, allow_pickle=False) as data:
+            arrays: dict[str, Any] = {name: data[name] for name in data.files}
+        header = json.loads(str(arrays["header"]))
+        if not isinstance(header, dict) or header.get("format") != FLOWN_FORMAT:
+            raise ValueError(f"format {header.get('format') if isinstance(header, dict) else header!r}, not {FLOWN_FORMAT!r}")
+        terrain = Terrain(arrays["terrain_vertices"], arrays["terrain_faces"])
+        settings = MissionSettings.from_dict(header["spec"])
+        reached, states = np.asarray(arrays["reached"], dtype=np.float64), np.asarray(arrays["states"], dtype=np.float64)
+        n = settings.n_uavs
+        k = reached.shape[0]
+        shapes_ok = (
+            reached.shape == (k, n, 3)
+            and states.ndim == 3
+            and states.shape[1:] == (n, 3)
+            and arrays["exact"].shape == (k,)
+            and arrays["clock"].shape == (k,)
+            and arrays["states_time"].shape == (states.shape[0],)
+        )
+        if not shapes_ok:
+            raise ValueError("arrays of inconsistent shapes")
+        first_end = float(arrays["leg_ends_s"][0]) if arrays["leg_ends_s"].size else 0.0
+    except ResultsFormatError:
+        raise
+    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, json.JSONDecodeError) as exc:
+        raise ResultsFormatError(f"{file} is not a readable flown run: {type(exc).__name__}: {exc}") from exc
+    return FlownRun(
+        terrain=terrain,
+        settings=settings,
+        seed=header.get("seed"),
+        measurement=str(header.get("measurement")),
+        failure=header.get("failure"),
+        start_positions=read_only(np.asarray(arrays["start"], dtype=np.float64)),
+        commanded=read_only(np.asarray(arrays["commanded"], dtype=np.float64)),
+        trajectory=read_only(reached),
+        coverage=read_only(np.asarray(arrays["exact"], dtype=np.float64)),
+        sensed=read_only(np.asarray(arrays["sensed"], dtype=np.float64)),
+        measured_at_s=read_only(np.asarray(arrays["clock"], dtype=np.float64) + first_end),
+        flown_states=read_only(states),
+        flown_time=read_only(np.asarray(arrays["states_time"], dtype=np.float64)),
+    )
