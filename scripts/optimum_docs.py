@@ -64,7 +64,8 @@ def main(argv: list[str] | None = None) -> int:
     command = (
         "```\nOPENBLAS_NUM_THREADS=1 nice python benches/exact_placement.py --sweep --seeds 0-39 --threads 1 --rows ROWS\n"
         "uavcov reproduce table1 --out TABLE1 --seeds 0-39 --workers 1 --threads 1 --no-plots --no-save-runs\n"
-        "python scripts/optimum_docs.py ROWS --runs TABLE1/runs.csv\n```\n"
+        "python scripts/optimum_docs.py ROWS --runs TABLE1/runs.csv\n```\n\n"
+        "The rows shown are in `docs/exact_sweep/rows.jsonl` (`ROWS` above).\n"
     )
     section = optimum_markdown(runs, rows).rstrip("\n") + f"\n\n{done}, {args.time_limit:g} s each, made by\n\n{command}"
     PAGE.write_text(_replace_section(PAGE.read_text(encoding="utf-8"), section), encoding="utf-8")

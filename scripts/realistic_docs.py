@@ -1,9 +1,9 @@
 #!/usr/bin/env python
 """Regenerate docs/realistic.md's results from the rows of the flown experiments, finished or not.
 
-    uavcov reproduce realistic --out /work/results/sim44/realistic --resume
-    uavcov reproduce flown-table1 --out /work/results/sim44/table1 --resume
-    python scripts/realistic_docs.py --realistic /work/results/sim44/realistic --table1 /work/results/sim44/table1
+    uavcov reproduce realistic --out out/realistic --resume
+    uavcov reproduce flown-table1 --out out/table1 --resume
+    python scripts/realistic_docs.py --realistic out/realistic --table1 out/table1
 
 Each folder's report is rebuilt from its ``rows.jsonl`` (:func:`uavcov.paper.write_realistic_report`),
 then put into the page between its markers (``<!-- generated: realistic -->`` ...
