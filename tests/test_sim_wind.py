@@ -126,3 +126,16 @@ def test_table1_flown_starts_where_its_kinematic_twin_starts(tmp_path) -> None: 
     assert run.trajectory.shape == (3, 12, 3) and run.settings.n_uavs == 12
     assert run.settings.d_max == TABLE1.mission.d_max and run.flown_states.shape[1] == 12
     assert "table1" in (tmp_path / "config.json").read_text() and (tmp_path / "realistic.md").is_file()
+
+
+@pytest.mark.parametrize(
+    "gusts",
+    [(float("nan"), 0.0, 0.0), (-1.0, 0.0, 0.0), (1e300, 0.0, 0.0), (float("inf"), 1.0, 1.0), (1.0, 1.0), "1 1 1", (51.0, 0.0, 0.0)],
+)
+def test_bad_gusts_are_refused(gusts: object) -> None:
+    """Gust deviations that are not 3 finite numbers in [0, 50] m/s raise the project's error."""
+    from uavcov.errors import InvalidInputError
+    from uavcov.sim import FlightSettings
+
+    with pytest.raises(InvalidInputError, match="gusts"):
+        FlightSettings(gusts=gusts)  # type: ignore[arg-type]
