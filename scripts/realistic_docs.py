@@ -2,12 +2,13 @@
 """Regenerate docs/realistic.md's results from the rows of the flown experiments, finished or not.
 
     uavcov reproduce realistic --out out/realistic --resume
+    uavcov reproduce realistic --standoff 1 --out out/standoff --resume
     uavcov reproduce flown-table1 --out out/table1 --resume
-    python scripts/realistic_docs.py --realistic out/realistic --table1 out/table1
+    python scripts/realistic_docs.py --realistic out/realistic --standoff out/standoff --table1 out/table1
 
 Each folder's report is rebuilt from its ``rows.jsonl`` (:func:`uavcov.paper.write_realistic_report`),
 then put into the page between its markers (``<!-- generated: realistic -->`` ...
-``<!-- end: realistic -->``, the same for ``table1``), its title dropped and its figures copied
+``<!-- end: realistic -->``, the same for ``standoff`` and ``table1``), its title dropped and its figures copied
 under ``docs/figures/realistic/`` (prefixed with the experiment's name) with their links rewritten.
 """
 
@@ -42,10 +43,11 @@ def _section(name: str, folder: Path) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--realistic", type=Path, help="the realistic scenario's results folder")
+    parser.add_argument("--standoff", type=Path, help="the realistic scenario flown under a 3D standoff: its results folder")
     parser.add_argument("--table1", type=Path, help="Table 1 flown's results folder")
     args = parser.parse_args()
     page = PAGE.read_text(encoding="utf-8")
-    for name, folder in (("realistic", args.realistic), ("table1", args.table1)):
+    for name, folder in (("realistic", args.realistic), ("standoff", args.standoff), ("table1", args.table1)):
         if folder is None:
             continue
         begin, end = f"<!-- generated: {name} -->", f"<!-- end: {name} -->"

@@ -182,6 +182,32 @@ def test_check_flight_counts_each_limit_on_a_plane() -> None:
     assert report.straight_below_h_min == 0 and report.straight_min_distance == pytest.approx(2.0)
 
 
+def _box_on_ground() -> uavcov.Terrain:
+    """A 4 m x 4 m x 6 m box at (8-12, 8-12) on a 20 m square ground sheet."""
+    box = np.array([[8, 8, 0], [12, 8, 0], [12, 12, 0], [8, 12, 0], [8, 8, 6], [12, 8, 6], [12, 12, 6], [8, 12, 6]], float)
+    walls = [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4]]
+    walls += [[1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]]
+    ground = np.array([[0, 0, 0], [20, 0, 0], [20, 20, 0], [0, 20, 0]], float)
+    return uavcov.Terrain(np.vstack([ground, box]), np.vstack([[[0, 1, 2], [0, 2, 3]], np.array(walls) + 4]))
+
+
+def test_check_flight_bounds_the_3d_standoff_beside_a_wall_when_the_limits_say_so() -> None:
+    """Beside a wall, 3 m over the ground: eq. 2 (straight down) admits a state 0.3 m from the
+    wall, a 1 m standoff does not (nor one 0.5 m beside the other wall, 5.5 m up)."""
+    world = _box_on_ground()
+    states = np.array([[[7.7, 10.0, 3.0]], [[6.0, 10.0, 3.0]], [[12.5, 10.0, 5.5]]])  # 0.3 m, 2 m, 0.5 m from the box
+    legs, starts, goals = np.zeros(3, dtype=int), states[:1], states[:1]
+    vertical = uavcov.limits.Constraints(h_min=1.0, h_max=6.0, z_max=20.0).resolve(world)
+    standoff = uavcov.limits.Constraints(h_min=1.0, h_max=6.0, z_max=20.0, clearance="standoff").resolve(world)
+    by_eq2 = check_flight(world, vertical, states, legs, starts, goals)
+    by_standoff = check_flight(world, standoff, states, legs, starts, goals)
+    assert by_eq2.below_h_min == 0 and by_eq2.violations == 0  # 3 m, 3 m and 5.5 m straight down
+    assert by_standoff.below_h_min == 2 and by_standoff.violations == 2
+    assert by_standoff.min_distance == pytest.approx(0.3) and by_eq2.min_distance == pytest.approx(0.3)
+    # The straight move (a single point here) is judged by the same measure.
+    assert by_eq2.straight_below_h_min == 0 and by_standoff.straight_below_h_min == 3
+
+
 @pytest.mark.parametrize(
     "bad",
     [
@@ -192,12 +218,23 @@ def test_check_flight_counts_each_limit_on_a_plane() -> None:
         ["realistic", "--measurements", "exact,psychic"],
         ["flown-table1", "--starts", "pairs"],
         ["flown-table1", "--measurements", "sensed"],
+        ["flown-table1", "--standoff", "1"],
+        ["table1", "--standoff", "1"],
+        ["structures", "--measurements", "exact"],
+        ["realistic", "--standoff", "0"],
+        ["realistic", "--standoff", "nan"],
+        ["realistic", "--standoff", "6"],
+        ["realistic", "--standoff", "1e300"],
     ],
 )
 def test_reproduce_realistic_refuses_bad_choices_in_one_line(tmp_path: object, capsys: pytest.CaptureFixture[str], bad: list[str]) -> None:
     from uavcov.cli import EXIT_BAD_INPUT, main
 
-    assert main(["reproduce", *bad, "--out", str(tmp_path)]) == EXIT_BAD_INPUT
+    try:
+        code = main(["reproduce", *bad, "--out", str(tmp_path)])
+    except SystemExit as exit_:  # argparse's own refusals (a flag's type) exit from the parser
+        code = exit_.code
+    assert code == EXIT_BAD_INPUT
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "error" in err[0]
 

@@ -21,6 +21,10 @@ from ._common import (
 def _reproduce(args: argparse.Namespace) -> int:
     from ..paper import reproduce
 
+    if args.experiment not in ("realistic", "flown-table1") and (args.measurements or args.standoff is not None):
+        from ..errors import InvalidInputError
+
+        raise InvalidInputError("--measurements and --standoff are the realistic scenario's flags")
     if args.experiment == "all":
         return _reproduce_all(args)
     if args.experiment == "ablation":
@@ -63,8 +67,8 @@ def _reproduce_realistic(args: argparse.Namespace) -> int:
 
     out = Path(args.out or f"out/{args.experiment}")
     if args.experiment == "flown-table1":
-        if args.measurements:
-            raise InvalidInputError("--measurements is the realistic scenario's: Table 1 flown measures exactly")
+        if args.measurements or args.standoff is not None:
+            raise InvalidInputError("--measurements and --standoff are the realistic scenario's: Table 1 flown measures exactly")
         rows = reproduce_flown_table1(
             out,
             seeds=args.seeds,
@@ -82,6 +86,7 @@ def _reproduce_realistic(args: argparse.Namespace) -> int:
             iterations=200 if args.iterations is None else args.iterations,
             resume=bool(args.resume),
             progress=_say,
+            standoff=args.standoff,
         )
     print((out / "realistic.md").read_text(encoding="utf-8"))
     failed = sum(bool(r["failure"]) for r in rows)

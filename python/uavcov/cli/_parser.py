@@ -71,6 +71,12 @@ def _parser() -> argparse.ArgumentParser:
     reproduce.add_argument(
         "--measurements", type=_str_list, metavar="M,M", help="realistic only: CAO's measurements, among exact,sensed (default both)"
     )
+    reproduce.add_argument(
+        "--standoff",
+        type=_positive_float,
+        metavar="M",
+        help="realistic only: fly under a 3D standoff of M metres from any surface instead of eq. 2's clearance straight down",
+    )
     _add_execution(reproduce)
     reproduce.set_defaults(run=_reproduce)
 

@@ -186,6 +186,17 @@ def _figures(folder: Path, rows: list[dict[str, Any]]) -> list[str]:
     return written
 
 
+def _limits(config: dict[str, Any]) -> str:
+    """The flight limits a folder was flown under, in words."""
+    standoff = config.get("standoff_m")
+    if standoff is None:
+        return "Limits: the paper's eq. 2 (clearance straight down between h_min and h_max)."
+    return (
+        f"Limits: a 3D standoff (`--standoff {standoff:g}`): every waypoint at least {standoff:g} m from the nearest "
+        "surface, wall or ground, and at most h_max from it (not the paper's eq. 2: an ablation)."
+    )
+
+
 def realistic_report_markdown(config: dict[str, Any], rows: list[dict[str, Any]], figures: list[str]) -> str:
     """The report's Markdown: settings, progress, the table, the finding, the figures."""
     planned = len(config["seeds"]) * len(config["starts"]) * len(config["measurements"])
@@ -198,7 +209,7 @@ def realistic_report_markdown(config: dict[str, Any], rows: list[dict[str, Any]]
         (
             f"Scenes {seeds[0]}-{seeds[-1]} ({len(seeds)}), starts {', '.join(config['starts'])}, CAO measurements "
             f"{', '.join(config['measurements'])}, {config['iterations']} CAO iterations: {len(rows)} of {planned} runs done "
-            f"({np.nansum(walls) / 3600:.1f} h of wall time, the flights at {speed}).\n"
+            f"({np.nansum(walls) / 3600:.1f} h of wall time, the flights at {speed}). {_limits(config)}\n"
         ),
         (
             "Mean (standard deviation) over the runs; `sensed - exact` is the mean over a run's measurements of the "

@@ -44,7 +44,8 @@ class SafetyReport:
         States that break some limit.
     below_h_min, above_h_max, above_z_max, too_close : int
         States under ``h_min`` (or touching the mesh), over ``h_max``, over ``z_max``, and
-        closer than ``d_safe`` to another vehicle. ``h_max`` binds the waypoints only (eq. 2): a
+        closer than ``d_safe`` to another vehicle; ``h_min`` and ``h_max`` bound what the
+        constraints' ``clearance`` says (straight down, or the 3D standoff to any surface). ``h_max`` binds the waypoints only (eq. 2): a
         straight move from above a roof past its edge crosses it as well, so this count is
         compared with :attr:`straight_above_h_max`.
     straight_above_h_max : int
@@ -132,9 +133,11 @@ def check_flight(
     distance = terrain.distance(flat).reshape(m, n)
     xmin, ymin, xmax, ymax = constraints.flight_box
     outside = (flat[:, 0] < xmin) | (flat[:, 0] > xmax) | (flat[:, 1] < ymin) | (flat[:, 1] > ymax)
-    bad = (clearance < constraints.h_min) | (positions[..., 2] > constraints.z_max) | outside.reshape(m, n) | (distance <= 0.0)
+    # What h_min and h_max bound: the clearance straight down (eq. 2) or the 3D standoff.
+    bounded = clearance if constraints.clearance == "vertical" else distance
+    bad = (bounded < constraints.h_min) | (positions[..., 2] > constraints.z_max) | outside.reshape(m, n) | (distance <= 0.0)
     if constraints.h_max is not None:
-        bad |= clearance > constraints.h_max
+        bad |= bounded > constraints.h_max
     separation = np.inf
     crowded = np.zeros((m, n), dtype=bool)
     if n > 1:
@@ -145,10 +148,11 @@ def check_flight(
             crowded = (gaps < constraints.d_safe).any(axis=2)
             bad |= crowded
     deviation, overshoot, feet = _segment_offsets(positions, starts[leg_of_state], goals[leg_of_state])
-    low = (clearance < constraints.h_min) | (distance <= 0.0)
-    high = np.zeros_like(low) if constraints.h_max is None else clearance > constraints.h_max
-    foot_clearance = terrain.clearance(feet.reshape(-1, 3))
-    straight_high = 0 if constraints.h_max is None else int((foot_clearance > constraints.h_max).sum())
+    low = (bounded < constraints.h_min) | (distance <= 0.0)
+    high = np.zeros_like(low) if constraints.h_max is None else bounded > constraints.h_max
+    foot_distance = terrain.distance(feet.reshape(-1, 3))
+    foot_bounded = terrain.clearance(feet.reshape(-1, 3)) if constraints.clearance == "vertical" else foot_distance
+    straight_high = 0 if constraints.h_max is None else int((foot_bounded > constraints.h_max).sum())
     return SafetyReport(
         n_states=int(m * n),
         min_clearance=float(clearance.min()),
@@ -165,6 +169,6 @@ def check_flight(
         straight_above_h_max=straight_high,
         max_deviation=float(deviation.max()),
         max_overshoot=float(overshoot.max()),
-        straight_below_h_min=int((foot_clearance < constraints.h_min).sum()),
-        straight_min_distance=float(terrain.distance(feet.reshape(-1, 3)).min()),
+        straight_below_h_min=int((foot_bounded < constraints.h_min).sum()),
+        straight_min_distance=float(foot_distance.min()),
     )
