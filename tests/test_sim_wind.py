@@ -139,3 +139,23 @@ def test_bad_gusts_are_refused(gusts: object) -> None:
 
     with pytest.raises(InvalidInputError, match="gusts"):
         FlightSettings(gusts=gusts)  # type: ignore[arg-type]
+
+
+def test_the_realistic_scenario_under_a_standoff_keeps_the_team_off_the_walls(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """``standoff=1``: the folder says so (config and report), every flown state of dev scene
+    1000 stays about 1 m from every surface (0.9 m: the flown path strays centimetres from its
+    moves, and a straight move may cut a corner), and a resume under
+    the paper's limits, or another standoff, is refused."""
+    from uavcov.errors import ConfigError
+    from uavcov.paper import reproduce_realistic
+    from uavcov.sim import SimSettings
+
+    sim = SimSettings(render=False)
+    choice = {"seeds": [1000], "starts": ("cvt",), "measurements": ("exact",), "iterations": 3, "sim": sim}
+    rows = reproduce_realistic(tmp_path, standoff=1.0, **choice)  # type: ignore[arg-type]
+    assert json.loads((tmp_path / "config.json").read_text())["standoff_m"] == 1.0
+    assert "3D standoff" in (tmp_path / "realistic.md").read_text()
+    assert not rows[0]["failure"] and rows[0]["min_distance_m"] > 0.9
+    for standoff in (None, 2.0):
+        with pytest.raises(ConfigError, match="other settings"):
+            reproduce_realistic(tmp_path, standoff=standoff, resume=True, **choice)  # type: ignore[arg-type]
