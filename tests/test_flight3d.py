@@ -270,6 +270,26 @@ def test_closest_admissible_pushes_out_to_a_near_admissible_position(bridge, sta
     assert ref_distance(out)[0] >= 2.0 and not ref_inside(out).any() and ref_above_ground(out).all()
 
 
+@pytest.mark.parametrize("family, seed", [("building", 0), ("building", 1001), ("girder_bridge", 1001), ("pylon", 1)])
+def test_a_uav_clamped_onto_the_edge_where_the_ray_down_misses_is_moved_just_inside(family, seed):
+    """The flight box is the mesh's extent: a UAV beyond it is clamped onto the ground's boundary
+    edge, where the ray straight down misses by round-off at some points (found by scanning
+    the edge). It is moved 1e-6 m inside and admitted, instead of a refused start (a CVT start
+    on a Poisson S' of girder bridge 1001 was)."""
+    from uavcov.structures import STRUCTURE_FAMILIES
+
+    surface = STRUCTURE_FAMILIES[family](rng=seed).surface
+    (xmin, _, _), (xmax, ymax, top) = surface.bounds
+    edge = np.column_stack([np.linspace(xmin, xmax, 4001), np.full(4001, ymax), np.full(4001, top + 3.0)])
+    missed = edge[~np.isfinite(surface.clearance(edge))]
+    assert missed.size  # the case this guards
+    limits = Constraints(clearance="standoff", h_min=2.0, z_max=top + 10.0, d_safe=1.0, check_moves=True)
+    start = missed[:1] + [0.0, 5.0, 0.0]  # 5 m beyond the edge: clamped onto the missed point
+    out = closest_admissible(limits, surface, start)
+    assert feasible_mask(limits.resolve(surface), surface, out, out[None])[0]
+    assert out[0, 1] == pytest.approx(ymax - 1e-6, abs=1e-9) and out[0, 0] == missed[0, 0] and out[0, 2] == missed[0, 2]
+
+
 def test_closest_admissible_separates_a_team_deterministically(bridge):
     x = np.array([[0.0, 0.0, 5.0]] * 3 + [[-11.0, 0.0, 5.0], [0.0, 0.0, -1.0]])
     out = closest_admissible(standoff(), bridge, x)

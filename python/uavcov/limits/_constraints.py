@@ -494,6 +494,24 @@ def _push_out(constraints: Constraints, world: Any, pos: np.ndarray, climb: floa
     np.minimum(pos[:, 2], constraints.z_max, out=pos[:, 2])
 
 
+def _off_the_edge(world: World, pos: np.ndarray, box: tuple[float, float, float, float]) -> None:
+    """Move a UAV clamped onto the flight box's edge ``_MARGIN`` inside it when the ray down from it misses.
+
+    The box is the surface's own x-y extent by default, so a UAV clamped onto it can stand on
+    the mesh's boundary edge, where the ray straight down may miss by round-off (a ground sheet
+    of two triangles did): no projection moves it then, and the start was refused.
+    """
+    xmin, ymin, xmax, ymax = box
+    edge = np.flatnonzero((pos[:, 0] == xmin) | (pos[:, 0] == xmax) | (pos[:, 1] == ymin) | (pos[:, 1] == ymax))
+    if not edge.size:
+        return
+    clear = np.asarray(world.clearance(np.ascontiguousarray(pos[edge])), dtype=np.float64)
+    ground = np.asarray(world.ground_height(np.ascontiguousarray(pos[edge, :2])), dtype=np.float64)
+    lost = edge[~np.isfinite(clear) & ~(pos[edge, 2] < ground)]  # not a UAV under the ground: the projections lift that one
+    inset = np.minimum(_MARGIN, 0.5 * np.array([xmax - xmin, ymax - ymin]))  # a box thinner than two margins: its middle
+    pos[lost, :2] = np.clip(pos[lost, :2], np.array([xmin, ymin]) + inset, np.array([xmax, ymax]) - inset)
+
+
 def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb: float = 0.0, max_sweeps: int = 1000) -> np.ndarray:
     """Move a start configuration to nearby admissible positions (deterministic).
 
@@ -549,6 +567,7 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
         before = pos.copy()
         pos[:, 0] = np.clip(pos[:, 0], xmin, xmax)
         pos[:, 1] = np.clip(pos[:, 1], ymin, ymax)
+        _off_the_edge(world, pos, (xmin, ymin, xmax, ymax))
         if constraints.clearance == "standoff":
             _push_out(constraints, world, pos, climb)
         else:
