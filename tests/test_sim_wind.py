@@ -8,6 +8,7 @@ import json
 import numpy as np
 import pytest
 
+import uavcov
 from uavcov.sim import DrydenGusts, dryden_scales
 
 
@@ -159,3 +160,61 @@ def test_the_realistic_scenario_under_a_standoff_keeps_the_team_off_the_walls(tm
     for standoff in (None, 2.0):
         with pytest.raises(ConfigError, match="other settings"):
             reproduce_realistic(tmp_path, standoff=standoff, resume=True, **choice)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ((1e300, 0, 0), (1, 1, 1), 0.01, 10.0, 0),  # a wind no vehicle meets: a unit typo
+        ((0, 0, 0), (1, float("nan"), 1), 0.01, 10.0, 0),
+        ((0, 0, 0), (-1, 1, 1), 0.01, 10.0, 0),
+        ((0, 0), (1, 1, 1), 0.01, 10.0, 0),
+        ((0, 0, 0), (1, 1, 1), 0.0, 10.0, 0),
+        ((0, 0, 0), (1, 1, 1), float("inf"), 10.0, 0),
+        ((0, 0, 0), (1, 1, 1), 0.01, 1e300, 0),  # overflowed MIL-F-8785C's scale lengths
+        ((0, 0, 0), (1, 1, 1), 0.01, float("nan"), 0),
+        ((0, 0, 0), "abc", 0.01, 10.0, 0),
+        ((0, 0, 0), (1, 1, 1), 0.01, 10.0, "seed"),
+    ],
+)
+def test_dryden_gusts_refuse_hostile_settings(args: tuple) -> None:  # type: ignore[type-arg]
+    from uavcov.errors import InvalidInputError, InvalidTypeError
+
+    with pytest.raises((InvalidInputError, InvalidTypeError)):
+        DrydenGusts(*args)
+
+
+def test_the_sim_helpers_refuse_what_is_not_theirs() -> None:
+    """camera_rotation, vehicle_parameters, hover_rotor_speed and check_flight answer wrong or
+    degenerate input with uavcov's errors, not IndexError or numpy's ambiguity."""
+    from uavcov.errors import InvalidInputError, InvalidTypeError
+    from uavcov.sim import DepthCamera, camera_rotation, check_flight, hover_rotor_speed, vehicle_parameters
+
+    camera = DepthCamera.omnidirectional(8.0)
+    for quaternion in (1e300, (0, 0, 0, 0), (0, 0, 1), (0, 0, float("nan"), 1), "wxyz"):
+        with pytest.raises((InvalidInputError, InvalidTypeError)):
+            camera_rotation(quaternion, camera)
+    with pytest.raises(InvalidTypeError):
+        camera_rotation((0, 0, 0, 1), "camera")
+    np.testing.assert_allclose(
+        camera_rotation((0, 0, 0, 2.0), DepthCamera(64, 48, (90.0, 60.0), 8.0, pitch_deg=0.0)), np.eye(3), atol=1e-12
+    )
+    for name in (np.zeros((2, 3)), None, 5, "blimp"):
+        with pytest.raises(InvalidInputError):
+            vehicle_parameters(name)  # type: ignore[arg-type]
+    for params in (1e300, {"mass": 1.0}, None):
+        with pytest.raises(InvalidInputError):
+            hover_rotor_speed(params)  # type: ignore[arg-type]
+    plane = uavcov.Terrain(np.array([[0, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0]], float), np.array([[0, 1, 2], [0, 2, 3]]))
+    limits = uavcov.limits.Constraints(h_min=1.0).resolve(plane)
+    good = np.full((2, 1, 3), 5.0)
+    for bad in (
+        (1e300, limits, good, [0, 0], good[:1], good[:1]),
+        (plane, uavcov.limits.Constraints(h_min=1.0), good, [0, 0], good[:1], good[:1]),  # unresolved
+        (plane, limits, np.full((2, 1, 3), np.nan), [0, 0], good[:1], good[:1]),
+        (plane, limits, good, [0, 1], good[:1], good[:1]),  # a leg that is not there
+        (plane, limits, good, [0], good[:1], good[:1]),
+        (plane, limits, good, [0, 0], np.full((1, 2, 3), 5.0), good[:1]),
+    ):
+        with pytest.raises((InvalidInputError, InvalidTypeError)):
+            check_flight(*bad)  # type: ignore[arg-type]

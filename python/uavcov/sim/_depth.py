@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .._validate import as_finite_float, as_generator, as_n_threads, as_positive_float, is_int
+from .._validate import as_finite_float, as_float_array, as_generator, as_n_threads, as_positive_float, is_int
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -152,7 +152,12 @@ def camera_rotation(quaternion: Any, camera: DepthCamera) -> np.ndarray:
     The gimbal pitches the optical axis by ``camera.pitch_deg`` about the body's y axis; a
     stabilised gimbal keeps only the vehicle's heading (yaw), a fixed camera the whole attitude.
     """
-    body = Rotation.from_quat(np.asarray(quaternion, dtype=np.float64))
+    if not isinstance(camera, DepthCamera):
+        raise InvalidTypeError(f"camera must be a DepthCamera, got {type(camera).__name__}")
+    q = as_float_array(quaternion, "quaternion", ndim=1)
+    if q.shape != (4,) or not np.linalg.norm(q) > 0.0:
+        raise InvalidInputError(f"quaternion must be 4 numbers [x, y, z, w], not all zero, got {q.tolist()}")
+    body = Rotation.from_quat(q)
     if camera.stabilised:
         yaw = body.as_euler("ZYX")[0]
         body = Rotation.from_euler("Z", yaw)

@@ -63,7 +63,7 @@ def _rotorpy() -> Any:
 
 def vehicle_parameters(name: str) -> dict[str, Any]:
     """RotorPy's parameter dictionary of vehicle ``name`` (one of :data:`VEHICLES`)."""
-    if name not in VEHICLES:
+    if not isinstance(name, str) or name not in VEHICLES:
         raise InvalidInputError(f"vehicle must be one of {VEHICLES}, got {name!r}")
     params: dict[str, Any] = _rotorpy()["params"][name]
     return params
@@ -71,6 +71,8 @@ def vehicle_parameters(name: str) -> dict[str, Any]:
 
 def hover_rotor_speed(params: dict[str, Any]) -> float:
     """Rotor speed that holds the vehicle's weight, rad/s: ``sqrt(m g / (n k_eta))``."""
+    if not isinstance(params, dict) or not {"mass", "num_rotors", "k_eta"} <= params.keys():
+        raise InvalidInputError("params must be a vehicle's parameter dictionary (vehicle_parameters), with mass, num_rotors and k_eta")
     return math.sqrt(params["mass"] * _GRAVITY / (params["num_rotors"] * params["k_eta"]))
 
 

@@ -11,10 +11,13 @@ flown path inside the limits: how far a state strays from the straight move it w
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from .._validate import as_float_array
 from ..engine import Terrain
+from ..errors import InvalidInputError, InvalidTypeError
 from ..limits import Constraints
 
 __all__ = ["SafetyReport", "check_flight"]
@@ -104,6 +107,24 @@ def _segment_offsets(points: np.ndarray, start: np.ndarray, goal: np.ndarray) ->
     return deviation, overshoot, foot
 
 
+def _checked(
+    terrain: Any, constraints: Any, positions: Any, leg_of_state: Any, starts: Any, goals: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """check_flight's inputs as arrays of consistent shapes, or a clear error."""
+    if not isinstance(terrain, Terrain):
+        raise InvalidTypeError(f"terrain must be a Terrain, got {type(terrain).__name__}")
+    if not isinstance(constraints, Constraints) or constraints.bounds is None:
+        raise InvalidTypeError("constraints must be a Constraints resolved against the terrain (Constraints.resolve)")
+    states = as_float_array(positions, "positions", ndim=3)
+    begin, end = as_float_array(starts, "starts", ndim=3), as_float_array(goals, "goals", ndim=3)
+    if states.shape[0] == 0 or states.shape[1:] != begin.shape[1:] or begin.shape != end.shape or states.shape[2] != 3:
+        raise InvalidInputError(f"positions (M, N, 3), starts and goals (L, N, 3) disagree: {states.shape}, {begin.shape}, {end.shape}")
+    legs = np.asarray(leg_of_state)
+    if legs.shape != (states.shape[0],) or not np.issubdtype(legs.dtype, np.integer) or legs.min() < 0 or legs.max() >= begin.shape[0]:
+        raise InvalidInputError(f"leg_of_state must be {states.shape[0]} leg indices in [0, {begin.shape[0]})")
+    return states, legs, begin, end
+
+
 def check_flight(
     terrain: Terrain,
     constraints: Constraints,
@@ -127,6 +148,7 @@ def check_flight(
     starts, goals : (L, N, 3) ndarray
         Where each leg began and the waypoints it was commanded to.
     """
+    positions, leg_of_state, starts, goals = _checked(terrain, constraints, positions, leg_of_state, starts, goals)
     m, n, _ = positions.shape
     flat = positions.reshape(-1, 3)
     clearance = terrain.clearance(flat).reshape(m, n)

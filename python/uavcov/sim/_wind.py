@@ -17,16 +17,25 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_finite_float, as_float_array, as_generator, as_positive_float
+from ..errors import InvalidInputError
+
 __all__ = ["DrydenGusts", "dryden_scales"]
 
 _FEET = 3.281  # feet per metre: MIL-F-8785C states its scale lengths in feet
 _AIRSPEED = 1.0  # m/s through the turbulence, RotorPy's choice for a hovering multirotor
+# MIL-F-8785C's low-altitude model holds below 1000 ft; far above it the formula overflows.
+_MAX_ALTITUDE = 1e5  # metres
+_MAX_WIND = 1e3  # m/s: beyond any vehicle's thrust by far; what a typo in units looks like
 
 
 def dryden_scales(altitude: float) -> np.ndarray:
     """``(3,)`` turbulence scale lengths (x, y, z), metres, at ``altitude`` metres (MIL-F-8785C
     below 1000 ft, RotorPy's formula): ``L_z = h``, ``L_x = L_y = h / (0.177 + 0.000823 h)^1.2`` (h in feet)."""
-    h_ft = _FEET * max(float(altitude), 0.1)
+    altitude = as_finite_float(altitude, "altitude")
+    if not altitude <= _MAX_ALTITUDE:
+        raise InvalidInputError(f"altitude must be at most {_MAX_ALTITUDE:g} m, got {altitude:g}")
+    h_ft = _FEET * max(altitude, 0.1)
     horizontal = h_ft / (0.177 + 0.000823 * h_ft) ** 1.2
     return np.array([horizontal, horizontal, h_ft]) / _FEET
 
@@ -44,20 +53,39 @@ class DrydenGusts:
         Seconds between calls of :meth:`update` (the control period).
     altitude : float
         Operating altitude, metres (sets the scale lengths, :func:`dryden_scales`).
-    rng : numpy.random.Generator
+    rng : None, int or numpy.random.Generator
         Draws the white noise; the gusts start from a draw of their stationary distribution.
+
+    Raises
+    ------
+    InvalidInputError
+        A wind or deviation not three finite numbers within 1000 m/s, a negative deviation, a
+        period not positive, an altitude beyond 1e5 m.
     """
 
-    def __init__(self, mean: Any, sigma: Any, dt: float, altitude: float, rng: np.random.Generator) -> None:
-        self.mean = np.asarray(mean, dtype=np.float64)
-        self.sigma = np.asarray(sigma, dtype=np.float64)
+    def __init__(self, mean: Any, sigma: Any, dt: float, altitude: float, rng: Any) -> None:
+        self.mean = _wind_vector(mean, "mean")
+        self.sigma = _wind_vector(sigma, "sigma")
+        if (self.sigma < 0.0).any():
+            raise InvalidInputError(f"sigma must be non-negative, got {self.sigma.tolist()}")
+        dt = as_positive_float(dt, "dt")
+        generator = as_generator(rng)
         self.decay = np.exp(-_AIRSPEED * dt / dryden_scales(altitude))
         self.innovation = self.sigma * np.sqrt(1.0 - self.decay**2)
-        self.rng = rng
-        self.gust = self.sigma * rng.standard_normal(3)
+        self.rng = generator
+        self.gust = self.sigma * generator.standard_normal(3)
 
     def update(self, t: float, position: np.ndarray) -> np.ndarray:
         """The wind now, m/s (world frame); advances the gusts by one period."""
-        wind = self.mean + self.gust
+        wind: np.ndarray = self.mean + self.gust
         self.gust = self.decay * self.gust + self.innovation * self.rng.standard_normal(3)
         return wind
+
+
+def _wind_vector(value: Any, name: str) -> np.ndarray:
+    vector = as_float_array(value, name, ndim=1)
+    if vector.shape != (3,):
+        raise InvalidInputError(f"{name} must have 3 components (m/s), got shape {vector.shape}")
+    if not (np.abs(vector) <= _MAX_WIND).all():
+        raise InvalidInputError(f"{name} must be within {_MAX_WIND:g} m/s on each axis, got {vector.tolist()}")
+    return vector
