@@ -435,3 +435,37 @@ def test_known_rust_failures(worker, case):
 )
 def test_cases_that_hold_today(worker, case):
     check(worker, case)
+
+
+def test_more_public_helpers_refuse_hostile_input_with_uavcov_errors() -> None:
+    """Found by calling every public callable with hostile values: each answered with a bare
+    IndexError, OverflowError or numpy's ambiguity before."""
+    import numpy as np
+
+    from uavcov.engine import degenerate_faces
+    from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
+    from uavcov.experiments import local_executor
+    from uavcov.optim import standard_normal
+    from uavcov.structures import StructurePrior
+    from uavcov.terrain import wrap_longitude
+
+    refused = (InvalidInputError, InvalidTypeError)
+    triangle = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    for vertices, faces in ((1e300, [[0, 1, 2]]), (triangle, [[0, 1, 3]]), (triangle, [[-1, 1, 2]]), (triangle, [[0.5, 1, 2]])):
+        with pytest.raises(refused):
+            degenerate_faces(vertices, faces)  # type: ignore[arg-type]
+    assert degenerate_faces(np.empty((0, 3)), np.empty((0, 3), dtype=np.int64)).shape == (0,)
+    assert not degenerate_faces(triangle, np.array([[0, 1, 2]]))[0]
+    for rng, shape in ((1e300, 3), (np.random.default_rng(0), "x"), (np.random.default_rng(0), 2.5)):
+        with pytest.raises(refused):
+            standard_normal(rng, shape)  # type: ignore[arg-type]
+    for lon in ("x", [[1, 2], [3]], float("inf")):
+        with pytest.raises(refused):
+            wrap_longitude(lon)
+    assert np.isnan(wrap_longitude(float("nan"))) and wrap_longitude(540.0) == 180.0
+    for workers in (0, -1, 10**12, 2.5, "2"):
+        with pytest.raises(ConfigError):
+            local_executor(workers)  # type: ignore[arg-type]
+    for kind in (np.zeros(3), None, 5):
+        with pytest.raises(refused):
+            StructurePrior(triangle, None, kind)  # type: ignore[arg-type]

@@ -650,6 +650,11 @@ def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         Area at most ``1e-13`` times the squared diagonal of the vertices' bounding box (ten
         times the core's threshold, so rounding never lets one through to it).
     """
+    vertices, faces = as_points(vertices, "vertices", allow_empty=True), as_index_array(faces, "faces")
+    if faces.size and (faces.min() < 0 or faces.max() >= vertices.shape[0]):
+        raise InvalidInputError(f"faces index vertices 0-{vertices.shape[0] - 1}, got indices {faces.min()}-{faces.max()}")
+    if not faces.size:
+        return np.zeros(0, dtype=bool)
     a, b, c = (vertices[faces[:, k]] for k in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     diagonal = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))

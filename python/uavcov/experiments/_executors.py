@@ -107,6 +107,9 @@ def _worker_start(parent: int, kernel_signal: bool) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+_MAX_WORKERS = 4096  # processes: far beyond any one machine; a larger count is a typo
+
+
 def local_executor(workers: int) -> cf.ProcessPoolExecutor:
     """A process pool of ``workers`` processes started with the spawn context.
 
@@ -115,9 +118,11 @@ def local_executor(workers: int) -> cf.ProcessPoolExecutor:
     even when it is killed with SIGKILL: no orphan keeps computing (and holding the
     multiprocessing resource tracker alive) after its sweep is gone.
     """
+    if not is_int(workers) or not 1 <= workers <= _MAX_WORKERS:
+        raise ConfigError(f"workers must be an integer in [1, {_MAX_WORKERS}], got {workers!r}")
     main_thread = threading.current_thread() is threading.main_thread()
     return cf.ProcessPoolExecutor(
-        max_workers=workers,
+        max_workers=int(workers),
         mp_context=multiprocessing.get_context("spawn"),
         initializer=_worker_start,
         initargs=(os.getpid(), main_thread),

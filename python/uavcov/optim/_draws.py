@@ -18,7 +18,7 @@ import operator
 import numpy as np
 
 from .. import _core
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, InvalidTypeError
 
 
 def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> np.ndarray:
@@ -38,6 +38,8 @@ def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> n
 
     Raises
     ------
+    InvalidTypeError
+        ``rng`` not a Generator, ``shape`` not integers.
     InvalidInputError
         If a dimension is negative.
     SurfaceTooLargeError
@@ -61,8 +63,13 @@ def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> n
     >>> a.bit_generator.state == b.bit_generator.state
     True
     """
-    dims = (shape,) if isinstance(shape, (int, np.integer)) else tuple(shape)
-    dims = tuple(operator.index(d) for d in dims)
+    if not isinstance(rng, np.random.Generator):
+        raise InvalidTypeError(f"rng must be a numpy Generator, got {type(rng).__name__}")
+    try:
+        dims = (shape,) if isinstance(shape, (int, np.integer)) else tuple(shape)
+        dims = tuple(operator.index(d) for d in dims)
+    except TypeError:
+        raise InvalidTypeError(f"shape must be an int or a tuple of ints, got {shape!r}") from None
     if any(d < 0 for d in dims):
         raise InvalidInputError(f"shape must have non-negative dimensions, got {shape!r}")
     bit_generator = rng.bit_generator

@@ -56,7 +56,7 @@ class StructurePrior:
     noise: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.kind not in PRIOR_KINDS:
+        if not isinstance(self.kind, str) or self.kind not in PRIOR_KINDS:
             raise InvalidInputError(f"kind must be one of {PRIOR_KINDS}, got {self.kind!r}")
         points = as_points(self.points, "points").copy()
         object.__setattr__(self, "points", read_only(points))

@@ -85,7 +85,7 @@ def wrap_longitude(lon: Any) -> np.ndarray:
     Values already in range are returned bit for bit; the others are reduced exactly
     (``fmod`` is exact in floating point), so 180.006 becomes -179.994.
     """
-    values = np.asarray(lon, dtype=np.float64)
+    values = as_float_array(lon, "longitude", allow_nan=True)  # NaN (no data) passes through as NaN
     outside = np.abs(values) > 180.0
     if not outside.any():
         return values
