@@ -1,10 +1,11 @@
 #!/usr/bin/env python
 """Where S' faces into the structure (issue 42): the inward share of S''s area, decomposed.
 
-For each family of :data:`uavcov.structures.STRUCTURE_FAMILIES` and seed, 100 known points with
-normals (``sample_structure_prior(structure, 100, rng=seed)``) are made into S' by
-``reconstruct_structure(prior, method=..., rng=seed)``; 4000 area-uniform points of S' (the
-experiment's sample, ``rng=seed``) are judged by the measure of
+For each family of :data:`uavcov.structures.STRUCTURE_FAMILIES` and seed, the 100 known points
+with normals and the S' that ``run_mission(..., rng=seed)`` flies on in the structures
+experiment (its prior stream, ``reconstruct_structure(prior, method=...)``); the 4000
+area-uniform points of S' that ``reconstruction_error(..., n_samples=4000, rng=seed)`` draws (the
+experiment's ``inward_share`` column) are judged by the measure of
 ``reconstruction_error(...).inward_area_share`` (``structures/_facing.py``), and the inward ones
 split by where they are: in the air or inside a real solid, the real part nearest them, the
 size of the S' face holding them (its longest edge), its distance from the real surface, and
@@ -50,12 +51,18 @@ def _edge_label(edge: float) -> str:
 def decompose(family: str, seed: int, method: str) -> dict[str, float]:
     """Shares of S''s area (inward ones split several ways) for one structure and prior."""
     structure = STRUCTURE_FAMILIES[family](rng=seed)
-    prior = sample_structure_prior(structure, 100, rng=seed)
-    approx = reconstruct_structure(prior, method=method, rng=seed)
+    # The S' a mission with rng=seed flies on: run_mission draws its prior from the first of
+    # three streams spawned from the seed.
+    prior_rng = np.random.default_rng(seed).spawn(3)[0]
+    prior = sample_structure_prior(structure, 100, rng=prior_rng)
+    approx = reconstruct_structure(prior, method=method, rng=prior_rng)
     keep = _solid_faces(structure)
     solid = Terrain(structure.surface.vertices, structure.surface.faces[keep])
     solid_parts = np.asarray(structure.face_parts)[keep]
-    points, face = _sample_faces(approx.vertices, approx.faces, SAMPLES, np.random.default_rng(seed))
+    # reconstruction_error's own sample of S' (it draws the structure's points first).
+    generator = np.random.default_rng(seed)
+    _sample_faces(structure.surface.vertices, structure.surface.faces[structure.face_mask()], SAMPLES, generator)
+    points, face = _sample_faces(approx.vertices, approx.faces, SAMPLES, generator)
     normals = approx.face_normals[face]
     into = facing_into(solid, points, normals)
     inside = solid.inside(points, n_threads=1)
