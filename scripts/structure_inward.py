@@ -13,7 +13,8 @@ how far their normal is from the real
 surface's tangent plane there (in the air: how far it points into the nearest part, against
 the way out from it). Every figure is a share of S''s area (mean over the seeds), so the rows
 of one split add up to the inward share. Besides, H(S->S') (what S' misses, from 4000 points of
-the structure), the mean of the two mean distances, and what the share stands for: the share of
+the structure), the mean of the two mean distances, S''s volume over the known points' convex
+hull's, and what the share stands for: the share of
 S' from which a start flown straight out along the normal by the experiment's offsets (2.5 m,
 4 m; before ``fly_out``'s checks) lands inside a real solid::
 
@@ -28,11 +29,13 @@ import itertools
 from collections import defaultdict
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from uavcov import Terrain
 from uavcov.experiments import parse_seeds
 from uavcov.structures import STRUCTURE_FAMILIES, reconstruct_structure, reconstruction_error, sample_structure_prior
 from uavcov.structures._facing import facing_into
+from uavcov.structures._solids import signed_volume
 from uavcov.structures._structure_prior import _sample_faces, _solid_faces
 
 EDGE_BINS = (0.0, 3.0, 6.0, 12.0, np.inf)
@@ -80,6 +83,7 @@ def decompose(family: str, seed: int, method: str) -> dict[str, float]:
     out["H(S->S') m"] = error.hausdorff_truth_to_approx_m
     out["mean m"] = error.mean_m
     out["faces"] = float(approx.n_faces)
+    out["volume S' / known points' hull"] = signed_volume(approx.vertices, approx.faces) / ConvexHull(prior.points).volume
     for offset in START_OFFSETS:
         # What the inward share is a proxy for: a start flown out along S''s normal lands in a solid.
         out[f"start: {offset:g} m out along n inside a solid (all S')"] = float(solid.inside(points + offset * normals, n_threads=1).mean())
@@ -119,13 +123,13 @@ def main() -> None:
 
 
 def _format(key: str, value: float) -> str:
-    if key in ("H(S->S') m", "mean m"):
+    if key in ("H(S->S') m", "mean m", "volume S' / known points' hull"):
         return f"{value:.2f}"
     return f"{value:.0f}" if key == "faces" else f"{100 * value:.1f} %"
 
 
 def _order(key: str) -> tuple[int, str]:
-    head = ("inward", "H(S->S') m", "mean m", "faces")
+    head = ("inward", "H(S->S') m", "mean m", "faces", "volume S' / known points' hull")
     return (head.index(key), key) if key in head else (len(head), key)
 
 
