@@ -35,6 +35,7 @@ the families) reported::
 
     nice python benches/structure_free_space.py [--seeds 1000-1003] [--variants oriented,rays,open,rays_blocked,hull]
     nice python benches/structure_free_space.py --all-settings --variants oriented,lifted0.5,lifted1,open
+    nice python benches/structure_free_space.py --no-missions   # S' only: how much of the share faces in squarely
 """
 
 from __future__ import annotations
@@ -50,7 +51,9 @@ from uavcov.experiments import parse_seeds
 from uavcov.paper import StructuresExperiment
 from uavcov.paper._structures import _settings, run_task
 from uavcov.structures import STRUCTURE_FAMILIES, StructurePrior, reconstruct_structure, reconstruction_error, sample_structure_prior
+from uavcov.structures._facing import facing_into
 from uavcov.structures._outer_surface import _boundary, oriented_labels
+from uavcov.structures._structure_prior import _sample_faces, _solid_faces
 
 Mission = tuple[str, float, float]
 """(start, offset from S' in m, greedy3d's spacing in m or 0)."""
@@ -147,6 +150,7 @@ def measure(variant: str, family: str, seed: int, experiment: StructuresExperime
     surface = surface_maker(variant)(sample_structure_prior(structure, experiment.n_prior, rng=prior_rng), rng=prior_rng)
     error = reconstruction_error(structure, surface, n_samples=4000, rng=seed)
     row = {"inward": error.inward_area_share, "miss": error.hausdorff_truth_to_approx_m, "mean": error.mean_m}
+    row["squarely"] = _squarely_inward(structure, surface, seed)
     # The mission makes S' by the name mission.py imported: the variant stands in for it.
     uavcov.mission.reconstruct_structure = surface_maker(variant)  # type: ignore[attr-defined]
     try:
@@ -158,15 +162,33 @@ def measure(variant: str, family: str, seed: int, experiment: StructuresExperime
     return row
 
 
+def _squarely_inward(structure: Any, surface: Terrain, seed: int) -> float:
+    """The share of S' in the air facing into the nearest part by over 30 degrees (the points of
+    ``reconstruction_error(..., n_samples=4000, rng=seed)``'s sample), not a grazing tilt."""
+    generator = np.random.default_rng(seed)
+    _sample_faces(structure.surface.vertices, structure.surface.faces[structure.face_mask()], 4000, generator)
+    points, face = _sample_faces(surface.vertices, surface.faces, 4000, generator)
+    normals = surface.face_normals[face]
+    solid = Terrain(structure.surface.vertices, structure.surface.faces[_solid_faces(structure)])
+    into = facing_into(solid, points, normals)
+    away = points - solid.closest_point(points, n_threads=1)
+    cosine = np.einsum("ij,ij->i", normals, away) / np.maximum(np.linalg.norm(away, axis=1), 1e-300)
+    return float(np.mean(into & ~solid.inside(points, n_threads=1) & (cosine < -0.5)))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="1000-1003")
     parser.add_argument("--variants", default="oriented,rays,open,rays_blocked,hull")
     parser.add_argument("--all-settings", action="store_true", help="every offset (and spacing) the experiment chooses from")
+    parser.add_argument("--no-missions", action="store_true", help="S' only: the inward share and its squarely inward part")
     args = parser.parse_args()
     experiment = StructuresExperiment()
     seeds = parse_seeds(args.seeds)
     variants = args.variants.split(",")
+    if args.no_missions:
+        _print_geometry(experiment, seeds, variants)
+        return
     if args.all_settings:
         missions = [(start, *setting) for start in ("cvt3d", "greedy3d") for setting in _settings(experiment, start)]
     else:
@@ -181,6 +203,19 @@ def main() -> None:
         for v in variants:
             mine = [r for f in experiment.families if family in (f, "all") for r in rows[(v, f)]]
             cells.append(_cell(mine, chosen[v]))
+        print(f"| {family} | " + " | ".join(cells) + " |")
+
+
+def _print_geometry(experiment: StructuresExperiment, seeds: list[int], variants: list[str]) -> None:
+    rows = {(v, f): [measure(v, f, seed, experiment, []) for seed in seeds] for v in variants for f in experiment.families}
+    print("per cell: S' facing inward / of it in the air and into the nearest part by over 30 degrees\n")
+    print("| family | " + " | ".join(variants) + " |")
+    print("|---|" + "---|" * len(variants))
+    for family in [*experiment.families, "all"]:
+        cells = []
+        for v in variants:
+            mine = [r for f in experiment.families if family in (f, "all") for r in rows[(v, f)]]
+            cells.append(f"{100 * np.mean([r['inward'] for r in mine]):.1f} % / {100 * np.mean([r['squarely'] for r in mine]):.1f} %")
         print(f"| {family} | " + " | ".join(cells) + " |")
 
 
