@@ -314,3 +314,56 @@ def test_the_3d_start_stays_out_of_the_real_structure_on_development_seeds(famil
         positions, _ = start_configuration(spec, surface, structure.surface, 8, rng=seed, constraints=limits, keep_out=prior.behind)
         assert not structure.surface.inside(positions).any(), (family, seed)
         assert (positions[:, 2] >= structure.surface.bounds[0, 2] + 3.0 - 1e-9).all()
+
+
+def _two_boxes_with_a_gap(seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Points with outward normals on two 10 m cubes 4 m apart along x (8 on each face)."""
+    generator = np.random.default_rng(seed)
+    points, normals = [], []
+    for lo, hi in (((0.0, 0.0, 0.0), (10.0, 10.0, 10.0)), ((14.0, 0.0, 0.0), (24.0, 10.0, 10.0))):
+        for axis in range(3):
+            for side, level in ((-1.0, lo[axis]), (1.0, hi[axis])):
+                face = generator.uniform(lo, hi, (8, 3))
+                face[:, axis] = level
+                normal = np.zeros((8, 3))
+                normal[:, axis] = side
+                points.append(face)
+                normals.append(normal)
+    return np.concatenate(points), np.concatenate(normals)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_tetrahedra_marked_free_stay_outside_and_the_boundary_stays_closed_and_outward(seed: int) -> None:
+    from scipy.spatial import Delaunay
+
+    from uavcov.structures._outer_surface import _boundary, oriented_labels, oriented_solid
+
+    points, normals = _two_boxes_with_a_gap(seed)
+    points, first = np.unique(points, axis=0, return_index=True)  # oriented_solid's own order
+    normals = normals[first]
+    triangulation = Delaunay(points)
+    tetra, neighbours = triangulation.simplices, triangulation.neighbors
+    gap = np.array([[12.0, y, z] for y in np.linspace(1, 9, 5) for z in np.linspace(1, 9, 5)])
+    # Without a mask, the labels are oriented_solid's; the vote and its fill bridge the 4 m gap
+    # (issue 42: S' spanning the air between two parts).
+    plain = oriented_labels(points, normals, tetra, neighbours)
+    vertices, faces = oriented_solid(points, normals)
+    assert np.array_equal(
+        np.sort(np.sort(faces, axis=1), axis=0), np.sort(np.sort(_boundary(points, tetra, neighbours, plain), axis=1), axis=0)
+    )
+    assert uavcov.Terrain(vertices, faces, drop_degenerate=True).inside(gap).all()
+    # The tetrahedra between the facing walls (corners on both, none elsewhere) marked free: none
+    # is inside, the fill does not grow into them, and the boundary is closed and outward.
+    on_wall = np.isin(points[:, 0], (10.0, 14.0))
+    x = points[tetra, 0]
+    free = on_wall[tetra].all(axis=1) & (x == 10.0).any(axis=1) & (x == 14.0).any(axis=1)
+    assert free.any()
+    solid = oriented_labels(points, normals, tetra, neighbours, free)
+    assert not solid[free].any()
+    carved = _boundary(points, tetra, neighbours, solid)
+    edges = np.concatenate([carved[:, [0, 1]], carved[:, [1, 2]], carved[:, [2, 0]]])
+    assert {tuple(e) for e in edges.tolist()} == {tuple(e) for e in edges[:, ::-1].tolist()}
+    assert signed_volume(points, carved) > 0.5 * 2 * 10**3
+    surface = uavcov.Terrain(points, carved, drop_degenerate=True)
+    assert not surface.inside(points[tetra[free]].mean(axis=1)).any()
+    assert surface.inside(gap).sum() < gap.shape[0]

@@ -178,16 +178,32 @@ def oriented_solid(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray,
     except (QhullError, ValueError) as exc:
         raise InvalidInputError(f"the known points span no volume (all on a plane or a line?): {exc}") from None
     tetra, neighbours = triangulation.simplices, triangulation.neighbors
+    solid = oriented_labels(points, normals, tetra, neighbours)
+    if not solid.any():
+        raise InvalidInputError("the known points' normals put no tetrahedron inside: are they outward?")
+    return points, _boundary(points, tetra, neighbours, solid)
+
+
+def oriented_labels(
+    points: np.ndarray, normals: np.ndarray, tetra: np.ndarray, neighbours: np.ndarray, free: np.ndarray | None = None
+) -> np.ndarray:
+    """Which Delaunay tetrahedra :func:`oriented_solid` puts inside (unit ``normals``).
+
+    ``free`` (optional, per tetrahedron) marks tetrahedra known to be outside: they are never
+    inside, and the fill does not grow into them (benches/structure_free_space.py measures
+    free-space carving with it).
+    """
     solid = normal_vote(points, normals, points[tetra].mean(axis=1)) < 0.0
     # A flat tetrahedron (four points of one wall) has no side of its own: the flat ones joined
     # to the hull through flat ones are outside, the rest inside, so no face lies between two
     # flat tetrahedra (where no corner would tell its orientation).
     flat = _flat(points, tetra)
     solid[flat] = ~_reachable_from_outside(flat, neighbours)[flat]
-    _fill_against_normals(points, normals, tetra, neighbours, solid)
-    if not solid.any():
-        raise InvalidInputError("the known points' normals put no tetrahedron inside: are they outward?")
-    return points, _boundary(points, tetra, neighbours, solid)
+    if free is None:
+        free = np.zeros(tetra.shape[0], dtype=bool)
+    solid[free] = False
+    _fill_against_normals(points, normals, tetra, neighbours, solid, free)
+    return solid
 
 
 # Rounds of _fill_against_normals: each fills the tetrahedra behind the faces the known normals
@@ -195,7 +211,9 @@ def oriented_solid(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray,
 _FILL_ROUNDS = 20
 
 
-def _fill_against_normals(points: np.ndarray, normals: np.ndarray, tetra: np.ndarray, neighbours: np.ndarray, solid: np.ndarray) -> None:
+def _fill_against_normals(
+    points: np.ndarray, normals: np.ndarray, tetra: np.ndarray, neighbours: np.ndarray, solid: np.ndarray, free: np.ndarray
+) -> None:
     """Fill (in place) every tetrahedron outside S' behind a face of S' whose corners' known
     normals contradict it.
 
@@ -206,14 +224,14 @@ def _fill_against_normals(points: np.ndarray, normals: np.ndarray, tetra: np.nda
     whose downward normals put the building or the girders below them outside (a face of S'
     then lies on a wall with its normal into the building: 21 % of S''s area on the building
     family, 30 % on the tower's blades and bridges, issue 42). Filling it moves the face
-    outwards, where the next round judges it again.
+    outwards, where the next round judges it again. Tetrahedra marked ``free`` are not filled.
     """
     opposite = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))
     for _ in range(_FILL_ROUNDS):
         filled = False
         for k, corners in enumerate(opposite):
             other = neighbours[:, k]
-            face = np.flatnonzero(solid & (other >= 0) & ~solid[np.maximum(other, 0)])
+            face = np.flatnonzero(solid & (other >= 0) & ~solid[np.maximum(other, 0)] & ~free[np.maximum(other, 0)])
             if not face.size:
                 continue
             triangle = tetra[face][:, list(corners)]
