@@ -36,7 +36,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_int
+from .._validate import as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_float, as_positive_int
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
 # closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
@@ -143,6 +143,14 @@ class Constraints:
         with it (``None`` turns it on for meshes): a move is then checked against the mesh, and
         a UAV that reached its position by a clear move from outside every solid needs no
         inside test.
+    move_step : float or None, default None
+        Metres. When set, every move is also checked between its ends, as a team flies it: the
+        UAVs in step along their straight lines (each at the same fraction of its move), sampled
+        every ``move_step`` metres of the longest move; at every sample each UAV keeps ``h_min``
+        (by ``clearance``'s measure) and every pair ``d_safe``. The waypoints alone (``None``, the
+        paper's eq. 2) admit a move that cuts past a roof's edge nearer than ``h_min``, or two UAVs
+        whose straight paths cross (docs/realistic.md). A sampled check: between two samples a
+        move can come nearer by up to ``move_step / 2``.
 
     Raises
     ------
@@ -159,6 +167,7 @@ class Constraints:
     check_moves: bool | None = False
     h_max: float | None = None
     clearance: str = "vertical"
+    move_step: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.clearance, str):
@@ -174,6 +183,8 @@ class Constraints:
             if not isinstance(self.check_moves, (bool, np.bool_)):
                 raise InvalidTypeError(f"check_moves must be a bool or None, got {type(self.check_moves).__name__}")
             object.__setattr__(self, "check_moves", bool(self.check_moves))
+        if self.move_step is not None:
+            object.__setattr__(self, "move_step", as_positive_float(self.move_step, "move_step"))
         if self.h_min > self.z_max:
             raise InfeasibleError(f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m")
         if self.h_max is not None:
@@ -325,7 +336,8 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
     n_uavs = cur.shape[0]
     fused = _fused_check(constraints, world, n_threads)
     if fused is not None:  # a Terrain: every check below in one Rust pass, with the same answers
-        return np.asarray(fused(cur, cand), dtype=bool)
+        ok = np.asarray(fused(cur, cand), dtype=bool)
+        return _moves_ok(constraints, world, cur, cand, ok, n_threads)
     threads: dict[str, Any] = {} if n_threads is None else {"n_threads": n_threads}
     # cheap checks first, so the surface is only queried for candidates still in the running
     ok = _static_ok(constraints, cand)
@@ -352,7 +364,45 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
                 per_uav = np.ones(moved.shape, dtype=bool)
                 per_uav[moved] = clear_moves
                 ok[idx] = per_uav.all(axis=1)
-    return ok
+    return _moves_ok(constraints, world, cur, cand, ok, n_threads)
+
+
+# Samples of one move at most: a move_step this fine against moves this long is a typo (and memory).
+_MAX_MOVE_SAMPLES = 10_000
+
+
+def _moves_ok(constraints: Constraints, world: Any, cur: np.ndarray, cand: np.ndarray, ok: np.ndarray, n_threads: int | None) -> np.ndarray:
+    """``ok`` with the candidates whose moves break ``h_min`` or ``d_safe`` between their ends
+    turned off (``move_step``; the ends themselves are the configuration checks' own)."""
+    idx = np.flatnonzero(ok)
+    if constraints.move_step is None or not idx.size:
+        return ok
+    ends = cand[idx]
+    longest = float(np.linalg.norm(ends - cur[None], axis=2).max())
+    n_samples = math.ceil(longest / constraints.move_step) - 1  # strictly between the ends
+    if n_samples <= 0:
+        return ok
+    if n_samples > _MAX_MOVE_SAMPLES:
+        raise InvalidInputError(
+            f"a {longest:.3g} m move sampled every move_step = {constraints.move_step} m is over {_MAX_MOVE_SAMPLES} samples"
+        )
+    fractions = np.arange(1, n_samples + 1) / (n_samples + 1)
+    samples = cur[None, None] + fractions[None, :, None, None] * (ends - cur[None])[:, None]  # (m, k, n, 3)
+    flat = np.ascontiguousarray(samples.reshape(-1, 3))
+    threads: dict[str, Any] = {} if n_threads is None else {"n_threads": n_threads}
+    if constraints.clearance == "standoff":
+        near = np.asarray(world.distance(flat, **threads), dtype=np.float64)
+    else:
+        near = np.asarray(world.clearance(flat, **threads), dtype=np.float64)
+    good = (near >= constraints.h_min).reshape(samples.shape[:3]).all(axis=(1, 2))
+    n_uavs = cur.shape[0]
+    if constraints.d_safe > 0.0 and n_uavs > 1:
+        i, j = np.triu_indices(n_uavs, 1)
+        gaps = np.linalg.norm(samples[:, :, i] - samples[:, :, j], axis=3)
+        good &= (gaps >= constraints.d_safe).all(axis=(1, 2))
+    out = ok.copy()
+    out[idx] = good
+    return out
 
 
 def _standoff_ok(constraints: Constraints, world: Any, cand: np.ndarray, threads: dict[str, Any]) -> np.ndarray:
@@ -374,8 +424,17 @@ def feasibility(constraints: Constraints, world: World, *, n_threads: int | None
     _check_world(world, constraints)
     constraints = constraints.resolve(world)
     fused = _fused_check(constraints, world, n_threads)
-    if fused is not None:  # the limits checked once, not on each of a mission's hundreds of calls
+    if fused is not None and constraints.move_step is None:  # the limits checked once, not on each of a mission's hundreds of calls
         return fused
+    if fused is not None:
+        checked = fused
+
+        def feasible_moves(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+            cur = as_points(current, "current")
+            cand = _as_candidates(candidates, cur.shape[0])
+            return _moves_ok(constraints, world, cur, cand, np.asarray(checked(cur, cand), dtype=bool), n_threads)
+
+        return feasible_moves
 
     def feasible(current: np.ndarray, candidates: np.ndarray) -> np.ndarray:
         return feasible_mask(constraints, world, current, candidates, n_threads=n_threads)

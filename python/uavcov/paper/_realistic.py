@@ -151,9 +151,12 @@ def _config(
     sim: SimSettings,
 ) -> dict[str, Any]:
     """What a results folder was run with (JSON-ready): a resumed run must match it."""
+    settings = asdict(sim)
+    if not settings["flight"]["synchronous"]:  # a later setting: folders made before it stay resumable
+        del settings["flight"]["synchronous"]
     config = {
         "experiment": name, "n_uavs": n_uavs, "seeds": seeds, "starts": starts, "measurements": measurements,
-        "iterations": iterations, "sim": asdict(sim),
+        "iterations": iterations, "sim": settings,
     }  # fmt: skip
     return dict(json.loads(json.dumps(config, default=str)))
 
@@ -195,9 +198,11 @@ def reproduce_realistic(
         Metres. ``None`` (default): the paper's limits, eq. 2 (``h_min`` = 1 m to ``h_max`` =
         6 m of clearance straight down), which admit waypoints and moves millimetres from a
         wall. A value flies the team under a 3D standoff instead
-        (``Constraints(clearance="standoff")``): every waypoint at least ``standoff`` and at
-        most ``h_max`` from the nearest surface, wall or ground (a mechanism the paper's
-        simulations lack: an ablation, reported beside the paper's limits).
+        (``Constraints(clearance="standoff", move_step=0.1)``): every waypoint at least
+        ``standoff`` and at most ``h_max`` from the nearest surface, wall or ground, every move
+        keeping ``standoff`` and ``d_safe`` between its ends (sampled every 0.1 m), the legs
+        flown in step (``FlightSettings(synchronous=True)``): mechanisms the paper's simulations
+        lack, an ablation reported beside the paper's limits.
 
     Returns
     -------
@@ -209,7 +214,9 @@ def reproduce_realistic(
         standoff = as_finite_float(standoff, "standoff")
         if not 0.0 < standoff < BUILDINGS.mission.constraints.h_max:  # type: ignore[operator]
             raise InvalidInputError(f"standoff must be in (0, {BUILDINGS.mission.constraints.h_max}) m, got {standoff}")
-        experiment = BUILDINGS.with_changes(**{"constraints.clearance": "standoff", "constraints.h_min": standoff})
+        experiment = BUILDINGS.with_changes(
+            **{"constraints.clearance": "standoff", "constraints.h_min": standoff, "constraints.move_step": MOVE_STEP}
+        )
     chosen = REALISTIC_SEEDS if seeds is None else tuple(parse_seeds(seeds) if isinstance(seeds, str) else seeds)
     starts, measurements = tuple(starts), tuple(measurements)
     if not starts or not set(starts) <= set(STARTS):
@@ -217,6 +224,8 @@ def reproduce_realistic(
     if not measurements or not set(measurements) <= set(MEASUREMENTS):
         raise InvalidInputError(f"measurements must be among {MEASUREMENTS}, got {measurements}")
     sim = SimSettings() if sim is None else sim
+    if standoff is not None:
+        sim = replace(sim, flight=replace(sim.flight, synchronous=True))
     config = _config("realistic", 4, chosen, starts, measurements, iterations, sim)
     if standoff is not None:  # absent from the paper's limits' config, which stands as it was
         config["standoff_m"] = standoff
@@ -259,6 +268,10 @@ def fly_experiment(
     write_realistic_report(folder)
     return [done[t] for t in tasks]
 
+
+MOVE_STEP = 0.1
+"""Metres between the samples of a move under ``reproduce_realistic(standoff=...)``: a move may
+come nearer than sampled by half of it (5 cm), beside the flown path's 3 cm from its move."""
 
 FLOWN_TABLE1_SEEDS: tuple[int, ...] = (0, 1, 2)
 """The terrains of Table 1 flown at N = 12 (the first three of its held-out seeds)."""

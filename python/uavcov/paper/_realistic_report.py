@@ -193,7 +193,8 @@ def _limits(config: dict[str, Any]) -> str:
         return "Limits: the paper's eq. 2 (clearance straight down between h_min and h_max)."
     return (
         f"Limits: a 3D standoff (`--standoff {standoff:g}`): every waypoint at least {standoff:g} m from the nearest "
-        "surface, wall or ground, and at most h_max from it (not the paper's eq. 2: an ablation)."
+        "surface, wall or ground, and at most h_max from it; every move keeping it and d_safe between its ends "
+        "(sampled every 0.1 m) and the legs flown in step (not the paper's eq. 2: an ablation)."
     )
 
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validate import as_finite_float, as_generator, as_positive_float, read_only
 from ..engine import Terrain
-from ..errors import FlightError, InvalidInputError, MissingExtraError
+from ..errors import FlightError, InvalidInputError, InvalidTypeError, MissingExtraError
 from ._wind import DrydenGusts
 
 __all__ = ["FlightSettings", "INTEGRATORS", "Leg", "Team", "VEHICLES", "hover_rotor_speed", "vehicle_parameters"]
@@ -118,6 +118,13 @@ class FlightSettings:
         initial step); ``"rk23"`` is adaptive RK23 at RotorPy's tolerances starting from one
         step of ``dt``, 1.7 times as fast, within 6e-5 m of ``"rk45"`` on a 3 m step and
         within 1e-4 m of a tight DOP853 reference (``benches/realistic_mission.py``, ``docs/realistic.md``).
+    synchronous : bool, default False
+        Every vehicle's leg lasts as long as the slowest one's (each slowed to it), so the team
+        moves in step: each vehicle at the same fraction of its straight move at every instant
+        (one rest-to-rest polynomial per leg, the same in normalised time), which is how
+        ``Constraints(move_step=...)`` judges the moves. Without it each leg ends when its own
+        length allows, and two vehicles whose straight moves keep ``d_safe`` in step can pass
+        closer (docs/realistic.md). Legs under 0.1 m stay steps.
     """
 
     vehicle: str = "hummingbird"
@@ -132,6 +139,7 @@ class FlightSettings:
     collision_distance: float = 0.02
     gusts: tuple[float, float, float] = (0.0, 0.0, 0.0)
     integrator: str = "rk23"
+    synchronous: bool = False
 
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
@@ -158,6 +166,9 @@ class FlightSettings:
         object.__setattr__(self, "gusts", (float(gusts[0]), float(gusts[1]), float(gusts[2])))
         if self.integrator not in INTEGRATORS:
             raise InvalidInputError(f"integrator must be one of {INTEGRATORS}, got {self.integrator!r}")
+        if not isinstance(self.synchronous, (bool, np.bool_)):
+            raise InvalidTypeError(f"synchronous must be a bool, got {type(self.synchronous).__name__}")
+        object.__setattr__(self, "synchronous", bool(self.synchronous))
 
     @property
     def integrator_kwargs(self) -> dict[str, Any] | None:
@@ -295,12 +306,15 @@ class Team:
         """Each vehicle's reference to its waypoint, and the time the longest one ends."""
         rp = _rotorpy()
         references, end = [], 0.0
-        for state, goal in zip(self.states, waypoints, strict=True):
-            if np.linalg.norm(goal - state["x"]) < 0.1:  # MinSnap drops legs under 0.1 m: a step instead
+        lengths = [float(np.linalg.norm(goal - state["x"])) for state, goal in zip(self.states, waypoints, strict=True)]
+        speeds = [min(self.settings.speed, math.sqrt(self.settings.max_acceleration * length / _PEAK_ACCELERATION)) for length in lengths]
+        # In step: every leg lasts the slowest one's time (RotorPy allocates length / v_avg).
+        longest = max((length / speed for length, speed in zip(lengths, speeds, strict=True) if length >= 0.1), default=0.0)
+        for state, goal, length, own_speed in zip(self.states, waypoints, lengths, speeds, strict=True):
+            if length < 0.1:  # MinSnap drops legs under 0.1 m: a step instead
                 references.append(rp["HoverTraj"](x0=goal.copy()))
                 continue
-            length = float(np.linalg.norm(goal - state["x"]))
-            speed = min(self.settings.speed, math.sqrt(self.settings.max_acceleration * length / _PEAK_ACCELERATION))
+            speed = length / longest if self.settings.synchronous else own_speed
             ms = rp["MinSnap"](np.stack([state["x"], goal]), v_avg=speed, v_max=_PEAK_OVER_AVERAGE * speed, verbose=False)
             references.append(_HeldAtEnd(ms, float(ms.t_keyframes[-1])))
             end = max(end, float(ms.t_keyframes[-1]))
