@@ -297,6 +297,61 @@ def test_closest_admissible_separates_a_team_deterministically(bridge):
     np.testing.assert_array_equal(closest_admissible(standoff(), bridge, x), out)
 
 
+def test_move_step_refuses_a_move_past_a_corner_and_uavs_whose_paths_cross(bridge):
+    """Both moves have admissible ends and cross no surface (eq. 2's waypoints and the move check
+    admit them); checked between the ends, in step, the first passes 0.54 m from the tower's
+    corner (h_min 2 m) and the second swaps two UAVs 3 m apart through each other (d_safe 2 m)."""
+    team = np.array([[1.5, 8.0, 5.0], [0.0, -6.0, 5.0], [3.0, -6.0, 5.0]])
+    corner = team.copy()
+    corner[0] = [-2.5, 3.5, 5.0]
+    swap = team.copy()
+    swap[[1, 2]] = team[[2, 1]]
+    both = np.stack([corner, swap])
+    assert ref_distance(np.array([[1.5 - 4 * 0.4, 8.0 - 4.5 * 0.4, 5.0]]))[0] < 2.0  # near the corner mid-move
+    assert feasible_mask(standoff(), bridge, team, both).all()
+    stepped = standoff(move_step=0.1)
+    assert not feasible_mask(stepped, bridge, team, both).any()
+    assert not feasibility(stepped, bridge)(team, both).any()
+    away = team.copy()
+    away[0] = [1.5, 12.0 - 3.0, 5.0]  # a short move along the tower's face, 2.5 m off it: kept
+    away[1] = [0.0, -7.0, 5.0]
+    assert feasible_mask(stepped, bridge, team, away[None])[0]
+
+
+def test_move_step_is_the_same_through_the_fused_and_the_generic_check(bridge, random_batch):
+    class Plain:  # a world without the fused check
+        def __init__(self, terrain):
+            self.t = terrain
+
+        def __getattr__(self, name):
+            if name == "admissible_check":
+                raise AttributeError(name)
+            return getattr(self.t, name)
+
+    stepped, refused_more = standoff(move_step=0.25), 0
+    for team, cand in zip(*random_batch, strict=True):
+        fused = feasible_mask(stepped, bridge, team, cand, n_threads=1)
+        np.testing.assert_array_equal(feasible_mask(stepped, Plain(bridge), team, cand), fused)
+        np.testing.assert_array_equal(feasibility(stepped, bridge, n_threads=2)(team, cand), fused)
+        ends_only = feasible_mask(standoff(), bridge, team, cand)
+        assert not (fused & ~ends_only).any()  # it only ever refuses more
+        refused_more += int((ends_only & ~fused).sum())
+    assert refused_more > 0
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf"), "0.1", True])
+def test_move_step_refuses_what_is_not_a_length(bad):
+    with pytest.raises((InvalidInputError, InvalidTypeError)):
+        Constraints(move_step=bad)  # type: ignore[arg-type]
+
+
+def test_a_move_sampled_too_finely_is_a_clear_error(bridge):
+    team = np.array([[0.0, -6.0, 5.0]])
+    far = np.array([[[5.0, -6.0, 5.0]]])
+    with pytest.raises(InvalidInputError, match="samples"):
+        feasible_mask(standoff(move_step=1e-6), bridge, team, far)
+
+
 def test_check_team_and_settings():
     with pytest.raises(InvalidInputError):
         Constraints(clearance="sideways")
@@ -323,6 +378,9 @@ def test_the_new_setting_keeps_old_settings_hashes():
     changed = dataclasses.replace(exp, mission=dataclasses.replace(mission, constraints=standoff()))
     same_but_vertical = dataclasses.replace(changed, mission=dataclasses.replace(mission, constraints=standoff(clearance="vertical")))
     assert settings_hash(changed) != settings_hash(same_but_vertical)
+    assert "move_step" not in experiment_settings(changed)["mission"]["constraints"]
+    stepped = dataclasses.replace(exp, mission=dataclasses.replace(mission, constraints=standoff(move_step=0.1)))
+    assert settings_hash(stepped) != settings_hash(changed)
 
 
 def test_bad_candidates_are_refused_or_raise(bridge):

@@ -200,3 +200,22 @@ def test_cao_can_maximise_the_sensed_coverage() -> None:
     assert np.array_equal(flown.measured, flown.sensed)
     assert np.abs(flown.sensed - flown.exact).max() < 0.1  # 64 x 128 pixels: within a few hundredths
     assert len(flown.map_points) > 1000
+
+
+def test_synchronous_legs_move_the_team_in_step() -> None:
+    """Legs of 1 m and 4 m: in step, each vehicle is at the same fraction of its move at every
+    instant (within the tracking error over the short move's length), as Constraints(move_step=)
+    judges the moves; without it the short leg ends first."""
+    start = np.array([[0.0, 0.0, 5.0], [0.0, 5.0, 5.0]])
+    goal = start + [[1.0, 0.0, 0.0], [4.0, 0.0, 0.0]]
+
+    def fractions(settings: FlightSettings) -> np.ndarray:
+        leg = Team.hovering(start, settings).fly(goal)
+        return np.asarray((leg.positions[..., 0] - start[:, 0]) / (goal[:, 0] - start[:, 0]))
+
+    in_step = fractions(FlightSettings(synchronous=True))
+    apart = fractions(FlightSettings())
+    assert np.abs(in_step[:, 0] - in_step[:, 1]).max() < 0.05  # 5 cm on the 1 m leg
+    assert np.abs(apart[:, 0] - apart[:, 1]).max() > 0.2
+    with pytest.raises(InvalidTypeError):
+        FlightSettings(synchronous="yes")  # type: ignore[arg-type]
