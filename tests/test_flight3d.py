@@ -234,16 +234,19 @@ def test_every_accepted_configuration_keeps_every_limit_by_the_reference(bridge,
     assert accepted > 300 and refused > 300
 
 
+class Plain:
+    """A world without the fused check: feasible_mask queries it kind by kind."""
+
+    def __init__(self, terrain):
+        self.t = terrain
+
+    def __getattr__(self, name):
+        if name == "admissible_check":
+            raise AttributeError(name)
+        return getattr(self.t, name)
+
+
 def test_the_fused_check_is_the_generic_one_and_the_same_for_any_thread_count(bridge, random_batch):
-    class Plain:  # a world without the fused check: feasible_mask queries it kind by kind
-        def __init__(self, terrain):
-            self.t = terrain
-
-        def __getattr__(self, name):
-            if name == "admissible_check":
-                raise AttributeError(name)
-            return getattr(self.t, name)
-
     c = standoff()
     for team, cand in zip(*random_batch, strict=True):
         fused = feasible_mask(c, bridge, team, cand, n_threads=1)
@@ -319,15 +322,6 @@ def test_move_step_refuses_a_move_past_a_corner_and_uavs_whose_paths_cross(bridg
 
 
 def test_move_step_is_the_same_through_the_fused_and_the_generic_check(bridge, random_batch):
-    class Plain:  # a world without the fused check
-        def __init__(self, terrain):
-            self.t = terrain
-
-        def __getattr__(self, name):
-            if name == "admissible_check":
-                raise AttributeError(name)
-            return getattr(self.t, name)
-
     stepped, refused_more = standoff(move_step=0.25), 0
     for team, cand in zip(*random_batch, strict=True):
         fused = feasible_mask(stepped, bridge, team, cand, n_threads=1)
