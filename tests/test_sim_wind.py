@@ -218,3 +218,26 @@ def test_the_sim_helpers_refuse_what_is_not_theirs() -> None:
     ):
         with pytest.raises((InvalidInputError, InvalidTypeError)):
             check_flight(*bad)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("name, folder", [("realistic", "scenario"), ("standoff", "standoff"), ("table1", "table1")])
+def test_the_realistic_page_is_its_committed_rows(tmp_path, name: str, folder: str) -> None:  # type: ignore[no-untyped-def]
+    """docs/realistic.md's generated sections are the reports of the rows in docs/realistic_experiment
+    (what scripts/realistic_docs.py writes), figures aside."""
+    import re
+    import shutil
+    from pathlib import Path
+
+    from uavcov.paper import write_realistic_report
+
+    root = Path(__file__).resolve().parent.parent
+    copy = tmp_path / folder
+    copy.mkdir()
+    for file in ("config.json", "rows.jsonl"):
+        shutil.copyfile(root / "docs" / "realistic_experiment" / folder / file, copy / file)
+    body = write_realistic_report(copy).read_text(encoding="utf-8").split("\n", 1)[1].strip()
+    body = re.sub(r"!\[[^\]]*\]\([^)]*\)\n*", "", body).strip()
+    page = (root / "docs" / "realistic.md").read_text(encoding="utf-8")
+    section = page.split(f"<!-- generated: {name} -->", 1)[1].split(f"<!-- end: {name} -->", 1)[0]
+    section = re.sub(r"!\[[^\]]*\]\([^)]*\)\n*", "", section.split("\n", 3)[3]).strip()  # without the folder line
+    assert section == body
