@@ -8,6 +8,10 @@ mean best coverage, the mean number of start points inside the real structure be
 ``closest_admissible``, and the share of S' facing inward, per method::
 
     nice python scripts/structure_method_choice.py --seeds 1000-1003 --workers 2
+
+``--methods`` adds the optional libraries' reconstructions (``EXTERNAL``), which need
+``pip install open3d-cpu pymeshlab point-cloud-utils`` in the venv: measured here, not
+dependencies of uavcov.
 """
 
 from __future__ import annotations
