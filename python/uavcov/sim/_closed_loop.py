@@ -18,10 +18,10 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_generator, as_positive_float, read_only
+from .._validate import as_finite_float, as_generator, as_positive_float, read_only
 from ..engine import Terrain, Visibility
 from ..errors import FlightError, InvalidInputError, InvalidTypeError
-from ..limits import feasibility
+from ..limits import Constraints, feasibility
 from ..mission import MissionSettings, run_mission
 from ..optim import cao
 from ._depth import DepthCamera, camera_rotation
@@ -58,6 +58,13 @@ class SimSettings:
         with which the sensed coverage tends to the exact one as the resolution rises.
     voxel_size : float, default 0.25
         The fused map's voxels, metres.
+    limits_margin : float, default 0.0
+        Metres between the limits the mission plans with (its ``constraints``, which CAO keeps
+        at every waypoint, and along every move with ``move_step``) and the flight limits the
+        flown states are judged against (:func:`check_flight`): ``h_min`` and ``d_safe`` lower
+        by it, ``h_max`` and ``z_max`` higher. A flown path strays from its straight move by a
+        few centimetres (the report's max deviation): planning that far inside the limits is
+        what keeps every state within them.
     """
 
     flight: FlightSettings = field(default_factory=FlightSettings)
@@ -66,6 +73,7 @@ class SimSettings:
     render: bool = True
     observe_radius: float | None = None
     voxel_size: float = 0.25
+    limits_margin: float = 0.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.flight, FlightSettings):
@@ -79,6 +87,23 @@ class SimSettings:
         if self.observe_radius is not None:
             object.__setattr__(self, "observe_radius", as_positive_float(self.observe_radius, "observe_radius"))
         object.__setattr__(self, "voxel_size", as_positive_float(self.voxel_size, "voxel_size"))
+        margin = as_finite_float(self.limits_margin, "limits_margin")
+        if not 0.0 <= margin <= 1.0:
+            raise InvalidInputError(f"limits_margin must lie in [0, 1] m, got {margin}")
+        object.__setattr__(self, "limits_margin", margin)
+
+    def flight_limits(self, planned: Constraints) -> Constraints:
+        """The limits the flown states are judged against: ``planned`` widened by ``limits_margin``."""
+        m = self.limits_margin
+        if m == 0.0:
+            return planned
+        return replace(
+            planned,
+            h_min=max(planned.h_min - m, 0.0),
+            d_safe=max(planned.d_safe - m, 0.0),
+            h_max=None if planned.h_max is None else planned.h_max + m,
+            z_max=planned.z_max + m,
+        )
 
     def camera_for(self, d_max: float) -> DepthCamera:
         """The camera every vehicle carries (the default: the omnidirectional one of range ``d_max``)."""
@@ -310,7 +335,7 @@ def _record(
     states_time = np.concatenate([leg.time + t0 for leg, t0 in zip(legs, starts_of_legs, strict=True)]) if legs else np.empty(0)
     leg_of_state = np.concatenate([np.full(leg.time.size, k) for k, leg in enumerate(legs)]) if legs else np.empty(0, int)
     safety = (
-        check_flight(terrain, spec.constraints, states, leg_of_state, np.array(measure.starts), np.array(measure.goals))
+        check_flight(terrain, sim.flight_limits(spec.constraints), states, leg_of_state, np.array(measure.starts), np.array(measure.goals))
         if len(states)
         else None
     )
