@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import uavcov
-from uavcov.sim import DrydenGusts, dryden_scales
+from uavcov.sim import DrydenGusts, SimSettings, dryden_scales
 
 
 def test_gusts_have_the_dryden_spread_and_correlation_time() -> None:
@@ -143,23 +143,42 @@ def test_bad_gusts_are_refused(gusts: object) -> None:
 
 
 def test_the_realistic_scenario_under_a_standoff_keeps_the_team_off_the_walls(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    """``standoff=1``: the folder says so (config and report), every flown state of dev scene
-    1000 stays about 1 m from every surface (0.9 m: the flown path strays centimetres from its
-    moves, and a straight move may cut a corner), and a resume under
-    the paper's limits, or another standoff, is refused."""
+    """``standoff=1``: the folder says so (config and report), the mission plans 0.08 m inside
+    the limits (h_min 1.08 m, d_safe 1.08 m), the flown states of dev scene 1000 are judged
+    against the limits themselves and keep them all, and a resume under the paper's limits, or
+    another standoff, is refused."""
     from uavcov.errors import ConfigError
     from uavcov.paper import reproduce_realistic
-    from uavcov.sim import SimSettings
+    from uavcov.paper._realistic import LIMITS_MARGIN
+    from uavcov.sim import load_flown
 
     sim = SimSettings(render=False)
     choice = {"seeds": [1000], "starts": ("cvt",), "measurements": ("exact",), "iterations": 3, "sim": sim}
     rows = reproduce_realistic(tmp_path, standoff=1.0, **choice)  # type: ignore[arg-type]
-    assert json.loads((tmp_path / "config.json").read_text())["standoff_m"] == 1.0
+    config = json.loads((tmp_path / "config.json").read_text())
+    assert config["standoff_m"] == 1.0 and config["sim"]["limits_margin"] == LIMITS_MARGIN and config["sim"]["flight"]["synchronous"]
     assert "3D standoff" in (tmp_path / "realistic.md").read_text()
-    assert not rows[0]["failure"] and rows[0]["min_distance_m"] > 0.9
+    planned = load_flown(tmp_path / "states" / "s1000_cvt_exact.npz").settings.constraints
+    assert planned.h_min == pytest.approx(1.0 + LIMITS_MARGIN) and planned.move_step == 0.1
+    assert not rows[0]["failure"] and rows[0]["violations"] == 0 and rows[0]["min_distance_m"] >= 1.0
     for standoff in (None, 2.0):
         with pytest.raises(ConfigError, match="other settings"):
             reproduce_realistic(tmp_path, standoff=standoff, resume=True, **choice)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("margin", [-0.1, 1.5, float("nan"), "x"])
+def test_the_limits_margin_refuses_what_is_not_a_margin(margin: object) -> None:
+    from uavcov.errors import InvalidInputError, InvalidTypeError
+
+    with pytest.raises((InvalidInputError, InvalidTypeError)):
+        SimSettings(limits_margin=margin)  # type: ignore[arg-type]
+
+
+def test_the_flight_limits_are_the_planned_ones_widened_by_the_margin() -> None:
+    planned = uavcov.limits.Constraints(h_min=1.08, h_max=5.92, d_safe=1.08, z_max=19.92, clearance="standoff", move_step=0.1)
+    judged = SimSettings(limits_margin=0.08).flight_limits(planned)
+    assert (judged.h_min, judged.h_max, judged.d_safe, judged.z_max) == pytest.approx((1.0, 6.0, 1.0, 20.0))
+    assert judged.clearance == "standoff" and SimSettings().flight_limits(planned) is planned
 
 
 @pytest.mark.parametrize(
