@@ -3,6 +3,7 @@ the same states twice, and gusts beyond the vehicles' thrust as a recorded failu
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -179,6 +180,8 @@ def test_the_flight_limits_are_the_planned_ones_widened_by_the_margin() -> None:
     judged = SimSettings(limits_margin=0.08).flight_limits(planned)
     assert (judged.h_min, judged.h_max, judged.d_safe, judged.z_max) == pytest.approx((1.0, 6.0, 1.0, 20.0))
     assert judged.clearance == "standoff" and SimSettings().flight_limits(planned) is planned
+    boxed = SimSettings(limits_margin=0.08).flight_limits(dataclasses.replace(planned, bounds=(0.08, 0.08, 23.92, 23.92)))
+    assert boxed.bounds == pytest.approx((0.0, 0.0, 24.0, 24.0))
 
 
 @pytest.mark.parametrize(

@@ -216,7 +216,7 @@ def reproduce_realistic(
     experiment = BUILDINGS
     if standoff is not None:
         standoff = as_finite_float(standoff, "standoff")
-        paper = BUILDINGS.mission.constraints
+        paper, size = BUILDINGS.mission.constraints, BUILDINGS.terrain.size
         ceiling = paper.h_max - 2.0 * LIMITS_MARGIN  # type: ignore[operator]
         if not 0.0 < standoff < ceiling:
             raise InvalidInputError(f"standoff must be in (0, {ceiling:g}) m, got {standoff}")
@@ -229,6 +229,7 @@ def reproduce_realistic(
                 "constraints.h_max": paper.h_max - LIMITS_MARGIN,  # type: ignore[operator]
                 "constraints.d_safe": paper.d_safe + LIMITS_MARGIN,
                 "constraints.z_max": paper.z_max - LIMITS_MARGIN,
+                "constraints.bounds": (LIMITS_MARGIN, LIMITS_MARGIN, size - LIMITS_MARGIN, size - LIMITS_MARGIN),
             }
         )
     chosen = REALISTIC_SEEDS if seeds is None else tuple(parse_seeds(seeds) if isinstance(seeds, str) else seeds)

@@ -192,7 +192,7 @@ def _limits(config: dict[str, Any]) -> str:
     if standoff is None:
         return "Limits: the paper's eq. 2 (clearance straight down between h_min and h_max)."
     margin = config["sim"].get("limits_margin", 0.0)
-    planned = f", planned {margin:g} m inside them (h_min and d_safe higher, h_max and z_max lower)" if margin else ""
+    planned = f", planned {margin:g} m inside them (h_min and d_safe higher, h_max, z_max and the x-y bounds closer)" if margin else ""
     return (
         f"Limits: a 3D standoff (`--standoff {standoff:g}`): every waypoint at least {standoff:g} m from the nearest "
         "surface, wall or ground, and at most h_max from it; every move keeping it and d_safe between its ends "

@@ -62,7 +62,7 @@ class SimSettings:
         Metres between the limits the mission plans with (its ``constraints``, which CAO keeps
         at every waypoint, and along every move with ``move_step``) and the flight limits the
         flown states are judged against (:func:`check_flight`): ``h_min`` and ``d_safe`` lower
-        by it, ``h_max`` and ``z_max`` higher. A flown path strays from its straight move by a
+        by it, ``h_max`` and ``z_max`` higher, the x-y bounds wider. A flown path strays from its straight move by a
         few centimetres (the report's max deviation): planning that far inside the limits is
         what keeps every state within them.
     """
@@ -97,8 +97,10 @@ class SimSettings:
         m = self.limits_margin
         if m == 0.0:
             return planned
+        box = planned.bounds
         return replace(
             planned,
+            bounds=None if box is None else (box[0] - m, box[1] - m, box[2] + m, box[3] + m),
             h_min=max(planned.h_min - m, 0.0),
             d_safe=max(planned.d_safe - m, 0.0),
             h_max=None if planned.h_max is None else planned.h_max + m,
