@@ -344,6 +344,10 @@ def test_a_move_sampled_too_finely_is_a_clear_error(bridge):
     far = np.array([[[5.0, -6.0, 5.0]]])
     with pytest.raises(InvalidInputError, match="samples"):
         feasible_mask(standoff(move_step=1e-6), bridge, team, far)
+    many = np.array([[0.0, -6.0, 5.0], [5.0, -6.0, 5.0], [-5.0, -6.0, 5.0]])
+    batch = many[None] + np.array([[0.0, -2.0, 0.0]]) * np.linspace(0.0, 1.0, 2000)[:, None, None]
+    with pytest.raises(InvalidInputError, match="sampled positions"):  # 2000 x 3 x ~4000 positions: refused before allocating
+        feasible_mask(standoff(move_step=5e-4), bridge, many, batch)
 
 
 def test_check_team_and_settings():

@@ -369,6 +369,8 @@ def feasible_mask(constraints: Constraints, world: World, current: Any, candidat
 
 # Samples of one move at most: a move_step this fine against moves this long is a typo (and memory).
 _MAX_MOVE_SAMPLES = 10_000
+# Sampled positions of one batch at most (candidates x samples x UAVs): checked before allocating.
+_MAX_BATCH_SAMPLES = 10_000_000
 
 
 def _moves_ok(constraints: Constraints, world: Any, cur: np.ndarray, cand: np.ndarray, ok: np.ndarray, n_threads: int | None) -> np.ndarray:
@@ -386,6 +388,12 @@ def _moves_ok(constraints: Constraints, world: Any, cur: np.ndarray, cand: np.nd
         raise InvalidInputError(
             f"a {longest:.3g} m move sampled every move_step = {constraints.move_step} m is over {_MAX_MOVE_SAMPLES} samples"
         )
+    n_uavs = cur.shape[0]
+    if idx.size * n_samples * n_uavs > _MAX_BATCH_SAMPLES:
+        raise InvalidInputError(
+            f"checking {idx.size} moves of {n_uavs} UAVs every move_step = {constraints.move_step} m needs over "
+            f"{_MAX_BATCH_SAMPLES:,} sampled positions: a coarser move_step or fewer candidates per call"
+        )
     fractions = np.arange(1, n_samples + 1) / (n_samples + 1)
     samples = cur[None, None] + fractions[None, :, None, None] * (ends - cur[None])[:, None]  # (m, k, n, 3)
     flat = np.ascontiguousarray(samples.reshape(-1, 3))
@@ -395,7 +403,6 @@ def _moves_ok(constraints: Constraints, world: Any, cur: np.ndarray, cand: np.nd
     else:
         near = np.asarray(world.clearance(flat, **threads), dtype=np.float64)
     good = (near >= constraints.h_min).reshape(samples.shape[:3]).all(axis=(1, 2))
-    n_uavs = cur.shape[0]
     if constraints.d_safe > 0.0 and n_uavs > 1:
         i, j = np.triu_indices(n_uavs, 1)
         gaps = np.linalg.norm(samples[:, :, i] - samples[:, :, j], axis=3)
