@@ -25,13 +25,14 @@ SMALL = StructuresExperiment(
     reference_spacing=6.0,
     target_spacing=2.0,
     greedy_spacings=(6.0,),
+    normal_weights=(0.0, 10.0),
 )
 CHILD = """
 import sys
 from uavcov.paper import StructuresExperiment, reproduce_structures
 experiment = StructuresExperiment(
     families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, reference_spacing=6.0, target_spacing=2.0,
-    greedy_spacings=(6.0,),
+    greedy_spacings=(6.0,), normal_weights=(0.0, 10.0),
 )
 reproduce_structures(sys.argv[1], experiment, workers=1)
 """
@@ -43,11 +44,13 @@ def _without_time(rows: list[dict]) -> list[dict]:
 
 def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Path) -> None:
     whole = reproduce_structures(tmp_path / "whole", SMALL)
-    assert len(whole) == 6 and not any(r["error"] for r in whole)
-    assert {r["start"] for r in whole} == {"cvt3d", "cvt_hf", "greedy3d", "cvt_true", "greedy_true", "greedy"}
-    # The diagnostics take the settings chosen on S' and run on the report seed only.
-    settings = {r["start"]: (r["offset"], r["spacing"]) for r in whole}
-    assert settings["cvt_true"] == settings["cvt3d"] and settings["greedy_true"] == settings["greedy3d"] == (6.0, 6.0)
+    assert len(whole) == 7 and not any(r["error"] for r in whole)
+    assert {r["start"] for r in whole} == {"cvt3d", "cvt3d_paper", "cvt_hf", "greedy3d", "cvt_true", "greedy_true", "greedy"}
+    # The diagnostics take the settings chosen on S' and run on the report seed only; the
+    # paper's CVT is the one without a normal weight.
+    settings = {r["start"]: (r["offset"], r["spacing"], r.get("normal_weight", 0.0)) for r in whole}
+    assert settings["cvt_true"] == settings["cvt3d"] and settings["greedy_true"] == settings["greedy3d"] == (6.0, 6.0, 0.0)
+    assert settings["cvt3d_paper"] == (6.0, 0.0, 0.0)
     cut = tmp_path / "cut"
     child = subprocess.Popen([sys.executable, "-c", CHILD, str(cut)])
     rows = cut / "rows.jsonl"
@@ -67,8 +70,9 @@ def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Pa
     resumed = reproduce_structures(cut, SMALL, resume=True)
     assert _without_time(resumed) == _without_time(whole)
     report = (cut / "structures.md").read_text(encoding="utf-8")
-    # The table (four 3D starts), greedy on S' against the CVT, and why each falls short.
-    assert report.count("| pylon |") == 9 and report.count("| all |") == 5
+    # The table (five 3D starts), greedy on S' against the CVT, the normal weight's gain, and
+    # why each falls short.
+    assert report.count("| pylon |") == 12 and report.count("| all |") == 7
     # Every row says which parts it saw; greedy's also each part's share of the targets.
     assert all(r["parts"] for r in resumed)
     weights = next(r for r in resumed if r["start"] == "greedy")["part_weights"]

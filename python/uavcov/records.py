@@ -188,6 +188,8 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     }
     if result.cvt is not None:
         arrays.update({f"cvt_{name}": np.asarray(getattr(result.cvt, name)) for name in _CVT_ARRAYS})
+        if result.cvt.normals is not None:
+            arrays["cvt_normals"] = np.asarray(result.cvt.normals)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_with(path, lambda out: np.savez_compressed(out, **arrays))  # type: ignore[arg-type]
     return path
@@ -264,7 +266,9 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         cvt = None
         if header.get("cvt") is not None:
             _require(arrays, tuple(f"cvt_{n}" for n in _CVT_ARRAYS), path)
-            cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"])
+            # Records written before the CVT's facings have none.
+            normals = arrays["cvt_normals"] if "cvt_normals" in arrays else None
+            cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"], normals=normals)
         s = header["scalars"]
         parts = header.get("coverage_by_part")
         if parts is not None and (

@@ -16,6 +16,13 @@
 //! sample mean. The weight on the sample mean is `w_j = (a2 j + b2) / (j + 1)`: it starts at
 //! `(a2 + b2) / 2` and tends to `a2`, so `a` sets the long-run step and `b` the first steps.
 //!
+//! ## Facing
+//!
+//! With `normal_weight = lambda > 0` (metres) a sample's distance to a generator also counts how
+//! far its triangle's outward normal is from the generator's facing, `lambda^2 |n - m|^2`, and
+//! the facing `m` follows its region's mean normal by the same rule (see `facing.rs`): regions
+//! gather surface that faces one way. `lambda = 0` (the default) is the paper's CVT, bit for bit.
+//!
 //! ## Stopping
 //!
 //! The mean per-iteration move is dominated by sampling noise once the generators are near a
@@ -53,22 +60,29 @@
 //! assert!((x[0] - 50.0).abs() < 2.0 && (x[1] - 150.0).abs() < 2.0);
 //! ```
 
+mod candidates;
+mod facing;
+mod sampler;
+
 use std::collections::VecDeque;
 
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
+use self::candidates::{triangle_corners, Candidates};
+use self::facing::Facing;
+use self::sampler::{unit, TriangleSampler};
 use crate::error::{ensure, try_copy, try_filled, try_with_capacity, Error, Result};
-use crate::geometry::{in_bounds, p, Point, MAX_COORDINATE};
-use crate::surface::mesh::{Surface, MAX_TRIANGLES};
+use crate::geometry::{in_bounds, Point, MAX_COORDINATE};
+use crate::surface::mesh::Surface;
 use crate::threads;
 
 /// Samples per chunk of work: each chunk has its own random stream, so results do not depend on
 /// how chunks are spread over threads; 1024 keeps rayon's per-task cost (~1 us) negligible.
 pub(crate) const CHUNK: usize = 1024;
 
-/// Most generator slots of per-chunk sums held at once (32 bytes each: 256 MiB). An iteration's
+/// Most generator slots of per-chunk sums held at once (56 bytes each: 448 MiB). An iteration's
 /// chunks are sampled in batches of `PARTIAL_BUDGET / N` and summed in chunk order, so the
 /// batch size never changes a result; it only keeps `N x q` from deciding the memory (30,000
 /// generators at the default `q` would have needed 5.6 GB at once).
@@ -157,6 +171,9 @@ pub struct CvtOptions {
     pub seed: u64,
     /// Threads for the samples (`0`: one per core); the result never depends on it.
     pub n_threads: usize,
+    /// `lambda`, metres (finite, >= 0): the weight of the facing term (see [`facing`](self#facing));
+    /// `0` is the paper's CVT.
+    pub normal_weight: f64,
 }
 
 impl CvtOptions {
@@ -173,6 +190,7 @@ impl CvtOptions {
             max_iterations: 300,
             seed: 0,
             n_threads: 0,
+            normal_weight: 0.0,
         }
     }
 
@@ -197,6 +215,9 @@ impl CvtOptions {
         ensure!(self.tolerance.is_finite() && self.tolerance >= 0.0, "tolerance must be finite and >= 0 m, got {}", self.tolerance);
         ensure!(self.window >= 1, "window must be >= 1 iteration, got {}", self.window);
         ensure!(self.max_iterations >= 1, "max_iterations must be >= 1, got {}", self.max_iterations);
+        let lambda = self.normal_weight;
+        let in_range = (0.0..=MAX_COORDINATE).contains(&lambda);
+        ensure!(in_range, "normal_weight must be finite, >= 0 and at most {MAX_COORDINATE:e} m, got {lambda}");
         Ok(())
     }
 }
@@ -211,6 +232,10 @@ pub(crate) fn default_samples(n: usize) -> usize {
 pub struct Tessellation {
     /// The generators, on the surface, metres.
     pub generators: Vec<Point>,
+    /// Each generator's facing: the unit direction of its region's mean outward normal (the
+    /// normal part of the generator, updated like its position; zero where the region's
+    /// normals cancel). Computed whatever the normal weight.
+    pub normals: Vec<Point>,
     /// Per iteration, the mean over generators of the distance each moved, metres.
     pub moves: Vec<f64>,
     /// Per iteration `k` (1-based), the net move per iteration over the last `W` iterations,
@@ -218,7 +243,7 @@ pub struct Tessellation {
     pub drift: Vec<f64>,
     /// Per iteration, a Monte-Carlo estimate of the CVT energy per unit (density-weighted) area
     /// of the generators at the start of the iteration: the mean squared distance, m^2, from
-    /// that iteration's samples to their nearest generator. Times the (weighted) area it
+    /// that iteration's samples to their nearest generator (the facing term included). Times the (weighted) area it
     /// estimates the integral of `rho |y - z|^2`.
     pub energy: Vec<f64>,
     /// Iterations run.
@@ -227,165 +252,10 @@ pub struct Tessellation {
     pub converged: bool,
 }
 
-/// Points uniform by (density-weighted) area, with the triangle each lies in.
-///
-/// It picks the triangle in O(1) with Walker's alias table (no binary search over cumulative
-/// areas, whose mispredicted branches cost more than the rest of a draw), uses two 64-bit random
-/// words per point, and tells which triangle it drew, which the nearest-generator search uses.
-struct TriangleSampler {
-    /// `(a, b - a, c - a)` of each triangle.
-    frames: Vec<[Point; 3]>,
-    /// Slot `f` keeps triangle `f` when the draw's fraction is below `keep[f] / 2^64`...
-    keep: Vec<u64>,
-    /// ...and takes `alias[f]` otherwise.
-    alias: Vec<u32>,
-}
-
-impl TriangleSampler {
-    fn new(surface: &Surface, density: Option<&[f64]>) -> Result<Self> {
-        let n = surface.n_triangles();
-        if n > MAX_TRIANGLES {
-            return Err(Error::TooLarge(format!(
-                "the CVT samples surfaces of at most {MAX_TRIANGLES} triangles (about 100 bytes each), got {n}; \
-                 tessellate a coarser surface"
-            )));
-        }
-        let areas = surface.try_areas()?;
-        if let Some(d) = density {
-            ensure!(d.len() == n, "density has {} values for {n} triangles", d.len());
-            ensure!(d.iter().all(|x| x.is_finite() && *x >= 0.0), "density must be finite and >= 0 everywhere");
-        }
-        let weights: Vec<f64> = areas.iter().enumerate().map(|(f, &a)| a * density.map_or(1.0, |d| d[f])).collect();
-        let total: f64 = weights.iter().sum();
-        ensure!(total.is_finite() && total > 0.0, "the sampling density is zero over the whole surface");
-        ensure!(u32::try_from(n).is_ok(), "too many triangles for the CVT sampler: {n}");
-        // Vose's construction: scaled weights average 1; each slot below 1 is topped up from
-        // one above 1, which becomes its alias.
-        let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
-        let mut keep = try_filled(u64::MAX, n, "the CVT sampler")?;
-        let mut alias: Vec<u32> = (0..n as u32).collect();
-        let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&f| scaled[f] < 1.0);
-        while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
-            small.pop();
-            keep[s] = (scaled[s] * 2f64.powi(64)) as u64; // saturating cast; scaled[s] < 1
-            alias[s] = l as u32;
-            scaled[l] -= 1.0 - scaled[s];
-            if scaled[l] < 1.0 {
-                large.pop();
-                small.push(l);
-            }
-        }
-        // Leftovers (in either list, by rounding) keep their own triangle always.
-        let frames = (0..n)
-            .map(|f| {
-                let [a, b, c] = surface.triangle(f);
-                [p(a), p(b - a), p(c - a)]
-            })
-            .collect();
-        Ok(Self { frames, keep, alias })
-    }
-
-    fn n_triangles(&self) -> usize {
-        self.frames.len()
-    }
-
-    #[inline]
-    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Point, usize) {
-        const SCALE: f64 = 1.0 / 4_294_967_296.0; // 2^-32: 32 bits per barycentric coordinate
-                                                  // The high word of r * F is a uniform slot, the low word an independent fraction.
-        let x = u128::from(rng.next_u64()) * self.frames.len() as u128;
-        let slot = (x >> 64) as usize;
-        let f = if (x as u64) < self.keep[slot] { slot } else { self.alias[slot] as usize };
-        let bits = rng.next_u64();
-        let (r, s) = ((bits >> 32) as f64 * SCALE, (bits & 0xffff_ffff) as f64 * SCALE);
-        // The spacings (min, max - min, 1 - max) of two uniform numbers are uniform on the
-        // simplex; min and max need no branch (reflecting u + v > 1 mispredicts half the time).
-        let (u, v) = (r.min(s), r.max(s) - r.min(s));
-        let [a, ab, ac] = self.frames[f];
-        ([a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1], a[2] + u * ab[2] + v * ac[2]], f)
-    }
-}
-
-/// For each triangle, the generators that can be nearest to some point of it.
-///
-/// Take `h`, the generator nearest to the triangle's centroid. Where `g` is at least as near as
-/// `h` is a closed half-space; it meets the triangle exactly when it holds one of the triangle's
-/// corners (the triangle is the convex hull of its corners). So a generator that is farther
-/// than `h` from all three corners is never nearest anywhere on the triangle, and searching the
-/// rest (in index order) gives exactly the brute-force answer, ties included. A relative slack
-/// of 1e-9 keeps rounding on the safe side (an extra candidate costs only time).
-struct Candidates {
-    offsets: Vec<usize>,
-    list: Vec<u32>,
-}
-
-/// Corners and centroid of each triangle, for [`Candidates`].
-fn triangle_corners(surface: &Surface) -> Vec<([Point; 3], Point)> {
-    (0..surface.n_triangles())
-        .map(|f| {
-            let [a, b, c] = surface.triangle(f);
-            ([p(a), p(b), p(c)], p((a + b + c) / 3.0))
-        })
-        .collect()
-}
-
-fn squared_distance(a: Point, b: Point) -> f64 {
-    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
-}
-
-impl Candidates {
-    /// Triangles per parallel task when building the lists.
-    const TASK: usize = 256;
-
-    /// # Errors
-    /// [`Error::TooLarge`] when the system refuses the memory of the lists.
-    fn new(triangles: &[([Point; 3], Point)], generators: &[Point]) -> Result<Self> {
-        // Each task lists its triangles' candidates; the tasks are joined in order, so the lists
-        // do not depend on the thread count.
-        let parts: Result<Vec<(Vec<usize>, Vec<u32>)>> = triangles
-            .par_chunks(Self::TASK)
-            .map(|chunk| {
-                let mut ends = Vec::with_capacity(chunk.len());
-                let mut list: Vec<u32> = Vec::new();
-                for &(corners, centroid) in chunk {
-                    // Room for every generator first: a refusal is an error, not an abort.
-                    list.try_reserve(generators.len())
-                        .map_err(|_| Error::TooLarge("the CVT's candidate lists need more memory than the system gives".into()))?;
-                    let h = generators[nearest(generators, centroid).0];
-                    let to_h = corners.map(|v| squared_distance(v, h));
-                    for (i, &g) in generators.iter().enumerate() {
-                        let wins_somewhere =
-                            corners.iter().zip(&to_h).any(|(&v, &dh)| squared_distance(v, g) <= dh * (1.0 + 1e-9) + 1e-300);
-                        if wins_somewhere {
-                            list.push(i as u32);
-                        }
-                    }
-                    ends.push(list.len());
-                }
-                Ok((ends, list))
-            })
-            .collect();
-        let parts = parts?;
-        let mut offsets = Vec::with_capacity(triangles.len() + 1);
-        offsets.push(0);
-        let mut list = try_with_capacity(parts.iter().map(|(_, l)| l.len()).sum(), "the CVT's candidate lists")?;
-        for (ends, part) in parts {
-            let base = list.len();
-            offsets.extend(ends.into_iter().map(|e| base + e));
-            list.extend(part);
-        }
-        Ok(Self { offsets, list })
-    }
-
-    #[inline]
-    fn of(&self, f: usize) -> &[u32] {
-        &self.list[self.offsets[f]..self.offsets[f + 1]]
-    }
-}
-
-/// Per-chunk sums of the samples given to each generator.
+/// Per-chunk sums of the samples given to each generator (positions and normals).
 struct Partial {
     sums: Vec<[f64; 3]>,
+    normal_sums: Vec<[f64; 3]>,
     counts: Vec<u64>,
     squared_distance: f64,
 }
@@ -415,18 +285,38 @@ fn nearest(generators: &[Point], y: Point) -> (usize, f64) {
     (best, best_d)
 }
 
-/// [`nearest`] over the generators `subset` (ascending indices) only.
+/// [`nearest`] over the generators `subset` (ascending indices) only, each with its facing term
+/// on the sample's triangle (`terms`, aligned with `subset`; empty without a facing term).
 #[inline]
-fn nearest_in(generators: &[Point], subset: &[u32], y: Point) -> (usize, f64) {
+fn nearest_in(generators: &[Point], subset: &[u32], terms: &[f64], y: Point) -> (usize, f64) {
     let mut best = 0;
     let mut best_d = f64::INFINITY;
-    for &i in subset {
+    for (k, &i) in subset.iter().enumerate() {
         let g = generators[i as usize];
         let (dx, dy, dz) = (g[0] - y[0], g[1] - y[1], g[2] - y[2]);
-        let d = dx * dx + dy * dy + dz * dz;
+        let mut d = dx * dx + dy * dy + dz * dz;
+        if let Some(t) = terms.get(k) {
+            d += t;
+        }
         if d < best_d {
             best_d = d;
             best = i as usize;
+        }
+    }
+    (best, best_d)
+}
+
+/// [`nearest`] with the facing term of a sample whose triangle's normal is `normal`.
+#[inline]
+fn nearest_facing(generators: &[Point], facing: &Facing<'_>, normal: Point, y: Point) -> (usize, f64) {
+    let mut best = 0;
+    let mut best_d = f64::INFINITY;
+    for (i, g) in generators.iter().enumerate() {
+        let (dx, dy, dz) = (g[0] - y[0], g[1] - y[1], g[2] - y[2]);
+        let d = dx * dx + dy * dy + dz * dz + facing.term(i, normal);
+        if d < best_d {
+            best_d = d;
+            best = i;
         }
     }
     (best, best_d)
@@ -493,16 +383,22 @@ pub fn constrained_cvt(
     let corners = (sampler.n_triangles() * 4 <= q).then(|| triangle_corners(surface));
     let batch = (PARTIAL_BUDGET / n).max(1);
     let mut sums = try_filled([0.0; 3], n, "the CVT's sample sums")?;
+    let mut normal_sums = try_filled([0.0; 3], n, "the CVT's sample sums")?;
     let mut counts = try_filled(0u64, n, "the CVT's sample counts")?;
+    // Each generator's facing, zero at first: the first iteration is by position alone.
+    let mut facings = try_filled([0.0; 3], n, "the generators' facings")?;
+    let weight2 = options.normal_weight * options.normal_weight;
 
     threads::run(n_threads, || {
         for k in 0..options.max_iterations {
             let current = &generators;
+            let facing = (weight2 > 0.0).then_some(Facing { weight2, normals: &facings });
             let candidates = match corners.as_ref() {
-                Some(t) => Some(Candidates::new(t, current)?),
+                Some(t) => Some(Candidates::new(t, current, facing.as_ref(), &sampler)?),
                 None => None,
             };
             sums.fill([0.0; 3]);
+            normal_sums.fill([0.0; 3]);
             counts.fill(0);
             let mut squared_distance = 0.0;
             // Batches of chunks, each summed in chunk order: the same sums as all chunks at once.
@@ -516,19 +412,29 @@ pub fn constrained_cvt(
                         let count = CHUNK.min(q - c * CHUNK);
                         let mut part = Partial {
                             sums: try_filled([0.0; 3], n, "the CVT's per-chunk sums")?,
+                            normal_sums: try_filled([0.0; 3], n, "the CVT's per-chunk sums")?,
                             counts: try_filled(0, n, "the CVT's per-chunk counts")?,
                             squared_distance: 0.0,
                         };
                         for _ in 0..count {
                             let (y, f) = sampler.sample(&mut rng);
-                            let (i, d) = match &candidates {
-                                Some(c) => nearest_in(current, c.of(f), y),
-                                None => nearest(current, y),
+                            let normal = sampler.normal(f);
+                            let (i, d) = match (&candidates, &facing) {
+                                (Some(c), _) => {
+                                    let (subset, terms) = c.of(f);
+                                    nearest_in(current, subset, terms, y)
+                                }
+                                (None, Some(facing)) => nearest_facing(current, facing, normal, y),
+                                (None, None) => nearest(current, y),
                             };
                             let s = &mut part.sums[i];
                             s[0] += y[0];
                             s[1] += y[1];
                             s[2] += y[2];
+                            let m = &mut part.normal_sums[i];
+                            m[0] += normal[0];
+                            m[1] += normal[1];
+                            m[2] += normal[2];
                             part.counts[i] += 1;
                             part.squared_distance += d;
                         }
@@ -536,7 +442,7 @@ pub fn constrained_cvt(
                     })
                     .collect();
                 for part in &partials? {
-                    for (total, chunk) in sums.iter_mut().zip(&part.sums) {
+                    for (total, chunk) in sums.iter_mut().zip(&part.sums).chain(normal_sums.iter_mut().zip(&part.normal_sums)) {
                         for (t, c) in total.iter_mut().zip(chunk) {
                             *t += c;
                         }
@@ -563,6 +469,8 @@ pub fn constrained_cvt(
                 let projected = surface.closest_point(free);
                 moved += distance(z, projected);
                 generators[i] = projected;
+                let (m, total) = (facings[i], normal_sums[i]);
+                facings[i] = [0, 1, 2].map(|c| keep * m[c] + toward * total[c] * inv);
                 updates[i] += 1;
             }
             moves.push(moved / n as f64);
@@ -590,7 +498,8 @@ pub fn constrained_cvt(
         }
         Ok::<_, Error>(())
     })?;
-    Ok(Tessellation { iterations: moves.len(), generators, moves, drift, energy, converged })
+    let normals = facings.into_iter().map(unit).collect();
+    Ok(Tessellation { iterations: moves.len(), generators, normals, moves, drift, energy, converged })
 }
 
 /// For each point, the index of its nearest generator (3D distance; ties to the lower index):

@@ -220,19 +220,28 @@ fn candidate_search_matches_brute_force() {
     let mut rng = stream(8, 0, 0, 0);
     for n in [1, 3, 17, 40] {
         let generators: Vec<Point> = (0..n).map(|_| sampler.sample(&mut rng).0).collect();
-        let candidates = Candidates::new(&triangles, &generators).unwrap();
+        let candidates = Candidates::new(&triangles, &generators, None, &sampler).unwrap();
         assert!(candidates.list.len() < n * s.n_triangles() || n < 3);
+        // With a facing term: each generator facing a random unit direction, lambda 4 m.
+        let facings: Vec<Point> = (0..n).map(|_| sampler::unit(sampler.sample(&mut rng).0.map(|c| c - 40.0))).collect();
+        let facing = Facing { weight2: 16.0, normals: &facings };
+        let facing_candidates = Candidates::new(&triangles, &generators, Some(&facing), &sampler).unwrap();
         for _ in 0..20_000 {
             let (y, f) = sampler.sample(&mut rng);
-            assert_eq!(nearest_in(&generators, candidates.of(f), y), nearest(&generators, y));
+            let (subset, terms) = candidates.of(f);
+            assert!(terms.is_empty());
+            assert_eq!(nearest_in(&generators, subset, terms, y), nearest(&generators, y));
+            let (subset, terms) = facing_candidates.of(f);
+            assert_eq!(nearest_in(&generators, subset, terms, y), nearest_facing(&generators, &facing, sampler.normal(f), y));
         }
     }
     // Exact ties go to the lower index either way.
     let twins = [[10.0, 10.0, s.closest_point([10.0, 10.0, 0.0])[2]]; 2];
-    let candidates = Candidates::new(&triangles, &twins).unwrap();
+    let candidates = Candidates::new(&triangles, &twins, None, &sampler).unwrap();
     let y = s.closest_point([12.0, 11.0, 0.0]);
-    let f = (0..s.n_triangles()).find(|&f| candidates.of(f).len() == 2).unwrap();
-    assert_eq!(nearest_in(&twins, candidates.of(f), y).0, 0);
+    let f = (0..s.n_triangles()).find(|&f| candidates.of(f).0.len() == 2).unwrap();
+    let (subset, terms) = candidates.of(f);
+    assert_eq!(nearest_in(&twins, subset, terms, y).0, 0);
 }
 
 #[test]
@@ -304,4 +313,46 @@ fn extreme_sizes_are_errors_or_bounded() {
     // Initial generators beyond the coordinate bound are refused.
     let far = [[1e300, 0.0, 0.0]; 3];
     assert!(matches!(constrained_cvt(&s, 3, &base, None, Some(&far)), Err(Error::InvalidInput(_))));
+}
+
+/// A 30 m x 10 m floor (z = 0) meeting a 10 m x 10 m wall (x = 30) at a right angle.
+fn floor_and_wall() -> Surface {
+    let v = vec![[0.0, 0.0, 0.0], [30.0, 0.0, 0.0], [30.0, 10.0, 0.0], [0.0, 10.0, 0.0], [30.0, 0.0, 10.0], [30.0, 10.0, 10.0]];
+    // The wall faces the floor (-x), the floor up.
+    Surface::new(v, vec![[0, 1, 2], [0, 2, 3], [1, 5, 2], [1, 4, 5]]).unwrap()
+}
+
+#[test]
+fn facing_term_gathers_one_face_per_region() {
+    let s = floor_and_wall();
+    let base = CvtOptions { tolerance: 0.0, max_iterations: 80, ..CvtOptions::for_generators(2) }.with_seed(4).with_threads(1);
+    let by_position = constrained_cvt(&s, 2, &base, None, None).unwrap();
+    // By position alone, the generator nearer the wall takes half the surface: the wall and
+    // the floor's last 10 m, so no generator sits on the wall's centre.
+    assert!(by_position.generators.iter().all(|g| (g[0] - 30.0).abs() > 0.5 || (g[2] - 5.0).abs() > 2.0), "{by_position:?}");
+    let facing = CvtOptions { normal_weight: 50.0, ..base };
+    let t = constrained_cvt(&s, 2, &facing, None, None).unwrap();
+    let (floor, wall) = if t.generators[0][2] < t.generators[1][2] { (0, 1) } else { (1, 0) };
+    // Each region is one face: the generators at the faces' centroids, facing their normals.
+    let (g, w) = (t.generators[floor], t.generators[wall]);
+    assert!((g[0] - 15.0).abs() < 1.0 && (g[1] - 5.0).abs() < 1.0 && g[2] == 0.0, "{g:?}");
+    assert!((w[0] - 30.0).abs() < 1e-9 && (w[1] - 5.0).abs() < 1.0 && (w[2] - 5.0).abs() < 1.0, "{w:?}");
+    assert!(distance(t.normals[floor], [0.0, 0.0, 1.0]) < 1e-9 && distance(t.normals[wall], [-1.0, 0.0, 0.0]) < 1e-9, "{:?}", t.normals);
+    // The same run on any number of threads, and refused weights.
+    let bits = |t: &Tessellation| format!("{t:?}"); // drift holds NaN
+    assert_eq!(bits(&constrained_cvt(&s, 2, &facing.with_threads(3), None, None).unwrap()), bits(&t));
+    for bad in [-1.0, f64::NAN, f64::INFINITY, 1e300] {
+        assert!(constrained_cvt(&s, 2, &CvtOptions { normal_weight: bad, ..base }, None, None).is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn facing_runs_do_not_depend_on_threads_on_fine_meshes() {
+    // A fine mesh takes the brute-force search (more than q / 4 triangles).
+    let s = hills();
+    let options = CvtOptions { samples_per_iteration: 500, max_iterations: 20, normal_weight: 8.0, ..CvtOptions::for_generators(6) };
+    let one = constrained_cvt(&s, 6, &options.with_seed(2).with_threads(1), None, None).unwrap();
+    let four = constrained_cvt(&s, 6, &options.with_seed(2).with_threads(4), None, None).unwrap();
+    assert_eq!(format!("{one:?}"), format!("{four:?}")); // drift holds NaN
+    assert!(one.normals.iter().all(|m| (distance(*m, [0.0; 3]) - 1.0).abs() < 1e-9 && m[2] > 0.0));
 }

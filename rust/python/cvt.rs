@@ -7,9 +7,16 @@ use super::surface::PySurface;
 use super::{detached, invalid, points, points_to_py, to_py_err};
 use crate::cvt::{self, CvtOptions, Weights};
 
-/// `(generators (N, 3), moves (K,), drift (K,), energy (K,), iterations, converged)`.
-type RunOutput<'py> =
-    (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, usize, bool);
+/// `(generators (N, 3), normals (N, 3), moves (K,), drift (K,), energy (K,), iterations, converged)`.
+type RunOutput<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    usize,
+    bool,
+);
 
 /// The probabilistic MacQueen CVT; static methods only (one class keeps the module's names few).
 #[derive(Debug)]
@@ -20,7 +27,7 @@ pub struct PyCvt;
 impl PyCvt {
     /// Runs the CVT; the Python wrapper `uavcov.cvt.cvt` validates and documents the arguments.
     #[staticmethod]
-    #[pyo3(signature = (surface, n, samples_per_iteration, alpha, beta, tolerance, window, max_iterations, seed, density=None, initial=None, n_threads=0))]
+    #[pyo3(signature = (surface, n, samples_per_iteration, alpha, beta, tolerance, window, max_iterations, seed, density=None, initial=None, n_threads=0, normal_weight=0.0))]
     #[expect(clippy::too_many_arguments, reason = "the Python-visible signature of `_core.CVT.run`; Rust gathers them in `CvtOptions`")]
     fn run<'py>(
         py: Python<'py>,
@@ -36,9 +43,10 @@ impl PyCvt {
         density: Option<PyReadonlyArray1<'py, f64>>,
         initial: Option<PyReadonlyArray2<'py, f64>>,
         n_threads: usize,
+        normal_weight: f64,
     ) -> PyResult<RunOutput<'py>> {
         let weights = Weights::new([alpha.0, alpha.1], [beta.0, beta.1]).map_err(|e| to_py_err(py, e))?;
-        let options = CvtOptions { samples_per_iteration, weights, tolerance, window, max_iterations, seed, n_threads };
+        let options = CvtOptions { samples_per_iteration, weights, tolerance, window, max_iterations, seed, n_threads, normal_weight };
         // Copies, so Rust reads nothing Python could change once the GIL is released.
         let density: Option<Vec<f64>> = density.map(|d| d.as_array().to_vec());
         let initial = match initial {
@@ -49,6 +57,7 @@ impl PyCvt {
         let result = detached(py, || cvt::constrained_cvt(&surface, n, &options, density.as_deref(), initial.as_deref()))?;
         Ok((
             points_to_py(py, result.generators),
+            points_to_py(py, result.normals),
             result.moves.into_pyarray(py),
             result.drift.into_pyarray(py),
             result.energy.into_pyarray(py),

@@ -51,7 +51,13 @@ from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, jso
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
 _LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start", "escape"})
-_LATER_NESTED_FIELDS = (("cao", "infeasible"), ("constraints", "clearance"), ("constraints", "move_step"), ("start", "greedy"))
+_LATER_NESTED_FIELDS = (
+    ("cao", "infeasible"),
+    ("constraints", "clearance"),
+    ("constraints", "move_step"),
+    ("start", "greedy"),
+    ("cvt", "normal_weight"),
+)
 """Fields of the mission's settings objects added later, left out of the settings hash at their defaults."""
 _MISSION_SHORTCUTS = _LATER_MISSION_FIELDS | {"d_max", "n_prior", "iterations", "optimizer", "start", "constraints", "cvt", "cao"}
 

@@ -7,17 +7,22 @@ known points, a 2 m standoff, every move checked), two starts, each one
 
 ``cvt3d``
     The 3D prior (``n_prior`` random points on the structure), S' by
-    :func:`~uavcov.structures.reconstruct_structure` (the outer surface, wound outward), CVT on S',
-    each generator flown out of S' along its normal (:func:`~uavcov.placement.fly_out`).
+    :func:`~uavcov.structures.reconstruct_structure` (the outer surface, wound outward), CVT on S'
+    (with a normal weight, ``CVTSettings.normal_weight``, when one is chosen: regions that face
+    one way), each generator flown out of S' along its region's facing
+    (:func:`~uavcov.placement.fly_out`).
 ``cvt_hf``
     The height-field prior (``n_prior`` random x-y points of the structure's top and the four
-    corners, S' by Delaunay in x-y), CVT on it, ``offset`` metres above it.
+    corners, S' by Delaunay in x-y), CVT on it (its normal weight chosen the same way),
+    ``offset`` metres above it.
 ``greedy3d``
     The 3D prior's S' as for ``cvt3d``, and on it the full-knowledge reference's greedy: points
     of S' ``spacing`` metres apart flown out along S''s normals the way the CVT generators are
     (:func:`~uavcov.placement.fly_out`), greedy picks by the coverage each adds on S' (the
     structure's ``"greedy"`` start). It tells the prior from the CVT's objective (generators
     spread evenly over S', not placed for coverage).
+``cvt3d_paper``
+    Diagnostic: ``cvt3d`` with the paper's CVT (normal weight 0), at the offset chosen for it.
 ``cvt_true``, ``greedy_true``
     Diagnostics: ``cvt3d`` and ``greedy3d`` with the real structure's solid surface in place of
     S' (a perfect prior), at the settings chosen for them (none of their own to choose). They
@@ -30,8 +35,8 @@ records its best coverage as a share of both, how many of its start points lie i
 of the real structure before :func:`~uavcov.limits.closest_admissible`, and (``cvt3d``) the
 share of S''s area facing into the structure.
 
-The open settings, each start's offset from S' (and ``greedy3d``'s candidate spacing on S'), are
-chosen on the development seeds; the report is on the report seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs
+The open settings, each start's offset from S' (and ``greedy3d``'s candidate spacing on S', the
+CVT starts' normal weight), are chosen on the development seeds; the report is on the report seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs
 finish (a run cut off by a kill leaves at most a torn last line, dropped on resume), so
 ``resume=True`` skips every finished run and the rows equal an uninterrupted run's.
 """
@@ -55,8 +60,13 @@ from ._jsonl import append_row, read_rows
 STARTS = ("cvt3d", "cvt_hf", "greedy3d")
 DIAGNOSTICS = {"cvt_true": "cvt3d", "greedy_true": "greedy3d"}
 """Report-only starts, each run at the offset chosen for the start it names."""
+PAPER_CVT = "cvt3d_paper"
+"""Report-only: ``cvt3d`` with the paper's CVT (no normal weight), at the offset chosen for it
+among those settings: what the normal weight adds, paired on the report seeds."""
 CANDIDATE_STARTS = ("greedy3d", "greedy_true")
 """The starts with a candidate spacing on S' to choose besides the offset."""
+CVT_STARTS = ("cvt3d", "cvt_hf")
+"""The starts with a normal weight of their CVT to choose besides the offset."""
 REFERENCE = "greedy"
 ROWS = "rows.jsonl"
 CONFIG = "config.json"
@@ -84,6 +94,9 @@ class StructuresExperiment:
         Candidate offsets from S' of each start (m), chosen on the development seeds.
     greedy_spacings : tuple of float
         Candidate spacings of ``greedy3d``'s points on S' (m), chosen on the development seeds.
+    normal_weights : tuple of float
+        Candidate normal weights of the CVT starts' tessellation (``CVTSettings.normal_weight``,
+        m; 0 is the paper's CVT), chosen on the development seeds.
     reference_distances : tuple of float
         The full-knowledge candidates' offsets along the true normals (m).
     reference_spacing, target_spacing : float
@@ -102,6 +115,7 @@ class StructuresExperiment:
     iterations: int = 100
     offsets: tuple[float, ...] = (2.5, 3.0, 4.0, 6.0)
     greedy_spacings: tuple[float, ...] = (2.0, 4.0)
+    normal_weights: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0)
     reference_distances: tuple[float, ...] = (3.0, 6.0, 9.0)
     reference_spacing: float = 3.0
     target_spacing: float = 1.0
@@ -118,11 +132,14 @@ class StructuresExperiment:
             raise ConfigError("the experiment needs report seeds, development seeds, offsets and greedy spacings")
         if not all(np.isfinite(v) and v > 0 for v in (*self.offsets, *self.greedy_spacings)):
             raise ConfigError(f"offsets and greedy spacings must be finite and > 0 m, got {self.offsets} and {self.greedy_spacings}")
+        if not self.normal_weights or not all(np.isfinite(w) and 0 <= w <= 1e15 for w in self.normal_weights):
+            raise ConfigError(f"normal weights must be finite, >= 0 and at most 1e15 m, got {self.normal_weights}")
 
 
-Task = tuple[str, str, int, float, float]
-"""(family, start, seed, offset, spacing); start ``"greedy"`` is the reference (offset 0), spacing
-is ``greedy3d``'s (0 for the other starts)."""
+Task = tuple[str, str, int, float, float, float]
+"""(family, start, seed, offset, spacing, normal_weight); start ``"greedy"`` is the reference
+(offset 0), spacing is the greedy starts' (0 for the others), normal_weight the CVT starts' (0
+for the others)."""
 
 
 def _structure(experiment: StructuresExperiment, family: str, seed: int) -> Any:
@@ -164,13 +181,14 @@ def _reference(experiment: StructuresExperiment, family: str, seed: int) -> dict
     }
 
 
-def _mission(experiment: StructuresExperiment, family: str, start: str, seed: int, offset: float, spacing: float) -> dict[str, Any]:
+def _mission(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
     from ..cover import GreedySettings
     from ..mission import MissionSettings, run_mission
-    from ..placement import StartSettings
+    from ..placement import CVTSettings, StartSettings
     from ..structures import reconstruction_error
     from ..terrain import sample_prior
 
+    family, start, seed, offset, spacing, weight = task
     structure = _structure(experiment, family, seed)
     limits = _limits(experiment, structure)
     reference = "prior" if start == "cvt_hf" else "normal"
@@ -187,6 +205,7 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         iterations=experiment.iterations,
         start=begin,
         constraints=limits,
+        cvt=CVTSettings(normal_weight=weight),
     )
     targets = structure.targets(spacing=experiment.target_spacing)
     known: Any = None
@@ -201,7 +220,7 @@ def _mission(experiment: StructuresExperiment, family: str, start: str, seed: in
         "inside_before": int(structure.surface.inside(result.start_positions, n_threads=1).sum()),
         "parts": dict(result.coverage_by_part or {}),
     }
-    if start in ("cvt3d", "greedy3d"):
+    if start in ("cvt3d", "greedy3d", PAPER_CVT):
         # The S' the start was placed on.
         row["inward_share"] = reconstruction_error(structure, result.approximation, n_samples=4000, rng=seed).inward_area_share
     return row
@@ -217,14 +236,16 @@ def _true_solid(structure: Any) -> Any:
 
 def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
     """One row: a mission, or the reference (``start == "greedy"``); errors are recorded, not raised."""
-    family, start, seed, offset, spacing = task
+    family, start, seed, offset, spacing, weight = task
     row: dict[str, Any] = {"family": family, "start": start, "seed": seed, "offset": offset, "spacing": spacing, "error": ""}
+    if weight:
+        row["normal_weight"] = weight
     began = time.perf_counter()
     try:
         if start == REFERENCE:
             row.update(_reference(experiment, family, seed))
         else:
-            row.update(_mission(experiment, family, start, seed, offset, spacing))
+            row.update(_mission(experiment, task))
     except UavcovError as exc:
         row["error"] = f"{type(exc).__name__}: {exc}"
     row["time_s"] = time.perf_counter() - began
@@ -232,7 +253,14 @@ def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
 
 
 def _key(row: dict[str, Any]) -> Task:
-    return (str(row["family"]), str(row["start"]), int(row["seed"]), float(row["offset"]), float(row.get("spacing", 0.0)))
+    return (
+        str(row["family"]),
+        str(row["start"]),
+        int(row["seed"]),
+        float(row["offset"]),
+        float(row.get("spacing", 0.0)),
+        float(row.get("normal_weight", 0.0)),
+    )
 
 
 def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Path, workers: int) -> list[dict[str, Any]]:
@@ -255,25 +283,30 @@ def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Pa
     return [done[t] for t in tasks]
 
 
-def _mean(rows: list[dict[str, Any]], family: str, start: str, setting: tuple[float, float]) -> float:
+def _mean(rows: list[dict[str, Any]], family: str, start: str, setting: tuple[float, ...]) -> float:
     values = [r["best"] for r in rows if _key(r)[:2] == (family, start) and _key(r)[3:] == setting and not r["error"]]
     return float(np.mean(values)) if values else -np.inf
 
 
-def _settings(experiment: StructuresExperiment, start: str) -> list[tuple[float, float]]:
-    """A start's (offset, spacing) candidates on the development seeds."""
+def _settings(experiment: StructuresExperiment, start: str) -> list[tuple[float, float, float]]:
+    """A start's (offset, spacing, normal weight) candidates on the development seeds."""
     spacings = experiment.greedy_spacings if start in CANDIDATE_STARTS else (0.0,)
-    return [(o, s) for o in experiment.offsets for s in spacings]
+    weights = experiment.normal_weights if start in CVT_STARTS else (0.0,)
+    return [(o, s, w) for o in experiment.offsets for s in spacings for w in weights]
 
 
-def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]]) -> dict[str, tuple[float, float]]:
-    """Each start's (offset, spacing): the best mean best coverage over every family's development
-    seeds (ties: the smaller offset, then the wider spacing, the fewer candidates)."""
+def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]]) -> dict[str, tuple[float, float, float]]:
+    """Each start's (offset, spacing, normal weight): the best mean best coverage over every
+    family's development seeds (ties: the smaller offset, then the wider spacing, the fewer
+    candidates, then the smaller normal weight, the paper's CVT first)."""
     chosen = {}
     for start in STARTS:
         options = _settings(experiment, start)
         score = {o: float(np.mean([_mean(rows, f, start, o) for f in experiment.families])) for o in options}
-        chosen[start] = max(options, key=lambda o: (score[o], -o[0], o[1]))
+        chosen[start] = max(options, key=lambda o: (score[o], -o[0], o[1], -o[2]))
+        if start == "cvt3d":
+            paper = [o for o in options if o[2] == 0.0]
+            chosen[PAPER_CVT] = max(paper, key=lambda o: (score[o], -o[0]))
     return chosen
 
 
@@ -334,10 +367,10 @@ def _dev_tasks(experiment: StructuresExperiment) -> list[Task]:
     ]
 
 
-def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, tuple[float, float]]) -> list[Task]:
+def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, tuple[float, float, float]]) -> list[Task]:
     settings = {**chosen, **{d: chosen[s] for d, s in DIAGNOSTICS.items()}}
     tasks = [(f, s, seed, *settings[s]) for f in experiment.families for seed in experiment.report_seeds for s in settings]
-    return tasks + [(f, REFERENCE, seed, 0.0, 0.0) for f in experiment.families for seed in experiment.report_seeds]
+    return tasks + [(f, REFERENCE, seed, 0.0, 0.0, 0.0) for f in experiment.families for seed in experiment.report_seeds]
 
 
 def report_from_folder(folder: str | os.PathLike[str]) -> str:

@@ -25,11 +25,12 @@ def _by_seed(rows: list[dict[str, Any]], family: str, start: str) -> dict[int, d
     return {r["seed"]: r for r in rows if r["family"] == family and r["start"] == start and not r["error"]}
 
 
-THREE_D = ("cvt3d", "greedy3d", "cvt_true", "greedy_true")
+THREE_D = ("cvt3d", "cvt3d_paper", "greedy3d", "cvt_true", "greedy_true")
 """The 3D starts (the 3D prior's two, and both on the true surface), each paired with the
 height-field prior's (``cvt_hf``)."""
 NAMES = {
     "cvt3d": "CVT on S'",
+    "cvt3d_paper": "CVT on S' without normal weight",
     "greedy3d": "greedy on S'",
     "cvt_true": "CVT on the true surface",
     "greedy_true": "greedy on the true surface",
@@ -81,13 +82,16 @@ def family_summary(rows: list[dict[str, Any]], family: str | list[str], start: s
     }
 
 
-def start_against_start(rows: list[dict[str, Any]], family: str | list[str], key: str) -> tuple[float, float, float]:
-    """Greedy on S' minus CVT on S' in ``key`` (``"initial"`` or ``"best"``), paired over the seeds."""
+def start_against_start(
+    rows: list[dict[str, Any]], family: str | list[str], key: str, first: str = "greedy3d", second: str = "cvt3d"
+) -> tuple[float, float, float]:
+    """``first`` minus ``second`` (greedy on S' minus CVT on S' by default) in ``key``
+    (``"initial"`` or ``"best"``), paired over the seeds."""
     families = [family] if isinstance(family, str) else list(family)
     pairs = [
         (g[s][key], c[s][key])
         for f in families
-        for g, c in [(_by_seed(rows, f, "greedy3d"), _by_seed(rows, f, "cvt3d"))]
+        for g, c in [(_by_seed(rows, f, first), _by_seed(rows, f, second))]
         for s in sorted(set(g) & set(c))
     ]
     return paired_interval([a for a, _ in pairs], [b for _, b in pairs])
@@ -148,8 +152,12 @@ def _percent(share: float) -> str:
 
 def _chosen_words(chosen: dict[str, Any]) -> str:
     words = []
-    for start, (offset, spacing) in chosen.items():
-        words.append(f"{NAMES.get(start, start)} {offset:g} m" + (f", points of S' {spacing:g} m apart" if spacing else ""))
+    for start, (offset, spacing, weight) in chosen.items():
+        words.append(
+            f"{NAMES.get(start, start)} {offset:g} m"
+            + (f", points of S' {spacing:g} m apart" if spacing else "")
+            + (f", normal weight {weight:g} m" if weight else "")
+        )
     return "; ".join(words)
 
 
@@ -160,7 +168,7 @@ def report_markdown(experiment: Any, chosen: dict[str, Any], rows: list[dict[str
         "",
         (
             f"Families {', '.join(experiment.families)}; report seeds {list(experiment.report_seeds)}, development seeds "
-            f"{list(experiment.dev_seeds)} (offsets from S' chosen there: {_chosen_words(chosen)}). {experiment.n_uavs} UAVs, "
+            f"{list(experiment.dev_seeds)} (settings chosen there: {_chosen_words(chosen)}). {experiment.n_uavs} UAVs, "
             f"d_max {experiment.d_max:g} m, {experiment.n_prior} known points, standoff {experiment.h_min:g} m, separation "
             f"{experiment.d_safe:g} m, every move checked, {experiment.iterations} iterations. Full knowledge: greedy on viewpoints "
             f"{list(experiment.reference_distances)} m out along the true normals, with its certified bound. Two starts on the 3D "
@@ -195,6 +203,19 @@ def report_markdown(experiment: Any, chosen: dict[str, Any], rows: list[dict[str
     ]
     for family in [*experiment.families, list(experiment.families)]:
         first, best = (start_against_start(rows, family, key) for key in ("initial", "best"))
+        lines.append(
+            f"| {'all' if isinstance(family, list) else family} | {first[0]:+.3f} [{first[1]:+.3f}, {first[2]:+.3f}] "
+            f"| {best[0]:+.3f} [{best[1]:+.3f}, {best[2]:+.3f}] |"
+        )
+    lines += [
+        "",
+        "The normal weight: the CVT on S' as chosen against the paper's CVT on S' (no normal weight, its own offset), paired:",
+        "",
+        "| family | initial: chosen - paper's [95 % CI] | best: chosen - paper's [95 % CI] |",
+        "|---|---|---|",
+    ]
+    for family in [*experiment.families, list(experiment.families)]:
+        first, best = (start_against_start(rows, family, key, "cvt3d", "cvt3d_paper") for key in ("initial", "best"))
         lines.append(
             f"| {'all' if isinstance(family, list) else family} | {first[0]:+.3f} [{first[1]:+.3f}, {first[2]:+.3f}] "
             f"| {best[0]:+.3f} [{best[1]:+.3f}, {best[2]:+.3f}] |"

@@ -114,6 +114,11 @@ class CVTResult:
         Whether the run stopped on ``tol`` rather than on ``max_iterations``.
     seed : int
         The u64 seed the run used (see ``seed_from_rng``).
+    normals : (N, 3) float64 ndarray or None
+        Each generator's facing: the unit direction of its region's mean outward face normal
+        (zero where the region's normals cancel), the normal part of the generator that
+        ``CVTSettings.normal_weight`` weighs; computed whatever the weight. ``None`` for a
+        result read from a record written before it existed.
     """
 
     generators: np.ndarray
@@ -123,10 +128,16 @@ class CVTResult:
     iterations: int
     converged: bool
     seed: int
+    normals: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         for name in ("generators", "moves", "drift", "energy"):
             object.__setattr__(self, name, read_only(np.array(getattr(self, name), dtype=np.float64)))
+        if self.normals is not None:
+            normals = read_only(np.array(self.normals, dtype=np.float64))
+            if normals.shape != self.generators.shape:
+                raise InvalidInputError(f"normals must have the generators' shape {self.generators.shape}, got {normals.shape}")
+            object.__setattr__(self, "normals", normals)
 
     @property
     def n_generators(self) -> int:
@@ -206,6 +217,10 @@ def _density(density: Any, surface: Terrain) -> np.ndarray | None:
     return np.ascontiguousarray(array)
 
 
+_MAX_NORMAL_WEIGHT = 1e15
+"""The largest ``normal_weight`` (m): the core's largest coordinate."""
+
+
 @dataclass(frozen=True)
 class CVTSettings:
     """The constants of :func:`cvt`: update weights, samples and the stopping rule.
@@ -227,12 +242,21 @@ class CVTSettings:
         Iterations the net move is measured over.
     max_iterations : int, default 300
         At most 1 million (:data:`uavcov._validate.MAX_ITERATIONS`).
+    normal_weight : float, default 0
+        ``lambda``, metres: with ``lambda > 0`` a sample's squared distance to a generator also
+        counts ``lambda^2 |n - m|^2``, ``n`` the outward normal of the sample's triangle and
+        ``m`` the generator's facing, which follows its region's mean normal by the same update
+        rule as the position. Regions then gather surface that faces one way (two points on
+        faces at a right angle are ``lambda sqrt(2)`` apart besides their distance), which is
+        what a camera flown out along its generator's facing sees. ``0`` is the paper's CVT, bit
+        for bit. The structure starts use it (docs/structures.md, "The experiment").
 
     Raises
     ------
     InvalidInputError
         Weights outside the paper's constraints, an unknown preset, ``q < 1``, negative ``tol``,
-        ``window < 1`` or ``max_iterations < 1``.
+        ``window < 1``, ``max_iterations < 1``, or a ``normal_weight`` negative, non-finite or
+        over 1e15 m.
 
     Examples
     --------
@@ -247,6 +271,7 @@ class CVTSettings:
     tol: float = 0.1
     window: int = 5
     max_iterations: int = 300
+    normal_weight: float = 0.0
 
     def __post_init__(self) -> None:
         a, b = _weights(self.preset, self.alpha, self.beta)
@@ -259,6 +284,10 @@ class CVTSettings:
         object.__setattr__(self, "tol", as_non_negative_float(self.tol, "tol"))
         object.__setattr__(self, "window", as_positive_int(self.window, "window"))
         object.__setattr__(self, "max_iterations", as_count(self.max_iterations, "max_iterations", MAX_ITERATIONS))
+        weight = as_non_negative_float(self.normal_weight, "normal_weight")
+        if weight > _MAX_NORMAL_WEIGHT:
+            raise InvalidInputError(f"normal_weight must be at most {_MAX_NORMAL_WEIGHT:.0e} m, got {weight}")
+        object.__setattr__(self, "normal_weight", weight)
 
     def weights(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """``((a1, a2), (b1, b2))``: the preset's, or ``alpha`` and ``beta`` where given."""
@@ -359,11 +388,12 @@ def cvt(
             raise InvalidInputError(f"initial must have shape ({n}, 3), got {start.shape}")
     threads = as_n_threads(n_threads)
     seed = seed_from_rng(rng)
-    generators, moves, drift, energy, iterations, converged = _core.CVT.run(
-        surface.core, n, q, (a1, a2), (b1, b2), tol, window, max_iterations, seed, weights, start, threads
+    generators, normals, moves, drift, energy, iterations, converged = _core.CVT.run(
+        surface.core, n, q, (a1, a2), (b1, b2), tol, window, max_iterations, seed, weights, start, threads, settings.normal_weight
     )
     return CVTResult(
         generators=generators,
+        normals=normals,
         moves=moves,
         drift=drift,
         energy=energy,

@@ -52,7 +52,7 @@ from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints, feasibility
 from ._cvt import CVTResult, CVTSettings, cvt
-from ._starts3d import fly_out, launch_pad_start, random_volume_start
+from ._starts3d import facing_directions, fly_out, launch_pad_start, random_volume_start
 
 START_KINDS = ("cvt", "random", "corner", "pairs", "greedy")
 """The kinds of :class:`StartSettings` on a height field (a structure's are :data:`STRUCTURE_START_KINDS`)."""
@@ -474,6 +474,7 @@ def _structure_start(
         # pier sideways, where "above S'" would put every UAV on top of the structure.
         tessellation = cvt(approximation, n, cvt_settings, rng=generator, n_threads=n_threads)
         anchors, normals = surface_normals(approximation, tessellation.generators)
+        normals = facing_directions(tessellation, normals, cvt_settings)
         if not spec.altitude > 0.0:
             return anchors, tessellation
         # Outside S' and at the standoff from it: a normal into a fold of S' flies farther out.

@@ -66,6 +66,18 @@ def _is_closed(faces: np.ndarray) -> bool:
 _FLY_OUT_STEPS = (1.0, 1.5, 2.0, 3.0, 4.0)
 
 
+def facing_directions(tessellation: CVTResult, face_normals: np.ndarray, settings: CVTSettings | None) -> np.ndarray:
+    """The directions to fly each CVT generator out along: with a normal-weighted CVT
+    (``CVTSettings.normal_weight > 0``) its region's facing, which is what the region shows a
+    camera there (S''s face normal at the generator itself may belong to a corner or a small
+    face the region barely holds); the face normals otherwise, and where a facing is zero."""
+    facings = tessellation.normals
+    if settings is None or settings.normal_weight <= 0.0 or facings is None:
+        return face_normals
+    usable = np.linalg.norm(facings, axis=1) > 0.5
+    return np.where(usable[:, None], facings, face_normals)
+
+
 def fly_out(
     surface: Terrain,
     anchors: Any,
@@ -319,6 +331,7 @@ def standoff_start(
         raise InvalidTypeError(f"clip_pitch must be a bool, got {type(clip_pitch).__name__}")
     tessellation = cvt(surface, n, cvt_settings, rng=rng, n_threads=n_threads)
     anchors, normals = surface_normals(surface, tessellation.generators)
+    normals = facing_directions(tessellation, normals, cvt_settings)
     positions, lifted = fly_out(surface, anchors, normals, distance_out, n_threads=n_threads)
     attitudes = facing_attitudes(anchors - positions)
     if clip_pitch:
