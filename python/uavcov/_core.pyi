@@ -174,7 +174,9 @@ class CVT:
         density: npt.NDArray[np.float64] | None = None,
         initial: npt.NDArray[np.float64] | None = None,
         n_threads: int = 0,
+        normal_weight: float = 0.0,
     ) -> tuple[
+        npt.NDArray[np.float64],
         npt.NDArray[np.float64],
         npt.NDArray[np.float64],
         npt.NDArray[np.float64],

@@ -267,7 +267,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         if header.get("cvt") is not None:
             _require(arrays, tuple(f"cvt_{n}" for n in _CVT_ARRAYS), path)
             # Records written before the CVT's facings have none.
-            normals = arrays["cvt_normals"] if "cvt_normals" in arrays else None
+            normals = arrays.get("cvt_normals")
             cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"], normals=normals)
         s = header["scalars"]
         parts = header.get("coverage_by_part")

@@ -36,9 +36,10 @@ of the real structure before :func:`~uavcov.limits.closest_admissible`, and (``c
 share of S''s area facing into the structure.
 
 The open settings, each start's offset from S' (and ``greedy3d``'s candidate spacing on S', the
-CVT starts' normal weight), are chosen on the development seeds; the report is on the report seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs
-finish (a run cut off by a kill leaves at most a torn last line, dropped on resume), so
-``resume=True`` skips every finished run and the rows equal an uninterrupted run's.
+CVT starts' normal weight), are chosen on the development seeds; the report is on the report
+seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs finish (a run cut
+off by a kill leaves at most a torn last line, dropped on resume), so ``resume=True`` skips
+every finished run and the rows equal an uninterrupted run's.
 """
 
 from __future__ import annotations
