@@ -26,13 +26,14 @@ SMALL = StructuresExperiment(
     target_spacing=2.0,
     greedy_spacings=(6.0,),
     normal_weights=(0.0, 10.0),
+    cao_steps=(0.75, 1.5),
 )
 CHILD = """
 import sys
 from uavcov.paper import StructuresExperiment, reproduce_structures
 experiment = StructuresExperiment(
     families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, reference_spacing=6.0, target_spacing=2.0,
-    greedy_spacings=(6.0,), normal_weights=(0.0, 10.0),
+    greedy_spacings=(6.0,), normal_weights=(0.0, 10.0), cao_steps=(0.75, 1.5),
 )
 reproduce_structures(sys.argv[1], experiment, workers=1)
 """
@@ -48,9 +49,10 @@ def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Pa
     assert {r["start"] for r in whole} == {"cvt3d", "cvt3d_paper", "cvt_hf", "greedy3d", "cvt_true", "greedy_true", "greedy"}
     # The diagnostics take the settings chosen on S' and run on the report seed only; the
     # paper's CVT is the one without a normal weight.
-    settings = {r["start"]: (r["offset"], r["spacing"], r.get("normal_weight", 0.0)) for r in whole}
-    assert settings["cvt_true"] == settings["cvt3d"] and settings["greedy_true"] == settings["greedy3d"] == (6.0, 6.0, 0.0)
-    assert settings["cvt3d_paper"] == (6.0, 0.0, 0.0)
+    settings = {r["start"]: (r["offset"], r["spacing"], r["normal_weight"], r["cao_step"]) for r in whole}
+    assert settings["cvt_true"] == settings["cvt3d"] and settings["greedy_true"] == settings["greedy3d"]
+    assert settings["greedy3d"][:3] == (6.0, 6.0, 0.0) and settings["cvt3d_paper"][:3] == (6.0, 0.0, 0.0)
+    assert {s[3] for s in settings.values()} <= {0.75, 1.5}
     cut = tmp_path / "cut"
     child = subprocess.Popen([sys.executable, "-c", CHILD, str(cut)])
     rows = cut / "rows.jsonl"
@@ -99,6 +101,12 @@ def test_a_used_folder_needs_resume_and_the_same_settings(tmp_path: Path) -> Non
         {"greedy_spacings": ()},
         {"greedy_spacings": (0.0,)},
         {"greedy_spacings": (-2.0,)},
+        {"normal_weights": ()},
+        {"normal_weights": (-1.0,)},
+        {"normal_weights": (1e300,)},
+        {"cao_steps": ()},
+        {"cao_steps": (0.0,)},
+        {"cao_steps": (float("inf"),)},
     ],
 )
 def test_bad_settings_are_config_errors(bad: dict) -> None:

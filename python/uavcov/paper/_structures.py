@@ -35,8 +35,9 @@ records its best coverage as a share of both, how many of its start points lie i
 of the real structure before :func:`~uavcov.limits.closest_admissible`, and (``cvt3d``) the
 share of S''s area facing into the structure.
 
-The open settings, each start's offset from S' (and ``greedy3d``'s candidate spacing on S', the
-CVT starts' normal weight), are chosen on the development seeds; the report is on the report
+The open settings, each start's offset from S', CAO's step scale (``CAOSettings.alpha0``: a start
+already near a good placement wants small steps, one far from it large ones), ``greedy3d``'s
+candidate spacing on S' and the CVT starts' normal weight, are chosen on the development seeds; the report is on the report
 seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs finish (a run cut
 off by a kill leaves at most a torn last line, dropped on resume), so ``resume=True`` skips
 every finished run and the rows equal an uninterrupted run's.
@@ -49,7 +50,7 @@ import os
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -62,8 +63,8 @@ STARTS = ("cvt3d", "cvt_hf", "greedy3d")
 DIAGNOSTICS = {"cvt_true": "cvt3d", "greedy_true": "greedy3d"}
 """Report-only starts, each run at the offset chosen for the start it names."""
 PAPER_CVT = "cvt3d_paper"
-"""Report-only: ``cvt3d`` with the paper's CVT (no normal weight), at the offset chosen for it
-among those settings: what the normal weight adds, paired on the report seeds."""
+"""Report-only: ``cvt3d`` with the paper's CVT (no normal weight), at the offset and CAO step
+chosen for it among those settings: what the normal weight adds, paired on the report seeds."""
 CANDIDATE_STARTS = ("greedy3d", "greedy_true")
 """The starts with a candidate spacing on S' to choose besides the offset."""
 CVT_STARTS = ("cvt3d", "cvt_hf")
@@ -98,6 +99,9 @@ class StructuresExperiment:
     normal_weights : tuple of float
         Candidate normal weights of the CVT starts' tessellation (``CVTSettings.normal_weight``,
         m; 0 is the paper's CVT), chosen on the development seeds.
+    cao_steps : tuple of float
+        Candidate step scales of CAO (``CAOSettings.alpha0``, m; 1.5 is its default), chosen on
+        the development seeds for every start.
     reference_distances : tuple of float
         The full-knowledge candidates' offsets along the true normals (m).
     reference_spacing, target_spacing : float
@@ -117,6 +121,7 @@ class StructuresExperiment:
     offsets: tuple[float, ...] = (2.5, 3.0, 4.0, 6.0)
     greedy_spacings: tuple[float, ...] = (2.0, 4.0)
     normal_weights: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0)
+    cao_steps: tuple[float, ...] = (0.5, 0.75, 1.5, 3.0)
     reference_distances: tuple[float, ...] = (3.0, 6.0, 9.0)
     reference_spacing: float = 3.0
     target_spacing: float = 1.0
@@ -135,12 +140,16 @@ class StructuresExperiment:
             raise ConfigError(f"offsets and greedy spacings must be finite and > 0 m, got {self.offsets} and {self.greedy_spacings}")
         if not self.normal_weights or not all(np.isfinite(w) and 0 <= w <= 1e15 for w in self.normal_weights):
             raise ConfigError(f"normal weights must be finite, >= 0 and at most 1e15 m, got {self.normal_weights}")
+        if not self.cao_steps or not all(np.isfinite(a) and 0 < a <= 1e15 for a in self.cao_steps):
+            raise ConfigError(f"CAO steps must be finite, > 0 and at most 1e15 m, got {self.cao_steps}")
 
 
-Task = tuple[str, str, int, float, float, float]
-"""(family, start, seed, offset, spacing, normal_weight); start ``"greedy"`` is the reference
-(offset 0), spacing is the greedy starts' (0 for the others), normal_weight the CVT starts' (0
-for the others)."""
+Task = tuple[str, str, int, float, float, float, float]
+"""(family, start, seed, offset, spacing, normal_weight, cao_step); start ``"greedy"`` is the
+reference (offset 0), spacing is the greedy starts' (0 for the others), normal_weight the CVT
+starts' (0 for the others), cao_step CAO's ``alpha0``."""
+DEFAULT_CAO_STEP = 1.5
+"""``CAOSettings().alpha0``: the step of the rows written before the experiment chose it."""
 
 
 def _structure(experiment: StructuresExperiment, family: str, seed: int) -> Any:
@@ -189,7 +198,7 @@ def _mission(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
     from ..structures import reconstruction_error
     from ..terrain import sample_prior
 
-    family, start, seed, offset, spacing, weight = task
+    family, start, seed, offset, spacing, weight, step = task
     structure = _structure(experiment, family, seed)
     limits = _limits(experiment, structure)
     reference = "prior" if start == "cvt_hf" else "normal"
@@ -208,6 +217,7 @@ def _mission(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
         constraints=limits,
         cvt=CVTSettings(normal_weight=weight),
     )
+    settings = replace(settings, cao=replace(settings.cao, alpha0=step))
     targets = structure.targets(spacing=experiment.target_spacing)
     known: Any = None
     if start == "cvt_hf":
@@ -237,10 +247,17 @@ def _true_solid(structure: Any) -> Any:
 
 def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
     """One row: a mission, or the reference (``start == "greedy"``); errors are recorded, not raised."""
-    family, start, seed, offset, spacing, weight = task
-    row: dict[str, Any] = {"family": family, "start": start, "seed": seed, "offset": offset, "spacing": spacing, "error": ""}
-    if weight:
-        row["normal_weight"] = weight
+    family, start, seed, offset, spacing, weight, step = task
+    row: dict[str, Any] = {
+        "family": family,
+        "start": start,
+        "seed": seed,
+        "offset": offset,
+        "spacing": spacing,
+        "normal_weight": weight,
+        "cao_step": step,
+        "error": "",
+    }
     began = time.perf_counter()
     try:
         if start == REFERENCE:
@@ -261,6 +278,7 @@ def _key(row: dict[str, Any]) -> Task:
         float(row["offset"]),
         float(row.get("spacing", 0.0)),
         float(row.get("normal_weight", 0.0)),
+        float(row.get("cao_step", DEFAULT_CAO_STEP)),
     )
 
 
@@ -289,25 +307,29 @@ def _mean(rows: list[dict[str, Any]], family: str, start: str, setting: tuple[fl
     return float(np.mean(values)) if values else -np.inf
 
 
-def _settings(experiment: StructuresExperiment, start: str) -> list[tuple[float, float, float]]:
-    """A start's (offset, spacing, normal weight) candidates on the development seeds."""
+Setting = tuple[float, float, float, float]
+"""A start's (offset, spacing, normal weight, CAO step)."""
+
+
+def _settings(experiment: StructuresExperiment, start: str) -> list[Setting]:
+    """A start's (offset, spacing, normal weight, CAO step) candidates on the development seeds."""
     spacings = experiment.greedy_spacings if start in CANDIDATE_STARTS else (0.0,)
     weights = experiment.normal_weights if start in CVT_STARTS else (0.0,)
-    return [(o, s, w) for o in experiment.offsets for s in spacings for w in weights]
+    return [(o, s, w, a) for o in experiment.offsets for s in spacings for w in weights for a in experiment.cao_steps]
 
 
-def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]]) -> dict[str, tuple[float, float, float]]:
-    """Each start's (offset, spacing, normal weight): the best mean best coverage over every
-    family's development seeds (ties: the smaller offset, then the wider spacing, the fewer
-    candidates, then the smaller normal weight, the paper's CVT first)."""
+def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]]) -> dict[str, Setting]:
+    """Each start's (offset, spacing, normal weight, CAO step): the best mean best coverage over
+    every family's development seeds (ties: the smaller offset, then the wider spacing, the fewer
+    candidates, then the smaller normal weight, the paper's CVT first, then the larger step)."""
     chosen = {}
     for start in STARTS:
         options = _settings(experiment, start)
         score = {o: float(np.mean([_mean(rows, f, start, o) for f in experiment.families])) for o in options}
-        chosen[start] = max(options, key=lambda o: (score[o], -o[0], o[1], -o[2]))
+        chosen[start] = max(options, key=lambda o: (score[o], -o[0], o[1], -o[2], o[3]))
         if start == "cvt3d":
             paper = [o for o in options if o[2] == 0.0]
-            chosen[PAPER_CVT] = max(paper, key=lambda o: (score[o], -o[0]))
+            chosen[PAPER_CVT] = max(paper, key=lambda o: (score[o], -o[0], o[3]))
     return chosen
 
 
@@ -368,10 +390,11 @@ def _dev_tasks(experiment: StructuresExperiment) -> list[Task]:
     ]
 
 
-def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, tuple[float, float, float]]) -> list[Task]:
+def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, Setting]) -> list[Task]:
     settings = {**chosen, **{d: chosen[s] for d, s in DIAGNOSTICS.items()}}
     tasks = [(f, s, seed, *settings[s]) for f in experiment.families for seed in experiment.report_seeds for s in settings]
-    return tasks + [(f, REFERENCE, seed, 0.0, 0.0, 0.0) for f in experiment.families for seed in experiment.report_seeds]
+    reference = (0.0, 0.0, 0.0, DEFAULT_CAO_STEP)
+    return tasks + [(f, REFERENCE, seed, *reference) for f in experiment.families for seed in experiment.report_seeds]
 
 
 def report_from_folder(folder: str | os.PathLike[str]) -> str:

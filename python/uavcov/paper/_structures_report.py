@@ -152,11 +152,12 @@ def _percent(share: float) -> str:
 
 def _chosen_words(chosen: dict[str, Any]) -> str:
     words = []
-    for start, (offset, spacing, weight) in chosen.items():
+    for start, (offset, spacing, weight, step) in chosen.items():
         words.append(
             f"{NAMES.get(start, start)} {offset:g} m"
             + (f", points of S' {spacing:g} m apart" if spacing else "")
             + (f", normal weight {weight:g} m" if weight else "")
+            + f", CAO step {step:g} m"
         )
     return "; ".join(words)
 
