@@ -147,6 +147,9 @@ class CVTResult:
     def regions(self, points: Any, *, n_threads: int | None = None) -> np.ndarray:
         """The Voronoi region (index of the nearest generator, 3D distance) of each point.
 
+        By position alone: with ``CVTSettings.normal_weight > 0`` the run's own regions also
+        weighed each sample's normal against the generators' facings (``normals``).
+
         Parameters
         ----------
         points : (n, 3) array_like of float
