@@ -58,6 +58,7 @@ import numpy as np
 
 from ..errors import ConfigError, UavcovError
 from ._jsonl import append_row, read_rows
+from ._structures_rows import DEFAULT_CAO_STEP, setting_of
 
 STARTS = ("cvt3d", "cvt_hf", "greedy3d")
 DIAGNOSTICS = {"cvt_true": "cvt3d", "greedy_true": "greedy3d"}
@@ -148,8 +149,6 @@ Task = tuple[str, str, int, float, float, float, float]
 """(family, start, seed, offset, spacing, normal_weight, cao_step); start ``"greedy"`` is the
 reference (offset 0), spacing is the greedy starts' (0 for the others), normal_weight the CVT
 starts' (0 for the others), cao_step CAO's ``alpha0``."""
-DEFAULT_CAO_STEP = 1.5
-"""``CAOSettings().alpha0``: the step of the rows written before the experiment chose it."""
 
 
 def _structure(experiment: StructuresExperiment, family: str, seed: int) -> Any:
@@ -271,15 +270,7 @@ def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
 
 
 def _key(row: dict[str, Any]) -> Task:
-    return (
-        str(row["family"]),
-        str(row["start"]),
-        int(row["seed"]),
-        float(row["offset"]),
-        float(row.get("spacing", 0.0)),
-        float(row.get("normal_weight", 0.0)),
-        float(row.get("cao_step", DEFAULT_CAO_STEP)),
-    )
+    return (str(row["family"]), str(row["start"]), int(row["seed"]), *setting_of(row))
 
 
 def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Path, workers: int) -> list[dict[str, Any]]:
@@ -302,11 +293,6 @@ def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Pa
     return [done[t] for t in tasks]
 
 
-def _mean(rows: list[dict[str, Any]], family: str, start: str, setting: tuple[float, ...]) -> float:
-    values = [r["best"] for r in rows if _key(r)[:2] == (family, start) and _key(r)[3:] == setting and not r["error"]]
-    return float(np.mean(values)) if values else -np.inf
-
-
 Setting = tuple[float, float, float, float]
 """A start's (offset, spacing, normal weight, CAO step)."""
 
@@ -322,10 +308,13 @@ def choose_offsets(experiment: StructuresExperiment, rows: list[dict[str, Any]])
     """Each start's (offset, spacing, normal weight, CAO step): the best mean best coverage over
     every family's development seeds (ties: the smaller offset, then the wider spacing, the fewer
     candidates, then the smaller normal weight, the paper's CVT first, then the larger step)."""
+    from ._structures_report import dev_scores
+
     chosen = {}
     for start in STARTS:
         options = _settings(experiment, start)
-        score = {o: float(np.mean([_mean(rows, f, start, o) for f in experiment.families])) for o in options}
+        scores = dev_scores(rows, list(experiment.families), start)
+        score = {o: scores.get(o, -np.inf) for o in options}
         chosen[start] = max(options, key=lambda o: (score[o], -o[0], o[1], -o[2], o[3]))
         if start == "cvt3d":
             paper = [o for o in options if o[2] == 0.0]

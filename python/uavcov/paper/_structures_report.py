@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from ._structures_rows import setting_of
+
 
 def paired_interval(a: Any, b: Any) -> tuple[float, float, float]:
     """Mean of ``a - b`` over the pairs with its two-sided 95 % t interval ``(mean, low, high)``."""
@@ -243,11 +245,50 @@ def report_markdown(experiment: Any, chosen: dict[str, Any], rows: list[dict[str
                 f"[{w['initial_low']:+.3f}, {w['initial_high']:+.3f}] | {w['cao_3d']:+.3f} | {w['cao_hf']:+.3f} | {w['gap']:+.3f} "
                 f"| {w['worst_part'] or '-'}: {w['worst_gap']:+.3f} ({w['worst_3d']:.3f} / {w['worst_greedy']:.3f}) |"
             )
+    lines += _dev_choice_lines(experiment, dev_rows)
     errors = [r for r in rows + dev_rows if r["error"]]
     if errors:
         lines += ["", "Failed runs:", ""] + [f"- {r['family']} {r['start']} seed {r['seed']}: {r['error']}" for r in errors]
     lines.append("")
     return "\n".join(lines)
+
+
+def dev_scores(dev_rows: list[dict[str, Any]], families: list[str], start: str) -> dict[tuple[float, ...], float]:
+    """Each setting's score on the development seeds: the mean over ``families`` of the mean
+    best coverage (what ``choose_offsets`` picks by); a setting without a finished run on some
+    family has none."""
+    by_setting: dict[tuple[float, ...], dict[str, list[float]]] = {}
+    for r in dev_rows:
+        if r["start"] == start and not r["error"]:
+            key = setting_of(r)
+            by_setting.setdefault(key, {}).setdefault(r["family"], []).append(r["best"])
+    return {key: float(np.mean([np.mean(per[f]) for f in families])) for key, per in by_setting.items() if all(f in per for f in families)}
+
+
+def _dev_choice_lines(experiment: Any, dev_rows: list[dict[str, Any]]) -> list[str]:
+    """Per start and per open setting, the best development score with that setting's value (the
+    others at their best): how much each choice matters."""
+    lines = [
+        "",
+        (
+            f"The choice on the development seeds {list(experiment.dev_seeds)}: per start and per value of each open setting, the "
+            "best mean best coverage (mean over the families) with that value, the other settings at their best."
+        ),
+        "",
+        "| start | offset from S' (m) | normal weight (m) | CAO step (m) |",
+        "|---|---|---|---|",
+    ]
+    for start in ("cvt3d", "cvt_hf", "greedy3d"):
+        scores = dev_scores(dev_rows, list(experiment.families), start)
+        if not scores:
+            continue
+        cells = []
+        for index in (0, 2, 3):
+            values = sorted({key[index] for key in scores})
+            best = {v: max(score for key, score in scores.items() if key[index] == v) for v in values}
+            cells.append(", ".join(f"{v:g}: {best[v]:.3f}" for v in values))
+        lines.append(f"| {NAMES.get(start, start)} | {' | '.join(cells)} |")
+    return lines
 
 
 def _figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:
