@@ -217,7 +217,7 @@ impl CvtOptions {
         ensure!(self.max_iterations >= 1, "max_iterations must be >= 1, got {}", self.max_iterations);
         let lambda = self.normal_weight;
         let in_range = (0.0..=MAX_COORDINATE).contains(&lambda);
-        ensure!(in_range, "normal_weight must be finite, >= 0 and at most {MAX_COORDINATE:e} m, got {lambda}");
+        ensure!(in_range, "normal_weight must be finite, >= 0 and at most {MAX_COORDINATE:e} m, got {lambda:?}");
         Ok(())
     }
 }
