@@ -123,9 +123,9 @@ def test_a_huge_cvt_is_a_clean_error_under_4_gib() -> None:
                                                                  n_threads=1)
         done([
             # 200 million generators: 4.8 GB of generators alone, refused by the system.
-            outcome(lambda: run(200_000_000, 200_000_000)[4]),
+            outcome(lambda: run(200_000_000, 200_000_000)[5]),
             # A window past any iteration count: no overflow, no history beyond the iterations.
-            outcome(lambda: run(3, 2000, window=2**63, iterations=2)[4]),
+            outcome(lambda: run(3, 2000, window=2**63, iterations=2)[5]),
             # A target density whose count overflowed usize before its limit was checked.
             outcome(lambda: len(s.area_targets(1e300)[0])),
         ])
