@@ -7,7 +7,8 @@
 //! needs neither Python nor scipy. Heights come from a fixed mixture of 7 Gaussian hills
 //! (heights 5-25 m, sigma 10 m, as in paper-setup.md).
 //!
-//! Run with `cargo bench --bench cvt`; the figures are recorded in benches/README.md.
+//! Run with `cargo bench --bench cvt`; the figures are recorded in benches/README.md. The last
+//! two cases time 50 iterations with and without a normal weight (`CvtOptions::normal_weight`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{RngExt, SeedableRng};
@@ -125,6 +126,11 @@ fn bench(c: &mut Criterion) {
     fixed.max_iterations = 50;
     group.bench_function("N20_34pt_S'_50_iterations_1thread", |b| {
         b.iter(|| black_box(constrained_cvt(&surface, n, &fixed.with_seed(1).with_threads(1), None, None).unwrap()));
+    });
+    // The same with a normal weight (the structures' 10 m): the facing term's cost, side by side.
+    let facing = CvtOptions { normal_weight: 10.0, ..fixed };
+    group.bench_function("N20_34pt_S'_50_iterations_normal_weight_1thread", |b| {
+        b.iter(|| black_box(constrained_cvt(&surface, n, &facing.with_seed(1).with_threads(1), None, None).unwrap()));
     });
     group.finish();
 }
