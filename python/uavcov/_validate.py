@@ -29,6 +29,10 @@ limit                          value           what it bounds
 :data:`MAX_RUNS`               1 000 000       runs of one sweep (variants x seeds x team sizes x
                                                starts)
 :data:`MAX_THREADS`            1 024           Rust threads of one call
+:data:`MAX_GRID_CELLS`         10 000          cells along one side of a generated terrain
+                                               (``size / spacing``, a wall's ``height /
+                                               spacing``): 10^8 nodes
+:data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
 =============================  ==============  ===================================================
 """
 
@@ -64,6 +68,8 @@ __all__ = [
     "MAX_SEEDS",
     "MAX_RUNS",
     "MAX_THREADS",
+    "MAX_GRID_CELLS",
+    "MAX_HILLS",
 ]
 
 MAX_UAVS = 1_000
@@ -82,6 +88,10 @@ MAX_SEEDS = 1_000_000
 """Most seeds of one sweep or reproduction."""
 MAX_RUNS = 1_000_000
 """Most runs of one sweep."""
+MAX_GRID_CELLS = 10_000
+"""Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
+MAX_HILLS = 10_000
+"""Most Gaussians of one hills terrain: each costs a pass over every node."""
 
 
 def as_float_array(
@@ -271,6 +281,10 @@ def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
 def as_cell_count(length: float, step: float, name: str) -> int:
     """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
     count = length / step
+    if count > MAX_GRID_CELLS + 0.5:  # checked first: round() of an infinite ratio would overflow
+        raise InvalidInputError(
+            f"{name} ({length} m) is {count:,.0f} spacings ({step} m) long, more than {MAX_GRID_CELLS:,} (uavcov's size limit)"
+        )
     cells = round(count)
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")

@@ -241,6 +241,8 @@ def viewpoint_offsets(
     if offsets is None or offsets.size == 0 or not np.all(np.isfinite(offsets)) or np.any(offsets <= 0.0):
         raise InvalidInputError(f"distances must be a non-empty sequence of finite offsets > 0 m, got {distances!r}")
     spacing = as_positive_float(spacing, "spacing")
+    if not 0.0 < spacing * spacing < math.inf:  # the surface points' density is 1 / spacing**2
+        raise InvalidInputError(f"spacing must have a finite, non-zero square, got {spacing}")
     if world.area / spacing**2 * offsets.size > MAX_CANDIDATES:
         raise InvalidInputError(
             f"about {world.area / spacing**2 * offsets.size:,.0f} candidates, more than {MAX_CANDIDATES:,}: use a larger spacing"

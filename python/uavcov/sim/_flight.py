@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_generator, as_positive_float, read_only
+from .._validate import as_finite_float, as_float_array, as_generator, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import FlightError, InvalidInputError, InvalidTypeError, MissingExtraError
 from ._wind import DrydenGusts
@@ -156,12 +156,12 @@ class FlightSettings:
         if not 0.0 <= dwell <= 600.0:
             raise InvalidInputError(f"dwell_s must lie in [0, 600] s, got {dwell}")
         object.__setattr__(self, "dwell_s", dwell)
-        wind = np.asarray(self.wind, dtype=np.float64) if not isinstance(self.wind, (str, bytes)) else None
-        if wind is None or wind.shape != (3,) or not np.isfinite(wind).all() or np.abs(wind).max() > 100.0:
+        wind = as_float_array(self.wind, "wind")
+        if wind.shape != (3,) or not np.isfinite(wind).all() or np.abs(wind).max() > 100.0:
             raise InvalidInputError(f"wind must be 3 finite speeds of at most 100 m/s, got {self.wind!r}")
         object.__setattr__(self, "wind", (float(wind[0]), float(wind[1]), float(wind[2])))
-        gusts = np.asarray(self.gusts, dtype=np.float64) if not isinstance(self.gusts, (str, bytes)) else None
-        if gusts is None or gusts.shape != (3,) or not np.isfinite(gusts).all() or gusts.min() < 0.0 or gusts.max() > 50.0:
+        gusts = as_float_array(self.gusts, "gusts")
+        if gusts.shape != (3,) or not np.isfinite(gusts).all() or gusts.min() < 0.0 or gusts.max() > 50.0:
             raise InvalidInputError(f"gusts must be 3 standard deviations in [0, 50] m/s, got {self.gusts!r}")
         object.__setattr__(self, "gusts", (float(gusts[0]), float(gusts[1]), float(gusts[2])))
         if self.integrator not in INTEGRATORS:
@@ -267,7 +267,7 @@ class Team:
         """
         rp = _rotorpy()
         params = vehicle_parameters(settings.vehicle)
-        x0 = np.asarray(positions, dtype=np.float64)
+        x0 = as_float_array(positions, "positions")
         if x0.ndim != 2 or x0.shape[1] != 3 or not np.isfinite(x0).all():
             raise InvalidInputError(f"positions must be finite, of shape (N, 3), got shape {x0.shape}")
         hover = hover_rotor_speed(params)
@@ -330,7 +330,7 @@ class Team:
             came within ``collision_distance`` of the surface, or the flight diverged; its
             ``leg`` attribute holds the states flown until then.
         """
-        goals = np.asarray(waypoints, dtype=np.float64)
+        goals = as_float_array(waypoints, "waypoints")
         if goals.shape != (len(self.states), 3) or not np.isfinite(goals).all():
             raise InvalidInputError(f"waypoints must be finite, of shape ({len(self.states)}, 3), got {goals.shape}")
         cfg = self.settings

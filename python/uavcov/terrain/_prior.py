@@ -32,7 +32,6 @@ from .._validate import (
     as_float_array,
     as_generator,
     as_non_negative_float,
-    as_non_negative_int,
     as_points,
     as_positive_float,
 )
@@ -190,7 +189,7 @@ def sample_prior(
         return Prior(known, kind="pyramid")
 
     if kind == "random":
-        n = as_non_negative_int(n, "n")
+        n = as_count(n, "n", MAX_SAMPLES, minimum=0)
         known = _random_surface_points(terrain, n, generator, max_rounds=100) if n else np.zeros((0, 3))
     else:
         if points is None:
