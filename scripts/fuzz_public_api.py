@@ -45,7 +45,20 @@ from typing import Any
 
 import numpy as np
 
-SUBPACKAGES = ("engine", "terrain", "structures", "limits", "cover", "placement", "optim", "experiments", "field", "sim", "paper", "plotting")
+SUBPACKAGES = (
+    "engine",
+    "terrain",
+    "structures",
+    "limits",
+    "cover",
+    "placement",
+    "optim",
+    "experiments",
+    "field",
+    "sim",
+    "paper",
+    "plotting",
+)
 
 # ---------------------------------------------------------------------------------------------
 # Hostile values: made fresh for each call (a call may keep or change what it is given)
@@ -65,8 +78,8 @@ HOSTILE: dict[str, Callable[[], Any]] = {
     "nan": lambda: float("nan"),
     "inf": lambda: float("inf"),
     "-inf": lambda: float("-inf"),
-    "[]": lambda: [],
-    "{}": lambda: {},
+    "[]": list,
+    "{}": dict,
     "zeros(0,3)": lambda: np.zeros((0, 3)),
     "ragged": lambda: [[1.0, 2.0], [3.0]],
     "nan(3,3)": lambda: np.full((3, 3), np.nan),
@@ -172,7 +185,12 @@ class Fixtures:
         from uavcov.field import GeoAnchor, plan_structure
 
         settings = uavcov.MissionSettings(
-            n_uavs=2, d_max=10.0, n_prior=50, iterations=2, cao=uavcov.CAOSettings(n_candidates=10), constraints=uavcov.Constraints(h_min=1.0, z_max=20.0)
+            n_uavs=2,
+            d_max=10.0,
+            n_prior=50,
+            iterations=2,
+            cao=uavcov.CAOSettings(n_candidates=10),
+            constraints=uavcov.Constraints(h_min=1.0, z_max=20.0),
         )
         return plan_structure(self.structure, settings, GeoAnchor(-84.2, 36.5), rng=0, n_threads=1)
 
@@ -186,7 +204,9 @@ class Fixtures:
         from uavcov.experiments import experiment_specs, run_specs
         from uavcov.paper import TABLE1
 
-        tiny = TABLE1.with_changes(**{"terrain.size": 40.0, "terrain.spacing": 4.0, "n_prior": 8, "iterations": 2, "cao.n_candidates": 20, "cvt.max_iterations": 5})
+        tiny = TABLE1.with_changes(
+            **{"terrain.size": 40.0, "terrain.spacing": 4.0, "n_prior": 8, "iterations": 2, "cao.n_candidates": 20, "cvt.max_iterations": 5}
+        )
         out = Path(tempfile.mkdtemp(dir=".")) / "runs"
         run_specs(experiment_specs(tiny, seeds=[0], team_sizes=[2], starts=["cvt"]), out=out, workers=1, n_threads=1, progress=False)
         return str(out)
@@ -208,14 +228,25 @@ class Fixtures:
 
         path = Path(tempfile.mkdtemp(dir=".")) / "dem.tif"
         z = np.random.default_rng(0).random((12, 12)).astype("float32") * 10
-        profile = {"driver": "GTiff", "height": 12, "width": 12, "count": 1, "dtype": "float32", "transform": Affine(30, 0, 500000, 0, -30, 4000000), "crs": "EPSG:32617"}
+        profile = {
+            "driver": "GTiff",
+            "height": 12,
+            "width": 12,
+            "count": 1,
+            "dtype": "float32",
+            "transform": Affine(30, 0, 500000, 0, -30, 4000000),
+            "crs": "EPSG:32617",
+        }
         with rasterio.open(path, "w", **profile) as dataset:
             dataset.write(z, 1)
         return str(path)
 
     def _make_sweep_toml(self) -> str:
         path = Path(tempfile.mkdtemp(dir=".")) / "sweep.toml"
-        path.write_text('name = "s"\nbase = "table1"\nseeds = [0]\nteam_sizes = [2]\nstarts = ["cvt"]\niterations = 1\nn_prior = 8\n[terrain]\nsize = 40.0\nspacing = 4.0\n[cao]\nn_candidates = 10\n')
+        path.write_text(
+            'name = "s"\nbase = "table1"\nseeds = [0]\nteam_sizes = [2]\nstarts = ["cvt"]\niterations = 1\nn_prior = 8\n'
+            "[terrain]\nsize = 40.0\nspacing = 4.0\n[cao]\nn_candidates = 10\n"
+        )
         return str(path)
 
 
@@ -241,8 +272,8 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "Terrain": lambda: {"vertices": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), "faces": np.array([[0, 1, 2]])},
         "Terrain.from_mesh": lambda: {"mesh": (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))},
         "Terrain.from_grid": lambda: {"z": np.zeros((4, 5)), "spacing": 1.0},
-        "Terrain#default_targets": lambda: {},
-        "Terrain#vertex_normals": lambda: {},
+        "Terrain#default_targets": dict,
+        "Terrain#vertex_normals": dict,
         "Terrain#ground_height": lambda: {"xy": xy(), "n_threads": 1},
         "Terrain#clearance": lambda: {"points": pts(), "n_threads": 1},
         "Terrain#closest_point": lambda: {"points": pts(), "n_threads": 1},
@@ -252,9 +283,25 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "Terrain#inside": lambda: {"points": pts(), "n_threads": 1},
         "Terrain#segments_clear": lambda: {"a": pts(), "b": pts() + 1.0, "n_threads": 1},
         "Terrain#admissible_mask": lambda: {
-            "current": pts(), "candidates": pts()[None] + 1.0, "bounds": (0.0, 30.0, 0.0, 30.0), "h_min": 2.0, "h_max": None, "z_max": 50.0, "d_safe": 1.0, "check_moves": True, "n_threads": 1,
+            "current": pts(),
+            "candidates": pts()[None] + 1.0,
+            "bounds": (0.0, 30.0, 0.0, 30.0),
+            "h_min": 2.0,
+            "h_max": None,
+            "z_max": 50.0,
+            "d_safe": 1.0,
+            "check_moves": True,
+            "n_threads": 1,
         },
-        "Terrain#admissible_check": lambda: {"bounds": (0.0, 30.0, 0.0, 30.0), "h_min": 2.0, "h_max": None, "z_max": 50.0, "d_safe": 1.0, "check_moves": True, "n_threads": 1},
+        "Terrain#admissible_check": lambda: {
+            "bounds": (0.0, 30.0, 0.0, 30.0),
+            "h_min": 2.0,
+            "h_max": None,
+            "z_max": 50.0,
+            "d_safe": 1.0,
+            "check_moves": True,
+            "n_threads": 1,
+        },
         "Targets": lambda: {"points": pts()},
         "Targets.from_points": lambda: {"points": pts()},
         "Visibility": lambda: {"terrain": T(), "d_max": 10.0, "n_threads": 1},
@@ -262,13 +309,19 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "Visibility#seen": lambda: {"uavs": f.uavs},
         "Visibility#quality": lambda: {"uavs": f.uavs},
         "Visibility#quality_coverage": lambda: {"uavs": f.uavs},
-        "Visibility#tracker": lambda: {},
+        "Visibility#tracker": dict,
         "Visibility#per_uav": lambda: {"uavs": f.uavs},
         "Sensor": lambda: {"d_max": 10.0},
-        "Camera": lambda: {"sensor_width_mm": 13.2, "sensor_height_mm": 8.8, "focal_length_mm": 8.8, "image_width_px": 4000, "image_height_px": 3000},
+        "Camera": lambda: {
+            "sensor_width_mm": 13.2,
+            "sensor_height_mm": 8.8,
+            "focal_length_mm": 8.8,
+            "image_width_px": 4000,
+            "image_height_px": 3000,
+        },
         "Camera.from_fov": lambda: {"hfov_deg": 60.0, "vfov_deg": 45.0},
         "Camera#gsd_m": lambda: {"distance_m": 10.0},
-        "Gimbal": lambda: {},
+        "Gimbal": dict,
         "Gimbal.preset": lambda: {"capability": "nadir"},
         "gaussian_hills": lambda: {"size": 30.0, "n_hills": 2, "rng": 0},
         "GeoDem#to_crs": lambda: {"local": pts()},
@@ -278,18 +331,18 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "GeoDem#crs_to_local_xy": lambda: {"xy": f.dem.to_crs(pts())[:, :2]},
         "read_dem": lambda: {"path": f.tif},
         "sample_dem": lambda: {"window": (0, 8, 0, 8)},
-        "Constraints": lambda: {},
+        "Constraints": dict,
         "Constraints.for_world": lambda: {"world": T()},
         "Constraints#resolve": lambda: {"world": T()},
         "Constraints#check_team": lambda: {"n_uavs": 2, "world": T()},
-        "CVTSettings": lambda: {},
+        "CVTSettings": dict,
         "CVTSettings#samples_for": lambda: {"n": 3},
-        "CAOSettings": lambda: {},
+        "CAOSettings": dict,
         "CAOSettings#regressors_for": lambda: {"n_uavs": 2},
         "CAOSettings#step_size": lambda: {"k": 3},
         "CAOSettings#resolved": lambda: {"n_uavs": 2},
-        "EscapeSettings": lambda: {},
-        "StartSettings": lambda: {},
+        "EscapeSettings": dict,
+        "StartSettings": dict,
         "StartSettings#height_above_reference": lambda: {"n": 2, "rng": np.random.default_rng(0)},
         "MissionSettings": lambda: {"n_uavs": 2, "d_max": 10.0, "iterations": 2},
         "MissionSettings#with_changes": lambda: {"iterations": 3},
@@ -313,7 +366,11 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         # terrain
         "buildings_scene": lambda: {"size": 12.0, "n_buildings": 2, "rng": 0},
         "RasterGrid": lambda: {"transform": (1.0, 0.0, 0.0, 0.0, -1.0, 10.0), "shape": (10, 10)},
-        "dem_from_array": lambda: {"z": np.arange(20.0).reshape(4, 5), "transform": (30.0, 0.0, 500000.0, 0.0, -30.0, 4000000.0), "crs": "EPSG:32617"},
+        "dem_from_array": lambda: {
+            "z": np.arange(20.0).reshape(4, 5),
+            "transform": (30.0, 0.0, 500000.0, 0.0, -30.0, 4000000.0),
+            "crs": "EPSG:32617",
+        },
         "read_mesh_dem": lambda: {"path": f.obj, "crs": "EPSG:32617"},
         "wrap_longitude": lambda: {"lon": np.array([10.0, 190.0])},
         "LocalFrame": lambda: {"origin": np.zeros(3), "factors": np.ones(3)},
@@ -322,12 +379,12 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "metres_per_degree": lambda: {"latitude": 45.0},
         "HillsGenerator": lambda: {"size": 30.0},
         "HillsGenerator#make": lambda: {"seed": 0},
-        "BuildingsGenerator": lambda: {},
+        "BuildingsGenerator": dict,
         "BuildingsGenerator#boxes": lambda: {"seed": 0},
         "BuildingsGenerator#make": lambda: {"seed": 0},
         "BuildingsGenerator#simplified_map": lambda: {"seed": 0},
         "load_mesh": lambda: {"path": f.obj},
-        "MeshReport": lambda: {},
+        "MeshReport": dict,
         "Prior": lambda: {"points": np.array([[0.0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 3]])},
         "sample_prior": lambda: {"terrain": T(), "n": 10, "rng": 0},
         "sample_node_prior": lambda: {"nodes": T().vertices, "n": 10, "rng": 0},
@@ -335,7 +392,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "approximation_error": lambda: {"truth": T(), "approx": T()},
         # structures
         "Structure#part_index": lambda: {"name": f.structure.part_names[0]},
-        "Structure#face_mask": lambda: {},
+        "Structure#face_mask": dict,
         "Structure#targets": lambda: {"spacing": 2.0},
         "Structure#coverage_by_part": lambda: {"seen": np.ones(len(f.structure_targets.points), bool), "targets": f.structure_targets},
         "girder_bridge": lambda: {"rng": 0},
@@ -351,9 +408,20 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "feasibility": lambda: {"constraints": uavcov.Constraints(), "world": T(), "n_threads": 1},
         "closest_admissible": lambda: {"constraints": uavcov.Constraints(), "world": T(), "x": pts()},
         # cover
-        "GreedySettings": lambda: {},
-        "viewpoint_lattice": lambda: {"world": T(), "constraints": uavcov.Constraints(), "settings": cover.GreedySettings(spacing=10.0), "n_threads": 1},
-        "viewpoint_offsets": lambda: {"world": f.structure.surface, "constraints": uavcov.Constraints(h_min=1.0, clearance="standoff"), "distances": (3.0,), "spacing": 4.0, "n_threads": 1},
+        "GreedySettings": dict,
+        "viewpoint_lattice": lambda: {
+            "world": T(),
+            "constraints": uavcov.Constraints(),
+            "settings": cover.GreedySettings(spacing=10.0),
+            "n_threads": 1,
+        },
+        "viewpoint_offsets": lambda: {
+            "world": f.structure.surface,
+            "constraints": uavcov.Constraints(h_min=1.0, clearance="standoff"),
+            "distances": (3.0,),
+            "spacing": 4.0,
+            "n_threads": 1,
+        },
         "closest_faces": lambda: {"surface": T(), "points": pts()},
         "surface_normals": lambda: {"surface": T(), "points": pts()},
         "CoverageProblem": lambda: {"visibility": f.visibility, "candidates": f.candidates, "n_threads": 1},
@@ -368,14 +436,40 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         # placement
         "cvt": lambda: {"surface": T(), "n": 3, "rng": 0, "n_threads": 1},
         "CVTResult#regions": lambda: {"points": pts(), "n_threads": 1},
-        "fit_footprints": lambda: {"surface": T(), "generators": f.cvt_result.generators, "sensor": sensor(), "attitudes": np.array([[0.0, -90.0]] * 3), "heights": (5.0, 20.0), "n_threads": 1},
-        "start_configuration": lambda: {"spec": uavcov.StartSettings(), "approximation": T(), "terrain": T(), "n": 2, "rng": 0, "n_threads": 1},
+        "fit_footprints": lambda: {
+            "surface": T(),
+            "generators": f.cvt_result.generators,
+            "sensor": sensor(),
+            "attitudes": np.array([[0.0, -90.0]] * 3),
+            "heights": (5.0, 20.0),
+            "n_threads": 1,
+        },
+        "start_configuration": lambda: {
+            "spec": uavcov.StartSettings(),
+            "approximation": T(),
+            "terrain": T(),
+            "n": 2,
+            "rng": 0,
+            "n_threads": 1,
+        },
         "standoff_start": lambda: {"surface": f.structure.surface, "n": 2, "standoff": 3.0, "rng": 0, "n_threads": 1},
         "facing_attitudes": lambda: {"directions": np.array([[1.0, 0, 0], [0, 0, -1]])},
         # optim
-        "cao": lambda: {"measure": lambda x: -float(np.sum(x**2)), "x0": np.ones((2, 3)), "feasible": None, "iterations": 3, "settings": uavcov.CAOSettings(n_candidates=10), "rng": 0},
+        "cao": lambda: {
+            "measure": lambda x: -float(np.sum(x**2)),
+            "x0": np.ones((2, 3)),
+            "feasible": None,
+            "iterations": 3,
+            "settings": uavcov.CAOSettings(n_candidates=10),
+            "rng": 0,
+        },
         "per_robot_cao": lambda: {
-            "measure": lambda x: (-float(np.sum(x**2)), -np.sum(x**2, axis=1)), "x0": np.ones((2, 3)), "feasible": None, "iterations": 3, "settings": uavcov.CAOSettings(n_candidates=10), "rng": 0,
+            "measure": lambda x: (-float(np.sum(x**2)), -np.sum(x**2, axis=1)),
+            "x0": np.ones((2, 3)),
+            "feasible": None,
+            "iterations": 3,
+            "settings": uavcov.CAOSettings(n_candidates=10),
+            "rng": 0,
         },
         "standard_normal": lambda: {"rng": np.random.default_rng(0), "shape": (2, 3)},
         "cao_preset": lambda: {"name": "paper"},
@@ -394,7 +488,10 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "summarise": lambda: {"rows": experiments.read_runs(f.results_dir)},
         "finished_rows": lambda: {"rows": experiments.read_runs(f.results_dir)},
         "load_sweep_config": lambda: {"path": f.sweep_toml, "bases": dict(paper.EXPERIMENTS)},
-        "parse_sweep_config": lambda: {"data": {"base": "table1", "seeds": [0], "team_sizes": [2], "starts": ["cvt"]}, "bases": dict(paper.EXPERIMENTS)},
+        "parse_sweep_config": lambda: {
+            "data": {"base": "table1", "seeds": [0], "team_sizes": [2], "starts": ["cvt"]},
+            "bases": dict(paper.EXPERIMENTS),
+        },
         # field
         "AreaOfInterest#contains": lambda: {"xy": xy(), "dem": f.dem},
         "AreaOfInterest#local_rings": lambda: {"dem": f.dem},
@@ -403,25 +500,44 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "check_plan_folder": lambda: {"out": out_path("plan")},
         "GeoAnchor": lambda: {"longitude": -84.2, "latitude": 36.5},
         "plan_structure": lambda: {
-            "structure": f.structure, "settings": f.structure_plan.result.settings, "anchor": __import__("uavcov.field", fromlist=["GeoAnchor"]).GeoAnchor(-84.2, 36.5), "rng": 0, "n_threads": 1,
+            "structure": f.structure,
+            "settings": f.structure_plan.result.settings,
+            "anchor": __import__("uavcov.field", fromlist=["GeoAnchor"]).GeoAnchor(-84.2, 36.5),
+            "rng": 0,
+            "n_threads": 1,
         },
         "write_structure_plan": lambda: {"plan": f.structure_plan, "out": out_path("splan")},
-        "write_seen_ply": lambda: {"path": out_path("seen.ply"), "targets": f.structure_targets, "seen_count": np.ones(len(f.structure_targets.points), int)},
+        "write_seen_ply": lambda: {
+            "path": out_path("seen.ply"),
+            "targets": f.structure_targets,
+            "seen_count": np.ones(len(f.structure_targets.points), int),
+        },
         "StructureFlight#route_wgs84": lambda: {"uav": 0},
         # sim
-        "fly_mission": lambda: {"terrain": T(), "settings": f.settings.with_changes(iterations=1), "sim": sim.SimSettings(flight=sim.FlightSettings(dt=0.05, max_leg_s=2.0), render=False), "rng": 0},
+        "fly_mission": lambda: {
+            "terrain": T(),
+            "settings": f.settings.with_changes(iterations=1),
+            "sim": sim.SimSettings(flight=sim.FlightSettings(dt=0.05, max_leg_s=2.0), render=False),
+            "rng": 0,
+        },
         "FlownMission#time_to_fraction": lambda: {"fraction": 0.5},
-        "SimSettings": lambda: {},
+        "SimSettings": dict,
         "SimSettings#camera_for": lambda: {"d_max": 10.0},
         "SimSettings#flight_limits": lambda: {"planned": uavcov.Constraints()},
-        "FlightSettings": lambda: {},
+        "FlightSettings": dict,
         "Team.hovering": lambda: {"positions": pts(), "settings": sim.FlightSettings(dt=0.05, max_leg_s=2.0), "terrain": T(), "rng": 0},
         "DrydenGusts": lambda: {"mean": (1.0, 0.0, 0.0), "sigma": (0.5, 0.5, 0.5), "dt": 0.01, "altitude": 10.0, "rng": 0},
         "dryden_scales": lambda: {"altitude": 10.0},
         "vehicle_parameters": lambda: {"name": "hummingbird"},
         "DepthCamera": lambda: {"width": 8, "height": 6, "fov_deg": (60.0, 45.0), "range_m": 10.0},
         "DepthCamera.omnidirectional": lambda: {"range_m": 10.0, "resolution": 8},
-        "DepthCamera#render": lambda: {"terrain": T(), "position": np.array([10.0, 10.0, 30.0]), "rotation": np.eye(3), "rng": 0, "n_threads": 1},
+        "DepthCamera#render": lambda: {
+            "terrain": T(),
+            "position": np.array([10.0, 10.0, 30.0]),
+            "rotation": np.eye(3),
+            "rng": 0,
+            "n_threads": 1,
+        },
         "camera_rotation": lambda: {"quaternion": np.array([0.0, 0.0, 0.0, 1.0]), "camera": sim.DepthCamera(8, 6, (60.0, 45.0), 10.0)},
         "VoxelMap": lambda: {"size": 0.5},
         "VoxelMap#add": lambda: {"points": pts()},
@@ -431,32 +547,68 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "load_flown": lambda: {"path": str(sim.save_flown(f.flown, out_path("f.npz"), f.terrain))},
         "is_flown_file": lambda: {"path": f.saved_mission},
         # paper
-        "reproduce": lambda: {"name": "example", "out": out_path("r"), "seeds": "0", "iterations": 1, "workers": 1, "n_threads": 1, "save_runs": False, "progress": False},
+        "reproduce": lambda: {
+            "name": "example",
+            "out": out_path("r"),
+            "seeds": "0",
+            "iterations": 1,
+            "workers": 1,
+            "n_threads": 1,
+            "save_runs": False,
+            "progress": False,
+        },
         "speed": lambda: {"rows": experiments.read_runs(f.results_dir)},
         "PublishedValue": lambda: {"mean": 0.5, "sigma": 0.1},
-        "StructuresExperiment": lambda: {},
+        "StructuresExperiment": dict,
         "write_realistic_report": lambda: {"folder": f.results_dir},
         # records a user may build
-        "Structure": lambda: {"name": "s", "surface": T(), "face_parts": np.zeros(len(T().faces), np.int64), "part_names": ("ground",), "ground_part": 0},
-        "StructureTargets": lambda: {"points": pts(), "weights": np.ones(2), "normals": np.array([[0.0, 0, 1], [0, 0, 1]]), "parts": np.zeros(2, np.int64), "part_names": ("a",)},
+        "Structure": lambda: {
+            "name": "s",
+            "surface": T(),
+            "face_parts": np.zeros(len(T().faces), np.int64),
+            "part_names": ("ground",),
+            "ground_part": 0,
+        },
+        "StructureTargets": lambda: {
+            "points": pts(),
+            "weights": np.ones(2),
+            "normals": np.array([[0.0, 0, 1], [0, 0, 1]]),
+            "parts": np.zeros(2, np.int64),
+            "part_names": ("a",),
+        },
         "RasterGrid#node_of_pixel": lambda: {"rows": np.array([0, 1]), "cols": np.array([2, 3])},
         "RasterGrid#pixel_of_node": lambda: {"i": np.array([0, 1]), "j": np.array([2, 3])},
         "check_flight": lambda: {
-            "terrain": T(), "constraints": uavcov.Constraints(), "positions": np.array([[[10.0, 10, 30], [20, 20, 30]]] * 3), "leg_of_state": np.zeros(3, np.int64),
-            "starts": np.array([[[10.0, 10, 30], [20, 20, 30]]]), "goals": np.array([[[10.0, 10, 30], [20, 20, 30]]]),
+            "terrain": T(),
+            "constraints": uavcov.Constraints(),
+            "positions": np.array([[[10.0, 10, 30], [20, 20, 30]]] * 3),
+            "leg_of_state": np.zeros(3, np.int64),
+            "starts": np.array([[[10.0, 10, 30], [20, 20, 30]]]),
+            "goals": np.array([[[10.0, 10, 30], [20, 20, 30]]]),
         },
         "Team#fly": lambda: {"waypoints": pts() + 0.5},
         "DrydenGusts#update": lambda: {"t": 0.1, "position": np.array([1.0, 2.0, 10.0])},
         "AreaOfInterest": lambda: {"polygons": ((np.array([[-84.4, 36.45], [-84.38, 36.45], [-84.38, 36.47]]),),)},
         "RunSpec": lambda: {"experiment": paper.TABLE1, "seed": 0, "n_uavs": 2, "start": "cvt"},
         "hover_rotor_speed": lambda: {"params": sim.vehicle_parameters("hummingbird")},
-        "Experiment": lambda: {"name": "e", "terrain": paper.TABLE1.terrain, "mission": paper.TABLE1.mission, "team_sizes": (2,), "starts": ("cvt",)},
+        "Experiment": lambda: {
+            "name": "e",
+            "terrain": paper.TABLE1.terrain,
+            "mission": paper.TABLE1.mission,
+            "team_sizes": (2,),
+            "starts": ("cvt",),
+        },
         "ResultsFolder#write_text": lambda: {"name": "a.txt", "text": "x"},
         "ResultsFolder#write_csv": lambda: {"name": "a.csv", "header": ["a"], "rows": [[1]]},
         "ResultsFolder#run_file": lambda: {"run_id": "abc"},
         # plotting
         "footprints": lambda: {"terrain": T(), "poses": np.array([[10.0, 10.0, 20.0, 0.0, -90.0]]), "sensors": [sensor()]},
-        "plot_camera_views": lambda: {"terrain": T(), "poses": np.array([[10.0, 10.0, 20.0, 0.0, -90.0]]), "sensors": [sensor()], "out": out_path("v.png")},
+        "plot_camera_views": lambda: {
+            "terrain": T(),
+            "poses": np.array([[10.0, 10.0, 20.0, 0.0, -90.0]]),
+            "sensors": [sensor()],
+            "out": out_path("v.png"),
+        },
         "plot_approximation": lambda: {"source": f.mission, "out": out_path("a.png")},
         "plot_coverage_curves": lambda: {"results": [f.mission], "out": out_path("c.png")},
         "plot_coverage_map": lambda: {"source": f.mission, "view": "top", "out": out_path("m.png"), "raster": 40},
@@ -465,7 +617,11 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "report_figures": lambda: {"folder": f.results_dir},
         "plot_point_cloud": lambda: {"source": f.mission, "out": out_path("p.png")},
         "plot_table1": lambda: {"rows": experiments.read_runs(f.results_dir), "out": out_path("t.png")},
-        "plot_structure_seen": lambda: {"surface": f.structure.surface, "seen": np.ones(len(f.structure.surface.faces), bool), "out": out_path("s.png")},
+        "plot_structure_seen": lambda: {
+            "surface": f.structure.surface,
+            "seen": np.ones(len(f.structure.surface.faces), bool),
+            "out": out_path("s.png"),
+        },
         "view": lambda: {"result": f.mission},
         "write_view": lambda: {"result": f.mission, "out": out_path("v.html")},
         "find_run": lambda: {"path": f.results_dir},
@@ -483,13 +639,13 @@ def instances(f: Fixtures) -> dict[str, Callable[[], Any]]:
         "Visibility": lambda: f.visibility,
         "Camera": lambda: uavcov.Camera.from_fov(60, 45),
         "GeoDem": lambda: f.dem,
-        "Constraints": lambda: uavcov.Constraints(),
-        "CVTSettings": lambda: uavcov.CVTSettings(),
-        "CAOSettings": lambda: uavcov.CAOSettings(),
-        "StartSettings": lambda: uavcov.StartSettings(),
+        "Constraints": uavcov.Constraints,
+        "CVTSettings": uavcov.CVTSettings,
+        "CAOSettings": uavcov.CAOSettings,
+        "StartSettings": uavcov.StartSettings,
         "MissionSettings": lambda: f.settings,
-        "CoverageTracker": lambda: f.visibility.tracker(),
-        "LocalFrame": lambda: terrain.LocalFrame.identity(),
+        "CoverageTracker": lambda: f.visibility.tracker(),  # noqa: PLW0108 - built on first use only
+        "LocalFrame": terrain.LocalFrame.identity,
         "HillsGenerator": lambda: terrain.HillsGenerator(size=30.0, n_hills=2),
         "BuildingsGenerator": lambda: terrain.BuildingsGenerator(size=12.0, n_buildings=2),
         "Structure": lambda: f.structure,
@@ -500,11 +656,13 @@ def instances(f: Fixtures) -> dict[str, Callable[[], Any]]:
         "AreaOfInterest": lambda: __import__("uavcov.field", fromlist=["bbox_area"]).bbox_area(-84.4, 36.45, -84.38, 36.47),
         "StructureFlight": lambda: f.structure_plan.flight,
         "RasterGrid": lambda: terrain.RasterGrid((1.0, 0.0, 0.0, 0.0, -1.0, 10.0), (10, 10)),
-        "Team": lambda: sim.Team.hovering(np.array([[5.0, 5.0, 30.0], [15.0, 12.0, 25.0]]), sim.FlightSettings(dt=0.05, max_leg_s=2.0), f.terrain, rng=0),
+        "Team": lambda: sim.Team.hovering(
+            np.array([[5.0, 5.0, 30.0], [15.0, 12.0, 25.0]]), sim.FlightSettings(dt=0.05, max_leg_s=2.0), f.terrain, rng=0
+        ),
         "DrydenGusts": lambda: sim.DrydenGusts((1.0, 0.0, 0.0), (0.5, 0.5, 0.5), 0.01, 10.0, 0),
         "ResultsFolder": lambda: __import__("uavcov.experiments", fromlist=["ResultsFolder"]).ResultsFolder(out_path("folder")),
         "FlownMission": lambda: f.flown,
-        "SimSettings": lambda: sim.SimSettings(),
+        "SimSettings": sim.SimSettings,
         "VoxelMap": lambda: sim.VoxelMap(0.5),
         "DepthCamera": lambda: sim.DepthCamera(8, 6, (60.0, 45.0), 10.0),
     }
@@ -578,7 +736,7 @@ def run_case(fixtures: Fixtures, key: str, getter: Callable[[Fixtures], Any], pa
     try:
         arguments = valid_arguments(fixtures)[key]()
         call = getter(fixtures)
-    except Exception as exc:  # the fixture itself failed: a harness problem, reported as such
+    except Exception as exc:  # noqa: BLE001 - the fixture itself failed: a harness problem, reported as such
         return {"outcome": "fixture", "type": type(exc).__name__, "message": str(exc)[:300]}
     if param is not None and hostile is not None:
         arguments = dict(arguments)
@@ -596,10 +754,10 @@ def run_case(fixtures: Fixtures, key: str, getter: Callable[[Fixtures], Any], pa
         where = next((f"{Path(fr.filename).name}:{fr.lineno}" for fr in reversed(frames) if "uavcov" in fr.filename), "")
         return {"outcome": "other", "type": type(exc).__name__, "message": str(exc)[:300], "where": where}
     finally:
-        import matplotlib
+        import matplotlib as mpl
 
         if "matplotlib.pyplot" in sys.modules:
-            matplotlib.pyplot.close("all")
+            mpl.pyplot.close("all")
     return {"outcome": "accepted"}
 
 
@@ -626,13 +784,19 @@ class Worker:
         if self.process is None or self.process.poll() is not None:
             env = dict(os.environ, RAYON_NUM_THREADS="1", MPLBACKEND="Agg", OMP_NUM_THREADS="1")
             self.process = subprocess.Popen(
-                [sys.executable, __file__, "--worker"], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env=env
+                [sys.executable, __file__, "--worker"],
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL,
+                text=True,
+                env=env,
             )
         return self.process
 
     def ask(self, case: tuple[str, str | None, str | None], timeout: float) -> dict[str, Any]:
         process = self.start()
-        assert process.stdin is not None and process.stdout is not None
+        assert process.stdin is not None
+        assert process.stdout is not None
         process.stdin.write(json.dumps(case) + "\n")
         process.stdin.flush()
         ready, _, _ = select.select([process.stdout], [], [], timeout)
@@ -659,7 +823,7 @@ def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str])
     worker_process = Worker(timeout)
     no_fixture = []
     try:
-        for key, module, getter in targets():
+        for key, module, _getter in targets():
             if only and only not in key:
                 continue
             if key in SKIPPED or key.split("#")[0].split(".")[0] in SKIPPED:
@@ -697,7 +861,9 @@ def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str])
                         report.append(f"ACCEPTED {label}")
                 else:
                     counts["defects"] += 1
-                    report.append(f"{outcome.upper()} {label}: {answer.get('type', '')} {answer.get('message', '')!r} {answer.get('where', '')}")
+                    report.append(
+                        f"{outcome.upper()} {label}: {answer.get('type', '')} {answer.get('message', '')!r} {answer.get('where', '')}"
+                    )
             print(f"{key}: {len(cases) - 1} cases", file=sys.stderr, flush=True)
     finally:
         worker_process.close()
@@ -737,33 +903,105 @@ def cli_cases(workdir: Path) -> list[list[str]]:
     (workdir / "badruns" / "runs.csv").write_bytes(b"\xff\xfe\x00garbage")
     sample = ["plan", "--sample", "--window", "0,10,0,10", "--iterations", "1", "--threads", "1", "--uavs", "2", "--d-max", "200"]
     cases: list[list[str]] = [
-        [], ["nope"], ["demo", "--iterations", "-1"], ["demo", "--iterations", "1e300"], ["demo", "--seed", "nan"], ["demo", "--threads", "0"],
-        ["demo", "--threads", "100000"], ["demo", "--iterations", "99999999999999999999"], ["demo", "--out", "/dev/null/x", "--iterations", "1", "--no-plots"],
-        ["reproduce", "nope"], ["reproduce", "table1", "--seeds", "a-b"], ["reproduce", "table1", "--seeds", "5-1"], ["reproduce", "table1", "--seeds", "0-99999999999"],
-        ["reproduce", "table1", "--team-sizes", "0"], ["reproduce", "table1", "--team-sizes", "99999999"], ["reproduce", "table1", "--starts", "nope"],
-        ["reproduce", "table1", "--iterations", "-5"], ["reproduce", "table1", "--workers", "0"], ["reproduce", "table1", "--workers", "nan"],
-        ["reproduce", "realistic", "--standoff", "nan"], ["reproduce", "realistic", "--standoff", "-1"], ["reproduce", "realistic", "--measurements", "nope"],
-        ["reproduce", "table1", "--seeds", ""], ["reproduce", "table1", "--seeds", "-1"], ["reproduce", "table1", "--team-sizes", "2,,3"],
-        ["sweep", "missing.toml"], ["sweep", "empty.toml"], ["sweep", "bad.toml"], ["sweep", "wrong.toml"], ["sweep", "huge.toml"], ["sweep", "nan.toml"],
-        ["sweep", "neg.toml"], ["sweep", "big.toml", "--out", "bigout", "--workers", "1", "--threads", "1", "--no-progress"], ["sweep", "dem.tif"], ["sweep", "runs"],
-        ["sweep", "empty.toml", "--scheduler-timeout", "nan"], ["sweep", "empty.toml", "--dask-workers", "-1"],
-        ["plot", "missing"], ["plot", "runs"], ["plot", "badruns"], ["plot", "empty.toml"], ["plot", "runs", "--max-runs", "-1"], ["plot", "runs", "--max-runs", "1e300"],
-        ["view", "missing.npz"], ["view", "run.npz"], ["view", "run.json"], ["view", "runs"], ["view", "badruns"], ["view", "empty.toml"],
-        ["view", "run.npz", "--max-vertices", "0"], ["view", "run.npz", "--max-frames", "-1"],
-        ["plan"], ["plan", "missing.tif", "--uavs", "2", "--d-max", "10"], ["plan", "dem.tif", "--uavs", "2", "--d-max", "10"],
-        ["plan", "mesh.obj", "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"], ["plan", "empty.obj", "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"],
-        sample[:-4] + ["--uavs", "0", "--d-max", "10"], sample[:-4] + ["--uavs", "2", "--d-max", "nan"], sample[:-4] + ["--uavs", "2", "--d-max", "1e300"],
-        sample[:-4] + ["--uavs", "2", "--d-max", "-0"], sample[:-4] + ["--uavs", "99999999", "--d-max", "100"],
-        sample + ["--window", "0,0,0,0"], sample + ["--window", "a,b,c,d"], sample + ["--window", "0,99999999999,0,5"], sample + ["--stride", "0"],
-        sample + ["--stride", "99999999999"], sample + ["--aoi", "area.geojson"], sample + ["--aoi", "bad.geojson"], sample + ["--aoi", "nanarea.geojson"],
-        sample + ["--bbox", "nan,0,1,1"], sample + ["--bbox", "1,1,0,0"], sample + ["--bbox", "1e300,1e300,1e301,1e301"], sample + ["--takeoff", "1e300,0"],
-        sample + ["--takeoff", "nan,nan"], sample + ["--camera", "0,0"], sample + ["--camera", "180,180"], sample + ["--camera", "nan,1"],
-        sample + ["--attitude", "nan,-90"], sample + ["--attitude", "1e300,-90"], sample + ["--pitch-range", "10,-10"], sample + ["--pitch-range", "nan,0"],
-        sample + ["--h-min", "-1"], sample + ["--h-min", "1e300"], sample + ["--h-max", "nan"], sample + ["--hold", "-1"], sample + ["--hold", "inf"],
-        sample + ["--prior", "-3"], sample + ["--prior", "nope"], sample + ["--prior", "99999999999"], sample + ["--seed", "-1"], sample + ["--separation", "nan"],
-        sample + ["--separation", "1e300"], sample + ["--out", "/dev/null/x"], sample + ["--crs", "EPSG:999999"], sample + ["--coords", "dem", "--bbox", "0,0,1e300,1e300"],
-        ["plan", "--structure", "nope", "--uavs", "2", "--d-max", "10"], ["plan", "--structure", "girder_bridge", "--uavs", "2", "--d-max", "10", "--anchor", "nan,0,0"],
-        ["plan", "--structure", "girder_bridge", "--uavs", "2", "--d-max", "10", "--anchor", "500,100,0"], ["plan", "--structure", "empty.obj", "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"],
+        [],
+        ["nope"],
+        ["demo", "--iterations", "-1"],
+        ["demo", "--iterations", "1e300"],
+        ["demo", "--seed", "nan"],
+        ["demo", "--threads", "0"],
+        ["demo", "--threads", "100000"],
+        ["demo", "--iterations", "99999999999999999999"],
+        ["demo", "--out", "/dev/null/x", "--iterations", "1", "--no-plots"],
+        ["reproduce", "nope"],
+        ["reproduce", "table1", "--seeds", "a-b"],
+        ["reproduce", "table1", "--seeds", "5-1"],
+        ["reproduce", "table1", "--seeds", "0-99999999999"],
+        ["reproduce", "table1", "--team-sizes", "0"],
+        ["reproduce", "table1", "--team-sizes", "99999999"],
+        ["reproduce", "table1", "--starts", "nope"],
+        ["reproduce", "table1", "--iterations", "-5"],
+        ["reproduce", "table1", "--workers", "0"],
+        ["reproduce", "table1", "--workers", "nan"],
+        ["reproduce", "realistic", "--standoff", "nan"],
+        ["reproduce", "realistic", "--standoff", "-1"],
+        ["reproduce", "realistic", "--measurements", "nope"],
+        ["reproduce", "table1", "--seeds", ""],
+        ["reproduce", "table1", "--seeds", "-1"],
+        ["reproduce", "table1", "--team-sizes", "2,,3"],
+        ["sweep", "missing.toml"],
+        ["sweep", "empty.toml"],
+        ["sweep", "bad.toml"],
+        ["sweep", "wrong.toml"],
+        ["sweep", "huge.toml"],
+        ["sweep", "nan.toml"],
+        ["sweep", "neg.toml"],
+        ["sweep", "big.toml", "--out", "bigout", "--workers", "1", "--threads", "1", "--no-progress"],
+        ["sweep", "dem.tif"],
+        ["sweep", "runs"],
+        ["sweep", "empty.toml", "--scheduler-timeout", "nan"],
+        ["sweep", "empty.toml", "--dask-workers", "-1"],
+        ["plot", "missing"],
+        ["plot", "runs"],
+        ["plot", "badruns"],
+        ["plot", "empty.toml"],
+        ["plot", "runs", "--max-runs", "-1"],
+        ["plot", "runs", "--max-runs", "1e300"],
+        ["view", "missing.npz"],
+        ["view", "run.npz"],
+        ["view", "run.json"],
+        ["view", "runs"],
+        ["view", "badruns"],
+        ["view", "empty.toml"],
+        ["view", "run.npz", "--max-vertices", "0"],
+        ["view", "run.npz", "--max-frames", "-1"],
+        ["plan"],
+        ["plan", "missing.tif", "--uavs", "2", "--d-max", "10"],
+        ["plan", "dem.tif", "--uavs", "2", "--d-max", "10"],
+        ["plan", "mesh.obj", "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"],
+        ["plan", "empty.obj", "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"],
+        sample[:-4] + ["--uavs", "0", "--d-max", "10"],
+        sample[:-4] + ["--uavs", "2", "--d-max", "nan"],
+        sample[:-4] + ["--uavs", "2", "--d-max", "1e300"],
+        sample[:-4] + ["--uavs", "2", "--d-max", "-0"],
+        sample[:-4] + ["--uavs", "99999999", "--d-max", "100"],
+        sample + ["--window", "0,0,0,0"],
+        sample + ["--window", "a,b,c,d"],
+        sample + ["--window", "0,99999999999,0,5"],
+        sample + ["--stride", "0"],
+        sample + ["--stride", "99999999999"],
+        sample + ["--aoi", "area.geojson"],
+        sample + ["--aoi", "bad.geojson"],
+        sample + ["--aoi", "nanarea.geojson"],
+        sample + ["--bbox", "nan,0,1,1"],
+        sample + ["--bbox", "1,1,0,0"],
+        sample + ["--bbox", "1e300,1e300,1e301,1e301"],
+        sample + ["--takeoff", "1e300,0"],
+        sample + ["--takeoff", "nan,nan"],
+        sample + ["--camera", "0,0"],
+        sample + ["--camera", "180,180"],
+        sample + ["--camera", "nan,1"],
+        sample + ["--attitude", "nan,-90"],
+        sample + ["--attitude", "1e300,-90"],
+        sample + ["--pitch-range", "10,-10"],
+        sample + ["--pitch-range", "nan,0"],
+        sample + ["--h-min", "-1"],
+        sample + ["--h-min", "1e300"],
+        sample + ["--h-max", "nan"],
+        sample + ["--hold", "-1"],
+        sample + ["--hold", "inf"],
+        sample + ["--prior", "-3"],
+        sample + ["--prior", "nope"],
+        sample + ["--prior", "99999999999"],
+        sample + ["--seed", "-1"],
+        sample + ["--separation", "nan"],
+        sample + ["--separation", "1e300"],
+        sample + ["--out", "/dev/null/x"],
+        sample + ["--crs", "EPSG:999999"],
+        sample + ["--coords", "dem", "--bbox", "0,0,1e300,1e300"],
+        ["plan", "--structure", "nope", "--uavs", "2", "--d-max", "10"],
+        ["plan", "--structure", "girder_bridge", "--uavs", "2", "--d-max", "10", "--anchor", "nan,0,0"],
+        ["plan", "--structure", "girder_bridge", "--uavs", "2", "--d-max", "10", "--anchor", "500,100,0"],
+        ["plan", "--structure", "empty.obj", "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"],
         ["plan", "--structure", "mesh.obj", "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"],
     ]
     return cases
@@ -776,7 +1014,9 @@ def fuzz_cli(timeout: float, report: list[str]) -> dict[str, int]:
     for argv in cli_cases(workdir):
         counts["cli_cases"] += 1
         try:
-            done = subprocess.run([sys.executable, "-m", "uavcov", *argv], cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env)
+            done = subprocess.run(
+                [sys.executable, "-m", "uavcov", *argv], check=False, cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env
+            )
         except subprocess.TimeoutExpired:
             counts["cli_defects"] += 1
             report.append(f"CLI HANG uavcov {' '.join(argv)}")

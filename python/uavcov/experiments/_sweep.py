@@ -133,7 +133,7 @@ class Experiment:
 
     def mission_settings(self, n_uavs: int, start: str) -> MissionSettings:
         """The mission of one run: team size ``n_uavs``, start ``start``."""
-        if start not in self.starts:
+        if not isinstance(start, str) or start not in self.starts:
             raise InvalidInputError(f"start must be one of {self.starts} for {self.name}, got {start!r}")
         return self.mission.with_changes(n_uavs=n_uavs, **{"start.kind": start})
 
@@ -164,7 +164,7 @@ class Experiment:
                     if not isinstance(changes.get("terrain", self.terrain), BuildingsGenerator) and "terrain.kind" not in changes:
                         raise InvalidInputError("the 'map' prior goes with a BuildingsGenerator, and only with it")
                     continue
-                if value not in PRIOR_KINDS:
+                if not isinstance(value, str) or value not in PRIOR_KINDS:
                     raise InvalidInputError(f"prior must be one of {(*PRIOR_KINDS, 'map')}, got {value!r}")
                 dotted = "mission.prior"
             elif head in _MISSION_SHORTCUTS:
@@ -267,7 +267,7 @@ class RunSpec:
             raise InvalidInputError(f"seed must be an integer >= 0, got {self.seed!r}")
         if not is_int(self.n_uavs) or not 1 <= self.n_uavs <= MAX_UAVS:
             raise InvalidInputError(f"n_uavs must be an integer from 1 to {MAX_UAVS:,}, got {self.n_uavs!r}")
-        if self.start not in self.experiment.starts:
+        if not isinstance(self.start, str) or self.start not in self.experiment.starts:
             raise InvalidInputError(f"start must be one of {self.experiment.starts} for {self.experiment.name}, got {self.start!r}")
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
@@ -536,7 +536,7 @@ def run_specs(
     for spec in specs:
         if not isinstance(spec, RunSpec):
             raise InvalidTypeError(f"specs must be RunSpec objects, got {type(spec).__name__}")
-    if rerun not in ("none", "failed", "all"):
+    if not isinstance(rerun, str) or rerun not in ("none", "failed", "all"):
         raise InvalidInputError(f"rerun must be 'none', 'failed' or 'all', got {rerun!r}")
     ids = [s.run_id for s in specs]
     if len(set(ids)) != len(ids):

@@ -32,6 +32,7 @@ from ..settings import MissionSettings
 from ..structures import Structure, StructureTargets
 from ._geodesy import GeoAnchor
 from ._ply import seen_cloud_bytes
+from ._provenance import check_provenance
 from ._results_folder import write_files
 from ._strict_json import json_bytes
 from ._structure_flight import StructureFlight, render_structure_flight, structure_flight
@@ -204,6 +205,7 @@ def write_structure_plan(plan: StructurePlan, out: Any, *, command: str | None =
     """
     if not isinstance(plan, StructurePlan):
         raise InvalidTypeError(f"plan must be a StructurePlan, got {type(plan).__name__}")
+    command, runtime_s = check_provenance(command, runtime_s)
     files = render_structure_flight(plan.flight)
     document = {**json.loads(files["plan.json"]), **structure_record(plan, command, runtime_s)}
     files["plan.json"] = json_bytes(document, indent=2, what="plan.json")

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_positive_int
+from .._validate import as_finite_float, as_positive_int
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
@@ -223,7 +223,7 @@ def _style_3d(ax: Any, bounds: np.ndarray, *, elev: float, azim: float, title: s
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)" if exaggeration < 1.05 else f"z (m, x{exaggeration:.1f})")
-    ax.view_init(elev=elev, azim=azim)
+    ax.view_init(elev=as_finite_float(elev, "elev"), azim=as_finite_float(azim, "azim"))
     from matplotlib.ticker import MaxNLocator
 
     # The vertical axis is short on screen: few ticks keep its labels apart.

@@ -62,8 +62,8 @@ class DepthCamera:
             object.__setattr__(self, name, int(value))
         if self.width * self.height > _MAX_PIXELS:
             raise InvalidInputError(f"{self.width} x {self.height} pixels: at most {_MAX_PIXELS:,} a camera")
-        fov = as_float_array(self.fov_deg, "fov_deg")
-        if fov.shape != (2,) or not np.isfinite(fov).all() or not (0 < fov[0] <= 360 and 0 < fov[1] <= 180):
+        fov = None if isinstance(self.fov_deg, (str, bytes)) else as_float_array(self.fov_deg, "fov_deg")
+        if fov is None or fov.shape != (2,) or not np.isfinite(fov).all() or not (0 < fov[0] <= 360 and 0 < fov[1] <= 180):
             raise InvalidInputError(f"fov_deg must be (horizontal in (0, 360], vertical in (0, 180]) degrees, got {self.fov_deg!r}")
         object.__setattr__(self, "fov_deg", (float(fov[0]), float(fov[1])))
         object.__setattr__(self, "range_m", as_positive_float(self.range_m, "range_m"))

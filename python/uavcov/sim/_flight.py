@@ -142,7 +142,7 @@ class FlightSettings:
     synchronous: bool = False
 
     def __post_init__(self) -> None:
-        if self.vehicle not in VEHICLES:
+        if not isinstance(self.vehicle, str) or self.vehicle not in VEHICLES:
             raise InvalidInputError(f"vehicle must be one of {VEHICLES}, got {self.vehicle!r}")
         for name in ("speed", "max_acceleration", "dt", "settle_position", "settle_speed", "max_leg_s", "collision_distance"):
             object.__setattr__(self, name, as_positive_float(getattr(self, name), name))
@@ -156,15 +156,15 @@ class FlightSettings:
         if not 0.0 <= dwell <= 600.0:
             raise InvalidInputError(f"dwell_s must lie in [0, 600] s, got {dwell}")
         object.__setattr__(self, "dwell_s", dwell)
-        wind = as_float_array(self.wind, "wind")
-        if wind.shape != (3,) or not np.isfinite(wind).all() or np.abs(wind).max() > 100.0:
+        wind = None if isinstance(self.wind, (str, bytes)) else as_float_array(self.wind, "wind")
+        if wind is None or wind.shape != (3,) or not np.isfinite(wind).all() or np.abs(wind).max() > 100.0:
             raise InvalidInputError(f"wind must be 3 finite speeds of at most 100 m/s, got {self.wind!r}")
         object.__setattr__(self, "wind", (float(wind[0]), float(wind[1]), float(wind[2])))
-        gusts = as_float_array(self.gusts, "gusts")
-        if gusts.shape != (3,) or not np.isfinite(gusts).all() or gusts.min() < 0.0 or gusts.max() > 50.0:
+        gusts = None if isinstance(self.gusts, (str, bytes)) else as_float_array(self.gusts, "gusts")
+        if gusts is None or gusts.shape != (3,) or not np.isfinite(gusts).all() or gusts.min() < 0.0 or gusts.max() > 50.0:
             raise InvalidInputError(f"gusts must be 3 standard deviations in [0, 50] m/s, got {self.gusts!r}")
         object.__setattr__(self, "gusts", (float(gusts[0]), float(gusts[1]), float(gusts[2])))
-        if self.integrator not in INTEGRATORS:
+        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
             raise InvalidInputError(f"integrator must be one of {INTEGRATORS}, got {self.integrator!r}")
         if not isinstance(self.synchronous, (bool, np.bool_)):
             raise InvalidTypeError(f"synchronous must be a bool, got {type(self.synchronous).__name__}")

@@ -88,6 +88,8 @@ class StructurePrior:
         (m,) bool ndarray
         """
         queries = as_points(points, "points", allow_empty=True)
+        if queries.size and np.abs(queries).max() > 1e15:  # the engine's bound: squared distances must stay finite
+            raise InvalidInputError(f"points must lie within 1e15 m of the origin, got a coordinate of {np.abs(queries).max():g} m")
         if self.normals is None or not queries.shape[0]:
             return np.zeros(queries.shape[0], dtype=bool)
         unit = self.normals / np.linalg.norm(self.normals, axis=1)[:, None]
@@ -180,6 +182,8 @@ def coarse_structure_prior(structure: Structure, kind: str = "boxes", *, cell: f
     """
     structure = _check_structure(structure)
     vertices, faces = structure.surface.vertices, structure.surface.faces
+    if not isinstance(kind, str):  # before any comparison: an array's == is elementwise
+        raise InvalidInputError(f"kind must be 'boxes' or 'decimated', got {kind!r}")
     if kind == "boxes":
         pieces = []
         for index, name in enumerate(structure.part_names):
@@ -333,7 +337,7 @@ def reconstruct_structure(
     """
     if not isinstance(prior, StructurePrior):
         raise InvalidTypeError(f"expected a StructurePrior, got {type(prior).__name__}")
-    if method not in RECONSTRUCTION_METHODS:
+    if not isinstance(method, str) or method not in RECONSTRUCTION_METHODS:
         raise InvalidInputError(f"method must be one of {RECONSTRUCTION_METHODS}, got {method!r}")
     if method == "model" or (method == "auto" and prior.model is not None):
         if prior.model is None:

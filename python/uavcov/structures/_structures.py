@@ -97,7 +97,7 @@ class Structure:
 
     def part_index(self, name: str) -> int:
         """Index of the part called ``name``."""
-        if name not in self.part_names:
+        if not isinstance(name, str) or name not in self.part_names:
             raise InvalidInputError(f"{self.name} has no part {name!r}; its parts are {self.part_names}")
         return self.part_names.index(name)
 

@@ -218,7 +218,9 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
         if not isinstance(b, Building):
             raise InvalidTypeError(f"buildings must be Building objects, got {type(b).__name__}")
         if b.height / spacing > MAX_GRID_CELLS:  # its walls' rows, checked before they are made
-            raise InvalidInputError(f"a building of height {b.height} m has more than {MAX_GRID_CELLS:,} rows of spacing {spacing} m (uavcov's size limit)")
+            raise InvalidInputError(
+                f"a building of height {b.height} m has more than {MAX_GRID_CELLS:,} rows of spacing {spacing} m (uavcov's size limit)"
+            )
         for value in (b.xmin, b.ymin, b.xmax, b.ymax):
             if abs(value / spacing - round(value / spacing)) > 1e-6:
                 raise InvalidInputError(f"footprint corner {value} of {b} is not a multiple of spacing {spacing}")

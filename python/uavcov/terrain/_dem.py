@@ -372,6 +372,10 @@ def dem_from_array(
     -------
     GeoDem
     """
+    if vertical_datum is not None and not isinstance(vertical_datum, str):
+        raise InvalidTypeError(f"vertical_datum must be None or a string, got {type(vertical_datum).__name__}")
+    if not isinstance(source, str):
+        raise InvalidTypeError(f"source must be a string, got {type(source).__name__}")
     heights = as_float_array(z, "z", ndim=2, allow_nan=True)
     values = as_float_array(transform, "transform", ndim=1)
     if values.shape[0] < 6:

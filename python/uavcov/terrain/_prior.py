@@ -38,6 +38,7 @@ from .._validate import (
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._buildings import Building, buildings_terrain, perturb_buildings
+from ._meshes import MAX_COORDINATE_M
 
 _KINDS = ("random", "pyramid", "points")
 
@@ -316,6 +317,9 @@ def approximate_surface(samples: Any) -> Terrain:
         raise InvalidInputError(
             f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), first at index {int(bad[0])}"
         )
+    if points.size and np.abs(points).max() > MAX_COORDINATE_M:  # the engine's bound, before a KD-tree overflows
+        largest = float(np.abs(points).max())
+        raise InvalidInputError(f"samples must lie within {MAX_COORDINATE_M:.0e} m of the origin, got a coordinate of {largest:g} m")
     if points.shape[0] < 3:
         raise InvalidInputError(f"S' needs at least 3 samples, got {points.shape[0]}")
     points = _deduplicate(points)
