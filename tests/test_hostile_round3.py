@@ -419,3 +419,105 @@ def test_plot_directory_checks_its_arguments(tmp_path: Path, kwargs: dict[str, A
 
     options = {"directory": tmp_path, **kwargs}
     refused(error, words, plot_directory, **options)
+
+
+# ---------------------------------------------------------------------------------------------
+# A flag given an array or a number (numpy's "truth value of an array is ambiguous")
+
+NOT_FLAGS = [np.zeros(0), np.ones(3, bool), 1, None, "yes"]
+TRIANGLE = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+
+
+def _bridge() -> Any:
+    return uavcov.structures.girder_bridge(rng=0)
+
+
+@pytest.mark.parametrize("value", NOT_FLAGS, ids=["empty-array", "bool-array", "int", "None", "str"])
+@pytest.mark.parametrize(
+    "make, name",
+    [
+        (lambda v: uavcov.structures.girder_bridge(rng=0).face_mask(include_ground=v), "include_ground"),
+        (lambda v: uavcov.structures.girder_bridge(rng=0).targets(2.0, include_ground=v), "include_ground"),
+        (lambda v: uavcov.structures.sample_structure_prior(_bridge(), 10, normals=v, rng=0), "normals"),
+        (
+            lambda v: uavcov.structures.sample_structure_prior(_bridge(), 10, include_ground=v, rng=0),
+            "include_ground",
+        ),
+        (
+            lambda v: uavcov.Terrain(TRIANGLE, [[0, 1, 2]], drop_degenerate=v),
+            "drop_degenerate",
+        ),
+        (
+            lambda v: uavcov.cover.viewpoint_lattice(HILLS, uavcov.Constraints(), uavcov.cover.GreedySettings(10.0), cameras=v),
+            "cameras",
+        ),
+        (
+            lambda v: HILLS.admissible_mask(
+                POINTS, POINTS[None] + 1.0, bounds=(0.0, 30.0, 0.0, 30.0), h_min=2.0, h_max=None, z_max=50.0, d_safe=1.0, check_moves=v
+            ),
+            "check_moves",
+        ),
+    ],
+)
+def test_a_flag_is_true_or_false_only(make: Any, name: str, value: Any) -> None:
+    refused(InvalidTypeError, f"{name} must be True or False", make, value)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"closed": np.zeros(0)}, InvalidTypeError, "closed must be True or False"),
+        ({"add_ground": None}, InvalidTypeError, "add_ground must be True or False"),
+        ({"max_faces": float("nan")}, InvalidTypeError, "max_faces must be an integer"),
+        ({"max_faces": 0}, InvalidInputError, "max_faces must be >= 1"),
+        ({"max_extent": float("inf")}, InvalidInputError, "max_extent must be finite"),
+        ({"max_extent": "big"}, InvalidTypeError, "max_extent must be a real number"),
+    ],
+)
+def test_load_structure_checks_its_options(tmp_path: Path, kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    pytest.importorskip("trimesh")
+    path = tmp_path / "tetra.obj"
+    path.write_text("v 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n")
+    refused(error, words, uavcov.structures.load_structure, path, **kwargs)
+
+
+# ---------------------------------------------------------------------------------------------
+# A path given something else; a seed that is not one; an attitude that is not a pair
+
+
+@pytest.mark.parametrize("value", [None, 3, np.zeros(2), True])
+def test_paths_are_strings_or_pathlike(value: Any) -> None:
+    from uavcov.experiments import ResultsFolder, load_sweep_config
+    from uavcov.sim import load_flown
+
+    refused(InvalidTypeError, "path must be a path string", ResultsFolder, value)
+    refused(InvalidTypeError, "path must be a path string", load_sweep_config, value, bases={})
+    refused(InvalidTypeError, "path must be a path string", load_flown, value)
+
+
+@pytest.mark.parametrize("optimizer", ["cao", "per_robot_cao"])
+@pytest.mark.parametrize("rng", ["abc", -1, 1.5, [1.0, "x"]])
+def test_cao_refuses_a_seed_that_is_not_one(optimizer: str, rng: Any) -> None:
+    from uavcov import optim
+
+    def measure(x: np.ndarray) -> Any:
+        return (0.0, np.zeros(x.shape[0])) if optimizer == "per_robot_cao" else 0.0
+
+    refused(
+        InvalidTypeError,
+        "rng must be None, an int",
+        getattr(optim, optimizer),
+        measure,
+        np.ones((2, 3)),
+        feasible=None,
+        iterations=2,
+        rng=rng,
+    )
+
+
+@pytest.mark.parametrize(
+    "attitude, error", [([[1.0, 2.0], [3.0]], InvalidInputError), ({}, InvalidTypeError), (np.ones(2, complex), InvalidTypeError)]
+)
+def test_an_attitude_that_is_not_a_pair_of_angles_is_refused(attitude: Any, error: type[Exception]) -> None:
+    refused(error, "attitude", uavcov.MissionSettings, n_uavs=2, d_max=10.0, attitude=attitude)
+    refused(error, "attitude", uavcov.PlanSettings, n_uavs=2, d_max=10.0, attitude=attitude)

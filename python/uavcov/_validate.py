@@ -41,6 +41,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -59,6 +60,8 @@ __all__ = [
     "as_n_threads",
     "as_generator",
     "as_count",
+    "as_bool",
+    "as_path",
     "MAX_UAVS",
     "MAX_GENERATORS",
     "MAX_SAMPLES",
@@ -247,6 +250,20 @@ def as_generator(rng: Any) -> np.random.Generator:
         return np.random.default_rng(rng)
     except (TypeError, ValueError) as exc:
         raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc
+
+
+def as_bool(value: Any, name: str) -> bool:
+    """``value`` as a bool: only True or False (Python's or numpy's), never an array's truth."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InvalidTypeError(f"{name} must be True or False, got {type(value).__name__}")
+    return bool(value)
+
+
+def as_path(value: Any, name: str) -> Path:
+    """``value`` as a :class:`~pathlib.Path`: a string or an ``os.PathLike``, nothing else."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise InvalidTypeError(f"{name} must be a path string or os.PathLike, got {type(value).__name__}")
+    return Path(value)
 
 
 def as_range(value: Any, name: str, *, positive: bool = False) -> tuple[float, float]:

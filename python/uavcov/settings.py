@@ -22,6 +22,7 @@ from ._validate import (
     MAX_TRAJECTORY,
     MAX_UAVS,
     as_count,
+    as_float_array,
     as_positive_float,
 )
 from .engine import Camera, Gimbal, Sensor, camera_axes
@@ -148,7 +149,7 @@ class MissionSettings:
             object.__setattr__(self, "sensor", tuple(self.sensor))
         elif self.sensor is not None and not isinstance(self.sensor, Sensor):
             raise InvalidTypeError(f"sensor must be a uavcov.Sensor, one per UAV, or None, got {type(self.sensor).__name__}")
-        attitude = np.asarray(self.attitude, dtype=np.float64) if not isinstance(self.attitude, (str, bytes)) else None
+        attitude = as_float_array(self.attitude, "attitude", allow_nan=True) if not isinstance(self.attitude, (str, bytes)) else None
         if attitude is None or attitude.shape != (2,):
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
         camera_axes([attitude[0]], [attitude[1]])  # finite, pitch in [-90, 90]

@@ -31,6 +31,7 @@ import numpy as np
 
 from .._core import __version__
 from .._io import atomic_write
+from .._validate import as_path
 from ..errors import ResultsFolderError, ResultsFormatError, ResultsInUseError
 
 RUN_COLUMNS: tuple[str, ...] = (
@@ -362,7 +363,7 @@ class ResultsFolder:
     """
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
-        path = Path(path)
+        path = as_path(path, "path")
         if path.exists() and not path.is_dir():
             raise ResultsFolderError(f"the results folder {path} is a file, not a directory")
         try:

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
+from .._validate import as_bool, as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._facing import facing_into
@@ -145,6 +145,7 @@ def sample_structure_prior(
     structure = _check_structure(structure)
     n = as_count(n, "n", MAX_PRIOR_POINTS)
     noise = as_non_negative_float(noise, "noise")
+    normals, include_ground = as_bool(normals, "normals"), as_bool(include_ground, "include_ground")
     generator = as_generator(rng)
     faces = structure.surface.faces[structure.face_mask(include_ground=include_ground)]
     points, chosen = _sample_faces(structure.surface.vertices, faces, n, generator)

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_generator, as_positive_float, existing_path, read_only
+from .._validate import as_bool, as_generator, as_positive_float, as_positive_int, existing_path, read_only
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
@@ -103,6 +103,7 @@ class Structure:
 
     def face_mask(self, *, include_ground: bool = False) -> np.ndarray:
         """``(F,)`` bool: the faces that carry targets (every part but contact, ground optional)."""
+        include_ground = as_bool(include_ground, "include_ground")
         mask = np.ones(self.surface.n_faces, dtype=bool)
         if CONTACT in self.part_names:
             mask &= self.face_parts != self.part_names.index(CONTACT)
@@ -581,6 +582,9 @@ def load_structure(
         raise MeshError(f"{text!r} is empty")
     if size > MAX_MESH_BYTES:
         raise MeshError(f"{text!r} is {size} bytes, more than the {MAX_MESH_BYTES} a structure may have")
+    closed, add_ground = as_bool(closed, "closed"), as_bool(add_ground, "add_ground")
+    max_faces = as_positive_int(max_faces, "max_faces")
+    max_extent = as_positive_float(max_extent, "max_extent")
     loaded = load_mesh(text, up=up, scale=scale)
     vertices, faces = loaded.terrain.vertices, np.array(loaded.terrain.faces)
     if faces.shape[0] > max_faces:
