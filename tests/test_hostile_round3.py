@@ -521,3 +521,47 @@ def test_cao_refuses_a_seed_that_is_not_one(optimizer: str, rng: Any) -> None:
 def test_an_attitude_that_is_not_a_pair_of_angles_is_refused(attitude: Any, error: type[Exception]) -> None:
     refused(error, "attitude", uavcov.MissionSettings, n_uavs=2, d_max=10.0, attitude=attitude)
     refused(error, "attitude", uavcov.PlanSettings, n_uavs=2, d_max=10.0, attitude=attitude)
+
+
+# ---------------------------------------------------------------------------------------------
+# A structure's part labels: floats were truncated, huge numbers overflowed int32
+
+
+@pytest.mark.parametrize(
+    "change, error, words",
+    [
+        ({"face_parts": "float"}, InvalidTypeError, "face_parts must hold integers"),
+        ({"face_parts": "huge"}, InvalidInputError, "face_parts must be"),
+        ({"face_parts": None}, InvalidTypeError, "face_parts must hold integers"),
+        ({"face_parts": "ragged"}, InvalidInputError, "face_parts cannot be read"),
+        ({"part_names": None}, InvalidTypeError, "part_names must be a tuple of strings"),
+        ({"part_names": (1, 2)}, InvalidTypeError, "part_names must be a tuple of strings"),
+        ({"ground_part": 7}, InvalidInputError, "ground_part must be None or an index"),
+        ({"ground_part": float("nan")}, InvalidInputError, "ground_part must be None or an index"),
+        ({"name": None}, InvalidTypeError, "name must be a string"),
+    ],
+)
+def test_a_structure_checks_its_parts(change: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.structures import Structure
+
+    n = HILLS.n_faces
+    values = {"float": np.full(n, 0.7), "huge": np.full(n, 10**15), "ragged": [[0], [0, 0]]}
+    fields = {"name": "s", "surface": HILLS, "face_parts": np.zeros(n, np.int64), "part_names": ("ground",), "ground_part": 0}
+    fields.update({key: values.get(value, value) if isinstance(value, str) else value for key, value in change.items()})
+    refused(error, words, Structure, **fields)
+
+
+@pytest.mark.parametrize(
+    "parts, error, words",
+    [
+        (np.array([0.0, 1.0]), InvalidTypeError, "parts must hold integers"),
+        (np.array([0, 10**15]), InvalidInputError, "parts must be 2 indices"),
+        (np.array(["a", "b"]), InvalidTypeError, "parts must hold integers"),
+        (None, InvalidTypeError, "parts must hold integers"),
+    ],
+)
+def test_structure_targets_check_their_parts(parts: Any, error: type[Exception], words: str) -> None:
+    from uavcov.structures import StructureTargets
+
+    normals = np.array([[0.0, 0, 1], [0, 0, 1]])
+    refused(error, words, StructureTargets, POINTS, np.ones(2), normals, parts, ("a", "b"))
