@@ -565,3 +565,35 @@ def test_structure_targets_check_their_parts(parts: Any, error: type[Exception],
 
     normals = np.array([[0.0, 0, 1], [0, 0, 1]])
     refused(error, words, StructureTargets, POINTS, np.ones(2), normals, parts, ("a", "b"))
+
+
+# ---------------------------------------------------------------------------------------------
+# The realistic report of a folder that is not a realistic run's (a KeyError before)
+
+
+@pytest.mark.parametrize(
+    "config, rows, words",
+    [
+        ('{"name": "sweep", "runs": {}}', "", "is not a realistic run's config"),
+        ("{not json", "", "is not JSON"),
+        ("[1, 2]", "", "is not a realistic run's config"),
+        ('{"seeds": 3, "starts": [], "measurements": []}', "", "is not a realistic run's config"),
+        ('{"seeds": [0], "starts": ["cvt"], "measurements": ["exact"]}', "[1, 2]\n", "holds a row that is not"),
+        ('{"seeds": [0], "starts": ["cvt"], "measurements": ["exact"]}', '{"seed": 0}\n', "holds a row that is not"),
+    ],
+)
+def test_the_realistic_report_refuses_a_folder_of_another_kind(tmp_path: Path, config: str, rows: str, words: str) -> None:
+    from uavcov.errors import ResultsFormatError
+    from uavcov.paper import write_realistic_report
+    from uavcov.paper._realistic import CONFIG, ROWS
+
+    (tmp_path / CONFIG).write_text(config)
+    (tmp_path / ROWS).write_text(rows)
+    refused(ResultsFormatError, words, write_realistic_report, tmp_path)
+
+
+@pytest.mark.parametrize("folder", [None, 3, np.zeros(2)])
+def test_the_realistic_report_needs_a_path(folder: Any) -> None:
+    from uavcov.paper import write_realistic_report
+
+    refused(InvalidTypeError, "folder must be a path string", write_realistic_report, folder)
