@@ -597,3 +597,54 @@ def test_the_realistic_report_needs_a_path(folder: Any) -> None:
     from uavcov.paper import write_realistic_report
 
     refused(InvalidTypeError, "folder must be a path string", write_realistic_report, folder)
+
+
+# ---------------------------------------------------------------------------------------------
+# An experiment's lists given something else (TypeError: 'bool' object is not iterable, ...)
+
+
+@pytest.mark.parametrize("value", [True, None, 3, "cvt", {"a": 1}])
+@pytest.mark.parametrize("argument", ["seeds", "team_sizes", "starts"])
+def test_experiment_lists_are_sequences(argument: str, value: Any) -> None:
+    from uavcov.experiments import Experiment, experiment_specs
+    from uavcov.paper import TABLE1, reproduce
+
+    fields = {"name": "e", "terrain": TABLE1.terrain, "mission": TABLE1.mission, "team_sizes": (2,), "starts": ("cvt",)}
+    if value is not None:  # None is the experiment's own list in experiment_specs and reproduce
+        refused(InvalidTypeError, f"{argument} must be a sequence", experiment_specs, TABLE1, **{argument: value})
+    if argument != "seeds" and value is not None:  # reproduce reads its seeds as text (parse_seeds)
+        refused(InvalidTypeError, f"{argument} must be a sequence", reproduce, "table1", "out", **{argument: value})
+    refused(InvalidTypeError, f"{argument} must be a sequence", Experiment, **{**fields, argument: value})
+
+
+@pytest.mark.parametrize("starts", [[np.array(["cvt"])], [["cvt"]], [None]])
+def test_a_start_that_is_not_a_word_is_refused(starts: Any) -> None:
+    from uavcov.errors import ConfigError
+    from uavcov.experiments import experiment_specs
+    from uavcov.paper import TABLE1, reproduce
+
+    refused(InvalidInputError, "are not starts of", experiment_specs, TABLE1, starts=starts)
+    refused(ConfigError, "compares the starts", reproduce, "table1", "out", starts=starts)
+
+
+@pytest.mark.parametrize("value", [None, 3, [1], {"table1": 3}])
+def test_experiments_hash_needs_a_mapping_of_experiments(value: Any) -> None:
+    from uavcov.experiments import experiments_hash
+
+    refused(InvalidTypeError, "experiments must be a mapping", experiments_hash, value)
+
+
+@pytest.mark.parametrize("name", [["table1"], np.array(["table1"]), None])
+def test_reproduce_refuses_a_name_that_is_not_one(name: Any) -> None:
+    from uavcov.errors import ConfigError
+    from uavcov.paper import reproduce
+
+    refused(ConfigError, "unknown experiment", reproduce, name, "out")
+
+
+@pytest.mark.parametrize("cores", [0, -1, "abc", float("nan"), 2.5, np.zeros(2)])
+def test_plan_execution_refuses_a_core_count_that_is_not_one(cores: Any) -> None:
+    from uavcov.errors import ConfigError
+    from uavcov.experiments import plan_execution
+
+    refused(ConfigError, "cores must be an integer >= 1", plan_execution, 1, 1, cores)

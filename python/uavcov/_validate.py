@@ -62,6 +62,7 @@ __all__ = [
     "as_count",
     "as_bool",
     "as_path",
+    "as_tuple",
     "MAX_UAVS",
     "MAX_GENERATORS",
     "MAX_SAMPLES",
@@ -264,6 +265,13 @@ def as_path(value: Any, name: str) -> Path:
     if not isinstance(value, (str, os.PathLike)):
         raise InvalidTypeError(f"{name} must be a path string or os.PathLike, got {type(value).__name__}")
     return Path(value)
+
+
+def as_tuple(value: Any, name: str) -> tuple[Any, ...]:
+    """``value`` (a list, tuple, array or other iterable, not a string or a mapping) as a tuple."""
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
+        raise InvalidTypeError(f"{name} must be a sequence, got {type(value).__name__}")
+    return tuple(value)
 
 
 def as_range(value: Any, name: str, *, positive: bool = False) -> tuple[float, float]:
