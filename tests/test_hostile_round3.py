@@ -648,3 +648,56 @@ def test_plan_execution_refuses_a_core_count_that_is_not_one(cores: Any) -> None
     from uavcov.experiments import plan_execution
 
     refused(ConfigError, "cores must be an integer >= 1", plan_execution, 1, 1, cores)
+
+
+# ---------------------------------------------------------------------------------------------
+# A team hovering nowhere; a figure's flags, titles and far points
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"positions": np.zeros((0, 3))}, InvalidInputError, r"positions must have shape \(N, 3\) with N >= 1"),
+        ({"positions": np.full((2, 3), 1e300)}, InvalidInputError, "positions must lie within 1e\\+15 m"),
+        ({"settings": None}, InvalidTypeError, "settings must be a FlightSettings"),
+        ({"settings": {"dt": 0.05}}, InvalidTypeError, "settings must be a FlightSettings"),
+    ],
+)
+def test_a_team_hovers_somewhere(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    pytest.importorskip("rotorpy")
+    from uavcov.sim import FlightSettings, Team
+
+    arguments = {"positions": POINTS, "settings": FlightSettings(dt=0.05, max_leg_s=2.0), **kwargs}
+    refused(error, words, Team.hovering, arguments.pop("positions"), arguments.pop("settings"), HILLS, rng=0)
+
+
+@pytest.mark.parametrize("waypoints", [np.full((2, 3), 1e300), np.full((2, 3), -1e16)])
+def test_a_team_refuses_waypoints_beyond_the_engines_bound(waypoints: np.ndarray) -> None:
+    pytest.importorskip("rotorpy")
+    from uavcov.sim import FlightSettings, Team
+
+    team = Team.hovering(POINTS, FlightSettings(dt=0.05, max_leg_s=2.0), HILLS, rng=0)
+    refused(InvalidInputError, "waypoints must lie within", team.fly, waypoints)
+
+
+@pytest.mark.parametrize(
+    "draw, error, words",
+    [
+        (lambda m, out: uavcov.plotting.plot_coverage_curves([m], group_by=None, out=out), InvalidTypeError, "group_by must be a string"),
+        (
+            lambda m, out: uavcov.plotting.plot_coverage_curves([m], running_max=np.zeros(0), out=out),
+            InvalidTypeError,
+            "running_max must be",
+        ),
+        (lambda m, out: uavcov.plotting.plot_coverage_curves([m], show_runs=1, out=out), InvalidTypeError, "show_runs must be True"),
+        (lambda m, out: uavcov.plotting.plot_coverage_curves([m], reference=True, out=out), InvalidTypeError, "reference must be None"),
+        (lambda m, out: uavcov.plotting.plot_coverage_curves([m], title=3.0, out=out), InvalidTypeError, "title must be None or a string"),
+        (lambda m, out: uavcov.plotting.plot_coverage_map(m, view=np.zeros(0), out=out), InvalidInputError, "view must be '3d' or 'top'"),
+        (lambda m, out: uavcov.plotting.plot_coverage_map(m, view="top", shade=None, out=out), InvalidTypeError, "shade must be True"),
+        (lambda m, out: uavcov.plotting.plot_point_cloud(m, ply=True, out=out), InvalidTypeError, "ply must be a path string"),
+        (lambda m, out: uavcov.plotting.plot_point_cloud(m, positions=np.full((2, 3), 1e300), out=out), InvalidInputError, "within 1e15 m"),
+    ],
+)
+def test_a_figure_checks_its_flags_titles_and_points(mission: Any, tmp_path: Path, draw: Any, error: type[Exception], words: str) -> None:
+    pytest.importorskip("matplotlib")
+    refused(error, words, draw, mission, tmp_path / "f.png")

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_count
+from .._validate import as_bool, as_count
 from ..errors import InvalidTypeError, ResultsFolderError, ResultsFormatError
 from ..records import load_mission
 from . import _runs
@@ -77,6 +77,7 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     if not directory.is_dir():
         raise ResultsFormatError(f"no results directory at {directory}")
     limit = as_count(max_runs, "max_runs", 1_000_000, minimum=0)
+    animation = as_bool(animation, "animation")
     given, dpi = check_output(out, dpi)
     target = directory / "figures" if given is None else given
     runs_csv = directory / "runs.csv"

@@ -33,6 +33,7 @@ about 0.18 m arms); ``docs/realistic.md`` compares them."""
 INTEGRATORS = ("rk23", "rk45")
 """How each control period is integrated (:attr:`FlightSettings.integrator`); ``"rk45"`` is RotorPy's default."""
 
+_MAX_COORDINATE_M = 1e15  # the engine's bound on a coordinate (uavcov.terrain._meshes.MAX_COORDINATE_M)
 _GRAVITY = 9.81  # m/s^2, RotorPy's value
 # A rest-to-rest leg's 7th-degree polynomial peaks at 35/16 of its average speed mid-leg; RotorPy's
 # cap on the mid-leg speed must allow it, or its QP has no solution.
@@ -266,10 +267,14 @@ class Team:
         vehicle; without gusts nothing is drawn.
         """
         rp = _rotorpy()
+        if not isinstance(settings, FlightSettings):
+            raise InvalidTypeError(f"settings must be a FlightSettings, got {type(settings).__name__}")
         params = vehicle_parameters(settings.vehicle)
         x0 = as_float_array(positions, "positions")
-        if x0.ndim != 2 or x0.shape[1] != 3 or not np.isfinite(x0).all():
-            raise InvalidInputError(f"positions must be finite, of shape (N, 3), got shape {x0.shape}")
+        if x0.ndim != 2 or x0.shape[1] != 3 or x0.shape[0] == 0:
+            raise InvalidInputError(f"positions must have shape (N, 3) with N >= 1, got shape {x0.shape}")
+        if np.abs(x0).max() > _MAX_COORDINATE_M:  # the engine's bound: beyond, a step of the dynamics is lost in rounding
+            raise InvalidInputError(f"positions must lie within {_MAX_COORDINATE_M:.0e} m of the origin, got {np.abs(x0).max():g} m")
         hover = hover_rotor_speed(params)
         states = [
             {
@@ -331,8 +336,10 @@ class Team:
             ``leg`` attribute holds the states flown until then.
         """
         goals = as_float_array(waypoints, "waypoints")
-        if goals.shape != (len(self.states), 3) or not np.isfinite(goals).all():
+        if goals.shape != (len(self.states), 3):
             raise InvalidInputError(f"waypoints must be finite, of shape ({len(self.states)}, 3), got {goals.shape}")
+        if np.abs(goals).max() > _MAX_COORDINATE_M:
+            raise InvalidInputError(f"waypoints must lie within {_MAX_COORDINATE_M:.0e} m of the origin, got {np.abs(goals).max():g} m")
         cfg = self.settings
         references, end = self._references(goals)
         deadline = end + cfg.max_leg_s
