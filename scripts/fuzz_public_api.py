@@ -190,7 +190,7 @@ class Fixtures:
             n_prior=50,
             iterations=2,
             cao=uavcov.CAOSettings(n_candidates=10),
-            constraints=uavcov.Constraints(h_min=1.0, z_max=20.0),
+            constraints=uavcov.Constraints(h_min=1.0, z_max=20.0, clearance="standoff"),
         )
         return plan_structure(self.structure, settings, GeoAnchor(-84.2, 36.5), rng=0, n_threads=1)
 
@@ -270,7 +270,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
     return {
         # top level and engine
         "Terrain": lambda: {"vertices": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), "faces": np.array([[0, 1, 2]])},
-        "Terrain.from_mesh": lambda: {"mesh": (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))},
+        "Terrain.from_mesh": lambda: {"mesh": f.terrain},
         "Terrain.from_grid": lambda: {"z": np.zeros((4, 5)), "spacing": 1.0},
         "Terrain#default_targets": dict,
         "Terrain#vertex_normals": dict,
@@ -356,7 +356,10 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "write_plan": lambda: {"flight_plan": f.flight_plan, "out": out_path("plan")},
         "camera_axes": lambda: {"yaw_deg": 10.0, "pitch_deg": -45.0},
         "gimbal_pitch_limits": lambda: {"capability": "nadir"},
-        "pack_sensors": lambda: {"sensors": [sensor(), sensor()], "poses": np.array([[0.0, -90.0], [90.0, -45.0]])},
+        "pack_sensors": lambda: {
+            "sensors": [sensor(), sensor()],
+            "poses": np.array([[1.0, 2.0, 20.0, 0.0, -90.0], [5.0, 5.0, 20.0, 90.0, -45.0]]),
+        },
         "as_mesh_surface": lambda: {"surface": T(), "purpose": "fuzz"},
         "degenerate_faces": lambda: {"vertices": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), "faces": np.array([[0, 1, 2]])},
         "CoverageTracker": lambda: {"visibility": f.visibility},
@@ -484,9 +487,9 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "plan_execution": lambda: {"workers": 1, "n_threads": 1, "cores": 2},
         "local_executor": lambda: {"workers": 1},
         "ResultsFolder": lambda: {"path": out_path("folder")},
-        "read_runs": lambda: {"path": f.results_dir},
-        "summarise": lambda: {"rows": experiments.read_runs(f.results_dir)},
-        "finished_rows": lambda: {"rows": experiments.read_runs(f.results_dir)},
+        "read_runs": lambda: {"path": str(Path(f.results_dir) / "runs.csv")},
+        "summarise": lambda: {"rows": experiments.read_runs(Path(f.results_dir) / "runs.csv")},
+        "finished_rows": lambda: {"rows": experiments.read_runs(Path(f.results_dir) / "runs.csv")},
         "load_sweep_config": lambda: {"path": f.sweep_toml, "bases": dict(paper.EXPERIMENTS)},
         "parse_sweep_config": lambda: {
             "data": {"base": "table1", "seeds": [0], "team_sizes": [2], "starts": ["cvt"]},
@@ -557,7 +560,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
             "save_runs": False,
             "progress": False,
         },
-        "speed": lambda: {"rows": experiments.read_runs(f.results_dir)},
+        "speed": lambda: {"rows": experiments.read_runs(Path(f.results_dir) / "runs.csv")},
         "PublishedValue": lambda: {"mean": 0.5, "sigma": 0.1},
         "StructuresExperiment": dict,
         "write_realistic_report": lambda: {"folder": f.results_dir},
@@ -580,7 +583,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "RasterGrid#pixel_of_node": lambda: {"i": np.array([0, 1]), "j": np.array([2, 3])},
         "check_flight": lambda: {
             "terrain": T(),
-            "constraints": uavcov.Constraints(),
+            "constraints": uavcov.Constraints().resolve(T()),
             "positions": np.array([[[10.0, 10, 30], [20, 20, 30]]] * 3),
             "leg_of_state": np.zeros(3, np.int64),
             "starts": np.array([[[10.0, 10, 30], [20, 20, 30]]]),
@@ -616,7 +619,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "plot_directory": lambda: {"directory": f.results_dir, "out": out_path("figs"), "animation": False, "max_runs": 1},
         "report_figures": lambda: {"folder": f.results_dir},
         "plot_point_cloud": lambda: {"source": f.mission, "out": out_path("p.png")},
-        "plot_table1": lambda: {"rows": experiments.read_runs(f.results_dir), "out": out_path("t.png")},
+        "plot_table1": lambda: {"rows": experiments.read_runs(Path(f.results_dir) / "runs.csv"), "out": out_path("t.png")},
         "plot_structure_seen": lambda: {
             "surface": f.structure.surface,
             "seen": np.ones(len(f.structure.surface.faces), bool),
