@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import uavcov
-from uavcov.errors import InvalidInputError, InvalidTypeError
+from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
 
 HILLS = uavcov.gaussian_hills(size=30, spacing=1, n_hills=2, rng=0)
 POINTS = np.array([[5.0, 5.0, 30.0], [15.0, 12.0, 25.0]])
@@ -331,17 +331,17 @@ def test_write_plan_checks_its_record_before_writing(
 @pytest.mark.parametrize(
     "change, error, words",
     [
-        ({"d_max": float("nan")}, InvalidInputError, "d_max must be finite"),
+        ({"d_max": float("nan")}, ConfigError, "d_max must be finite"),
         ({"d_max": None}, InvalidTypeError, "d_max must be a real number"),
-        ({"n_uavs": 0}, InvalidInputError, "n_uavs must be >= 1"),
+        ({"n_uavs": 0}, ConfigError, "n_uavs must be >= 1"),
         ({"n_uavs": 2.5}, InvalidTypeError, "n_uavs must be an integer"),
-        ({"iterations": 10**12}, InvalidInputError, "iterations must be at most"),
-        ({"h_min": -1.0}, InvalidInputError, "h_min must be >= 0"),
-        ({"reference_distances": (3.0, float("inf"))}, InvalidInputError, "reference_distances must be finite"),
+        ({"iterations": 10**12}, ConfigError, "iterations must be at most"),
+        ({"h_min": -1.0}, ConfigError, "h_min must be >= 0"),
+        ({"reference_distances": (3.0, float("inf"))}, ConfigError, "reference_distances must be finite"),
         ({"report_seeds": None}, InvalidTypeError, "report_seeds must be a tuple"),
         ({"offsets": "2.5"}, InvalidTypeError, "offsets must be a tuple"),
         ({"families": (3,)}, InvalidTypeError, "families must be names"),
-        ({"dev_seeds": (-1,)}, InvalidInputError, "seeds must be >= 0"),
+        ({"dev_seeds": (-1,)}, ConfigError, "seeds must be >= 0"),
     ],
 )
 def test_the_structures_experiment_checks_every_setting(change: dict[str, Any], error: type[Exception], words: str) -> None:

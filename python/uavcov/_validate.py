@@ -63,6 +63,7 @@ __all__ = [
     "as_bool",
     "as_path",
     "as_tuple",
+    "as_optional_str",
     "MAX_UAVS",
     "MAX_GENERATORS",
     "MAX_SAMPLES",
@@ -265,6 +266,13 @@ def as_path(value: Any, name: str) -> Path:
     if not isinstance(value, (str, os.PathLike)):
         raise InvalidTypeError(f"{name} must be a path string or os.PathLike, got {type(value).__name__}")
     return Path(value)
+
+
+def as_optional_str(value: Any, name: str) -> str | None:
+    """``value`` when it is None or a string (a title, a label, a command line)."""
+    if value is not None and not isinstance(value, str):
+        raise InvalidTypeError(f"{name} must be None or a string, got {type(value).__name__}")
+    return value
 
 
 def as_tuple(value: Any, name: str) -> tuple[Any, ...]:

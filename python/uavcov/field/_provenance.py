@@ -8,8 +8,7 @@ from importlib import metadata
 from typing import Any
 
 from .._core import __version__
-from .._validate import as_non_negative_float
-from ..errors import InvalidTypeError
+from .._validate import as_non_negative_float, as_optional_str
 
 _LIBRARIES = ("numpy", "scipy", "pyproj", "rasterio", "trimesh")
 
@@ -32,9 +31,7 @@ def versions_line(found: dict[str, str]) -> str:
 
 def check_provenance(command: Any, runtime_s: Any) -> tuple[str | None, float | None]:
     """A plan record's ``command`` (None or a string) and ``runtime_s`` (None or finite seconds >= 0)."""
-    if command is not None and not isinstance(command, str):
-        raise InvalidTypeError(f"command must be None or a string, got {type(command).__name__}")
-    return command, None if runtime_s is None else as_non_negative_float(runtime_s, "runtime_s")
+    return as_optional_str(command, "command"), None if runtime_s is None else as_non_negative_float(runtime_s, "runtime_s")
 
 
 def json_safe(value: Any) -> Any:

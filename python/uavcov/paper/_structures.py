@@ -65,7 +65,7 @@ from .._validate import (
     as_non_negative_float,
     as_positive_float,
 )
-from ..errors import ConfigError, InvalidTypeError, UavcovError
+from ..errors import ConfigError, InvalidInputError, InvalidTypeError, UavcovError
 from ._jsonl import append_row, read_rows
 from ._structures_rows import DEFAULT_CAO_STEP, setting_of
 
@@ -139,7 +139,12 @@ class StructuresExperiment:
     def __post_init__(self) -> None:
         from ..structures import STRUCTURE_FAMILIES
 
-        _check_fields(self)
+        try:
+            _check_fields(self)
+        except InvalidTypeError:
+            raise
+        except InvalidInputError as exc:  # a bad value of the experiment's settings, like those below
+            raise ConfigError(str(exc)) from None
         unknown = [f for f in self.families if f not in STRUCTURE_FAMILIES]
         if unknown or not self.families:
             raise ConfigError(f"families must be among {sorted(STRUCTURE_FAMILIES)}, got {list(self.families)}")

@@ -30,9 +30,9 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write
-from .._validate import as_path
+from .._validate import as_optional_str, as_path
 from ..engine import Sensor, Targets, Terrain, Visibility
-from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError, ResultsFormatError
+from ..errors import InvalidInputError, MissingExtraError, ResultsFormatError
 from ..sim import is_flown_file, load_flown
 from ._cameras import _outline
 from ._canvas import END_COLOUR, FOOTPRINT_COLOUR, SEEN_COLOUR, UNSEEN_COLOUR
@@ -479,8 +479,7 @@ def find_run(path: str | os.PathLike[str], run: str | None = None) -> Path:
         raise ResultsFormatError(f"{where} holds no runs (neither runs/*.npz, *.npz nor a flown experiment's states/*.npz)")
     if run is None:
         return runs[0]
-    if not isinstance(run, str):
-        raise InvalidTypeError(f"run must be None or a run_id string, got {type(run).__name__}")
+    run = as_optional_str(run, "run")
     for candidate in runs:
         if candidate.stem == run:
             return candidate
