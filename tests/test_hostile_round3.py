@@ -701,3 +701,47 @@ def test_a_team_refuses_waypoints_beyond_the_engines_bound(waypoints: np.ndarray
 def test_a_figure_checks_its_flags_titles_and_points(mission: Any, tmp_path: Path, draw: Any, error: type[Exception], words: str) -> None:
     pytest.importorskip("matplotlib")
     refused(error, words, draw, mission, tmp_path / "f.png")
+
+
+# ---------------------------------------------------------------------------------------------
+# Indices and counts of small methods: a route's UAV, a CVT's generators, a camera's resolution
+
+
+@pytest.mark.parametrize(
+    "uav, error", [(-1, InvalidInputError), (99, InvalidInputError), (None, InvalidTypeError), (1.0, InvalidTypeError)]
+)
+def test_a_structure_flight_route_needs_the_index_of_one_of_its_uavs(uav: Any, error: type[Exception]) -> None:
+    from uavcov.field import GeoAnchor, plan_structure
+
+    settings = uavcov.MissionSettings(
+        n_uavs=2,
+        d_max=10.0,
+        n_prior=50,
+        iterations=1,
+        cao=uavcov.CAOSettings(n_candidates=10),
+        constraints=uavcov.Constraints(h_min=1.0, z_max=20.0, clearance="standoff"),
+    )
+    flight = plan_structure(_bridge(), settings, GeoAnchor(5.0, 45.0), rng=0, n_threads=1).flight
+    refused(error, "uav must be", flight.route_wgs84, uav)
+    assert flight.route_wgs84(1).shape[1] == 3
+
+
+@pytest.mark.parametrize(
+    "n, error", [(None, InvalidTypeError), (float("inf"), InvalidTypeError), (0, InvalidInputError), (10**9, InvalidInputError)]
+)
+def test_cvt_samples_for_needs_a_generator_count(n: Any, error: type[Exception]) -> None:
+    refused(error, "n must be", uavcov.CVTSettings().samples_for, n)
+
+
+@pytest.mark.parametrize("resolution", [None, 2.5, "128", np.zeros(2)])
+def test_an_omnidirectional_camera_needs_a_whole_resolution(resolution: Any) -> None:
+    from uavcov.sim import DepthCamera
+
+    refused(InvalidTypeError, "resolution must be a whole number", DepthCamera.omnidirectional, 10.0, resolution)
+
+
+@pytest.mark.parametrize("path", [None, 3, np.zeros(2)])
+def test_read_runs_needs_a_path(path: Any) -> None:
+    from uavcov.experiments import read_runs
+
+    refused(InvalidTypeError, "path must be a path string", read_runs, path)

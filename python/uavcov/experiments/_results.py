@@ -185,7 +185,7 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIR
         No such file, not UTF-8, a header without a required column, a row of the wrong length,
         or a number column that holds no number.
     """
-    path = Path(path)
+    path = as_path(path, "path")
     if not path.is_file():
         raise ResultsFormatError(f"no runs file at {path}")
     text, _ = _complete_text(path)

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import read_only
+from .._validate import as_float_array, read_only
 from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, run_mission
@@ -171,7 +171,7 @@ def plan_structure(
         xy = np.array([[xmin + 2.0, ymin + 2.0]])
         pad = np.array([xy[0, 0], xy[0, 1], float(surface.ground_height(xy)[0])])
     else:
-        pad = np.asarray(takeoff, dtype=np.float64)
+        pad = as_float_array(takeoff, "takeoff")
         if pad.shape != (3,) or not np.isfinite(pad).all():
             raise InvalidInputError(f"takeoff must be a finite local (x, y, z), got {takeoff!r}")
     if not np.isfinite(pad).all():

@@ -83,6 +83,8 @@ class DepthCamera:
     @classmethod
     def omnidirectional(cls, range_m: float, resolution: int = 128, noise_sd: float = 0.0) -> DepthCamera:
         """The paper's sensor as a depth camera: every direction within ``range_m``, ``2r x r`` pixels."""
+        if not is_int(resolution):  # 2 * resolution of a float or None would fail before the camera's own checks
+            raise InvalidTypeError(f"resolution must be a whole number of pixels, got {resolution!r}")
         return cls(width=2 * resolution, height=resolution, fov_deg=(360.0, 180.0), range_m=range_m, noise_sd=noise_sd)
 
     @property
