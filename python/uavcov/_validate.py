@@ -29,6 +29,10 @@ limit                          value           what it bounds
 :data:`MAX_RUNS`               1 000 000       runs of one sweep (variants x seeds x team sizes x
                                                starts)
 :data:`MAX_THREADS`            1 024           Rust threads of one call
+:data:`MAX_GRID_CELLS`         10 000          cells along one side of a generated terrain
+                                               (``size / spacing``, a wall's ``height /
+                                               spacing``): 10^8 nodes
+:data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
 =============================  ==============  ===================================================
 """
 
@@ -37,6 +41,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -55,6 +60,10 @@ __all__ = [
     "as_n_threads",
     "as_generator",
     "as_count",
+    "as_bool",
+    "as_path",
+    "as_tuple",
+    "as_optional_str",
     "MAX_UAVS",
     "MAX_GENERATORS",
     "MAX_SAMPLES",
@@ -64,6 +73,8 @@ __all__ = [
     "MAX_SEEDS",
     "MAX_RUNS",
     "MAX_THREADS",
+    "MAX_GRID_CELLS",
+    "MAX_HILLS",
 ]
 
 MAX_UAVS = 1_000
@@ -82,6 +93,10 @@ MAX_SEEDS = 1_000_000
 """Most seeds of one sweep or reproduction."""
 MAX_RUNS = 1_000_000
 """Most runs of one sweep."""
+MAX_GRID_CELLS = 10_000
+"""Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
+MAX_HILLS = 10_000
+"""Most Gaussians of one hills terrain: each costs a pass over every node."""
 
 
 def as_float_array(
@@ -239,6 +254,34 @@ def as_generator(rng: Any) -> np.random.Generator:
         raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc
 
 
+def as_bool(value: Any, name: str) -> bool:
+    """``value`` as a bool: only True or False (Python's or numpy's), never an array's truth."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InvalidTypeError(f"{name} must be True or False, got {type(value).__name__}")
+    return bool(value)
+
+
+def as_path(value: Any, name: str) -> Path:
+    """``value`` as a :class:`~pathlib.Path`: a string or an ``os.PathLike``, nothing else."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise InvalidTypeError(f"{name} must be a path string or os.PathLike, got {type(value).__name__}")
+    return Path(value)
+
+
+def as_optional_str(value: Any, name: str) -> str | None:
+    """``value`` when it is None or a string (a title, a label, a command line)."""
+    if value is not None and not isinstance(value, str):
+        raise InvalidTypeError(f"{name} must be None or a string, got {type(value).__name__}")
+    return value
+
+
+def as_tuple(value: Any, name: str) -> tuple[Any, ...]:
+    """``value`` (a list, tuple, array or other iterable, not a string or a mapping) as a tuple."""
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
+        raise InvalidTypeError(f"{name} must be a sequence, got {type(value).__name__}")
+    return tuple(value)
+
+
 def as_range(value: Any, name: str, *, positive: bool = False) -> tuple[float, float]:
     """A ``(low, high)`` pair of finite floats with ``low <= high`` (a single number means both)."""
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
@@ -271,6 +314,10 @@ def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
 def as_cell_count(length: float, step: float, name: str) -> int:
     """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
     count = length / step
+    if count > MAX_GRID_CELLS + 0.5:  # checked first: round() of an infinite ratio would overflow
+        raise InvalidInputError(
+            f"{name} ({length} m) is {count:,.0f} spacings ({step} m) long, more than {MAX_GRID_CELLS:,} (uavcov's size limit)"
+        )
     cells = round(count)
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")

@@ -22,6 +22,7 @@ from ._validate import (
     MAX_TRAJECTORY,
     MAX_UAVS,
     as_count,
+    as_float_array,
     as_positive_float,
 )
 from .engine import Camera, Gimbal, Sensor, camera_axes
@@ -131,9 +132,9 @@ class MissionSettings:
         object.__setattr__(self, "d_max", as_positive_float(self.d_max, "d_max"))
         object.__setattr__(self, "n_prior", as_count(self.n_prior, "n_prior", MAX_SAMPLES, minimum=0))
         object.__setattr__(self, "iterations", as_count(self.iterations, "iterations", MAX_ITERATIONS, minimum=0))
-        if self.prior not in PRIOR_KINDS:
+        if not isinstance(self.prior, str) or self.prior not in PRIOR_KINDS:
             raise InvalidInputError(f"prior must be one of {PRIOR_KINDS} (pass anything else as known=), got {self.prior!r}")
-        if self.optimizer not in OPTIMIZERS:
+        if not isinstance(self.optimizer, str) or self.optimizer not in OPTIMIZERS:
             raise InvalidInputError(f"optimizer must be one of {tuple(OPTIMIZERS)}, got {self.optimizer!r}")
         nested = (StartSettings, Constraints, CVTSettings, CAOSettings, EscapeSettings)
         for name, kind in zip(("start", "constraints", "cvt", "cao", "escape"), nested, strict=True):
@@ -148,12 +149,12 @@ class MissionSettings:
             object.__setattr__(self, "sensor", tuple(self.sensor))
         elif self.sensor is not None and not isinstance(self.sensor, Sensor):
             raise InvalidTypeError(f"sensor must be a uavcov.Sensor, one per UAV, or None, got {type(self.sensor).__name__}")
-        attitude = np.asarray(self.attitude, dtype=np.float64) if not isinstance(self.attitude, (str, bytes)) else None
+        attitude = as_float_array(self.attitude, "attitude", allow_nan=True) if not isinstance(self.attitude, (str, bytes)) else None
         if attitude is None or attitude.shape != (2,):
             raise InvalidInputError(f"attitude must be (yaw, pitch) in degrees, got {self.attitude!r}")
         camera_axes([attitude[0]], [attitude[1]])  # finite, pitch in [-90, 90]
         object.__setattr__(self, "attitude", (float(attitude[0]), float(attitude[1])))
-        if self.objective not in OBJECTIVES:
+        if not isinstance(self.objective, str) or self.objective not in OBJECTIVES:
             raise InvalidInputError(f"objective must be one of {OBJECTIVES}, got {self.objective!r}")
         if self.objective == "quality" and self.optimizer in MARGINAL_OPTIMIZERS:
             raise InvalidInputError("the quality objective needs the centralised optimizer 'cao' (per-robot marginals are coverage's)")

@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import MAX_UAVS, as_count, as_non_negative_float, as_positive_float, as_positive_int, read_only
-from ..errors import InvalidTypeError, ModelTooLargeError
+from ..errors import InvalidInputError, InvalidTypeError, ModelTooLargeError
 from ._bounded_milp import bounded_milp
 from ._dual_bound import dual_bound
 from ._greedy import CoverageProblem, GreedyResult
@@ -66,6 +66,8 @@ MAX_MODEL_BYTES = 4 << 30
 # Bytes per constraint non-zero through scipy's sparse matrix, HiGHS's column copy, its presolved
 # copy and the LP factor (measured on Table 1's terrains: about 60 per non-zero at peak).
 _BYTES_PER_NONZERO = 64
+MAX_TIME_LIMIT_S = 1e9
+"""Longest ``time_limit`` (s, about 30 years): beyond, the timers of the solver child overflow."""
 # Solver shares carry the rounding of summing up to T float64 weights (as the LP dual bound's).
 _ROUNDING = 4.0 * float(np.finfo(np.float64).eps)
 # The LP dual bound's clusters, metres (as CoverageProblem.dual_bound's default).
@@ -285,6 +287,8 @@ def exact_placement(
     k = as_count(k, "k", MAX_UAVS)
     d_safe = as_non_negative_float(d_safe, "d_safe")
     time_limit = as_positive_float(time_limit, "time_limit")
+    if time_limit > MAX_TIME_LIMIT_S:  # the solver's clock cannot hold more
+        raise InvalidInputError(f"time_limit must be at most {MAX_TIME_LIMIT_S:.0e} s, got {time_limit}")
     gap = as_non_negative_float(gap, "gap")
     if node_limit is not None:
         node_limit = as_count(node_limit, "node_limit", 1 << 40)

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_count, as_finite_float, as_float_array, as_positive_float, as_positive_int, read_only
+from .._validate import as_bool, as_count, as_finite_float, as_float_array, as_positive_float, as_positive_int, read_only
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints, feasibility
@@ -153,7 +153,7 @@ def viewpoint_lattice(
     xmin, ymin, xmax, ymax = limits.flight_box
     s = settings.spacing
     columns = [math.floor((hi - lo) / s + 1e-9) + 1 for lo, hi in ((xmin, xmax), (ymin, ymax))]
-    orientations = len(settings.yaws) * len(settings.pitches) if cameras else 1
+    orientations = len(settings.yaws) * len(settings.pitches) if as_bool(cameras, "cameras") else 1
     total = columns[0] * columns[1] * settings.n_heights * orientations
     if total > MAX_CANDIDATES:
         raise InvalidInputError(
@@ -241,6 +241,8 @@ def viewpoint_offsets(
     if offsets is None or offsets.size == 0 or not np.all(np.isfinite(offsets)) or np.any(offsets <= 0.0):
         raise InvalidInputError(f"distances must be a non-empty sequence of finite offsets > 0 m, got {distances!r}")
     spacing = as_positive_float(spacing, "spacing")
+    if not 0.0 < spacing * spacing < math.inf:  # the surface points' density is 1 / spacing**2
+        raise InvalidInputError(f"spacing must have a finite, non-zero square, got {spacing}")
     if world.area / spacing**2 * offsets.size > MAX_CANDIDATES:
         raise InvalidInputError(
             f"about {world.area / spacing**2 * offsets.size:,.0f} candidates, more than {MAX_CANDIDATES:,}: use a larger spacing"

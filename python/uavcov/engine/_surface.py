@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._validate import as_finite_float, as_float_array, as_index_array, as_n_threads, as_points, as_positive_float, read_only
+from .._validate import as_bool, as_finite_float, as_float_array, as_index_array, as_n_threads, as_points, as_positive_float, read_only
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ._targets import Targets
 
@@ -102,7 +102,7 @@ class Terrain:
             raise MeshError("the mesh has no face")
         if f.min() < 0 or f.max() >= v.shape[0]:
             raise MeshError(f"face indices must lie in [0, {v.shape[0]}), found {f.min()}..{f.max()}")
-        if drop_degenerate:
+        if as_bool(drop_degenerate, "drop_degenerate"):
             f = f[~degenerate_faces(v, f)]
             if f.shape[0] == 0:
                 raise MeshError("every face of the mesh is degenerate (zero area)")
@@ -571,10 +571,10 @@ class Terrain:
             None if h_max is None else as_finite_float(h_max, "h_max"),
             as_finite_float(z_max, "z_max"),
             as_finite_float(d_safe, "d_safe"),
-            bool(check_moves),
+            as_bool(check_moves, "check_moves"),
         )
         threads = as_n_threads(n_threads)
-        if clearance not in ("vertical", "standoff"):
+        if not isinstance(clearance, str) or clearance not in ("vertical", "standoff"):
             raise InvalidInputError(f'clearance must be "vertical" or "standoff", got {clearance!r}')
         rust = self._surface.admissible_mask
 

@@ -58,6 +58,8 @@ def plan_execution(workers: int | None = None, n_threads: int | None = None, cor
         Not positive integers, or ``workers * n_threads`` above the cores.
     """
     cores = available_cores() if cores is None else cores
+    if not is_int(cores) or cores < 1:
+        raise ConfigError(f"cores must be an integer >= 1, got {cores!r}")
     for name, value in (("workers", workers), ("n_threads", n_threads)):
         if value is not None and (not is_int(value) or value < 1):
             raise ConfigError(f"{name} must be an integer >= 1, got {value!r}")

@@ -31,6 +31,7 @@ import numpy as np
 
 from .._core import __version__
 from .._io import atomic_write
+from .._validate import as_path
 from ..errors import ResultsFolderError, ResultsFormatError, ResultsInUseError
 
 RUN_COLUMNS: tuple[str, ...] = (
@@ -184,7 +185,7 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIR
         No such file, not UTF-8, a header without a required column, a row of the wrong length,
         or a number column that holds no number.
     """
-    path = Path(path)
+    path = as_path(path, "path")
     if not path.is_file():
         raise ResultsFormatError(f"no runs file at {path}")
     text, _ = _complete_text(path)
@@ -362,7 +363,7 @@ class ResultsFolder:
     """
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
-        path = Path(path)
+        path = as_path(path, "path")
         if path.exists() and not path.is_dir():
             raise ResultsFolderError(f"the results folder {path} is a file, not a directory")
         try:

@@ -38,7 +38,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .._validate import MAX_RUNS, MAX_UAVS, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, as_tuple, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from ..mission import MissionResult, run_mission
@@ -100,14 +100,14 @@ class Experiment:
             raise InvalidTypeError(f"terrain must be a HillsGenerator or BuildingsGenerator, got {type(self.terrain).__name__}")
         if not isinstance(self.mission, MissionSettings):
             raise InvalidTypeError(f"mission must be a MissionSettings, got {type(self.mission).__name__}")
-        sizes = tuple(self.team_sizes)
+        sizes = as_tuple(self.team_sizes, "team_sizes")
         if not sizes or not all(is_int(n) and 1 <= n <= MAX_UAVS for n in sizes):
             raise InvalidInputError(f"team_sizes must be integers from 1 to {MAX_UAVS:,}, got {self.team_sizes}")
-        starts = tuple(self.starts)
-        unknown = [s for s in starts if s not in START_KINDS]
+        starts = as_tuple(self.starts, "starts")
+        unknown = [s for s in starts if not isinstance(s, str) or s not in START_KINDS]
         if not starts or unknown:
             raise InvalidInputError(f"starts must be some of {START_KINDS}, got {self.starts}")
-        seeds = tuple(self.seeds)
+        seeds = as_tuple(self.seeds, "seeds")
         if not all(is_int(s) and s >= 0 for s in seeds):
             raise InvalidInputError(f"seeds must be integers >= 0, got {self.seeds}")
         for n in sizes:  # each team's mission within the size limits, checked before any run
@@ -133,7 +133,7 @@ class Experiment:
 
     def mission_settings(self, n_uavs: int, start: str) -> MissionSettings:
         """The mission of one run: team size ``n_uavs``, start ``start``."""
-        if start not in self.starts:
+        if not isinstance(start, str) or start not in self.starts:
             raise InvalidInputError(f"start must be one of {self.starts} for {self.name}, got {start!r}")
         return self.mission.with_changes(n_uavs=n_uavs, **{"start.kind": start})
 
@@ -164,7 +164,7 @@ class Experiment:
                     if not isinstance(changes.get("terrain", self.terrain), BuildingsGenerator) and "terrain.kind" not in changes:
                         raise InvalidInputError("the 'map' prior goes with a BuildingsGenerator, and only with it")
                     continue
-                if value not in PRIOR_KINDS:
+                if not isinstance(value, str) or value not in PRIOR_KINDS:
                     raise InvalidInputError(f"prior must be one of {(*PRIOR_KINDS, 'map')}, got {value!r}")
                 dotted = "mission.prior"
             elif head in _MISSION_SHORTCUTS:
@@ -225,6 +225,8 @@ def experiments_hash(experiments: Mapping[str, Experiment]) -> str:
 
     ``experiments_hash(uavcov.paper.EXPERIMENTS)`` names the paper's settings a report was made with.
     """
+    if not isinstance(experiments, Mapping) or not all(isinstance(e, Experiment) for e in experiments.values()):
+        raise InvalidTypeError(f"experiments must be a mapping of names to Experiments, got {type(experiments).__name__}")
     settings = {
         name: {**experiment_settings(e), "seeds": list(e.seeds), "team_sizes": list(e.team_sizes), "starts": list(e.starts)}
         for name, e in sorted(experiments.items())
@@ -267,7 +269,7 @@ class RunSpec:
             raise InvalidInputError(f"seed must be an integer >= 0, got {self.seed!r}")
         if not is_int(self.n_uavs) or not 1 <= self.n_uavs <= MAX_UAVS:
             raise InvalidInputError(f"n_uavs must be an integer from 1 to {MAX_UAVS:,}, got {self.n_uavs!r}")
-        if self.start not in self.experiment.starts:
+        if not isinstance(self.start, str) or self.start not in self.experiment.starts:
             raise InvalidInputError(f"start must be one of {self.experiment.starts} for {self.experiment.name}, got {self.start!r}")
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
@@ -356,9 +358,9 @@ def experiment_specs(
     """
     if not isinstance(experiment, Experiment):
         raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
-    seeds = tuple(experiment.seeds if seeds is None else seeds)
-    team_sizes = tuple(experiment.team_sizes if team_sizes is None else team_sizes)
-    starts = tuple(experiment.starts if starts is None else starts)
+    seeds = as_tuple(experiment.seeds if seeds is None else seeds, "seeds")
+    team_sizes = as_tuple(experiment.team_sizes if team_sizes is None else team_sizes, "team_sizes")
+    starts = as_tuple(experiment.starts if starts is None else starts, "starts")
     for name, values in (("seeds", seeds), ("team_sizes", team_sizes), ("starts", starts)):
         if not values:
             raise InvalidInputError(f"{name} is empty: the sweep has no run")
@@ -368,7 +370,7 @@ def experiment_specs(
             f"{len(seeds):,} seeds x {len(team_sizes)} team sizes x {len(starts)} starts make {count:,} runs, "
             f"more than uavcov's limit of {MAX_RUNS:,}; split the sweep"
         )
-    unknown = [s for s in starts if s not in experiment.starts]
+    unknown = [s for s in starts if not isinstance(s, str) or s not in experiment.starts]
     if unknown:
         raise InvalidInputError(f"starts {unknown} are not starts of {experiment.name} {experiment.starts}")
     return [
@@ -536,7 +538,7 @@ def run_specs(
     for spec in specs:
         if not isinstance(spec, RunSpec):
             raise InvalidTypeError(f"specs must be RunSpec objects, got {type(spec).__name__}")
-    if rerun not in ("none", "failed", "all"):
+    if not isinstance(rerun, str) or rerun not in ("none", "failed", "all"):
         raise InvalidInputError(f"rerun must be 'none', 'failed' or 'all', got {rerun!r}")
     ids = [s.run_id for s in specs]
     if len(set(ids)) != len(ids):

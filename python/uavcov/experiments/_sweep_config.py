@@ -55,10 +55,9 @@ import os
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, is_int
+from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, as_path, is_int
 from ..engine import Camera, Gimbal, Sensor
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -349,7 +348,7 @@ def load_sweep_config(path: str | os.PathLike[str], *, bases: Mapping[str, Exper
         The file is missing or unreadable, is not valid TOML (with the line), has an unknown key
         (with the closest valid one), a value of the wrong type or out of range.
     """
-    path = Path(path)
+    path = as_path(path, "path")
     try:
         text = path.read_bytes()
     except OSError as exc:

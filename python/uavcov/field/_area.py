@@ -62,7 +62,7 @@ class AreaOfInterest:
     source: str = ""
 
     def __post_init__(self) -> None:
-        if self.frame not in AREA_FRAMES:
+        if not isinstance(self.frame, str) or self.frame not in AREA_FRAMES:
             raise InvalidInputError(f"frame must be one of {AREA_FRAMES}, got {self.frame!r}")
         if not self.polygons:
             raise InvalidInputError(f"{self.source or 'the area'} holds no polygon")

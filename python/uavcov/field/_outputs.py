@@ -45,6 +45,7 @@ from ._gis_files import _coverage_geotiff, _geojson, _kml, _quality_geotiff
 from ._plan import FlightPlan
 from ._plan_report import _document, _map_png, _report_md
 from ._plan_tables import _positions_csv, _waypoints_csv
+from ._provenance import check_provenance
 from ._qgc import _check, qgc_plan
 from ._results_folder import write_files
 from ._strict_json import json_bytes
@@ -53,6 +54,7 @@ from ._strict_json import json_bytes
 def render_plan(flight_plan: FlightPlan, *, command: str | None = None, runtime_s: float | None = None) -> dict[str, bytes]:
     """Every file of :func:`write_plan` as ``{name: bytes}``, nothing written."""
     fp = _check(flight_plan)
+    command, runtime_s = check_provenance(command, runtime_s)
     files: dict[str, bytes] = {}
     files["positions.csv"] = _positions_csv(fp)
     files["waypoints.csv"] = _waypoints_csv(fp)

@@ -150,11 +150,11 @@ class PlanSettings:
             if pair.shape != (2,):
                 raise InvalidInputError(f"takeoff must be a pair (longitude, latitude) or (x, y), got {self.takeoff!r}")
             object.__setattr__(self, "takeoff", (float(pair[0]), float(pair[1])))
-        if self.takeoff_frame not in TAKEOFF_FRAMES:
+        if not isinstance(self.takeoff_frame, str) or self.takeoff_frame not in TAKEOFF_FRAMES:
             raise InvalidInputError(f"takeoff_frame must be one of {TAKEOFF_FRAMES}, got {self.takeoff_frame!r}")
         if is_int(self.prior):
             object.__setattr__(self, "prior", as_count(self.prior, "prior (sparse points)", MAX_SAMPLES))
-        elif self.prior != "full":
+        elif not isinstance(self.prior, str) or self.prior != "full":
             raise InvalidInputError(f"prior must be 'full' or a number of sparse points, got {self.prior!r}")
         object.__setattr__(self, "hold_s", as_non_negative_float(self.hold_s, "hold_s"))
         object.__setattr__(self, "cruise_speed", as_positive_float(self.cruise_speed, "cruise_speed"))

@@ -8,6 +8,7 @@ from importlib import metadata
 from typing import Any
 
 from .._core import __version__
+from .._validate import as_non_negative_float, as_optional_str
 
 _LIBRARIES = ("numpy", "scipy", "pyproj", "rasterio", "trimesh")
 
@@ -26,6 +27,11 @@ def versions() -> dict[str, str]:
 def versions_line(found: dict[str, str]) -> str:
     """``uavcov 0.1.0, python 3.11.2, numpy 2.1.0, ...``."""
     return ", ".join(f"{name} {version}" for name, version in found.items())
+
+
+def check_provenance(command: Any, runtime_s: Any) -> tuple[str | None, float | None]:
+    """A plan record's ``command`` (None or a string) and ``runtime_s`` (None or finite seconds >= 0)."""
+    return as_optional_str(command, "command"), None if runtime_s is None else as_non_negative_float(runtime_s, "runtime_s")
 
 
 def json_safe(value: Any) -> Any:

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import MAX_UAVS, as_float_array, as_non_negative_float, as_positive_float, read_only
+from .._validate import MAX_UAVS, as_count, as_float_array, as_non_negative_float, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._geodesy import GeoAnchor, enu_to_wgs84, local_to_true_heading
@@ -93,7 +93,8 @@ class StructureFlight:
 
     def route_wgs84(self, uav: int) -> np.ndarray:
         """UAV ``uav``'s route (the position last) as longitude, latitude, ellipsoidal height."""
-        return enu_to_wgs84(self.routes_local[uav], self.anchor)
+        index = as_count(uav, "uav", len(self.routes_local) - 1, minimum=0)  # -1 would be the last UAV's, silently
+        return enu_to_wgs84(self.routes_local[index], self.anchor)
 
 
 def _local(value: Any, name: str, shape: tuple[int, ...]) -> np.ndarray:

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import read_only
+from .._validate import as_float_array, read_only
 from ..engine import Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..mission import MissionResult, run_mission
@@ -32,6 +32,7 @@ from ..settings import MissionSettings
 from ..structures import Structure, StructureTargets
 from ._geodesy import GeoAnchor
 from ._ply import seen_cloud_bytes
+from ._provenance import check_provenance
 from ._results_folder import write_files
 from ._strict_json import json_bytes
 from ._structure_flight import StructureFlight, render_structure_flight, structure_flight
@@ -170,7 +171,7 @@ def plan_structure(
         xy = np.array([[xmin + 2.0, ymin + 2.0]])
         pad = np.array([xy[0, 0], xy[0, 1], float(surface.ground_height(xy)[0])])
     else:
-        pad = np.asarray(takeoff, dtype=np.float64)
+        pad = as_float_array(takeoff, "takeoff")
         if pad.shape != (3,) or not np.isfinite(pad).all():
             raise InvalidInputError(f"takeoff must be a finite local (x, y, z), got {takeoff!r}")
     if not np.isfinite(pad).all():
@@ -204,6 +205,7 @@ def write_structure_plan(plan: StructurePlan, out: Any, *, command: str | None =
     """
     if not isinstance(plan, StructurePlan):
         raise InvalidTypeError(f"plan must be a StructurePlan, got {type(plan).__name__}")
+    command, runtime_s = check_provenance(command, runtime_s)
     files = render_structure_flight(plan.flight)
     document = {**json.loads(files["plan.json"]), **structure_record(plan, command, runtime_s)}
     files["plan.json"] = json_bytes(document, indent=2, what="plan.json")

@@ -195,6 +195,7 @@ class Constraints:
     @classmethod
     def for_world(cls, world: World, **kwargs: Any) -> Constraints:
         """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
+        _check_world(world)
         return cls(bounds=_as_bounds(world.bounds), **kwargs).resolve(world)
 
     def resolve(self, world: World) -> Constraints:
@@ -203,6 +204,7 @@ class Constraints:
         ``bounds=None`` becomes the x-y bounds of ``world``; ``check_moves=None`` becomes True
         unless ``world`` is an elevation grid (``world.grid`` set).
         """
+        _check_world(world)
         if self.bounds is not None and self.check_moves is not None:
             return self
         bounds = _as_bounds(world.bounds) if self.bounds is None else self.bounds

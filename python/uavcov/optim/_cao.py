@@ -67,6 +67,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_generator
 from ..errors import InvalidTypeError
 from ._candidates import _best_feasible, _draw_zeta, _hold_inadmissible
 from ._checks import _as_value, _check_common, _check_start, _Feasibility
@@ -160,7 +161,7 @@ def _cao_run(
     n_terms = n_reg - 1 - dim
     n_window = n_reg + settings.history
     n_cand = settings.n_candidates
-    rng = np.random.default_rng(rng)
+    rng = as_generator(rng)
     check = _Feasibility(feasible)
     t_start = time.perf_counter()
     _check_start(check, x0)

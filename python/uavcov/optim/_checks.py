@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array, as_non_negative_int, as_points
+from .._validate import MAX_ITERATIONS, as_count, as_float_array, as_points
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._protocol import FeasibleFn
 from ._settings import CAOSettings
@@ -24,7 +24,7 @@ def _check_common(x0: Any, feasible: Any, iterations: Any, settings: Any, *, pos
         x0 = as_float_array(x0, "x0")
         if x0.ndim != 2 or x0.shape[0] == 0 or x0.shape[1] < 3:
             raise InvalidInputError(f"x0 must have shape (N, d) with N >= 1 and d >= 3 (a position, then any angles), got {x0.shape}")
-    iterations = as_non_negative_int(iterations, "iterations")
+    iterations = as_count(iterations, "iterations", MAX_ITERATIONS, minimum=0)
     if feasible is not None and not callable(feasible):
         raise InvalidTypeError(f"feasible must be callable or None, got {type(feasible).__name__}")
     return x0, iterations

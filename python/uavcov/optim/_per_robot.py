@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_generator
 from ..errors import InvalidTypeError
 from ._candidates import _draw_zeta, _solo_choices, _team_move
 from ._checks import _as_team_and_marginals, _check_common, _check_start, _Feasibility
@@ -67,7 +68,7 @@ def per_robot_cao(
     n_terms = n_reg - 4
     n_window = n_reg + settings.history
     n_cand = settings.n_candidates
-    rng = np.random.default_rng(rng)
+    rng = as_generator(rng)
     check = _Feasibility(feasible)
     t_start = time.perf_counter()
     _check_start(check, x0)

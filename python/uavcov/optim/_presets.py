@@ -51,7 +51,7 @@ def cao_preset(name: str, d_max: float = PRESET_RANGE) -> CAOSettings:
     >>> cao_preset("plateau", d_max=100.0).alpha0
     20.0
     """
-    if name not in CAO_PRESETS:
+    if not isinstance(name, str) or name not in CAO_PRESETS:
         raise InvalidInputError(f"CAO preset must be one of {sorted(CAO_PRESETS)}, got {name!r}")
     preset = CAO_PRESETS[name]
     return replace(preset, alpha0=preset.alpha0 * as_positive_float(d_max, "d_max") / PRESET_RANGE)

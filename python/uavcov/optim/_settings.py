@@ -118,7 +118,7 @@ class CAOSettings:
             raise InvalidTypeError(f"perturbation must be a string, got {type(self.perturbation).__name__}")
         if self.perturbation not in _PERTURBATIONS:
             raise InvalidInputError(f"perturbation must be one of {_PERTURBATIONS}, got {self.perturbation!r}")
-        if self.infeasible not in INFEASIBLE_RULES:
+        if not isinstance(self.infeasible, str) or self.infeasible not in INFEASIBLE_RULES:
             raise InvalidInputError(f"infeasible must be one of {INFEASIBLE_RULES}, got {self.infeasible!r}")
 
     def regressors_for(self, n_uavs: int, n_coordinates: int = 3) -> int:

@@ -22,7 +22,7 @@ from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from .._validate import is_int
+from .._validate import as_tuple, is_int
 from ..errors import ConfigError, MissingExtraError
 from ..experiments import Experiment, ResultsFolder, experiment_specs, experiments_hash, parse_seeds, plan_execution, run_specs
 from . import _data as paper
@@ -95,19 +95,19 @@ def reproduce(
         An unknown experiment, seeds, team sizes or starts it does not have, a bad iteration
         count; and what :func:`uavcov.experiments.run_specs` raises.
     """
-    if name not in paper.EXPERIMENTS:
+    if not isinstance(name, str) or name not in paper.EXPERIMENTS:
         raise ConfigError(f"unknown experiment {name!r}; choose one of {', '.join(REPRODUCIBLE)}")
     experiment = _with_iterations(paper.EXPERIMENTS[name], iterations)
     seed_list = experiment.seeds if seeds is None else parse_seeds(seeds)
     if team_sizes is not None:
-        team_sizes = tuple(team_sizes)
+        team_sizes = as_tuple(team_sizes, "team_sizes")
         if not team_sizes or any(not is_int(n) or n < 1 for n in team_sizes):
             raise ConfigError(f"team sizes must be integers >= 1, got {team_sizes}")
     if starts is not None:
-        starts = tuple(starts)
-        unknown = [s for s in starts if s not in experiment.starts]
+        starts = as_tuple(starts, "starts")
+        unknown = [s for s in starts if not isinstance(s, str) or s not in experiment.starts]
         if unknown or not starts:
-            raise ConfigError(f"{name} compares the starts {', '.join(experiment.starts)}; got {', '.join(starts) or 'none'}")
+            raise ConfigError(f"{name} compares the starts {', '.join(experiment.starts)}; got {', '.join(map(str, starts)) or 'none'}")
     specs = experiment_specs(experiment, seeds=seed_list, team_sizes=team_sizes, starts=starts)
     if executor is None:
         plan_execution(workers, n_threads)  # refused before the folder is made

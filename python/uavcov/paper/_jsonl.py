@@ -16,7 +16,7 @@ def read_rows(path: Path) -> list[dict[str, Any]]:
     """Every complete row of ``path`` (none when it does not exist)."""
     rows = []
     if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
+        for line in path.read_text(encoding="utf-8", errors="replace").splitlines():
             try:
                 rows.append(json.loads(line))
             except json.JSONDecodeError:

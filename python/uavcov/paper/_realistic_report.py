@@ -15,7 +15,8 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write
-from ..errors import ConfigError, MissingExtraError
+from .._validate import as_path
+from ..errors import ConfigError, MissingExtraError, ResultsFormatError
 from ._jsonl import read_rows
 
 __all__ = ["write_realistic_report", "realistic_report_markdown"]
@@ -235,15 +236,29 @@ def realistic_report_markdown(config: dict[str, Any], rows: list[dict[str, Any]]
     return "\n".join(parts)
 
 
+def _realistic_config(path: Path) -> dict[str, Any]:
+    """A realistic run's ``config.json``, with the lists its report orders the rows by."""
+    try:
+        config = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ResultsFormatError(f"{path} is not JSON: {exc}") from exc
+    if not isinstance(config, dict) or not all(isinstance(config.get(key), list) for key in ("seeds", "starts", "measurements")):
+        raise ResultsFormatError(f"{path} is not a realistic run's config (it needs the lists seeds, starts and measurements)")
+    return config
+
+
 def write_realistic_report(folder: str | os.PathLike[str]) -> Path:
     """(Re)write the report of the realistic run in ``folder`` from its rows; returns ``realistic.md``."""
     from ._realistic import CONFIG, ROWS, realistic_rows_columns
 
-    path = Path(folder)
+    path = as_path(folder, "folder")
     if not (path / CONFIG).is_file():
         raise ConfigError(f"{path} holds no realistic run (no {CONFIG})")
-    config = json.loads((path / CONFIG).read_text(encoding="utf-8"))
+    config = _realistic_config(path / CONFIG)
     rows = read_rows(path / ROWS)
+    broken = next((r for r in rows if not isinstance(r, dict) or not {"seed", "start", "measurement"} <= r.keys()), None)
+    if broken is not None:
+        raise ResultsFormatError(f"{path / ROWS} holds a row that is not a realistic run's: {str(broken)[:120]}")
     order = {
         (s, st, m): k
         for k, (s, st, m) in enumerate((s, st, m) for s in config["seeds"] for st in config["starts"] for m in config["measurements"])

@@ -56,7 +56,16 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ConfigError, UavcovError
+from .._validate import (
+    MAX_ITERATIONS,
+    MAX_SAMPLES,
+    MAX_UAVS,
+    as_count,
+    as_finite_float,
+    as_non_negative_float,
+    as_positive_float,
+)
+from ..errors import ConfigError, InvalidInputError, InvalidTypeError, UavcovError
 from ._jsonl import append_row, read_rows
 from ._structures_rows import DEFAULT_CAO_STEP, setting_of
 
@@ -130,6 +139,12 @@ class StructuresExperiment:
     def __post_init__(self) -> None:
         from ..structures import STRUCTURE_FAMILIES
 
+        try:
+            _check_fields(self)
+        except InvalidTypeError:
+            raise
+        except InvalidInputError as exc:  # a bad value of the experiment's settings, like those below
+            raise ConfigError(str(exc)) from None
         unknown = [f for f in self.families if f not in STRUCTURE_FAMILIES]
         if unknown or not self.families:
             raise ConfigError(f"families must be among {sorted(STRUCTURE_FAMILIES)}, got {list(self.families)}")
@@ -143,6 +158,40 @@ class StructuresExperiment:
             raise ConfigError(f"normal weights must be finite, >= 0 and at most 1e15 m, got {self.normal_weights}")
         if not self.cao_steps or not all(np.isfinite(a) and 0 < a <= 1e15 for a in self.cao_steps):
             raise ConfigError(f"CAO steps must be finite, > 0 and at most 1e15 m, got {self.cao_steps}")
+
+
+def _check_fields(experiment: StructuresExperiment) -> None:
+    """Every field's type and range (checked, not converted: a valid experiment records as given)."""
+    for name in (
+        "families",
+        "report_seeds",
+        "dev_seeds",
+        "offsets",
+        "greedy_spacings",
+        "normal_weights",
+        "cao_steps",
+        "reference_distances",
+    ):
+        values = getattr(experiment, name)
+        if isinstance(values, (str, bytes)) or not isinstance(values, (tuple, list)):
+            raise InvalidTypeError(f"{name} must be a tuple, got {type(values).__name__}")
+    for family in experiment.families:
+        if not isinstance(family, str):
+            raise InvalidTypeError(f"families must be names, got {family!r}")
+    for seed in (*experiment.report_seeds, *experiment.dev_seeds):
+        as_count(seed, "seeds", 2**63 - 1, minimum=0)
+    for name in ("offsets", "greedy_spacings", "cao_steps", "reference_distances"):
+        for value in getattr(experiment, name):
+            as_positive_float(value, name)
+    for value in experiment.normal_weights:
+        as_finite_float(value, "normal_weights")
+    as_count(experiment.n_uavs, "n_uavs", MAX_UAVS)
+    as_count(experiment.n_prior, "n_prior", MAX_SAMPLES)
+    as_count(experiment.iterations, "iterations", MAX_ITERATIONS, minimum=0)
+    for name in ("d_max", "ceiling", "reference_spacing", "target_spacing"):
+        as_positive_float(getattr(experiment, name), name)
+    for name in ("h_min", "d_safe"):
+        as_non_negative_float(getattr(experiment, name), name)
 
 
 Task = tuple[str, str, int, float, float, float, float]

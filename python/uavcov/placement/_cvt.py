@@ -298,6 +298,7 @@ class CVTSettings:
 
     def samples_for(self, n: int) -> int:
         """``q`` for ``n`` generators."""
+        n = as_count(n, "n", MAX_GENERATORS)
         return default_samples_per_iteration(n) if self.samples_per_iteration is None else self.samples_per_iteration
 
 

@@ -231,7 +231,7 @@ class StartSettings:
         object.__setattr__(self, "altitude", as_non_negative_float(self.altitude, "altitude"))
         object.__setattr__(self, "climb", as_non_negative_float(self.climb, "climb"))
         object.__setattr__(self, "corner_spacing", as_positive_float(self.corner_spacing, "corner_spacing"))
-        if self.altitude_reference not in ALTITUDE_REFERENCES:
+        if not isinstance(self.altitude_reference, str) or self.altitude_reference not in ALTITUDE_REFERENCES:
             raise InvalidInputError(f"altitude_reference must be one of {ALTITUDE_REFERENCES}, got {self.altitude_reference!r}")
         if (self.altitude_reference == "normal" and self.kind not in STRUCTURE_START_KINDS) or (
             self.kind == "launch_pad" and self.altitude_reference != "normal"
@@ -240,7 +240,7 @@ class StartSettings:
                 f"kind={self.kind!r} with altitude_reference={self.altitude_reference!r}: a structure's start "
                 f'(altitude_reference="normal") is one of {STRUCTURE_START_KINDS}, and "launch_pad" is a structure\'s only'
             )
-        if self.corner not in CORNERS:
+        if not isinstance(self.corner, str) or self.corner not in CORNERS:
             raise InvalidInputError(f"corner must be one of {CORNERS}, got {self.corner!r}")
         if self.corner_altitude is not None:
             object.__setattr__(self, "corner_altitude", as_non_negative_float(self.corner_altitude, "corner_altitude"))

@@ -30,6 +30,7 @@ from ._canvas import (
     _marker,
     _matplotlib,
     _patch,
+    check_output,
 )
 from ._inputs import _as_result, _curve, _d_max, _setting, _trajectory
 from ._views import _TopView
@@ -103,7 +104,8 @@ def animate_mission(
         The file written.
     """
     result = _as_result(source, ("terrain", "trajectory", "coverage", "settings"))
-    out = Path(out)
+    out, dpi = check_output(out, dpi, required=True)
+    assert out is not None  # required=True
     suffix = out.suffix.lower()
     if suffix not in (".gif", ".mp4"):
         raise InvalidInputError(f"the animation is written as .gif or .mp4, got {out.name!r}")

@@ -7,10 +7,15 @@ drawn, so ``import uavcov.plotting`` works without the ``uavcov[plot]`` extra.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
+from .._validate import as_positive_float
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
+
+MAX_DPI = 1200.0
+"""Highest ``dpi`` of a figure: a print's; beyond, the canvas grows past what one figure needs."""
 
 # The paper's colours where it has them: covered surface red, start black, end green.
 SEEN_COLOUR = (0.84, 0.15, 0.16)
@@ -53,8 +58,19 @@ def _new_axes(ax: Any, *, three_d: bool, figsize: tuple[float, float]) -> tuple[
     return ax.figure, ax
 
 
+def check_output(out: Any, dpi: Any, *, required: bool = False) -> tuple[Path | None, float]:
+    """``out`` as a Path (None unless ``required``) and ``dpi`` as a float in (0, MAX_DPI]."""
+    if not isinstance(out, (str, os.PathLike)) and (required or out is not None):
+        raise InvalidTypeError(f"out must be {'' if required else 'None, '}a path string or os.PathLike, got {type(out).__name__}")
+    dpi = as_positive_float(dpi, "dpi")
+    if dpi > MAX_DPI:
+        raise InvalidInputError(f"dpi must be at most {MAX_DPI:g}, got {dpi:g}")
+    return (None if out is None else Path(out)), dpi
+
+
 def _finish(fig: Any, out: Any, dpi: float) -> Any:
     """Save ``fig`` to ``out`` (parents made) when given, and return it: every figure's last step."""
+    out, dpi = check_output(out, dpi)
     if out is not None:
         path = Path(out)
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_bool, as_optional_str
 from ..errors import InvalidTypeError, ResultsFormatError
 from . import _runs
 from ._canvas import (
@@ -112,6 +113,14 @@ def plot_coverage_curves(
     -------
     matplotlib.figure.Figure
     """
+    if not isinstance(group_by, str):
+        raise InvalidTypeError(f"group_by must be a string, got {type(group_by).__name__}")
+    running_max = as_bool(running_max, "running_max")
+    if show_runs is not None:
+        show_runs = as_bool(show_runs, "show_runs")
+    if reference is not None and not isinstance(reference, Mapping):
+        raise InvalidTypeError(f"reference must be None or a mapping of group names to shares, got {type(reference).__name__}")
+    title = as_optional_str(title, "title")
     groups = _group_results(results, group_by)
     fig, ax = _new_axes(ax, three_d=False, figsize=(6.6, 4.2))
     handles = []

@@ -16,11 +16,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ResultsFolderError, ResultsFormatError
+from .._validate import as_bool, as_count
+from ..errors import InvalidTypeError, ResultsFolderError, ResultsFormatError
 from ..records import load_mission
 from . import _runs
 from ._animation import animate_mission
-from ._canvas import _close, _finish, _matplotlib
+from ._canvas import _close, _finish, _matplotlib, check_output
 from ._curves import plot_coverage_curves, plot_table1
 from ._distance import plot_coverage_distance
 from ._figures import plot_approximation, plot_coverage_map, plot_cvt, plot_point_cloud
@@ -70,11 +71,15 @@ def plot_directory(directory: Any, out: Any = None, *, max_runs: int = 6, animat
     ImportError
         matplotlib is not installed (the ``uavcov[plot]`` extra).
     """
+    if not isinstance(directory, (str, os.PathLike)):
+        raise InvalidTypeError(f"directory must be a path string or os.PathLike, got {type(directory).__name__}")
     directory = Path(directory)
     if not directory.is_dir():
         raise ResultsFormatError(f"no results directory at {directory}")
-    limit = max(0, int(max_runs))
-    target = directory / "figures" if out is None else Path(out)
+    limit = as_count(max_runs, "max_runs", 1_000_000, minimum=0)
+    animation = as_bool(animation, "animation")
+    given, dpi = check_output(out, dpi)
+    target = directory / "figures" if given is None else given
     runs_csv = directory / "runs.csv"
     run_files = _stored_runs(directory)
     if not runs_csv.is_file() and not run_files:

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_positive_float, as_positive_int
+from .._validate import as_bool, as_path, as_positive_float, as_positive_int
 from ..engine import Targets, Terrain, Visibility
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..placement import CVTResult
@@ -295,6 +295,9 @@ def plot_coverage_map(
     -------
     matplotlib.figure.Figure
     """
+    if not isinstance(view, str) or view not in ("3d", "top"):  # checked before anything is computed
+        raise InvalidInputError(f"view must be '3d' or 'top', got {view!r}")
+    shade = as_bool(shade, "shade")
     start: np.ndarray | None = None
     label = "UAV positions"
     coverage_value: float | None = None
@@ -458,7 +461,7 @@ def plot_point_cloud(
         if positions is None:
             positions = _trajectory(result.trajectory)[-1]
     if ply is not None:
-        write_ply(pts, ply)
+        write_ply(pts, as_path(ply, "ply"))
     fig, ax = _new_axes(ax, three_d=True, figsize=(7.0, 5.6))
     ax.computed_zorder = False
     limit = as_positive_int(max_points, "max_points")

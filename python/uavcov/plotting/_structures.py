@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array, as_points, as_positive_int
+from .._validate import as_float_array, as_optional_str, as_points, as_positive_int
 from ..cover import closest_faces
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError
@@ -169,5 +169,5 @@ def plot_structure_seen(
         handles.append(_marker("UAVs", marker="o", markerfacecolor=END_COLOUR, markeredgecolor="black", markersize=6))
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9, bbox_to_anchor=(0.5, 0.0))
     share_text = f"{100.0 * seen_area / known_area:.1f} % of the area seen" if known_area > 0 else "no target"
-    fig.suptitle(title or f"structure coloured by seen: {share_text}", fontsize=11)
+    fig.suptitle(as_optional_str(title, "title") or f"structure coloured by seen: {share_text}", fontsize=11)
     return _finish(fig, out, dpi)

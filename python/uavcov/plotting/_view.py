@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write
+from .._validate import as_optional_str, as_path
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError, MissingExtraError, ResultsFormatError
 from ..sim import is_flown_file, load_flown
@@ -451,7 +452,7 @@ def write_view(result: Any, out: str | os.PathLike[str], **options: Any) -> Path
     """
     fig = view(result, **options)
     html = fig.to_html(include_plotlyjs=True, full_html=True, auto_play=False, config={"displaylogo": False, "responsive": True})
-    path = Path(out)
+    path = as_path(out, "out")
     atomic_write(path, html)
     return path
 
@@ -466,7 +467,7 @@ def find_run(path: str | os.PathLike[str], run: str | None = None) -> Path:
     ResultsFormatError
         Nothing at ``path``, no run in the folder, or no run named ``run``.
     """
-    where = Path(path)
+    where = as_path(path, "path")
     if where.is_file():
         if run is not None:
             raise ResultsFormatError(f"{where} is one run: a run name is for folders")
@@ -478,6 +479,7 @@ def find_run(path: str | os.PathLike[str], run: str | None = None) -> Path:
         raise ResultsFormatError(f"{where} holds no runs (neither runs/*.npz, *.npz nor a flown experiment's states/*.npz)")
     if run is None:
         return runs[0]
+    run = as_optional_str(run, "run")
     for candidate in runs:
         if candidate.stem == run:
             return candidate

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_path
 from ..errors import InvalidInputError
 from ._inputs import _points
 
@@ -44,7 +45,7 @@ def write_ply(points: Any, path: Any, colors: Any = None) -> Path:
         elif not np.issubdtype(rgb.dtype, np.integer) or rgb.min(initial=0) < 0 or rgb.max(initial=0) > 255:
             raise InvalidInputError("integer colors must lie in 0..255")
         rgb = rgb.astype(np.int64)
-    path = Path(path)
+    path = as_path(path, "path")
     path.parent.mkdir(parents=True, exist_ok=True)
     header = [
         "ply",

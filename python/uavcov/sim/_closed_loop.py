@@ -78,7 +78,7 @@ class SimSettings:
     def __post_init__(self) -> None:
         if not isinstance(self.flight, FlightSettings):
             raise InvalidTypeError(f"flight must be a FlightSettings, got {type(self.flight).__name__}")
-        if self.measurement not in MEASUREMENTS:
+        if not isinstance(self.measurement, str) or self.measurement not in MEASUREMENTS:
             raise InvalidInputError(f"measurement must be one of {MEASUREMENTS}, got {self.measurement!r}")
         if self.camera is not None and not isinstance(self.camera, DepthCamera):
             raise InvalidTypeError(f"camera must be a DepthCamera or None, got {type(self.camera).__name__}")
@@ -191,7 +191,10 @@ class FlownMission:
         return float(self.clock[-1]) if self.clock.size else 0.0
 
     def time_to_fraction(self, fraction: float = 0.95) -> float:
-        """Mission seconds until the exact coverage first reaches ``fraction`` of its best."""
+        """Mission seconds until the exact coverage first reaches ``fraction`` (in [0, 1]) of its best."""
+        fraction = as_finite_float(fraction, "fraction")
+        if not 0.0 <= fraction <= 1.0:  # above 1 no measurement reaches it: argmax would answer the start
+            raise InvalidInputError(f"fraction must be in [0, 1], got {fraction}")
         if not self.exact.size:
             return math.nan
         return float(self.clock[int(np.argmax(self.exact >= fraction * self.exact.max()))])

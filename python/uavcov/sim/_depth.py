@@ -62,7 +62,7 @@ class DepthCamera:
             object.__setattr__(self, name, int(value))
         if self.width * self.height > _MAX_PIXELS:
             raise InvalidInputError(f"{self.width} x {self.height} pixels: at most {_MAX_PIXELS:,} a camera")
-        fov = np.asarray(self.fov_deg, dtype=np.float64) if not isinstance(self.fov_deg, (str, bytes)) else None
+        fov = None if isinstance(self.fov_deg, (str, bytes)) else as_float_array(self.fov_deg, "fov_deg")
         if fov is None or fov.shape != (2,) or not np.isfinite(fov).all() or not (0 < fov[0] <= 360 and 0 < fov[1] <= 180):
             raise InvalidInputError(f"fov_deg must be (horizontal in (0, 360], vertical in (0, 180]) degrees, got {self.fov_deg!r}")
         object.__setattr__(self, "fov_deg", (float(fov[0]), float(fov[1])))
@@ -83,6 +83,8 @@ class DepthCamera:
     @classmethod
     def omnidirectional(cls, range_m: float, resolution: int = 128, noise_sd: float = 0.0) -> DepthCamera:
         """The paper's sensor as a depth camera: every direction within ``range_m``, ``2r x r`` pixels."""
+        if not is_int(resolution):  # 2 * resolution of a float or None would fail before the camera's own checks
+            raise InvalidTypeError(f"resolution must be a whole number of pixels, got {resolution!r}")
         return cls(width=2 * resolution, height=resolution, fov_deg=(360.0, 180.0), range_m=range_m, noise_sd=noise_sd)
 
     @property
@@ -132,8 +134,8 @@ class DepthCamera:
         """
         if not isinstance(terrain, Terrain):
             raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
-        origin = np.asarray(position, dtype=np.float64)
-        turn = np.asarray(rotation, dtype=np.float64)
+        origin = as_float_array(position, "position")
+        turn = as_float_array(rotation, "rotation")
         if origin.shape != (3,) or turn.shape != (3, 3) or not (np.isfinite(origin).all() and np.isfinite(turn).all()):
             raise InvalidInputError("position must be 3 finite metres and rotation a finite 3 x 3 matrix")
         rays = self.directions() @ turn.T

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_generator, as_positive_float, read_only
+from .._validate import as_finite_float, as_float_array, as_generator, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import FlightError, InvalidInputError, InvalidTypeError, MissingExtraError
 from ._wind import DrydenGusts
@@ -33,6 +33,7 @@ about 0.18 m arms); ``docs/realistic.md`` compares them."""
 INTEGRATORS = ("rk23", "rk45")
 """How each control period is integrated (:attr:`FlightSettings.integrator`); ``"rk45"`` is RotorPy's default."""
 
+_MAX_COORDINATE_M = 1e15  # the engine's bound on a coordinate (uavcov.terrain._meshes.MAX_COORDINATE_M)
 _GRAVITY = 9.81  # m/s^2, RotorPy's value
 # A rest-to-rest leg's 7th-degree polynomial peaks at 35/16 of its average speed mid-leg; RotorPy's
 # cap on the mid-leg speed must allow it, or its QP has no solution.
@@ -142,7 +143,7 @@ class FlightSettings:
     synchronous: bool = False
 
     def __post_init__(self) -> None:
-        if self.vehicle not in VEHICLES:
+        if not isinstance(self.vehicle, str) or self.vehicle not in VEHICLES:
             raise InvalidInputError(f"vehicle must be one of {VEHICLES}, got {self.vehicle!r}")
         for name in ("speed", "max_acceleration", "dt", "settle_position", "settle_speed", "max_leg_s", "collision_distance"):
             object.__setattr__(self, name, as_positive_float(getattr(self, name), name))
@@ -156,15 +157,15 @@ class FlightSettings:
         if not 0.0 <= dwell <= 600.0:
             raise InvalidInputError(f"dwell_s must lie in [0, 600] s, got {dwell}")
         object.__setattr__(self, "dwell_s", dwell)
-        wind = np.asarray(self.wind, dtype=np.float64) if not isinstance(self.wind, (str, bytes)) else None
+        wind = None if isinstance(self.wind, (str, bytes)) else as_float_array(self.wind, "wind")
         if wind is None or wind.shape != (3,) or not np.isfinite(wind).all() or np.abs(wind).max() > 100.0:
             raise InvalidInputError(f"wind must be 3 finite speeds of at most 100 m/s, got {self.wind!r}")
         object.__setattr__(self, "wind", (float(wind[0]), float(wind[1]), float(wind[2])))
-        gusts = np.asarray(self.gusts, dtype=np.float64) if not isinstance(self.gusts, (str, bytes)) else None
+        gusts = None if isinstance(self.gusts, (str, bytes)) else as_float_array(self.gusts, "gusts")
         if gusts is None or gusts.shape != (3,) or not np.isfinite(gusts).all() or gusts.min() < 0.0 or gusts.max() > 50.0:
             raise InvalidInputError(f"gusts must be 3 standard deviations in [0, 50] m/s, got {self.gusts!r}")
         object.__setattr__(self, "gusts", (float(gusts[0]), float(gusts[1]), float(gusts[2])))
-        if self.integrator not in INTEGRATORS:
+        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
             raise InvalidInputError(f"integrator must be one of {INTEGRATORS}, got {self.integrator!r}")
         if not isinstance(self.synchronous, (bool, np.bool_)):
             raise InvalidTypeError(f"synchronous must be a bool, got {type(self.synchronous).__name__}")
@@ -266,10 +267,14 @@ class Team:
         vehicle; without gusts nothing is drawn.
         """
         rp = _rotorpy()
+        if not isinstance(settings, FlightSettings):
+            raise InvalidTypeError(f"settings must be a FlightSettings, got {type(settings).__name__}")
         params = vehicle_parameters(settings.vehicle)
-        x0 = np.asarray(positions, dtype=np.float64)
-        if x0.ndim != 2 or x0.shape[1] != 3 or not np.isfinite(x0).all():
-            raise InvalidInputError(f"positions must be finite, of shape (N, 3), got shape {x0.shape}")
+        x0 = as_float_array(positions, "positions")
+        if x0.ndim != 2 or x0.shape[1] != 3 or x0.shape[0] == 0:
+            raise InvalidInputError(f"positions must have shape (N, 3) with N >= 1, got shape {x0.shape}")
+        if np.abs(x0).max() > _MAX_COORDINATE_M:  # the engine's bound: beyond, a step of the dynamics is lost in rounding
+            raise InvalidInputError(f"positions must lie within {_MAX_COORDINATE_M:.0e} m of the origin, got {np.abs(x0).max():g} m")
         hover = hover_rotor_speed(params)
         states = [
             {
@@ -330,9 +335,11 @@ class Team:
             came within ``collision_distance`` of the surface, or the flight diverged; its
             ``leg`` attribute holds the states flown until then.
         """
-        goals = np.asarray(waypoints, dtype=np.float64)
-        if goals.shape != (len(self.states), 3) or not np.isfinite(goals).all():
+        goals = as_float_array(waypoints, "waypoints")
+        if goals.shape != (len(self.states), 3):
             raise InvalidInputError(f"waypoints must be finite, of shape ({len(self.states)}, 3), got {goals.shape}")
+        if np.abs(goals).max() > _MAX_COORDINATE_M:
+            raise InvalidInputError(f"waypoints must lie within {_MAX_COORDINATE_M:.0e} m of the origin, got {np.abs(goals).max():g} m")
         cfg = self.settings
         references, end = self._references(goals)
         deadline = end + cfg.max_leg_s

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write_with
-from .._validate import read_only
+from .._validate import as_path, read_only
 from ..engine import Terrain
 from ..errors import InvalidTypeError, ResultsFormatError
 from ..mission import MissionSettings
@@ -111,7 +111,7 @@ def save_flown(flown: FlownMission, path: str | os.PathLike[str], terrain: Terra
         "terrain_faces": np.asarray(terrain.faces),
         **{name: np.asarray(getattr(flown, name)) for name in _ARRAYS},
     }
-    out = Path(path)
+    out = as_path(path, "path")
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_with(out, lambda handle: np.savez_compressed(handle, **arrays))  # type: ignore[arg-type]
     return out
@@ -134,7 +134,7 @@ def load_flown(path: str | os.PathLike[str]) -> FlownRun:
     ResultsFormatError
         Not a readable flown run (missing, corrupt, another format, arrays of the wrong shapes).
     """
-    file = Path(path)
+    file = as_path(path, "path")
     if not file.is_file():
         raise ResultsFormatError(f"no flown run at {file}")
     try:

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .._validate import as_positive_float
+from .._validate import as_float_array, as_positive_float
 from ..engine import Targets
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -48,7 +48,7 @@ class VoxelMap:
 
     def add(self, points: Any) -> None:
         """Fuse ``(n, 3)`` points (metres) into the map."""
-        pts = np.asarray(points, dtype=np.float64)
+        pts = as_float_array(points, "points")
         if pts.ndim != 2 or pts.shape[1] != 3 or not np.isfinite(pts).all():
             raise InvalidInputError(f"points must be finite, of shape (n, 3), got shape {pts.shape}")
         if not len(pts):
@@ -83,7 +83,13 @@ def observed_targets(targets: Targets, points: Any, radius: float) -> np.ndarray
     if not isinstance(targets, Targets):
         raise InvalidTypeError(f"targets must be a uavcov.Targets, got {type(targets).__name__}")
     radius = as_positive_float(radius, "radius")
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    pts = as_float_array(points, "points")
+    if pts.size == 0:  # nothing sensed yet, whatever the empty shape
+        pts = pts.reshape(0, 3)
+    elif pts.shape == (3,):
+        pts = pts.reshape(1, 3)
+    if pts.ndim != 2 or pts.shape[1] != 3:
+        raise InvalidInputError(f"points must have shape (n, 3), got {pts.shape}")
     if not len(pts):
         return np.zeros(len(targets), dtype=bool)
     distance, _ = cKDTree(pts).query(targets.points, k=1, distance_upper_bound=radius)

@@ -14,7 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._validate import MAX_GRID_CELLS, as_positive_float
 from ..engine import Terrain
+from ..errors import InvalidInputError
 
 
 @dataclass(frozen=True)
@@ -222,8 +224,17 @@ def cells(
 
 
 def refine(breaks: list[float], step: float) -> np.ndarray:
-    """The sorted distinct ``breaks`` with points added so no gap exceeds ``step``."""
+    """The sorted distinct ``breaks`` with points added so no gap exceeds ``step``.
+
+    ``step`` is the user's (a structure's ``step``): checked here, where every builder meets it,
+    and before the points are made (at most ``MAX_GRID_CELLS`` along the cuts).
+    """
+    step = as_positive_float(step, "step")
     values = np.unique(np.asarray(breaks, dtype=np.float64))
+    if (values[-1] - values[0]) / step > MAX_GRID_CELLS:
+        raise InvalidInputError(
+            f"step = {step} m cuts {values[-1] - values[0]:.1f} m into more than {MAX_GRID_CELLS:,} pieces (uavcov's size limit)"
+        )
     out = [values[0]]
     for lo, hi in itertools.pairwise(values):
         n = max(1, int(np.ceil((hi - lo) / step - 1e-9)))

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
+from .._validate import as_bool, as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._facing import facing_into
@@ -88,6 +88,8 @@ class StructurePrior:
         (m,) bool ndarray
         """
         queries = as_points(points, "points", allow_empty=True)
+        if queries.size and np.abs(queries).max() > 1e15:  # the engine's bound: squared distances must stay finite
+            raise InvalidInputError(f"points must lie within 1e15 m of the origin, got a coordinate of {np.abs(queries).max():g} m")
         if self.normals is None or not queries.shape[0]:
             return np.zeros(queries.shape[0], dtype=bool)
         unit = self.normals / np.linalg.norm(self.normals, axis=1)[:, None]
@@ -143,6 +145,7 @@ def sample_structure_prior(
     structure = _check_structure(structure)
     n = as_count(n, "n", MAX_PRIOR_POINTS)
     noise = as_non_negative_float(noise, "noise")
+    normals, include_ground = as_bool(normals, "normals"), as_bool(include_ground, "include_ground")
     generator = as_generator(rng)
     faces = structure.surface.faces[structure.face_mask(include_ground=include_ground)]
     points, chosen = _sample_faces(structure.surface.vertices, faces, n, generator)
@@ -180,6 +183,8 @@ def coarse_structure_prior(structure: Structure, kind: str = "boxes", *, cell: f
     """
     structure = _check_structure(structure)
     vertices, faces = structure.surface.vertices, structure.surface.faces
+    if not isinstance(kind, str):  # before any comparison: an array's == is elementwise
+        raise InvalidInputError(f"kind must be 'boxes' or 'decimated', got {kind!r}")
     if kind == "boxes":
         pieces = []
         for index, name in enumerate(structure.part_names):
@@ -333,7 +338,7 @@ def reconstruct_structure(
     """
     if not isinstance(prior, StructurePrior):
         raise InvalidTypeError(f"expected a StructurePrior, got {type(prior).__name__}")
-    if method not in RECONSTRUCTION_METHODS:
+    if not isinstance(method, str) or method not in RECONSTRUCTION_METHODS:
         raise InvalidInputError(f"method must be one of {RECONSTRUCTION_METHODS}, got {method!r}")
     if method == "model" or (method == "auto" and prior.model is not None):
         if prior.model is None:

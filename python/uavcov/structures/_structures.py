@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_generator, as_positive_float, existing_path, read_only
+from .._validate import as_bool, as_generator, as_positive_float, as_positive_int, existing_path, is_int, read_only
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
@@ -28,6 +28,28 @@ from ._solids import Piece, box, cells, face_normals, frustum, ground, join, lof
 GROUND = "ground"
 CONTACT = "contact"
 MAX_TARGETS = 20_000_000
+
+
+def _names(value: Any) -> tuple[str, ...]:
+    """Part names: a sequence of strings (kept as a tuple)."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, (tuple, list)) or not all(isinstance(n, str) for n in value):
+        raise InvalidTypeError(f"part_names must be a tuple of strings, got {value!r}")
+    return tuple(value)
+
+
+def _part_labels(value: Any, name: str, count: int, n_names: int) -> np.ndarray:
+    """``(count,)`` int32 indices into ``n_names`` part names; floats are refused, not truncated."""
+    try:
+        labels = np.asarray(value)
+    except Exception as exc:  # ragged lists and the like
+        raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
+    if labels.size == 0 and labels.dtype == np.float64:
+        labels = labels.astype(np.int64)  # np.asarray([]) is float64; an empty list is not a float
+    if not np.issubdtype(labels.dtype, np.integer):
+        raise InvalidTypeError(f"{name} must hold integers, got dtype {labels.dtype}")
+    if labels.shape != (count,) or (labels.size and (labels.min() < 0 or labels.max() >= n_names)):
+        raise InvalidInputError(f"{name} must be {count} indices into {n_names} part names")
+    return labels.astype(np.int32)
 
 
 class StructureTargets(Targets):
@@ -45,9 +67,8 @@ class StructureTargets(Targets):
 
     def __init__(self, points: Any, weights: Any, normals: Any, parts: Any, part_names: tuple[str, ...]) -> None:
         super().__init__(points, weights, normals)
-        labels = np.array(parts, dtype=np.int32)
-        if labels.shape != (len(self),) or (labels.size and (labels.min() < 0 or labels.max() >= len(part_names))):
-            raise InvalidInputError(f"parts must be {len(self)} indices into {len(part_names)} part names")
+        part_names = _names(part_names)
+        labels = _part_labels(parts, "parts", len(self), len(part_names))
         labels.setflags(write=False)
         object.__setattr__(self, "parts", labels)
         object.__setattr__(self, "part_names", tuple(part_names))
@@ -86,9 +107,12 @@ class Structure:
     def __post_init__(self) -> None:
         if not isinstance(self.surface, Terrain):
             raise InvalidTypeError(f"surface must be a Terrain, got {type(self.surface).__name__}")
-        parts = np.array(self.face_parts, dtype=np.int32)
-        if parts.shape != (self.surface.n_faces,) or parts.min() < 0 or parts.max() >= len(self.part_names):
-            raise InvalidInputError(f"face_parts must be {self.surface.n_faces} indices into {len(self.part_names)} part names")
+        if not isinstance(self.name, str):
+            raise InvalidTypeError(f"name must be a string, got {type(self.name).__name__}")
+        names = _names(self.part_names)
+        parts = _part_labels(self.face_parts, "face_parts", self.surface.n_faces, len(names))
+        if self.ground_part is not None and not (is_int(self.ground_part) and 0 <= self.ground_part < len(names)):
+            raise InvalidInputError(f"ground_part must be None or an index into the {len(names)} part names, got {self.ground_part!r}")
         object.__setattr__(self, "face_parts", read_only(parts))
         object.__setattr__(self, "part_names", tuple(str(n) for n in self.part_names))
 
@@ -97,12 +121,13 @@ class Structure:
 
     def part_index(self, name: str) -> int:
         """Index of the part called ``name``."""
-        if name not in self.part_names:
+        if not isinstance(name, str) or name not in self.part_names:
             raise InvalidInputError(f"{self.name} has no part {name!r}; its parts are {self.part_names}")
         return self.part_names.index(name)
 
     def face_mask(self, *, include_ground: bool = False) -> np.ndarray:
         """``(F,)`` bool: the faces that carry targets (every part but contact, ground optional)."""
+        include_ground = as_bool(include_ground, "include_ground")
         mask = np.ones(self.surface.n_faces, dtype=bool)
         if CONTACT in self.part_names:
             mask &= self.face_parts != self.part_names.index(CONTACT)
@@ -581,6 +606,9 @@ def load_structure(
         raise MeshError(f"{text!r} is empty")
     if size > MAX_MESH_BYTES:
         raise MeshError(f"{text!r} is {size} bytes, more than the {MAX_MESH_BYTES} a structure may have")
+    closed, add_ground = as_bool(closed, "closed"), as_bool(add_ground, "add_ground")
+    max_faces = as_positive_int(max_faces, "max_faces")
+    max_extent = as_positive_float(max_extent, "max_extent")
     loaded = load_mesh(text, up=up, scale=scale)
     vertices, faces = loaded.terrain.vertices, np.array(loaded.terrain.faces)
     if faces.shape[0] > max_faces:

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import (
+    MAX_GRID_CELLS,
     as_cell_count,
     as_finite_float,
     as_generator,
@@ -216,6 +217,10 @@ def buildings_terrain(buildings: Sequence[Building], size: float = 24.0, spacing
     for b in boxes:
         if not isinstance(b, Building):
             raise InvalidTypeError(f"buildings must be Building objects, got {type(b).__name__}")
+        if b.height / spacing > MAX_GRID_CELLS:  # its walls' rows, checked before they are made
+            raise InvalidInputError(
+                f"a building of height {b.height} m has more than {MAX_GRID_CELLS:,} rows of spacing {spacing} m (uavcov's size limit)"
+            )
         for value in (b.xmin, b.ymin, b.xmax, b.ymax):
             if abs(value / spacing - round(value / spacing)) > 1e-6:
                 raise InvalidInputError(f"footprint corner {value} of {b} is not a multiple of spacing {spacing}")

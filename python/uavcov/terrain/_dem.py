@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_positive_float, as_positive_int
+from .._validate import as_finite_float, as_float_array, as_optional_str, as_positive_float, as_positive_int
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._frame import LocalFrame, metres_per_degree
@@ -372,6 +372,9 @@ def dem_from_array(
     -------
     GeoDem
     """
+    vertical_datum = as_optional_str(vertical_datum, "vertical_datum")
+    if not isinstance(source, str):
+        raise InvalidTypeError(f"source must be a string, got {type(source).__name__}")
     heights = as_float_array(z, "z", ndim=2, allow_nan=True)
     values = as_float_array(transform, "transform", ndim=1)
     if values.shape[0] < 6:

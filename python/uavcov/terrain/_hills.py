@@ -5,16 +5,18 @@ analytic height function (exact heights and gradients anywhere, for checks and p
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .._validate import (
+    MAX_HILLS,
     as_cell_count,
+    as_count,
     as_float_array,
     as_generator,
-    as_non_negative_int,
     as_positive_float,
     as_range,
 )
@@ -52,6 +54,8 @@ class GaussianMixture:
         if heights.ndim != 1 or heights.shape[0] != centres.shape[0]:
             raise InvalidInputError(f"heights must have shape ({centres.shape[0]},), got {heights.shape}")
         sigma = as_positive_float(self.sigma, "sigma")
+        if not 0.0 < sigma * sigma < math.inf:  # the bumps' exponent divides by sigma**2
+            raise InvalidInputError(f"sigma must have a finite, non-zero square, got {sigma}")
         centres.setflags(write=False)
         heights.setflags(write=False)
         object.__setattr__(self, "centres", centres)
@@ -118,7 +122,7 @@ def random_gaussian_mixture(
         heights (``n_hills`` uniforms), so a seed gives the same hills at every grid spacing.
     """
     size = as_positive_float(size, "size")
-    n_hills = as_non_negative_int(n_hills, "n_hills")
+    n_hills = as_count(n_hills, "n_hills", MAX_HILLS, minimum=0)
     low, high = as_range(heights, "heights")
     sigma = as_positive_float(sigma, "sigma")
     generator = as_generator(rng)

@@ -212,7 +212,7 @@ def mesh_terrain(
     """
     if not isinstance(up, str) or up.lower() not in _UP_AXES:
         raise InvalidInputError(f"up must be 'z' or 'y', got {up!r}")
-    if on_defect not in ("repair", "raise"):
+    if not isinstance(on_defect, str) or on_defect not in ("repair", "raise"):
         raise InvalidInputError(f"on_defect must be 'repair' or 'raise', got {on_defect!r}")
     scale = as_positive_float(scale, "scale")
     points = as_float_array(vertices, "vertices", nonfinite_error=MeshError)

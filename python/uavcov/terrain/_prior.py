@@ -32,13 +32,13 @@ from .._validate import (
     as_float_array,
     as_generator,
     as_non_negative_float,
-    as_non_negative_int,
     as_points,
     as_positive_float,
 )
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._buildings import Building, buildings_terrain, perturb_buildings
+from ._meshes import MAX_COORDINATE_M
 
 _KINDS = ("random", "pyramid", "points")
 
@@ -190,7 +190,7 @@ def sample_prior(
         return Prior(known, kind="pyramid")
 
     if kind == "random":
-        n = as_non_negative_int(n, "n")
+        n = as_count(n, "n", MAX_SAMPLES, minimum=0)
         known = _random_surface_points(terrain, n, generator, max_rounds=100) if n else np.zeros((0, 3))
     else:
         if points is None:
@@ -317,6 +317,9 @@ def approximate_surface(samples: Any) -> Terrain:
         raise InvalidInputError(
             f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), first at index {int(bad[0])}"
         )
+    if points.size and np.abs(points).max() > MAX_COORDINATE_M:  # the engine's bound, before a KD-tree overflows
+        largest = float(np.abs(points).max())
+        raise InvalidInputError(f"samples must lie within {MAX_COORDINATE_M:.0e} m of the origin, got a coordinate of {largest:g} m")
     if points.shape[0] < 3:
         raise InvalidInputError(f"S' needs at least 3 samples, got {points.shape[0]}")
     points = _deduplicate(points)
