@@ -32,6 +32,7 @@ import importlib
 import inspect
 import json
 import os
+import pkgutil
 import resource
 import select
 import subprocess
@@ -45,20 +46,10 @@ from typing import Any
 
 import numpy as np
 
-SUBPACKAGES = (
-    "engine",
-    "terrain",
-    "structures",
-    "limits",
-    "cover",
-    "placement",
-    "optim",
-    "experiments",
-    "field",
-    "sim",
-    "paper",
-    "plotting",
-)
+import uavcov
+
+# Every public subpackage but the command line (fuzzed through its subcommands below).
+SUBPACKAGES = tuple(m.name for m in pkgutil.iter_modules(uavcov.__path__) if m.ispkg and not m.name.startswith("_") and m.name != "cli")
 
 # ---------------------------------------------------------------------------------------------
 # Hostile values: made fresh for each call (a call may keep or change what it is given)
