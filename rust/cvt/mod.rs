@@ -243,8 +243,8 @@ pub struct Tessellation {
     pub drift: Vec<f64>,
     /// Per iteration, a Monte-Carlo estimate of the CVT energy per unit (density-weighted) area
     /// of the generators at the start of the iteration: the mean squared distance, m^2, from
-    /// that iteration's samples to their nearest generator (the facing term included). Times the (weighted) area it
-    /// estimates the integral of `rho |y - z|^2`.
+    /// that iteration's samples to their nearest generator, the facing term included. Times the
+    /// (weighted) area it estimates the integral of `rho |y - z|^2` (plus the facing term's).
     pub energy: Vec<f64>,
     /// Iterations run.
     pub iterations: usize,
