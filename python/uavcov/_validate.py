@@ -51,6 +51,7 @@ from .errors import InvalidInputError, InvalidTypeError
 __all__ = [
     "as_points",
     "as_float_array",
+    "as_bool_array",
     "as_index_array",
     "as_finite_float",
     "as_positive_float",
@@ -105,9 +106,12 @@ def as_float_array(
     *,
     ndim: int | None = None,
     allow_nan: bool = False,
+    allow_bool: bool = False,
     nonfinite_error: type[InvalidInputError] = InvalidInputError,
 ) -> np.ndarray:
     """Return ``value`` as a C-contiguous float64 array, checking dimension and finiteness.
+
+    Booleans are refused (a mask given for numbers) unless ``allow_bool``: then they read as 0 and 1.
 
     ``nonfinite_error`` is the class raised for NaN (unless ``allow_nan``) or infinite values:
     :class:`~uavcov.errors.MeshError` for the vertices of a mesh, for example.
@@ -126,7 +130,7 @@ def as_float_array(
             np.issubdtype(array.dtype, np.floating) or np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_
         ):
             raise InvalidTypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
-        if array.dtype == np.bool_:
+        if array.dtype == np.bool_ and not allow_bool:
             raise InvalidTypeError(f"{name} must hold real numbers, got booleans")
         array = np.ascontiguousarray(array, dtype=np.float64)
     if ndim is not None and array.ndim != ndim:
@@ -136,6 +140,17 @@ def as_float_array(
             raise nonfinite_error(f"{name} contains infinite values")
     elif not np.isfinite(array).all():
         raise nonfinite_error(f"{name} contains NaN or infinite values")
+    return array
+
+
+def as_bool_array(value: Any, name: str, length: int) -> np.ndarray:
+    """Return ``value`` as a ``(length,)`` bool array (a mask or flags); other dtypes are refused."""
+    try:
+        array = np.asarray(value)
+    except Exception as exc:  # ragged lists and the like
+        raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
+    if array.shape != (length,) or array.dtype != np.bool_:
+        raise InvalidInputError(f"{name} must be a ({length},) bool array, got {array.dtype} {array.shape}")
     return array
 
 

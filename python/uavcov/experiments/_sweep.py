@@ -38,7 +38,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .._validate import MAX_RUNS, MAX_UAVS, as_tuple, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, as_bool, as_optional_str, as_tuple, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from ..mission import MissionResult, run_mission
@@ -455,6 +455,29 @@ def _configuration(
     return config_document(command, settings, runs, execution=execution, about=about)
 
 
+def run_options(
+    *, resume: Any, save_runs: Any, exclusive: Any, progress: Any, command: Any, execution: Any
+) -> tuple[bool, bool, bool, bool | None, str | None, dict[str, Any]]:
+    """The flags and records of :func:`run_specs`, checked (before any folder is made).
+
+    Returns ``(resume, save_runs, exclusive, progress, command, execution)``; ``execution`` a
+    dict that ``config.json`` can hold (string keys, JSON values).
+    """
+    flags = [as_bool(value, name) for name, value in (("resume", resume), ("save_runs", save_runs), ("exclusive", exclusive))]
+    shown = None if progress is None else as_bool(progress, "progress")
+    text = as_optional_str(command, "command")
+    if execution is not None and not isinstance(execution, Mapping):
+        raise InvalidTypeError(f"execution must be None or a mapping, got {type(execution).__name__}")
+    record = dict(execution or {})
+    if any(not isinstance(key, str) for key in record):
+        raise InvalidTypeError(f"execution must have string keys, got {list(record)!r}")
+    try:
+        json.dumps(record, default=json_default, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise InvalidTypeError(f"execution must hold JSON values (it is recorded in config.json): {exc}") from exc
+    return flags[0], flags[1], flags[2], shown, text, record
+
+
 def run_specs(
     specs: Sequence[RunSpec],
     *,
@@ -534,6 +557,10 @@ def run_specs(
     >>> rows[0]["init"], 0.0 < rows[0]["initial_coverage"] <= 1.0
     ('cvt', True)
     """
+    resume, save_runs, exclusive, progress, checked_command, execution = run_options(
+        resume=resume, save_runs=save_runs, exclusive=exclusive, progress=progress, command=command, execution=execution
+    )
+    command = "run_specs" if checked_command is None else checked_command
     specs = list(specs)
     for spec in specs:
         if not isinstance(spec, RunSpec):

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_non_negative_float, as_non_negative_int, as_positive_float, as_positive_int
+from .._validate import as_finite_float, as_float_array, as_non_negative_float, as_non_negative_int, as_positive_float, as_positive_int
 from ..errors import InvalidInputError, InvalidTypeError
 from ._monomials import _n_distinct_monomials
 
@@ -155,7 +155,13 @@ class CAOSettings:
         >>> s.step_size(0), round(s.step_size(100), 3)
         (1.5, 0.78)
         """
-        ratio = (1.0 + self.stability) / (np.asarray(k, dtype=np.float64) + 1.0 + self.stability)
+        if isinstance(k, (np.ndarray, list, tuple)):
+            iteration = as_float_array(k, "k").reshape(np.shape(k))  # a 0-d array stays 0-d
+        else:
+            iteration = np.float64(as_finite_float(k, "k"))
+        if (iteration < 0.0).any():
+            raise InvalidInputError(f"k must be >= 0 (0-based iterations), got {np.min(iteration)}")
+        ratio = (1.0 + self.stability) / (iteration + 1.0 + self.stability)
         result = self.alpha0 * ratio**self.decay
         return float(result) if np.ndim(result) == 0 else result
 

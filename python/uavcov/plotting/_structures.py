@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array, as_optional_str, as_points, as_positive_int
+from .._validate import as_bool_array, as_float_array, as_optional_str, as_points, as_positive_int
 from ..cover import closest_faces
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError
@@ -30,8 +30,7 @@ low from the side, one from below (without the ground, which would hide everythi
 
 def _numbers(seen: Any) -> np.ndarray:
     """Seen flags, counts or shares as floats (a bool array is welcome here)."""
-    array = np.asarray(seen)
-    return as_float_array(array.astype(np.float64) if array.dtype == np.bool_ else array, "seen", ndim=1)
+    return as_float_array(seen, "seen", ndim=1, allow_bool=True)
 
 
 def face_seen_share(surface: Terrain, targets: Targets, seen: Any) -> np.ndarray:
@@ -44,7 +43,7 @@ def face_seen_share(surface: Terrain, targets: Targets, seen: Any) -> np.ndarray
         raise InvalidTypeError(f"targets must be a uavcov.Targets, got {type(targets).__name__}")
     flags = _numbers(seen)
     if flags.shape[0] != len(targets):
-        raise InvalidInputError(f"{flags.shape[0]} seen flags for {len(targets)} targets")
+        raise InvalidInputError(f"seen has {flags.shape[0]} flags for {len(targets)} targets")
     face = closest_faces(surface, targets.points, targets.normals)
     weight = np.bincount(face, weights=targets.weights, minlength=surface.n_faces)
     hit = np.bincount(face, weights=targets.weights * (flags > 0), minlength=surface.n_faces)
@@ -105,9 +104,9 @@ def plot_structure_seen(
     else:
         share = _numbers(seen)
         if share.shape[0] != surface.n_faces:
-            raise InvalidInputError(f"{share.shape[0]} values for {surface.n_faces} faces (give targets= for per-target flags)")
+            raise InvalidInputError(f"seen has {share.shape[0]} values for {surface.n_faces} faces (give targets= for per-target flags)")
         if (share[np.isfinite(share)] < 0).any() or (share[np.isfinite(share)] > 1).any():
-            raise InvalidInputError("per-face seen shares must lie in [0, 1]")
+            raise InvalidInputError("seen: per-face shares must lie in [0, 1]")
     angles = [tuple(float(v) for v in as_float_array(view, "view")) for view in views] if isinstance(views, Sequence) else []
     if not 1 <= len(angles) <= 12 or any(len(a) != 2 or not np.isfinite(a).all() for a in angles):
         raise InvalidInputError(f"views must be 1 to 12 finite (elevation, azimuth) pairs, got {views!r}")
@@ -121,9 +120,7 @@ def plot_structure_seen(
         floor = np.isclose(triangles[:, :, 2], low, rtol=0.0, atol=1e-9 * (1.0 + abs(low))).all(axis=1)
         ground_mask = up & floor
     else:
-        ground_mask = np.asarray(ground)
-        if ground_mask.dtype != np.bool_ or ground_mask.shape != (surface.n_faces,):
-            raise InvalidInputError(f"ground must be a ({surface.n_faces},) bool mask of faces")
+        ground_mask = as_bool_array(ground, "ground", surface.n_faces)
     if surface.n_faces > limit:
         drawn = _mesh_polygons(surface, limit)
         polys = drawn.polys

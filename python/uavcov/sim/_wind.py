@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_generator, as_positive_float
+from .._validate import as_finite_float, as_float_array, as_generator, as_non_negative_float, as_positive_float
 from ..errors import InvalidInputError
 
 __all__ = ["DrydenGusts", "dryden_scales"]
@@ -74,9 +74,27 @@ class DrydenGusts:
         self.innovation = self.sigma * np.sqrt(1.0 - self.decay**2)
         self.rng = generator
         self.gust = self.sigma * generator.standard_normal(3)
+        # A clock past this cannot tell one period from the next in float64: such a time is a
+        # unit mistake, not a flight.
+        self._latest_time = dt / np.finfo(np.float64).eps
 
     def update(self, t: float, position: np.ndarray) -> np.ndarray:
-        """The wind now, m/s (world frame); advances the gusts by one period."""
+        """The wind now, m/s (world frame); advances the gusts by one period.
+
+        Raises
+        ------
+        InvalidInputError
+            ``t`` negative, not finite or too large for the period to advance it (s);
+            ``position`` not three finite numbers.
+        """
+        t = as_non_negative_float(t, "t")
+        if t > self._latest_time:
+            raise InvalidInputError(
+                f"t must be at most {self._latest_time:g} s (beyond it one period does not advance the clock), got {t:g}"
+            )
+        point = as_float_array(position, "position", ndim=1)
+        if point.shape != (3,):
+            raise InvalidInputError(f"position must have 3 components (m), got shape {point.shape}")
         wind: np.ndarray = self.mean + self.gust
         self.gust = self.decay * self.gust + self.innovation * self.rng.standard_normal(3)
         return wind

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_bool, as_generator, as_positive_float, as_positive_int, existing_path, is_int, read_only
+from .._validate import as_bool, as_bool_array, as_generator, as_positive_float, as_positive_int, existing_path, is_int, read_only
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
@@ -216,9 +216,7 @@ class Structure:
             raise InvalidTypeError(f"targets must be StructureTargets (from Structure.targets), got {type(targets).__name__}")
         if targets.part_names != self.part_names:
             raise InvalidInputError("targets come from a structure with other parts")
-        flags = np.asarray(seen)
-        if flags.shape != (len(targets),) or flags.dtype != np.bool_:
-            raise InvalidInputError(f"seen must be a ({len(targets)},) bool array, got {flags.dtype} {flags.shape}")
+        flags = as_bool_array(seen, "seen", len(targets))
         result = {}
         for index, name in enumerate(self.part_names):
             here = targets.parts == index

@@ -1,0 +1,162 @@
+"""Hostile input, round four: what ``scripts/fuzz_public_api.py`` left after round three.
+
+Each class is tried with several hostile values, each asserting the precise error of
+:mod:`uavcov.errors` and a message naming the argument: silent wrong answers first (a NaN step
+size, a wind clock that accepted any time, ragged seen flags), then the flags and records of a
+reproduction.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+import pytest
+
+from uavcov.errors import InvalidInputError, InvalidTypeError
+from uavcov.optim import CAOSettings
+
+
+def refused(error: type[Exception], words: str, call: Any, *args: Any, **kwargs: Any) -> None:
+    """``call`` raises exactly ``error`` (a uavcov error) with ``words`` in its message."""
+    with pytest.raises(error, match=words) as caught:
+        call(*args, **kwargs)
+    assert type(caught.value) is error, repr(caught.value)
+
+
+# ---------------------------------------------------------------------------------------------
+# Silent wrong answers
+
+
+@pytest.mark.parametrize(
+    "k, error, words",
+    [
+        (float("nan"), InvalidInputError, "k must be finite"),
+        (float("inf"), InvalidInputError, "k must be finite"),
+        (-1, InvalidInputError, "k must be >= 0"),
+        ([0, float("nan")], InvalidInputError, "k contains NaN"),
+        (np.array([3, -2]), InvalidInputError, "k must be >= 0"),
+        ([[0], [1, 2]], InvalidInputError, "k cannot be read"),
+        ("3", InvalidTypeError, "k must be a real number"),
+        (True, InvalidTypeError, "k must be a real number"),
+    ],
+)
+def test_step_size_refuses_iterations_that_are_not_ones(k: Any, error: type[Exception], words: str) -> None:
+    refused(error, words, CAOSettings().step_size, k)
+
+
+def test_step_size_keeps_its_answers_for_iterations() -> None:
+    settings = CAOSettings()
+    assert settings.step_size(0) == 1.5 and isinstance(settings.step_size(np.int64(4)), float)
+    assert np.ndim(settings.step_size(np.array(3))) == 0
+    np.testing.assert_array_equal(settings.step_size([0, 1, 2]), settings.step_size(np.arange(3)))
+
+
+@pytest.mark.parametrize(
+    "t, position, error, words",
+    [
+        (float("nan"), np.zeros(3), InvalidInputError, "t must be finite"),
+        (float("inf"), np.zeros(3), InvalidInputError, "t must be finite"),
+        (-0.01, np.zeros(3), InvalidInputError, "t must be >= 0"),
+        (1e300, np.zeros(3), InvalidInputError, "t must be at most"),
+        ("1.0", np.zeros(3), InvalidTypeError, "t must be a real number"),
+        (1.0, [0.0, float("nan"), 0.0], InvalidInputError, "position contains NaN"),
+        (1.0, [0.0, 0.0], InvalidInputError, "position must have 3 components"),
+    ],
+)
+def test_dryden_update_refuses_times_and_positions_that_are_not_ones(t: Any, position: Any, error: type[Exception], words: str) -> None:
+    from uavcov.sim import DrydenGusts
+
+    gusts = DrydenGusts([1.0, 0.0, 0.0], [0.5, 0.5, 0.2], 0.01, 3.0, np.random.default_rng(0))
+    before = gusts.gust.copy()
+    refused(error, words, gusts.update, t, position)
+    np.testing.assert_array_equal(gusts.gust, before)  # a refused call does not advance the gusts
+
+
+@pytest.fixture(scope="module")
+def bridge_and_targets() -> Any:
+    from uavcov.structures import girder_bridge
+
+    bridge = girder_bridge(rng=0)
+    return bridge, bridge.targets(spacing=2.0)
+
+
+@pytest.mark.parametrize(
+    "make_seen, words",
+    [
+        (lambda n: [[True], [False, True]], "seen cannot be read"),
+        (lambda n: np.ones(n - 1, dtype=bool), "seen must be a"),
+        (lambda n: np.ones(n + 1, dtype=bool), "seen must be a"),
+        (lambda n: np.ones((n, 1), dtype=bool), "seen must be a"),
+        (np.ones, "seen must be a"),
+        (lambda n: True, "seen must be a"),
+    ],
+)
+def test_coverage_by_part_refuses_seen_flags_that_are_not_ones(bridge_and_targets: Any, make_seen: Any, words: str) -> None:
+    bridge, targets = bridge_and_targets
+    refused(InvalidInputError, words, bridge.coverage_by_part, make_seen(len(targets)), targets)
+
+
+@pytest.mark.parametrize(
+    "make_seen, with_targets, error, words",
+    [
+        (lambda n: [[1.0], [0.0, 1.0]], False, InvalidInputError, "seen cannot be read"),
+        (lambda n: [[True], [False, True]], True, InvalidInputError, "seen cannot be read"),
+        (lambda n: np.ones(n + 1), False, InvalidInputError, "seen has"),
+        (lambda n: np.ones(n - 1, dtype=bool), True, InvalidInputError, "seen has"),
+        (lambda n: np.full(n, 2.0), False, InvalidInputError, "seen: per-face shares"),
+        (lambda n: ["a"] * n, False, InvalidTypeError, "seen must hold real numbers"),
+    ],
+)
+def test_plot_structure_seen_refuses_seen_that_is_not_one(
+    bridge_and_targets: Any, make_seen: Any, with_targets: bool, error: type[Exception], words: str
+) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_structure_seen
+
+    bridge, targets = bridge_and_targets
+    n = len(targets) if with_targets else bridge.surface.n_faces
+    kwargs = {"targets": targets} if with_targets else {}
+    refused(error, words, plot_structure_seen, bridge.surface, make_seen(n), **kwargs)
+
+
+def test_plot_structure_seen_refuses_a_ragged_ground(bridge_and_targets: Any) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_structure_seen
+
+    bridge, _ = bridge_and_targets
+    shares = np.zeros(bridge.surface.n_faces)
+    refused(InvalidInputError, "ground cannot be read", plot_structure_seen, bridge.surface, shares, ground=[[True], [True, False]])
+    refused(InvalidInputError, "ground must be a", plot_structure_seen, bridge.surface, shares, ground=np.ones(3))
+
+
+# ---------------------------------------------------------------------------------------------
+# The flags and records of a reproduction, refused before any folder is made
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"execution": 5}, InvalidTypeError, "execution must be None or a mapping"),
+        ({"execution": "process pool"}, InvalidTypeError, "execution must be None or a mapping"),
+        ({"execution": {1: "a"}}, InvalidTypeError, "execution must have string keys"),
+        ({"execution": {"a": object()}}, InvalidTypeError, "execution must hold JSON values"),
+        ({"execution": {"a": float("nan")}}, InvalidTypeError, "execution must hold JSON values"),
+        ({"save_runs": np.array([True, False])}, InvalidTypeError, "save_runs must be True or False"),
+        ({"save_runs": "no"}, InvalidTypeError, "save_runs must be True or False"),
+        ({"exclusive": 1}, InvalidTypeError, "exclusive must be True or False"),
+        ({"resume": None}, InvalidTypeError, "resume must be True or False"),
+        ({"progress": "yes"}, InvalidTypeError, "progress must be True or False"),
+        ({"command": 3}, InvalidTypeError, "command must be None or a string"),
+        ({"command": ["reproduce"]}, InvalidTypeError, "command must be None or a string"),
+    ],
+)
+def test_reproduce_refuses_flags_and_records_that_are_not_ones(
+    tmp_path: Any, kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    from uavcov.paper import reproduce
+
+    out = tmp_path / "out"
+    refused(error, words, reproduce, "table1", out, seeds=[0], **kwargs)
+    assert not os.path.exists(out)
