@@ -140,7 +140,7 @@ def test_plot_structure_seen_refuses_a_ragged_ground(bridge_and_targets: Any) ->
     [
         ({"execution": 5}, InvalidTypeError, "execution must be None or a mapping"),
         ({"execution": "process pool"}, InvalidTypeError, "execution must be None or a mapping"),
-        ({"execution": {1: "a"}}, InvalidTypeError, "execution must have string keys"),
+        ({"execution": {1: "a"}}, InvalidTypeError, "execution must have non-empty string keys"),
         ({"execution": {"a": object()}}, InvalidTypeError, "execution must hold JSON values"),
         ({"execution": {"a": float("nan")}}, InvalidTypeError, "execution must hold JSON values"),
         ({"save_runs": np.array([True, False])}, InvalidTypeError, "save_runs must be True or False"),
@@ -160,3 +160,39 @@ def test_reproduce_refuses_flags_and_records_that_are_not_ones(
     out = tmp_path / "out"
     refused(error, words, reproduce, "table1", out, seeds=[0], **kwargs)
     assert not os.path.exists(out)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"extra": 5}, InvalidTypeError, "extra must be a sequence"),
+        ({"extra": {"a": 1}}, InvalidTypeError, "extra must be a sequence"),
+        ({"extra": [("a", 1, 2)]}, InvalidTypeError, "extra must hold \\(column, value\\) pairs"),
+        ({"extra": ["ab"]}, InvalidTypeError, "extra must hold \\(column, value\\) pairs"),
+        ({"extra": [(1, 2)]}, InvalidTypeError, "extra must name its columns"),
+        ({"extra": [("", 2)]}, InvalidTypeError, "extra must name its columns"),
+        ({"extra": [("a", 1), ("a", 2)]}, InvalidInputError, "extra names a column more than once"),
+        ({"extra": [("run_id", "other")]}, InvalidInputError, "extra contradicts the row's own columns"),
+        ({"extra": [("seed", 7)]}, InvalidInputError, "extra contradicts the row's own columns"),
+        ({"extra": [("a", object())]}, InvalidTypeError, "extra must hold JSON values"),
+        ({"extra": [("a", float("inf"))]}, InvalidTypeError, "extra must hold JSON values"),
+        ({"label": 3}, InvalidTypeError, "label must be None or a string"),
+        ({"label": ["table1"]}, InvalidTypeError, "label must be None or a string"),
+    ],
+)
+def test_experiment_specs_and_run_spec_refuse_a_malformed_extra_or_label(
+    kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    from uavcov.experiments import RunSpec, experiment_specs
+    from uavcov.paper import TABLE1
+
+    refused(error, words, experiment_specs, TABLE1, seeds=[0], team_sizes=[5], starts=["cvt"], **kwargs)
+    refused(error, words, RunSpec, TABLE1, 0, 5, "cvt", **kwargs)
+
+
+def test_an_extra_may_repeat_a_column_of_its_row() -> None:
+    from uavcov.experiments import experiment_specs
+    from uavcov.paper import TABLE1
+
+    (spec,) = experiment_specs(TABLE1, seeds=[0], team_sizes=[5], starts=["cvt"], extra=[("iterations", TABLE1.iterations), ("d", 2.0)])
+    assert spec.row_template()["iterations"] == TABLE1.iterations and spec.row_template()["d"] == 2.0

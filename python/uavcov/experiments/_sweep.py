@@ -38,6 +38,8 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from .._validate import MAX_RUNS, MAX_UAVS, as_bool, as_optional_str, as_tuple, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
@@ -273,8 +275,14 @@ class RunSpec:
             raise InvalidInputError(f"start must be one of {self.experiment.starts} for {self.experiment.name}, got {self.start!r}")
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
-        object.__setattr__(self, "label", self.label or self.experiment.name)
-        object.__setattr__(self, "extra", tuple((str(k), v) for k, v in self.extra))
+        object.__setattr__(self, "label", as_optional_str(self.label, "label") or self.experiment.name)
+        object.__setattr__(self, "extra", _as_extra(self.extra))
+        # a swept setting may repeat a column of its row (iterations), never contradict it
+        repeated = [(key, value) for key, value in self.extra if key in RUN_COLUMNS]
+        own = self.row_template(with_extra=False) if repeated else {}
+        contradicted = [key for key, value in repeated if not np.array_equal(own[key], value)]
+        if contradicted:
+            raise InvalidInputError(f"extra contradicts the row's own columns {contradicted} (run_id, seed, ... are the spec's)")
 
     @property
     def settings_hash(self) -> str:
@@ -295,7 +303,7 @@ class RunSpec:
         """The mission this run runs."""
         return self.experiment.mission_settings(self.n_uavs, self.start)
 
-    def row_template(self) -> dict[str, Any]:
+    def row_template(self, with_extra: bool = True) -> dict[str, Any]:
         """The row of this run with every result column empty (None, as read_runs gives back)."""
         row: dict[str, Any] = dict.fromkeys(RUN_COLUMNS)
         row["error"] = ""
@@ -309,7 +317,8 @@ class RunSpec:
             iterations=int(self.experiment.iterations),
             settings_hash=self.settings_hash,
         )
-        row.update(dict(self.extra))
+        if with_extra:
+            row.update(dict(self.extra))
         return row
 
     def run(self, n_threads: int | None = 1) -> MissionResult:
@@ -354,10 +363,15 @@ def experiment_specs(
     Raises
     ------
     InvalidInputError
-        An empty list, or a start the experiment does not compare.
+        An empty list, a start the experiment does not compare, an ``extra`` that names a
+        column twice or contradicts a column of the row (``run_id``, ``seed``, ...).
+    InvalidTypeError
+        A ``label`` not a string, an ``extra`` not (column, value) pairs of JSON values.
     """
     if not isinstance(experiment, Experiment):
         raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
+    label = as_optional_str(label, "label")
+    extra = _as_extra(extra)
     seeds = as_tuple(experiment.seeds if seeds is None else seeds, "seeds")
     team_sizes = as_tuple(experiment.team_sizes if team_sizes is None else team_sizes, "team_sizes")
     starts = as_tuple(experiment.starts if starts is None else starts, "starts")
@@ -455,6 +469,30 @@ def _configuration(
     return config_document(command, settings, runs, execution=execution, about=about)
 
 
+def _check_json_record(record: Mapping[Any, Any], name: str) -> None:
+    """``record`` has string keys and JSON values (``config.json`` records it), else a uavcov error naming ``name``."""
+    if any(not isinstance(key, str) or not key for key in record):
+        raise InvalidTypeError(f"{name} must have non-empty string keys, got {list(record)!r}")
+    try:
+        json.dumps(record, default=json_default, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise InvalidTypeError(f"{name} must hold JSON values (it is recorded in config.json): {exc}") from exc
+
+
+def _as_extra(extra: Any) -> tuple[tuple[str, Any], ...]:
+    """A spec's ``extra`` as ``((column, value), ...)``: columns of runs.csv, each named once."""
+    pairs = as_tuple(extra, "extra")
+    if any(not isinstance(pair, (tuple, list)) or len(pair) != 2 for pair in pairs):
+        raise InvalidTypeError(f"extra must hold (column, value) pairs, got {extra!r}")
+    keys = [key for key, _ in pairs]
+    if any(not isinstance(key, str) or not key for key in keys):
+        raise InvalidTypeError(f"extra must name its columns with non-empty strings, got {keys!r}")
+    if len(set(keys)) != len(keys):
+        raise InvalidInputError(f"extra names a column more than once: {keys}")
+    _check_json_record(dict(pairs), "extra")
+    return tuple((key, value) for key, value in pairs)
+
+
 def run_options(
     *, resume: Any, save_runs: Any, exclusive: Any, progress: Any, command: Any, execution: Any
 ) -> tuple[bool, bool, bool, bool | None, str | None, dict[str, Any]]:
@@ -469,12 +507,7 @@ def run_options(
     if execution is not None and not isinstance(execution, Mapping):
         raise InvalidTypeError(f"execution must be None or a mapping, got {type(execution).__name__}")
     record = dict(execution or {})
-    if any(not isinstance(key, str) for key in record):
-        raise InvalidTypeError(f"execution must have string keys, got {list(record)!r}")
-    try:
-        json.dumps(record, default=json_default, allow_nan=False)
-    except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"execution must hold JSON values (it is recorded in config.json): {exc}") from exc
+    _check_json_record(record, "execution")
     return flags[0], flags[1], flags[2], shown, text, record
 
 
