@@ -196,3 +196,89 @@ def test_an_extra_may_repeat_a_column_of_its_row() -> None:
 
     (spec,) = experiment_specs(TABLE1, seeds=[0], team_sizes=[5], starts=["cvt"], extra=[("iterations", TABLE1.iterations), ("d", 2.0)])
     assert spec.row_template()["iterations"] == TABLE1.iterations and spec.row_template()["d"] == 2.0
+
+
+# ---------------------------------------------------------------------------------------------
+# The experiments layer's row helpers
+
+ROW = {
+    "experiment": "a",
+    "n_uavs": "5",
+    "init": "cvt",
+    "seed": 0,
+    "run_id": "a-cvt",
+    "error": "",
+    "initial_coverage": "0.1",
+    "max_coverage": "0.5",
+    "final_coverage": "0.4",
+    "iterations_to_95": "10",
+}
+
+
+def _row_helpers() -> list[Any]:
+    from uavcov.experiments import finished_rows, summarise
+    from uavcov.paper._claims import speed
+
+    return [finished_rows, summarise, speed]
+
+
+@pytest.mark.parametrize(
+    "rows, words",
+    [
+        (5, "rows must be a sequence"),
+        ("abc", "rows must be a sequence"),
+        ({"max_coverage": 0.5}, "rows must be a sequence"),
+        ([1, 2], "rows must be mappings"),
+        ([None], "rows must be mappings"),
+        ([["max_coverage", 0.5]], "rows must be mappings"),
+    ],
+)
+def test_row_helpers_refuse_rows_that_are_not_mappings(rows: Any, words: str) -> None:
+    for helper in _row_helpers():
+        refused(InvalidTypeError, words, helper, rows)
+
+
+@pytest.mark.parametrize(
+    "row, words",
+    [
+        ({"max_coverage": 0.5}, "rows must have the column"),
+        ({**ROW, "iterations_to_95": None}, "column 'iterations_to_95' must hold floats"),
+        ({**ROW, "iterations_to_95": "soon"}, "column 'iterations_to_95' must hold floats"),
+        ({k: v for k, v in ROW.items() if k != "iterations_to_95"}, "rows must have the column 'iterations_to_95'"),
+    ],
+)
+def test_summarise_and_speed_refuse_rows_without_their_columns(row: dict[str, Any], words: str) -> None:
+    from uavcov.errors import ResultsFormatError
+
+    for helper in _row_helpers()[1:]:
+        refused(ResultsFormatError, words, helper, [row])
+
+
+@pytest.mark.parametrize("n_uavs", ["2.5", "five", None, [5]])
+def test_speed_refuses_a_team_size_that_is_not_one(n_uavs: Any) -> None:
+    from uavcov.errors import ResultsFormatError
+    from uavcov.paper._claims import speed
+
+    refused(ResultsFormatError, "column 'n_uavs' must hold ints", speed, [{**ROW, "n_uavs": n_uavs}])
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"by": 5}, "by must be a sequence"),
+        ({"by": [1]}, "by must hold column names"),
+        ({"metrics": "max_coverage"}, "metrics must be a sequence"),
+        ({"metrics": [None]}, "metrics must hold column names"),
+    ],
+)
+def test_summarise_refuses_columns_that_are_not_names(kwargs: dict[str, Any], words: str) -> None:
+    from uavcov.experiments import summarise
+
+    refused(InvalidTypeError, words, summarise, [ROW], **kwargs)
+
+
+def test_row_helpers_keep_their_answers() -> None:
+    finished_rows, summarise, speed = _row_helpers()
+    assert finished_rows(iter([ROW, {**ROW, "error": "boom"}])) == [ROW]
+    assert summarise([ROW])[("a", "5", "cvt")]["max_coverage"][0] == 0.5
+    assert speed([ROW]) == {(5, "cvt"): (10.0, 10.0)}

@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import as_tuple
+from ..errors import InvalidTypeError, ResultsFormatError
 from ._executors import plan_execution
 from ._results import ResultsFolder, format_cell
 from ._sweep import run_specs
@@ -20,8 +22,40 @@ from ._sweep_config import SweepConfig
 
 
 def finished_rows(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
-    """The rows of runs that finished (no error, a coverage)."""
+    """The rows of runs that finished (no error, a coverage).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``rows`` not a sequence of mappings (the rows of ``runs.csv``).
+    """
+    rows = as_tuple(rows, "rows")
+    for row in rows:
+        if not isinstance(row, Mapping):
+            raise InvalidTypeError(f"rows must be mappings (rows of runs.csv), got {type(row).__name__}")
     return [r for r in rows if not r.get("error") and r.get("max_coverage") is not None]
+
+
+def row_number(row: Mapping[str, Any], column: str, kind: type[float | int] = float) -> Any:
+    """``row[column]`` as a ``kind``; a :class:`~uavcov.errors.ResultsFormatError` naming the
+    column when the row lacks it or it holds no number."""
+    if column not in row:
+        raise ResultsFormatError(f"rows must have the column {column!r}, a row has only {sorted(map(str, row))}")
+    value = row[column]
+    try:
+        number = float(value)
+        if kind is int and not number.is_integer():
+            raise ValueError("not an integer")
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise ResultsFormatError(f"rows' column {column!r} must hold {kind.__name__}s, got {value!r}") from exc
+    return int(number) if kind is int else number
+
+
+def as_column_name(value: Any, name: str) -> str:
+    """A column name of runs.csv given in ``name`` (a non-empty string)."""
+    if not isinstance(value, str) or not value:
+        raise InvalidTypeError(f"{name} must hold column names (non-empty strings), got {value!r}")
+    return value
 
 
 def summarise(
@@ -38,7 +72,16 @@ def summarise(
     -------
     dict
         ``key tuple -> {"count": n, "<metric>": (mean, sigma), ...}``, keys sorted.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``rows`` not mappings; ``by`` or ``metrics`` not column names.
+    ResultsFormatError
+        A finished row without a metric, or with one that is not a number.
     """
+    by = tuple(as_column_name(column, "by") for column in as_tuple(by, "by"))
+    metrics = tuple(as_column_name(column, "metrics") for column in as_tuple(metrics, "metrics"))
     groups: dict[tuple[Any, ...], list[Mapping[str, Any]]] = {}
     for row in sorted(finished_rows(rows), key=lambda r: (r.get("seed") or 0, str(r.get("run_id")))):
         groups.setdefault(tuple(row.get(k) for k in by), []).append(row)
@@ -47,7 +90,7 @@ def summarise(
         members = groups[key]
         entry: dict[str, Any] = {"count": len(members)}
         for metric in metrics:
-            values = np.array([float(m[metric]) for m in members], dtype=float)
+            values = np.array([row_number(m, metric) for m in members], dtype=float)
             sigma = float(np.std(values, ddof=1)) if len(values) > 1 else math.nan
             entry[metric] = (float(np.mean(values)), sigma)
         summary[key] = entry

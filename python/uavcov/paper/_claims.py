@@ -25,7 +25,9 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ResultsFormatError
 from ..experiments import ResultsFolder, finished_rows
+from ..experiments._summary import row_number
 from ..records import load_mission
 from . import _data as paper
 
@@ -199,7 +201,9 @@ def speed(rows: Iterable[Mapping[str, Any]]) -> dict[tuple[int, str], tuple[floa
     """Iterations to 95 % of the run's best, mean and median per (team size, start)."""
     groups: dict[tuple[int, str], list[float]] = {}
     for r in finished_rows(rows):
-        groups.setdefault((int(r["n_uavs"]), str(r["init"])), []).append(float(r["iterations_to_95"]))
+        if "init" not in r:
+            raise ResultsFormatError(f"rows must have the column 'init', a row has only {sorted(map(str, r))}")
+        groups.setdefault((row_number(r, "n_uavs", int), str(r["init"])), []).append(row_number(r, "iterations_to_95"))
     return {k: (float(np.mean(v)), float(np.median(v))) for k, v in sorted(groups.items())}
 
 
