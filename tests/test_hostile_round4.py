@@ -282,3 +282,96 @@ def test_row_helpers_keep_their_answers() -> None:
     assert finished_rows(iter([ROW, {**ROW, "error": "boom"}])) == [ROW]
     assert summarise([ROW])[("a", "5", "cvt")]["max_coverage"][0] == 0.5
     assert speed([ROW]) == {(5, "cvt"): (10.0, 10.0)}
+
+
+# ---------------------------------------------------------------------------------------------
+# Settings checked when they are given: a DEM window, generators, an area of interest
+
+
+@pytest.mark.parametrize(
+    "window, error, words",
+    [
+        (True, InvalidTypeError, "window must be a sequence"),
+        (5, InvalidTypeError, "window must be a sequence"),
+        (2.5, InvalidTypeError, "window must be a sequence"),
+        ("abcd", InvalidTypeError, "window must be a sequence"),
+        ({0: 5}, InvalidTypeError, "window must be a sequence"),
+        ((0, 5, 0, True), InvalidInputError, "window must be four integers"),
+        ((0, 5), InvalidInputError, "window must be four integers"),
+        ((0, 5, 0, 6.0), InvalidInputError, "window must be four integers"),
+        ((-10, -2, 0, 6), InvalidInputError, "window must be four integers >= 0"),
+    ],
+)
+def test_sample_dem_refuses_windows_that_are_not_ones(window: Any, error: type[Exception], words: str) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.terrain import sample_dem
+
+    refused(error, words, sample_dem, window=window)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"heights": None}, InvalidTypeError, "heights must hold real numbers"),
+        ({"heights": "ab"}, InvalidTypeError, "heights must be a numeric array"),
+        ({"heights": (5.0,)}, InvalidInputError, "heights must be a number or a \\(low, high\\) pair"),
+        ({"heights": (-1.0, 3.0)}, InvalidInputError, "heights must be >= 0"),
+        ({"heights": (9.0, 3.0)}, InvalidInputError, "heights must have low <= high"),
+        ({"heights": (1.0, float("nan"))}, InvalidInputError, "heights contains NaN"),
+        ({"size": 1e15}, InvalidInputError, "size .*uavcov's size limit"),
+        ({"spacing": 0.3}, InvalidInputError, "size .*must be a positive multiple of the spacing"),
+        ({"n_hills": 10**12}, InvalidInputError, "n_hills must be at most"),
+        ({"sigma": 1e300}, InvalidInputError, "sigma must have a finite, non-zero square"),
+    ],
+)
+def test_hills_generator_checks_its_settings_when_made(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.terrain import HillsGenerator
+
+    refused(error, words, HillsGenerator, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"heights": None}, InvalidTypeError, "heights must hold real numbers"),
+        ({"heights": (0.0, 3.0)}, InvalidInputError, "heights must be > 0"),
+        ({"footprint": (5.0, 2.0)}, InvalidInputError, "footprint must have low <= high"),
+        ({"size": 1e15}, InvalidInputError, "size .*uavcov's size limit"),
+        ({"size": "24"}, InvalidTypeError, "size must be a real number"),
+        ({"spacing": 0.7}, InvalidInputError, "size .*must be a positive multiple of the spacing"),
+        ({"map_spacing": 0.7}, InvalidInputError, "map_spacing: size"),
+        ({"n_buildings": -1}, InvalidInputError, "n_buildings must be >= 0"),
+        ({"n_buildings": 2.5}, InvalidTypeError, "n_buildings must be an integer"),
+        ({"gap": float("nan")}, InvalidInputError, "gap must be finite"),
+        ({"height_error": -1.0}, InvalidInputError, "height_error must be >= 0"),
+    ],
+)
+def test_buildings_generator_checks_its_settings_when_made(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.terrain import BuildingsGenerator
+
+    refused(error, words, BuildingsGenerator, **kwargs)
+
+
+def test_generators_keep_their_settings_as_given() -> None:
+    from uavcov.terrain import BuildingsGenerator, HillsGenerator
+
+    assert HillsGenerator(heights=[5, 25]).heights == (5.0, 25.0)
+    assert BuildingsGenerator(size=24, heights=[3, 10]).size == 24  # as given: the settings hash reads it
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"polygons": True}, InvalidTypeError, "polygons must be a sequence"),
+        ({"polygons": 5}, InvalidTypeError, "polygons must be a sequence"),
+        ({"polygons": "ab"}, InvalidTypeError, "polygons must be a sequence"),
+        ({"polygons": [3]}, InvalidTypeError, "polygons\\[0\\] must be a sequence"),
+        ({"polygons": [[None]]}, InvalidTypeError, "polygon 0 ring 0 must hold real numbers"),
+        ({"polygons": []}, InvalidInputError, "holds no polygon"),
+        ({"polygons": [[[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]]], "source": 5}, InvalidTypeError, "source must be None or a string"),
+    ],
+)
+def test_area_of_interest_refuses_polygons_that_are_not_ones(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.field import AreaOfInterest
+
+    refused(error, words, AreaOfInterest, **kwargs)

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array
+from .._validate import as_float_array, as_optional_str, as_tuple
 from ..errors import InvalidInputError, InvalidTypeError
 from ..terrain import GeoDem, wrap_longitude
 
@@ -64,9 +64,11 @@ class AreaOfInterest:
     def __post_init__(self) -> None:
         if not isinstance(self.frame, str) or self.frame not in AREA_FRAMES:
             raise InvalidInputError(f"frame must be one of {AREA_FRAMES}, got {self.frame!r}")
-        if not self.polygons:
-            raise InvalidInputError(f"{self.source or 'the area'} holds no polygon")
-        checked = tuple(tuple(_ring(r, f"polygon {p} ring {k}") for k, r in enumerate(rings)) for p, rings in enumerate(self.polygons))
+        source = as_optional_str(self.source, "source") or ""
+        polygons = [as_tuple(rings, f"polygons[{p}]") for p, rings in enumerate(as_tuple(self.polygons, "polygons"))]
+        if not polygons:
+            raise InvalidInputError(f"{source or 'the area'} holds no polygon")
+        checked = tuple(tuple(_ring(r, f"polygon {p} ring {k}") for k, r in enumerate(rings)) for p, rings in enumerate(polygons))
         if any(not rings for rings in checked):
             raise InvalidInputError(f"{self.source or 'the area'} has a polygon without rings")
         if sum(r.shape[0] for rings in checked for r in rings) > _MAX_VERTICES:

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_optional_str, as_positive_float, as_positive_int
+from .._validate import as_finite_float, as_float_array, as_optional_str, as_positive_float, as_positive_int, as_tuple
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._frame import LocalFrame, metres_per_degree
@@ -548,9 +548,9 @@ def sample_dem(window: Any = (150, 190, 150, 190), stride: int = 1) -> GeoDem:
     if window is None:
         rows, cols = slice(0, ny), slice(0, nx)
     else:
-        bounds = tuple(window)
-        if len(bounds) != 4 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in bounds):
-            raise InvalidInputError(f"window must be four integers (row_start, row_stop, col_start, col_stop), got {window!r}")
+        bounds = as_tuple(window, "window")
+        if len(bounds) != 4 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 0 for v in bounds):
+            raise InvalidInputError(f"window must be four integers >= 0 (row_start, row_stop, col_start, col_stop), got {window!r}")
         rows, cols = slice(int(bounds[0]), int(bounds[1])), slice(int(bounds[2]), int(bounds[3]))
     row_index = np.arange(ny)[rows][::stride]
     col_index = np.arange(nx)[cols][::stride]

@@ -14,11 +14,11 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._validate import as_non_negative_float, as_positive_float, as_positive_int
+from .._validate import as_cell_count, as_non_negative_float, as_non_negative_int, as_positive_float, as_positive_int, as_range
 from ..engine import Terrain
 from ..errors import InvalidInputError
 from ._buildings import buildings_terrain, random_buildings
-from ._hills import gaussian_hills
+from ._hills import gaussian_hills, random_gaussian_mixture
 from ._prior import buildings_prior
 
 
@@ -44,11 +44,14 @@ class HillsGenerator:
         object.__setattr__(self, "size", as_positive_float(self.size, "size"))
         object.__setattr__(self, "spacing", as_positive_float(self.spacing, "spacing"))
         object.__setattr__(self, "n_hills", as_positive_int(self.n_hills, "n_hills"))
-        low, high = (as_non_negative_float(h, "heights") for h in self.heights)
-        if low > high:
-            raise InvalidInputError(f"heights must be (low, high) with low <= high, got {self.heights}")
+        low, high = as_range(self.heights, "heights")
+        if low < 0.0:
+            raise InvalidInputError(f"heights must be >= 0, got {self.heights}")
         object.__setattr__(self, "heights", (low, high))
         object.__setattr__(self, "sigma", as_positive_float(self.sigma, "sigma"))
+        # Every check of make(), here: a sweep's bad setting is refused when it is read, not at its first run.
+        as_cell_count(self.size, self.spacing, "size")
+        random_gaussian_mixture(size=self.size, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=0)
 
     def make(self, seed: int) -> Terrain:
         """The terrain of scenario ``seed``."""
@@ -77,6 +80,20 @@ class BuildingsGenerator:
 
     kind: ClassVar[str] = "BuildingsTerrain"
     """The family's name in a settings hash: fixed, so the run ids of published sweeps stay theirs."""
+
+    def __post_init__(self) -> None:
+        # Checked, not converted: the values as given are what the settings hash (run ids) reads.
+        size = as_positive_float(self.size, "size")
+        as_cell_count(size, as_positive_float(self.spacing, "spacing"), "size")
+        try:
+            as_cell_count(size, as_positive_float(self.map_spacing, "map_spacing"), "size")
+        except InvalidInputError as exc:
+            raise InvalidInputError(f"map_spacing: {exc}") from exc
+        as_non_negative_int(self.n_buildings, "n_buildings")
+        as_range(self.footprint, "footprint", positive=True)
+        as_range(self.heights, "heights", positive=True)
+        for name in ("gap", "position_error", "size_error", "height_error"):
+            as_non_negative_float(getattr(self, name), name)
 
     def boxes(self, seed: int) -> tuple[Any, ...]:
         """The buildings of scenario ``seed``."""
