@@ -375,3 +375,93 @@ def test_area_of_interest_refuses_polygons_that_are_not_ones(kwargs: dict[str, A
     from uavcov.field import AreaOfInterest
 
     refused(error, words, AreaOfInterest, **kwargs)
+
+
+# ---------------------------------------------------------------------------------------------
+# A raster's indices, a results folder's file names
+
+
+@pytest.mark.parametrize(
+    "first, second, error, words",
+    [
+        (1.5, 0, InvalidTypeError, "must hold integers"),
+        (True, 0, InvalidTypeError, "must hold integers"),
+        ("a", 0, InvalidTypeError, "must hold integers"),
+        (None, 0, InvalidTypeError, "must hold integers"),
+        (10**30, 0, InvalidTypeError, "must hold integers"),
+        ([[1], [1, 2]], 0, InvalidInputError, "cannot be read as an array"),
+        (-1, 0, InvalidInputError, "must lie in \\[0, 10\\)"),
+        (10, 0, InvalidInputError, "must lie in \\[0, 10\\)"),
+        (0, 20, InvalidInputError, "must lie in \\[0, 20\\)"),
+        ([1, 2], [1], InvalidInputError, "must have one shape"),
+    ],
+)
+def test_raster_grid_refuses_indices_that_are_not_ones(first: Any, second: Any, error: type[Exception], words: str) -> None:
+    from uavcov.terrain import RasterGrid
+
+    grid = RasterGrid((1.0, 0.0, 0.0, 0.0, -1.0, 10.0), (10, 20))
+    first_is_hostile = not isinstance(first, int) or first != 0
+    for call, names in ((grid.node_of_pixel, ("rows", "cols")), (grid.pixel_of_node, ("i", "j"))):
+        named = names[0] if first_is_hostile else names[1]
+        if isinstance(second, list):  # two shapes: both named
+            named = f"{names[0]} and {names[1]}"
+        refused(error, f"^{named} {words}", call, first, second)
+
+
+def test_raster_grid_keeps_its_answers_and_checks_itself() -> None:
+    from uavcov.terrain import RasterGrid
+
+    grid = RasterGrid((1.0, 0.0, 0.0, 0.0, -1.0, 10.0), (10, 20))
+    assert [int(v) for v in grid.node_of_pixel(0, 3)] == [9, 3]
+    np.testing.assert_array_equal(grid.pixel_of_node(*grid.node_of_pixel([0, 9], [1, 19]))[0], [0, 9])
+    refused(InvalidTypeError, "transform must hold real numbers", RasterGrid, None, (1, 1))
+    refused(InvalidInputError, "transform must be six numbers", RasterGrid, (1.0, 2.0), (1, 1))
+    refused(InvalidInputError, "shape must be >= 1", RasterGrid, (1.0, 0.0, 0.0, 0.0, -1.0, 0.0), (0, 5))
+    refused(InvalidTypeError, "shape must be a sequence", RasterGrid, (1.0, 0.0, 0.0, 0.0, -1.0, 0.0), 5)
+
+
+HOSTILE_NAMES = [
+    ("../x", InvalidInputError, "must be a plain file name"),
+    ("/tmp/x", InvalidInputError, "must be a plain file name"),
+    ("a/b.csv", InvalidInputError, "must be a plain file name"),
+    ("a\0b", InvalidInputError, "must be a plain file name"),
+    ("..", InvalidInputError, "must be a plain file name"),
+    ("", InvalidInputError, "must be a plain file name"),
+    (5, InvalidTypeError, "must be a file name \\(a string\\)"),
+    (None, InvalidTypeError, "must be a file name \\(a string\\)"),
+]
+
+
+@pytest.mark.parametrize("name, error, words", HOSTILE_NAMES)
+def test_results_folder_refuses_names_that_leave_it(tmp_path: Any, name: Any, error: type[Exception], words: str) -> None:
+    from uavcov.experiments import ResultsFolder
+
+    folder = ResultsFolder(tmp_path / "out")
+    refused(error, "name " + words, folder.write_text, name, "text")
+    refused(error, "name " + words, folder.write_csv, name, ["a"], [[1]])
+    refused(error, "run_id " + words, folder.run_file, name)
+    assert not (tmp_path / "x").exists() and not (tmp_path / "out" / "a").exists()
+
+
+@pytest.mark.parametrize(
+    "call, error, words",
+    [
+        (lambda f: f.write_text("a.md", 5), InvalidTypeError, "text must be a string"),
+        (lambda f: f.write_text("a.md", b"x"), InvalidTypeError, "text must be a string"),
+        (lambda f: f.write_csv("a.csv", "abc", []), InvalidTypeError, "header must be a sequence"),
+        (lambda f: f.write_csv("a.csv", [1, 2], []), InvalidTypeError, "header must hold column names"),
+        (lambda f: f.write_csv("a.csv", [], []), InvalidTypeError, "header must hold column names"),
+        (lambda f: f.write_csv("a.csv", ["a"], [[1, 2]]), InvalidInputError, "rows must have 1 values"),
+        (lambda f: f.write_csv("a.csv", ["a"], ["x"]), InvalidTypeError, "rows must be a sequence"),
+        (lambda f: f.write_csv("a.csv", ["a"], 5), InvalidTypeError, "rows must be a sequence"),
+    ],
+)
+def test_results_folder_refuses_text_headers_and_rows_that_are_not_ones(
+    tmp_path: Any, call: Any, error: type[Exception], words: str
+) -> None:
+    from uavcov.experiments import ResultsFolder
+
+    folder = ResultsFolder(tmp_path / "out")
+    refused(error, words, call, folder)
+    assert not (tmp_path / "out" / "a.csv").exists() and not (tmp_path / "out" / "a.md").exists()
+    assert folder.write_csv("b.csv", ["a", "b"], [[1, 2.5]]).read_text() == "a,b\n1,2.5\n"

@@ -171,8 +171,9 @@ def as_points(value: Any, name: str, *, dim: int = 3, allow_empty: bool = False)
     return array
 
 
-def as_index_array(value: Any, name: str, *, columns: int = 3) -> np.ndarray:
-    """Return ``value`` as a ``(n, columns)`` int64 array; floats are refused, not rounded."""
+def as_index_array(value: Any, name: str, *, columns: int | None = 3) -> np.ndarray:
+    """Return ``value`` as a ``(n, columns)`` int64 array (any shape for ``columns=None``);
+    floats are refused, not rounded."""
     try:
         array = np.asarray(value)
     except Exception as exc:
@@ -181,8 +182,10 @@ def as_index_array(value: Any, name: str, *, columns: int = 3) -> np.ndarray:
         array = array.astype(np.int64)  # np.asarray([]) is float64; an empty list is not a float
     if not np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_:
         raise InvalidTypeError(f"{name} must hold integers, got dtype {array.dtype}")
-    if array.ndim != 2 or array.shape[1] != columns:
+    if columns is not None and (array.ndim != 2 or array.shape[1] != columns):
         raise InvalidInputError(f"{name} must have shape (n, {columns}), got {array.shape}")
+    if array.ndim == 0:
+        return array.astype(np.int64)  # ascontiguousarray would make it 1-d
     return np.ascontiguousarray(array, dtype=np.int64)
 
 

@@ -31,8 +31,8 @@ import numpy as np
 
 from .._core import __version__
 from .._io import atomic_write
-from .._validate import as_path
-from ..errors import ResultsFolderError, ResultsFormatError, ResultsInUseError
+from .._validate import as_path, as_tuple
+from ..errors import InvalidInputError, InvalidTypeError, ResultsFolderError, ResultsFormatError, ResultsInUseError
 
 RUN_COLUMNS: tuple[str, ...] = (
     "run_id",
@@ -131,6 +131,15 @@ def format_cell(value: Any) -> str:
     if isinstance(value, (list, tuple)):
         return json.dumps(list(value))
     return "" if value is None else str(value)
+
+
+def _file_name(name: Any, what: str) -> str:
+    """``name`` when it is a plain file name of a results folder; a uavcov error naming ``what`` else."""
+    if not isinstance(name, str):
+        raise InvalidTypeError(f"{what} must be a file name (a string), got {type(name).__name__}")
+    if not name or "\0" in name or name in (".", "..") or os.path.basename(name) != name or "/" in name or "\\" in name:
+        raise InvalidInputError(f"{what} must be a plain file name (no directory, '..' or NUL), got {name!r}")
+    return name
 
 
 def csv_line(values: Sequence[Any]) -> str:
@@ -386,8 +395,12 @@ class ResultsFolder:
         return self.path / "config.json"
 
     def run_file(self, run_id: str) -> Path:
-        """Where the whole result of run ``run_id`` is stored."""
-        return self.path / "runs" / f"{run_id}.npz"
+        """Where the whole result of run ``run_id`` is stored.
+
+        Raises ``InvalidTypeError`` / ``InvalidInputError`` for a ``run_id`` that is not a plain
+        file name (a path, ``..``, a NUL byte): a file outside ``runs/`` is never named.
+        """
+        return self.path / "runs" / f"{_file_name(run_id, 'run_id')}.npz"
 
     def read_runs(self) -> list[dict[str, Any]]:
         """The rows of ``runs.csv`` (none when it does not exist yet)."""
@@ -415,15 +428,30 @@ class ResultsFolder:
         return RunsFile(self.runs_csv, columns)
 
     def write_text(self, name: str, text: str) -> Path:
-        """Write a file of the folder atomically (never through a symbolic link); returns its path."""
-        path = self.path / name
+        """Write a file of the folder atomically (never through a symbolic link); returns its path.
+
+        ``name`` is a plain file name (no directory, no ``..``, no NUL byte), ``text`` a string.
+        """
+        path = self.path / _file_name(name, "name")
+        if not isinstance(text, str):
+            raise InvalidTypeError(f"text must be a string, got {type(text).__name__}")
         _refuse_link(path)
         atomic_write(path, text)
         return path
 
     def write_csv(self, name: str, header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> Path:
-        """Write a CSV table of the folder atomically, floats so they read back exactly; returns its path."""
-        return self.write_text(name, "".join(csv_line(line) for line in (header, *rows)))
+        """Write a CSV table of the folder atomically, floats so they read back exactly; returns its path.
+
+        ``header`` holds column names (strings), each of ``rows`` one value per column.
+        """
+        names = as_tuple(header, "header")
+        if not names or any(not isinstance(column, str) for column in names):
+            raise InvalidTypeError(f"header must hold column names (strings), got {header!r}")
+        lines = [as_tuple(row, "rows") for row in as_tuple(rows, "rows")]
+        ragged = next((k for k, line in enumerate(lines) if len(line) != len(names)), None)
+        if ragged is not None:
+            raise InvalidInputError(f"rows must have {len(names)} values (the header's), row {ragged} has {len(lines[ragged])}")
+        return self.write_text(name, "".join(csv_line(line) for line in (names, *lines)))
 
     def drop_runs(self, run_ids: set[str]) -> None:
         """Rewrite ``runs.csv`` atomically without the rows of these runs."""

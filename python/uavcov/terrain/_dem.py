@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_optional_str, as_positive_float, as_positive_int, as_tuple
+from .._validate import as_finite_float, as_float_array, as_index_array, as_optional_str, as_positive_float, as_positive_int, as_tuple
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._frame import LocalFrame, metres_per_degree
@@ -68,15 +68,41 @@ class RasterGrid:
     transform: tuple[float, float, float, float, float, float]
     shape: tuple[int, int]
 
+    def __post_init__(self) -> None:
+        # checked, not converted: a grid compares and hashes as given
+        if as_float_array(self.transform, "transform", ndim=1).shape != (6,):
+            raise InvalidInputError(f"transform must be six numbers (a, b, c, d, e, f), got {self.transform!r}")
+        sides = as_tuple(self.shape, "shape")
+        if len(sides) != 2:
+            raise InvalidInputError(f"shape must be (rows, cols), got {self.shape!r}")
+        for side in sides:
+            as_positive_int(side, "shape")
+
     def node_of_pixel(self, rows: np.ndarray, cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The terrain grid node ``(i, j)`` (row 0 south) of raster pixels ``(row, col)``."""
+        """The terrain grid node ``(i, j)`` (row 0 south) of raster pixels ``(row, col)``.
+
+        Raises ``InvalidTypeError`` for indices that are not integers, ``InvalidInputError`` for
+        indices outside the raster or of two shapes.
+        """
+        rows, cols = self._indices(rows, cols, ("rows", "cols"))
         north_up = self.transform[4] < 0.0
         i = (self.shape[0] - 1 - rows) if north_up else rows
         return np.asarray(i), np.asarray(cols)
 
     def pixel_of_node(self, i: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The raster pixel ``(row, col)`` of terrain grid nodes ``(i, j)`` (its own inverse)."""
-        return self.node_of_pixel(np.asarray(i), np.asarray(j))
+        i, j = self._indices(i, j, ("i", "j"))
+        return self.node_of_pixel(i, j)
+
+    def _indices(self, first: Any, second: Any, names: tuple[str, str]) -> tuple[np.ndarray, np.ndarray]:
+        """Integer index arrays of one shape, each within its side of the raster."""
+        pair = [as_index_array(value, name, columns=None) for value, name in zip((first, second), names, strict=True)]
+        if pair[0].shape != pair[1].shape:
+            raise InvalidInputError(f"{names[0]} and {names[1]} must have one shape, got {pair[0].shape} and {pair[1].shape}")
+        for array, name, side in zip(pair, names, self.shape, strict=True):
+            if array.size and (array.min() < 0 or array.max() >= side):
+                raise InvalidInputError(f"{name} must lie in [0, {side}), got values from {array.min()} to {array.max()}")
+        return pair[0], pair[1]
 
 
 def wrap_longitude(lon: Any) -> np.ndarray:
