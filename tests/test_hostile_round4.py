@@ -465,3 +465,17 @@ def test_results_folder_refuses_text_headers_and_rows_that_are_not_ones(
     refused(error, words, call, folder)
     assert not (tmp_path / "out" / "a.csv").exists() and not (tmp_path / "out" / "a.md").exists()
     assert folder.write_csv("b.csv", ["a", "b"], [[1, 2.5]]).read_text() == "a,b\n1,2.5\n"
+
+
+@pytest.mark.parametrize(
+    "seed, error, words",
+    [
+        (None, InvalidTypeError, "seed must be an integer"),
+        (2.5, InvalidTypeError, "seed must be an integer"),
+        (-1, InvalidInputError, "seed must be >= 0"),
+    ],
+)
+def test_buildings_simplified_map_refuses_seeds_that_are_not_ones(seed: Any, error: type[Exception], words: str) -> None:
+    from uavcov.terrain import BuildingsGenerator
+
+    refused(error, words, BuildingsGenerator().simplified_map, seed)

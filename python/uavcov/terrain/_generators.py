@@ -113,6 +113,7 @@ class BuildingsGenerator:
 
     def simplified_map(self, seed: int) -> Terrain:
         """The coarse, erroneous map of scenario ``seed`` (the surface the CVT runs on)."""
+        seed = as_non_negative_int(seed, "seed")  # it seeds the map's errors too: [seed, 1]
         return buildings_prior(
             self.boxes(seed),
             size=self.size,
