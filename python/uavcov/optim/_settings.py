@@ -155,10 +155,11 @@ class CAOSettings:
         >>> s.step_size(0), round(s.step_size(100), 3)
         (1.5, 0.78)
         """
+        iteration: np.ndarray
         if isinstance(k, (np.ndarray, list, tuple)):
             iteration = as_float_array(k, "k").reshape(np.shape(k))  # a 0-d array stays 0-d
         else:
-            iteration = np.float64(as_finite_float(k, "k"))
+            iteration = np.asarray(as_finite_float(k, "k"))
         if (iteration < 0.0).any():
             raise InvalidInputError(f"k must be >= 0 (0-based iterations), got {np.min(iteration)}")
         ratio = (1.0 + self.stability) / (iteration + 1.0 + self.stability)
