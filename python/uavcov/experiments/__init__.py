@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from ._executors import ExecutionPlan, available_cores, dask_executor, local_executor, plan_execution
 from ._results import ResultsFolder, read_runs
-from ._summary import finished_rows, run_sweep, summarise
+from ._run_options import check_run_options
+from ._summary import finished_rows, row_number, run_sweep, summarise
 from ._sweep import Experiment, RunSpec, experiment_specs, experiments_hash, run_specs
 from ._sweep_config import STARTS, SweepConfig, load_sweep_config, parse_seeds, parse_sweep_config
 
@@ -20,6 +21,7 @@ __all__ = [
     "RunSpec",
     "experiment_specs",
     "run_specs",
+    "check_run_options",
     "experiments_hash",
     "parse_seeds",
     "ExecutionPlan",
@@ -31,6 +33,7 @@ __all__ = [
     "read_runs",
     "summarise",
     "finished_rows",
+    "row_number",
     "SweepConfig",
     "load_sweep_config",
     "parse_sweep_config",

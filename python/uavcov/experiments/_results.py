@@ -286,7 +286,7 @@ class RunsFile:
 
 
 def config_document(
-    command: str,
+    command: str | None,
     settings: Mapping[str, Any],
     runs: Mapping[str, Any],
     *,

@@ -37,8 +37,13 @@ def finished_rows(rows: Iterable[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
 
 
 def row_number(row: Mapping[str, Any], column: str, kind: type[float | int] = float) -> Any:
-    """``row[column]`` as a ``kind``; a :class:`~uavcov.errors.ResultsFormatError` naming the
-    column when the row lacks it or it holds no number."""
+    """``row[column]`` (a row of ``runs.csv``, values as read or as written) as a ``kind``.
+
+    Raises
+    ------
+    ResultsFormatError
+        The row lacks ``column``, or it holds no number (no integer for ``kind=int``).
+    """
     if column not in row:
         raise ResultsFormatError(f"rows must have the column {column!r}, a row has only {sorted(map(str, row))}")
     value = row[column]

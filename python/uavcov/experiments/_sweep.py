@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import MAX_RUNS, MAX_UAVS, as_bool, as_optional_str, as_tuple, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, as_optional_str, as_tuple, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from ..mission import MissionResult, run_mission
@@ -50,6 +50,7 @@ from ..settings import PRIOR_KINDS, MissionSettings, nested_replace
 from ..terrain import BuildingsGenerator, HillsGenerator
 from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
+from ._run_options import as_extra, check_run_options
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
 _LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start", "escape"})
@@ -276,7 +277,7 @@ class RunSpec:
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
         object.__setattr__(self, "label", as_optional_str(self.label, "label") or self.experiment.name)
-        object.__setattr__(self, "extra", _as_extra(self.extra))
+        object.__setattr__(self, "extra", as_extra(self.extra))
         # a swept setting may repeat a column of its row (iterations), never contradict it
         repeated = [(key, value) for key, value in self.extra if key in RUN_COLUMNS]
         own = self.row_template(with_extra=False) if repeated else {}
@@ -371,7 +372,7 @@ def experiment_specs(
     if not isinstance(experiment, Experiment):
         raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
     label = as_optional_str(label, "label")
-    extra = _as_extra(extra)
+    extra = as_extra(extra)
     seeds = as_tuple(experiment.seeds if seeds is None else seeds, "seeds")
     team_sizes = as_tuple(experiment.team_sizes if team_sizes is None else team_sizes, "team_sizes")
     starts = as_tuple(experiment.starts if starts is None else starts, "starts")
@@ -452,7 +453,7 @@ def _progress_bar(total: int, enabled: bool | None) -> Any:
 
 
 def _configuration(
-    specs: Sequence[RunSpec], command: str, execution: Mapping[str, Any] | None, about: Mapping[str, Any] | None
+    specs: Sequence[RunSpec], command: str | None, execution: Mapping[str, Any] | None, about: Mapping[str, Any] | None
 ) -> dict[str, Any]:
     """The ``config.json`` of a folder these specs are run into."""
     settings: dict[str, Any] = {}
@@ -469,48 +470,6 @@ def _configuration(
     return config_document(command, settings, runs, execution=execution, about=about)
 
 
-def _check_json_record(record: Mapping[Any, Any], name: str) -> None:
-    """``record`` has string keys and JSON values (``config.json`` records it), else a uavcov error naming ``name``."""
-    if any(not isinstance(key, str) or not key for key in record):
-        raise InvalidTypeError(f"{name} must have non-empty string keys, got {list(record)!r}")
-    try:
-        json.dumps(record, default=json_default, allow_nan=False)
-    except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"{name} must hold JSON values (it is recorded in config.json): {exc}") from exc
-
-
-def _as_extra(extra: Any) -> tuple[tuple[str, Any], ...]:
-    """A spec's ``extra`` as ``((column, value), ...)``: columns of runs.csv, each named once."""
-    pairs = as_tuple(extra, "extra")
-    if any(not isinstance(pair, (tuple, list)) or len(pair) != 2 for pair in pairs):
-        raise InvalidTypeError(f"extra must hold (column, value) pairs, got {extra!r}")
-    keys = [key for key, _ in pairs]
-    if any(not isinstance(key, str) or not key for key in keys):
-        raise InvalidTypeError(f"extra must name its columns with non-empty strings, got {keys!r}")
-    if len(set(keys)) != len(keys):
-        raise InvalidInputError(f"extra names a column more than once: {keys}")
-    _check_json_record(dict(pairs), "extra")
-    return tuple((key, value) for key, value in pairs)
-
-
-def run_options(
-    *, resume: Any, save_runs: Any, exclusive: Any, progress: Any, command: Any, execution: Any
-) -> tuple[bool, bool, bool, bool | None, str | None, dict[str, Any]]:
-    """The flags and records of :func:`run_specs`, checked (before any folder is made).
-
-    Returns ``(resume, save_runs, exclusive, progress, command, execution)``; ``execution`` a
-    dict that ``config.json`` can hold (string keys, JSON values).
-    """
-    flags = [as_bool(value, name) for name, value in (("resume", resume), ("save_runs", save_runs), ("exclusive", exclusive))]
-    shown = None if progress is None else as_bool(progress, "progress")
-    text = as_optional_str(command, "command")
-    if execution is not None and not isinstance(execution, Mapping):
-        raise InvalidTypeError(f"execution must be None or a mapping, got {type(execution).__name__}")
-    record = dict(execution or {})
-    _check_json_record(record, "execution")
-    return flags[0], flags[1], flags[2], shown, text, record
-
-
 def run_specs(
     specs: Sequence[RunSpec],
     *,
@@ -523,7 +482,7 @@ def run_specs(
     save_runs: bool = True,
     exclusive: bool = False,
     progress: bool | None = None,
-    command: str = "run_specs",
+    command: str | None = "run_specs",
     execution: Mapping[str, Any] | None = None,
     about: Mapping[str, Any] | None = None,
     on_result: Callable[[RunSpec, dict[str, Any], MissionResult | None], None] | None = None,
@@ -590,10 +549,9 @@ def run_specs(
     >>> rows[0]["init"], 0.0 < rows[0]["initial_coverage"] <= 1.0
     ('cvt', True)
     """
-    resume, save_runs, exclusive, progress, checked_command, execution = run_options(
+    resume, save_runs, exclusive, progress, command, execution = check_run_options(
         resume=resume, save_runs=save_runs, exclusive=exclusive, progress=progress, command=command, execution=execution
     )
-    command = "run_specs" if checked_command is None else checked_command
     specs = list(specs)
     for spec in specs:
         if not isinstance(spec, RunSpec):

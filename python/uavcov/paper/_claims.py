@@ -26,8 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ResultsFormatError
-from ..experiments import ResultsFolder, finished_rows
-from ..experiments._summary import row_number
+from ..experiments import ResultsFolder, finished_rows, row_number
 from ..records import load_mission
 from . import _data as paper
 

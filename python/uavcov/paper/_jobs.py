@@ -24,8 +24,16 @@ from typing import Any
 
 from .._validate import as_tuple, is_int
 from ..errors import ConfigError, MissingExtraError
-from ..experiments import Experiment, ResultsFolder, experiment_specs, experiments_hash, parse_seeds, plan_execution, run_specs
-from ..experiments._sweep import run_options
+from ..experiments import (
+    Experiment,
+    ResultsFolder,
+    check_run_options,
+    experiment_specs,
+    experiments_hash,
+    parse_seeds,
+    plan_execution,
+    run_specs,
+)
 from . import _data as paper
 from ._bounds import BOUNDS_FILE, bounds_markdown, write_bounds
 from ._claims import ablation_markdown, claims_markdown, verdicts_markdown
@@ -99,7 +107,7 @@ def reproduce(
     if not isinstance(name, str) or name not in paper.EXPERIMENTS:
         raise ConfigError(f"unknown experiment {name!r}; choose one of {', '.join(REPRODUCIBLE)}")
     experiment = _with_iterations(paper.EXPERIMENTS[name], iterations)
-    resume, save_runs, exclusive, progress, command, execution = run_options(
+    resume, save_runs, exclusive, progress, command, execution = check_run_options(
         resume=resume, save_runs=save_runs, exclusive=exclusive, progress=progress, command=command, execution=execution
     )
     seed_list = experiment.seeds if seeds is None else parse_seeds(seeds)

@@ -1,0 +1,67 @@
+"""The options and records of a run of specs, checked before any folder is made.
+
+:func:`check_run_options` checks the flags and records :func:`~uavcov.experiments.run_specs`
+takes (a job calls it first: it makes its folder before it runs the specs), ``as_extra`` a
+spec's extra columns. What ``config.json`` records must be JSON: checked here, not when written.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from typing import Any
+
+from .._validate import as_bool, as_optional_str, as_tuple
+from ..errors import InvalidInputError, InvalidTypeError
+from ._results import json_default
+
+
+def _check_json_record(record: Mapping[Any, Any], name: str) -> None:
+    """``record`` has string keys and JSON values (``config.json`` records it), else a uavcov error naming ``name``."""
+    if any(not isinstance(key, str) or not key for key in record):
+        raise InvalidTypeError(f"{name} must have non-empty string keys, got {list(record)!r}")
+    try:
+        json.dumps(record, default=json_default, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise InvalidTypeError(f"{name} must hold JSON values (it is recorded in config.json): {exc}") from exc
+
+
+def as_extra(extra: Any) -> tuple[tuple[str, Any], ...]:
+    """A spec's ``extra`` as ``((column, value), ...)``: columns of runs.csv, each named once."""
+    pairs = as_tuple(extra, "extra")
+    if any(not isinstance(pair, (tuple, list)) or len(pair) != 2 for pair in pairs):
+        raise InvalidTypeError(f"extra must hold (column, value) pairs, got {extra!r}")
+    keys = [key for key, _ in pairs]
+    if any(not isinstance(key, str) or not key for key in keys):
+        raise InvalidTypeError(f"extra must name its columns with non-empty strings, got {keys!r}")
+    if len(set(keys)) != len(keys):
+        raise InvalidInputError(f"extra names a column more than once: {keys}")
+    _check_json_record(dict(pairs), "extra")
+    return tuple((key, value) for key, value in pairs)
+
+
+def check_run_options(
+    *, resume: Any, save_runs: Any, exclusive: Any, progress: Any, command: Any, execution: Any
+) -> tuple[bool, bool, bool, bool | None, str | None, dict[str, Any]]:
+    """The flags and records of :func:`~uavcov.experiments.run_specs`, checked: a job calls it before it makes a folder.
+
+    Returns
+    -------
+    tuple
+        ``(resume, save_runs, exclusive, progress, command, execution)``: three bools, a bool or
+        None, a string or None, and ``execution`` as a dict ``config.json`` can hold.
+
+    Raises
+    ------
+    InvalidTypeError
+        A flag not True or False, a command not a string, an ``execution`` not a mapping with
+        string keys and JSON values.
+    """
+    flags = [as_bool(value, name) for name, value in (("resume", resume), ("save_runs", save_runs), ("exclusive", exclusive))]
+    shown = None if progress is None else as_bool(progress, "progress")
+    text = as_optional_str(command, "command")
+    if execution is not None and not isinstance(execution, Mapping):
+        raise InvalidTypeError(f"execution must be None or a mapping, got {type(execution).__name__}")
+    record = dict(execution or {})
+    _check_json_record(record, "execution")
+    return flags[0], flags[1], flags[2], shown, text, record
