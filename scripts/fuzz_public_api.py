@@ -481,6 +481,15 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "read_runs": lambda: {"path": str(Path(f.results_dir) / "runs.csv")},
         "summarise": lambda: {"rows": experiments.read_runs(Path(f.results_dir) / "runs.csv")},
         "finished_rows": lambda: {"rows": experiments.read_runs(Path(f.results_dir) / "runs.csv")},
+        "row_number": lambda: {"row": experiments.read_runs(Path(f.results_dir) / "runs.csv")[0], "column": "n_uavs", "kind": int},
+        "check_run_options": lambda: {
+            "resume": False,
+            "save_runs": True,
+            "exclusive": False,
+            "progress": None,
+            "command": "fuzz",
+            "execution": {"workers": 1},
+        },
         "load_sweep_config": lambda: {"path": f.sweep_toml, "bases": dict(paper.EXPERIMENTS)},
         "parse_sweep_config": lambda: {
             "data": {"base": "table1", "seeds": [0], "team_sizes": [2], "starts": ["cvt"]},

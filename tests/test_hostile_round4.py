@@ -479,3 +479,21 @@ def test_buildings_simplified_map_refuses_seeds_that_are_not_ones(seed: Any, err
     from uavcov.terrain import BuildingsGenerator
 
     refused(error, words, BuildingsGenerator().simplified_map, seed)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"row": None}, InvalidTypeError, "row must be a mapping"),
+        ({"row": [("n_uavs", 5)]}, InvalidTypeError, "row must be a mapping"),
+        ({"column": ["n_uavs"]}, InvalidTypeError, "column must hold column names"),
+        ({"column": ""}, InvalidTypeError, "column must hold column names"),
+        ({"kind": float("nan")}, InvalidTypeError, "kind must be float or int"),
+        ({"kind": str}, InvalidTypeError, "kind must be float or int"),
+    ],
+)
+def test_row_number_refuses_arguments_that_are_not_ones(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.experiments import row_number
+
+    refused(error, words, row_number, **{"row": ROW, "column": "n_uavs", "kind": int, **kwargs})
+    assert row_number(ROW, "n_uavs", int) == 5 and row_number(ROW, "max_coverage") == 0.5

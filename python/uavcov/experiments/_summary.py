@@ -41,9 +41,16 @@ def row_number(row: Mapping[str, Any], column: str, kind: type[float | int] = fl
 
     Raises
     ------
+    InvalidTypeError
+        ``row`` not a mapping, ``column`` not a column name, ``kind`` neither float nor int.
     ResultsFormatError
         The row lacks ``column``, or it holds no number (no integer for ``kind=int``).
     """
+    if not isinstance(row, Mapping):
+        raise InvalidTypeError(f"row must be a mapping (a row of runs.csv), got {type(row).__name__}")
+    column = as_column_name(column, "column")
+    if kind is not float and kind is not int:
+        raise InvalidTypeError(f"kind must be float or int, got {kind!r}")
     if column not in row:
         raise ResultsFormatError(f"rows must have the column {column!r}, a row has only {sorted(map(str, row))}")
     value = row[column]
