@@ -497,3 +497,63 @@ def test_row_number_refuses_arguments_that_are_not_ones(kwargs: dict[str, Any], 
 
     refused(error, words, row_number, **{"row": ROW, "column": "n_uavs", "kind": int, **kwargs})
     assert row_number(ROW, "n_uavs", int) == 5 and row_number(ROW, "max_coverage") == 0.5
+
+
+# ---------------------------------------------------------------------------------------------
+# Found by the whole harness (scripts/fuzz_public_api.py --no-cli) once the above were fixed
+
+
+@pytest.mark.parametrize(
+    "required, words",
+    [
+        (None, "required must be a sequence"),
+        (5, "required must be a sequence"),
+        ("max_coverage", "required must be a sequence"),
+        ([["run_id"]], "required must hold column names"),
+        (np.ones((2, 5)), "required must hold column names"),
+    ],
+)
+def test_read_runs_refuses_required_columns_that_are_not_names(tmp_path: Any, required: Any, words: str) -> None:
+    from uavcov.experiments import read_runs
+
+    path = tmp_path / "runs.csv"
+    path.write_text("run_id\nx\n")
+    refused(InvalidTypeError, words, read_runs, path, required=required)
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"metric": ["max_coverage"]}, "metric must be a column name"),
+        ({"metric": np.ones(3)}, "metric must be a column name"),
+        ({"metric": ""}, "metric must be a column name"),
+        ({"paper": np.ones(3)}, "paper must be True or False"),
+        ({"paper": "yes"}, "paper must be True or False"),
+    ],
+)
+def test_plot_table1_refuses_a_metric_or_paper_that_is_not_one(kwargs: dict[str, Any], words: str) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_table1
+
+    refused(InvalidTypeError, words, plot_table1, [ROW], **kwargs)
+
+
+@pytest.mark.parametrize(
+    "legs, error, words",
+    [
+        ([[0], [0, 0], [0]], InvalidInputError, "leg_of_state cannot be read as an array"),
+        (np.zeros(3), InvalidTypeError, "leg_of_state must hold integers"),
+        (np.array([True, False, True]), InvalidTypeError, "leg_of_state must hold integers"),
+        (np.array([0, 0, 1]), InvalidInputError, "leg_of_state must be 3 leg indices"),
+        (np.array([0, -1, 0]), InvalidInputError, "leg_of_state must be 3 leg indices"),
+        (np.zeros(2, dtype=int), InvalidInputError, "leg_of_state must be 3 leg indices"),
+    ],
+)
+def test_check_flight_refuses_legs_that_are_not_ones(legs: Any, error: type[Exception], words: str) -> None:
+    import uavcov
+    from uavcov.sim import check_flight
+
+    hills = uavcov.gaussian_hills(size=30, spacing=1, n_hills=2, rng=0)
+    pair = [[10.0, 10.0, 30.0], [20.0, 20.0, 30.0]]
+    positions, ends = np.array([pair] * 3), np.array([pair])
+    refused(error, words, check_flight, hills, uavcov.Constraints().resolve(hills), positions, legs, ends, ends)

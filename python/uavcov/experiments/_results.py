@@ -195,6 +195,9 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIR
         or a number column that holds no number.
     """
     path = as_path(path, "path")
+    required = as_tuple(required, "required")
+    if any(not isinstance(column, str) for column in required):
+        raise InvalidTypeError(f"required must hold column names (strings), got {required!r}")
     if not path.is_file():
         raise ResultsFormatError(f"no runs file at {path}")
     text, _ = _complete_text(path)

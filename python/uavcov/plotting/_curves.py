@@ -196,6 +196,9 @@ def plot_table1(
     -------
     matplotlib.figure.Figure
     """
+    if not isinstance(metric, str) or not metric:
+        raise InvalidTypeError(f"metric must be a column name (a string), got {type(metric).__name__}")
+    paper = as_bool(paper, "paper")
     if isinstance(rows, (str, os.PathLike)):
         rows = _runs._read_runs(rows)
     if isinstance(rows, Mapping) or not isinstance(rows, Iterable):

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array
+from .._validate import as_float_array, as_index_array
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -119,8 +119,8 @@ def _checked(
     begin, end = as_float_array(starts, "starts", ndim=3), as_float_array(goals, "goals", ndim=3)
     if states.shape[0] == 0 or states.shape[1:] != begin.shape[1:] or begin.shape != end.shape or states.shape[2] != 3:
         raise InvalidInputError(f"positions (M, N, 3), starts and goals (L, N, 3) disagree: {states.shape}, {begin.shape}, {end.shape}")
-    legs = np.asarray(leg_of_state)
-    if legs.shape != (states.shape[0],) or not np.issubdtype(legs.dtype, np.integer) or legs.min() < 0 or legs.max() >= begin.shape[0]:
+    legs = as_index_array(leg_of_state, "leg_of_state", columns=None)
+    if legs.shape != (states.shape[0],) or legs.min(initial=0) < 0 or legs.max(initial=0) >= begin.shape[0]:
         raise InvalidInputError(f"leg_of_state must be {states.shape[0]} leg indices in [0, {begin.shape[0]})")
     return states, legs, begin, end
 
