@@ -557,3 +557,21 @@ def test_check_flight_refuses_legs_that_are_not_ones(legs: Any, error: type[Exce
     pair = [[10.0, 10.0, 30.0], [20.0, 20.0, 30.0]]
     positions, ends = np.array([pair] * 3), np.array([pair])
     refused(error, words, check_flight, hills, uavcov.Constraints().resolve(hills), positions, legs, ends, ends)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"workers": float("nan")}, InvalidTypeError, "workers must be an integer"),
+        ({"workers": 2.5}, InvalidTypeError, "workers must be an integer"),
+        ({"workers": 0}, InvalidInputError, "workers must be >= 1"),
+        ({"n_threads": float("inf")}, InvalidTypeError, "n_threads must be an integer"),
+        ({"n_threads": np.ones(3)}, InvalidTypeError, "n_threads must be an integer"),
+        ({"n_threads": 10**6}, InvalidInputError, "n_threads must be at most"),
+    ],
+)
+def test_execution_plan_refuses_counts_that_are_not_ones(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.experiments import ExecutionPlan
+
+    refused(error, words, ExecutionPlan, **{"workers": 1, "n_threads": 1, **kwargs})
+    assert ExecutionPlan(np.int64(2), 3) == ExecutionPlan(2, 3)

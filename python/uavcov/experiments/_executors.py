@@ -23,7 +23,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import is_int
+from .._validate import MAX_THREADS, as_count, as_positive_int, is_int
 from ..errors import ConfigError, MissingExtraError, SchedulerTimeoutError
 
 
@@ -44,6 +44,11 @@ class ExecutionPlan:
 
     workers: int
     n_threads: int
+
+    def __post_init__(self) -> None:
+        # also built from a caller's own executor (run_specs): checked here, not only in plan_execution
+        object.__setattr__(self, "workers", as_positive_int(self.workers, "workers"))
+        object.__setattr__(self, "n_threads", as_count(self.n_threads, "n_threads", MAX_THREADS))
 
 
 def plan_execution(workers: int | None = None, n_threads: int | None = None, cores: int | None = None) -> ExecutionPlan:
