@@ -198,7 +198,6 @@ def plot_table1(
     """
     if not isinstance(metric, str) or not metric:
         raise InvalidTypeError(f"metric must be a column name (a string), got {type(metric).__name__}")
-    paper = as_bool(paper, "paper")
     if isinstance(rows, (str, os.PathLike)):
         rows = _runs._read_runs(rows)
     if isinstance(rows, Mapping) or not isinstance(rows, Iterable):
@@ -227,7 +226,7 @@ def plot_table1(
         {(e, i) for e, i, _ in values}, key=lambda s: (s[0], list(INIT_COLOURS).index(s[1]) if s[1] in INIT_COLOURS else 99, s[1])
     )
     sizes = sorted({n for _, _, n in values})
-    published = published_values() if paper else {}
+    published = published_values() if as_bool(paper, "paper") else {}
 
     fig, ax = _new_axes(ax, three_d=False, figsize=(max(6.0, 1.6 + 1.5 * len(sizes) * max(1, len(series)) / 3), 4.4))
     bars_per_series = 2 if any((e, metric, i, n) in published for e, i in series for n in sizes) else 1
