@@ -16,17 +16,11 @@ import numpy as np
 import pytest
 
 import uavcov
+from refusals import refused
 from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError
 
 HILLS = uavcov.gaussian_hills(size=30, spacing=1, n_hills=2, rng=0)
 POINTS = np.array([[5.0, 5.0, 30.0], [15.0, 12.0, 25.0]])
-
-
-def refused(error: type[Exception], words: str, call: Any, *args: Any, **kwargs: Any) -> None:
-    """``call`` raises exactly ``error`` (a uavcov error) with ``words`` in its message."""
-    with pytest.raises(error, match=words) as caught:
-        call(*args, **kwargs)
-    assert type(caught.value) is error, repr(caught.value)
 
 
 # ---------------------------------------------------------------------------------------------

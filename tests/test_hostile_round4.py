@@ -14,16 +14,9 @@ from typing import Any
 import numpy as np
 import pytest
 
+from refusals import refused
 from uavcov.errors import InvalidInputError, InvalidTypeError
 from uavcov.optim import CAOSettings
-
-
-def refused(error: type[Exception], words: str, call: Any, *args: Any, **kwargs: Any) -> None:
-    """``call`` raises exactly ``error`` (a uavcov error) with ``words`` in its message."""
-    with pytest.raises(error, match=words) as caught:
-        call(*args, **kwargs)
-    assert type(caught.value) is error, repr(caught.value)
-
 
 # ---------------------------------------------------------------------------------------------
 # Silent wrong answers
