@@ -98,7 +98,7 @@ def test_sweep_end_to_end(tmp_path, capsys):
         ('seeds = "5-1"\n', "backwards"),
         ("[cao]\nalpha0 = -1.0\n", "alpha0"),
         ("[cao]\nn_candidates = 2.5\n", "integer"),
-        ("[terrain]\nspacing = 3.0\n", "whole number"),
+        ("[terrain]\nspacing = 3.0\n", "multiple of the spacing"),
         pytest.param(
             '[cvt]\npreset = "lloid"\n',
             "did you mean 'lloyd'",
