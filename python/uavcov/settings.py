@@ -13,14 +13,13 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
 from typing import TYPE_CHECKING, Any, TypeVar
 
-import numpy as np
-
 from ._validate import (
     MAX_ITERATIONS,
     MAX_PAIR_CHECKS,
     MAX_SAMPLES,
     MAX_TRAJECTORY,
     MAX_UAVS,
+    as_bool,
     as_count,
     as_float_array,
     as_positive_float,
@@ -192,9 +191,7 @@ class MissionSettings:
                 f"attitude's pitch {self.attitude[1]} looks above the horizon: a camera can point up only on a gimbal "
                 "whose pitch_range reaches it (gimbal=Gimbal(pitch_range=...) or Gimbal.preset('upward'))"
             )
-        if not isinstance(self.footprint_start, (bool, np.bool_)):
-            raise InvalidTypeError(f"footprint_start must be a bool, got {type(self.footprint_start).__name__}")
-        object.__setattr__(self, "footprint_start", bool(self.footprint_start))
+        object.__setattr__(self, "footprint_start", as_bool(self.footprint_start, "footprint_start"))
         if self.footprint_start and not has_camera:
             raise InvalidInputError("footprint_start needs a sensor with a camera")
 

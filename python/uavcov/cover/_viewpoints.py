@@ -68,8 +68,7 @@ class GreedySettings:
             if isinstance(value, (str, bytes)) or not isinstance(value, (tuple, list)) or not value:
                 raise InvalidInputError(f"{name} must be a non-empty tuple of angles in degrees, got {value!r}")
             object.__setattr__(self, name, tuple(as_finite_float(v, name) for v in value))
-        if not isinstance(self.separation, (bool, np.bool_)):
-            raise InvalidTypeError(f"separation must be a bool, got {type(self.separation).__name__}")
+        as_bool(self.separation, "separation")
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array, as_non_negative_float, as_positive_float, as_positive_int
+from .._validate import as_bool, as_float_array, as_non_negative_float, as_positive_float, as_positive_int
 from ..errors import InvalidInputError, InvalidTypeError
 
 # Columns of a packed sensor row (``uavcov._core``): d_min, d_max, forward (3), right (3), up (3),
@@ -215,9 +215,7 @@ class Gimbal:
     alpha0_deg: float = 10.0
 
     def __post_init__(self) -> None:
-        if not isinstance(self.free_yaw, (bool, np.bool_)):
-            raise InvalidTypeError(f"free_yaw must be a bool, got {type(self.free_yaw).__name__}")
-        object.__setattr__(self, "free_yaw", bool(self.free_yaw))
+        object.__setattr__(self, "free_yaw", as_bool(self.free_yaw, "free_yaw"))
         if self.pitch_range is not None:
             bounds = as_float_array(self.pitch_range, "pitch_range") if not isinstance(self.pitch_range, (str, bytes)) else None
             if bounds is None or bounds.shape != (2,):

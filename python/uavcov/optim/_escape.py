@@ -57,7 +57,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_non_negative_float, as_positive_float, as_positive_int, read_only
+from .._validate import as_bool, as_non_negative_float, as_positive_float, as_positive_int, read_only
 from ..errors import InvalidInputError, InvalidTypeError
 from ._cao import _cao_run
 from ._checks import _as_team_and_marginals, _check_common, _check_start, _Feasibility
@@ -119,9 +119,7 @@ class EscapeSettings:
         put("movers", as_positive_int(self.movers, "movers"))
         put("destinations", as_positive_int(self.destinations, "destinations"))
         put("min_gain", as_non_negative_float(self.min_gain, "min_gain"))
-        if not isinstance(self.restart_step, (bool, np.bool_)):
-            raise InvalidTypeError(f"restart_step must be a bool, got {type(self.restart_step).__name__}")
-        put("restart_step", bool(self.restart_step))
+        put("restart_step", as_bool(self.restart_step, "restart_step"))
 
     def heights(self) -> np.ndarray:
         """Offsets a leg tries from the straight line, metres, nearest first: 0, +s, -s, +2s, ..."""

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .._validate import as_finite_float, as_float_array, as_generator, as_n_threads, as_positive_float, is_int
+from .._validate import as_bool, as_finite_float, as_float_array, as_generator, as_n_threads, as_positive_float, is_int
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -77,8 +77,7 @@ class DepthCamera:
         if not -90.0 <= pitch <= 90.0:
             raise InvalidInputError(f"pitch_deg must lie in [-90, 90], got {pitch}")
         object.__setattr__(self, "pitch_deg", pitch)
-        if not isinstance(self.stabilised, (bool, np.bool_)):
-            raise InvalidTypeError(f"stabilised must be a bool, got {type(self.stabilised).__name__}")
+        as_bool(self.stabilised, "stabilised")
 
     @classmethod
     def omnidirectional(cls, range_m: float, resolution: int = 128, noise_sd: float = 0.0) -> DepthCamera:

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_generator, as_positive_float, read_only
+from .._validate import as_bool, as_finite_float, as_float_array, as_generator, as_positive_float, read_only
 from ..engine import Terrain
 from ..errors import FlightError, InvalidInputError, InvalidTypeError, MissingExtraError
 from ._wind import DrydenGusts
@@ -167,9 +167,7 @@ class FlightSettings:
         object.__setattr__(self, "gusts", (float(gusts[0]), float(gusts[1]), float(gusts[2])))
         if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
             raise InvalidInputError(f"integrator must be one of {INTEGRATORS}, got {self.integrator!r}")
-        if not isinstance(self.synchronous, (bool, np.bool_)):
-            raise InvalidTypeError(f"synchronous must be a bool, got {type(self.synchronous).__name__}")
-        object.__setattr__(self, "synchronous", bool(self.synchronous))
+        object.__setattr__(self, "synchronous", as_bool(self.synchronous, "synchronous"))
 
     @property
     def integrator_kwargs(self) -> dict[str, Any] | None:

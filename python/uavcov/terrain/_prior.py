@@ -28,6 +28,7 @@ from scipy.spatial import ConvexHull, Delaunay, QhullError, cKDTree
 
 from .._validate import (
     MAX_SAMPLES,
+    as_bool,
     as_count,
     as_float_array,
     as_generator,
@@ -176,8 +177,7 @@ def sample_prior(
     terrain = _check_terrain(terrain)
     if not isinstance(kind, str) or kind not in _KINDS:
         raise InvalidInputError(f"kind must be one of {_KINDS}, got {kind!r}")
-    if not isinstance(corners, (bool, np.bool_)):
-        raise InvalidTypeError(f"corners must be a bool, got {type(corners).__name__}")
+    as_bool(corners, "corners")
     generator = as_generator(rng)
 
     if kind == "pyramid":
