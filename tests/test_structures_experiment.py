@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -22,6 +23,7 @@ SMALL = StructuresExperiment(
     dev_seeds=(1000,),
     offsets=(6.0,),
     iterations=3,
+    trace_iterations=12,
     reference_spacing=6.0,
     target_spacing=2.0,
     greedy_spacings=(6.0,),
@@ -32,7 +34,8 @@ CHILD = """
 import sys
 from uavcov.paper import StructuresExperiment, reproduce_structures
 experiment = StructuresExperiment(
-    families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, reference_spacing=6.0, target_spacing=2.0,
+    families=("pylon",), report_seeds=(0,), dev_seeds=(1000,), offsets=(6.0,), iterations=3, trace_iterations=12,
+    reference_spacing=6.0, target_spacing=2.0,
     greedy_spacings=(6.0,), normal_weights=(0.0, 10.0), cao_steps=(0.75, 1.5),
 )
 reproduce_structures(sys.argv[1], experiment, workers=1)
@@ -72,9 +75,9 @@ def test_resume_after_kill_9_gives_the_rows_of_an_uninterrupted_run(tmp_path: Pa
     resumed = reproduce_structures(cut, SMALL, resume=True)
     assert _without_time(resumed) == _without_time(whole)
     report = (cut / "structures.md").read_text(encoding="utf-8")
-    # The table (five 3D starts), greedy on S' against the CVT, the normal weight's gain, and
-    # why each falls short.
-    assert report.count("| pylon |") == 12 and report.count("| all |") == 7
+    # The table (five 3D starts), greedy on S' against the CVT, the normal weight's gain, why
+    # each falls short, and the best after 3, 10 and 12 iterations.
+    assert report.count("| pylon |") == 15 and report.count("| all |") == 10
     # Every row says which parts it saw; greedy's also each part's share of the targets.
     assert all(r["parts"] for r in resumed)
     weights = next(r for r in resumed if r["start"] == "greedy")["part_weights"]
@@ -107,6 +110,7 @@ def test_a_used_folder_needs_resume_and_the_same_settings(tmp_path: Path) -> Non
         {"cao_steps": ()},
         {"cao_steps": (0.0,)},
         {"cao_steps": (float("inf"),)},
+        {"trace_iterations": 50},
     ],
 )
 def test_bad_settings_are_config_errors(bad: dict) -> None:
@@ -120,3 +124,77 @@ def test_the_paired_interval_is_the_t_interval() -> None:
     assert mean == pytest.approx(0.1)
     assert high - mean == pytest.approx(3.182446 * 0.0408248 / 2, rel=1e-4)
     assert low == pytest.approx(2 * mean - high)
+
+
+def test_flying_on_leaves_the_rows_after_iterations_unchanged(tmp_path: Path) -> None:
+    """The report missions fly on to trace_iterations; what they record after ``iterations``
+    (best, parts, initial) is what a mission stopped there records, and ``best_at`` agrees with
+    it at every checkpoint both reached."""
+    short = reproduce_structures(tmp_path / "short", replace(SMALL, trace_iterations=3))
+    long = reproduce_structures(tmp_path / "long", SMALL)
+    missions = [(a, b) for a, b in zip(short, long, strict=True) if a["start"] != "greedy"]
+    assert len(missions) == 6
+    for a, b in missions:
+        assert (a["start"], a["best"], a["parts"], a["initial"]) == (b["start"], b["best"], b["parts"], b["initial"])
+        assert set(a["best_at"]) == {"0", "3"} and set(b["best_at"]) == {"0", "3", "10", "12"}
+        assert a["best_at"]["3"] == b["best_at"]["3"] == b["best"]
+        values = [b["best_at"][k] for k in ("0", "3", "10", "12")]
+        assert values == sorted(values) and values[0] <= b["initial"] + 1e-12
+    # The development missions stop at ``iterations``.
+    rows = (tmp_path / "long" / "rows.jsonl").read_text(encoding="utf-8").splitlines()
+    dev = [json.loads(line) for line in rows if '"seed": 1000' in line]
+    assert dev and all(set(r["best_at"]) == {"0", "3"} for r in dev)
+
+
+def test_a_dask_cluster_gives_the_rows_of_one_process(tmp_path: Path) -> None:
+    pytest.importorskip("distributed")
+    from uavcov.experiments import dask_executor
+
+    serial = reproduce_structures(tmp_path / "serial", SMALL)
+    with dask_executor(n_workers=2, timeout=30) as (executor, _):
+        on_dask = reproduce_structures(tmp_path / "dask", SMALL, executor=executor)
+    pooled = reproduce_structures(tmp_path / "pool", SMALL, workers=2)
+    assert _without_time(on_dask) == _without_time(serial) == _without_time(pooled)
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--workers", "2", "--dask-workers", "1"], "--workers is for the local process pool"),
+        (["--scheduler", "not an address"], "Dask scheduler"),
+        (["--scheduler", "tcp://127.0.0.1:0"], "Dask scheduler"),
+    ],
+)
+def test_the_command_refuses_a_mixed_or_bad_cluster_in_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str], argv, words) -> None:
+    pytest.importorskip("distributed")
+    from uavcov.cli import main
+
+    code = main(["reproduce", "structures", "--out", str(tmp_path / "out"), *argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and words in err[0], err
+    assert not (tmp_path / "out").exists()  # refused before any folder is made
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        {"workers": 0},
+        {"workers": -2},
+        {"workers": "2"},
+        {"workers": True},
+        {"workers": 2.5},
+        {"executor": "pool"},
+        {"executor": object()},
+        {"resume": "yes"},
+        {"experiment": 3},
+        {"progress": 5},
+    ],
+)
+def test_bad_run_options_are_refused_before_any_run(tmp_path: Path, bad: dict) -> None:
+    """Refused with uavcov.errors before a folder is made (``workers=0`` once ran the whole
+    default experiment in this process)."""
+    from uavcov.errors import InvalidInputError, InvalidTypeError
+
+    with pytest.raises((InvalidInputError, InvalidTypeError)):
+        reproduce_structures(tmp_path / "out", **bad)
+    assert not (tmp_path / "out").exists()

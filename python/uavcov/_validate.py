@@ -98,6 +98,8 @@ MAX_GRID_CELLS = 10_000
 """Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
 MAX_HILLS = 10_000
 """Most Gaussians of one hills terrain: each costs a pass over every node."""
+MAX_WORKERS = 4096
+"""Most local worker processes: far beyond any one machine; a larger count is a typo."""
 
 
 def as_float_array(

@@ -118,24 +118,25 @@ def _reproduce_ablation(args: argparse.Namespace) -> int:
 def _reproduce_structures(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    from ..errors import ConfigError
     from ..experiments import available_cores, parse_seeds
     from ..paper import StructuresExperiment, reproduce_structures
 
     report = "structures.md"  # what reproduce_structures writes beside rows.jsonl and config.json
 
     _refuse_choice_within(args, "structures")
-    if args.scheduler is not None or args.dask_workers is not None:
-        raise ConfigError("the structures experiment runs on the local process pool (--workers), not on Dask")
     experiment = StructuresExperiment()
     if args.seeds is not None:
         experiment = replace(experiment, report_seeds=parse_seeds(args.seeds))
     if args.iterations is not None:
-        experiment = replace(experiment, iterations=args.iterations)
+        experiment = replace(experiment, iterations=args.iterations, trace_iterations=max(args.iterations, experiment.trace_iterations))
     out = Path(args.out or "out/structures")
     started = time.perf_counter()
-    workers = args.workers or available_cores()
-    rows = reproduce_structures(out, experiment, workers=workers, resume=bool(args.resume), progress=_say)
+    if args.scheduler is None and args.dask_workers is None:
+        workers = args.workers or available_cores()
+        rows = reproduce_structures(out, experiment, workers=workers, resume=bool(args.resume), progress=_say)
+    else:
+        with _execution(args) as options:
+            rows = reproduce_structures(out, experiment, executor=options["executor"], resume=bool(args.resume), progress=_say)
     print((out / report).read_text(encoding="utf-8"))
     _say(f"{len(rows)} run(s) in {time.perf_counter() - started:.1f} s; results in {out}/: rows.jsonl, config.json, {report}, figures/")
     return EXIT_RUNS_FAILED if any(r["error"] for r in rows) else EXIT_OK

@@ -23,7 +23,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_THREADS, as_count, as_positive_int, is_int
+from .._validate import MAX_THREADS, MAX_WORKERS, as_count, as_positive_int, is_int
 from ..errors import ConfigError, MissingExtraError, SchedulerTimeoutError
 
 
@@ -114,7 +114,6 @@ def _worker_start(parent: int, kernel_signal: bool) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-_MAX_WORKERS = 4096  # processes: far beyond any one machine; a larger count is a typo
 
 
 def local_executor(workers: int) -> cf.ProcessPoolExecutor:
@@ -125,8 +124,8 @@ def local_executor(workers: int) -> cf.ProcessPoolExecutor:
     even when it is killed with SIGKILL: no orphan keeps computing (and holding the
     multiprocessing resource tracker alive) after its sweep is gone.
     """
-    if not is_int(workers) or not 1 <= workers <= _MAX_WORKERS:
-        raise ConfigError(f"workers must be an integer in [1, {_MAX_WORKERS}], got {workers!r}")
+    if not is_int(workers) or not 1 <= workers <= MAX_WORKERS:
+        raise ConfigError(f"workers must be an integer in [1, {MAX_WORKERS}], got {workers!r}")
     main_thread = threading.current_thread() is threading.main_thread()
     return cf.ProcessPoolExecutor(
         max_workers=int(workers),

@@ -38,7 +38,11 @@ share of S''s area facing into the structure.
 The open settings, each start's offset from S', CAO's step scale (``CAOSettings.alpha0``: a start
 already near a good placement wants small steps, one far from it large ones), ``greedy3d``'s
 candidate spacing on S' and the CVT starts' normal weight, are chosen on the development seeds; the report is on the report
-seeds. Rows go to ``rows.jsonl`` in the results folder one by one as runs finish (a run cut
+seeds. The report seeds' missions fly on past ``iterations`` to ``trace_iterations`` (their
+``best`` is still the best after ``iterations``; ``best_at`` the best after each checkpoint), so
+the report also says what more flight time gives each start. Runs go to this process, a local
+process pool or any ``concurrent.futures`` executor (a Dask cluster's), with the same rows.
+Rows go to ``rows.jsonl`` in the results folder one by one as runs finish (a run cut
 off by a kill leaves at most a torn last line, dropped on resume), so ``resume=True`` skips
 every finished run and the rows equal an uninterrupted run's.
 """
@@ -49,7 +53,7 @@ import json
 import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -60,9 +64,12 @@ from .._validate import (
     MAX_ITERATIONS,
     MAX_SAMPLES,
     MAX_UAVS,
+    MAX_WORKERS,
+    as_bool,
     as_count,
     as_finite_float,
     as_non_negative_float,
+    as_path,
     as_positive_float,
 )
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, UavcovError
@@ -83,6 +90,9 @@ REFERENCE = "greedy"
 ROWS = "rows.jsonl"
 CONFIG = "config.json"
 REPORT = "structures.md"
+CHECKPOINTS = (0, 10, 25, 50, 100, 200, 400, 800)
+"""Iterations after which every mission row records its best coverage (``best_at``), besides
+``iterations`` and the run's last."""
 
 
 @dataclass(frozen=True)
@@ -101,7 +111,13 @@ class StructuresExperiment:
     n_prior : int
         Known points (both priors).
     iterations : int
-        CAO iterations per run.
+        CAO iterations per run: each row's ``best`` is the best coverage after them (and the
+        settings are chosen by it).
+    trace_iterations : int
+        The report seeds' missions fly on to this many iterations (at least ``iterations``; CAO's
+        first ``iterations`` do not depend on it), so the report can say what more flight time
+        gives; every mission row's ``best_at`` holds the best after each of
+        :data:`CHECKPOINTS` it reached.
     offsets : tuple of float
         Candidate offsets from S' of each start (m), chosen on the development seeds.
     greedy_spacings : tuple of float
@@ -119,7 +135,7 @@ class StructuresExperiment:
     """
 
     families: tuple[str, ...] = ("building", "girder_bridge", "arch_bridge", "tower", "pylon")
-    report_seeds: tuple[int, ...] = (0, 1, 2, 3, 4, 5, 6, 7)
+    report_seeds: tuple[int, ...] = tuple(range(16))
     dev_seeds: tuple[int, ...] = (1000, 1001, 1002, 1003)
     n_uavs: int = 8
     d_max: float = 15.0
@@ -128,6 +144,7 @@ class StructuresExperiment:
     ceiling: float = 10.0
     n_prior: int = 100
     iterations: int = 100
+    trace_iterations: int = 400
     offsets: tuple[float, ...] = (2.5, 3.0, 4.0, 6.0)
     greedy_spacings: tuple[float, ...] = (2.0, 4.0)
     normal_weights: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0)
@@ -156,6 +173,8 @@ class StructuresExperiment:
             raise ConfigError(f"offsets and greedy spacings must be finite and > 0 m, got {self.offsets} and {self.greedy_spacings}")
         if not self.normal_weights or not all(np.isfinite(w) and 0 <= w <= 1e15 for w in self.normal_weights):
             raise ConfigError(f"normal weights must be finite, >= 0 and at most 1e15 m, got {self.normal_weights}")
+        if self.trace_iterations < self.iterations:
+            raise ConfigError(f"trace_iterations must be >= iterations ({self.iterations}), got {self.trace_iterations}")
         if not self.cao_steps or not all(np.isfinite(a) and 0 < a <= 1e15 for a in self.cao_steps):
             raise ConfigError(f"CAO steps must be finite, > 0 and at most 1e15 m, got {self.cao_steps}")
 
@@ -188,6 +207,7 @@ def _check_fields(experiment: StructuresExperiment) -> None:
     as_count(experiment.n_uavs, "n_uavs", MAX_UAVS)
     as_count(experiment.n_prior, "n_prior", MAX_SAMPLES)
     as_count(experiment.iterations, "iterations", MAX_ITERATIONS, minimum=0)
+    as_count(experiment.trace_iterations, "trace_iterations", MAX_ITERATIONS, minimum=0)
     for name in ("d_max", "ceiling", "reference_spacing", "target_spacing"):
         as_positive_float(getattr(experiment, name), name)
     for name in ("h_min", "d_safe"):
@@ -256,11 +276,12 @@ def _mission(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
         )
     else:
         begin = StartSettings(kind="cvt", altitude=offset, altitude_reference=reference, climb=0.5)
+    flight = experiment.trace_iterations if seed in experiment.report_seeds else experiment.iterations
     settings = MissionSettings(
         n_uavs=experiment.n_uavs,
         d_max=experiment.d_max,
         n_prior=experiment.n_prior,
-        iterations=experiment.iterations,
+        iterations=flight,
         start=begin,
         constraints=limits,
         cvt=CVTSettings(normal_weight=weight),
@@ -275,14 +296,36 @@ def _mission(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
     result = run_mission(structure, settings, known=known, targets=targets, rng=seed, n_threads=1)
     row: dict[str, Any] = {
         "initial": result.initial_coverage,
-        "best": result.best_coverage,
         "inside_before": int(structure.surface.inside(result.start_positions, n_threads=1).sum()),
-        "parts": dict(result.coverage_by_part or {}),
     }
+    row.update(_best_after(experiment, structure, targets, result))
     if start in ("cvt3d", "greedy3d", PAPER_CVT):
         # The S' the start was placed on.
         row["inward_share"] = reconstruction_error(structure, result.approximation, n_samples=4000, rng=seed).inward_area_share
     return row
+
+
+def _best_after(experiment: StructuresExperiment, structure: Any, targets: Any, result: Any) -> dict[str, Any]:
+    """``best`` and ``parts`` after ``experiment.iterations`` (a report mission flies on), and
+    ``best_at``: the best after each checkpoint the mission reached."""
+    from ..engine import Visibility
+
+    coverage = result.coverage
+    last = coverage.size - 1
+    best = int(np.argmax(coverage[: experiment.iterations + 1]))  # the first best, as the trace's
+    if best == result.trace.best_iteration:
+        parts = dict(result.coverage_by_part or {})
+    else:
+        vis = Visibility(structure.surface, experiment.d_max, targets, n_threads=1)
+        seen = np.asarray(vis.seen(np.ascontiguousarray(result.trajectory[best])), dtype=bool)
+        parts = structure.coverage_by_part(seen, targets)
+    reached = sorted({k for k in CHECKPOINTS if k <= last} | {min(experiment.iterations, last), last})
+    running = np.maximum.accumulate(coverage)
+    return {
+        "best": float(coverage[best]),
+        "parts": parts,
+        "best_at": {str(k): float(running[k]) for k in reached},
+    }
 
 
 def _true_solid(structure: Any) -> Any:
@@ -322,23 +365,33 @@ def _key(row: dict[str, Any]) -> Task:
     return (str(row["family"]), str(row["start"]), int(row["seed"]), *setting_of(row))
 
 
-def _run_tasks(experiment: StructuresExperiment, tasks: Sequence[Task], path: Path, workers: int) -> list[dict[str, Any]]:
+def _run_tasks(
+    experiment: StructuresExperiment, tasks: Sequence[Task], path: Path, workers: int, executor: Executor | None
+) -> list[dict[str, Any]]:
+    """Run what ``path`` does not hold yet, appending each row as it finishes: in this process,
+    on ``executor`` (a Dask cluster's, say) or on a local process pool of ``workers``."""
+    from ..experiments import local_executor
+
     done = {_key(r): r for r in read_rows(path)}
     todo = [t for t in tasks if t not in done]
-    if workers <= 1 or len(todo) <= 1:
+    if executor is None and (workers <= 1 or len(todo) <= 1):
         for task in todo:
             row = run_task(experiment, task)
             append_row(path, row)
             done[task] = row
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            running = {pool.submit(run_task, experiment, t) for t in todo}
-            while running:
-                finished, running = wait(running, return_when=FIRST_COMPLETED)
-                for future in finished:
-                    row = future.result()
-                    append_row(path, row)
-                    done[_key(row)] = row
+        return [done[t] for t in tasks]
+    pool = executor if executor is not None else local_executor(min(workers, len(todo)))
+    try:
+        running = {pool.submit(run_task, experiment, t) for t in todo}
+        while running:
+            finished, running = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                row = future.result()
+                append_row(path, row)
+                done[_key(row)] = row
+    finally:
+        if executor is None:  # what has not started is cancelled (an error, a Ctrl-C), not run on
+            pool.shutdown(wait=False, cancel_futures=True)
     return [done[t] for t in tasks]
 
 
@@ -376,6 +429,7 @@ def reproduce_structures(
     experiment: StructuresExperiment | None = None,
     *,
     workers: int = 1,
+    executor: Executor | None = None,
     resume: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> list[dict[str, Any]]:
@@ -387,7 +441,10 @@ def reproduce_structures(
         The results folder; with ``resume=False`` it must not hold rows already.
     experiment : StructuresExperiment, optional
     workers : int
-        Processes at once (1: this process).
+        Processes at once on a local process pool (1: this process).
+    executor : concurrent.futures.Executor, optional
+        Run on this instead of a local pool, e.g. a Dask cluster's
+        (:func:`uavcov.experiments.dask_executor`); the rows are the same.
     resume : bool
         Continue ``out``: skip the runs already in ``rows.jsonl`` (settings must match).
 
@@ -398,8 +455,16 @@ def reproduce_structures(
     """
     from ._structures_report import write_report
 
-    experiment = experiment or StructuresExperiment()
-    folder = Path(out)
+    experiment = StructuresExperiment() if experiment is None else experiment
+    if not isinstance(experiment, StructuresExperiment):
+        raise InvalidTypeError(f"experiment must be a StructuresExperiment, got {type(experiment).__name__}")
+    as_count(workers, "workers", MAX_WORKERS)
+    if executor is not None and not isinstance(executor, Executor):
+        raise InvalidTypeError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
+    resume = as_bool(resume, "resume")
+    if progress is not None and not callable(progress):
+        raise InvalidTypeError(f"progress must be callable, got {type(progress).__name__}")
+    folder = as_path(out, "out")
     folder.mkdir(parents=True, exist_ok=True)
     config = {"experiment": "structures", "settings": asdict(experiment)}
     config_path, rows_path = folder / CONFIG, folder / ROWS
@@ -413,11 +478,11 @@ def reproduce_structures(
     say = progress or (lambda message: None)
     dev = _dev_tasks(experiment)
     say(f"{len(dev)} development runs")
-    dev_rows = _run_tasks(experiment, dev, rows_path, workers)
+    dev_rows = _run_tasks(experiment, dev, rows_path, workers, executor)
     chosen = choose_offsets(experiment, dev_rows)
     report = _report_tasks(experiment, chosen)
     say(f"offsets chosen {chosen}; {len(report)} report runs")
-    rows = _run_tasks(experiment, report, rows_path, workers)
+    rows = _run_tasks(experiment, report, rows_path, workers, executor)
     write_report(folder / REPORT, experiment, chosen, rows, dev_rows)
     return rows
 
