@@ -114,8 +114,6 @@ def _worker_start(parent: int, kernel_signal: bool) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-
-
 def local_executor(workers: int) -> cf.ProcessPoolExecutor:
     """A process pool of ``workers`` processes started with the spawn context.
 
