@@ -198,3 +198,40 @@ def test_bad_run_options_are_refused_before_any_run(tmp_path: Path, bad: dict) -
     with pytest.raises((InvalidInputError, InvalidTypeError)):
         reproduce_structures(tmp_path / "out", **bad)
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "config, rows",
+    [
+        ("{not json", None),
+        ("[1, 2]", None),
+        ('{"experiment": "structures", "settings": {"colour": "red"}}', None),
+        (None, "3\n"),
+        (None, '{"family": "pylon"}\n'),
+        (None, '{"family": "pylon", "start": "cvt3d", "seed": "x", "offset": 6}\n'),
+    ],
+)
+def test_a_corrupt_folder_is_a_results_format_error(tmp_path: Path, config, rows) -> None:
+    from uavcov.errors import ResultsFormatError
+    from uavcov.paper._structures import report_from_folder
+
+    folder = tmp_path / "run"
+    reproduce_structures(folder, replace(SMALL, trace_iterations=3))
+    if config is not None:
+        (folder / "config.json").write_text(config, encoding="utf-8")
+    if rows is not None:
+        with (folder / "rows.jsonl").open("a", encoding="utf-8") as handle:
+            handle.write(rows)
+    with pytest.raises(ResultsFormatError):
+        report_from_folder(folder)
+    if config is not None:  # a resume reads the same config: unreadable, or not this experiment's
+        with pytest.raises((ResultsFormatError, ConfigError)):
+            reproduce_structures(folder, replace(SMALL, trace_iterations=3), resume=True)
+
+
+def test_rows_without_their_config_are_refused(tmp_path: Path) -> None:
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "rows.jsonl").write_text('{"family": "pylon"}\n', encoding="utf-8")
+    with pytest.raises(ConfigError, match=r"without their config\.json"):
+        reproduce_structures(folder, SMALL, resume=True)

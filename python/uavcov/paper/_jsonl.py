@@ -9,6 +9,8 @@ import os
 from pathlib import Path
 from typing import Any
 
+from ..errors import ResultsFormatError
+
 __all__ = ["append_row", "read_rows"]
 
 
@@ -16,11 +18,14 @@ def read_rows(path: Path) -> list[dict[str, Any]]:
     """Every complete row of ``path`` (none when it does not exist)."""
     rows = []
     if path.exists():
-        for line in path.read_text(encoding="utf-8", errors="replace").splitlines():
+        for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), start=1):
             try:
-                rows.append(json.loads(line))
+                row = json.loads(line)
             except json.JSONDecodeError:
                 continue  # a line torn by a kill mid-write: that run runs again
+            if not isinstance(row, dict):  # a torn row starts with "{" and never parses: this is not one
+                raise ResultsFormatError(f"{path}, line {number}: a row is a JSON object, got {type(row).__name__}")
+            rows.append(row)
     return rows
 
 

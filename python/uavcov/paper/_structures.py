@@ -54,7 +54,7 @@ import os
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Executor, wait
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -72,7 +72,7 @@ from .._validate import (
     as_path,
     as_positive_float,
 )
-from ..errors import ConfigError, InvalidInputError, InvalidTypeError, UavcovError
+from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsFormatError, UavcovError
 from ._jsonl import append_row, read_rows
 from ._structures_rows import DEFAULT_CAO_STEP, setting_of
 
@@ -116,8 +116,8 @@ class StructuresExperiment:
     trace_iterations : int
         The report seeds' missions fly on to this many iterations (at least ``iterations``; CAO's
         first ``iterations`` do not depend on it), so the report can say what more flight time
-        gives; every mission row's ``best_at`` holds the best after each of
-        :data:`CHECKPOINTS` it reached.
+        gives (500: the paper's bound on its runs, "which ensure the convergence"); every mission
+        row's ``best_at`` holds the best after each of :data:`CHECKPOINTS` it reached.
     offsets : tuple of float
         Candidate offsets from S' of each start (m), chosen on the development seeds.
     greedy_spacings : tuple of float
@@ -144,7 +144,7 @@ class StructuresExperiment:
     ceiling: float = 10.0
     n_prior: int = 100
     iterations: int = 100
-    trace_iterations: int = 400
+    trace_iterations: int = 500
     offsets: tuple[float, ...] = (2.5, 3.0, 4.0, 6.0)
     greedy_spacings: tuple[float, ...] = (2.0, 4.0)
     normal_weights: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0)
@@ -362,7 +362,10 @@ def run_task(experiment: StructuresExperiment, task: Task) -> dict[str, Any]:
 
 
 def _key(row: dict[str, Any]) -> Task:
-    return (str(row["family"]), str(row["start"]), int(row["seed"]), *setting_of(row))
+    try:
+        return (str(row["family"]), str(row["start"]), int(row["seed"]), *setting_of(row))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ResultsFormatError(f"a row of {ROWS} lacks its run's family, start, seed or settings ({type(exc).__name__}: {exc})") from None
 
 
 def _run_tasks(
@@ -468,10 +471,12 @@ def reproduce_structures(
     folder.mkdir(parents=True, exist_ok=True)
     config = {"experiment": "structures", "settings": asdict(experiment)}
     config_path, rows_path = folder / CONFIG, folder / ROWS
+    if rows_path.exists() and not config_path.exists():
+        raise ConfigError(f"{folder} holds rows without their {CONFIG}: choose another --out")
     if config_path.exists() or rows_path.exists():
         if not resume:
             raise ConfigError(f"{folder} holds a structures run already: resume it (--resume) or choose another --out")
-        if json.loads(config_path.read_text(encoding="utf-8")) != json.loads(json.dumps(config)):
+        if _read_config(config_path) != json.loads(json.dumps(config)):
             raise ConfigError(f"{folder} was run with other settings; choose another --out")
     else:
         config_path.write_text(json.dumps(config, indent=2, sort_keys=True) + "\n", encoding="utf-8")
@@ -500,14 +505,26 @@ def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, Setting]) 
     return tasks + [(f, REFERENCE, seed, *reference) for f in experiment.families for seed in experiment.report_seeds]
 
 
+def _read_config(path: Path) -> dict[str, Any]:
+    try:
+        config = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise ResultsFormatError(f"cannot read {path}: {type(exc).__name__}: {exc}") from None
+    if not isinstance(config, dict):
+        raise ResultsFormatError(f"{path} is not a JSON object")
+    return config
+
+
 def report_from_folder(folder: str | os.PathLike[str]) -> str:
     """The report's Markdown rebuilt from a finished results folder (``config.json``, ``rows.jsonl``)."""
     from ._structures_report import report_markdown
 
     path = Path(folder)
-    settings = json.loads((path / CONFIG).read_text(encoding="utf-8"))["settings"]
-    fields: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()}
-    experiment = StructuresExperiment(**fields)
+    config = _read_config(path / CONFIG)
+    settings = config.get("settings")
+    if not isinstance(settings, dict) or set(settings) - {f.name for f in fields(StructuresExperiment)}:
+        raise ResultsFormatError(f"{path / CONFIG} does not hold a structures experiment's settings")
+    experiment = StructuresExperiment(**{k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()})
     done = {_key(r): r for r in read_rows(path / ROWS)}
     missing = [t for t in _dev_tasks(experiment) if t not in done]
     if missing:
