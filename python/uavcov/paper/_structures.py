@@ -524,7 +524,8 @@ def report_from_folder(folder: str | os.PathLike[str]) -> str:
     settings = config.get("settings")
     if not isinstance(settings, dict) or set(settings) - {f.name for f in fields(StructuresExperiment)}:
         raise ResultsFormatError(f"{path / CONFIG} does not hold a structures experiment's settings")
-    experiment = StructuresExperiment(**{k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()})
+    values: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()}
+    experiment = StructuresExperiment(**values)
     done = {_key(r): r for r in read_rows(path / ROWS)}
     missing = [t for t in _dev_tasks(experiment) if t not in done]
     if missing:
