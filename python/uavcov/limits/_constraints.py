@@ -230,12 +230,15 @@ class Constraints:
         """
         n_uavs = as_positive_int(n_uavs, "number of UAVs")
         resolved = self.resolve(world)
-        zmin = float(np.asarray(world.bounds, dtype=np.float64)[0, 2])
+        zmin, ztop = (float(z) for z in np.asarray(world.bounds, dtype=np.float64)[:, 2])
         floor = zmin + self.h_min
         if floor > self.z_max:
             raise InfeasibleError(
-                f"the lowest surface point (z = {zmin} m) plus h_min = {self.h_min} m is above "
-                f"z_max = {self.z_max} m: no altitude is admissible"
+                f"the lowest surface point (z = {zmin:g} m) plus h_min = {self.h_min} m is above "
+                f"z_max = {self.z_max} m: no altitude is admissible. z_max is an absolute altitude in the "
+                f"surface's frame (the default 50 m suits the paper's hills at z >= 0): raise it, e.g. "
+                f"Constraints(z_max={math.ceil(ztop) + 50}) for 50 m above the highest point, or give heights "
+                "above a local datum"
             )
         if n_uavs == 1 or self.d_safe == 0.0:
             return
