@@ -177,6 +177,33 @@ def test_mesh_files_load_as_structures(tmp_path, suffix: str, file_type: str) ->
     assert np.all(np.einsum("ij,ij->i", targets.points - centre, targets.normals) > 0)  # turned outward
 
 
+def test_a_mesh_file_keeps_the_origin_it_is_given(tmp_path) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    box = unit_box(trimesh)  # 4 m x 2 m x 3 m about its centre
+    box.apply_translation([512002.0, 4180001.0, 121.5])  # UTM-like, its base at 120 m
+    path = tmp_path / "block.stl"
+    box.export(path)
+    default = load_structure(path)  # the file's minimum corner is (0, 0, 0)
+    corner = np.array([512000.0, 4180000.0, 120.0])
+    np.testing.assert_array_equal(load_structure(path, origin=corner).surface.vertices, default.surface.vertices)
+    site = np.array([511990.0, 4179980.0, 100.0])
+    moved = load_structure(path, origin=site)  # local = file - origin: the block 10, 20, 20 m off the site
+    np.testing.assert_allclose(moved.surface.vertices, default.surface.vertices + (corner - site), atol=1e-9)
+    kept = load_structure(path, origin=(0.0, 0.0, 0.0))  # the file's own coordinates
+    structure_faces = kept.surface.faces[kept.face_parts == kept.part_index("structure")]
+    np.testing.assert_allclose(kept.surface.vertices[structure_faces].reshape(-1, 3).min(axis=0), corner)
+    for origin, error, words in [
+        ((float("nan"), 0.0, 0.0), InvalidInputError, "NaN"),
+        ((0.0, 0.0, float("inf")), InvalidInputError, "infinite"),
+        ((1.0, 2.0), InvalidInputError, "triple"),
+        ([[0.0, 0.0, 0.0]], InvalidInputError, "1-dimensional"),
+        ("corner", InvalidTypeError, "numeric"),
+        ((1e300, 0.0, 0.0), MeshError, "beyond 1e15"),
+    ]:
+        with pytest.raises(error, match=words):
+            load_structure(path, origin=origin)
+
+
 def test_broken_mesh_files_are_clear_errors(tmp_path) -> None:
     trimesh = pytest.importorskip("trimesh")
     box = unit_box(trimesh)
