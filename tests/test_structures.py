@@ -254,3 +254,25 @@ def test_cvt_runs_on_a_structure() -> None:
     result = cvt(bridge.surface, 6, rng=0, n_threads=1)
     on_surface = bridge.surface.closest_point(result.generators)
     assert np.allclose(on_surface, result.generators, atol=1e-6)
+
+
+def test_a_structure_where_a_terrain_is_taken_is_refused_with_what_to_give() -> None:
+    """The first mix-up of a structure's user: the Structure itself where its mesh is taken."""
+    from uavcov import Visibility
+    from uavcov.placement import cvt
+    from uavcov.terrain import sample_prior
+
+    bridge = girder_bridge(rng=1)
+    calls = {
+        "Visibility": lambda thing: Visibility(thing, d_max=10.0),
+        "cvt": lambda thing: cvt(thing, 3, rng=0),
+        "sample_prior": lambda thing: sample_prior(thing, 5, rng=0),
+    }
+    for name, call in calls.items():
+        with pytest.raises(InvalidTypeError, match=r"got Structure \(a structure's mesh is its \.surface") as refused:
+            call(bridge)
+        assert isinstance(refused.value, TypeError), name
+        for other in (bridge.surface.vertices, "bridge.stl", None):  # not a structure: no hint
+            with pytest.raises(InvalidTypeError, match=r"must be a uavcov Terrain, got \w+$"):
+                call(other)
+    Visibility(bridge.surface, 10.0, targets=bridge.targets(spacing=2.0))  # what it says to give works

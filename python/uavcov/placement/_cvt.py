@@ -61,6 +61,7 @@ from .._validate import (
     as_non_negative_float,
     as_points,
     as_positive_int,
+    not_a_terrain,
     read_only,
 )
 from ..engine import Terrain
@@ -367,7 +368,7 @@ def cvt(
     ((4, 3), True)
     """
     if not isinstance(surface, Terrain):
-        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+        raise not_a_terrain(surface, "surface")
     n = as_count(n, "n", MAX_GENERATORS)
     if settings is None:
         settings = CVTSettings()
