@@ -622,6 +622,20 @@ def load_structure(
         or non-manifold edges or inconsistent winding.
     MissingExtraError
         trimesh is not installed.
+
+    Examples
+    --------
+    A 4 m x 2 m x 3 m block whose file stands in UTM coordinates, read in a frame of your site:
+
+    >>> import pathlib, tempfile, numpy as np, trimesh
+    >>> block = trimesh.creation.box(extents=(4.0, 2.0, 3.0))
+    >>> _ = block.apply_translation([512002.0, 4180001.0, 121.5])  # its base at 120 m
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "block.stl"
+    >>> _ = block.export(path)
+    >>> site = np.array([512000.0, 4180000.0, 100.0])
+    >>> structure = load_structure(path, origin=site)  # local = file - site
+    >>> structure.part_names, structure.surface.bounds.tolist()  # the ground plane reaches 2 m beyond
+    (('ground', 'contact', 'structure'), [[-2.0, -2.0, 20.0], [6.0, 4.0, 23.0]])
     """
     text = existing_path(path, "mesh", MeshError)
     size = os.path.getsize(text)
