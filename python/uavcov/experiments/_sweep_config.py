@@ -277,7 +277,7 @@ def _check_range(experiment: Experiment, source: _Source) -> None:
         raise source.error("prior", f"must be one of {', '.join(PRIORS)}, got {experiment.prior!r}{_suggest(experiment.prior, PRIORS)}")
     if experiment.prior == "map" and not isinstance(experiment.terrain, BuildingsGenerator):
         raise source.error("prior", "'map' needs a buildings terrain (terrain.kind = \"buildings\")")
-    terrain = experiment.terrain
+    terrain = experiment.generator
     if isinstance(terrain, HillsGenerator):
         # A whole number of cells is the generator's own check (HillsGenerator refuses others when made).
         cells = terrain.size / terrain.spacing
