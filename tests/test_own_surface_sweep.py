@@ -95,3 +95,89 @@ def test_what_only_a_generator_has_is_refused_with_a_clear_error() -> None:
     for bad in ("valley.ply", valley().grid, None, valley().vertices):
         with pytest.raises(InvalidTypeError, match="HillsGenerator, BuildingsGenerator or Terrain"):
             Experiment("valley", bad, MISSION, team_sizes=(2,), starts=("cvt",))
+
+
+# ---------------------------------------------------------------------------------------------
+# A sweep file on a surface of one's own: [terrain] kind = "file"
+
+SWEEP = """
+name = "valley"
+seeds = [0, 1]
+team_sizes = [2]
+starts = ["cvt", "random"]
+d_max = 12.0
+n_prior = 10
+iterations = 8
+
+[terrain]
+kind = "file"
+{terrain}
+
+[constraints]
+h_min = 3.0
+h_max = 20.0
+z_max = 140.0
+
+[sweep]
+"cao.alpha0" = [1.0, 2.0]
+"""
+
+
+def sweep_file(folder, terrain: str):
+    path = folder / "sweep.toml"
+    path.write_text(SWEEP.format(terrain=terrain))
+    return path
+
+
+def test_a_sweep_file_runs_on_a_grid_or_a_mesh_of_ones_own(tmp_path, monkeypatch) -> None:
+    from uavcov.experiments import load_sweep_config, run_sweep
+    from uavcov.paper import EXPERIMENTS
+
+    np.save(tmp_path / "valley.npy", valley().grid.z)
+    monkeypatch.chdir(tmp_path.parent)  # the path is read from the sweep file's folder, not from here
+    config = load_sweep_config(sweep_file(tmp_path, 'path = "valley.npy"\nspacing = 2.0'), bases=EXPERIMENTS)
+    (experiment, _), _ = config.variants
+    np.testing.assert_array_equal(experiment.terrain.grid.z, valley().grid.z)
+    rows = run_sweep(config, tmp_path / "out", workers=1)
+    assert len(rows) == 8 and all(r["error"] == "" for r in rows)
+    for row in rows:  # each the mission of its variant on that surface
+        (variant,) = [e for e, extra in config.variants if dict(extra)["cao.alpha0"] == float(row["cao.alpha0"])]
+        direct = uavcov.run_mission(valley(), variant.mission_settings(2, row["init"]), rng=row["seed"])
+        assert row["max_coverage"] == direct.best_coverage
+    assert "| 2.0 | 2 | random | 2 |" in (tmp_path / "out" / "summary.md").read_text()
+
+    trimesh = pytest.importorskip("trimesh")
+    trimesh.Trimesh(valley().vertices, valley().faces, process=False).export(tmp_path / "valley.ply")
+    config = load_sweep_config(sweep_file(tmp_path, 'path = "valley.ply"\nup = "z"'), bases=EXPERIMENTS)
+    assert config.variants[0][0].terrain.grid is None and config.variants[0][0].terrain.n_faces == valley().n_faces
+
+
+def test_a_sweep_file_with_a_bad_surface_is_refused_naming_the_key(tmp_path) -> None:
+    from uavcov.experiments import load_sweep_config
+    from uavcov.paper import EXPERIMENTS
+
+    np.save(tmp_path / "valley.npy", valley().grid.z)
+    np.save(tmp_path / "line.npy", np.zeros(10))
+    np.save(tmp_path / "tall.npy", np.zeros((4001, 2)))
+    np.save(tmp_path / "objects.npy", np.array([{"z": 1.0}], dtype=object), allow_pickle=True)
+    (tmp_path / "text.npy").write_text("not an array")
+    (tmp_path / "junk.stl").write_bytes(b"solid x\x00\xff" * 10)
+    cases = {
+        'path = "missing.npy"\nspacing = 1.0': "terrain.path: .*missing.npy",
+        'path = "valley.npy"': "terrain.spacing: a .npy grid needs its cell size",
+        'path = "valley.npy"\nspacing = -1.0': "terrain.path: .*spacing must be > 0",
+        'path = "valley.npy"\nspacing = 1.0\nup = "y"': "terrain.up: not read for a .npy file",
+        'path = "line.npy"\nspacing = 1.0': r"terrain.path: .*got \(10,\)",
+        'path = "tall.npy"\nspacing = 1.0': "at most 4000 nodes a side",
+        'path = "objects.npy"\nspacing = 1.0': "terrain.path: .*objects.npy",
+        'path = "text.npy"\nspacing = 1.0': "not a .npy array of heights",
+        'path = "junk.stl"': "terrain.path: .*junk.stl",
+        'path = "junk.stl"\nspacing = 1.0': "terrain.spacing: not read for a .stl file",
+        'path = "dem.tif"': "terrain.path: .*dem.tif",
+        'path = "."': "terrain.path: .*directory",
+        "path = 3": 'terrain.path: kind = "file" needs the path',
+        'paht = "valley.npy"': "terrain.paht: unknown key",
+    }
+    for table, words in cases.items():
+        with pytest.raises(ConfigError, match=words):
+            load_sweep_config(sweep_file(tmp_path, table), bases=EXPERIMENTS)
