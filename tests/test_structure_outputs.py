@@ -218,6 +218,24 @@ def test_bad_plans_are_clear_errors(tmp_path: Path):
 # Figures
 
 
+def test_the_structure_figure_takes_a_structure_with_its_ground_part():
+    from uavcov.plotting import plot_structure_seen
+    from uavcov.structures import facade
+
+    scene = facade(rng=0)
+    targets = scene.targets(spacing=2.0)
+    seen = targets.normals[:, 1] < -0.5  # the faces turned to -y
+    below = [(-30.0, -60.0)]
+    ground = scene.face_parts == scene.ground_part
+
+    def drawn(fig):
+        return fig.axes[0].collections[0].get_facecolor()
+
+    whole = drawn(plot_structure_seen(scene, seen, targets=targets, views=below))
+    np.testing.assert_array_equal(whole, drawn(plot_structure_seen(scene.surface, seen, targets=targets, views=below, ground=ground)))
+    assert (whole[:, 0] > whole[:, 2]).any()  # some seen face (red) drawn from below
+
+
 def test_the_structure_figure_colours_faces_by_their_targets_and_shows_several_sides(tmp_path: Path):
     from uavcov.plotting import plot_structure_seen
     from uavcov.plotting._structures import face_seen_share
@@ -243,6 +261,8 @@ def test_the_structure_figure_colours_faces_by_their_targets_and_shows_several_s
         assert len(colours) < surface.n_faces
     with pytest.raises(InvalidInputError, match="ground"):
         plot_structure_seen(surface, seen, targets=targets, ground=[True])
+    with pytest.raises(InvalidTypeError, match="Terrain or Structure"):
+        plot_structure_seen(surface.vertices, seen, targets=targets)
     # Per-face values, decimated drawing of a fine mesh, and bad input.
     plot_structure_seen(surface, np.linspace(0.0, 1.0, surface.n_faces), views=[(20.0, 0.0)], max_polygons=10)
     with pytest.raises(InvalidInputError):

@@ -177,6 +177,33 @@ def test_mesh_files_load_as_structures(tmp_path, suffix: str, file_type: str) ->
     assert np.all(np.einsum("ij,ij->i", targets.points - centre, targets.normals) > 0)  # turned outward
 
 
+def test_a_mesh_file_keeps_the_origin_it_is_given(tmp_path) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    box = unit_box(trimesh)  # 4 m x 2 m x 3 m about its centre
+    box.apply_translation([512002.0, 4180001.0, 121.5])  # UTM-like, its base at 120 m
+    path = tmp_path / "block.stl"
+    box.export(path)
+    default = load_structure(path)  # the file's minimum corner is (0, 0, 0)
+    corner = np.array([512000.0, 4180000.0, 120.0])
+    np.testing.assert_array_equal(load_structure(path, origin=corner).surface.vertices, default.surface.vertices)
+    site = np.array([511990.0, 4179980.0, 100.0])
+    moved = load_structure(path, origin=site)  # local = file - origin: the block 10, 20, 20 m off the site
+    np.testing.assert_allclose(moved.surface.vertices, default.surface.vertices + (corner - site), atol=1e-9)
+    kept = load_structure(path, origin=(0.0, 0.0, 0.0))  # the file's own coordinates
+    structure_faces = kept.surface.faces[kept.face_parts == kept.part_index("structure")]
+    np.testing.assert_allclose(kept.surface.vertices[structure_faces].reshape(-1, 3).min(axis=0), corner)
+    for origin, error, words in [
+        ((float("nan"), 0.0, 0.0), InvalidInputError, "NaN"),
+        ((0.0, 0.0, float("inf")), InvalidInputError, "infinite"),
+        ((1.0, 2.0), InvalidInputError, "triple"),
+        ([[0.0, 0.0, 0.0]], InvalidInputError, "1-dimensional"),
+        ("corner", InvalidTypeError, "numeric"),
+        ((1e300, 0.0, 0.0), MeshError, "beyond 1e15"),
+    ]:
+        with pytest.raises(error, match=words):
+            load_structure(path, origin=origin)
+
+
 def test_broken_mesh_files_are_clear_errors(tmp_path) -> None:
     trimesh = pytest.importorskip("trimesh")
     box = unit_box(trimesh)
@@ -227,3 +254,25 @@ def test_cvt_runs_on_a_structure() -> None:
     result = cvt(bridge.surface, 6, rng=0, n_threads=1)
     on_surface = bridge.surface.closest_point(result.generators)
     assert np.allclose(on_surface, result.generators, atol=1e-6)
+
+
+def test_a_structure_where_a_terrain_is_taken_is_refused_with_what_to_give() -> None:
+    """The first mix-up of a structure's user: the Structure itself where its mesh is taken."""
+    from uavcov import Visibility
+    from uavcov.placement import cvt
+    from uavcov.terrain import sample_prior
+
+    bridge = girder_bridge(rng=1)
+    calls = {
+        "Visibility": lambda thing: Visibility(thing, d_max=10.0),
+        "cvt": lambda thing: cvt(thing, 3, rng=0),
+        "sample_prior": lambda thing: sample_prior(thing, 5, rng=0),
+    }
+    for name, call in calls.items():
+        with pytest.raises(InvalidTypeError, match=r"got Structure \(a structure's mesh is its \.surface") as refused:
+            call(bridge)
+        assert isinstance(refused.value, TypeError), name
+        for other in (bridge.surface.vertices, "bridge.stl", None):  # not a structure: no hint
+            with pytest.raises(InvalidTypeError, match=r"must be a uavcov Terrain, got \w+$"):
+                call(other)
+    Visibility(bridge.surface, 10.0, targets=bridge.targets(spacing=2.0))  # what it says to give works

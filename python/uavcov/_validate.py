@@ -295,6 +295,18 @@ def as_optional_str(value: Any, name: str) -> str | None:
     return value
 
 
+def not_a_terrain(value: Any, name: str) -> InvalidTypeError:
+    """The error for ``name`` given something else than a uavcov Terrain, saying what to give instead.
+
+    A :class:`~uavcov.structures.Structure` (it has a ``surface`` and ``targets``) is the usual
+    mix-up: its mesh is ``.surface`` and its targets ``.targets(spacing=...)``.
+    """
+    hint = ""
+    if hasattr(value, "surface") and hasattr(value, "targets"):
+        hint = " (a structure's mesh is its .surface, and Visibility takes its .targets(spacing=...) as targets)"
+    return InvalidTypeError(f"{name} must be a uavcov Terrain, got {type(value).__name__}{hint}")
+
+
 def as_tuple(value: Any, name: str) -> tuple[Any, ...]:
     """``value`` (a list, tuple, array or other iterable, not a string or a mapping) as a tuple."""
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):

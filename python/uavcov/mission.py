@@ -92,6 +92,23 @@ class MissionResult:
         For a mission on a :class:`~uavcov.structures.Structure` (targets with parts): the
         weighted share of each part's targets seen by :attr:`best_positions` ("deck_top",
         "deck_underside", "piers", ...); ``None`` otherwise.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> hills = uavcov.gaussian_hills(size=40.0, spacing=2.0, n_hills=3, rng=1)
+    >>> result = uavcov.run_mission(hills, uavcov.MissionSettings(n_uavs=3, d_max=15.0, iterations=20), rng=0)
+    >>> result.trajectory.shape, result.coverage.shape  # (K + 1, N, 3) positions, (K + 1,) coverage
+    ((21, 3, 3), (21,))
+    >>> bool(result.best_coverage == result.coverage[result.best_iteration] >= result.initial_coverage)
+    True
+
+    Which targets the best configuration sees (the mission keeps its coverage, not the flags):
+
+    >>> vis = uavcov.Visibility(result.terrain, result.settings.d_max)
+    >>> seen = vis.seen(result.best_positions)
+    >>> bool(abs(np.average(seen, weights=vis.targets.weights) - result.best_coverage) < 1e-12)
+    True
     """
 
     settings: MissionSettings

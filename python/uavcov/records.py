@@ -136,10 +136,30 @@ def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, path: Pa
 def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     """Write ``result`` to ``path`` (an ``.npz`` file), atomically: a reader never sees half a file.
 
+    Everything :func:`load_mission` needs to give the run back (settings, seed, true surface,
+    S', prior, start, CVT, the optimiser's trace); ``uavcov view`` and ``uavcov plot`` read it.
+
+    Parameters
+    ----------
+    result : MissionResult
+        What :func:`uavcov.run_mission` returned.
+    path : str or PathLike
+        The file; ``.npz`` by convention.
+
     Returns
     -------
     Path
         The file written.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, uavcov
+    >>> hills = uavcov.gaussian_hills(size=40.0, spacing=2.0, n_hills=3, rng=1)
+    >>> run = uavcov.run_mission(hills, uavcov.MissionSettings(n_uavs=3, d_max=15.0, iterations=5), rng=0)
+    >>> path = uavcov.save_mission(run, pathlib.Path(tempfile.mkdtemp()) / "run.npz")
+    >>> back = uavcov.load_mission(path)
+    >>> back.best_coverage == run.best_coverage, back.trajectory.shape
+    (True, (6, 3, 3))
     """
     if not isinstance(result, MissionResult):
         raise InvalidTypeError(f"result must be a MissionResult, got {type(result).__name__}")
@@ -196,10 +216,15 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
 
 
 def load_mission(path: str | os.PathLike[str]) -> MissionResult:
-    """Read a run written by :func:`save_mission`.
+    """Read a run written by :func:`save_mission`: the :class:`~uavcov.MissionResult` it held.
 
     Files written before the trace's timings took their ``_s`` names (``time_measure``,
     ``time_feasibility``, ``time_own``) load as well.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The ``.npz`` file (a results folder keeps its runs as ``runs/<run_id>.npz``).
 
     Raises
     ------

@@ -76,7 +76,7 @@ class MissionSettings:
         The optimiser's constants.
     optimizer : {"cao", "per_robot", "escape"}, default "cao"
         Centralised CAO, one estimator per UAV, or centralised CAO that relocates its least
-        useful UAV when it stalls (``uavcov.optim._escape.escape_cao``, settings ``escape``).
+        useful UAV when it stalls (its settings: ``escape``, :class:`~uavcov.EscapeSettings`).
     iterations : int, default 500
         Optimiser iterations (measurements minus one); 0 measures the start only.
     sensor : Sensor or sequence of Sensor, optional

@@ -201,7 +201,7 @@ def _demo(args: argparse.Namespace) -> int:
     out = Path(args.out)
     threads = args.threads or available_cores()
     experiment = EXAMPLE
-    terrain = experiment.terrain
+    terrain = experiment.generator
     hills = f"{terrain.n_hills} Gaussian hills" if isinstance(terrain, HillsGenerator) else "buildings"
     print("uavcov demo: the paper's illustrative example (Fig. 5)")
     print(f"  terrain  {terrain.size:g} m x {terrain.size:g} m, {hills} (seed {args.seed}), coverage on a {terrain.spacing:g} m grid")

@@ -15,7 +15,17 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._validate import as_bool, as_finite_float, as_float_array, as_index_array, as_n_threads, as_points, as_positive_float, read_only
+from .._validate import (
+    as_bool,
+    as_finite_float,
+    as_float_array,
+    as_index_array,
+    as_n_threads,
+    as_points,
+    as_positive_float,
+    not_a_terrain,
+    read_only,
+)
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ._targets import Targets
 
@@ -134,8 +144,10 @@ class Terrain:
         ----------
         z : (ny, nx) array_like of float
             Heights in metres. Node ``(i, j)`` stands at ``x = origin[0] + j * dx``,
-            ``y = origin[1] + i * dy``. NaN is nodata: no triangle touches a NaN node and no
-            target stands there.
+            ``y = origin[1] + i * dy``: rows go north. A raster stored with row 0 at the top
+            (every north-up GeoTIFF) is ``z[::-1]`` with ``origin`` its south-west node, or
+            goes with its geotransform and CRS to :func:`uavcov.terrain.dem_from_array`. NaN is
+            nodata: no triangle touches a NaN node and no target stands there.
         spacing : float or (float, float)
             Cell size, metres: one value for square cells or ``(dx, dy)``.
         origin : (float, float), default (0, 0)
@@ -611,7 +623,7 @@ def as_mesh_surface(surface: Any, purpose: str) -> Terrain:
         No face, or no area.
     """
     if not isinstance(surface, Terrain):
-        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+        raise not_a_terrain(surface, "surface")
     if surface.n_faces == 0 or surface.area <= 0.0:
         raise InvalidInputError(f"surface has no area: {purpose} needs a mesh with faces")
     return surface

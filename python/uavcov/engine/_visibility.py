@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._validate import as_n_threads, as_points, as_positive_float
+from .._validate import as_n_threads, as_points, as_positive_float, not_a_terrain
 from ..errors import InvalidTypeError
 from ._sensors import Sensor, pack_sensors
 from ._surface import Terrain
@@ -91,7 +91,7 @@ class Visibility:
         method: str = "auto",
     ) -> None:
         if not isinstance(terrain, Terrain):
-            raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
+            raise not_a_terrain(terrain, "terrain")
         if targets is not None and not isinstance(targets, Targets):
             raise InvalidTypeError(f"targets must be a uavcov.Targets, got {type(targets).__name__}")
         if not isinstance(method, str):

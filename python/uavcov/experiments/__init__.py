@@ -1,9 +1,10 @@
 """Specs x seeds on an executor into a results folder: what any study of uavcov runs with.
 
-An :class:`Experiment` (a scenario generator, a :class:`~uavcov.mission.MissionSettings`, team
-sizes, starts and seeds) lists its runs (:func:`experiment_specs`); :func:`run_specs` runs them
-on an executor (:func:`plan_execution`) into a :class:`ResultsFolder` that a later call resumes;
-a sweep file (:class:`SweepConfig`) runs with :func:`run_sweep`. The paper's experiments are in
+An :class:`Experiment` (a scenario generator or a surface of your own, a
+:class:`~uavcov.mission.MissionSettings`, team sizes, starts and seeds) lists its runs
+(:func:`experiment_specs`); :func:`run_specs` runs them on an executor (:func:`plan_execution`)
+into a :class:`ResultsFolder` that a later call resumes; a sweep file (:class:`SweepConfig`)
+runs with :func:`run_sweep`. The paper's experiments are in
 :mod:`uavcov.paper`.
 """
 

@@ -13,7 +13,8 @@ Seeds: every run is a pure function of its settings and its seed
 -----------------------------------------------------------------
 Run ``(experiment, seed=s, n_uavs=N, start=k)`` draws the true surface with
 ``experiment.terrain.make(s)`` (and the buildings scene's simplified map with
-``numpy.random.default_rng([s, 1])``), then runs :func:`uavcov.mission.run_mission` with
+``numpy.random.default_rng([s, 1])``), or takes the experiment's own surface when its terrain is
+a :class:`~uavcov.Terrain` (the same for every seed), then runs :func:`uavcov.mission.run_mission` with
 ``rng=s``, whose three child streams (prior, start, optimiser) make every team size and start
 on one terrain see the same prior points. Nothing depends on the executor, on the order runs
 finish in, or on the Rust thread count, so the same specs give the same numbers on a process
@@ -28,7 +29,6 @@ from __future__ import annotations
 import collections
 import concurrent.futures as cf
 import dataclasses
-import functools
 import hashlib
 import json
 import os
@@ -51,6 +51,7 @@ from ..terrain import BuildingsGenerator, HillsGenerator
 from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
 from ._run_options import as_extra, check_run_options
+from ._scenarios import scenario_surface, surface_settings
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
 _LATER_MISSION_FIELDS = frozenset({"sensor", "attitude", "objective", "gimbal", "footprint_start", "escape"})
@@ -77,9 +78,12 @@ class Experiment:
     ----------
     name : str
         The label of its runs ("table1", "pyramid", a sweep's name, ...).
-    terrain : HillsGenerator or BuildingsGenerator
+    terrain : HillsGenerator, BuildingsGenerator or Terrain
         The scenario generator: seed -> true surface. With a buildings scene the team knows its
-        simplified map beforehand (the paper's Figs. 7-8); with hills, ``mission.prior``.
+        simplified map beforehand (the paper's Figs. 7-8); with hills, ``mission.prior``. A
+        :class:`~uavcov.Terrain` of your own is the true surface of every seed (the seed then
+        draws the prior, the start and the optimiser's steps); the settings hash holds a digest
+        of its geometry, so another surface makes other run ids.
     mission : MissionSettings
         Every setting of a mission; ``n_uavs`` and ``start.kind`` are set per run from
         ``team_sizes`` and ``starts``.
@@ -92,15 +96,15 @@ class Experiment:
     """
 
     name: str
-    terrain: HillsGenerator | BuildingsGenerator
+    terrain: HillsGenerator | BuildingsGenerator | Terrain
     mission: MissionSettings
     team_sizes: tuple[int, ...]
     starts: tuple[str, ...]
     seeds: tuple[int, ...] = field(default=())
 
     def __post_init__(self) -> None:
-        if not isinstance(self.terrain, (HillsGenerator, BuildingsGenerator)):
-            raise InvalidTypeError(f"terrain must be a HillsGenerator or BuildingsGenerator, got {type(self.terrain).__name__}")
+        if not isinstance(self.terrain, (HillsGenerator, BuildingsGenerator, Terrain)):
+            raise InvalidTypeError(f"terrain must be a HillsGenerator, BuildingsGenerator or Terrain, got {type(self.terrain).__name__}")
         if not isinstance(self.mission, MissionSettings):
             raise InvalidTypeError(f"mission must be a MissionSettings, got {type(self.mission).__name__}")
         sizes = as_tuple(self.team_sizes, "team_sizes")
@@ -139,6 +143,23 @@ class Experiment:
         if not isinstance(start, str) or start not in self.starts:
             raise InvalidInputError(f"start must be one of {self.starts} for {self.name}, got {start!r}")
         return self.mission.with_changes(n_uavs=n_uavs, **{"start.kind": start})
+
+    @property
+    def generator(self) -> HillsGenerator | BuildingsGenerator:
+        """The scenario generator, for what only a generator has (its size, spacing, ...).
+
+        Raises
+        ------
+        ConfigError
+            The experiment's terrain is a surface of its own, not a generator.
+        """
+        if isinstance(self.terrain, Terrain):
+            raise ConfigError(f"{self.name} runs on a surface of its own, not on a scenario generator")
+        return self.terrain
+
+    def scenario(self, seed: int) -> Terrain:
+        """The true surface of scenario ``seed``: the generator's, or the experiment's own surface."""
+        return scenario_surface(self.terrain, seed)
 
     def known(self, seed: int) -> Terrain | None:
         """What the team is told of scenario ``seed`` beforehand, when it is not ``mission.prior``'s sample."""
@@ -188,9 +209,12 @@ def experiment_settings(experiment: Experiment) -> dict[str, Any]:
     """
     if not isinstance(experiment, Experiment):
         raise InvalidTypeError(f"experiment must be an Experiment, got {type(experiment).__name__}")
-    settings = dataclasses.asdict(experiment)
-    for key in ("name", "seeds", "team_sizes", "starts"):
-        settings.pop(key)
+    if isinstance(experiment.terrain, Terrain):  # not a dataclass: its geometry by digest
+        settings: dict[str, Any] = {"terrain": surface_settings(experiment.terrain), "mission": dataclasses.asdict(experiment.mission)}
+    else:
+        settings = dataclasses.asdict(experiment)
+        for key in ("name", "seeds", "team_sizes", "starts"):
+            settings.pop(key)
     settings["mission"].pop("n_uavs")
     settings["mission"]["start"].pop("kind")
     # Mission fields added after the paper's experiments were published leave the settings (and
@@ -202,7 +226,7 @@ def experiment_settings(experiment: Experiment) -> dict[str, Any]:
         value = getattr(getattr(experiment.mission, group), name)
         if value == _field_default(type(getattr(experiment.mission, group)), name):
             settings["mission"][group].pop(name)
-    settings["terrain_kind"] = experiment.terrain.kind
+    settings["terrain_kind"] = "surface" if isinstance(experiment.terrain, Terrain) else experiment.terrain.kind
     return settings
 
 
@@ -324,28 +348,8 @@ class RunSpec:
 
     def run(self, n_threads: int | None = 1) -> MissionResult:
         """Run the mission: terrain ``seed``, then :func:`uavcov.mission.run_mission` with ``rng=seed``."""
-        terrain = _scenario(self.experiment.terrain, self.seed)
+        terrain = self.experiment.scenario(self.seed)
         return run_mission(terrain, self.mission, known=self.experiment.known(self.seed), n_threads=n_threads, rng=self.seed)
-
-
-def _scenario(terrain: HillsGenerator | BuildingsGenerator, seed: int) -> Terrain:
-    """``terrain.make(seed)``, the last one kept for a worker's next runs.
-
-    Runs are listed seed by seed, so a worker's next run is most often on the same surface (other
-    team sizes and starts). A Terrain is immutable, and the objectives of one surface share its
-    grid nodes' skylines (``uavcov.Visibility``), which those runs then compute once. Only the
-    last terrain is kept, so a worker of a sweep over large maps holds one map at a time.
-    """
-    try:
-        hash(terrain)
-    except TypeError:  # a generator given lists instead of tuples: made anew each time
-        return terrain.make(seed)
-    return _kept_scenario(terrain, seed)
-
-
-@functools.lru_cache(maxsize=1)
-def _kept_scenario(terrain: HillsGenerator | BuildingsGenerator, seed: int) -> Terrain:
-    return terrain.make(seed)
 
 
 def experiment_specs(

@@ -16,7 +16,7 @@ and start. See ``examples/sweep.toml``::
     iterations = 200
 
     [terrain]                     # kind = "hills" or "buildings", then that kind's fields
-    spacing = 1.0
+    spacing = 1.0                 # (or kind = "file", path = "my_dem.tif": a surface of your own)
 
     [start]                       # any field of uavcov.placement.StartSettings (altitude, climb, ...)
     [constraints]                 # h_min, z_max, d_safe, check_moves (uavcov.limits.Constraints)
@@ -58,7 +58,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, as_path, is_int
-from ..engine import Camera, Gimbal, Sensor
+from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
 from ..optim import CAOSettings
@@ -66,6 +66,7 @@ from ..placement import ALTITUDE_REFERENCES, CORNERS, PRESETS, START_KINDS, CVTS
 from ..settings import OBJECTIVES
 from ..terrain import BuildingsGenerator, HillsGenerator
 from ._sweep import Experiment, RunSpec, experiment_specs
+from ._terrain_file import terrain_file
 
 STARTS: tuple[str, ...] = START_KINDS
 """Starts a sweep may compare ("pairs": half the team on each of two opposite sides)."""
@@ -277,7 +278,9 @@ def _check_range(experiment: Experiment, source: _Source) -> None:
         raise source.error("prior", f"must be one of {', '.join(PRIORS)}, got {experiment.prior!r}{_suggest(experiment.prior, PRIORS)}")
     if experiment.prior == "map" and not isinstance(experiment.terrain, BuildingsGenerator):
         raise source.error("prior", "'map' needs a buildings terrain (terrain.kind = \"buildings\")")
-    terrain = experiment.terrain
+    if isinstance(experiment.terrain, Terrain):  # a surface of the user's own: checked when read
+        return
+    terrain = experiment.generator
     if isinstance(terrain, HillsGenerator):
         # A whole number of cells is the generator's own check (HillsGenerator refuses others when made).
         cells = terrain.size / terrain.spacing
@@ -420,12 +423,17 @@ def parse_sweep_config(
         raise src.error("terrain", f"expected a table [terrain], got {terrain_table!r}")
     terrain_table = dict(terrain_table)
     kind = terrain_table.pop("kind", "buildings" if isinstance(base.terrain, BuildingsGenerator) else "hills")
-    if kind not in _TERRAINS:
-        raise src.error("terrain.kind", f"must be 'hills' or 'buildings', got {kind!r}{_suggest(str(kind), tuple(_TERRAINS))}")
-    terrain_cls = _TERRAINS[kind]
-    if not isinstance(base.terrain, terrain_cls):
-        base = dataclasses.replace(base, terrain=terrain_cls())
-    changes = _group_changes("terrain", terrain_table, _defaults(terrain_cls), src)
+    if kind == "file":  # a surface of the user's own, the same for every seed: no terrain setting to sweep
+        base, terrain_defaults, changes = dataclasses.replace(base, terrain=terrain_file(terrain_table, source)), {}, {}
+    elif kind not in _TERRAINS:
+        kinds = (*_TERRAINS, "file")
+        raise src.error("terrain.kind", f"must be 'hills', 'buildings' or 'file', got {kind!r}{_suggest(str(kind), kinds)}")
+    else:
+        terrain_cls = _TERRAINS[kind]
+        if not isinstance(base.terrain, terrain_cls):
+            base = dataclasses.replace(base, terrain=terrain_cls())
+        terrain_defaults = _defaults(terrain_cls)
+        changes = _group_changes("terrain", terrain_table, terrain_defaults, src)
     for group, defaults in _GROUPS.items():
         if group in data:
             changes.update(_group_changes(group, data[group], defaults, src))
@@ -458,7 +466,7 @@ def parse_sweep_config(
     sweep = data.get("sweep", {})
     if not isinstance(sweep, dict):
         raise src.error("sweep", f"expected a table [sweep], got {sweep!r}")
-    valid_axes = list(_TOP_SCALARS) + [f"terrain.{k}" for k in _field_names(terrain_cls)]
+    valid_axes = list(_TOP_SCALARS) + [f"terrain.{k}" for k in terrain_defaults]
     valid_axes += [f"{g}.{k}" for g, defaults in _GROUPS.items() for k in defaults]
     valid_axes += list(_CAMERA_AXES)
     axes: list[str] = []
@@ -477,7 +485,7 @@ def parse_sweep_config(
             coerced = [_coerce_camera_value(v, f"sweep.{key}", src) for v in options]
         else:
             if group == "terrain":
-                default = _defaults(terrain_cls)[field_name]
+                default = terrain_defaults[field_name]
             elif group:
                 default = _GROUPS[group][field_name]
             else:

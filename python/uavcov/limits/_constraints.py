@@ -230,12 +230,15 @@ class Constraints:
         """
         n_uavs = as_positive_int(n_uavs, "number of UAVs")
         resolved = self.resolve(world)
-        zmin = float(np.asarray(world.bounds, dtype=np.float64)[0, 2])
+        zmin, ztop = (float(z) for z in np.asarray(world.bounds, dtype=np.float64)[:, 2])
         floor = zmin + self.h_min
         if floor > self.z_max:
             raise InfeasibleError(
-                f"the lowest surface point (z = {zmin} m) plus h_min = {self.h_min} m is above "
-                f"z_max = {self.z_max} m: no altitude is admissible"
+                f"the lowest surface point (z = {zmin:g} m) plus h_min = {self.h_min} m is above "
+                f"z_max = {self.z_max} m: no altitude is admissible. z_max is an absolute altitude in the "
+                f"surface's frame (the default 50 m suits the paper's hills at z >= 0): raise it, e.g. "
+                f"Constraints(z_max={math.ceil(ztop) + 50}) for 50 m above the highest point, or give heights "
+                "above a local datum"
             )
         if n_uavs == 1 or self.d_safe == 0.0:
             return
@@ -427,7 +430,24 @@ def _standoff_ok(constraints: Constraints, world: Any, cand: np.ndarray, threads
 
 
 def feasibility(constraints: Constraints, world: World, *, n_threads: int | None = None) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world`` (and ``n_threads``)."""
+    """The ``feasible(current, candidates)`` callable the optimisers take, bound to ``world`` (and ``n_threads``).
+
+    ``constraints`` with ``bounds=None`` take ``world``'s x-y bounds; ``n_threads`` (1 to 1024,
+    ``None``: every core) changes no answer. The callable maps ``current`` ``(N, 3)`` positions,
+    metres, and ``candidates`` ``(M, N, 3)`` to the ``(M,)`` bool mask of the candidates that keep
+    every limit (:func:`uavcov.optim.cao`'s ``feasible``).
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> from uavcov.limits import Constraints, feasibility
+    >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=10.0)  # 100 m x 100 m at z = 0
+    >>> feasible = feasibility(Constraints(h_min=5.0, z_max=50.0, d_safe=2.0), flat)
+    >>> current = np.array([[20.0, 20.0, 10.0], [80.0, 80.0, 10.0]])
+    >>> candidates = np.array([current + [0, 0, 5], current - [0, 0, 6], [[20, 20, 10], [21, 20, 10]]])
+    >>> feasible(current, candidates).tolist()  # fine; too low (4 m); two UAVs 1 m apart
+    [True, False, False]
+    """
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     _check_world(world, constraints)
@@ -617,6 +637,16 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
     InfeasibleError
         The team cannot fit (:meth:`Constraints.check_team`), a UAV stands over no surface, or
         no admissible configuration was reached.
+
+    Examples
+    --------
+    >>> import numpy as np, uavcov
+    >>> from uavcov.limits import Constraints, closest_admissible
+    >>> flat = uavcov.Terrain.from_grid(np.zeros((11, 11)), spacing=10.0)
+    >>> limits = Constraints(h_min=5.0, z_max=50.0, d_safe=2.0)
+    >>> start = [[20.0, 20.0, 1.0], [150.0, 50.0, 60.0]]  # too low; off the map and too high
+    >>> closest_admissible(limits, flat, start, climb=1.0).round(3).tolist()  # lifted to h_min + climb; moved in, lowered
+    [[20.0, 20.0, 6.0], [100.0, 50.0, 50.0]]
     """
     if not isinstance(constraints, Constraints):
         raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")

@@ -46,18 +46,18 @@ class OptimizerTrace:
         Seconds spent in ``measure``, in ``feasible``, and in the optimiser's own work (the
         names of :class:`~uavcov.MissionResult`).
     relocations : ndarray, shape (R, 3), int64
-        The escapes of ``uavcov.optim._escape.escape_cao``, one row ``(uav, first, last)`` each: the
+        The escapes of the ``"escape"`` optimiser (:class:`~uavcov.EscapeSettings`), one row ``(uav, first, last)`` each: the
         UAV flew from its position at iteration ``first`` to the one at ``last`` through the
         configurations in between (every other UAV holding still); empty for other optimisers.
     """
 
     kind: str
-    trajectory: np.ndarray
-    values: np.ndarray
-    measured: np.ndarray
-    step_sizes: np.ndarray
-    n_checked: np.ndarray
-    n_feasible: np.ndarray
+    trajectory: np.ndarray = field(repr=False)
+    values: np.ndarray = field(repr=False)
+    measured: np.ndarray = field(repr=False)
+    step_sizes: np.ndarray = field(repr=False)
+    n_checked: np.ndarray = field(repr=False)
+    n_feasible: np.ndarray = field(repr=False)
     best_positions: np.ndarray
     best_value: float
     best_iteration: int

@@ -163,7 +163,7 @@ def _scenario_rows(
 ) -> list[OracleRow]:
     """The oracle of one scenario: its lattice and matrix once, then every team size."""
     mission = experiment.mission
-    terrain = experiment.terrain.make(seed)
+    terrain = experiment.scenario(seed)
     started = time.perf_counter()
     limits = mission.constraints.resolve(terrain)
     lattice = viewpoint_lattice(terrain, limits, settings, n_threads=n_threads)

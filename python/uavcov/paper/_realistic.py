@@ -121,7 +121,7 @@ def _run(
 ) -> dict[str, Any]:
     """Fly one task and its kinematic twin; the row carries the curves the report draws."""
     seed, start, measurement = task
-    terrain, known = experiment.terrain.make(seed), experiment.known(seed)
+    terrain, known = experiment.scenario(seed), experiment.known(seed)
     spec = experiment.mission_settings(n_uavs, start).with_changes(iterations=iterations)
     flown = fly_mission(terrain, spec, replace(sim, measurement=measurement), known=known, rng=seed)
     kinematic = run_mission(terrain, spec, known=known, n_threads=1, rng=seed)
@@ -216,7 +216,7 @@ def reproduce_realistic(
     experiment = BUILDINGS
     if standoff is not None:
         standoff = as_finite_float(standoff, "standoff")
-        paper, size = BUILDINGS.mission.constraints, BUILDINGS.terrain.size
+        paper, size = BUILDINGS.mission.constraints, BUILDINGS.generator.size
         ceiling = paper.h_max - 2.0 * LIMITS_MARGIN  # type: ignore[operator]
         if not 0.0 < standoff < ceiling:
             raise InvalidInputError(f"standoff must be in (0, {ceiling:g}) m, got {standoff}")

@@ -43,7 +43,7 @@ over starts; at most 2.6 %), against at most 1.7 % after 300 iterations (``bench
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from types import MappingProxyType
 from typing import Any
 
@@ -61,6 +61,7 @@ from .._validate import (
     as_non_negative_float,
     as_points,
     as_positive_int,
+    not_a_terrain,
     read_only,
 )
 from ..engine import Terrain
@@ -122,9 +123,9 @@ class CVTResult:
     """
 
     generators: np.ndarray
-    moves: np.ndarray
-    drift: np.ndarray
-    energy: np.ndarray
+    moves: np.ndarray = field(repr=False)
+    drift: np.ndarray = field(repr=False)
+    energy: np.ndarray = field(repr=False)
     iterations: int
     converged: bool
     seed: int
@@ -323,8 +324,7 @@ def cvt(
     surface : Terrain
         The surface to tessellate (in the paper, S' from :func:`uavcov.terrain.approximate_surface`).
     n : int
-        Number of generators, ``1 <= n <= samples_per_iteration`` and at most 10 000
-        (:data:`uavcov._validate.MAX_GENERATORS`).
+        Number of generators, ``1 <= n <= samples_per_iteration`` and at most 10 000.
     settings : CVTSettings, optional
         The constants (weights, samples per iteration, stopping rule); ``CVTSettings()`` by
         default.
@@ -368,7 +368,7 @@ def cvt(
     ((4, 3), True)
     """
     if not isinstance(surface, Terrain):
-        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+        raise not_a_terrain(surface, "surface")
     n = as_count(n, "n", MAX_GENERATORS)
     if settings is None:
         settings = CVTSettings()

@@ -20,6 +20,7 @@ from .._validate import as_bool_array, as_float_array, as_optional_str, as_point
 from ..cover import closest_faces
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError
+from ..structures import Structure
 from ._canvas import END_COLOUR, SEEN_COLOUR, UNSEEN_COLOUR, _finish, _marker, _matplotlib, _patch
 from ._views import DEFAULT_MAX_POLYGONS, _blend, _draw_polygons, _mesh_polygons, _scene_bounds, _style_3d
 
@@ -51,8 +52,19 @@ def face_seen_share(surface: Terrain, targets: Targets, seen: Any) -> np.ndarray
         return np.where(weight > 0, hit / np.where(weight > 0, weight, 1.0), np.nan)
 
 
+def _mesh_and_ground(surface: Any, ground: Any) -> tuple[Terrain, Any]:
+    """A :class:`Structure`'s mesh and ground faces (``ground`` when given), or a Terrain as it is."""
+    if isinstance(surface, Structure):
+        if ground is None and surface.ground_part is not None:
+            ground = surface.face_parts == surface.ground_part
+        return surface.surface, ground
+    if not isinstance(surface, Terrain):
+        raise InvalidTypeError(f"surface must be a uavcov Terrain or Structure, got {type(surface).__name__}")
+    return surface, ground
+
+
 def plot_structure_seen(
-    surface: Terrain,
+    surface: Terrain | Structure,
     seen: Any,
     *,
     targets: Targets | None = None,
@@ -68,8 +80,9 @@ def plot_structure_seen(
 
     Parameters
     ----------
-    surface : Terrain
-        The structure's mesh (ground included or not).
+    surface : Terrain or Structure
+        The structure's mesh (ground included or not), or the :class:`~uavcov.structures.Structure`
+        itself (its ground part is then the default ``ground``).
     seen : (F,) or (T,) array_like
         Per face, the share seen in ``[0, 1]`` (or a bool), NaN where unknown; or, with
         ``targets``, per target whether it is seen (a bool or a count of UAVs).
@@ -95,8 +108,7 @@ def plot_structure_seen(
     -------
     matplotlib.figure.Figure
     """
-    if not isinstance(surface, Terrain):
-        raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
+    surface, ground = _mesh_and_ground(surface, ground)
     if surface.n_faces == 0:
         raise InvalidInputError("the surface has no faces to draw")
     if targets is not None:

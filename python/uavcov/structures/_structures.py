@@ -580,14 +580,39 @@ def load_structure(
     add_ground: bool = True,
     max_faces: int = 2_000_000,
     max_extent: float = 1e5,
+    origin: Any = None,
 ) -> Structure:
     """Read an STL, OBJ or PLY file (binary or ASCII; needs ``trimesh``) as a :class:`Structure`.
 
-    The mesh is welded and cleaned like ``load_mesh`` (in a local frame whose
-    origin is the file's minimum corner). With ``closed=True`` it must be a set of closed solids:
-    every edge shared by exactly two faces, wound consistently; solids wound inward are turned
-    outward. A ground plane at the model's lowest z is added (``add_ground``), reaching half the
-    model's size beyond it; the model's faces become the part ``"structure"``.
+    The mesh is welded and cleaned like :func:`~uavcov.terrain.load_mesh`, in its local frame:
+    ``local = (file - origin) * scale``, the origin by default the file's minimum corner. A UAV
+    position in the file's coordinates ``p`` is ``(p - origin) * scale`` on the structure; give
+    ``origin`` to know it (``origin=(0, 0, 0)`` keeps the file's coordinates). With
+    ``closed=True`` the mesh must be a set of closed solids: every edge shared by exactly two
+    faces, wound consistently; solids wound inward are turned outward. A ground plane at the
+    model's lowest z is added (``add_ground``), reaching half the model's size beyond it; the
+    model's faces become the part ``"structure"``.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The mesh file.
+    up : {"z", "y"}, default "z"
+        The file's up axis (as :func:`~uavcov.terrain.load_mesh`).
+    scale : float, default 1.0
+        Metres per unit of the file.
+    closed : bool, default True
+        Require closed solids (two solids that share a face make non-manifold edges: merge them
+        into one solid, or pass ``closed=False`` to read an open surface).
+    add_ground : bool, default True
+        Add the ground plane (its faces are the part ``"ground"``).
+    max_faces : int, default 2 000 000
+        The most faces read.
+    max_extent : float, default 1e5
+        The largest size of the model, metres (a guard against a file in the wrong units).
+    origin : (float, float, float), optional
+        The point of the file (in its Z-up axes) that becomes ``(0, 0, 0)``; by default the
+        minimum corner of its bounding box.
 
     Raises
     ------
@@ -597,6 +622,20 @@ def load_structure(
         or non-manifold edges or inconsistent winding.
     MissingExtraError
         trimesh is not installed.
+
+    Examples
+    --------
+    A 4 m x 2 m x 3 m block whose file stands in UTM coordinates, read in a frame of your site:
+
+    >>> import pathlib, tempfile, numpy as np, trimesh
+    >>> block = trimesh.creation.box(extents=(4.0, 2.0, 3.0))
+    >>> _ = block.apply_translation([512002.0, 4180001.0, 121.5])  # its base at 120 m
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "block.stl"
+    >>> _ = block.export(path)
+    >>> site = np.array([512000.0, 4180000.0, 100.0])
+    >>> structure = load_structure(path, origin=site)  # local = file - site
+    >>> structure.part_names, structure.surface.bounds.tolist()  # the ground plane reaches 2 m beyond
+    (('ground', 'contact', 'structure'), [[-2.0, -2.0, 20.0], [6.0, 4.0, 23.0]])
     """
     text = existing_path(path, "mesh", MeshError)
     size = os.path.getsize(text)
@@ -607,7 +646,7 @@ def load_structure(
     closed, add_ground = as_bool(closed, "closed"), as_bool(add_ground, "add_ground")
     max_faces = as_positive_int(max_faces, "max_faces")
     max_extent = as_positive_float(max_extent, "max_extent")
-    loaded = load_mesh(text, up=up, scale=scale)
+    loaded = load_mesh(text, up=up, scale=scale, origin=origin)
     vertices, faces = loaded.terrain.vertices, np.array(loaded.terrain.faces)
     if faces.shape[0] > max_faces:
         raise MeshError(f"{text}: {faces.shape[0]} faces, more than max_faces={max_faces}")

@@ -256,8 +256,34 @@ def load_mesh(
 
     Multi-part files are concatenated into one surface. Vertices are welded exactly,
     degenerate and duplicate faces dropped (or refused with ``on_defect="raise"``), open
-    boundaries kept; see ``mesh_terrain`` for the parameters and :class:`MeshReport` for
-    what is reported.
+    boundaries kept (:class:`MeshReport` counts each).
+
+    The terrain is moved to a local frame: by default the file's minimum corner becomes
+    ``(0, 0, 0)``. Positions given in the file's coordinates (your UAVs, a take-off point) go
+    through ``loaded.frame.to_local`` before they meet ``loaded.terrain``, and results come back
+    with ``loaded.frame.to_source``; ``origin=(0, 0, 0)`` keeps the file's own coordinates.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The mesh file, metres (or units that ``scale`` turns into metres).
+    up : {"z", "y"}, default "z"
+        The file's up axis. ``"y"`` (common in OBJ exports) maps the file's ``(x, y, z)`` to
+        ``(x, -z, y)``.
+    origin : (float, float, float), optional
+        The point of the file, in its Z-up axes, that becomes the local origin; by default the
+        minimum corner of its bounding box.
+    scale : float, default 1.0
+        Metres per unit of the file (e.g. 0.001 for millimetres).
+    on_defect : {"repair", "raise"}, default "repair"
+        ``"repair"`` drops degenerate and duplicate faces and counts them in ``mesh_report``;
+        ``"raise"`` raises :class:`~uavcov.errors.MeshError` when there are any.
+
+    Returns
+    -------
+    LoadedMesh
+        ``terrain`` (local frame, metres, Z up), ``frame`` (local <-> file coordinates),
+        ``source`` (the path) and ``mesh_report``.
 
     Raises
     ------
@@ -265,6 +291,21 @@ def load_mesh(
         When trimesh is not installed (``pip install uavcov[mesh]``).
     MeshError
         When the file does not exist, does not parse, or holds no triangles.
+
+    Examples
+    --------
+    A 10 m x 10 m square 300 m up, 500 km east, written as a PLY file and read back:
+
+    >>> import pathlib, tempfile, numpy as np, trimesh, uavcov
+    >>> corners = [[500000.0, 0.0, 300.0], [500010.0, 0.0, 300.0], [500010.0, 10.0, 300.0], [500000.0, 10.0, 300.0]]
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "square.ply"
+    >>> _ = trimesh.Trimesh(corners, [[0, 1, 2], [0, 2, 3]], process=False).export(path)
+    >>> loaded = uavcov.terrain.load_mesh(path)
+    >>> loaded.terrain.bounds.tolist()  # the minimum corner is the local origin
+    [[0.0, 0.0, 0.0], [10.0, 10.0, 0.0]]
+    >>> uav = loaded.frame.to_local([[500005.0, 5.0, 310.0]])  # a UAV 10 m above the centre
+    >>> uav.tolist(), uavcov.Visibility(loaded.terrain, d_max=20.0).coverage(uav)
+    ([[5.0, 5.0, 10.0]], 1.0)
     """
     try:
         import trimesh

@@ -35,6 +35,7 @@ from .._validate import (
     as_non_negative_float,
     as_points,
     as_positive_float,
+    not_a_terrain,
 )
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
@@ -82,7 +83,7 @@ class Prior:
 
 def _check_terrain(terrain: Any) -> Terrain:
     if not isinstance(terrain, Terrain):
-        raise InvalidTypeError(f"terrain must be a uavcov Terrain, got {type(terrain).__name__}")
+        raise not_a_terrain(terrain, "terrain")
     return terrain
 
 
