@@ -34,6 +34,10 @@ limit                          value           what it bounds
                                                spacing``): 10^8 nodes
 :data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
 =============================  ==============  ===================================================
+
+Coordinates have a bound too, :data:`MAX_COORDINATE_M` (1e15 m): the engine refuses a surface
+beyond it, and :func:`within_coordinate_bound` refuses points, frames and figures beyond it with
+one message.
 """
 
 from __future__ import annotations
@@ -65,6 +69,10 @@ __all__ = [
     "as_path",
     "as_tuple",
     "as_optional_str",
+    "as_str",
+    "as_bounds",
+    "within_coordinate_bound",
+    "MAX_COORDINATE_M",
     "MAX_UAVS",
     "MAX_GENERATORS",
     "MAX_SAMPLES",
@@ -98,6 +106,9 @@ MAX_GRID_CELLS = 10_000
 """Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
 MAX_HILLS = 10_000
 """Most Gaussians of one hills terrain: each costs a pass over every node."""
+MAX_COORDINATE_M = 1e15
+"""The largest coordinate magnitude, metres: the engine's bound on a surface's vertices (a
+coordinate there still resolves 0.125 m; beyond it areas and sight lines lose their meaning)."""
 
 
 def as_float_array(
@@ -291,6 +302,45 @@ def as_optional_str(value: Any, name: str) -> str | None:
     if value is not None and not isinstance(value, str):
         raise InvalidTypeError(f"{name} must be None or a string, got {type(value).__name__}")
     return value
+
+
+def as_str(value: Any, name: str) -> str:
+    """``value`` when it is a non-empty string (a name, a label, a word of a choice)."""
+    if not isinstance(value, str):
+        raise InvalidTypeError(f"{name} must be a string, got {type(value).__name__}")
+    if not value.strip():
+        raise InvalidInputError(f"{name} must be a non-empty string, got {value!r}")
+    return value
+
+
+def within_coordinate_bound(points: np.ndarray, name: str) -> np.ndarray:
+    """``points`` (a float array of coordinates, metres) when none is beyond :data:`MAX_COORDINATE_M`.
+
+    NaN passes (finiteness is the caller's check); an infinite coordinate does not.
+    """
+    if points.size:
+        largest = float(np.nanmax(np.abs(points), initial=0.0))
+        if largest > MAX_COORDINATE_M:
+            raise InvalidInputError(f"{name} must lie within 1e15 m of the origin, got a coordinate of {largest:g} m")
+    return points
+
+
+def as_bounds(value: Any, name: str = "bounds") -> tuple[float, float, float, float]:
+    """An x-y rectangle ``(xmin, ymin, xmax, ymax)`` of finite floats with ``xmin < xmax``, ``ymin < ymax``
+    (also read from ``[[xmin, ymin, ...], [xmax, ymax, ...]]``, a surface's ``bounds``)."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidTypeError(f"{name} must be (xmin, ymin, xmax, ymax), got a string")
+    array = as_float_array(value, name)
+    if array.ndim == 2 and array.shape[0] == 2 and array.shape[1] >= 2:
+        array = np.array([array[0, 0], array[0, 1], array[1, 0], array[1, 1]])
+    if array.shape != (4,):
+        raise InvalidInputError(
+            f"{name} must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], got shape {array.shape}"
+        )
+    xmin, ymin, xmax, ymax = (float(v) for v in array)
+    if not (xmin < xmax and ymin < ymax):
+        raise InvalidInputError(f"{name} need xmin < xmax and ymin < ymax, got {tuple(array)}")
+    return xmin, ymin, xmax, ymax
 
 
 def as_tuple(value: Any, name: str) -> tuple[Any, ...]:

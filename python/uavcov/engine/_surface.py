@@ -15,7 +15,18 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._validate import as_bool, as_finite_float, as_float_array, as_index_array, as_n_threads, as_points, as_positive_float, read_only
+from .._validate import (
+    as_bool,
+    as_finite_float,
+    as_float_array,
+    as_index_array,
+    as_n_threads,
+    as_points,
+    as_positive_float,
+    as_str,
+    read_only,
+    within_coordinate_bound,
+)
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ._targets import Targets
 
@@ -610,6 +621,7 @@ def as_mesh_surface(surface: Any, purpose: str) -> Terrain:
     InvalidInputError
         No face, or no area.
     """
+    purpose = as_str(purpose, "purpose")
     if not isinstance(surface, Terrain):
         raise InvalidTypeError(f"surface must be a uavcov Terrain, got {type(surface).__name__}")
     if surface.n_faces == 0 or surface.area <= 0.0:
@@ -640,7 +652,7 @@ def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     vertices : (V, 3) float64 ndarray
-        Finite, metres.
+        Finite, metres, within 1e15 m of the origin (the engine's bound).
     faces : (F, 3) int64 ndarray
         Indices into ``vertices``.
 
@@ -651,6 +663,7 @@ def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         times the core's threshold, so rounding never lets one through to it).
     """
     vertices, faces = as_points(vertices, "vertices", allow_empty=True), as_index_array(faces, "faces")
+    within_coordinate_bound(vertices, "vertices")  # beyond, an area overflows and a real triangle would read as degenerate
     if faces.size and (faces.min() < 0 or faces.max() >= vertices.shape[0]):
         raise InvalidInputError(f"faces index vertices 0-{vertices.shape[0] - 1}, got indices {faces.min()}-{faces.max()}")
     if not faces.size:

@@ -118,9 +118,16 @@ def save_flown(flown: FlownMission, path: str | os.PathLike[str], terrain: Terra
 
 
 def is_flown_file(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is an ``.npz`` written by :func:`save_flown` (False for anything else)."""
+    """Whether ``path`` is an ``.npz`` written by :func:`save_flown` (False for any other file).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``path`` is not a path (a string or ``os.PathLike``).
+    """
+    file = as_path(path, "path")  # a number or None is a mistake, not "some other file"
     try:
-        with np.load(Path(path), allow_pickle=False) as data:
+        with np.load(file, allow_pickle=False) as data:
             return "header" in data.files and json.loads(str(data["header"])).get("format") == FLOWN_FORMAT
     except Exception:  # noqa: BLE001 - any unreadable file is simply not a flown run
         return False
