@@ -260,7 +260,7 @@ def test_known_points_beyond_the_engines_bound_are_refused(value: float) -> None
     known = np.array([[0.0, 0.0, 0.0], [10.0, 0.0, 1.0], [0.0, 10.0, value]])
     refused(InvalidInputError, "samples must lie within", uavcov.terrain.approximate_surface, known)
     settings = uavcov.MissionSettings(n_uavs=2, d_max=10.0, n_prior=10, iterations=1)
-    refused(InvalidInputError, "samples must lie within", uavcov.run_mission, HILLS, settings, known=known, rng=0, n_threads=1)
+    refused(InvalidInputError, "points must lie within 1e15 m", uavcov.run_mission, HILLS, settings, known=known, rng=0, n_threads=1)
 
 
 @pytest.fixture(scope="module")
