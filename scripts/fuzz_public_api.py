@@ -23,7 +23,9 @@ Run it from anywhere but the repository, in a fresh directory (calls write files
         /work/wt/hostile3/scripts/fuzz_public_api.py --out report.txt
 
 ``--only SUBSTRING`` restricts the run to the callables whose name contains it; ``--cli-only``
-and ``--no-cli`` choose the parts; ``--list`` prints the cases without running them.
+and ``--no-cli`` choose the parts; ``--list`` prints the cases without running them;
+``--every-accepted`` lists every accepted case (a string, True or -1 taken), not only the
+suspicious ones.
 """
 
 from __future__ import annotations
@@ -430,6 +432,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "facade": lambda: {"rng": 0},
         "load_structure": lambda: {"path": f.obj},
         "height_field_violation": lambda: {"structure": f.structure},
+        "StructurePrior": lambda: {"points": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]), "normals": None, "kind": "points"},
         "StructurePrior#behind": lambda: {"points": pts()},
         "sample_structure_prior": lambda: {"structure": f.structure, "n": 50, "rng": 0},
         "coarse_structure_prior": lambda: {"structure": f.structure},
@@ -856,7 +859,7 @@ class Worker:
             self.process.wait()
 
 
-def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str]) -> dict[str, int]:
+def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str], every_accepted: bool = False) -> dict[str, int]:
     fixtures = Fixtures()
     args_table = valid_arguments(fixtures)
     counts = {"callables": 0, "cases": 0, "refused": 0, "accepted": 0, "defects": 0, "review": 0, "reviewed": 0}
@@ -902,6 +905,8 @@ def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str])
                     elif case[2] in SUSPICIOUS:
                         counts["review"] += 1
                         report.append(f"ACCEPTED {label}")
+                    elif every_accepted:
+                        report.append(f"ACCEPTED (not suspicious) {label}")
                 else:
                     counts["defects"] += 1
                     report.append(
@@ -1081,6 +1086,7 @@ def main() -> int:
     parser.add_argument("--cli-only", action="store_true")
     parser.add_argument("--no-cli", action="store_true")
     parser.add_argument("--list", action="store_true", help="print the callables and their fuzzed arguments")
+    parser.add_argument("--every-accepted", action="store_true", help="list every accepted case, the unsuspicious ones too")
     args = parser.parse_args()
     if args.worker:
         worker()
@@ -1093,7 +1099,7 @@ def main() -> int:
     start = time.monotonic()
     counts: dict[str, int] = {}
     if not args.cli_only:
-        counts.update(fuzz_api(args.only, args.timeout, args.list, report))
+        counts.update(fuzz_api(args.only, args.timeout, args.list, report, args.every_accepted))
     if not args.no_cli and not args.list:
         counts.update(fuzz_cli(max(args.timeout, 60.0), report))
     summary = f"{counts} in {time.monotonic() - start:.0f} s"

@@ -593,3 +593,77 @@ def test_rows_of_a_long_experiment_are_objects_and_torn_lines_are_dropped(tmp_pa
     refused(ResultsFormatError, "line 2", read_rows, path)
     path.write_text('{"start": "cvt"}\n')
     refused(ResultsFormatError, "not a JSON object with seed", read_rows, path, ("seed",))
+
+
+# ---------------------------------------------------------------------------------------------
+# Booleans where numbers are meant (numpy reads True as 1), found with --every-accepted
+
+
+@pytest.mark.parametrize("rng", [True, False, np.bool_(True)])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda rng: uavcov.gaussian_hills(size=30.0, n_hills=2, rng=rng),
+        lambda rng: uavcov.terrain.sample_prior(HILLS, 5, rng=rng),
+        lambda rng: uavcov.placement.cvt(HILLS, 3, rng=rng, n_threads=1),
+    ],
+)
+def test_a_flag_is_no_seed(call: Any, rng: Any) -> None:
+    refused(InvalidTypeError, "rng must be None, an int", call, rng)
+
+
+@pytest.mark.parametrize(
+    "seed, error, words",
+    [
+        (None, InvalidTypeError, "seed must be an integer"),  # a new terrain at each call before
+        (True, InvalidTypeError, "seed must be an integer"),
+        (1.5, InvalidTypeError, "seed must be an integer"),
+        (np.random.default_rng(0), InvalidTypeError, "seed must be an integer"),
+        (-1, InvalidInputError, "seed must be >= 0"),
+    ],
+)
+def test_a_hills_scenario_is_made_from_a_seed(seed: Any, error: type[Exception], words: str) -> None:
+    hills = uavcov.terrain.HillsGenerator(size=30.0, n_hills=2)
+    refused(error, words, hills.make, seed)
+    np.testing.assert_array_equal(hills.make(np.int64(4)).vertices, hills.make(4).vertices)
+
+
+@pytest.mark.parametrize(
+    "corners, error, words",
+    [
+        ((-84.4, True, -84.38, 36.47), InvalidTypeError, "ymin must be a real number"),  # 1 degree before
+        ((False, 36.45, -84.38, 36.47), InvalidTypeError, "xmin must be a real number"),
+        ((-84.4, 36.45, "-84.38", 36.47), InvalidTypeError, "xmax must be a real number"),
+        ((-84.4, 36.45, -84.38, NAN), InvalidInputError, "ymax must be finite"),
+        ((-84.4, 36.45, [-84.38], 36.47), InvalidTypeError, "xmax must be a real number"),
+    ],
+)
+def test_a_bbox_area_is_four_numbers(corners: tuple[Any, ...], error: type[Exception], words: str) -> None:
+    refused(error, words, uavcov.field.bbox_area, *corners)
+
+
+@pytest.mark.parametrize("shape", [True, (2, True), {}, {"a": 3}, "ab", (2, np.bool_(False))])
+def test_standard_normal_takes_no_flag_or_mapping_for_a_shape(shape: Any) -> None:
+    from uavcov.optim import standard_normal
+
+    generator = np.random.default_rng(0)
+    before = generator.bit_generator.state
+    refused(InvalidTypeError, "shape must be an int or a tuple of ints", standard_normal, generator, shape)
+    assert generator.bit_generator.state == before  # nothing drawn
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"noise": NAN}, InvalidInputError, "noise must be finite"),
+        ({"noise": -0.1}, InvalidInputError, "noise must be >= 0"),
+        ({"noise": "0.1"}, InvalidTypeError, "noise must be a real number"),
+        ({"points": np.full((4, 3), 1e300)}, InvalidInputError, "points must lie within 1e15 m"),
+        ({"points": [[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, -1e16]]}, InvalidInputError, "points must lie within 1e15 m"),
+    ],
+)
+def test_a_structure_prior_checks_its_noise_and_points(kwargs: dict[str, Any], error: type[Exception], words: str) -> None:
+    from uavcov.structures import StructurePrior
+
+    arguments = {"points": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]), "normals": None, "kind": "points", **kwargs}
+    refused(error, words, StructurePrior, **arguments)

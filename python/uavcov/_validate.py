@@ -276,7 +276,9 @@ def as_n_threads(value: Any) -> int:
 
 def as_generator(rng: Any) -> np.random.Generator:
     """``numpy.random.default_rng(rng)`` (SPEC 7: None, an int, a SeedSequence or a Generator),
-    with a uavcov error for anything else."""
+    with a uavcov error for anything else (True and False too: numpy would seed with 1 and 0)."""
+    if isinstance(rng, (bool, np.bool_)):
+        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}")
     try:
         return np.random.default_rng(rng)
     except (TypeError, ValueError) as exc:

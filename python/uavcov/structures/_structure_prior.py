@@ -67,7 +67,7 @@ class StructurePrior:
     def __post_init__(self) -> None:
         if not isinstance(self.kind, str) or self.kind not in PRIOR_KINDS:
             raise InvalidInputError(f"kind must be one of {PRIOR_KINDS}, got {self.kind!r}")
-        points = as_points(self.points, "points").copy()
+        points = within_coordinate_bound(as_points(self.points, "points"), "points").copy()  # S' is made of them
         object.__setattr__(self, "points", read_only(points))
         if self.normals is not None:
             normals = as_points(self.normals, "normals").copy()
@@ -78,6 +78,7 @@ class StructurePrior:
             raise InvalidTypeError(f"model must be a Terrain, got {type(self.model).__name__}")
         if (self.kind == "points") != (self.model is None):
             raise InvalidInputError("a 'points' prior has no model; a coarse prior needs one")
+        object.__setattr__(self, "noise", as_non_negative_float(self.noise, "noise"))
 
     def behind(self, points: Any) -> np.ndarray:
         """Whether the known points' normals put each point inside the structure.
