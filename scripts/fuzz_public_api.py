@@ -924,6 +924,10 @@ def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str],
 # The command line
 
 
+MESH_FILES = ("cut.ply", "huge.ply", "cut.stl", "nan.stl")
+"""Corrupt mesh files of the formats trimesh reads besides OBJ (written by ``cli_cases``)."""
+
+
 def cli_cases(workdir: Path) -> list[list[str]]:
     """Bad option values and corrupt files for every subcommand."""
     files = {
@@ -940,6 +944,10 @@ def cli_cases(workdir: Path) -> list[list[str]]:
         "dem.tif": "II*\x00garbage",
         "mesh.obj": "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n",
         "empty.obj": "",
+        "cut.ply": "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n",
+        "huge.ply": "ply\nformat ascii 1.0\nelement vertex 3000000000\n" + "property float x\n" * 3 + "end_header\n0 0 0\n",
+        "cut.stl": "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n",
+        "nan.stl": "solid t\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n",
         "run.npz": "PK\x03\x04truncated",
         "run.json": "[]",
     }
@@ -1050,6 +1058,9 @@ def cli_cases(workdir: Path) -> list[list[str]]:
         ["plan", "--structure", "girder_bridge", "--uavs", "2", "--d-max", "10", "--anchor", "500,100,0"],
         ["plan", "--structure", "empty.obj", "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"],
         ["plan", "--structure", "mesh.obj", "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"],
+        *(["plan", name, "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"] for name in MESH_FILES),
+        *(["plan", "--structure", name, "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"] for name in MESH_FILES),
+        ["view", "runs", "--run", "../../etc"],
     ]
     return cases
 
