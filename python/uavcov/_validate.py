@@ -106,9 +106,6 @@ MAX_GRID_CELLS = 10_000
 """Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
 MAX_HILLS = 10_000
 """Most Gaussians of one hills terrain: each costs a pass over every node."""
-MAX_COORDINATE_M = 1e15
-"""The largest coordinate magnitude, metres: the engine's bound on a surface's vertices (a
-coordinate there still resolves 0.125 m; beyond it areas and sight lines lose their meaning)."""
 
 
 def as_float_array(
@@ -313,6 +310,11 @@ def as_str(value: Any, name: str) -> str:
     if not value.strip():
         raise InvalidInputError(f"{name} must be a non-empty string, got {value!r}")
     return value
+
+
+MAX_COORDINATE_M = 1e15
+"""The largest coordinate magnitude, metres: the engine's bound on a surface's vertices (a
+coordinate there still resolves 0.125 m; beyond it areas and sight lines lose their meaning)."""
 
 
 def within_coordinate_bound(points: np.ndarray, name: str) -> np.ndarray:
