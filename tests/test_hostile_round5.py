@@ -667,3 +667,72 @@ def test_a_structure_prior_checks_its_noise_and_points(kwargs: dict[str, Any], e
 
     arguments = {"points": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]), "normals": None, "kind": "points", **kwargs}
     refused(error, words, StructurePrior, **arguments)
+
+
+# ---------------------------------------------------------------------------------------------
+# A flown run's file: arrays and header checked as a mission's are
+
+
+@pytest.fixture(scope="module")
+def flown_arrays(tmp_path_factory: Any) -> dict[str, np.ndarray]:
+    pytest.importorskip("rotorpy")
+    from uavcov.sim import FlightSettings, SimSettings, fly_mission, save_flown
+
+    settings = uavcov.MissionSettings(n_uavs=2, d_max=10.0, n_prior=10, iterations=1, cao=uavcov.CAOSettings(n_candidates=10))
+    flown = fly_mission(HILLS, settings, SimSettings(flight=FlightSettings(dt=0.05, max_leg_s=2.0), render=False), rng=0)
+    path = save_flown(flown, tmp_path_factory.mktemp("flown") / "flown.npz", HILLS)
+    with np.load(path, allow_pickle=False) as data:
+        return {name: data[name] for name in data.files}
+
+
+@pytest.mark.parametrize(
+    "name, value, words",
+    [
+        ("start", np.array("x"), "start has shape"),  # a ValueError before
+        ("start", np.zeros((2, 2)), "start has shape"),
+        ("commanded", np.zeros(0), "commanded has shape"),
+        ("commanded", np.zeros((5, 2, 3)), "commanded has shape"),
+        ("sensed", np.array(["a", "b"]), "sensed has shape"),
+        ("leg_ends_s", np.array("x"), "leg_ends_s has shape"),  # an IndexError before
+        ("exact", np.full(2, np.nan), "exact holds NaN or infinite values"),
+        ("reached", np.full((2, 2, 3), np.inf), "reached holds NaN or infinite values"),
+        ("clock", np.array([0.0, np.nan]), "clock holds NaN"),
+    ],
+)
+def test_a_flown_file_whose_arrays_disagree_is_refused(
+    tmp_path: Path, flown_arrays: dict[str, np.ndarray], name: str, value: Any, words: str
+) -> None:
+    from uavcov.sim import load_flown
+
+    np.savez(tmp_path / "flown.npz", **{**flown_arrays, name: value})
+    refused(ResultsFormatError, words, load_flown, tmp_path / "flown.npz")
+
+
+@pytest.mark.parametrize(
+    "field, value, words",
+    [
+        ("seed", "x", "seed = 'x' is not an integer >= 0"),
+        ("seed", -1, "seed = -1 is not an integer >= 0"),
+        ("seed", True, "seed = True is not an integer"),
+        ("measurement", "x", "measurement = 'x' is not one of"),
+        ("measurement", None, "measurement = None is not one of"),
+        ("failure", 3, "failure = 3 is not a message"),
+        ("failure", ["crash"], "failure = \\['crash'\\] is not a message"),
+    ],
+)
+def test_a_flown_file_whose_header_says_nonsense_is_refused(
+    tmp_path: Path, flown_arrays: dict[str, np.ndarray], field: str, value: Any, words: str
+) -> None:
+    from uavcov.sim import load_flown
+
+    header = {**json.loads(str(flown_arrays["header"])), field: value}
+    np.savez(tmp_path / "flown.npz", **{**flown_arrays, "header": np.array(json.dumps(header))})
+    refused(ResultsFormatError, words, load_flown, tmp_path / "flown.npz")
+
+
+def test_a_flown_file_still_loads_whole(tmp_path: Path, flown_arrays: dict[str, np.ndarray]) -> None:
+    from uavcov.sim import load_flown
+
+    np.savez(tmp_path / "flown.npz", **flown_arrays)
+    run = load_flown(tmp_path / "flown.npz")
+    assert run.trajectory.shape[0] == run.coverage.shape[0] and np.isnan(run.sensed).all()  # render=False: nothing sensed

@@ -125,16 +125,17 @@ def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, cvt: Map
         "trace_n_feasible": (moves,),
         "trace_best_positions": (n_uavs, state),
     }
-    _check_shapes(arrays, expected, path)
+    check_shapes(arrays, expected, path)
     if cvt is not None:  # the CVT's record: its generators, and one value per iteration of each curve
         curves = {f"cvt_{name}": (cvt.get("iterations"),) for name in _CVT_ARRAYS[1:]}
-        _check_shapes(arrays, {"cvt_generators": (None, 3), **curves}, path)
+        check_shapes(arrays, {"cvt_generators": (None, 3), **curves}, path)
         if "cvt_normals" in arrays:
-            _check_shapes(arrays, {"cvt_normals": arrays["cvt_generators"].shape}, path)
+            check_shapes(arrays, {"cvt_normals": arrays["cvt_generators"].shape}, path)
 
 
-def _check_shapes(arrays: dict[str, np.ndarray], expected: Mapping[str, tuple[int | None, ...]], path: Path) -> None:
-    """Each named array holds numbers in the shape expected (None: any length along that axis)."""
+def check_shapes(arrays: Mapping[str, np.ndarray], expected: Mapping[str, tuple[int | None, ...]], path: Path) -> None:
+    """Each named array of a stored run holds numbers in the shape expected (None: any length along
+    that axis); :class:`~uavcov.errors.ResultsFormatError` naming the first that does not."""
     for name, shape in expected.items():
         array = arrays[name]
         if (
