@@ -736,3 +736,28 @@ def test_a_flown_file_still_loads_whole(tmp_path: Path, flown_arrays: dict[str, 
     np.savez(tmp_path / "flown.npz", **flown_arrays)
     run = load_flown(tmp_path / "flown.npz")
     assert run.trajectory.shape[0] == run.coverage.shape[0] and np.isnan(run.sensed).all()  # render=False: nothing sensed
+
+
+# ---------------------------------------------------------------------------------------------
+# The engine's fused limit check refuses what Constraints refuses
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"h_min": -1.0}, InvalidInputError, "h_min must be >= 0"),  # admitted positions 1 m under the surface
+        ({"d_safe": -1.0}, InvalidInputError, "d_safe must be >= 0"),
+        ({"h_min": 10.0, "h_max": 5.0}, InvalidInputError, "h_max = 5.0 m is below h_min = 10.0 m"),
+        ({"bounds": (30.0, 0.0, 0.0, 30.0)}, InvalidInputError, "bounds need xmin < xmax"),  # refused every candidate
+        ({"bounds": (0.0, 0.0, 30.0, np.nan)}, InvalidInputError, "bounds contains NaN"),
+        ({"h_min": True}, InvalidTypeError, "h_min must be a real number"),
+    ],
+)
+@pytest.mark.parametrize("method", ["admissible_check", "admissible_mask"])
+def test_the_fused_limit_check_refuses_limits_no_constraints_hold(
+    method: str, kwargs: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    limits = {"bounds": (0.0, 0.0, 30.0, 30.0), "h_min": 2.0, "h_max": None, "z_max": 50.0, "d_safe": 1.0, "check_moves": True, **kwargs}
+    current = np.array([[10.0, 10.0, 30.0], [20.0, 20.0, 30.0]])
+    arguments = {"current": current, "candidates": current[None] + 1.0} if method == "admissible_mask" else {}
+    refused(error, words, getattr(HILLS, method), **arguments, **limits, n_threads=1)

@@ -17,10 +17,12 @@ import numpy as np
 from .. import _core
 from .._validate import (
     as_bool,
+    as_bounds,
     as_finite_float,
     as_float_array,
     as_index_array,
     as_n_threads,
+    as_non_negative_float,
     as_points,
     as_positive_float,
     as_str,
@@ -573,17 +575,15 @@ class Terrain:
         An optimiser asks for a mask hundreds of times a mission with the same limits; the
         callable checks only the positions on each call.
         """
-        box = as_float_array(bounds, "bounds")
-        if box.shape != (4,):
-            raise InvalidInputError(f"bounds must be (xmin, ymin, xmax, ymax), got shape {box.shape}")
-        xmin, ymin, xmax, ymax = (float(v) for v in box)
-        limits = (
-            as_finite_float(h_min, "h_min"),
-            None if h_max is None else as_finite_float(h_max, "h_max"),
-            as_finite_float(z_max, "z_max"),
-            as_finite_float(d_safe, "d_safe"),
-            as_bool(check_moves, "check_moves"),
-        )
+        # The limits a Constraints holds, refused as it refuses them: a negative h_min or d_safe
+        # would admit positions under the surface or UAVs on top of each other.
+        xmin, ymin, xmax, ymax = as_bounds(bounds)
+        floor = as_non_negative_float(h_min, "h_min")
+        ceiling = None if h_max is None else as_finite_float(h_max, "h_max")
+        if ceiling is not None and ceiling < floor:
+            raise InvalidInputError(f"h_max = {ceiling} m is below h_min = {floor} m: no position would be admissible")
+        separation = as_non_negative_float(d_safe, "d_safe")
+        limits = (floor, ceiling, as_finite_float(z_max, "z_max"), separation, as_bool(check_moves, "check_moves"))
         threads = as_n_threads(n_threads)
         if not isinstance(clearance, str) or clearance not in ("vertical", "standoff"):
             raise InvalidInputError(f'clearance must be "vertical" or "standoff", got {clearance!r}')
