@@ -56,6 +56,8 @@ class LocalFrame:
     """The map between source coordinates and the library's local metric frame.
 
     ``local = (source - origin) * factors`` per axis; ``source = local / factors + origin``.
+    Local coordinates, and the origin, lie within 1e15 m of zero (the engine's bound): a point
+    beyond is refused, not mapped to a number that has lost its metres.
 
     Attributes
     ----------
@@ -69,9 +71,6 @@ class LocalFrame:
     reference_latitude : float or None
         Latitude (degrees, in [-90, 90]) of the equirectangular projection when geographic;
         None otherwise.
-
-    Local coordinates, and the origin, lie within 1e15 m of zero (the engine's bound): a point
-    beyond is refused, not mapped to a number that has lost its metres.
     """
 
     origin: np.ndarray
