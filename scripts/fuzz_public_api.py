@@ -315,7 +315,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
         "Terrain#admissible_mask": lambda: {
             "current": pts(),
             "candidates": pts()[None] + 1.0,
-            "bounds": (0.0, 30.0, 0.0, 30.0),
+            "bounds": (0.0, 0.0, 30.0, 30.0),
             "h_min": 2.0,
             "h_max": None,
             "z_max": 50.0,
@@ -324,7 +324,7 @@ def valid_arguments(f: Fixtures) -> dict[str, Callable[[], dict[str, Any]]]:
             "n_threads": 1,
         },
         "Terrain#admissible_check": lambda: {
-            "bounds": (0.0, 30.0, 0.0, 30.0),
+            "bounds": (0.0, 0.0, 30.0, 30.0),
             "h_min": 2.0,
             "h_max": None,
             "z_max": 50.0,

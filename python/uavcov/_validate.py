@@ -343,7 +343,7 @@ def as_bounds(value: Any, name: str = "bounds") -> tuple[float, float, float, fl
         )
     xmin, ymin, xmax, ymax = (float(v) for v in array)
     if not (xmin < xmax and ymin < ymax):
-        raise InvalidInputError(f"{name} need xmin < xmax and ymin < ymax, got {tuple(array)}")
+        raise InvalidInputError(f"{name} need xmin < xmax and ymin < ymax, got {(xmin, ymin, xmax, ymax)}")
     return xmin, ymin, xmax, ymax
 
 
