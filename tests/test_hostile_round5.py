@@ -761,3 +761,17 @@ def test_the_fused_limit_check_refuses_limits_no_constraints_hold(
     current = np.array([[10.0, 10.0, 30.0], [20.0, 20.0, 30.0]])
     arguments = {"current": current, "candidates": current[None] + 1.0} if method == "admissible_mask" else {}
     refused(error, words, getattr(HILLS, method), **arguments, **limits, n_threads=1)
+
+
+@pytest.mark.parametrize("shape", [(10**12,), (10**9, 1000, 3)])
+def test_a_flown_file_whose_array_claims_terabytes_is_refused(tmp_path: Path, shape: tuple[int, ...]) -> None:
+    import io
+    import zipfile
+
+    from uavcov.sim import load_flown
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": shape})
+    with zipfile.ZipFile(tmp_path / "flown.npz", "w") as archive:  # a MemoryError before
+        archive.writestr("header.npy", header.getvalue() + bytes(64))
+    refused(ResultsFormatError, "an array of it claims more memory than there is", load_flown, tmp_path / "flown.npz")

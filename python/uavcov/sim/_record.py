@@ -179,6 +179,8 @@ def load_flown(path: str | os.PathLike[str]) -> FlownRun:
         raise
     except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, json.JSONDecodeError) as exc:
         raise ResultsFormatError(f"{file} is not a readable flown run: {type(exc).__name__}: {exc}") from exc
+    except MemoryError:  # a member whose header claims terabytes (a corrupt or hostile file), as load_mission says
+        raise ResultsFormatError(f"{file} is not a flown run: an array of it claims more memory than there is") from None
     return FlownRun(
         terrain=terrain,
         settings=settings,
