@@ -447,7 +447,7 @@ def _bridge() -> Any:
         ),
         (
             lambda v: HILLS.admissible_mask(
-                POINTS, POINTS[None] + 1.0, bounds=(0.0, 30.0, 0.0, 30.0), h_min=2.0, h_max=None, z_max=50.0, d_safe=1.0, check_moves=v
+                POINTS, POINTS[None] + 1.0, bounds=(0.0, 0.0, 30.0, 30.0), h_min=2.0, h_max=None, z_max=50.0, d_safe=1.0, check_moves=v
             ),
             "check_moves",
         ),
