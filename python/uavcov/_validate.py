@@ -34,6 +34,10 @@ limit                          value           what it bounds
                                                spacing``): 10^8 nodes
 :data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
 =============================  ==============  ===================================================
+
+Coordinates have a bound too, :data:`MAX_COORDINATE_M` (1e15 m): the engine refuses a surface
+beyond it, and :func:`within_coordinate_bound` refuses points, frames and figures beyond it with
+one message.
 """
 
 from __future__ import annotations
@@ -65,6 +69,10 @@ __all__ = [
     "as_path",
     "as_tuple",
     "as_optional_str",
+    "as_str",
+    "as_bounds",
+    "within_coordinate_bound",
+    "MAX_COORDINATE_M",
     "MAX_UAVS",
     "MAX_GENERATORS",
     "MAX_SAMPLES",
@@ -267,7 +275,9 @@ def as_n_threads(value: Any) -> int:
 
 def as_generator(rng: Any) -> np.random.Generator:
     """``numpy.random.default_rng(rng)`` (SPEC 7: None, an int, a SeedSequence or a Generator),
-    with a uavcov error for anything else."""
+    with a uavcov error for anything else (True and False too: numpy would seed with 1 and 0)."""
+    if isinstance(rng, (bool, np.bool_)):
+        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}")
     try:
         return np.random.default_rng(rng)
     except (TypeError, ValueError) as exc:
@@ -305,6 +315,50 @@ def not_a_terrain(value: Any, name: str) -> InvalidTypeError:
     if hasattr(value, "surface") and hasattr(value, "targets"):
         hint = " (a structure's mesh is its .surface, and Visibility takes its .targets(spacing=...) as targets)"
     return InvalidTypeError(f"{name} must be a uavcov Terrain, got {type(value).__name__}{hint}")
+
+
+def as_str(value: Any, name: str) -> str:
+    """``value`` when it is a non-empty string (a name, a label, a word of a choice)."""
+    if not isinstance(value, str):
+        raise InvalidTypeError(f"{name} must be a string, got {type(value).__name__}")
+    if not value.strip():
+        raise InvalidInputError(f"{name} must be a non-empty string, got {value!r}")
+    return value
+
+
+MAX_COORDINATE_M = 1e15
+"""The largest coordinate magnitude, metres: the engine's bound on a surface's vertices (a
+coordinate there still resolves 0.125 m; beyond it areas and sight lines lose their meaning)."""
+
+
+def within_coordinate_bound(points: np.ndarray, name: str) -> np.ndarray:
+    """``points`` (a float array of coordinates, metres) when none is beyond :data:`MAX_COORDINATE_M`.
+
+    NaN passes (finiteness is the caller's check); an infinite coordinate does not.
+    """
+    if points.size:
+        largest = float(np.nanmax(np.abs(points), initial=0.0))
+        if largest > MAX_COORDINATE_M:
+            raise InvalidInputError(f"{name} must lie within 1e15 m of the origin, got a coordinate of {largest:g} m")
+    return points
+
+
+def as_bounds(value: Any, name: str = "bounds") -> tuple[float, float, float, float]:
+    """An x-y rectangle ``(xmin, ymin, xmax, ymax)`` of finite floats with ``xmin < xmax``, ``ymin < ymax``
+    (also read from ``[[xmin, ymin, ...], [xmax, ymax, ...]]``, a surface's ``bounds``)."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidTypeError(f"{name} must be (xmin, ymin, xmax, ymax), got a string")
+    array = as_float_array(value, name)
+    if array.ndim == 2 and array.shape[0] == 2 and array.shape[1] >= 2:
+        array = np.array([array[0, 0], array[0, 1], array[1, 0], array[1, 1]])
+    if array.shape != (4,):
+        raise InvalidInputError(
+            f"{name} must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], got shape {array.shape}"
+        )
+    xmin, ymin, xmax, ymax = (float(v) for v in array)
+    if not (xmin < xmax and ymin < ymax):
+        raise InvalidInputError(f"{name} need xmin < xmax and ymin < ymax, got {(xmin, ymin, xmax, ymax)}")
+    return xmin, ymin, xmax, ymax
 
 
 def as_tuple(value: Any, name: str) -> tuple[Any, ...]:

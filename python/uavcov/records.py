@@ -107,17 +107,35 @@ def _check_fields(record: Any, types: Mapping[str, tuple[type, ...]], where: str
             raise ResultsFormatError(f"{path}: {where}.{name} = {value!r} is not {'an integer' if kinds is _INT else 'a number'}")
 
 
-def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, path: Path) -> None:
-    """The arrays' shapes agree with each other and with the spec (a corrupt file is refused)."""
+def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, cvt: Mapping[str, Any] | None, path: Path) -> None:
+    """The arrays' shapes agree with each other, with the spec and with the CVT's record ``cvt`` (a corrupt file is refused)."""
     n_uavs = spec.n_uavs
     state = 3 + len(spec.free_angles)  # the optimiser's variables per UAV: a position, then free camera angles
+    configurations = arrays["coverage"].shape[0] if arrays["coverage"].ndim == 1 else None
+    moves = None if configurations is None else configurations - 1
     expected = {
         "prior_points": (None, 3),
         "start_positions": (n_uavs, 3),
         "coverage": (None,),
-        "trace_trajectory": (None, n_uavs, state),
+        "trace_trajectory": (configurations, n_uavs, state),
+        "trace_values": (configurations,),
+        "trace_measured": (configurations,),
+        "trace_step_sizes": (moves,),
+        "trace_n_checked": (moves,),
+        "trace_n_feasible": (moves,),
         "trace_best_positions": (n_uavs, state),
     }
+    check_shapes(arrays, expected, path)
+    if cvt is not None:  # the CVT's record: its generators, and one value per iteration of each curve
+        curves = {f"cvt_{name}": (cvt.get("iterations"),) for name in _CVT_ARRAYS[1:]}
+        check_shapes(arrays, {"cvt_generators": (None, 3), **curves}, path)
+        if "cvt_normals" in arrays:
+            check_shapes(arrays, {"cvt_normals": arrays["cvt_generators"].shape}, path)
+
+
+def check_shapes(arrays: Mapping[str, np.ndarray], expected: Mapping[str, tuple[int | None, ...]], path: Path) -> None:
+    """Each named array of a stored run holds numbers in the shape expected (None: any length along
+    that axis); :class:`~uavcov.errors.ResultsFormatError` naming the first that does not."""
     for name, shape in expected.items():
         array = arrays[name]
         if (
@@ -127,10 +145,6 @@ def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, path: Pa
         ):
             wanted = "(" + ", ".join("n" if d is None else str(d) for d in shape) + ")"
             raise ResultsFormatError(f"{path}: {name} has shape {array.shape} and dtype {array.dtype}, expected numbers of shape {wanted}")
-    if arrays["trace_trajectory"].shape[0] != arrays["coverage"].shape[0]:
-        raise ResultsFormatError(
-            f"{path}: {arrays['trace_trajectory'].shape[0]} positions in the trajectory for {arrays['coverage'].shape[0]} coverage values"
-        )
 
 
 def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
@@ -272,11 +286,13 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             spec, seed, prior_kind = _spec_of_format_1(header)
         else:
             spec, seed, prior_kind = MissionSettings.from_dict(header["spec"]), header["seed"], header["prior_kind"]
-        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
-            raise ResultsFormatError(f"{path}: seed = {seed!r} is not an integer")
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+            raise ResultsFormatError(f"{path}: seed = {seed!r} is not an integer >= 0")
         if not isinstance(prior_kind, str):
             raise ResultsFormatError(f"{path}: prior_kind = {prior_kind!r} is not a string")
-        _check_arrays(arrays, spec, path)
+        if header.get("cvt") is not None:
+            _require(arrays, tuple(f"cvt_{n}" for n in _CVT_ARRAYS), path)
+        _check_arrays(arrays, spec, header.get("cvt"), path)
         t = header["trace"]
         trace = OptimizerTrace(
             kind=t["kind"],
@@ -290,7 +306,6 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         )
         cvt = None
         if header.get("cvt") is not None:
-            _require(arrays, tuple(f"cvt_{n}" for n in _CVT_ARRAYS), path)
             # Records written before the CVT's facings have none.
             normals = arrays.get("cvt_normals")
             cvt = CVTResult(**{n: arrays[f"cvt_{n}"] for n in _CVT_ARRAYS}, **header["cvt"], normals=normals)

@@ -17,14 +17,18 @@ import numpy as np
 from .. import _core
 from .._validate import (
     as_bool,
+    as_bounds,
     as_finite_float,
     as_float_array,
     as_index_array,
     as_n_threads,
+    as_non_negative_float,
     as_points,
     as_positive_float,
+    as_str,
     not_a_terrain,
     read_only,
+    within_coordinate_bound,
 )
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ._targets import Targets
@@ -574,17 +578,15 @@ class Terrain:
         An optimiser asks for a mask hundreds of times a mission with the same limits; the
         callable checks only the positions on each call.
         """
-        box = as_float_array(bounds, "bounds")
-        if box.shape != (4,):
-            raise InvalidInputError(f"bounds must be (xmin, ymin, xmax, ymax), got shape {box.shape}")
-        xmin, ymin, xmax, ymax = (float(v) for v in box)
-        limits = (
-            as_finite_float(h_min, "h_min"),
-            None if h_max is None else as_finite_float(h_max, "h_max"),
-            as_finite_float(z_max, "z_max"),
-            as_finite_float(d_safe, "d_safe"),
-            as_bool(check_moves, "check_moves"),
-        )
+        # The limits a Constraints holds, refused as it refuses them: a negative h_min or d_safe
+        # would admit positions under the surface or UAVs on top of each other.
+        xmin, ymin, xmax, ymax = as_bounds(bounds)
+        floor = as_non_negative_float(h_min, "h_min")
+        ceiling = None if h_max is None else as_finite_float(h_max, "h_max")
+        if ceiling is not None and ceiling < floor:
+            raise InvalidInputError(f"h_max = {ceiling} m is below h_min = {floor} m: no position would be admissible")
+        separation = as_non_negative_float(d_safe, "d_safe")
+        limits = (floor, ceiling, as_finite_float(z_max, "z_max"), separation, as_bool(check_moves, "check_moves"))
         threads = as_n_threads(n_threads)
         if not isinstance(clearance, str) or clearance not in ("vertical", "standoff"):
             raise InvalidInputError(f'clearance must be "vertical" or "standoff", got {clearance!r}')
@@ -622,6 +624,7 @@ def as_mesh_surface(surface: Any, purpose: str) -> Terrain:
     InvalidInputError
         No face, or no area.
     """
+    purpose = as_str(purpose, "purpose")
     if not isinstance(surface, Terrain):
         raise not_a_terrain(surface, "surface")
     if surface.n_faces == 0 or surface.area <= 0.0:
@@ -652,7 +655,7 @@ def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     vertices : (V, 3) float64 ndarray
-        Finite, metres.
+        Finite, metres, within 1e15 m of the origin (the engine's bound).
     faces : (F, 3) int64 ndarray
         Indices into ``vertices``.
 
@@ -663,6 +666,7 @@ def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         times the core's threshold, so rounding never lets one through to it).
     """
     vertices, faces = as_points(vertices, "vertices", allow_empty=True), as_index_array(faces, "faces")
+    within_coordinate_bound(vertices, "vertices")  # beyond, an area overflows and a real triangle would read as degenerate
     if faces.size and (faces.min() < 0 or faces.max() >= vertices.shape[0]):
         raise InvalidInputError(f"faces index vertices 0-{vertices.shape[0] - 1}, got indices {faces.min()}-{faces.max()}")
     if not faces.size:

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array, as_points
+from .._validate import as_float_array, as_points, within_coordinate_bound
 from ..errors import InvalidInputError
 
 
@@ -30,7 +30,8 @@ class Targets:
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-finite values, negative weights or weights that are all zero.
+        Wrong shapes, non-finite values, points beyond 1e15 m, negative weights or weights that
+        are all zero.
 
     Examples
     --------
@@ -45,7 +46,7 @@ class Targets:
     normals: np.ndarray | None
 
     def __init__(self, points: Any, weights: Any = None, normals: Any = None) -> None:
-        p = as_points(points, "targets")
+        p = within_coordinate_bound(as_points(points, "targets"), "targets")  # as the surfaces they stand on
         if weights is None:
             w = np.ones(p.shape[0])
         else:

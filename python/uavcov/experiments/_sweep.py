@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import MAX_RUNS, MAX_UAVS, as_optional_str, as_tuple, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, as_non_negative_int, as_optional_str, as_str, as_tuple, is_int
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
 from ..mission import MissionResult, run_mission
@@ -103,6 +103,7 @@ class Experiment:
     seeds: tuple[int, ...] = field(default=())
 
     def __post_init__(self) -> None:
+        as_str(self.name, "name")  # the label of its runs, in runs.csv and every message
         if not isinstance(self.terrain, (HillsGenerator, BuildingsGenerator, Terrain)):
             raise InvalidTypeError(f"terrain must be a HillsGenerator, BuildingsGenerator or Terrain, got {type(self.terrain).__name__}")
         if not isinstance(self.mission, MissionSettings):
@@ -163,6 +164,7 @@ class Experiment:
 
     def known(self, seed: int) -> Terrain | None:
         """What the team is told of scenario ``seed`` beforehand, when it is not ``mission.prior``'s sample."""
+        seed = as_non_negative_int(seed, "seed")  # a scenario's seed, whether or not this terrain draws a map from it
         return self.terrain.simplified_map(seed) if isinstance(self.terrain, BuildingsGenerator) else None
 
     def with_changes(self, **changes: Any) -> Experiment:

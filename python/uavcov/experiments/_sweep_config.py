@@ -57,7 +57,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, as_path, is_int
+from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, as_path, as_str, is_int
 from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -396,7 +396,7 @@ def parse_sweep_config(
     data: Mapping[str, Any], *, bases: Mapping[str, Experiment], source: str = "<sweep>", default_name: str = "sweep"
 ) -> SweepConfig:
     """Validate a sweep given as a mapping (the parsed TOML) over the experiments ``bases``; see the module docstring."""
-    src = _Source(source)
+    src = _Source(as_str(source, "source"))
     if not isinstance(data, Mapping):
         raise ConfigError(f"{source}: a sweep is a table of settings, got {type(data).__name__}")
     for key in data:

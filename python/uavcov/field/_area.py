@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_float_array, as_optional_str, as_tuple
+from .._validate import as_finite_float, as_float_array, as_optional_str, as_tuple
 from ..errors import InvalidInputError, InvalidTypeError
 from ..terrain import GeoDem, wrap_longitude
 
@@ -135,8 +135,8 @@ def points_in_rings(xy: Any, rings: list[np.ndarray]) -> np.ndarray:
 def bbox_area(xmin: float, ymin: float, xmax: float, ymax: float, *, frame: str = "wgs84") -> AreaOfInterest:
     """A rectangle as an area: ``(xmin, ymin, xmax, ymax)`` in longitude, latitude (``frame="wgs84"``)
     or in the DEM's CRS (``frame="dem"``)."""
-    values = as_float_array([xmin, ymin, xmax, ymax], "bbox", ndim=1)
-    x0, y0, x1, y1 = (float(v) for v in values)
+    # one number each (numpy would read True as 1 degree)
+    x0, y0, x1, y1 = (as_finite_float(v, name) for v, name in zip((xmin, ymin, xmax, ymax), ("xmin", "ymin", "xmax", "ymax"), strict=True))
     if not (x0 < x1 and y0 < y1):
         raise InvalidInputError(f"a bounding box needs xmin < xmax and ymin < ymax, got {(x0, y0, x1, y1)}")
     ring = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])

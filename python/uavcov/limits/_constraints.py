@@ -36,7 +36,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_float, as_positive_int
+from .._validate import as_bounds, as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_float, as_positive_int
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
 # closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
@@ -82,22 +82,6 @@ class StandoffWorld(World, Protocol):
 
 
 _CLEARANCES = ("vertical", "standoff")
-
-
-def _as_bounds(value: Any) -> tuple[float, float, float, float]:
-    if isinstance(value, (str, bytes)):
-        raise InvalidTypeError("bounds must be (xmin, ymin, xmax, ymax), got a string")
-    array = as_float_array(value, "bounds")
-    if array.ndim == 2 and array.shape[0] == 2 and array.shape[1] >= 2:
-        array = np.array([array[0, 0], array[0, 1], array[1, 0], array[1, 1]])
-    if array.shape != (4,):
-        raise InvalidInputError(
-            f"bounds must be (xmin, ymin, xmax, ymax) or [[xmin, ymin, ...], [xmax, ymax, ...]], got shape {array.shape}"
-        )
-    xmin, ymin, xmax, ymax = (float(v) for v in array)
-    if not (xmin < xmax and ymin < ymax):
-        raise InvalidInputError(f"bounds need xmin < xmax and ymin < ymax, got {tuple(array)}")
-    return xmin, ymin, xmax, ymax
 
 
 @dataclass(frozen=True)
@@ -175,7 +159,7 @@ class Constraints:
         if self.clearance not in _CLEARANCES:
             raise InvalidInputError(f'clearance must be "vertical" or "standoff", got {self.clearance!r}')
         if self.bounds is not None:
-            object.__setattr__(self, "bounds", _as_bounds(self.bounds))
+            object.__setattr__(self, "bounds", as_bounds(self.bounds))
         object.__setattr__(self, "h_min", as_non_negative_float(self.h_min, "h_min"))
         object.__setattr__(self, "z_max", as_finite_float(self.z_max, "z_max"))
         object.__setattr__(self, "d_safe", as_non_negative_float(self.d_safe, "d_safe"))
@@ -196,7 +180,7 @@ class Constraints:
     def for_world(cls, world: World, **kwargs: Any) -> Constraints:
         """Constraints whose x-y bounds are those of ``world`` (e.g. a ``Terrain``)."""
         _check_world(world)
-        return cls(bounds=_as_bounds(world.bounds), **kwargs).resolve(world)
+        return cls(bounds=as_bounds(world.bounds), **kwargs).resolve(world)
 
     def resolve(self, world: World) -> Constraints:
         """These constraints with ``bounds`` and ``check_moves`` decided for ``world``.
@@ -207,7 +191,7 @@ class Constraints:
         _check_world(world)
         if self.bounds is not None and self.check_moves is not None:
             return self
-        bounds = _as_bounds(world.bounds) if self.bounds is None else self.bounds
+        bounds = as_bounds(world.bounds) if self.bounds is None else self.bounds
         check_moves = getattr(world, "grid", None) is None if self.check_moves is None else self.check_moves
         return replace(self, bounds=bounds, check_moves=check_moves)
 

@@ -66,7 +66,11 @@ def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> n
     if not isinstance(rng, np.random.Generator):
         raise InvalidTypeError(f"rng must be a numpy Generator, got {type(rng).__name__}")
     try:
+        if isinstance(shape, (str, bytes, dict)):  # iterable, but never a shape
+            raise TypeError(shape)
         dims = (shape,) if isinstance(shape, (int, np.integer)) else tuple(shape)
+        if any(isinstance(d, (bool, np.bool_)) for d in dims):  # numpy would read True as 1
+            raise TypeError(shape)
         dims = tuple(operator.index(d) for d in dims)
     except TypeError:
         raise InvalidTypeError(f"shape must be an int or a tuple of ints, got {shape!r}") from None

@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import Any
 
+from .._validate import as_finite_float, as_non_negative_float
 from ..experiments import Experiment
 from ..limits import Constraints
 from ..optim import CAO_PRESETS
@@ -199,10 +200,15 @@ EXPERIMENTS: Mapping[str, Experiment] = MappingProxyType({e.name: e for e in (TA
 
 @dataclass(frozen=True)
 class PublishedValue:
-    """A mean and standard deviation as printed in the paper."""
+    """A mean and standard deviation as printed in the paper (finite numbers, ``sigma >= 0``)."""
 
     mean: float
     sigma: float
+
+    def __post_init__(self) -> None:
+        # A claim is judged against these: a NaN or a negative spread would pass or fail any test.
+        object.__setattr__(self, "mean", as_finite_float(self.mean, "mean"))
+        object.__setattr__(self, "sigma", as_non_negative_float(self.sigma, "sigma"))
 
 
 TABLE1_COLUMNS: tuple[tuple[str, str], ...] = (

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
@@ -14,17 +15,25 @@ from ..errors import ResultsFormatError
 __all__ = ["append_row", "read_rows"]
 
 
-def read_rows(path: Path) -> list[dict[str, Any]]:
-    """Every complete row of ``path`` (none when it does not exist)."""
+def read_rows(path: Path, keys: Collection[str] = ()) -> list[dict[str, Any]]:
+    """Every complete row of ``path`` (none when it does not exist), each an object with ``keys``.
+
+    Raises
+    ------
+    ResultsFormatError
+        A complete line that is JSON but not an object with ``keys`` (a file of another kind, not
+        a torn row).
+    """
     rows = []
     if path.exists():
         for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), start=1):
             try:
                 row = json.loads(line)
-            except json.JSONDecodeError:
+            except (json.JSONDecodeError, RecursionError):
                 continue  # a line torn by a kill mid-write: that run runs again
-            if not isinstance(row, dict):  # a torn row starts with "{" and never parses: this is not one
-                raise ResultsFormatError(f"{path}, line {number}: a row is a JSON object, got {type(row).__name__}")
+            if not isinstance(row, dict) or not set(keys) <= row.keys():
+                what = f"a JSON object with {', '.join(keys)}" if keys else "a JSON object"
+                raise ResultsFormatError(f"{path} holds a row that is not {what} (line {number}): {line[:120]}")
             rows.append(row)
     return rows
 

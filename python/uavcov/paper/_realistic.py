@@ -27,7 +27,7 @@ import numpy as np
 
 from .._validate import as_finite_float
 from ..engine import Targets
-from ..errors import ConfigError, InvalidInputError
+from ..errors import ConfigError, InvalidInputError, ResultsFormatError
 from ..experiments import Experiment, parse_seeds
 from ..field import write_seen_ply
 from ..mission import run_mission
@@ -59,6 +59,8 @@ _COLUMNS = (
     "max_overshoot_m", "failure", "wall_time_s",
 )  # fmt: skip
 ROWS = "rows.jsonl"
+ROW_KEYS = ("seed", "start", "measurement")
+"""What names a row of ``ROWS``: its scene, start and CAO measurement."""
 CONFIG = "config.json"
 STARTS = ("cvt", "pairs")
 
@@ -265,12 +267,16 @@ def fly_experiment(
     if config_path.exists() or rows_path.exists():
         if not resume:
             raise ConfigError(f"{folder} holds a flown experiment already: resume it (--resume) or choose another --out")
-        if json.loads(config_path.read_text(encoding="utf-8")) != config:
+        try:
+            recorded = json.loads(config_path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+            raise ResultsFormatError(f"{folder} cannot be resumed: its {CONFIG} is missing or unreadable ({exc})") from None
+        if recorded != config:
             raise ConfigError(f"{folder} was run with other settings; choose another --out")
     else:
         config_path.write_text(json.dumps(config, indent=2, sort_keys=True) + "\n", encoding="utf-8")
     tasks = [(seed, start, m) for seed in config["seeds"] for start in config["starts"] for m in config["measurements"]]
-    done = {(r["seed"], r["start"], r["measurement"]): r for r in read_rows(rows_path)}
+    done = {(r["seed"], r["start"], r["measurement"]): r for r in read_rows(rows_path, ROW_KEYS)}
     say = progress or (lambda message: None)
     for k, task in enumerate(tasks):
         if task in done:

@@ -249,26 +249,27 @@ def _realistic_config(path: Path) -> dict[str, Any]:
 
 def write_realistic_report(folder: str | os.PathLike[str]) -> Path:
     """(Re)write the report of the realistic run in ``folder`` from its rows; returns ``realistic.md``."""
-    from ._realistic import CONFIG, ROWS, realistic_rows_columns
+    from ._realistic import CONFIG, ROW_KEYS, ROWS, realistic_rows_columns
 
     path = as_path(folder, "folder")
     if not (path / CONFIG).is_file():
         raise ConfigError(f"{path} holds no realistic run (no {CONFIG})")
     config = _realistic_config(path / CONFIG)
-    rows = read_rows(path / ROWS)
-    broken = next((r for r in rows if not isinstance(r, dict) or not {"seed", "start", "measurement"} <= r.keys()), None)
-    if broken is not None:
-        raise ResultsFormatError(f"{path / ROWS} holds a row that is not a realistic run's: {str(broken)[:120]}")
+    rows = read_rows(path / ROWS, ROW_KEYS)
     order = {
         (s, st, m): k
         for k, (s, st, m) in enumerate((s, st, m) for s in config["seeds"] for st in config["starts"] for m in config["measurements"])
     }
-    rows.sort(key=lambda r: order.get((r["seed"], r["start"], r["measurement"]), len(order)))
-    atomic_write(path / "runs.csv", _csv(rows, realistic_rows_columns()))
-    atomic_write(
-        path / "coverage.csv", _csv(_curve_rows(rows), ["seed", "start", "measurement", "k", "clock_s", "energy_j", "exact", "sensed"])
-    )
-    figures = _figures(path, rows) if rows else []
+    try:  # a row or a config.json missing what the report reads is a corrupt folder, not a KeyError
+        rows.sort(key=lambda r: order.get((r["seed"], r["start"], r["measurement"]), len(order)))
+        runs_csv = _csv(rows, realistic_rows_columns())
+        coverage_csv = _csv(_curve_rows(rows), ["seed", "start", "measurement", "k", "clock_s", "energy_j", "exact", "sensed"])
+        figures = _figures(path, rows) if rows else []
+        markdown = realistic_report_markdown(config, rows, figures)
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise ResultsFormatError(f"{path} holds rows or a {CONFIG} its report cannot read: {type(exc).__name__}: {exc}") from None
+    atomic_write(path / "runs.csv", runs_csv)
+    atomic_write(path / "coverage.csv", coverage_csv)
     report = path / "realistic.md"
-    atomic_write(report, realistic_report_markdown(config, rows, figures).encode())
+    atomic_write(report, markdown.encode())
     return report

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .._validate import as_float_array, as_points, as_positive_int
+from .._validate import as_bounds, as_float_array, as_points, as_positive_int
 from ..engine import Gimbal, Sensor, Terrain, Visibility
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -180,6 +180,8 @@ def fit_footprints(
     if bounds is None:
         b = surface.bounds
         bounds = (float(b[0, 0]), float(b[0, 1]), float(b[1, 0]), float(b[1, 1]))
+    else:  # checked even when no camera is oblique (only an oblique one stands back within them)
+        bounds = as_bounds(bounds)
 
     vis = Visibility(surface, max(s.d_max for s in team), n_threads=n_threads)
     targets = vis.targets

@@ -254,6 +254,7 @@ class StartSettings:
 
     def height_above_reference(self, n: int, rng: np.random.Generator) -> np.ndarray | float:
         """The height of each UAV above the reference, metres (draws from ``rng`` for a random height)."""
+        n, rng = as_count(n, "n", MAX_SAMPLES), as_generator(rng)  # checked for every kind, not only the one that draws
         if self.kind == "random" and self.random_altitude is not None:
             return rng.uniform(*self.random_altitude, size=n)
         if self.kind in ("corner", "pairs", "launch_pad") and self.corner_altitude is not None:
@@ -328,6 +329,10 @@ def start_configuration(
     if n_threads is not None:
         as_positive_int(n_threads, "n_threads")
     generator = as_generator(rng)
+    # The options of some kinds only, checked for all: one a kind ignores is still a mistake.
+    d_max = None if d_max is None else as_positive_float(d_max, "d_max")
+    if constraints is not None and not isinstance(constraints, Constraints):
+        raise InvalidTypeError(f"constraints must be a Constraints, got {type(constraints).__name__}")
     if spec.altitude_reference == "normal":
         if spec.kind == "greedy":
             placed = structure_greedy_start(spec, approximation, terrain, n, d_max, constraints, keep_out=keep_out, n_threads=n_threads)

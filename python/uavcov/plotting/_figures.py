@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_bool, as_path, as_positive_float, as_positive_int
+from .._validate import as_bool, as_finite_float, as_path, as_positive_float, as_positive_int
 from ..engine import Targets, Terrain, Visibility
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..placement import CVTResult
@@ -298,6 +298,9 @@ def plot_coverage_map(
     if not isinstance(view, str) or view not in ("3d", "top"):  # checked before anything is computed
         raise InvalidInputError(f"view must be '3d' or 'top', got {view!r}")
     shade = as_bool(shade, "shade")
+    # The 3D view's options, checked for the top view too: a mistake is reported whichever view draws.
+    elev, azim = as_finite_float(elev, "elev"), as_finite_float(azim, "azim")
+    max_polygons, raster = as_positive_int(max_polygons, "max_polygons"), as_positive_int(raster, "raster")
     start: np.ndarray | None = None
     label = "UAV positions"
     coverage_value: float | None = None
@@ -337,7 +340,7 @@ def plot_coverage_map(
         )
     elif view == "top":
         fig, ax = _new_axes(ax, three_d=False, figsize=(6.6, 6.0))
-        _draw_top(ax, terrain, sight, d, path, as_positive_int(raster, "raster"), shade=shade, sensors=sensors)
+        _draw_top(ax, terrain, sight, d, path, raster, shade=shade, sensors=sensors)
         ax.set_title(f"Coverage {coverage_value:.3f} (d_max = {d:g} m), top view", fontsize=10)
     else:
         raise InvalidInputError(f"view must be '3d' or 'top', got {view!r}")

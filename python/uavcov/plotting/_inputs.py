@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_points
+from .._validate import as_points, within_coordinate_bound
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..records import load_mission
@@ -92,8 +92,10 @@ def _d_max(result: Any) -> float:
 
 
 def _points(value: Any, name: str, *, allow_empty: bool = True) -> np.ndarray:
-    """``(n, 3)`` finite float64 points, metres: :func:`uavcov._validate.as_points`, except that
-    any empty input (``[]`` as well as ``np.empty((0, 3))``) is no points when ``allow_empty``.
+    """``(n, 3)`` finite float64 points within 1e15 m of the origin, metres:
+    :func:`uavcov._validate.as_points`, except that any empty input (``[]`` as well as
+    ``np.empty((0, 3))``) is no points when ``allow_empty``. A point beyond the bound would be
+    drawn outside the axes (or make matplotlib's projection singular): refused.
 
     ``as_points`` reads ``[]`` as shape ``(0,)`` and refuses it; here "nothing seen" and "no
     known points" arrive that way, and they are valid.
@@ -104,7 +106,7 @@ def _points(value: Any, name: str, *, allow_empty: bool = True) -> np.ndarray:
         empty = False  # ragged and the like: as_points says what is wrong
     if empty and allow_empty:
         return np.empty((0, 3))
-    return as_points(value, name, allow_empty=allow_empty)
+    return within_coordinate_bound(as_points(value, name, allow_empty=allow_empty), name)
 
 
 def _terrain(value: Any, name: str) -> Terrain:

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_positive_int
+from .._validate import as_finite_float, as_positive_int, within_coordinate_bound
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
@@ -238,8 +238,7 @@ def _style_3d(ax: Any, bounds: np.ndarray, *, elev: float, azim: float, title: s
 def _scene_bounds(*parts: np.ndarray) -> np.ndarray:
     """``(2, 3)`` low and high corners of every point of ``parts`` (any arrays of 3D points)."""
     stacked = np.concatenate([np.asarray(p, dtype=float).reshape(-1, 3) for p in parts if np.size(p)])
-    if np.abs(stacked).max() > 1e15:  # the engine's bound; matplotlib's projection turns singular far before 1e300
-        raise InvalidInputError(f"a figure draws points within 1e15 m of the origin, got a coordinate of {np.abs(stacked).max():g} m")
+    within_coordinate_bound(stacked, "a figure's points")  # matplotlib's projection turns singular far before 1e300
     return np.stack([stacked.min(axis=0), stacked.max(axis=0)])
 
 

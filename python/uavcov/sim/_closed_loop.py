@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_generator, as_positive_float, read_only
+from .._validate import as_bool, as_finite_float, as_generator, as_positive_float, read_only
 from ..engine import Terrain, Visibility
 from ..errors import FlightError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints, feasibility
@@ -82,6 +82,7 @@ class SimSettings:
             raise InvalidInputError(f"measurement must be one of {MEASUREMENTS}, got {self.measurement!r}")
         if self.camera is not None and not isinstance(self.camera, DepthCamera):
             raise InvalidTypeError(f"camera must be a DepthCamera or None, got {type(self.camera).__name__}")
+        object.__setattr__(self, "render", as_bool(self.render, "render"))
         if self.measurement == "sensed" and not self.render:
             raise InvalidInputError("the sensed measurement needs the cameras to render (render=True)")
         if self.observe_radius is not None:
@@ -94,6 +95,8 @@ class SimSettings:
 
     def flight_limits(self, planned: Constraints) -> Constraints:
         """The limits the flown states are judged against: ``planned`` widened by ``limits_margin``."""
+        if not isinstance(planned, Constraints):
+            raise InvalidTypeError(f"planned must be a Constraints, got {type(planned).__name__}")
         m = self.limits_margin
         if m == 0.0:
             return planned

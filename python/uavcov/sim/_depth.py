@@ -133,6 +133,7 @@ class DepthCamera:
         """
         if not isinstance(terrain, Terrain):
             raise InvalidTypeError(f"terrain must be a uavcov.Terrain, got {type(terrain).__name__}")
+        generator = as_generator(rng)  # checked with or without noise to draw
         origin = as_float_array(position, "position")
         turn = as_float_array(rotation, "rotation")
         if origin.shape != (3,) or turn.shape != (3, 3) or not (np.isfinite(origin).all() and np.isfinite(turn).all()):
@@ -142,7 +143,7 @@ class DepthCamera:
         valid = np.isfinite(hits)
         depth = np.where(valid, hits, np.nan)
         if self.noise_sd > 0.0:
-            depth = depth + as_generator(rng).normal(0.0, self.noise_sd, size=depth.shape)
+            depth = depth + generator.normal(0.0, self.noise_sd, size=depth.shape)
         points = origin + rays[valid] * depth[valid, None]
         return depth.reshape(self.height, self.width), points
 

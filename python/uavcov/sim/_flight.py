@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_bool, as_finite_float, as_float_array, as_generator, as_positive_float, read_only
+from .._validate import as_bool, as_finite_float, as_float_array, as_generator, as_positive_float, read_only, within_coordinate_bound
 from ..engine import Terrain
 from ..errors import FlightError, InvalidInputError, InvalidTypeError, MissingExtraError
 from ._wind import DrydenGusts
@@ -33,7 +33,6 @@ about 0.18 m arms); ``docs/realistic.md`` compares them."""
 INTEGRATORS = ("rk23", "rk45")
 """How each control period is integrated (:attr:`FlightSettings.integrator`); ``"rk45"`` is RotorPy's default."""
 
-_MAX_COORDINATE_M = 1e15  # the engine's bound on a coordinate (uavcov.terrain._meshes.MAX_COORDINATE_M)
 _GRAVITY = 9.81  # m/s^2, RotorPy's value
 # A rest-to-rest leg's 7th-degree polynomial peaks at 35/16 of its average speed mid-leg; RotorPy's
 # cap on the mid-leg speed must allow it, or its QP has no solution.
@@ -267,12 +266,14 @@ class Team:
         rp = _rotorpy()
         if not isinstance(settings, FlightSettings):
             raise InvalidTypeError(f"settings must be a FlightSettings, got {type(settings).__name__}")
+        if terrain is not None and not isinstance(terrain, Terrain):
+            raise InvalidTypeError(f"terrain must be a uavcov.Terrain or None, got {type(terrain).__name__}")
+        generator = as_generator(rng)  # checked with or without gusts to draw
         params = vehicle_parameters(settings.vehicle)
         x0 = as_float_array(positions, "positions")
         if x0.ndim != 2 or x0.shape[1] != 3 or x0.shape[0] == 0:
             raise InvalidInputError(f"positions must have shape (N, 3) with N >= 1, got shape {x0.shape}")
-        if np.abs(x0).max() > _MAX_COORDINATE_M:  # the engine's bound: beyond, a step of the dynamics is lost in rounding
-            raise InvalidInputError(f"positions must lie within {_MAX_COORDINATE_M:.0e} m of the origin, got {np.abs(x0).max():g} m")
+        within_coordinate_bound(x0, "positions")  # the engine's bound: beyond, a step of the dynamics is lost in rounding
         hover = hover_rotor_speed(params)
         states = [
             {
@@ -294,7 +295,7 @@ class Team:
         )
         winds: list[Any]
         if any(settings.gusts):
-            streams = as_generator(rng).spawn(len(x0))
+            streams = generator.spawn(len(x0))
             winds = [DrydenGusts(settings.wind, settings.gusts, settings.dt, float(p[2]), g) for p, g in zip(x0, streams, strict=True)]
         else:
             winds = [rp["ConstantWind"](*settings.wind)] * len(x0)
@@ -336,8 +337,7 @@ class Team:
         goals = as_float_array(waypoints, "waypoints")
         if goals.shape != (len(self.states), 3):
             raise InvalidInputError(f"waypoints must be finite, of shape ({len(self.states)}, 3), got {goals.shape}")
-        if np.abs(goals).max() > _MAX_COORDINATE_M:
-            raise InvalidInputError(f"waypoints must lie within {_MAX_COORDINATE_M:.0e} m of the origin, got {np.abs(goals).max():g} m")
+        within_coordinate_bound(goals, "waypoints")
         cfg = self.settings
         references, end = self._references(goals)
         deadline = end + cfg.max_leg_s

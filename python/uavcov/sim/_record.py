@@ -24,7 +24,8 @@ from .._validate import as_path, read_only
 from ..engine import Terrain
 from ..errors import InvalidTypeError, ResultsFormatError
 from ..mission import MissionSettings
-from ._closed_loop import FlownMission
+from ..records import check_shapes
+from ._closed_loop import MEASUREMENTS, FlownMission
 
 __all__ = ["FlownRun", "save_flown", "load_flown", "FLOWN_FORMAT"]
 
@@ -118,12 +119,38 @@ def save_flown(flown: FlownMission, path: str | os.PathLike[str], terrain: Terra
 
 
 def is_flown_file(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is an ``.npz`` written by :func:`save_flown` (False for anything else)."""
+    """Whether ``path`` is an ``.npz`` written by :func:`save_flown` (False for any other file).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``path`` is not a path (a string or ``os.PathLike``).
+    """
+    file = as_path(path, "path")  # a number or None is a mistake, not "some other file"
     try:
-        with np.load(Path(path), allow_pickle=False) as data:
+        with np.load(file, allow_pickle=False) as data:
             return "header" in data.files and json.loads(str(data["header"])).get("format") == FLOWN_FORMAT
     except Exception:  # noqa: BLE001 - any unreadable file is simply not a flown run
         return False
+
+
+def _check_flown(arrays: dict[str, Any], header: dict[str, Any], n: int, file: Path) -> None:
+    """A flown run's arrays agree in shape with each other and the team, and its header's records are what they say."""
+    measured = arrays["reached"].shape[0] if arrays["reached"].ndim == 3 else None  # configurations measured
+    flown = arrays["states"].shape[0] if arrays["states"].ndim == 3 else None  # states recorded
+    shapes = {"start": (n, 3), "commanded": (measured, n, 3), "reached": (measured, n, 3), "exact": (measured,), "sensed": (measured,)}
+    shapes |= {"clock": (measured,), "states": (flown, n, 3), "states_time": (flown,), "leg_ends_s": (None,)}
+    check_shapes(arrays, shapes, file)
+    nonfinite = next((name for name in shapes if name not in ("sensed", "states") and not np.isfinite(arrays[name]).all()), None)
+    if nonfinite is not None:  # sensed is NaN where the cameras did not render
+        raise ResultsFormatError(f"{file}: {nonfinite} holds NaN or infinite values")
+    seed, measurement, failure = header.get("seed"), header.get("measurement"), header.get("failure")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+        raise ResultsFormatError(f"{file}: seed = {seed!r} is not an integer >= 0")
+    if measurement not in MEASUREMENTS:
+        raise ResultsFormatError(f"{file}: measurement = {measurement!r} is not one of {MEASUREMENTS}")
+    if failure is not None and not isinstance(failure, str):
+        raise ResultsFormatError(f"{file}: failure = {failure!r} is not a message")
 
 
 def load_flown(path: str | os.PathLike[str]) -> FlownRun:
@@ -145,24 +172,15 @@ def load_flown(path: str | os.PathLike[str]) -> FlownRun:
             raise ValueError(f"format {header.get('format') if isinstance(header, dict) else header!r}, not {FLOWN_FORMAT!r}")
         terrain = Terrain(arrays["terrain_vertices"], arrays["terrain_faces"])
         settings = MissionSettings.from_dict(header["spec"])
+        _check_flown(arrays, header, settings.n_uavs, file)
         reached, states = np.asarray(arrays["reached"], dtype=np.float64), np.asarray(arrays["states"], dtype=np.float64)
-        n = settings.n_uavs
-        k = reached.shape[0]
-        shapes_ok = (
-            reached.shape == (k, n, 3)
-            and states.ndim == 3
-            and states.shape[1:] == (n, 3)
-            and arrays["exact"].shape == (k,)
-            and arrays["clock"].shape == (k,)
-            and arrays["states_time"].shape == (states.shape[0],)
-        )
-        if not shapes_ok:
-            raise ValueError("arrays of inconsistent shapes")
         first_end = float(arrays["leg_ends_s"][0]) if arrays["leg_ends_s"].size else 0.0
     except ResultsFormatError:
         raise
     except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, json.JSONDecodeError) as exc:
         raise ResultsFormatError(f"{file} is not a readable flown run: {type(exc).__name__}: {exc}") from exc
+    except MemoryError:  # a member whose header claims terabytes (a corrupt or hostile file), as load_mission says
+        raise ResultsFormatError(f"{file} is not a flown run: an array of it claims more memory than there is") from None
     return FlownRun(
         terrain=terrain,
         settings=settings,

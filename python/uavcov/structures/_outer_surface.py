@@ -25,11 +25,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validate import within_coordinate_bound
 from ..errors import InvalidInputError
 from ._solids import face_normals, signed_volume
 
-# Coordinates beyond this are refused, as the engine's meshes refuse them (metres).
-MAX_PRIOR_COORDINATE = 1e15
 # A cloud whose thinnest extent (smallest singular value of its centred points) is below this
 # share of its largest spans no volume: a plane or a line up to rounding.
 FLAT_SHARE = 1e-6
@@ -46,8 +45,7 @@ def check_prior_points(points: np.ndarray, normals: np.ndarray | None, min_point
     """
     if not np.isfinite(points).all():
         raise InvalidInputError("the known points contain NaN or infinite coordinates")
-    if np.abs(points).max() > MAX_PRIOR_COORDINATE:
-        raise InvalidInputError(f"a known point has a coordinate beyond {MAX_PRIOR_COORDINATE:g} m in magnitude")
+    within_coordinate_bound(points, "the known points")  # as the engine's meshes
     distinct = np.unique(points, axis=0).shape[0]
     if distinct < min_points:
         raise InvalidInputError(

@@ -17,7 +17,16 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_bool, as_count, as_generator, as_non_negative_float, as_points, as_positive_float, read_only
+from .._validate import (
+    as_bool,
+    as_count,
+    as_generator,
+    as_non_negative_float,
+    as_points,
+    as_positive_float,
+    read_only,
+    within_coordinate_bound,
+)
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._facing import facing_into
@@ -58,7 +67,7 @@ class StructurePrior:
     def __post_init__(self) -> None:
         if not isinstance(self.kind, str) or self.kind not in PRIOR_KINDS:
             raise InvalidInputError(f"kind must be one of {PRIOR_KINDS}, got {self.kind!r}")
-        points = as_points(self.points, "points").copy()
+        points = within_coordinate_bound(as_points(self.points, "points"), "points").copy()  # S' is made of them
         object.__setattr__(self, "points", read_only(points))
         if self.normals is not None:
             normals = as_points(self.normals, "normals").copy()
@@ -69,6 +78,7 @@ class StructurePrior:
             raise InvalidTypeError(f"model must be a Terrain, got {type(self.model).__name__}")
         if (self.kind == "points") != (self.model is None):
             raise InvalidInputError("a 'points' prior has no model; a coarse prior needs one")
+        object.__setattr__(self, "noise", as_non_negative_float(self.noise, "noise"))
 
     def behind(self, points: Any) -> np.ndarray:
         """Whether the known points' normals put each point inside the structure.
@@ -87,9 +97,7 @@ class StructurePrior:
         -------
         (m,) bool ndarray
         """
-        queries = as_points(points, "points", allow_empty=True)
-        if queries.size and np.abs(queries).max() > 1e15:  # the engine's bound: squared distances must stay finite
-            raise InvalidInputError(f"points must lie within 1e15 m of the origin, got a coordinate of {np.abs(queries).max():g} m")
+        queries = within_coordinate_bound(as_points(points, "points", allow_empty=True), "points")  # squared distances stay finite
         if self.normals is None or not queries.shape[0]:
             return np.zeros(queries.shape[0], dtype=bool)
         unit = self.normals / np.linalg.norm(self.normals, axis=1)[:, None]
@@ -185,6 +193,7 @@ def coarse_structure_prior(structure: Structure, kind: str = "boxes", *, cell: f
     vertices, faces = structure.surface.vertices, structure.surface.faces
     if not isinstance(kind, str):  # before any comparison: an array's == is elementwise
         raise InvalidInputError(f"kind must be 'boxes' or 'decimated', got {kind!r}")
+    cell = None if cell is None else as_positive_float(cell, "cell")  # whatever the kind: an ignored cell is a mistake too
     if kind == "boxes":
         pieces = []
         for index, name in enumerate(structure.part_names):
@@ -202,7 +211,10 @@ def coarse_structure_prior(structure: Structure, kind: str = "boxes", *, cell: f
         solid = faces[_solid_faces(structure)]
         used = np.unique(solid)
         lo, hi = vertices[used].min(axis=0), vertices[used].max(axis=0)
-        size = float(np.max(hi - lo)) / 30.0 if cell is None else as_positive_float(cell, "cell")
+        extent = float(np.max(hi - lo))
+        size = extent / 30.0 if cell is None else cell
+        if extent > 1e15 * size:  # the cells' integer keys would overflow; far before, every vertex has a cell of its own
+            raise InvalidInputError(f"cell {size:g} m is too fine for the structure's {extent:g} m: at least {extent * 1e-15:g} m")
         keys = np.floor((vertices - lo) / size).astype(np.int64)
         _, cluster = np.unique(keys[used], axis=0, return_inverse=True)
         cluster = cluster.reshape(-1)
@@ -298,6 +310,8 @@ def reconstruct_structure(
 ) -> Terrain:
     """S', the surface the team is placed on, from a prior.
 
+    Every argument is checked whatever the method, those it does not use too.
+
     Parameters
     ----------
     prior : StructurePrior
@@ -340,6 +354,12 @@ def reconstruct_structure(
         raise InvalidTypeError(f"expected a StructurePrior, got {type(prior).__name__}")
     if not isinstance(method, str) or method not in RECONSTRUCTION_METHODS:
         raise InvalidInputError(f"method must be one of {RECONSTRUCTION_METHODS}, got {method!r}")
+    # Every setting is checked whatever the method: one the method ignores is still a mistake.
+    alpha = None if alpha is None else as_positive_float(alpha, "alpha")
+    clusters = None if clusters is None else as_count(clusters, "clusters", MAX_PRIOR_POINTS)
+    poisson_depth = as_count(poisson_depth, "poisson_depth", 12)
+    min_points = as_count(min_points, "min_points", MAX_PRIOR_POINTS, minimum=4)
+    generator = as_generator(rng)
     if method == "model" or (method == "auto" and prior.model is not None):
         if prior.model is None:
             raise InvalidInputError("method='model' needs a coarse prior (coarse_structure_prior)")
@@ -347,7 +367,6 @@ def reconstruct_structure(
     if method == "auto":
         method = DEFAULT_METHOD if prior.normals is not None else "alpha"
     points = prior.points
-    min_points = as_count(min_points, "min_points", MAX_PRIOR_POINTS, minimum=4)
     if points.shape[0] < min_points:
         raise InvalidInputError(f"{points.shape[0]} known points are too sparse to reconstruct a structure (at least {min_points})")
     # Every method gets the same checked cloud: nothing degenerate reaches scipy or Open3D.
@@ -357,11 +376,11 @@ def reconstruct_structure(
             raise InvalidInputError("method='oriented' needs points with normals (sample_structure_prior(..., normals=True))")
         vertices, faces = oriented_solid(points, prior.normals)
     elif method == "alpha":
-        vertices, faces = alpha_solid(points, None if alpha is None else as_positive_float(alpha, "alpha"))
+        vertices, faces = alpha_solid(points, alpha)
     elif method == "hulls":
-        vertices, faces = _cluster_hulls(points, clusters, as_generator(rng))
+        vertices, faces = _cluster_hulls(points, clusters, generator)
     else:
-        vertices, faces = _open3d(points, prior.normals, method, as_count(poisson_depth, "poisson_depth", 12))
+        vertices, faces = _open3d(points, prior.normals, method, poisson_depth)
         if faces.shape[0]:
             faces = outer_shells(vertices, faces, points, prior.normals)
     if faces.shape[0] == 0:

@@ -34,7 +34,16 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array, as_index_array, as_optional_str, as_positive_float, as_positive_int, as_tuple
+from .._validate import (
+    as_finite_float,
+    as_float_array,
+    as_index_array,
+    as_optional_str,
+    as_positive_float,
+    as_positive_int,
+    as_tuple,
+    within_coordinate_bound,
+)
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._frame import LocalFrame, metres_per_degree
@@ -401,7 +410,7 @@ def dem_from_array(
     vertical_datum = as_optional_str(vertical_datum, "vertical_datum")
     if not isinstance(source, str):
         raise InvalidTypeError(f"source must be a string, got {type(source).__name__}")
-    heights = as_float_array(z, "z", ndim=2, allow_nan=True)
+    heights = within_coordinate_bound(as_float_array(z, "z", ndim=2, allow_nan=True), "z")  # NaN is nodata
     values = as_float_array(transform, "transform", ndim=1)
     if values.shape[0] < 6:
         raise InvalidInputError(f"transform must be the six numbers (a, b, c, d, e, f), got {values.shape[0]}")

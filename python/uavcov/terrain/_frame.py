@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_float_array
+from .._validate import as_bool, as_finite_float, as_float_array, within_coordinate_bound
 from ..errors import InvalidInputError
 
 _WGS84_A = 6378137.0
@@ -56,6 +56,8 @@ class LocalFrame:
     """The map between source coordinates and the library's local metric frame.
 
     ``local = (source - origin) * factors`` per axis; ``source = local / factors + origin``.
+    Local coordinates, and the origin, lie within 1e15 m of zero (the engine's bound): a point
+    beyond is refused, not mapped to a number that has lost its metres.
 
     Attributes
     ----------
@@ -67,7 +69,8 @@ class LocalFrame:
     geographic : bool
         True when x, y are degrees of longitude and latitude.
     reference_latitude : float or None
-        Latitude (degrees) of the equirectangular projection when geographic.
+        Latitude (degrees, in [-90, 90]) of the equirectangular projection when geographic;
+        None otherwise.
     """
 
     origin: np.ndarray
@@ -82,6 +85,20 @@ class LocalFrame:
             raise InvalidInputError("origin and factors must both have shape (3,)")
         if not (factors > 0.0).all():
             raise InvalidInputError(f"factors must be > 0, got {factors}")
+        within_coordinate_bound(origin, "origin")
+        geographic = as_bool(self.geographic, "geographic")
+        latitude = self.reference_latitude
+        if latitude is not None:
+            latitude = as_finite_float(latitude, "reference_latitude")
+            if abs(latitude) > 90.0:
+                raise InvalidInputError(f"reference_latitude must be in [-90, 90] degrees, got {latitude}")
+        if geographic != (latitude is not None):
+            raise InvalidInputError(
+                f"a geographic frame needs its reference_latitude, and only a geographic one has one; got geographic={geographic}, "
+                f"reference_latitude={latitude}"
+            )
+        object.__setattr__(self, "geographic", geographic)
+        object.__setattr__(self, "reference_latitude", latitude)
         origin.setflags(write=False)
         factors.setflags(write=False)
         object.__setattr__(self, "origin", origin)
@@ -95,12 +112,13 @@ class LocalFrame:
     def to_local(self, points: Any) -> np.ndarray:
         """Source coordinates ``(n, 3)`` to local metres ``(n, 3)``."""
         array = _as_xyz(points, "points")
-        local: np.ndarray = (array - self.origin) * self.factors
-        return local
+        with np.errstate(over="ignore"):  # an overflow is refused just below, by name
+            local: np.ndarray = (array - self.origin) * self.factors
+        return within_coordinate_bound(local, "points in the local frame")
 
     def to_source(self, points: Any) -> np.ndarray:
         """Local metres ``(n, 3)`` back to source coordinates ``(n, 3)``."""
-        array = _as_xyz(points, "points")
+        array = within_coordinate_bound(_as_xyz(points, "points"), "points")
         source: np.ndarray = array / self.factors + self.origin
         return source
 

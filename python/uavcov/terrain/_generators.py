@@ -54,7 +54,8 @@ class HillsGenerator:
         random_gaussian_mixture(size=self.size, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=0)
 
     def make(self, seed: int) -> Terrain:
-        """The terrain of scenario ``seed``."""
+        """The terrain of scenario ``seed`` (an integer >= 0, as every scenario's)."""
+        seed = as_non_negative_int(seed, "seed")  # not any rng: None would draw a new terrain each call
         return gaussian_hills(size=self.size, spacing=self.spacing, n_hills=self.n_hills, heights=self.heights, sigma=self.sigma, rng=seed)
 
 

@@ -9,14 +9,16 @@ Elevation grids with a coordinate reference system are :class:`~uavcov.terrain.G
 from __future__ import annotations
 
 import io
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from .._validate import (
+    MAX_COORDINATE_M,
     as_float_array,
     as_index_array,
+    as_non_negative_int,
     as_positive_float,
     existing_path,
 )
@@ -53,6 +55,11 @@ class MeshReport:
     boundary_edges: int = 0
     nonmanifold_edges: int = 0
 
+    def __post_init__(self) -> None:
+        # Counts, so that a report read back or built by hand never says "nan faces repaired".
+        for field in fields(self):
+            object.__setattr__(self, field.name, as_non_negative_int(getattr(self, field.name), field.name))
+
     @property
     def repaired(self) -> bool:
         """True when faces were dropped (degenerate or duplicate)."""
@@ -79,11 +86,6 @@ class LoadedMesh:
     frame: LocalFrame
     source: str
     mesh_report: MeshReport
-
-
-MAX_COORDINATE_M = 1e15
-"""The largest coordinate magnitude a surface holds, metres (the engine's bound: a coordinate there
-still resolves 0.125 m; beyond it areas and sight lines lose their meaning)."""
 
 
 def _within_coordinate_bound(points: np.ndarray, what: str) -> None:

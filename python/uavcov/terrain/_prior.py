@@ -36,11 +36,11 @@ from .._validate import (
     as_points,
     as_positive_float,
     not_a_terrain,
+    within_coordinate_bound,
 )
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ._buildings import Building, buildings_terrain, perturb_buildings
-from ._meshes import MAX_COORDINATE_M
 
 _KINDS = ("random", "pyramid", "points")
 
@@ -62,7 +62,8 @@ class Prior:
     kind: str = "points"
 
     def __post_init__(self) -> None:
-        points = as_float_array(self.points, "points", allow_nan=True)
+        # Finite and within the engine's bound: S' is made of them (approximate_surface would refuse them later).
+        points = within_coordinate_bound(as_float_array(self.points, "points"), "points")
         if points.ndim != 2 or points.shape[1] != 3:
             raise InvalidInputError(f"points must have shape (n, 3), got {points.shape}")
         points = points.copy()
@@ -178,6 +179,8 @@ def sample_prior(
     terrain = _check_terrain(terrain)
     if not isinstance(kind, str) or kind not in _KINDS:
         raise InvalidInputError(f"kind must be one of {_KINDS}, got {kind!r}")
+    if points is not None and kind != "points":  # given points silently replaced by drawn ones would be a wrong prior
+        raise InvalidInputError(f"points are the prior of kind='points' only, got them with kind={kind!r}")
     as_bool(corners, "corners")
     generator = as_generator(rng)
 
@@ -318,9 +321,7 @@ def approximate_surface(samples: Any) -> Terrain:
         raise InvalidInputError(
             f"{bad.size} sample(s) have NaN or infinite coordinates (a height read over nodata?), first at index {int(bad[0])}"
         )
-    if points.size and np.abs(points).max() > MAX_COORDINATE_M:  # the engine's bound, before a KD-tree overflows
-        largest = float(np.abs(points).max())
-        raise InvalidInputError(f"samples must lie within {MAX_COORDINATE_M:.0e} m of the origin, got a coordinate of {largest:g} m")
+    within_coordinate_bound(points, "samples")  # the engine's bound, before a KD-tree overflows
     if points.shape[0] < 3:
         raise InvalidInputError(f"S' needs at least 3 samples, got {points.shape[0]}")
     points = _deduplicate(points)
