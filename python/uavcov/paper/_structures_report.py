@@ -146,6 +146,7 @@ def write_report(path: Path, experiment: Any, chosen: dict[str, Any], rows: list
     """``structures.md`` (and ``figures/structures.png`` with matplotlib) beside ``rows.jsonl``."""
     path.write_text(report_markdown(experiment, chosen, rows, dev_rows), encoding="utf-8")
     _figure(path.parent / "figures" / "structures.png", experiment, rows)
+    _flight_figure(path.parent / "figures" / "structures_flight.png", experiment, rows)
 
 
 def _percent(share: float) -> str:
@@ -375,6 +376,39 @@ def _figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:
     ax.set_ylabel("mean best coverage")
     ax.set_ylim(0.0, 1.0)
     ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _flight_figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:
+    """Per family, each start's mean best as a share of the full-knowledge greedy's against the
+    iterations flown (the report missions' ``best_at``)."""
+    reached = sorted({int(k) for r in rows for k in r.get("best_at", {}) if int(k) > 0})
+    try:
+        import matplotlib as mpl
+
+        mpl.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    if not reached:
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    panels = [*experiment.families, list(experiment.families)]
+    fig, axes = plt.subplots(1, len(panels), figsize=(2.6 * len(panels), 3.2), sharey=True)
+    for ax, family in zip(np.atleast_1d(axes), panels, strict=True):
+        for start, style in (("cvt3d", "-o"), ("greedy3d", "-s"), ("cvt3d_paper", ":^")):
+            shares = [after_iterations(rows, family, k, start) for k in reached]
+            ax.plot(reached, [a["of_greedy_3d"] for a in shares], style, markersize=3, label=NAMES[start])
+        flat = [after_iterations(rows, family, k, "cvt3d") for k in reached]
+        ax.plot(reached, [a["of_greedy_hf"] for a in flat], "--x", markersize=3, label=NAMES["cvt_hf"])
+        ax.axhline(0.95, color="grey", linewidth=0.8)
+        ax.set_xscale("log")
+        ax.set_title("all" if isinstance(family, list) else family, fontsize=9)
+        ax.set_xlabel("CAO iterations")
+    np.atleast_1d(axes)[0].set_ylabel("mean best / full-knowledge greedy")
+    np.atleast_1d(axes)[0].legend(loc="lower right", fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
