@@ -350,13 +350,21 @@ def _dev_choice_lines(experiment: Any, dev_rows: list[dict[str, Any]]) -> list[s
     return lines
 
 
-def _figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:
+def _pyplot() -> Any:
+    """matplotlib's pyplot on the Agg backend, or None without the ``plot`` extra (no figure then)."""
     try:
         import matplotlib as mpl
 
         mpl.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
+        return None
+    return plt
+
+
+def _figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> None:
+    plt = _pyplot()
+    if plt is None:
         return
     path.parent.mkdir(parents=True, exist_ok=True)
     families = list(experiment.families)
@@ -385,14 +393,8 @@ def _flight_figure(path: Path, experiment: Any, rows: list[dict[str, Any]]) -> N
     """Per family, each start's mean best as a share of the full-knowledge greedy's against the
     iterations flown (the report missions' ``best_at``)."""
     reached = sorted({int(k) for r in rows for k in r.get("best_at", {}) if int(k) > 0})
-    try:
-        import matplotlib as mpl
-
-        mpl.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        return
-    if not reached:
+    plt = _pyplot()
+    if plt is None or not reached:
         return
     path.parent.mkdir(parents=True, exist_ok=True)
     panels = [*experiment.families, list(experiment.families)]
