@@ -392,6 +392,27 @@ def _build(base: Experiment, changes: Mapping[str, Any], source: _Source) -> Exp
     return experiment
 
 
+def _terrain_changes(base: Experiment, terrain_table: Any, source: str, src: _Source) -> tuple[Experiment, dict[str, Any], dict[str, Any]]:
+    """The base with the table's terrain kind, that kind's defaults, and the table's changes.
+
+    The terrain kind decides which fields [terrain] takes; switching kind starts from its defaults.
+    """
+    if not isinstance(terrain_table, dict):
+        raise src.error("terrain", f"expected a table [terrain], got {terrain_table!r}")
+    terrain_table = dict(terrain_table)
+    kind = terrain_table.pop("kind", "buildings" if isinstance(base.terrain, BuildingsGenerator) else "hills")
+    if kind == "file":  # a surface of the user's own, the same for every seed: no terrain setting to sweep
+        return dataclasses.replace(base, terrain=terrain_file(terrain_table, source)), {}, {}
+    if kind not in _TERRAINS:
+        kinds = (*_TERRAINS, "file")
+        raise src.error("terrain.kind", f"must be 'hills', 'buildings' or 'file', got {kind!r}{_suggest(str(kind), kinds)}")
+    terrain_cls = _TERRAINS[kind]
+    if not isinstance(base.terrain, terrain_cls):
+        base = dataclasses.replace(base, terrain=terrain_cls())
+    terrain_defaults = _defaults(terrain_cls)
+    return base, terrain_defaults, _group_changes("terrain", terrain_table, terrain_defaults, src)
+
+
 def parse_sweep_config(
     data: Mapping[str, Any], *, bases: Mapping[str, Experiment], source: str = "<sweep>", default_name: str = "sweep"
 ) -> SweepConfig:
@@ -417,23 +438,7 @@ def parse_sweep_config(
         raise src.error("base", f"must be one of {', '.join(experiments)}, got {base_name!r}{_suggest(str(base_name), tuple(experiments))}")
     base = experiments[base_name]
 
-    # The terrain kind decides which fields [terrain] takes; switching kind starts from its defaults.
-    terrain_table = data.get("terrain", {})
-    if not isinstance(terrain_table, dict):
-        raise src.error("terrain", f"expected a table [terrain], got {terrain_table!r}")
-    terrain_table = dict(terrain_table)
-    kind = terrain_table.pop("kind", "buildings" if isinstance(base.terrain, BuildingsGenerator) else "hills")
-    if kind == "file":  # a surface of the user's own, the same for every seed: no terrain setting to sweep
-        base, terrain_defaults, changes = dataclasses.replace(base, terrain=terrain_file(terrain_table, source)), {}, {}
-    elif kind not in _TERRAINS:
-        kinds = (*_TERRAINS, "file")
-        raise src.error("terrain.kind", f"must be 'hills', 'buildings' or 'file', got {kind!r}{_suggest(str(kind), kinds)}")
-    else:
-        terrain_cls = _TERRAINS[kind]
-        if not isinstance(base.terrain, terrain_cls):
-            base = dataclasses.replace(base, terrain=terrain_cls())
-        terrain_defaults = _defaults(terrain_cls)
-        changes = _group_changes("terrain", terrain_table, terrain_defaults, src)
+    base, terrain_defaults, changes = _terrain_changes(base, data.get("terrain", {}), source, src)
     for group, defaults in _GROUPS.items():
         if group in data:
             changes.update(_group_changes(group, data[group], defaults, src))
