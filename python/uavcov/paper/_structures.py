@@ -117,7 +117,8 @@ class StructuresExperiment:
         The report seeds' missions fly on to this many iterations (at least ``iterations``; CAO's
         first ``iterations`` do not depend on it), so the report can say what more flight time
         gives (500: the paper's bound on its runs, "which ensure the convergence"); every mission
-        row's ``best_at`` holds the best after each of :data:`CHECKPOINTS` it reached.
+        row's ``best_at`` holds the best after each checkpoint it reached (0, 10, 25, 50, 100,
+        200, 400, 800 iterations, ``iterations`` and its last).
     offsets : tuple of float
         Candidate offsets from S' of each start (m), chosen on the development seeds.
     greedy_spacings : tuple of float
