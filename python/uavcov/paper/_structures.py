@@ -385,6 +385,7 @@ def _run_tasks(
             done[task] = row
         return [done[t] for t in tasks]
     pool = executor if executor is not None else local_executor(min(workers, len(todo)))
+    running: set[Any] = set()
     try:
         running = {pool.submit(run_task, experiment, t) for t in todo}
         while running:
@@ -393,9 +394,12 @@ def _run_tasks(
                 row = future.result()
                 append_row(path, row)
                 done[_key(row)] = row
-    finally:
-        if executor is None:  # what has not started is cancelled (an error, a Ctrl-C), not run on
+    finally:  # on an error or a Ctrl-C, what has not started is cancelled, not run on
+        if executor is None:
             pool.shutdown(wait=False, cancel_futures=True)
+        else:  # a cluster the caller owns: only our own runs
+            for future in running:
+                future.cancel()
     return [done[t] for t in tasks]
 
 
