@@ -189,9 +189,10 @@ class Structure:
     def _pressed(self, points: np.ndarray) -> np.ndarray:
         """``(n,)`` bool: points lying on a contact face, where a solid presses on a larger face
         (a nacelle on a tower's top, a deck on a column): no camera sees them."""
-        if CONTACT not in self.part_names:
+        pressing = self.face_parts == self.part_names.index(CONTACT) if CONTACT in self.part_names else np.zeros(0, dtype=bool)
+        if not pressing.any():  # no contact part, or one named but with no face (nothing rests on another)
             return np.zeros(points.shape[0], dtype=bool)
-        contact = Terrain(self.surface.vertices, self.surface.faces[self.face_parts == self.part_names.index(CONTACT)])
+        contact = Terrain(self.surface.vertices, self.surface.faces[pressing])
         bounds = self.surface.bounds
         tolerance = 1e-7 * float(np.max(bounds[1] - bounds[0]))
         pressed: np.ndarray = np.linalg.norm(contact.closest_point(points) - points, axis=1) <= tolerance
