@@ -570,6 +570,7 @@ def height_field_violation(structure: Structure, *, resolution: float | None = N
 
 
 MAX_MESH_BYTES = 512 * 1024 * 1024
+MIN_GROUND_MARGIN = 10.0  # m: the least reach of the ground load_structure adds beyond the model
 
 
 def load_structure(
@@ -591,7 +592,8 @@ def load_structure(
     ``origin`` to know it (``origin=(0, 0, 0)`` keeps the file's coordinates). With
     ``closed=True`` the mesh must be a set of closed solids: every edge shared by exactly two
     faces, wound consistently; solids wound inward are turned outward. A ground plane at the
-    model's lowest z is added (``add_ground``), reaching half the model's size beyond it; the
+    model's lowest z is added (``add_ground``), reaching half the model's size beyond it (at
+    least ``MIN_GROUND_MARGIN``, 10 m, so a UAV can stand off beside a small model); the
     model's faces become the part ``"structure"``.
 
     Parameters
@@ -635,8 +637,8 @@ def load_structure(
     >>> _ = block.export(path)
     >>> site = np.array([512000.0, 4180000.0, 100.0])
     >>> structure = load_structure(path, origin=site)  # local = file - site
-    >>> structure.part_names, structure.surface.bounds.tolist()  # the ground plane reaches 2 m beyond
-    (('ground', 'contact', 'structure'), [[-2.0, -2.0, 20.0], [6.0, 4.0, 23.0]])
+    >>> structure.part_names, structure.surface.bounds.tolist()  # the ground plane reaches 10 m beyond
+    (('ground', 'contact', 'structure'), [[-10.0, -10.0, 20.0], [14.0, 12.0, 23.0]])
     """
     text = existing_path(path, "mesh", MeshError)
     size = os.path.getsize(text)
@@ -674,6 +676,8 @@ def load_structure(
     sheet = None
     if add_ground:
         lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-        margin = 0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1]))
+        # Half the model's size, and at least room to stand off beside a small model (a 1 m part,
+        # a sign): a ground of half a 1 m model leaves a flight box narrower than a 2 m standoff.
+        margin = max(0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1])), MIN_GROUND_MARGIN)
         sheet = ground(lo[0] - margin, hi[0] + margin, lo[1] - margin, hi[1] + margin, max(2.0 * margin / 20.0, 1e-3), z=float(lo[2]))
     return _assemble(name, [Piece(vertices, faces, ("structure",) * faces.shape[0])], sheet)
