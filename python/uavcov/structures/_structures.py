@@ -115,6 +115,12 @@ class Structure:
             raise InvalidInputError(f"ground_part must be None or an index into the {len(names)} part names, got {self.ground_part!r}")
         object.__setattr__(self, "face_parts", read_only(parts))
         object.__setattr__(self, "part_names", tuple(str(n) for n in self.part_names))
+        if _wound_inward(self.surface, parts != (-1 if self.ground_part is None else self.ground_part)):
+            raise InvalidInputError(
+                f"the solids of {self.name!r} are wound inward (they enclose a negative volume): wind every face "
+                "counter-clockwise seen from outside (reverse them: faces[:, ::-1]), or read the file with load_structure, "
+                "which turns them"
+            )
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (Structure, (self.name, self.surface, np.array(self.face_parts), self.part_names, self.ground_part))
@@ -225,6 +231,24 @@ class Structure:
             if total > 0:
                 result[name] = float(targets.weights[here & flags].sum()) / total
         return result
+
+
+def _wound_inward(surface: Terrain, solid: np.ndarray) -> bool:
+    """Whether the faces ``solid`` selects close up (every edge in two faces, run both ways) and
+    enclose a negative volume: a whole model exported inside out. Open or non-manifold meshes
+    are not judged (their volume means nothing)."""
+    faces = surface.faces[solid]
+    if faces.shape[0] == 0:
+        return False
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    forward = np.unique(directed, axis=0)
+    if forward.shape[0] != directed.shape[0]:
+        return False  # an edge run the same way twice: not a consistently wound closed mesh
+    backward = np.unique(directed[:, ::-1], axis=0)
+    if not np.array_equal(forward, backward):
+        return False  # an open edge
+    vertices = surface.vertices - surface.vertices[np.unique(faces)].mean(axis=0)  # volume with less round-off
+    return signed_volume(vertices, faces) < 0.0
 
 
 def _subdivision_centroids(m: int) -> np.ndarray:
@@ -666,10 +690,8 @@ def load_structure(
         directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
         if np.unique(directed, axis=0).shape[0] != directed.shape[0]:
             raise MeshError(f"{text}: inconsistent winding (an edge runs the same way in both its faces)")
-    pieces = [Piece(vertices, faces, ("structure",) * faces.shape[0])]
-    provisional = _assemble("file", pieces, None)
     if closed:
-        for component in solid_components(provisional):
+        for component in connected_faces(faces, vertices.shape[0]):
             if signed_volume(vertices, faces[component]) < 0:
                 faces[component] = faces[component][:, ::-1]
     name = os.path.splitext(os.path.basename(text))[0]
