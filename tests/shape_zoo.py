@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -180,7 +180,7 @@ class Shape:
     faces: np.ndarray
     closed: bool = True  # closed solids: "inside" is meaningful
     ground_z: float = 0.0
-    file_kwargs: dict = field(default_factory=dict)  # for load_structure
+    millimetres: bool = False  # its mesh file is written in millimetres (read with scale=0.001)
 
 
 def _rotation_x(angle: float) -> np.ndarray:
@@ -264,8 +264,8 @@ def k_chimney(g):
 
 
 def k_overlapping_boxes(g):
-    a = box((0, 0, 0), (g.uniform(8, 12), g.uniform(5, 8), g.uniform(6, 12)))
-    b = box((g.uniform(4, 7), g.uniform(2, 4), 0), (g.uniform(12, 16), g.uniform(9, 12), g.uniform(4, 9)))
+    a = box((0, 0, 0), (g.uniform(14, 20), g.uniform(10, 16), g.uniform(6, 12)))
+    b = box((g.uniform(4, 7), g.uniform(2, 4), 0), (g.uniform(22, 28), g.uniform(18, 24), g.uniform(7, 14)))
     return union(a, b)
 
 
@@ -320,7 +320,7 @@ def k_duplicates(g):
 def k_nonmanifold_edge(g):
     s = g.uniform(4, 8)
     a = box((0, 0, 0), (s, s, s))
-    b = box((s, s, 0), (2 * s, 2 * s, g.uniform(4, 10)))  # touching a along its vertical edge
+    b = box((s, s, 0), (2 * s, 2 * s, s))  # touching a along its whole vertical edge
     return weld(union(a, b))
 
 
@@ -344,6 +344,7 @@ KINDS: dict[str, tuple[Callable, dict]] = {
     "open_box": (k_open_box, {"closed": False}),
     "duplicates": (k_duplicates, {}),
     "nonmanifold_edge": (k_nonmanifold_edge, {}),
+    "millimetres": (k_l_building, {"millimetres": True}),
 }
 
 
@@ -352,7 +353,7 @@ def make(kind: str, seed: int) -> Shape:
     v, f = build(np.random.default_rng(seed))
     closed = extra.get("closed", True)
     used = np.unique(f)
-    return Shape(kind, seed, np.asarray(v, float), np.asarray(f, np.int64), closed, float(v[used, 2].min()))
+    return Shape(kind, seed, np.asarray(v, float), np.asarray(f, np.int64), closed, float(v[used, 2].min()), extra.get("millimetres", False))
 
 
 def as_structure(shape: Shape):
@@ -671,15 +672,65 @@ def run_judged(structure, start: str, iterations: int, seed: int, closed: bool, 
     return outcome
 
 
-def through_file(shape: Shape, directory: Path, form: str, *, millimetres: bool = False, keep_coordinates: bool = False):
+def through_file(shape: Shape, directory: Path, form: str, *, keep_coordinates: bool = False, closed: bool | None = None):
     """The shape written to a mesh file here and read back by ``load_structure``, as a user would
     (``closed`` as the shape is; ``scale=0.001`` for a file in millimetres; ``origin=(0, 0, 0)``
     to keep the file's coordinates)."""
     from uavcov.structures import load_structure
 
-    v = shape.vertices * (1000.0 if millimetres else 1.0)
+    v = shape.vertices * (1000.0 if shape.millimetres else 1.0)
     path = write_mesh(Path(directory), f"{shape.kind}_{shape.seed}", v, shape.faces, form)
-    kwargs = {"closed": shape.closed, "scale": 0.001 if millimetres else 1.0}
+    kwargs = {"closed": shape.closed if closed is None else closed, "scale": 0.001 if shape.millimetres else 1.0}
     if keep_coordinates:
         kwargs["origin"] = (0.0, 0.0, 0.0)
     return load_structure(path, **kwargs), path
+
+
+@dataclass
+class PlanOutcome:
+    returncode: int
+    stderr: str
+    violations: int = 0  # route segments through the structure, final positions nearer than the standoff or inside
+    coverage: float = float("nan")
+
+
+def plan_judged(path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False) -> PlanOutcome:
+    """``uavcov plan --structure FILE`` in a child process, its routes and positions judged by
+    the references against the structure read as the command reads it."""
+    import csv
+    import json
+    import subprocess
+    import sys
+
+    from uavcov.structures import load_structure
+
+    command = [sys.executable, "-m", "uavcov", "plan", "--structure", str(path), "--anchor", "8.5,47.4,400"]
+    command += ["--uavs", str(n_uavs), "--d-max", str(D_MAX), "--iterations", str(iterations), "--seed", str(seed), "--threads", "1"]
+    command += ["--scale", repr(scale)] + (["--open-mesh"] if open_mesh else [])
+    done = subprocess.run(command + ["--out", str(out)], capture_output=True, text=True, timeout=600, env=_no_plots_env())
+    outcome = PlanOutcome(done.returncode, done.stderr.strip())
+    if done.returncode != 0:
+        return outcome
+    structure = load_structure(path, scale=scale, closed=not open_mesh)
+    v, f = structure.surface.vertices, structure.surface.faces
+    solid = v[f[structure.face_parts != structure.ground_part]]
+    plan = json.loads((out / "plan.json").read_text())
+    outcome.coverage = float(plan["results"]["coverage"])
+    rows = list(csv.DictReader(open(out / "waypoints.csv")))
+    pad = np.asarray(plan["takeoff_local"], float)
+    for uav in sorted({r["uav"] for r in rows}):
+        route = np.array([[float(r["east_m"]), float(r["north_m"]), float(r["up_m"])] for r in rows if r["uav"] == uav])
+        route = np.vstack([pad, route])  # from the pad on the ground, up to the first waypoint
+        outcome.violations += int(segment_hits(solid, route[:-1], route[1:], 1e-9).sum())
+    positions = np.asarray(plan["positions_local"], float)
+    outcome.violations += int((point_triangle_distance(positions, v[f]) < H_MIN - 1e-9).sum())
+    outcome.violations += int((winding_number(positions, solid) > 0.5).sum())
+    return outcome
+
+
+def _no_plots_env() -> dict:
+    import os
+
+    env = dict(os.environ)
+    env["MPLBACKEND"] = "Agg"
+    return env

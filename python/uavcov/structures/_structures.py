@@ -685,7 +685,7 @@ def load_structure(
         if report.boundary_edges or report.nonmanifold_edges:
             raise MeshError(
                 f"{text}: not a closed solid ({report.boundary_edges} open and {report.nonmanifold_edges} non-manifold edges); "
-                "pass closed=False to read it as an open surface"
+                "pass closed=False (uavcov plan: --open-mesh) to read it as an open surface"
             )
         directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
         if np.unique(directed, axis=0).shape[0] != directed.shape[0]:
