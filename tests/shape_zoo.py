@@ -694,37 +694,51 @@ class PlanOutcome:
     coverage: float = float("nan")
 
 
-def plan_judged(path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False) -> PlanOutcome:
-    """``uavcov plan --structure FILE`` in a child process, its routes and positions judged by
-    the references against the structure read as the command reads it."""
+def plan_arguments(path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False) -> list[str]:
+    """The arguments of ``uavcov plan --structure FILE`` with the README's team."""
+    arguments = ["plan", "--structure", str(path), "--anchor", "8.5,47.4,400", "--uavs", str(n_uavs), "--d-max", str(D_MAX)]
+    arguments += ["--iterations", str(iterations), "--seed", str(seed), "--threads", "1", "--scale", repr(scale)]
+    return arguments + (["--open-mesh"] if open_mesh else []) + ["--out", str(out)]
+
+
+def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = False) -> int:
+    """How many route segments of a written structure plan cross the structure (read as the
+    command read it), and how many final positions are nearer than the standoff or inside it."""
     import csv
     import json
-    import subprocess
-    import sys
 
     from uavcov.structures import load_structure
 
-    command = [sys.executable, "-m", "uavcov", "plan", "--structure", str(path), "--anchor", "8.5,47.4,400"]
-    command += ["--uavs", str(n_uavs), "--d-max", str(D_MAX), "--iterations", str(iterations), "--seed", str(seed), "--threads", "1"]
-    command += ["--scale", repr(scale)] + (["--open-mesh"] if open_mesh else [])
-    done = subprocess.run(command + ["--out", str(out)], capture_output=True, text=True, timeout=600, env=_no_plots_env())
-    outcome = PlanOutcome(done.returncode, done.stderr.strip())
-    if done.returncode != 0:
-        return outcome
     structure = load_structure(path, scale=scale, closed=not open_mesh)
     v, f = structure.surface.vertices, structure.surface.faces
     solid = v[f[structure.face_parts != structure.ground_part]]
     plan = json.loads((out / "plan.json").read_text())
-    outcome.coverage = float(plan["results"]["coverage"])
-    rows = list(csv.DictReader(open(out / "waypoints.csv")))
+    with open(out / "waypoints.csv") as table:
+        rows = list(csv.DictReader(table))
     pad = np.asarray(plan["takeoff_local"], float)
+    violations = 0
     for uav in sorted({r["uav"] for r in rows}):
         route = np.array([[float(r["east_m"]), float(r["north_m"]), float(r["up_m"])] for r in rows if r["uav"] == uav])
         route = np.vstack([pad, route])  # from the pad on the ground, up to the first waypoint
-        outcome.violations += int(segment_hits(solid, route[:-1], route[1:], 1e-9).sum())
+        violations += int(segment_hits(solid, route[:-1], route[1:], 1e-9).sum())
     positions = np.asarray(plan["positions_local"], float)
-    outcome.violations += int((point_triangle_distance(positions, v[f]) < H_MIN - 1e-9).sum())
-    outcome.violations += int((winding_number(positions, solid) > 0.5).sum())
+    violations += int((point_triangle_distance(positions, v[f]) < H_MIN - 1e-9).sum())
+    violations += int((winding_number(positions, solid) > 0.5).sum())
+    return violations
+
+
+def plan_judged(path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False) -> PlanOutcome:
+    """``uavcov plan --structure FILE`` in a child process, judged by :func:`judge_plan`."""
+    import json
+    import subprocess
+    import sys
+
+    command = [sys.executable, "-m", "uavcov"] + plan_arguments(path, out, seed, iterations, n_uavs, scale=scale, open_mesh=open_mesh)
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, env=_no_plots_env())
+    outcome = PlanOutcome(done.returncode, done.stderr.strip())
+    if done.returncode == 0:
+        outcome.violations = judge_plan(path, out, scale=scale, open_mesh=open_mesh)
+        outcome.coverage = float(json.loads((out / "plan.json").read_text())["results"]["coverage"])
     return outcome
 
 
