@@ -83,6 +83,10 @@ def main() -> None:
                 except Exception as exc:
                     count["refused" if _ours(exc) else "crashes"] += 2
                     notes.add(f"{form}: {type(exc).__name__}: {str(exc)[:90]}")
+                if "Structure" in routes and shape.closed:
+                    missed, false_alarms = zoo.inside_disagreements(routes["Structure"], shape)
+                    count["inside_missed"] += missed
+                    count["inside_false"] += false_alarms
                 for route, structure in routes.items():
                     for start in ("cvt", "greedy"):
                         outcome = zoo.run_judged(structure, start, args.iterations, seed, shape.closed, targets_count=args.targets)
@@ -123,13 +127,16 @@ def _ours(exc: Exception) -> bool:
 
 def print_table(rows, args) -> None:
     print(f"README structure settings, {args.iterations} iterations, about {args.targets} targets per mission, seeds {args.seeds}")
-    print("| kind | seeds | runs | crashes | clear refusals | safety violations | raw starts inside | coverage - recount | mean best cvt | mean best greedy | CLI ok | CLI violations |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print(
+        "| kind | seeds | runs | crashes | clear refusals | safety violations | raw starts inside | inside test: missed / false | "
+        "coverage - recount | mean best cvt | mean best greedy | CLI ok | CLI violations |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for kind, seeds, count, best, _ in rows:
         mean = {s: (f"{np.mean(best[s]):.3f}" if best[s] else "-") for s in ("cvt", "greedy")}
         print(
             f"| {kind} | {len(seeds)} | {int(count['runs'])} | {int(count['crashes'])} | {int(count['refused'])} | {int(count['safety'])} | "
-            f"{int(count['raw_inside'])} | {count['coverage_off']:.1g} | {mean['cvt']} | {mean['greedy']} | "
+            f"{int(count['raw_inside'])} | {int(count['inside_missed'])} / {int(count['inside_false'])} | {count['coverage_off']:.1g} | {mean['cvt']} | {mean['greedy']} | "
             f"{int(count['cli_ok'])}/{int(count['cli_runs'])} | {int(count['cli_violations'])} |"
         )
     print("\nNotes:")

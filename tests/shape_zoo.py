@@ -697,7 +697,7 @@ class PlanOutcome:
 def plan_arguments(path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False) -> list[str]:
     """The arguments of ``uavcov plan --structure FILE`` with the README's team."""
     arguments = ["plan", "--structure", str(path), "--anchor", "8.5,47.4,400", "--uavs", str(n_uavs), "--d-max", str(D_MAX)]
-    arguments += ["--iterations", str(iterations), "--seed", str(seed), "--threads", "1", "--scale", repr(scale)]
+    arguments += ["--iterations", str(iterations), "--seed", str(seed), "--threads", "1"] + (["--scale", repr(scale)] if scale != 1.0 else [])
     return arguments + (["--open-mesh"] if open_mesh else []) + ["--out", str(out)]
 
 
@@ -748,3 +748,20 @@ def _no_plots_env() -> dict:
     env = dict(os.environ)
     env["MPLBACKEND"] = "Agg"
     return env
+
+
+def inside_disagreements(structure, shape: Shape, count: int = 400, seed: int = 1) -> tuple[int, int]:
+    """``Terrain.inside`` against the winding number of the shape's faces (each face once) on
+    ``count`` random points around it, off the surface: (points inside it calls outside, points
+    outside it calls inside). The first is unsafe; the second only refuses a free point."""
+    v = shape.vertices
+    once = np.sort(np.unique(np.sort(shape.faces, axis=1), axis=0, return_index=True)[1])
+    triangles = v[shape.faces[once]]
+    used = v[np.unique(shape.faces)]
+    lo, hi = used.min(axis=0) - 1.0, used.max(axis=0) + 1.0
+    lo[2] = shape.ground_z  # above the ground sheet: under it, any ray up meets the sheet
+    points = np.random.default_rng(seed).uniform(lo, hi, (count, 3))
+    points = points[point_triangle_distance(points, triangles) > 1e-3 * max(1.0, float(np.ptp(used, axis=0).max()))]
+    expected = np.abs(winding_number(points, triangles)) > 0.5  # a solid wound inward has -1 inside
+    said = np.asarray(structure.surface.inside(points), dtype=bool)
+    return int((expected & ~said).sum()), int((~expected & said).sum())

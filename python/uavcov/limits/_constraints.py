@@ -541,16 +541,18 @@ def _push_out(constraints: Constraints, world: Any, pos: np.ndarray, climb: floa
     low = trapped | (dist < constraints.h_min + inset)
     pos[low] = nearest[low] + unit[low] * (constraints.h_min + max(climb, inset))
     # Pushed from its nearest surface, a UAV can land under the ground (out of a solid standing
-    # on it, through its base) or within h_min of another surface (wedged between an arch and a
-    # deck, among a pylon's braces, in a slot between two walls), and the next sweep pushes it
-    # back: such a UAV goes up instead, over the highest surface within its standoff around it
-    # (the centre and a ring of 8 points h_min out).
+    # on it, through its base), within h_min of another surface (wedged between an arch and a
+    # deck, among a pylon's braces, in a slot between two walls) or still inside a solid (the
+    # nearest face was one of two overlapping solids', inside the other), and the next sweep
+    # pushes it back: such a UAV goes up instead, over the highest surface within its standoff
+    # around it (the centre and a ring of 8 points h_min out).
     moved = np.flatnonzero(low)
     if moved.size:
         here = np.ascontiguousarray(pos[moved])
         clear = np.asarray(world.clearance(here), dtype=np.float64)
         near = np.asarray(world.distance(here), dtype=np.float64)
-        lost = moved[~np.isfinite(clear) | (near < constraints.h_min)]
+        still_inside = np.asarray(world.inside(here), dtype=bool)
+        lost = moved[~np.isfinite(clear) | (near < constraints.h_min) | still_inside]
         if lost.size:
             reach = constraints.h_min + max(climb, inset)
             angles = np.arange(9) * (np.pi / 4.0)
