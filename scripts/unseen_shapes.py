@@ -29,7 +29,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-import shape_zoo as zoo  # noqa: E402
+import shape_checks as checks
+import shape_zoo as zoo
 
 
 def seeds_of(text: str) -> list[int]:
@@ -75,21 +76,21 @@ def main() -> None:
                 routes = {}
                 try:
                     routes["Structure"] = zoo.as_structure(shape)
-                except Exception as exc:
+                except Exception as exc:  # noqa: BLE001 -- counted as a crash or a clear refusal
                     count["refused" if _ours(exc) else "crashes"] += 2
                     notes.add(f"Structure: {type(exc).__name__}: {str(exc)[:90]}")
                 try:
                     routes[form] = file_structure(shape, Path(scratch), form, notes)
-                except Exception as exc:
+                except Exception as exc:  # noqa: BLE001 -- counted as a crash or a clear refusal
                     count["refused" if _ours(exc) else "crashes"] += 2
                     notes.add(f"{form}: {type(exc).__name__}: {str(exc)[:90]}")
                 if "Structure" in routes and shape.closed:
-                    missed, false_alarms = zoo.inside_disagreements(routes["Structure"], shape)
+                    missed, false_alarms = checks.inside_disagreements(routes["Structure"], shape)
                     count["inside_missed"] += missed
                     count["inside_false"] += false_alarms
                 for route, structure in routes.items():
                     for start in ("cvt", "greedy"):
-                        outcome = zoo.run_judged(structure, start, args.iterations, seed, shape.closed, targets_count=args.targets)
+                        outcome = checks.run_judged(structure, start, args.iterations, seed, shape.closed, targets_count=args.targets)
                         count["runs"] += 1
                         if outcome.error is not None:
                             count["refused" if outcome.clear_refusal else "crashes"] += 1
@@ -101,12 +102,16 @@ def main() -> None:
                         count["coverage_off"] = max(count["coverage_off"], verdict.coverage_off)
                         best[start].append(outcome.best)
                 if not args.no_cli and seed == seeds[0]:
-                    path = zoo.write_mesh(Path(scratch), f"cli_{kind}_{seed}", shape.vertices * (1000.0 if shape.millimetres else 1.0), shape.faces, form)
+                    path = zoo.write_mesh(
+                        Path(scratch), f"cli_{kind}_{seed}", shape.vertices * (1000.0 if shape.millimetres else 1.0), shape.faces, form
+                    )
                     scale = 0.001 if shape.millimetres else 1.0
-                    planned = zoo.plan_judged(path, Path(scratch) / f"plan_{kind}_{seed}", seed, args.iterations, scale=scale)
+                    planned = checks.plan_judged(path, Path(scratch) / f"plan_{kind}_{seed}", seed, args.iterations, scale=scale)
                     if planned.returncode == 2 and "--open-mesh" in planned.stderr:  # as the message tells a user
                         notes.add("CLI refused the file as closed solids, planned with --open-mesh")
-                        planned = zoo.plan_judged(path, Path(scratch) / f"plan_{kind}_{seed}b", seed, args.iterations, scale=scale, open_mesh=True)
+                        planned = checks.plan_judged(
+                            path, Path(scratch) / f"plan_{kind}_{seed}b", seed, args.iterations, scale=scale, open_mesh=True
+                        )
                     count["cli_runs"] += 1
                     count["cli_ok"] += planned.returncode == 0
                     count["cli_violations"] += planned.violations
@@ -134,11 +139,10 @@ def print_table(rows, args) -> None:
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for kind, seeds, count, best, _ in rows:
         mean = {s: (f"{np.mean(best[s]):.3f}" if best[s] else "-") for s in ("cvt", "greedy")}
-        print(
-            f"| {kind} | {len(seeds)} | {int(count['runs'])} | {int(count['crashes'])} | {int(count['refused'])} | {int(count['safety'])} | "
-            f"{int(count['raw_inside'])} | {int(count['inside_missed'])} / {int(count['inside_false'])} | {count['coverage_off']:.1g} | {mean['cvt']} | {mean['greedy']} | "
-            f"{int(count['cli_ok'])}/{int(count['cli_runs'])} | {int(count['cli_violations'])} |"
-        )
+        cells = [kind, len(seeds), int(count["runs"]), int(count["crashes"]), int(count["refused"]), int(count["safety"])]
+        cells += [int(count["raw_inside"]), f"{int(count['inside_missed'])} / {int(count['inside_false'])}", f"{count['coverage_off']:.1g}"]
+        cells += [mean["cvt"], mean["greedy"], f"{int(count['cli_ok'])}/{int(count['cli_runs'])}", int(count["cli_violations"])]
+        print("| " + " | ".join(str(c) for c in cells) + " |")
     print("\nNotes:")
     for kind, _, _, _, notes in rows:
         for note in sorted(notes):

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import shape_zoo as zoo
 
+import shape_checks as checks
+import shape_zoo as zoo
 import uavcov
 from uavcov.cli import main
 from uavcov.errors import InvalidInputError, MeshError
@@ -34,13 +35,13 @@ def test_the_references_agree_with_a_box_in_closed_form():
     outside_distance = np.linalg.norm(np.maximum(np.maximum(lo - points, points - hi), 0.0), axis=1)
     inside_distance = np.minimum(points - lo, hi - points).min(axis=1)
     exact = np.where(inside, inside_distance, outside_distance)
-    np.testing.assert_allclose(zoo.point_triangle_distance(points, triangles), exact, atol=1e-12)
-    winding = zoo.winding_number(points, triangles)
+    np.testing.assert_allclose(checks.point_triangle_distance(points, triangles), exact, atol=1e-12)
+    winding = checks.winding_number(points, triangles)
     np.testing.assert_allclose(winding, inside.astype(float), atol=1e-9)
     # a segment from the centre out through the top face crosses it; one beside the box does not
     centre = (lo + hi) / 2
-    assert zoo.segment_hits(triangles, centre[None], (centre + [0, 0, 5])[None], 1e-9).all()
-    assert not zoo.segment_hits(triangles, (centre + [9, 0, 0])[None], (centre + [9, 0, 5])[None], 1e-9).any()
+    assert checks.segment_hits(triangles, centre[None], (centre + [0, 0, 5])[None], 1e-9).all()
+    assert not checks.segment_hits(triangles, (centre + [9, 0, 0])[None], (centre + [9, 0, 5])[None], 1e-9).any()
 
 
 def test_the_shapes_are_what_they_claim():
@@ -61,7 +62,7 @@ def test_the_shapes_are_what_they_claim():
 # ---------------------------------------------------------------------------------------------
 
 
-def _assert_kept(outcome: zoo.Outcome) -> None:
+def _assert_kept(outcome: checks.Outcome) -> None:
     assert outcome.error is None, outcome.error
     verdict = outcome.verdict
     assert (verdict.standoff, verdict.separation, verdict.ceiling, verdict.below_ground) == (0, 0, 0, 0)
@@ -75,17 +76,17 @@ def _assert_kept(outcome: zoo.Outcome) -> None:
 def test_a_cvt_mission_on_an_unseen_shape_keeps_every_promise(kind):
     shape = zoo.make(kind, 1)
     structure = zoo.as_structure(shape)
-    _assert_kept(zoo.run_judged(structure, "cvt", ITERATIONS, 1, shape.closed, targets_count=250))
+    _assert_kept(checks.run_judged(structure, "cvt", ITERATIONS, 1, shape.closed, targets_count=250))
 
 
 @pytest.mark.parametrize("kind", ["stadium", "courtyard", "chimney", "guyed_mast", "long_bridge", "far_from_origin", "overlapping_boxes"])
 def test_a_greedy_mission_on_an_unseen_shape_keeps_every_promise(kind):
     shape = zoo.make(kind, 2)
-    _assert_kept(zoo.run_judged(zoo.as_structure(shape), "greedy", ITERATIONS, 2, shape.closed, targets_count=250))
+    _assert_kept(checks.run_judged(zoo.as_structure(shape), "greedy", ITERATIONS, 2, shape.closed, targets_count=250))
 
 
 @pytest.mark.parametrize(
-    ("kind", "form"),
+    "kind, form",
     [
         ("torus_standing", "stl_ascii"),
         ("chimney", "stl_binary"),
@@ -100,14 +101,14 @@ def test_a_greedy_mission_on_an_unseen_shape_keeps_every_promise(kind):
 def test_a_mesh_file_read_by_load_structure_flies_safely(kind, form, tmp_path):
     shape = zoo.make(kind, 0)
     structure, _ = zoo.through_file(shape, tmp_path, form)
-    _assert_kept(zoo.run_judged(structure, "cvt", ITERATIONS, 0, shape.closed, targets_count=250))
+    _assert_kept(checks.run_judged(structure, "cvt", ITERATIONS, 0, shape.closed, targets_count=250))
 
 
 def test_a_file_kept_in_utm_coordinates_flies_safely(tmp_path):
     shape = zoo.make("far_from_origin", 0)
     structure, _ = zoo.through_file(shape, tmp_path, "stl_binary", keep_coordinates=True)
     assert structure.surface.bounds[0, 0] > 4e5  # the file's own coordinates
-    _assert_kept(zoo.run_judged(structure, "cvt", ITERATIONS, 0, True, targets_count=250))
+    _assert_kept(checks.run_judged(structure, "cvt", ITERATIONS, 0, True, targets_count=250))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -122,18 +123,18 @@ def test_a_start_inside_two_overlapping_solids_is_moved_out():
     structure = zoo.as_structure(zoo.Shape("big_overlap", 0, v, f))
     solid = structure.surface.vertices[structure.surface.faces[structure.face_parts != 0]]
     starts = np.array([[13.0, 13.0, 6.0], [12.0, 9.0, 5.0], [3.0, 3.0, 6.0], [13.0, 13.0, 20.0]])
-    assert zoo.winding_number(starts[:2], solid).round(6).tolist() == [2.0, 2.0]
+    assert checks.winding_number(starts[:2], solid).round(6).tolist() == [2.0, 2.0]
     assert structure.surface.inside(starts).tolist() == [True, True, True, False]
-    settings = zoo.readme_settings(structure, "cvt", 3, n_uavs=4)
-    result = uavcov.run_mission(structure, settings, start_positions=starts, targets=zoo.few_targets(structure, 200), rng=0, n_threads=1)
-    assert (zoo.winding_number(np.asarray(result.trajectory).reshape(-1, 3), solid) < 0.5).all()
+    settings = checks.readme_settings(structure, "cvt", 3, n_uavs=4)
+    result = uavcov.run_mission(structure, settings, start_positions=starts, targets=checks.few_targets(structure, 200), rng=0, n_threads=1)
+    assert (checks.winding_number(np.asarray(result.trajectory).reshape(-1, 3), solid) < 0.5).all()
 
 
 def test_the_inside_test_matches_the_winding_number_on_every_closed_kind():
     for kind in SAFE_KINDS:
         shape = zoo.make(kind, 0)
         if shape.closed:
-            missed, false_alarms = zoo.inside_disagreements(zoo.as_structure(shape), shape)
+            missed, false_alarms = checks.inside_disagreements(zoo.as_structure(shape), shape)
             assert missed == 0, kind  # a point inside taken for outside would let a UAV in
             # A face given twice is crossed twice by a ray that enters through it: taken for
             # inside (as parity took it), which refuses a free point, never admits a solid one.
@@ -164,7 +165,7 @@ def test_a_small_model_from_a_file_has_room_to_stand_off(tmp_path):
     structure, _ = zoo.through_file(shape, tmp_path, "obj")
     lo, hi = structure.surface.bounds
     assert (hi[:2] - lo[:2] >= 20.0).all()
-    _assert_kept(zoo.run_judged(structure, "cvt", 3, 0, True, targets_count=100))
+    _assert_kept(checks.run_judged(structure, "cvt", 3, 0, True, targets_count=100))
 
 
 @pytest.mark.parametrize("kind", ["open_box", "nonmanifold_edge", "long_bridge"])
@@ -174,7 +175,7 @@ def test_a_mesh_that_is_not_closed_solids_is_refused_then_read_open(kind, tmp_pa
     with pytest.raises(MeshError, match="--open-mesh"):
         load_structure(path)
     structure = load_structure(path, closed=False)
-    _assert_kept(zoo.run_judged(structure, "cvt", 3, 0, shape.closed, targets_count=150))
+    _assert_kept(checks.run_judged(structure, "cvt", 3, 0, shape.closed, targets_count=150))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -185,18 +186,18 @@ def test_a_mesh_that_is_not_closed_solids_is_refused_then_read_open(kind, tmp_pa
 def test_the_plan_command_on_unseen_files(tmp_path, capsys):
     sign = zoo.make("sign_on_pole", 0)
     path = zoo.write_mesh(tmp_path, "sign", sign.vertices, sign.faces, "stl_binary")
-    assert main(zoo.plan_arguments(path, tmp_path / "sign", 0, 4)) == 0
-    assert zoo.judge_plan(path, tmp_path / "sign") == 0
+    assert main(checks.plan_arguments(path, tmp_path / "sign", 0, 4)) == 0
+    assert checks.judge_plan(path, tmp_path / "sign") == 0
     shed = zoo.make("open_box", 0)
     path = zoo.write_mesh(tmp_path, "shed", shed.vertices, shed.faces, "ply_ascii")
     capsys.readouterr()
-    assert main(zoo.plan_arguments(path, tmp_path / "refused", 0, 4)) == 2
+    assert main(checks.plan_arguments(path, tmp_path / "refused", 0, 4)) == 2
     said = capsys.readouterr().err.strip().splitlines()
     assert len(said) == 1 and "--open-mesh" in said[0]
-    assert main(zoo.plan_arguments(path, tmp_path / "shed", 0, 4, open_mesh=True)) == 0
-    assert zoo.judge_plan(path, tmp_path / "shed", open_mesh=True) == 0
+    assert main(checks.plan_arguments(path, tmp_path / "shed", 0, 4, open_mesh=True)) == 0
+    assert checks.judge_plan(path, tmp_path / "shed", open_mesh=True) == 0
     building = zoo.make("millimetres", 0)
     path = zoo.write_mesh(tmp_path, "mm", building.vertices * 1000.0, building.faces, "obj")
-    assert main(zoo.plan_arguments(path, tmp_path / "mm", 0, 4, scale=0.001)) == 0
-    assert zoo.judge_plan(path, tmp_path / "mm", scale=0.001) == 0
+    assert main(checks.plan_arguments(path, tmp_path / "mm", 0, 4, scale=0.001)) == 0
+    assert checks.judge_plan(path, tmp_path / "mm", scale=0.001) == 0
     assert main(["plan", "--structure", "girder_bridge", "--anchor", "8.5,47.4,400", "--uavs", "2", "--d-max", "15", "--scale", "0.5"]) == 2
