@@ -276,7 +276,7 @@ def k_guyed_mast(g):
     for k in range(3):
         angle = 2 * np.pi * k / 3 + g.uniform(0, 0.5)
         reach = g.uniform(0.5, 0.7) * h
-        anchor = (reach * np.cos(angle), reach * np.sin(angle), 0.0)
+        anchor = (reach * np.cos(angle), reach * np.sin(angle), 0.04)  # the wire's corners just clear the ground
         parts.append(beam((0.0, 0.0, 0.8 * h), anchor, 0.06))
     return union(*parts)
 
@@ -325,6 +325,26 @@ def k_nonmanifold_edge(g):
     return weld(union(a, b))
 
 
+def k_below_datum(g):
+    # heights in a site frame whose datum is above the ground (a polder, a quarry): z < 0
+    v, f = prism(_footprint(g, "U"), g.uniform(2.0, 3.0), g.uniform(6.0, 12.0))
+    return v - [0.0, 0.0, g.uniform(50.0, 150.0)], f
+
+
+def k_cavity(g):
+    # a hollow block: a closed inner shell wound inward, not connected to the outer one
+    s, wall = g.uniform(10.0, 16.0), g.uniform(1.0, 3.0)
+    inner_v, inner_f = box((wall, wall, wall), (s - wall, s - wall, s - wall))
+    return union(box((0, 0, 0), (s, s, s)), (inner_v, inner_f[:, ::-1].copy()))
+
+
+def k_degenerate_faces(g):
+    v, f = box((0, 0, 0), (g.uniform(6, 12), g.uniform(4, 9), g.uniform(5, 12)))
+    top = v[:, 2].max()
+    line = np.array([[1.0, 1.0, top], [2.0, 2.0, top], [3.0, 3.0, top]])  # three points on one line
+    return np.vstack([v, line]), np.vstack([f, [[8, 9, 10], [0, 0, 1]]])  # zero-area faces, as exporters leave
+
+
 KINDS: dict[str, tuple[Callable, dict]] = {
     "dome": (k_dome, {}),
     "torus_flat": (k_torus_flat, {}),
@@ -346,6 +366,9 @@ KINDS: dict[str, tuple[Callable, dict]] = {
     "duplicates": (k_duplicates, {}),
     "nonmanifold_edge": (k_nonmanifold_edge, {}),
     "millimetres": (k_l_building, {"millimetres": True}),
+    "below_datum": (k_below_datum, {}),
+    "cavity": (k_cavity, {}),
+    "degenerate_faces": (k_degenerate_faces, {}),
 }
 
 

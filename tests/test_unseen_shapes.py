@@ -18,7 +18,9 @@ from uavcov.errors import InvalidInputError, MeshError
 from uavcov.structures import Structure, load_structure
 
 ITERATIONS = 6
-SAFE_KINDS = [kind for kind in zoo.KINDS if kind != "inverted_winding"]
+# A Structure made by hand refuses these two clearly (their files are read and repaired)
+REFUSED_BY_HAND = ("inverted_winding", "degenerate_faces")
+SAFE_KINDS = [kind for kind in zoo.KINDS if kind not in REFUSED_BY_HAND]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -51,10 +53,11 @@ def test_the_shapes_are_what_they_claim():
         edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
         _, uses = np.unique(edges, axis=0, return_counts=True)
         open_edges, shared = int((uses == 1).sum()), int((uses > 2).sum())
-        assert (open_edges > 0) == (kind == "open_box"), kind
-        assert (shared > 0) == (kind in ("duplicates", "nonmanifold_edge")), kind
+        assert (open_edges > 0) == (kind in ("open_box", "degenerate_faces")), kind
+        assert (shared > 0) == (kind in ("duplicates", "nonmanifold_edge", "degenerate_faces")), kind
         volume = zoo.signed_volume(shape.vertices - shape.vertices.mean(axis=0), f)
         assert (volume < 0) == (kind == "inverted_winding"), kind
+        assert (shape.ground_z < 0) == (kind == "below_datum"), kind
 
 
 # ---------------------------------------------------------------------------------------------
@@ -96,6 +99,8 @@ def test_a_greedy_mission_on_an_unseen_shape_keeps_every_promise(kind):
         ("millimetres", "obj"),
         ("tiny", "stl_binary"),
         ("open_box", "obj"),
+        ("degenerate_faces", "ply_ascii"),
+        ("cavity", "stl_binary"),
     ],
 )
 def test_a_mesh_file_read_by_load_structure_flies_safely(kind, form, tmp_path):
@@ -157,6 +162,17 @@ def test_a_structure_wound_inside_out_is_refused_clearly_and_its_file_is_turned(
         zoo.as_structure(shape)
     outward = zoo.as_structure(zoo.Shape("box", 0, shape.vertices, shape.faces[:, ::-1].copy()))
     assert isinstance(outward, Structure)
+    with pytest.raises(MeshError, match="degenerate"):
+        zoo.as_structure(zoo.make("degenerate_faces", 0))
+
+
+def test_a_structure_below_its_datum_is_flown():
+    # z < 0 everywhere: z_max (10 m over the top) is below h_min, which only a height field's
+    # constraints may refuse on their own
+    shape = zoo.make("below_datum", 0)
+    structure = zoo.as_structure(shape)
+    assert structure.surface.bounds[1, 2] < -30.0
+    _assert_kept(checks.run_judged(structure, "cvt", ITERATIONS, 0, True, targets_count=200))
 
 
 def test_a_small_model_from_a_file_has_room_to_stand_off(tmp_path):
