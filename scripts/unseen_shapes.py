@@ -3,7 +3,8 @@
 Every kind of ``tests/shape_zoo.py`` (a dome, tori, a stadium, L/U/courtyard buildings, a thin
 wall, a sign on a pole, a chimney, overlapping boxes, a guyed mast, a long low bridge, a building
 at UTM coordinates, a 1 m box, a model wound inside out, an open shed, duplicated faces, a
-non-manifold edge, a file in millimetres), several seeds each, built with numpy alone, is flown
+non-manifold edge, a file in millimetres, a building below its datum, a hollow block, zero-area
+faces), several seeds each, built with numpy alone, is flown
 with the README's structure settings (8 UAVs, d_max 15 m, 100 known points, 2 m standoff, every
 move checked, 100 iterations; the CVT start 6 m out and the greedy start 4 m out along S''s
 normals), handed over as a ``Structure`` and as a mesh file read by ``load_structure`` (STL,
