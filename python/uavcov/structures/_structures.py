@@ -23,7 +23,7 @@ from .._validate import as_bool, as_bool_array, as_generator, as_positive_float,
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
-from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume
+from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume, wound_inward
 
 GROUND = "ground"
 CONTACT = "contact"
@@ -115,7 +115,7 @@ class Structure:
             raise InvalidInputError(f"ground_part must be None or an index into the {len(names)} part names, got {self.ground_part!r}")
         object.__setattr__(self, "face_parts", read_only(parts))
         object.__setattr__(self, "part_names", tuple(str(n) for n in self.part_names))
-        if _wound_inward(self.surface, parts != (-1 if self.ground_part is None else self.ground_part)):
+        if wound_inward(self.surface.vertices, self.surface.faces[parts != (-1 if self.ground_part is None else self.ground_part)]):
             raise InvalidInputError(
                 f"the solids of {self.name!r} are wound inward (they enclose a negative volume): wind every face "
                 "counter-clockwise seen from outside (reverse them: faces[:, ::-1]), or read the file with load_structure, "
@@ -231,24 +231,6 @@ class Structure:
             if total > 0:
                 result[name] = float(targets.weights[here & flags].sum()) / total
         return result
-
-
-def _wound_inward(surface: Terrain, solid: np.ndarray) -> bool:
-    """Whether the faces ``solid`` selects close up (every edge in two faces, run both ways) and
-    enclose a negative volume: a whole model exported inside out. Open or non-manifold meshes
-    are not judged (their volume means nothing)."""
-    faces = surface.faces[solid]
-    if faces.shape[0] == 0:
-        return False
-    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    forward = np.unique(directed, axis=0)
-    if forward.shape[0] != directed.shape[0]:
-        return False  # an edge run the same way twice: not a consistently wound closed mesh
-    backward = np.unique(directed[:, ::-1], axis=0)
-    if not np.array_equal(forward, backward):
-        return False  # an open edge
-    vertices = surface.vertices - surface.vertices[np.unique(faces)].mean(axis=0)  # volume with less round-off
-    return signed_volume(vertices, faces) < 0.0
 
 
 def _subdivision_centroids(m: int) -> np.ndarray:
