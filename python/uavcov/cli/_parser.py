@@ -143,6 +143,14 @@ def _add_plan(commands: Any) -> None:
     planning.add_argument(
         "--anchor", type=_floats(3, "LON,LAT,ALT"), metavar="LON,LAT,ALT", help="with --structure: the WGS84 point of its local origin"
     )
+    planning.add_argument(
+        "--scale", type=_positive_float, default=1.0, help="with --structure MESH: metres per unit of the file (0.001 for millimetres)"
+    )
+    planning.add_argument(
+        "--open-mesh",
+        action="store_true",
+        help="with --structure MESH: read a mesh that is not closed solids (open or non-manifold edges, solids sharing an edge)",
+    )
     planning.add_argument("--separation", type=float, default=5.0, help="least distance between UAVs, metres (default 5)")
     planning.add_argument(
         "--takeoff", type=_floats(2, "LON,LAT or X,Y"), metavar="LON,LAT", help="take-off point (default: the area's centre)"

@@ -25,6 +25,8 @@ def _plan(args: argparse.Namespace) -> int:
         return _plan_structure(args, started)
     if args.anchor is not None:
         raise ConfigError("--anchor places a structure (--structure); a DEM states its own georeference")
+    if args.scale != 1.0 or args.open_mesh:
+        raise ConfigError("--scale and --open-mesh read a structure's mesh file (--structure MESH), not a DEM")
     if (args.dem is None) == (not args.sample):
         raise ConfigError("give either a DEM file or the bundled sample (--sample), not both and not neither")
     check_plan_folder(args.out)  # before the work: a folder of other files is refused, never wiped
@@ -108,9 +110,11 @@ def _plan_structure(args: argparse.Namespace, started: float) -> int:
             raise ConfigError(f"{flag} is for a DEM's plan, not a structure's")
     check_plan_folder(args.out)
     if args.structure in STRUCTURE_SCENES:
+        if args.scale != 1.0 or args.open_mesh:
+            raise ConfigError("--scale and --open-mesh are for a mesh file, not a scene")
         structure = STRUCTURE_SCENES[args.structure](rng=args.seed)
     elif Path(args.structure).suffix.lower() in _MESH_SUFFIXES:
-        structure = load_structure(args.structure)
+        structure = load_structure(args.structure, scale=args.scale, closed=not args.open_mesh)
     else:
         raise ConfigError(f"--structure must be one of {sorted(STRUCTURE_SCENES)} or a mesh file (.obj/.stl/.ply), got {args.structure!r}")
     top = float(structure.surface.bounds[1, 2])

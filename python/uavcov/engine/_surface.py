@@ -449,7 +449,10 @@ class Terrain:
         """Whether each point is inside a closed solid of the mesh: ``(n, 3)`` in, ``(n,)`` bool out.
 
         A ray from the point crosses a closed solid's surface an odd number of times when it
-        starts inside; the answer is the vote of three fixed, skewed, upward rays (two of three),
+        starts inside, and the faces it crosses do not cancel by their winding (+1 leaving an
+        outward-wound face, -1 entering one) where two solids overlap or a face is given twice:
+        a point is inside when they do not cancel along the ray (which an odd count never
+        does); the answer is the vote of three fixed, skewed, upward rays (two of three),
         which keeps a ground plane below the point out of the count and survives a ray grazing
         an edge. Meant for meshes whose solids are closed (watertight) components; an open
         surface above a point (a hillside) may count as a wall and make it "inside", and so does

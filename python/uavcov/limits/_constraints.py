@@ -101,8 +101,10 @@ class Constraints:
     h_min : float, default 2.0
         Least clearance straight down to the real surface, metres (>= 0).
     z_max : float, default 50.0
-        Highest absolute altitude, metres, in the surface's frame. ``h_min > z_max`` is refused:
-        uavcov surfaces stand on z >= 0, so it would leave no room anywhere.
+        Highest absolute altitude, metres, in the surface's frame. With the vertical clearance
+        ``h_min > z_max`` is refused: height fields stand on z >= 0, so it would leave no room
+        anywhere; a structure (standoff) may stand below z = 0, and is judged against its own
+        lowest point when a team is placed (:meth:`check_team`).
     h_max : float or None, default None
         Most clearance straight down to the real surface, metres: the maximum height of flight
         above the ground below the UAV (``None``: no such ceiling, only ``z_max``). Must be at
@@ -169,7 +171,9 @@ class Constraints:
             object.__setattr__(self, "check_moves", bool(self.check_moves))
         if self.move_step is not None:
             object.__setattr__(self, "move_step", as_positive_float(self.move_step, "move_step"))
-        if self.h_min > self.z_max:
+        if self.h_min > self.z_max and self.clearance == "vertical":
+            # A height field stands on z >= 0; a structure may stand anywhere in its site's frame
+            # (below a datum: z < 0), and check_team judges it against its own lowest point.
             raise InfeasibleError(f"h_min = {self.h_min} m above the surface cannot be met below z_max = {self.z_max} m")
         if self.h_max is not None:
             object.__setattr__(self, "h_max", as_finite_float(self.h_max, "h_max"))
@@ -541,16 +545,18 @@ def _push_out(constraints: Constraints, world: Any, pos: np.ndarray, climb: floa
     low = trapped | (dist < constraints.h_min + inset)
     pos[low] = nearest[low] + unit[low] * (constraints.h_min + max(climb, inset))
     # Pushed from its nearest surface, a UAV can land under the ground (out of a solid standing
-    # on it, through its base) or within h_min of another surface (wedged between an arch and a
-    # deck, among a pylon's braces, in a slot between two walls), and the next sweep pushes it
-    # back: such a UAV goes up instead, over the highest surface within its standoff around it
-    # (the centre and a ring of 8 points h_min out).
+    # on it, through its base), within h_min of another surface (wedged between an arch and a
+    # deck, among a pylon's braces, in a slot between two walls) or still inside a solid (the
+    # nearest face was one of two overlapping solids', inside the other), and the next sweep
+    # pushes it back: such a UAV goes up instead, over the highest surface within its standoff
+    # around it (the centre and a ring of 8 points h_min out).
     moved = np.flatnonzero(low)
     if moved.size:
         here = np.ascontiguousarray(pos[moved])
         clear = np.asarray(world.clearance(here), dtype=np.float64)
         near = np.asarray(world.distance(here), dtype=np.float64)
-        lost = moved[~np.isfinite(clear) | (near < constraints.h_min)]
+        still_inside = np.asarray(world.inside(here), dtype=bool)
+        lost = moved[~np.isfinite(clear) | (near < constraints.h_min) | still_inside]
         if lost.size:
             reach = constraints.h_min + max(climb, inset)
             angles = np.arange(9) * (np.pi / 4.0)

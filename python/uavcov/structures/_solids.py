@@ -34,6 +34,21 @@ def signed_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
+def wound_inward(vertices: np.ndarray, faces: np.ndarray) -> bool:
+    """Whether ``faces`` close up (every edge in two faces, run both ways) and enclose a negative
+    volume: a whole model exported inside out. Open or non-manifold meshes are not judged
+    (their volume means nothing)."""
+    if faces.shape[0] == 0:
+        return False
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    forward = np.unique(directed, axis=0)
+    if forward.shape[0] != directed.shape[0]:
+        return False  # an edge run the same way twice: not a consistently wound closed mesh
+    if not np.array_equal(forward, np.unique(directed[:, ::-1], axis=0)):
+        return False  # an open edge
+    return signed_volume(vertices - vertices[np.unique(faces)].mean(axis=0), faces) < 0.0  # centred: less round-off
+
+
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit right-hand normals ``(F, 3)`` (zero for a degenerate face) and areas ``(F,)`` of the
     faces, from the engine (the one owner of mesh geometry)."""

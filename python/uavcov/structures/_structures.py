@@ -23,7 +23,7 @@ from .._validate import as_bool, as_bool_array, as_generator, as_positive_float,
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
-from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume
+from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume, wound_inward
 
 GROUND = "ground"
 CONTACT = "contact"
@@ -115,6 +115,12 @@ class Structure:
             raise InvalidInputError(f"ground_part must be None or an index into the {len(names)} part names, got {self.ground_part!r}")
         object.__setattr__(self, "face_parts", read_only(parts))
         object.__setattr__(self, "part_names", tuple(str(n) for n in self.part_names))
+        if wound_inward(self.surface.vertices, self.surface.faces[parts != (-1 if self.ground_part is None else self.ground_part)]):
+            raise InvalidInputError(
+                f"the solids of {self.name!r} are wound inward (they enclose a negative volume): wind every face "
+                "counter-clockwise seen from outside (reverse them: faces[:, ::-1]), or read the file with load_structure, "
+                "which turns them"
+            )
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (Structure, (self.name, self.surface, np.array(self.face_parts), self.part_names, self.ground_part))
@@ -189,9 +195,10 @@ class Structure:
     def _pressed(self, points: np.ndarray) -> np.ndarray:
         """``(n,)`` bool: points lying on a contact face, where a solid presses on a larger face
         (a nacelle on a tower's top, a deck on a column): no camera sees them."""
-        if CONTACT not in self.part_names:
+        pressing = self.face_parts == self.part_names.index(CONTACT) if CONTACT in self.part_names else np.zeros(0, dtype=bool)
+        if not pressing.any():  # no contact part, or one named but with no face (nothing rests on another)
             return np.zeros(points.shape[0], dtype=bool)
-        contact = Terrain(self.surface.vertices, self.surface.faces[self.face_parts == self.part_names.index(CONTACT)])
+        contact = Terrain(self.surface.vertices, self.surface.faces[pressing])
         bounds = self.surface.bounds
         tolerance = 1e-7 * float(np.max(bounds[1] - bounds[0]))
         pressed: np.ndarray = np.linalg.norm(contact.closest_point(points) - points, axis=1) <= tolerance
@@ -569,6 +576,7 @@ def height_field_violation(structure: Structure, *, resolution: float | None = N
 
 
 MAX_MESH_BYTES = 512 * 1024 * 1024
+MIN_GROUND_MARGIN = 10.0  # m: the least reach of the ground load_structure adds beyond the model
 
 
 def load_structure(
@@ -590,7 +598,8 @@ def load_structure(
     ``origin`` to know it (``origin=(0, 0, 0)`` keeps the file's coordinates). With
     ``closed=True`` the mesh must be a set of closed solids: every edge shared by exactly two
     faces, wound consistently; solids wound inward are turned outward. A ground plane at the
-    model's lowest z is added (``add_ground``), reaching half the model's size beyond it; the
+    model's lowest z is added (``add_ground``), reaching half the model's size beyond it (at
+    least ``MIN_GROUND_MARGIN``, 10 m, so a UAV can stand off beside a small model); the
     model's faces become the part ``"structure"``.
 
     Parameters
@@ -634,8 +643,8 @@ def load_structure(
     >>> _ = block.export(path)
     >>> site = np.array([512000.0, 4180000.0, 100.0])
     >>> structure = load_structure(path, origin=site)  # local = file - site
-    >>> structure.part_names, structure.surface.bounds.tolist()  # the ground plane reaches 2 m beyond
-    (('ground', 'contact', 'structure'), [[-2.0, -2.0, 20.0], [6.0, 4.0, 23.0]])
+    >>> structure.part_names, structure.surface.bounds.tolist()  # the ground plane reaches 10 m beyond
+    (('ground', 'contact', 'structure'), [[-10.0, -10.0, 20.0], [14.0, 12.0, 23.0]])
     """
     text = existing_path(path, "mesh", MeshError)
     size = os.path.getsize(text)
@@ -658,21 +667,21 @@ def load_structure(
         if report.boundary_edges or report.nonmanifold_edges:
             raise MeshError(
                 f"{text}: not a closed solid ({report.boundary_edges} open and {report.nonmanifold_edges} non-manifold edges); "
-                "pass closed=False to read it as an open surface"
+                "pass closed=False (uavcov plan: --open-mesh) to read it as an open surface"
             )
         directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
         if np.unique(directed, axis=0).shape[0] != directed.shape[0]:
             raise MeshError(f"{text}: inconsistent winding (an edge runs the same way in both its faces)")
-    pieces = [Piece(vertices, faces, ("structure",) * faces.shape[0])]
-    provisional = _assemble("file", pieces, None)
     if closed:
-        for component in solid_components(provisional):
+        for component in connected_faces(faces, vertices.shape[0]):
             if signed_volume(vertices, faces[component]) < 0:
                 faces[component] = faces[component][:, ::-1]
     name = os.path.splitext(os.path.basename(text))[0]
     sheet = None
     if add_ground:
         lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-        margin = 0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1]))
+        # Half the model's size, and at least room to stand off beside a small model (a 1 m part,
+        # a sign): a ground of half a 1 m model leaves a flight box narrower than a 2 m standoff.
+        margin = max(0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1])), MIN_GROUND_MARGIN)
         sheet = ground(lo[0] - margin, hi[0] + margin, lo[1] - margin, hi[1] + margin, max(2.0 * margin / 20.0, 1e-3), z=float(lo[2]))
     return _assemble(name, [Piece(vertices, faces, ("structure",) * faces.shape[0])], sheet)

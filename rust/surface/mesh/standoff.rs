@@ -21,8 +21,13 @@
 //!
 //! # The inside test
 //!
-//! A point is inside when a ray from it crosses the mesh an odd number of times, voted over
-//! three fixed, skewed, upward directions (two of three decide). Parity is exact for closed
+//! A point is inside when the faces a ray from it crosses do not cancel by their winding
+//! (leaving an outward-wound face counts +1, entering one -1: the winding number along the
+//! ray; an odd number of crossings never cancels), voted over three fixed, skewed, upward
+//! directions (two of three decide). Beside parity alone, the winding also sees what users'
+//! exports hold: two solids that overlap (a point in both crosses an even number of faces,
+//! winding 2) and a face given twice; either way the point is refused rather than accepted
+//! (`tests/test_unseen_shapes.py`); a solid wound inward counts -1, still not zero. Parity is exact for closed
 //! components whatever their shape, unlike the sign of the nearest face (ambiguous where two
 //! components touch, as a pier on the ground plane does, and at edges without pseudo-normals),
 //! and unlike a generalised winding number over the whole mesh (an open ground plane adds about
@@ -81,12 +86,14 @@ impl TriangleMesh {
         found
     }
 
-    /// How many triangles the ray `origin + t dir`, `t >= 0`, crosses.
+    /// How many triangles the ray `origin + t dir`, `t >= 0`, crosses, and their signed sum:
+    /// +1 for a triangle whose right-hand normal points along the ray (the ray leaves an
+    /// outward-wound solid there), -1 for one facing it (the ray enters one).
     #[must_use]
-    pub fn crossings(&self, origin: Point, dir: Point) -> usize {
+    pub fn crossings(&self, origin: Point, dir: Point) -> (usize, i64) {
         let ray = Ray::new(v(origin), v(dir));
         let inv = Vector::new(1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]);
-        let mut count = 0;
+        let (mut count, mut signed) = (0, 0);
         self.mesh.bvh().traverse(|node| {
             if !slab_test(node.mins(), node.maxs(), ray.origin, inv, 0.0, f64::INFINITY) {
                 return TraversalAction::Prune;
@@ -95,17 +102,23 @@ impl TriangleMesh {
                 let [a, b, c] = self.corners[f as usize];
                 if triangle_hit(a, b, c, &ray).is_some() {
                     count += 1;
+                    let along = (b - a).cross(c - a).dot(ray.dir);
+                    signed += i64::from(along > 0.0) - i64::from(along < 0.0);
                 }
             }
             TraversalAction::Continue
         });
-        count
+        (count, signed)
     }
 
     /// Whether `q` is inside a closed solid of the mesh (see the module's notes).
     #[must_use]
     pub fn inside(&self, q: Point) -> bool {
-        INSIDE_RAYS.iter().filter(|&&d| self.crossings(q, d) % 2 == 1).count() >= 2
+        let says_inside = |d: &&[f64; 3]| {
+            let (count, signed) = self.crossings(q, **d);
+            count % 2 == 1 || signed != 0
+        };
+        INSIDE_RAYS.iter().filter(says_inside).count() >= 2
     }
 }
 

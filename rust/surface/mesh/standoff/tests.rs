@@ -85,3 +85,23 @@ fn sphere_tests_and_distances_match_brute_force() {
         }
     }
 }
+
+#[test]
+fn overlapping_solids_and_a_face_given_twice_are_inside() {
+    // Two closed boxes that overlap (a union exported as is): a point in both crosses an even
+    // number of faces, but they do not cancel by their winding.
+    let (mut v, mut f) = (Vec::new(), Vec::new());
+    push_box(&mut v, &mut f, [0.0, 0.0, 0.0], [20.0, 20.0, 12.0]);
+    push_box(&mut v, &mut f, [6.0, 6.0, 0.0], [26.0, 26.0, 14.0]);
+    let s = Surface::new(v, f).unwrap();
+    assert!(s.inside([13.0, 13.0, 6.0]).unwrap());
+    assert!(s.inside([3.0, 3.0, 6.0]).unwrap() && s.inside([23.0, 23.0, 6.0]).unwrap());
+    assert!(!s.inside([13.0, 13.0, 20.0]).unwrap() && !s.inside([3.0, 23.0, 6.0]).unwrap());
+    // One box whose twelve faces are all given twice.
+    let (mut v, mut f) = (Vec::new(), Vec::new());
+    push_box(&mut v, &mut f, [0.0, 0.0, 0.0], [10.0, 10.0, 10.0]);
+    f.extend(f.clone());
+    let s = Surface::new(v, f).unwrap();
+    assert!(s.inside([5.0, 4.0, 3.0]).unwrap());
+    assert!(!s.inside([5.0, 4.0, 13.0]).unwrap() && !s.inside([-1.0, 4.0, 3.0]).unwrap());
+}
