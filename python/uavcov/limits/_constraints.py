@@ -370,7 +370,8 @@ def _moves_ok(constraints: Constraints, world: Any, cur: np.ndarray, cand: np.nd
         return ok
     ends = cand[idx]
     longest = float(np.linalg.norm(ends - cur[None], axis=2).max())
-    n_samples = math.ceil(longest / constraints.move_step) - 1  # strictly between the ends
+    ratio = longest / constraints.move_step  # inf for a subnormal move_step: checked before ceil
+    n_samples = math.ceil(ratio) - 1 if ratio <= _MAX_MOVE_SAMPLES + 1 else _MAX_MOVE_SAMPLES + 1  # strictly between the ends
     if n_samples <= 0:
         return ok
     if n_samples > _MAX_MOVE_SAMPLES:

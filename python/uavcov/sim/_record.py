@@ -127,6 +127,8 @@ def is_flown_file(path: str | os.PathLike[str]) -> bool:
         ``path`` is not a path (a string or ``os.PathLike``).
     """
     file = as_path(path, "path")  # a number or None is a mistake, not "some other file"
+    if not file.is_file():  # a FIFO would block np.load forever; a folder is no flown run either
+        return False
     try:
         with np.load(file, allow_pickle=False) as data:
             return "header" in data.files and json.loads(str(data["header"])).get("format") == FLOWN_FORMAT
