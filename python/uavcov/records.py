@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ._io import atomic_write_with
-from ._validate import read_only
+from ._validate import checked_path_text, read_only
 from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
 from .mission import MissionResult
@@ -73,7 +73,7 @@ def _require(mapping: Any, names: tuple[str, ...], path: Path) -> None:
 def _as_path(path: Any) -> Path:
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
-    return Path(path)
+    return Path(checked_path_text(os.fspath(path), "path"))  # "" would be the working directory
 
 
 # The header's scalars and their types: a file that says n_uavs = "many" is refused, not loaded.

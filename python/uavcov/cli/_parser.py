@@ -63,7 +63,9 @@ def _parser() -> argparse.ArgumentParser:
         "experiment",
         choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "flown-table1", "all"),
     )
-    reproduce.add_argument("--out", type=_path_text, help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
+    reproduce.add_argument(
+        "--out", type=_path_text, help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md"
+    )
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
     reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")
     reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")
@@ -95,7 +97,9 @@ def _parser() -> argparse.ArgumentParser:
     plot.set_defaults(run=_plot)
 
     view = commands.add_parser("view", help="one self-contained HTML file with an interactive 3D view of a run")
-    view.add_argument("run_or_dir", type=_path_text, metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs")
+    view.add_argument(
+        "run_or_dir", type=_path_text, metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs"
+    )
     view.add_argument("--out", type=_path_text, default="view.html", help="the HTML file to write (default view.html)")
     view.add_argument(
         "--run",
@@ -117,7 +121,11 @@ def _add_plan(commands: Any) -> None:
     """``uavcov plan`` and its flags: the site, the team and its limits, the camera, the run."""
     planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
     planning.add_argument(
-        "dem", nargs="?", type=_path_text, metavar="DEM", help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)"
+        "dem",
+        nargs="?",
+        type=_path_text,
+        metavar="DEM",
+        help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)",
     )
     planning.add_argument("--sample", action="store_true", help="plan on the bundled sample: matplotlib's Jacksboro DEM (WGS 84)")
     planning.add_argument(

@@ -405,7 +405,7 @@ def _terrain_changes(base: Experiment, terrain_table: Any, source: str, src: _So
     kind = terrain_table.pop("kind", "buildings" if isinstance(base.terrain, BuildingsGenerator) else "hills")
     if kind == "file":  # a surface of the user's own, the same for every seed: no terrain setting to sweep
         return dataclasses.replace(base, terrain=terrain_file(terrain_table, source)), {}, {}
-    if kind not in _TERRAINS:
+    if not isinstance(kind, str) or kind not in _TERRAINS:  # a list or table is no kind (and no key of _TERRAINS)
         kinds = (*_TERRAINS, "file")
         raise src.error("terrain.kind", f"must be 'hills', 'buildings' or 'file', got {kind!r}{_suggest(str(kind), kinds)}")
     terrain_cls = _TERRAINS[kind]

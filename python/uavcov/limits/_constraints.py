@@ -36,7 +36,17 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .._validate import as_bounds, as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_float, as_positive_int
+from .._validate import (
+    MAX_UAVS,
+    as_bounds,
+    as_count,
+    as_finite_float,
+    as_float_array,
+    as_non_negative_float,
+    as_points,
+    as_positive_float,
+    as_positive_int,
+)
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
 # closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
@@ -212,7 +222,7 @@ class Constraints:
         that radius. Passing them does not prove a
         packing exists; :func:`closest_admissible` reports when it finds none.
         """
-        n_uavs = as_positive_int(n_uavs, "number of UAVs")
+        n_uavs = as_count(n_uavs, "number of UAVs", MAX_UAVS)  # a team, and a count the volume check can multiply
         resolved = self.resolve(world)
         zmin, ztop = (float(z) for z in np.asarray(world.bounds, dtype=np.float64)[:, 2])
         floor = zmin + self.h_min

@@ -60,7 +60,6 @@ from .._validate import (
     as_n_threads,
     as_non_negative_float,
     as_points,
-    as_positive_int,
     not_a_terrain,
     read_only,
 )

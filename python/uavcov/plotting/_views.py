@@ -17,12 +17,14 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_positive_int, within_coordinate_bound
+from .._validate import as_count, as_finite_float, within_coordinate_bound
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
 
 DEFAULT_MAX_POLYGONS = 20_000
+MAX_POLYGONS = 100_000_000
+"""The most polygons a figure draws: far beyond what a picture shows, and a count area / max_polygons can divide."""
 """Most polygons a 3D view draws of one surface: enough for relief, few enough to render in seconds."""
 LIGHT = np.array([-1.0, 1.0, 1.4142135623730951]) / 2.0  # from the north-west, 45 degrees up
 """Unit vector towards the light of the shading and the hillshade (x east, y north, z up)."""
@@ -139,7 +141,7 @@ def _mesh_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
 
 def _surface_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
     """The polygons that draw ``terrain``: :func:`_grid_polygons` or :func:`_mesh_polygons`."""
-    max_polygons = as_positive_int(max_polygons, "max_polygons")
+    max_polygons = as_count(max_polygons, "max_polygons", MAX_POLYGONS)
     if terrain.grid is not None:
         return _grid_polygons(terrain, max_polygons)
     return _mesh_polygons(terrain, max_polygons)

@@ -54,7 +54,9 @@ def check_ply_counts(path: str, counts: dict[str, int], n_vertices: int, n_faces
     announced_vertices = counts.get("vertex")
     announced_faces = counts.get("face")
     if announced_vertices is not None and n_vertices != announced_vertices:
-        raise MeshError(f"{path}: the PLY header announces {announced_vertices:,} vertices, the file holds {n_vertices:,} (a truncated file?)")
+        raise MeshError(
+            f"{path}: the PLY header announces {announced_vertices:,} vertices, the file holds {n_vertices:,} (a truncated file?)"
+        )
     if announced_faces is not None and n_faces < announced_faces:
         raise MeshError(
             f"{path}: the PLY header announces {announced_faces:,} faces, {n_faces:,} triangles were read "

@@ -1,0 +1,393 @@
+"""Hostile input, round six: what got through the five rounds before.
+
+Numbers that ``float()`` cannot hold (an int or Fraction past 1.8e308) or that numpy counts as
+integers without being numbers of anything (``np.timedelta64``), masked arrays read as the data
+under their mask, unsigned indices that wrapped to negative ones, files that are no regular
+file (a FIFO blocked the reader forever, ``/dev/zero`` filled the memory), empty paths read as
+the working directory, PLY files shorter than their header says, and counts that overflowed
+the core (a CVT ``window``, a subnormal ``move_step``). Each class is tried with several hostile
+values, each asserting the precise error of :mod:`uavcov.errors` and a message naming what is
+wrong, or the right answer.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import subprocess
+import sys
+import textwrap
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import uavcov
+from refusals import refused
+from uavcov.cli import EXIT_BAD_INPUT, main
+from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError, MeshError
+from uavcov.experiments import ResultsFolder, load_sweep_config, parse_sweep_config, read_runs
+from uavcov.limits import Constraints, feasibility
+from uavcov.paper import EXPERIMENTS
+
+HILLS = uavcov.gaussian_hills(size=30, spacing=1, n_hills=2, rng=0)
+UAVS = np.array([[10.0, 10.0, 30.0], [20.0, 20.0, 30.0]])
+HUGE = 10**400  # an int float() cannot hold
+
+# ---------------------------------------------------------------------------------------------
+# Numbers float() cannot hold: an OverflowError leaked from every float setting
+
+
+SETTINGS = [
+    (uavcov.MissionSettings, {"n_uavs": 2, "d_max": 10.0}, "d_max"),
+    (uavcov.PlanSettings, {"n_uavs": 2, "d_max": 10.0}, "h_min"),
+    (uavcov.PlanSettings, {"n_uavs": 2, "d_max": 10.0}, "cruise_speed"),
+    (uavcov.CVTSettings, {}, "tol"),
+    (uavcov.CVTSettings, {}, "normal_weight"),
+    (uavcov.CAOSettings, {}, "alpha0"),
+    (uavcov.Constraints, {}, "z_max"),
+    (uavcov.StartSettings, {}, "altitude"),
+    (uavcov.EscapeSettings, {}, "hop"),
+]
+
+
+@pytest.mark.parametrize("value", [HUGE, -HUGE, Fraction(HUGE), Fraction(-HUGE, 3)])
+@pytest.mark.parametrize("cls, base, field", SETTINGS, ids=[f"{c.__name__}.{f}" for c, _, f in SETTINGS])
+def test_a_number_beyond_the_largest_float_is_refused_not_an_overflow(cls: Any, base: dict[str, Any], field: str, value: Any) -> None:
+    refused(InvalidInputError, f"{field} must be finite, got a number beyond the largest float", cls, **{**base, field: value})
+
+
+@pytest.mark.parametrize("value", [HUGE, Fraction(HUGE)])
+@pytest.mark.parametrize("cls, base, field", SETTINGS[:4], ids=[f"{c.__name__}.{f}" for c, _, f in SETTINGS[:4]])
+def test_replace_checks_again_what_the_constructor_checks(cls: Any, base: dict[str, Any], field: str, value: Any) -> None:
+    settings = cls(**base)
+    refused(InvalidInputError, f"{field} must be finite", dataclasses.replace, settings, **{field: value})
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda v: uavcov.Terrain.from_grid(np.zeros((4, 4)), spacing=v),
+        lambda v: uavcov.Visibility(HILLS, v, n_threads=1),
+        lambda v: uavcov.gaussian_hills(size=v, spacing=1, n_hills=2, rng=0),
+    ],
+    ids=["from_grid-spacing", "Visibility-d_max", "gaussian_hills-size"],
+)
+@pytest.mark.parametrize("value", [HUGE, -HUGE, 3 * HUGE])
+def test_functions_refuse_a_number_beyond_the_largest_float(call: Any, value: Any) -> None:
+    refused(InvalidInputError, "beyond the largest float", call, value)
+
+
+def test_exact_fractions_and_numpy_scalars_within_range_keep_their_value() -> None:
+    assert uavcov.CVTSettings(tol=Fraction(1, 4)).tol == 0.25
+    assert uavcov.MissionSettings(n_uavs=np.int64(3), d_max=np.float32(12.5)).d_max == 12.5
+    assert uavcov.MissionSettings(n_uavs=np.uint8(3), d_max=10**20).d_max == 1e20
+
+
+# ---------------------------------------------------------------------------------------------
+# np.timedelta64: an integer to numpy, not a count or a length
+
+
+@pytest.mark.parametrize(
+    "make, error, words",
+    [
+        (lambda td: uavcov.MissionSettings(n_uavs=td, d_max=10.0), InvalidTypeError, "n_uavs must be an integer, got timedelta64"),
+        (lambda td: uavcov.MissionSettings(n_uavs=2, d_max=td), InvalidTypeError, "d_max must be a real number, got timedelta64"),
+        (lambda td: uavcov.CVTSettings(window=td), InvalidTypeError, "window must be an integer"),
+        (lambda td: uavcov.CAOSettings(n_candidates=td), InvalidTypeError, "n_candidates must be an integer"),
+        (lambda td: uavcov.PlanSettings(n_uavs=2, d_max=10.0, hold_s=td), InvalidTypeError, "hold_s must be a real number"),
+        (lambda td: uavcov.Terrain.from_grid(np.zeros((4, 4)), spacing=td), InvalidTypeError, "spacing must be a real number"),
+    ],
+)
+@pytest.mark.parametrize("td", [np.timedelta64(5), np.timedelta64(5, "s"), np.timedelta64(1, "D")])
+def test_a_timedelta_is_no_number(make: Any, error: type[Exception], words: str, td: Any) -> None:
+    refused(error, words, make, td)
+
+
+@pytest.mark.parametrize("unit", ["s", "ms", "D"])
+@pytest.mark.parametrize(
+    "make, words",
+    [
+        (lambda a: uavcov.Terrain(np.eye(3), a.reshape(1, 3)), "faces must hold integers, got dtype timedelta64"),
+        (lambda a: uavcov.Terrain.from_grid(np.resize(a, (3, 3)), spacing=1.0), "z must hold real numbers, got dtype timedelta64"),
+        (lambda a: uavcov.Terrain.from_grid(np.zeros((4, 4)), spacing=1.0, origin=a[:2]), "origin must be a real number"),
+        (lambda a: uavcov.Visibility(HILLS, 10.0, n_threads=1).coverage(np.resize(a, (2, 3))), "uavs must hold real numbers"),
+    ],
+)
+def test_timedelta_arrays_are_refused_as_numbers_and_indices(make: Any, words: str, unit: str) -> None:
+    refused(InvalidTypeError, words, make, np.array([0, 1, 2], dtype=f"m8[{unit}]"))
+
+
+# ---------------------------------------------------------------------------------------------
+# Masked arrays: np.asarray reads the data under the mask
+
+
+@pytest.mark.parametrize(
+    "mask",
+    [[[0, 0, 1], [0, 0, 0]], [[1, 0, 0], [0, 0, 0]], [[1, 1, 1], [1, 1, 1]]],
+)
+def test_masked_positions_are_refused_not_read_under_their_mask(mask: Any) -> None:
+    visibility = uavcov.Visibility(HILLS, 10.0, n_threads=1)
+    masked = np.ma.masked_array(UAVS, mask=mask)
+    refused(InvalidInputError, "uavs has masked entries", visibility.coverage, masked)
+    # a mesh's masked vertices are no-data, which a mesh cannot have
+    refused(MeshError, "vertices contain NaN", uavcov.Terrain, np.ma.masked_array(np.eye(3), mask=np.eye(3)), [[0, 1, 2]])
+
+
+@pytest.mark.parametrize("masked_value", [0.0, 1e300, -7.0])
+def test_masked_heights_of_a_grid_are_nodata_whatever_the_data_under_them(masked_value: float) -> None:
+    heights = np.zeros((5, 5))
+    heights[2, 2] = masked_value
+    mask = np.zeros((5, 5), bool)
+    mask[2, 2] = True
+    with_nan = heights.copy()
+    with_nan[2, 2] = np.nan
+    masked = uavcov.Terrain.from_grid(np.ma.masked_array(heights, mask=mask), spacing=1.0)
+    nodata = uavcov.Terrain.from_grid(with_nan, spacing=1.0)
+    assert masked.area == nodata.area == 13.0  # the 16 unit squares less the 4 round the hole, less 0.5 for each of 6 triangles
+    np.testing.assert_array_equal(masked.vertices, nodata.vertices)
+    np.testing.assert_array_equal(masked.faces, nodata.faces)
+
+
+def test_a_mask_that_hides_nothing_reads_as_its_data() -> None:
+    visibility = uavcov.Visibility(HILLS, 10.0, n_threads=1)
+    assert visibility.coverage(np.ma.masked_array(UAVS, mask=False)) == visibility.coverage(UAVS)
+
+
+@pytest.mark.parametrize("mask", [[False, True], [True, False], [True, True]])
+def test_masked_flags_and_indices_are_refused(mask: list[bool]) -> None:
+    from uavcov._validate import as_bool_array, as_index_array
+
+    refused(InvalidInputError, "seen has masked entries", as_bool_array, np.ma.masked_array([True, False], mask=mask), "seen", 2)
+    refused(InvalidInputError, "faces has masked entries", as_index_array, np.ma.masked_array([[0, 1]], mask=[mask]), "faces", columns=2)
+
+
+# ---------------------------------------------------------------------------------------------
+# Other array-likes that are not plain float64 arrays: the same answer as the plain array
+
+
+@pytest.mark.parametrize(
+    "convert",
+    [
+        np.matrix,
+        lambda a: a.astype(">f8"),
+        lambda a: a.astype(np.float32),
+        lambda a: a.astype(np.longdouble),
+        np.asfortranarray,
+        lambda a: np.repeat(a, 2, axis=1)[:, ::2],
+        lambda a: a[::-1][::-1],
+        lambda a: a.tolist(),
+        lambda a: tuple(map(tuple, a)),
+    ],
+    ids=["matrix", "big-endian", "float32", "longdouble", "fortran", "strided", "negative-stride", "list", "tuple"],
+)
+@pytest.mark.filterwarnings("ignore:the matrix subclass:PendingDeprecationWarning")
+def test_array_likes_of_real_numbers_give_the_plain_arrays_answer(convert: Any) -> None:
+    visibility = uavcov.Visibility(HILLS, 10.0, n_threads=1)
+    assert visibility.coverage(convert(UAVS)) == visibility.coverage(UAVS)
+
+
+@pytest.mark.parametrize(
+    "value, error, words",
+    [
+        (np.array([[0, 1, 2**64 - 1]], dtype=np.uint64), InvalidInputError, "faces holds an index beyond int64"),
+        (np.array([[0, 1, 2**63]], dtype=np.uint64), InvalidInputError, "faces holds an index beyond int64"),
+        (np.array([[0, 1, 2]], dtype="m8"), InvalidTypeError, "faces must hold integers"),
+        (np.array([[True, False, True]]), InvalidTypeError, "faces must hold integers"),
+    ],
+)
+def test_face_indices_that_int64_would_wrap_are_refused(value: np.ndarray, error: type[Exception], words: str) -> None:
+    refused(error, words, uavcov.Terrain, np.eye(3), value)
+
+
+def test_unsigned_face_indices_within_int64_are_read() -> None:
+    faces = np.array([[0, 1, 2]], dtype=np.uint64)
+    assert uavcov.Terrain(np.eye(3), faces).area == uavcov.Terrain(np.eye(3), [[0, 1, 2]]).area
+
+
+# ---------------------------------------------------------------------------------------------
+# Counts that overflowed the core
+
+
+@pytest.mark.parametrize("window", [2**64, 10**60, 10**6 + 1])
+def test_a_cvt_window_beyond_the_iteration_limit_is_refused(window: int) -> None:
+    refused(InvalidInputError, "window must be at most 1,000,000", uavcov.CVTSettings, window=window)
+    refused(InvalidInputError, "window must be at most", dataclasses.replace, uavcov.CVTSettings(), window=window)
+
+
+@pytest.mark.parametrize("move_step", [5e-324, 1e-300, 1e-310])
+def test_a_subnormal_move_step_is_refused_before_its_sample_count_overflows(move_step: float) -> None:
+    limits = Constraints(move_step=move_step, check_moves=True).resolve(HILLS)
+    check = feasibility(limits, HILLS, n_threads=1)
+    refused(InvalidInputError, "is over 10000 samples", check, UAVS, UAVS[None] + 1.0)
+
+
+def test_a_fine_move_step_still_checks_moves() -> None:
+    limits = Constraints(move_step=0.5, check_moves=True).resolve(HILLS)
+    assert feasibility(limits, HILLS, n_threads=1)(UAVS, UAVS[None] + 1.0).tolist() == [True]
+
+
+# ---------------------------------------------------------------------------------------------
+# Files that are no regular file: a FIFO blocked the reader forever, /dev/zero never ended
+
+
+def _outcome_in_a_child(code: str, cwd: Path) -> str:
+    """What ``code`` prints in a child process (a blocking read would hang it: the timeout fails the test)."""
+    child = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], cwd=cwd, capture_output=True, text=True, timeout=120, check=False)
+    assert child.returncode == 0, child.stderr
+    return child.stdout.strip()
+
+
+_READ_A_FIFO = """
+import uavcov, uavcov.sim, uavcov.terrain, uavcov.structures, uavcov.experiments, uavcov.paper
+from uavcov.errors import UavcovError
+try:
+    print("answered", {call})
+except UavcovError as exc:
+    print(type(exc).__name__, exc)
+"""
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize(
+    "name, call, outcome",
+    [
+        ("fifo.obj", "uavcov.terrain.load_mesh('fifo.obj')", "MeshError"),
+        ("fifo.ply", "uavcov.terrain.load_mesh('fifo.ply')", "MeshError"),
+        ("fifo.obj", "uavcov.terrain.read_mesh_dem('fifo.obj', crs='EPSG:32617')", "MeshError"),
+        ("fifo.stl", "uavcov.structures.load_structure('fifo.stl')", "MeshError"),
+        ("fifo.toml", "uavcov.experiments.load_sweep_config('fifo.toml', bases=uavcov.paper.EXPERIMENTS)", "ConfigError"),
+        ("fifo.npz", "uavcov.sim.is_flown_file('fifo.npz')", "answered False"),
+    ],
+)
+def test_a_fifo_is_refused_without_blocking(tmp_path: Path, name: str, call: str, outcome: str) -> None:
+    os.mkfifo(tmp_path / name)
+    said = _outcome_in_a_child(_READ_A_FIFO.format(call=call), tmp_path)
+    assert said.startswith(outcome), said
+    if outcome != "answered False":
+        assert "not a regular file" in said, said
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("terrain", ['path = "fifo.npy"\nspacing = 1.0', 'path = "fifo.obj"', 'path = "fifo.ply"'])
+def test_a_sweep_on_a_fifo_terrain_is_refused_without_blocking(tmp_path: Path, terrain: str) -> None:
+    os.mkfifo(tmp_path / terrain.split('"')[1])
+    (tmp_path / "sweep.toml").write_text(f'[terrain]\nkind = "file"\n{terrain}\n')
+    said = _outcome_in_a_child(
+        _READ_A_FIFO.format(call="uavcov.experiments.load_sweep_config('sweep.toml', bases=uavcov.paper.EXPERIMENTS)"), tmp_path
+    )
+    assert said.startswith("ConfigError") and "not a regular file" in said, said
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "/dev/null", "/dev/urandom"])
+def test_a_device_is_no_sweep_file(device: str) -> None:
+    if not os.path.exists(device):
+        pytest.skip(f"no {device}")
+    refused(ConfigError, "not a regular file", load_sweep_config, device, bases=EXPERIMENTS)
+
+
+def test_a_sweep_file_of_megabytes_is_refused_before_it_is_read(tmp_path: Path) -> None:
+    path = tmp_path / "big.toml"
+    path.write_text("# padding\n" * 200_000)
+    refused(ConfigError, "bytes, more than the 1,048,576", load_sweep_config, path, bases=EXPERIMENTS)
+
+
+@pytest.mark.parametrize("kind", ["[]", '["hills"]', "{}", "{ a = 1 }", "1", "true"])
+def test_a_terrain_kind_that_is_no_word_is_a_config_error(kind: str) -> None:
+    import tomllib
+
+    data = tomllib.loads(f"[terrain]\nkind = {kind}\n")
+    refused(ConfigError, "terrain.kind: must be 'hills', 'buildings' or 'file'", parse_sweep_config, data, bases=EXPERIMENTS)
+
+
+# ---------------------------------------------------------------------------------------------
+# Empty paths: Path("") is the working directory
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        uavcov.load_mission,
+        ResultsFolder,
+        read_runs,
+        lambda p: load_sweep_config(p, bases=EXPERIMENTS),
+        uavcov.terrain.load_mesh,
+    ],
+    ids=["load_mission", "ResultsFolder", "read_runs", "load_sweep_config", "load_mesh"],
+)
+@pytest.mark.parametrize("path, words", [("", "an empty path"), ("a\0b", "holds a NUL character"), (Path("x\0"), "holds a NUL")])
+def test_an_empty_path_or_one_with_a_nul_is_refused(call: Any, path: Any, words: str, tmp_path: Path, monkeypatch: Any) -> None:
+    monkeypatch.chdir(tmp_path)
+    refused(InvalidInputError, words, call, path)
+    assert list(tmp_path.iterdir()) == []  # nothing written in the working directory
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["demo", "--out", "", "--iterations", "1", "--no-plots"],
+        ["reproduce", "table1", "--out", "", "--seeds", "0", "--team-sizes", "2", "--iterations", "1", "--no-plots"],
+        ["sweep", ""],
+        ["sweep", "x.toml", "--out", ""],
+        ["plot", ""],
+        ["view", "", "--out", "v.html"],
+        ["view", "run.npz", "--out", ""],
+        ["plan", "--sample", "--uavs", "2", "--d-max", "100", "--out", ""],
+        ["plan", "", "--uavs", "2", "--d-max", "100"],
+        ["plan", "--sample", "--aoi", "", "--uavs", "2", "--d-max", "100"],
+        ["plan", "--structure", "", "--uavs", "2", "--d-max", "100", "--anchor", "0,0,0"],
+    ],
+)
+def test_the_command_line_refuses_an_empty_path_and_writes_nothing(argv: list[str], tmp_path: Path, monkeypatch: Any, capsys: Any) -> None:
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exit_info:  # argparse's error, on one line
+        main(argv)
+    code = exit_info.value.code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == EXIT_BAD_INPUT and len(err) == 1 and "expected a file or folder name, got an empty one" in err[0], err
+    assert list(tmp_path.iterdir()) == []
+
+
+# ---------------------------------------------------------------------------------------------
+# PLY files shorter than their header, or whose header announces what no file of their size holds
+
+_PLY_HEADER = (
+    "ply\nformat ascii 1.0\nelement vertex {nv}\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face {nf}\nproperty list uchar int vertex_indices\nend_header\n"
+)
+_SQUARE = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n"
+
+
+@pytest.mark.parametrize(
+    "nv, nf, body, words",
+    [
+        (4, 2, _SQUARE + "3 0 1 2\n", "announces 2 faces, 1 triangles were read"),
+        (4, 3, _SQUARE + "3 0 1 2\n3 1 3 2\n", "announces 3 faces, 2 triangles were read"),
+        (5, 2, _SQUARE + "3 0 1 2\n3 1 3 2\n", "announces 2 faces, 1 triangles were read"),  # a face line read as vertex 5
+        (10**12, 1, _SQUARE + "3 0 1 2\n", "announces 1,000,000,000,000 vertex elements, more than the file's"),
+        (4, 10**9, _SQUARE + "3 0 1 2\n", "announces 1,000,000,000 face elements"),
+    ],
+)
+def test_a_ply_file_shorter_than_its_header_is_refused(tmp_path: Path, nv: int, nf: int, body: str, words: str) -> None:
+    path = tmp_path / "mesh.ply"
+    path.write_text(_PLY_HEADER.format(nv=nv, nf=nf) + body)
+    refused(MeshError, words, uavcov.terrain.load_mesh, path)
+
+
+def test_a_binary_ply_announcing_billions_of_vertices_is_refused_before_reading(tmp_path: Path) -> None:
+    path = tmp_path / "mesh.ply"
+    header = _PLY_HEADER.format(nv=4_000_000_000, nf=1).replace("ascii", "binary_little_endian")
+    path.write_bytes(header.encode() + bytes(36))
+    refused(MeshError, "announces 4,000,000,000 vertex elements", uavcov.terrain.load_mesh, path)
+
+
+@pytest.mark.parametrize(
+    "nf, faces, area",
+    [(2, "3 0 1 2\n3 1 3 2\n", 1.0), (1, "4 0 1 3 2\n", 1.0), (1, "3 0 1 2\n", 0.5)],
+)
+def test_a_whole_ply_file_still_loads(tmp_path: Path, nf: int, faces: str, area: float) -> None:
+    path = tmp_path / "mesh.ply"
+    path.write_text(_PLY_HEADER.format(nv=4, nf=nf) + _SQUARE + faces)
+    assert uavcov.terrain.load_mesh(path).terrain.area == pytest.approx(area)
