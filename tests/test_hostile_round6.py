@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -391,3 +392,33 @@ def test_a_whole_ply_file_still_loads(tmp_path: Path, nf: int, faces: str, area:
     path = tmp_path / "mesh.ply"
     path.write_text(_PLY_HEADER.format(nv=4, nf=nf) + _SQUARE + faces)
     assert uavcov.terrain.load_mesh(path).terrain.area == pytest.approx(area)
+
+
+# ---------------------------------------------------------------------------------------------
+# Subnormal settings whose derived constants underflowed: the error named the constant, not the setting
+
+
+@pytest.mark.parametrize("d_max", [5e-324, 1e-323, 1.7e308])
+def test_a_range_that_leaves_cao_no_first_step_is_refused_by_its_name(d_max: float) -> None:
+    from uavcov.optim import cao_preset
+
+    refused(InvalidInputError, re.escape(f"d_max = {d_max} m gives CAO no first step"), cao_preset, "plateau", d_max)
+    if d_max < 1.0:
+        refused(InvalidInputError, "d_max = .* gives CAO no first step", uavcov.PlanSettings, n_uavs=2, d_max=d_max)
+
+
+def test_a_tiny_range_keeps_its_first_step() -> None:
+    from uavcov.optim import cao_preset
+
+    assert cao_preset("plateau", 1e-300).alpha0 == pytest.approx(2e-301)
+
+
+@pytest.mark.parametrize("fov", [5e-324, 1e-323, 2e-323])
+@pytest.mark.parametrize("name", ["hfov_deg", "vfov_deg"])
+def test_a_field_of_view_too_narrow_for_its_sensor_is_refused_by_its_name(fov: float, name: str) -> None:
+    angles = {"hfov_deg": 60.0, "vfov_deg": 45.0, name: fov}
+    refused(InvalidInputError, f"{name} must be in \\(0, 180\\) degrees, got .*, too narrow", uavcov.Camera.from_fov, **angles)
+
+
+def test_a_narrow_field_of_view_is_still_a_camera() -> None:
+    assert uavcov.Camera.from_fov(1e-6, 45.0).hfov_deg == pytest.approx(1e-6)

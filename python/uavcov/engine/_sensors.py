@@ -279,6 +279,8 @@ def _fov(value: Any, name: str) -> float:
     degrees = as_positive_float(value, name)
     if degrees >= 180.0:
         raise InvalidInputError(f"{name} must be in (0, 180) degrees, got {degrees}")
+    if math.tan(math.radians(degrees) / 2) == 0.0:  # a subnormal angle: the sensor it sizes would be 0 mm wide
+        raise InvalidInputError(f"{name} must be in (0, 180) degrees, got {degrees}, too narrow for a float to hold its sensor")
     return math.radians(degrees)
 
 
