@@ -422,3 +422,64 @@ def test_a_field_of_view_too_narrow_for_its_sensor_is_refused_by_its_name(fov: f
 
 def test_a_narrow_field_of_view_is_still_a_camera() -> None:
     assert uavcov.Camera.from_fov(1e-6, 45.0).hfov_deg == pytest.approx(1e-6)
+
+
+# ---------------------------------------------------------------------------------------------
+# A results folder whose records are no regular file: reading them blocked a resume forever
+
+_RESUME_ON_A_SPECIAL_RECORD = """
+import uavcov.experiments, uavcov.paper
+from uavcov.errors import UavcovError
+from uavcov.paper._jsonl import read_rows
+try:
+    {call}
+    print("answered")
+except UavcovError as exc:
+    print(type(exc).__name__, exc)
+"""
+
+
+def _special(path: Path, kind: str) -> None:
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "device":
+        path.symlink_to("/dev/zero")
+    else:
+        path.mkdir()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo") or not os.path.exists("/dev/zero"), reason="needs FIFOs and /dev/zero")
+@pytest.mark.parametrize("kind", ["fifo", "device", "folder"])
+@pytest.mark.parametrize(
+    "record, call, outcome",
+    [
+        ("config.json", "uavcov.experiments.ResultsFolder('.').check_config({'settings': {}}, resume=True)", "ResultsInUseError"),
+        ("config.json", "uavcov.experiments.ResultsFolder('.').check_config({'settings': {}}, resume=False)", "ResultsInUseError"),
+        ("rows.jsonl", "read_rows(__import__('pathlib').Path('rows.jsonl'))", "ResultsFormatError"),
+    ],
+)
+def test_a_record_that_is_no_regular_file_is_refused_without_blocking(
+    tmp_path: Path, kind: str, record: str, call: str, outcome: str
+) -> None:
+    _special(tmp_path / record, kind)
+    said = _outcome_in_a_child(_RESUME_ON_A_SPECIAL_RECORD.format(call=call), tmp_path)
+    assert said.startswith(outcome) and "not a regular file" in said, said
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["demo", "--out", "F", "--iterations", "1", "--no-plots", "--threads", "1"],
+        ["reproduce", "table1", "--out", "F", "--seeds", "0", "--team-sizes", "2", "--iterations", "1", "--no-plots", "--workers", "1"],
+        ["reproduce", "table1", "--resume", "--out", "F", "--seeds", "0", "--team-sizes", "2", "--iterations", "1", "--no-plots"],
+    ],
+)
+def test_the_command_line_refuses_a_fifo_config_in_one_line(tmp_path: Path, argv: list[str]) -> None:
+    (tmp_path / "F").mkdir()
+    os.mkfifo(tmp_path / "F" / "config.json")
+    done = subprocess.run([sys.executable, "-m", "uavcov", *argv], cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == EXIT_BAD_INPUT and len(lines) == 1 and "config.json" in lines[0], done.stderr
+    left = sorted(p.name for p in (tmp_path / "F").iterdir() if p.name != ".uavcov.lock")  # the lock is taken first
+    assert left == ["config.json"]  # no run written beside it

@@ -339,6 +339,8 @@ def _is_our_document(document: Any) -> bool:
 
 def _is_our_config(path: Path) -> bool:
     """Whether ``path`` is a ``config.json`` uavcov wrote."""
+    if not path.is_file():  # a FIFO would block the read forever, a device never end it
+        return False
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, ValueError):
@@ -528,8 +530,12 @@ class ResultsFolder:
             write or cannot read.
         """
         path = self.config_json
-        if not path.exists():
+        if not path.exists() and not path.is_symlink():
             return
+        if not path.is_file():  # a FIFO would block the read forever, a device never end it
+            raise ResultsInUseError(
+                f"{path} is not a regular file (a folder, FIFO, device or link to none): move it away or write to another folder"
+            )
         try:
             previous = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError, ValueError) as exc:
