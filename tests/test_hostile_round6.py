@@ -483,3 +483,26 @@ def test_the_command_line_refuses_a_fifo_config_in_one_line(tmp_path: Path, argv
     assert done.returncode == EXIT_BAD_INPUT and len(lines) == 1 and "config.json" in lines[0], done.stderr
     left = sorted(p.name for p in (tmp_path / "F").iterdir() if p.name != ".uavcov.lock")  # the lock is taken first
     assert left == ["config.json"]  # no run written beside it
+
+
+# ---------------------------------------------------------------------------------------------
+# A .plan's numbers reach the vehicle as 32-bit floats: 1e308 s was an endless hold, 5e-324 m/s none
+
+
+@pytest.mark.parametrize("field", ["hold_s", "cruise_speed", "hover_speed"])
+@pytest.mark.parametrize("value", [1e308, 3.5e38, 5e-324, 1e-40])
+def test_a_plan_refuses_a_mission_item_value_float32_cannot_carry(field: str, value: float) -> None:
+    refused(
+        InvalidInputError,
+        re.escape(f"{field} = {value} is beyond what a mission item's 32-bit float holds"),
+        uavcov.PlanSettings,
+        n_uavs=2,
+        d_max=10.0,
+        **{field: value},
+    )
+
+
+@pytest.mark.parametrize("hold, kept", [(0.0, 0.0), (-0.0, 0.0), (1e-30, 1e-30), (3e38, 3e38), (60, 60.0)])
+def test_a_hold_float32_carries_is_kept(hold: float, kept: float) -> None:
+    settings = uavcov.PlanSettings(n_uavs=2, d_max=10.0, hold_s=hold)
+    assert settings.hold_s == kept and str(settings.hold_s) == str(kept)
