@@ -312,17 +312,18 @@ def as_path(value: Any, name: str) -> Path:
     return Path(checked_path_text(os.fspath(value), name))
 
 
-def checked_path_text(text: Any, name: str) -> Any:
-    """``text`` (a path's string) unless it is empty or holds a NUL byte.
+def checked_path_text(text: str, name: str) -> str:
+    """``text`` (a path's string, ``os.fspath`` of it) unless it is empty or holds a NUL character.
 
     ``Path("")`` is the working directory: an empty path (an unset variable, ``--out ""``) would
     write there, or read it, instead of being the mistake it is; no file name holds a NUL.
     """
-    if isinstance(text, (str, bytes)):
-        if not text:
-            raise InvalidInputError(f"{name} is an empty path: give a file or folder name ('.' for the working directory)")
-        if ("\0" if isinstance(text, str) else b"\0") in text:
-            raise InvalidInputError(f"{name} holds a NUL character, which no path may hold")
+    if not isinstance(text, str):
+        raise InvalidTypeError(f"{name} must be a path string or os.PathLike of one, got {type(text).__name__}")
+    if not text:
+        raise InvalidInputError(f"{name} is an empty path: give a file or folder name ('.' for the working directory)")
+    if "\0" in text:
+        raise InvalidInputError(f"{name} holds a NUL character, which no path may hold")
     return text
 
 
