@@ -13,6 +13,7 @@ wrong, or the right answer.
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 import re
 import subprocess
@@ -28,7 +29,7 @@ import pytest
 import uavcov
 from refusals import refused
 from uavcov.cli import EXIT_BAD_INPUT, main
-from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError, MeshError
+from uavcov.errors import ConfigError, InvalidInputError, InvalidTypeError, MeshError, ResultsFormatError
 from uavcov.experiments import ResultsFolder, load_sweep_config, parse_sweep_config, read_runs
 from uavcov.limits import Constraints, feasibility
 from uavcov.paper import EXPERIMENTS
@@ -506,3 +507,76 @@ def test_a_plan_refuses_a_mission_item_value_float32_cannot_carry(field: str, va
 def test_a_hold_float32_carries_is_kept(hold: float, kept: float) -> None:
     settings = uavcov.PlanSettings(n_uavs=2, d_max=10.0, hold_s=hold)
     assert settings.hold_s == kept and str(settings.hold_s) == str(kept)
+
+
+# ---------------------------------------------------------------------------------------------
+# A run file whose header restates its trace wrongly, or says -inf seconds, was loaded as it said
+
+
+@pytest.fixture(scope="module")
+def run_arrays(tmp_path_factory: Any) -> dict[str, np.ndarray]:
+    settings = uavcov.MissionSettings(n_uavs=2, d_max=10.0, n_prior=10, iterations=3, cao=uavcov.CAOSettings(n_candidates=10))
+    path = tmp_path_factory.mktemp("run") / "run.npz"
+    uavcov.save_mission(uavcov.run_mission(HILLS, settings, n_threads=1, rng=0), path)
+    with np.load(path, allow_pickle=False) as data:
+        return dict(data)
+
+
+def _tampered(run_arrays: dict[str, np.ndarray], tmp_path: Path, where: str, name: str, raw: str) -> Path:
+    header = json.loads(str(run_arrays["header"]))
+    header[where][name] = "__VALUE__"
+    path = tmp_path / "tampered.npz"
+    np.savez(path, **{**run_arrays, "header": np.array(json.dumps(header).replace('"__VALUE__"', raw))})
+    return path
+
+
+@pytest.mark.parametrize("raw", ["-1", "-1e400", "1e400", "NaN", '"5"', "[]", "null", "true", "1" + "0" * 400])
+@pytest.mark.parametrize("where, name", [("scalars", "wall_time_s"), ("trace", "time_measure_s"), ("trace", "time_optimizer_s")])
+def test_a_run_file_with_a_duration_that_is_none_is_refused(
+    run_arrays: dict[str, np.ndarray], tmp_path: Path, where: str, name: str, raw: str
+) -> None:
+    path = _tampered(run_arrays, tmp_path, where, name, raw)
+    refused(ResultsFormatError, f"{where}.{name} = .* is not (a duration|a number)", uavcov.load_mission, path)
+
+
+@pytest.mark.parametrize(
+    "name, raw",
+    [
+        ("best_iteration", "1000000000"),
+        ("best_iteration", "-1"),
+        ("best_iteration", "4"),  # the run has 4 configurations: 0..3
+        ("best_value", "1e400"),
+        ("best_value", "1.0"),
+        ("best_value", "-0.0"),
+        ("evaluations", "1000000000"),
+        ("evaluations", "0"),
+    ],
+)
+def test_a_run_file_whose_best_disagrees_with_its_trace_is_refused(
+    run_arrays: dict[str, np.ndarray], tmp_path: Path, name: str, raw: str
+) -> None:
+    path = _tampered(run_arrays, tmp_path, "trace", name, raw)
+    refused(ResultsFormatError, f"trace.{name} = .* disagrees with the trace's values stored beside it", uavcov.load_mission, path)
+
+
+def test_a_run_file_whose_best_positions_are_elsewhere_is_refused(run_arrays: dict[str, np.ndarray], tmp_path: Path) -> None:
+    path = tmp_path / "moved.npz"
+    np.savez(path, **{**run_arrays, "trace_best_positions": run_arrays["trace_best_positions"] + 1.0})
+    refused(ResultsFormatError, "trace_best_positions disagrees with the trajectory", uavcov.load_mission, path)
+
+
+@pytest.mark.parametrize(
+    "seed, error, words", [("-1", InvalidInputError, "seed must be >= 0"), (str(2**64), InvalidInputError, "below 2\\*\\*64")]
+)
+def test_a_run_file_with_a_cvt_seed_no_core_ran_is_refused(
+    run_arrays: dict[str, np.ndarray], tmp_path: Path, seed: str, error: type[Exception], words: str
+) -> None:
+    path = _tampered(run_arrays, tmp_path, "cvt", "seed", seed)
+    refused(ResultsFormatError, words, uavcov.load_mission, path)
+    refused(error, words, dataclasses.replace, uavcov.load_mission(_tampered(run_arrays, tmp_path, "cvt", "seed", "7")).cvt, seed=int(seed))
+
+
+def test_an_untampered_run_file_and_an_old_one_still_load(run_arrays: dict[str, np.ndarray], tmp_path: Path) -> None:
+    path = _tampered(run_arrays, tmp_path, "scalars", "start_time_s", "NaN")  # an unknown start time is NaN
+    assert uavcov.load_mission(path).trace.best_iteration == json.loads(str(run_arrays["header"]))["trace"]["best_iteration"]
+    assert uavcov.load_mission(Path(__file__).parent / "data" / "mission_before_issue41.npz").trace.evaluations > 0

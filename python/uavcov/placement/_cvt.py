@@ -59,6 +59,7 @@ from .._validate import (
     as_generator,
     as_n_threads,
     as_non_negative_float,
+    as_non_negative_int,
     as_points,
     not_a_terrain,
     read_only,
@@ -133,6 +134,9 @@ class CVTResult:
     def __post_init__(self) -> None:
         for name in ("generators", "moves", "drift", "energy"):
             object.__setattr__(self, name, read_only(np.array(getattr(self, name), dtype=np.float64)))
+        if as_non_negative_int(self.seed, "seed") >= 2**64:  # a record read back must hold the core's u64 seed
+            raise InvalidInputError(f"seed must be below 2**64 (the core's u64 seed), got {self.seed}")
+        object.__setattr__(self, "iterations", as_non_negative_int(self.iterations, "iterations"))
         if self.normals is not None:
             normals = read_only(np.array(self.normals, dtype=np.float64))
             if normals.shape != self.generators.shape:
