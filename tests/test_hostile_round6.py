@@ -580,3 +580,37 @@ def test_an_untampered_run_file_and_an_old_one_still_load(run_arrays: dict[str, 
     path = _tampered(run_arrays, tmp_path, "scalars", "start_time_s", "NaN")  # an unknown start time is NaN
     assert uavcov.load_mission(path).trace.best_iteration == json.loads(str(run_arrays["header"]))["trace"]["best_iteration"]
     assert uavcov.load_mission(Path(__file__).parent / "data" / "mission_before_issue41.npz").trace.evaluations > 0
+
+
+# ---------------------------------------------------------------------------------------------
+# JSON objects that name a member twice: Python keeps the last, other readers the first
+
+_RING = [[-84.27, 36.58], [-84.26, 36.58], [-84.26, 36.59], [-84.27, 36.58]]
+_OTHER_RING = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 0.0]]
+
+
+@pytest.mark.parametrize(
+    "text, name",
+    [
+        (f'{{"type": "Polygon", "coordinates": {[_OTHER_RING]}, "coordinates": {[_RING]}}}', "coordinates"),
+        (f'{{"type": "Point", "type": "Polygon", "coordinates": {[_RING]}}}', "type"),
+        (f'{{"type": "Feature", "geometry": {{"type": "Polygon", "coordinates": {[_RING]}, "coordinates": []}}}}', "coordinates"),
+        ('{"type": "FeatureCollection", "features": [], "features": [{"type": "Feature", "geometry": null}]}', "features"),
+    ],
+)
+def test_an_area_naming_a_member_twice_is_refused(tmp_path: Path, text: str, name: str) -> None:
+    path = tmp_path / "area.geojson"
+    path.write_text(text)
+    refused(InvalidInputError, f"the name '{name}' appears twice in one object", uavcov.field.read_area, path)
+
+
+def test_strict_json_files_refuse_a_name_given_twice_and_read_the_rest(tmp_path: Path) -> None:
+    from uavcov.field._strict_json import read_json
+
+    path = tmp_path / "plan.json"
+    path.write_text('{"a": 1, "b": {"c": 2, "c": 3}}')
+    refused(InvalidInputError, "the name 'c' appears twice", read_json, path)
+    path.write_text('{"a": 1, "b": {"c": 2, "d": [{"c": 3}]}}')  # the same name in two objects is no repeat
+    assert read_json(path) == {"a": 1, "b": {"c": 2, "d": [{"c": 3}]}}
+    path.write_text(json.dumps({"type": "Polygon", "coordinates": [_RING]}))
+    assert uavcov.field.read_area(path).polygons[0][0].shape == (3, 2)
