@@ -614,3 +614,20 @@ def test_strict_json_files_refuse_a_name_given_twice_and_read_the_rest(tmp_path:
     assert read_json(path) == {"a": 1, "b": {"c": 2, "d": [{"c": 3}]}}
     path.write_text(json.dumps({"type": "Polygon", "coordinates": [_RING]}))
     assert uavcov.field.read_area(path).polygons[0][0].shape == (3, 2)
+
+
+_RUNS_HEADER = (
+    "run_id,experiment,init,n_uavs,seed,sensing_range,iterations,initial_coverage,max_coverage,final_coverage,best_iteration,"
+    "iterations_to_95,evaluations,wall_time_s,time_measure_s,time_optimizer_s,time_feasibility_s,settings_hash,error"
+)
+_RUNS_ROW = "r,table1,cvt,2,0,25.0,1,0.3,0.3,0.3,0,0,2,0.1,0.01,0.01,0.01,abc,"
+
+
+@pytest.mark.parametrize("extra, repeated", [(",d_max,d_max", "d_max"), (",a,b,a", "a"), (",seed", "seed")])
+def test_a_runs_file_naming_a_column_twice_is_refused(tmp_path: Path, extra: str, repeated: str) -> None:
+    path = tmp_path / "runs.csv"
+    cells = ",1" * extra.count(",")
+    path.write_text(_RUNS_HEADER + extra + "\n" + _RUNS_ROW + cells + "\n")
+    refused(ResultsFormatError, f"names the column\\(s\\) {repeated} twice in its header", read_runs, path)
+    path.write_text(_RUNS_HEADER + ",d_max\n" + _RUNS_ROW + ",20.0\n")
+    assert read_runs(path)[0]["d_max"] == "20.0"

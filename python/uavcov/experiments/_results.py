@@ -209,6 +209,9 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIR
         missing = [c for c in required if c not in header]
         if missing:
             raise ResultsFormatError(f"{path} is not a uavcov runs file: it lacks the column(s) {', '.join(missing)}")
+        repeated = sorted({c for c in header if header.count(c) > 1})
+        if repeated:  # a row would keep one of its cells under that name and drop the other
+            raise ResultsFormatError(f"{path} names the column(s) {', '.join(repeated)} twice in its header")
         rows = []
         for line_number, cells in enumerate(reader, start=2):
             if len(cells) != len(header):
