@@ -33,6 +33,8 @@ limit                          value           what it bounds
                                                (``size / spacing``, a wall's ``height /
                                                spacing``): 10^8 nodes
 :data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
+:data:`MAX_SWEEP_FILE_BYTES`   1 MiB           one sweep file (TOML), checked before it is read
+:data:`MAX_POLYGONS`           100 000 000     polygons of one figure's surface (``max_polygons``)
 =============================  ==============  ===================================================
 
 Coordinates have a bound too, :data:`MAX_COORDINATE_M` (1e15 m): the engine refuses a surface
@@ -85,6 +87,8 @@ __all__ = [
     "MAX_THREADS",
     "MAX_GRID_CELLS",
     "MAX_HILLS",
+    "MAX_SWEEP_FILE_BYTES",
+    "MAX_POLYGONS",
 ]
 
 MAX_UAVS = 1_000
@@ -107,6 +111,10 @@ MAX_GRID_CELLS = 10_000
 """Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
 MAX_HILLS = 10_000
 """Most Gaussians of one hills terrain: each costs a pass over every node."""
+MAX_SWEEP_FILE_BYTES = 1 << 20
+"""The largest sweep file read, bytes: a hand-written TOML of settings is a few kB; more is a wrong file."""
+MAX_POLYGONS = 100_000_000
+"""The most polygons a figure draws: far beyond what a picture shows (a count ``area / max_polygons`` divides)."""
 MAX_WORKERS = 4096
 """Most local worker processes: far beyond any one machine; a larger count is a typo."""
 

@@ -57,7 +57,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, as_path, as_str, is_int, regular_file
+from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_SWEEP_FILE_BYTES, MAX_UAVS, as_path, as_str, is_int, regular_file
 from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -92,8 +92,6 @@ _TOP_KEYS = (
 _TERRAINS: Mapping[str, type] = {"hills": HillsGenerator, "buildings": BuildingsGenerator}
 _MAX_ITERATIONS = MAX_ITERATIONS
 _MAX_RUNS = MAX_RUNS
-MAX_SWEEP_FILE_BYTES = 1 << 20
-"""The largest sweep file read, bytes: a hand-written TOML of settings is a few kB; more is a wrong file."""
 
 
 def _suggest(key: str, valid: Sequence[str]) -> str:

@@ -17,14 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_count, as_finite_float, within_coordinate_bound
+from .._validate import MAX_POLYGONS, as_count, as_finite_float, within_coordinate_bound
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
 
 DEFAULT_MAX_POLYGONS = 20_000
-MAX_POLYGONS = 100_000_000
-"""The most polygons a figure draws: far beyond what a picture shows, and a count area / max_polygons can divide."""
 """Most polygons a 3D view draws of one surface: enough for relief, few enough to render in seconds."""
 LIGHT = np.array([-1.0, 1.0, 1.4142135623730951]) / 2.0  # from the north-west, 45 degrees up
 """Unit vector towards the light of the shading and the hillshade (x east, y north, z up)."""
