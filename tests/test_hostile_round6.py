@@ -631,3 +631,83 @@ def test_a_runs_file_naming_a_column_twice_is_refused(tmp_path: Path, extra: str
     refused(ResultsFormatError, f"names the column\\(s\\) {repeated} twice in its header", read_runs, path)
     path.write_text(_RUNS_HEADER + ",d_max\n" + _RUNS_ROW + ",20.0\n")
     assert read_runs(path)[0]["d_max"] == "20.0"
+
+
+# ---------------------------------------------------------------------------------------------
+# Found by the fuzz harness's new values (scripts/fuzz_public_api.py --values "10**400;timedelta64;...")
+
+
+@pytest.mark.parametrize("n", [HUGE, 10**20, 1001])
+def test_check_team_refuses_a_team_beyond_the_limit_before_its_volume_overflows(n: int) -> None:
+    limits = Constraints().resolve(HILLS)
+    refused(InvalidInputError, "number of UAVs must be at most 1,000", limits.check_team, n, HILLS)
+
+
+@pytest.mark.parametrize(
+    "field, value, words",
+    [
+        ("longitude", HUGE, "anchor longitude must be finite and within"),
+        ("latitude", -HUGE, "anchor latitude must be finite and within"),
+        ("height", HUGE, "anchor height must be finite and within"),
+        ("longitude", np.timedelta64(5, "s"), "anchor longitude must be a number"),
+        ("height", np.timedelta64(1, "D"), "anchor height must be a number"),
+    ],
+)
+def test_a_geo_anchor_refuses_numbers_float_cannot_hold_and_timedeltas(field: str, value: Any, words: str) -> None:
+    refused(InvalidInputError, words, uavcov.field.GeoAnchor, **{"longitude": 5.0, "latitude": 45.0, "height": 0.0, field: value})
+
+
+@pytest.mark.parametrize("c", [np.timedelta64(0), np.timedelta64(1, "s"), True, 1.0])
+def test_a_candidate_index_is_an_integer_not_a_timedelta(c: Any) -> None:
+    from uavcov.cover import CoverageProblem
+
+    visibility = uavcov.Visibility(HILLS, 10.0, n_threads=1)
+    problem = CoverageProblem(visibility, UAVS, n_threads=1)
+    refused(InvalidTypeError, "c must be an int", problem.seen, c)
+    assert problem.seen(np.int64(1)).shape == problem.seen(1).shape
+
+
+@pytest.fixture(scope="module")
+def mission() -> Any:
+    settings = uavcov.MissionSettings(n_uavs=2, d_max=10.0, n_prior=10, iterations=2, cao=uavcov.CAOSettings(n_candidates=10))
+    return uavcov.run_mission(HILLS, settings, n_threads=1, rng=0)
+
+
+@pytest.mark.parametrize("max_polygons", [HUGE, 10**9, 2**64])
+def test_a_figure_refuses_a_polygon_count_beyond_the_limit(mission: Any, max_polygons: int) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_cvt
+
+    refused(InvalidInputError, "max_polygons must be at most 100,000,000", plot_cvt, mission, max_polygons=max_polygons)
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"max_frames": np.timedelta64(5)}, "max_frames must be an integer >= 2"),
+        ({"max_vertices": np.timedelta64(100, "s")}, "max_vertices must be an integer >= 16"),
+        ({"max_frames": True}, "max_frames must be an integer >= 2"),
+    ],
+)
+def test_a_view_counts_frames_and_vertices_in_integers(mission: Any, kwargs: dict[str, Any], words: str) -> None:
+    pytest.importorskip("plotly")
+    from uavcov.plotting import view
+
+    refused(InvalidInputError, words, view, mission, **kwargs)
+
+
+@pytest.mark.parametrize("configuration", [np.timedelta64(1), np.timedelta64(0, "s")])
+def test_a_coverage_map_takes_an_iteration_not_a_timedelta(mission: Any, configuration: Any) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_coverage_map
+
+    with pytest.raises(uavcov.errors.UavcovError) as caught:
+        plot_coverage_map(mission, configuration=configuration)
+    assert "configuration" in str(caught.value)
+
+
+@pytest.mark.parametrize("trajectory", [HUGE, Fraction(HUGE), [[[HUGE, 0, 0]]]])
+def test_a_trajectory_beyond_the_largest_float_is_no_trajectory(trajectory: Any) -> None:
+    from uavcov.plotting._inputs import _trajectory
+
+    refused(ResultsFormatError, "the trajectory is not numeric", _trajectory, trajectory)
