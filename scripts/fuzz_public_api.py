@@ -117,8 +117,10 @@ REVIEWED: dict[tuple[str, str], tuple[frozenset[str], str]] = {
     ),
     ("wrap_longitude", "lon"): (
         frozenset({"nan", "nan(3,3)", "1e300(3,3)", "masked(3,3)"}),
-        "documented: NaN (no data) passes through as NaN, and fmod reduces 1e300 exactly (a longitude within [-180, 180]); "
-        "a masked longitude is no data, NaN",
+        (
+            "documented: NaN (no data) passes through as NaN, and fmod reduces 1e300 exactly (a longitude within [-180, 180]); "
+            "a masked longitude is no data, NaN"
+        ),
     ),
     ("Terrain.from_grid", "z"): (
         frozenset({"masked(3,3)"}),

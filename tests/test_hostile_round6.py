@@ -711,3 +711,76 @@ def test_a_trajectory_beyond_the_largest_float_is_no_trajectory(trajectory: Any)
     from uavcov.plotting._inputs import _trajectory
 
     refused(ResultsFormatError, "the trajectory is not numeric", _trajectory, trajectory)
+
+
+# ---------------------------------------------------------------------------------------------
+# Writers: a device, FIFO or folder where the file goes (as root, the rename replaced /dev/null
+# by a file), a file where its folder goes, a format matplotlib does not write
+
+
+def _stand_in(tmp_path: Path, what: str) -> Path:
+    if what == "fifo":
+        os.mkfifo(tmp_path / "target.png")
+        return tmp_path / "target.png"
+    if what == "folder":
+        (tmp_path / "target.png").mkdir()
+        return tmp_path / "target.png"
+    if what == "link to a device":
+        (tmp_path / "target.png").symlink_to("/dev/null")
+        return tmp_path / "target.png"
+    return Path("/dev/null")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo") or not os.path.exists("/dev/null"), reason="needs FIFOs and /dev/null")
+@pytest.mark.parametrize(
+    "what, words", [("fifo", "a FIFO, socket or device"), ("folder", "a folder"), ("device", "a FIFO, socket or device")]
+)
+@pytest.mark.parametrize("writer", ["save_mission", "plot_coverage_map", "write_view", "ply"])
+def test_a_writer_refuses_what_is_no_file_where_its_file_goes(mission: Any, tmp_path: Path, what: str, words: str, writer: str) -> None:
+    from uavcov.errors import ResultsFolderError
+
+    target = _stand_in(tmp_path, what)
+    calls = {
+        "save_mission": lambda: uavcov.save_mission(mission, target),
+        "plot_coverage_map": lambda: pytest.importorskip("uavcov.plotting").plot_coverage_map(mission, out=target),
+        "write_view": lambda: pytest.importorskip("uavcov.plotting").write_view(mission, target),
+        "ply": lambda: pytest.importorskip("uavcov.plotting").plot_point_cloud(mission, ply=target),
+    }
+    if writer != "save_mission":
+        pytest.importorskip("matplotlib" if writer != "write_view" else "plotly")
+    refused(ResultsFolderError, f"cannot write {re.escape(str(target))}: {words} stands there, not a file", calls[writer])
+    assert os.path.exists("/dev/null") and not Path("/dev/null").is_file()  # the device is still one
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/null"), reason="needs /dev/null")
+def test_a_link_where_the_file_goes_is_replaced_not_followed(mission: Any, tmp_path: Path) -> None:
+    target = _stand_in(tmp_path, "link to a device")
+    uavcov.save_mission(mission, target)
+    assert target.is_file() and not target.is_symlink() and not Path("/dev/null").is_file()
+    assert uavcov.load_mission(target).seed == mission.seed
+
+
+@pytest.mark.parametrize("writer", ["save_mission", "plot_coverage_map"])
+@pytest.mark.parametrize("below", ["afile/x.png", "afile/deeper/x.png"])
+def test_a_writer_whose_folder_is_a_file_says_so(mission: Any, tmp_path: Path, writer: str, below: str) -> None:
+    from uavcov.errors import ResultsFolderError
+
+    (tmp_path / "afile").write_text("")
+    target = tmp_path / below
+    call = {"save_mission": uavcov.save_mission, "plot_coverage_map": None}[writer]
+    if call is None:
+        plotting = pytest.importorskip("uavcov.plotting")
+        pytest.importorskip("matplotlib")
+        refused(ResultsFolderError, "cannot make the folder of", plotting.plot_coverage_map, mission, out=target)
+    else:
+        refused(ResultsFolderError, "cannot make the folder of", call, mission, target)
+
+
+@pytest.mark.parametrize("name", ["figure.npz", "figure.txt", "figure.html", "figure.p_n_g"])
+def test_a_figure_refuses_a_format_matplotlib_does_not_write(mission: Any, tmp_path: Path, name: str) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_coverage_map
+
+    refused(InvalidInputError, "names no picture format matplotlib writes", plot_coverage_map, mission, out=tmp_path / name)
+    assert list(tmp_path.iterdir()) == []
+    assert plot_coverage_map(mission, out=tmp_path / "figure.PNG") is not None and (tmp_path / "figure.PNG").is_file()

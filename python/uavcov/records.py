@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ._io import atomic_write_with
+from ._io import atomic_write_with, make_parent
 from ._validate import as_non_negative_float, checked_path_text, read_only
 from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
@@ -257,8 +257,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
         arrays.update({f"cvt_{name}": np.asarray(getattr(result.cvt, name)) for name in _CVT_ARRAYS})
         if result.cvt.normals is not None:
             arrays["cvt_normals"] = np.asarray(result.cvt.normals)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_with(path, lambda out: np.savez_compressed(out, **arrays))  # type: ignore[arg-type]
+    atomic_write_with(make_parent(path), lambda out: np.savez_compressed(out, **arrays))  # type: ignore[arg-type]
     return path
 
 

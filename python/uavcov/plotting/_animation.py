@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from .._io import make_parent, refuse_what_is_no_file
 from .._validate import as_positive_float, as_positive_int
 from ..errors import InvalidInputError
 from ._cameras import footprints
@@ -180,7 +181,7 @@ def animate_mission(
         title.set_text(f"iteration {k} of {traj.shape[0] - 1}: {what} {curve[k]:.3f} (d_max = {d:g} m)")
         canvas.draw()
         images.append(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
-    out.parent.mkdir(parents=True, exist_ok=True)
+    refuse_what_is_no_file(make_parent(out))
     if suffix == ".gif":
         _write_gif(images, out, fps)
     else:

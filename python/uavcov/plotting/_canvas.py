@@ -11,6 +11,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from .._io import make_parent, refuse_what_is_no_file
 from .._validate import as_positive_float
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 
@@ -72,8 +73,10 @@ def _finish(fig: Any, out: Any, dpi: float) -> Any:
     """Save ``fig`` to ``out`` (parents made) when given, and return it: every figure's last step."""
     out, dpi = check_output(out, dpi)
     if out is not None:
-        path = Path(out)
-        path.parent.mkdir(parents=True, exist_ok=True)
+        path = refuse_what_is_no_file(make_parent(Path(out)))
+        formats = fig.canvas.get_supported_filetypes()
+        if path.suffix and path.suffix[1:].lower() not in formats:  # matplotlib's ValueError, in our words
+            raise InvalidInputError(f"out {path} names no picture format matplotlib writes ({', '.join(sorted(formats))})")
         fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.15)
     return fig
 

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_with
+from .._io import atomic_write_with, make_parent
 from .._validate import as_path, read_only
 from ..engine import Terrain
 from ..errors import InvalidTypeError, ResultsFormatError
@@ -112,8 +112,7 @@ def save_flown(flown: FlownMission, path: str | os.PathLike[str], terrain: Terra
         "terrain_faces": np.asarray(terrain.faces),
         **{name: np.asarray(getattr(flown, name)) for name in _ARRAYS},
     }
-    out = as_path(path, "path")
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = make_parent(as_path(path, "path"))
     atomic_write_with(out, lambda handle: np.savez_compressed(handle, **arrays))  # type: ignore[arg-type]
     return out
 
