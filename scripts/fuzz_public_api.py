@@ -975,6 +975,19 @@ def cli_cases(workdir: Path) -> list[list[str]]:
     (workdir / "runs" / "runs.csv").write_text("run_id,experiment\nx,y\n")
     (workdir / "badruns").mkdir(exist_ok=True)
     (workdir / "badruns" / "runs.csv").write_bytes(b"\xff\xfe\x00garbage")
+    # round 6: files that are no regular file (a read would block or never end), a PLY shorter
+    # than its header, a folder whose config.json is a FIFO
+    special = {"fifo.toml", "fifo.obj", "fifo.ply", "fifo.geojson", "fifo.tif"} if hasattr(os, "mkfifo") else set()
+    for name in special:
+        if not (workdir / name).exists():
+            os.mkfifo(workdir / name)
+    (workdir / "short.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    )
+    (workdir / "fifofolder").mkdir(exist_ok=True)
+    if special and not (workdir / "fifofolder" / "config.json").exists():
+        os.mkfifo(workdir / "fifofolder" / "config.json")
     sample = ["plan", "--sample", "--window", "0,10,0,10", "--iterations", "1", "--threads", "1", "--uavs", "2", "--d-max", "200"]
     cases: list[list[str]] = [
         [],
@@ -1079,6 +1092,29 @@ def cli_cases(workdir: Path) -> list[list[str]]:
         *(["plan", name, "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"] for name in MESH_FILES),
         *(["plan", "--structure", name, "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"] for name in MESH_FILES),
         ["view", "runs", "--run", "../../etc"],
+        *(["sweep", name] for name in sorted(special) if name.endswith(".toml")),
+        ["sweep", "/dev/zero"],
+        *(
+            ["plan", name, "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"]
+            for name in ("fifo.obj", "fifo.ply", "fifo.tif", "short.ply")
+            if name in special or name == "short.ply"
+        ),
+        *(
+            ["plan", "--structure", name, "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"]
+            for name in ("fifo.obj", "short.ply")
+            if name in special or name == "short.ply"
+        ),
+        *([*sample, "--aoi", "fifo.geojson"] for _ in ("once",) if special),
+        ["demo", "--out", "", "--iterations", "1", "--no-plots"],
+        ["demo", "--out", "fifofolder", "--iterations", "1", "--no-plots", "--threads", "1"],
+        ["sweep", ""],
+        ["plot", ""],
+        ["view", "", "--out", "v.html"],
+        ["view", "run.npz", "--out", "/dev/null"],
+        [*sample, "--out", ""],
+        [*sample, "--hold", "1e308"],
+        [*sample, "--d-max", "5e-324"],
+        [*sample, "--camera", "5e-324,40"],
     ]
     return cases
 
