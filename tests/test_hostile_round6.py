@@ -784,3 +784,27 @@ def test_a_figure_refuses_a_format_matplotlib_does_not_write(mission: Any, tmp_p
     refused(InvalidInputError, "names no picture format matplotlib writes", plot_coverage_map, mission, out=tmp_path / name)
     assert list(tmp_path.iterdir()) == []
     assert plot_coverage_map(mission, out=tmp_path / "figure.PNG") is not None and (tmp_path / "figure.PNG").is_file()
+
+
+@pytest.mark.parametrize(
+    "obj, changes, words",
+    [
+        (uavcov.MissionSettings(n_uavs=2, d_max=10.0), {5: 1}, "a field name must be a string"),
+        (uavcov.MissionSettings(n_uavs=2, d_max=10.0), {None: 1}, "a field name must be a string"),
+        (uavcov.MissionSettings(n_uavs=2, d_max=10.0), {b"start.kind": "random"}, "a field name must be a string"),
+        (uavcov.MissionSettings(n_uavs=2, d_max=10.0), [("start.kind", "random")], "changes must be a mapping"),
+        (uavcov.MissionSettings, {"n_uavs": 3}, "changes a settings dataclass"),
+        ({"n_uavs": 2}, {"n_uavs": 3}, "changes a settings dataclass"),
+    ],
+)
+def test_nested_replace_takes_a_dataclass_and_names_that_are_strings(obj: Any, changes: Any, words: str) -> None:
+    from uavcov.settings import nested_replace
+
+    refused(InvalidTypeError, words, nested_replace, obj, changes)
+
+
+def test_nested_replace_still_reaches_nested_fields() -> None:
+    from uavcov.settings import nested_replace
+
+    changed = nested_replace(uavcov.MissionSettings(n_uavs=2, d_max=10.0), {"start.kind": "random", "cao__history": 3})
+    assert (changed.start.kind, changed.cao.history) == ("random", 3)
