@@ -808,3 +808,36 @@ def test_nested_replace_still_reaches_nested_fields() -> None:
 
     changed = nested_replace(uavcov.MissionSettings(n_uavs=2, d_max=10.0), {"start.kind": "random", "cao__history": 3})
     assert (changed.start.kind, changed.cao.history) == ("random", 3)
+
+
+# ---------------------------------------------------------------------------------------------
+# A resumed folder whose runs.csv holds one run twice: the resume kept one row and ignored the other
+
+
+@pytest.fixture(scope="module")
+def table1_folder(tmp_path_factory: Any) -> Path:
+    out = tmp_path_factory.mktemp("table1") / "out"
+    argv = ["reproduce", "table1", "--seeds", "0", "--team-sizes", "2", "--starts", "cvt,random", "--iterations", "1"]
+    assert main([*argv, "--no-plots", "--workers", "1", "--threads", "1", "--no-progress", "--out", str(out)]) == 0
+    return out
+
+
+@pytest.mark.parametrize("line, change", [(1, None), (2, None), (1, ("0.3", "0.9"))])
+def test_a_resume_refuses_a_runs_file_that_holds_one_run_twice(
+    table1_folder: Path, tmp_path: Path, capsys: Any, line: int, change: tuple[str, str] | None
+) -> None:
+    import shutil
+
+    folder = tmp_path / "out"
+    shutil.copytree(table1_folder, folder)
+    lines = (folder / "runs.csv").read_text().splitlines(keepends=True)
+    repeated = lines[line] if change is None else lines[line].replace(*change)
+    (folder / "runs.csv").write_text("".join([*lines, repeated]))
+    argv = ["reproduce", "table1", "--resume", "--seeds", "0", "--team-sizes", "2", "--starts", "cvt,random", "--iterations", "1"]
+    capsys.readouterr()
+    code = main([*argv, "--no-plots", "--workers", "1", "--threads", "1", "--no-progress", "--out", str(folder)])
+    err = capsys.readouterr().err.strip().splitlines()
+    run_id = lines[line].split(",")[0]
+    assert code == EXIT_BAD_INPUT and len(err) == 1 and f"holds the run {run_id} twice" in err[0], err
+    (folder / "runs.csv").write_text("".join(lines))  # whole again, it resumes: nothing to run
+    assert main([*argv, "--no-plots", "--workers", "1", "--threads", "1", "--no-progress", "--out", str(folder)]) == 0

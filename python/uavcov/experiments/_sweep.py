@@ -42,7 +42,7 @@ import numpy as np
 
 from .._validate import MAX_RUNS, MAX_UAVS, as_non_negative_int, as_optional_str, as_str, as_tuple, is_int
 from ..engine import Terrain
-from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
+from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsFormatError, ResultsInUseError
 from ..mission import MissionResult, run_mission
 from ..placement import START_KINDS
 from ..records import save_mission
@@ -607,6 +607,10 @@ def _prepare(
         raise ResultsInUseError(
             f"{folder.runs_csv} already holds {len(stored)} run(s): resume that sweep or write to another folder (nothing was changed)"
         )
+    ids = [r["run_id"] for r in stored]
+    twice = sorted({i for i in ids if ids.count(i) > 1}) if len(set(ids)) < len(ids) else []
+    if twice:  # which of the two rows is the run? resuming would keep one and ignore the other
+        raise ResultsFormatError(f"{folder.runs_csv} holds the run {twice[0]} twice: keep one of its rows, or write to another folder")
     wanted = {s.run_id for s in specs}
     if exclusive:
         others = [r["run_id"] for r in stored if r["run_id"] not in wanted]
