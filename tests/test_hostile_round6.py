@@ -841,3 +841,17 @@ def test_a_resume_refuses_a_runs_file_that_holds_one_run_twice(
     assert code == EXIT_BAD_INPUT and len(err) == 1 and f"holds the run {run_id} twice" in err[0], err
     (folder / "runs.csv").write_text("".join(lines))  # whole again, it resumes: nothing to run
     assert main([*argv, "--no-plots", "--workers", "1", "--threads", "1", "--no-progress", "--out", str(folder)]) == 0
+
+
+@pytest.mark.parametrize("out", ["", "a\0b"])
+def test_figures_refuse_an_empty_output_path_and_write_nothing_in_the_working_directory(
+    mission: Any, table1_folder: Path, tmp_path: Path, monkeypatch: Any, out: str
+) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_coverage_map, plot_directory
+
+    monkeypatch.chdir(tmp_path)
+    words = "out is an empty path" if not out else "out holds a NUL character"
+    refused(InvalidInputError, words, plot_directory, table1_folder, out=out, animation=False, max_runs=0)
+    refused(InvalidInputError, words, plot_coverage_map, mission, out=out)
+    assert list(tmp_path.iterdir()) == []

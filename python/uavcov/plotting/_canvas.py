@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from .._io import make_parent, refuse_what_is_no_file
-from .._validate import as_positive_float
+from .._validate import as_positive_float, checked_path_text
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 
 MAX_DPI = 1200.0
@@ -66,7 +66,7 @@ def check_output(out: Any, dpi: Any, *, required: bool = False) -> tuple[Path | 
     dpi = as_positive_float(dpi, "dpi")
     if dpi > MAX_DPI:
         raise InvalidInputError(f"dpi must be at most {MAX_DPI:g}, got {dpi:g}")
-    return (None if out is None else Path(out)), dpi
+    return (None if out is None else Path(checked_path_text(os.fspath(out), "out"))), dpi  # "" would be the working directory
 
 
 def _finish(fig: Any, out: Any, dpi: float) -> Any:
