@@ -855,3 +855,14 @@ def test_figures_refuse_an_empty_output_path_and_write_nothing_in_the_working_di
     refused(InvalidInputError, words, plot_directory, table1_folder, out=out, animation=False, max_runs=0)
     refused(InvalidInputError, words, plot_coverage_map, mission, out=out)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("out, words", [("", "out is an empty path"), ("x\0y", "out holds a NUL character")])
+def test_a_plan_folder_is_never_the_working_directory_by_an_empty_name(tmp_path: Path, monkeypatch: Any, out: str, words: str) -> None:
+    from uavcov.field import check_plan_folder
+    from uavcov.field._results_folder import write_files
+
+    monkeypatch.chdir(tmp_path)
+    refused(InvalidInputError, words, check_plan_folder, out)
+    refused(InvalidInputError, words, write_files, {"plan.json": b"{}"}, out)
+    assert list(tmp_path.iterdir()) == []

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from .._io import file_mode
+from .._validate import checked_path_text
 from ..errors import InvalidTypeError, ResultsFolderError, ResultsInUseError
 
 PLAN_FILE_NAMES = frozenset(
@@ -62,7 +63,7 @@ def check_plan_folder(out: Any) -> None:
     """
     if not isinstance(out, (str, os.PathLike)):
         raise InvalidTypeError(f"out must be a path, got {type(out).__name__}")
-    _check_replaceable(Path(out))
+    _check_replaceable(Path(checked_path_text(os.fspath(out), "out")))  # "" would be the working directory
 
 
 def _check_replaceable(folder: Path) -> bool:
@@ -104,7 +105,7 @@ def write_files(files: dict[str, bytes], out: Any) -> list[Path]:
     """
     if not isinstance(out, (str, os.PathLike)):
         raise InvalidTypeError(f"out must be a path, got {type(out).__name__}")
-    folder = Path(out)
+    folder = Path(checked_path_text(os.fspath(out), "out"))  # "" would replace the working directory
     if any(os.sep in name or name in ("", ".", "..") or not is_plan_file(name) for name in files):
         raise ResultsFolderError(f"not a plan's file names: {sorted(files)}")
     existing = _check_replaceable(folder)
