@@ -866,3 +866,29 @@ def test_a_plan_folder_is_never_the_working_directory_by_an_empty_name(tmp_path:
     refused(InvalidInputError, words, check_plan_folder, out)
     refused(InvalidInputError, words, write_files, {"plan.json": b"{}"}, out)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("label", ["x" * 300, "é" * 120, "a" * 230])
+def test_a_label_whose_run_files_no_file_system_holds_is_refused_before_any_run(label: str) -> None:
+    from uavcov.experiments import RunSpec, experiment_specs
+    from uavcov.paper import TABLE1
+
+    refused(InvalidInputError, "would pass the 255 bytes a file name may have", RunSpec, TABLE1, 0, 2, "cvt", label=label)
+    refused(InvalidInputError, "would pass the 255 bytes", experiment_specs, TABLE1, seeds=[0], team_sizes=[2], starts=["cvt"], label=label)
+
+
+def test_a_long_label_that_fits_is_kept() -> None:
+    from uavcov.experiments import RunSpec
+    from uavcov.paper import TABLE1
+
+    spec = RunSpec(TABLE1, 0, 2, "cvt", label="a" * 200)
+    assert len((spec.run_id + ".npz").encode()) <= 255 and spec.run_id.startswith("a" * 200)
+
+
+def test_a_sweep_named_beyond_a_file_name_is_refused_before_its_folder_is_made(tmp_path: Path, capsys: Any) -> None:
+    config = tmp_path / "long.toml"
+    config.write_text(f'name = "{"n" * 260}"\nbase = "table1"\nseeds = [0]\nteam_sizes = [2]\nstarts = ["cvt"]\niterations = 1\n')
+    code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--workers", "1", "--threads", "1", "--no-progress"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == EXIT_BAD_INPUT and len(err) == 1 and "255 bytes a file name may have" in err[0], err
+    assert not (tmp_path / "out").exists()

@@ -264,6 +264,9 @@ def experiments_hash(experiments: Mapping[str, Experiment]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:8]
 
 
+_MAX_FILE_NAME = 255  # bytes of one file name on Linux, macOS and Windows file systems
+
+
 @dataclass(frozen=True)
 class RunSpec:
     """One mission of a sweep: an experiment's settings, a seed, a team size and a start.
@@ -303,6 +306,11 @@ class RunSpec:
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
         object.__setattr__(self, "label", as_optional_str(self.label, "label") or self.experiment.name)
+        if len(self.run_id.encode()) + len(".npz") > _MAX_FILE_NAME:  # checked before any run, not when each is saved
+            raise InvalidInputError(
+                f"label {self.label[:40]!r}... makes a run id of {len(self.run_id.encode())} bytes: its run file "
+                f"(runs/<run_id>.npz) would pass the {_MAX_FILE_NAME} bytes a file name may have; use a shorter name"
+            )
         object.__setattr__(self, "extra", as_extra(self.extra))
         # a swept setting may repeat a column of its row (iterations), never contradict it
         repeated = [(key, value) for key, value in self.extra if key in RUN_COLUMNS]
