@@ -892,3 +892,13 @@ def test_a_sweep_named_beyond_a_file_name_is_refused_before_its_folder_is_made(t
     err = capsys.readouterr().err.strip().splitlines()
     assert code == EXIT_BAD_INPUT and len(err) == 1 and "255 bytes a file name may have" in err[0], err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("name", ["p" * 250, "é" * 127, "q" * 255])
+def test_a_plan_folder_named_near_the_limit_is_written_and_replaced(tmp_path: Path, name: str) -> None:
+    from uavcov.field._results_folder import write_files
+
+    out = tmp_path / name
+    assert [p.name for p in write_files({"plan.json": b"{}"}, out)] == ["plan.json"]
+    assert [p.name for p in write_files({"plan.json": b'{"a": 1}'}, out)] == ["plan.json"]  # replaced as a whole
+    assert (out / "plan.json").read_bytes() == b'{"a": 1}' and sorted(p.name for p in tmp_path.iterdir()) == [name]
