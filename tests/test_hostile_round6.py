@@ -902,3 +902,34 @@ def test_a_plan_folder_named_near_the_limit_is_written_and_replaced(tmp_path: Pa
     assert [p.name for p in write_files({"plan.json": b"{}"}, out)] == ["plan.json"]
     assert [p.name for p in write_files({"plan.json": b'{"a": 1}'}, out)] == ["plan.json"]  # replaced as a whole
     assert (out / "plan.json").read_bytes() == b'{"a": 1}' and sorted(p.name for p in tmp_path.iterdir()) == [name]
+
+
+def _binary_stl(count: int, triangles: int, tail: bytes = b"") -> bytes:
+    import struct
+
+    triangle = struct.pack("<12f", 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0) + b"\0\0"
+    return b"\0" * 80 + struct.pack("<I", count) + triangle * triangles + tail
+
+
+@pytest.mark.parametrize(
+    "data, words",
+    [
+        (_binary_stl(2, 1), "announces 2 triangles \\(184 bytes\\), the file has 134 bytes"),
+        (_binary_stl(1, 3), "announces 1 triangles \\(134 bytes\\), the file has 234 bytes"),
+        (_binary_stl(2**32 - 1, 1), "announces 4,294,967,295 triangles"),
+        (_binary_stl(0, 1), "announces 0 triangles"),
+        (_binary_stl(1, 1, b"\0" * 20), "the file has 154 bytes"),
+    ],
+)
+def test_a_binary_stl_whose_size_disagrees_with_its_count_is_refused(tmp_path: Path, data: bytes, words: str) -> None:
+    path = tmp_path / "mesh.stl"
+    path.write_bytes(data)
+    refused(MeshError, words, uavcov.terrain.load_mesh, path)
+
+
+def test_a_whole_binary_stl_and_one_whose_header_says_solid_still_load(tmp_path: Path) -> None:
+    path = tmp_path / "mesh.stl"
+    path.write_bytes(_binary_stl(1, 1))
+    assert uavcov.terrain.load_mesh(path).terrain.area == pytest.approx(0.5)
+    path.write_bytes(b"solid but binary" + _binary_stl(1, 1)[16:])  # some exporters write "solid" in a binary header
+    assert uavcov.terrain.load_mesh(path).terrain.area == pytest.approx(0.5)

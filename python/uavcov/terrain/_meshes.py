@@ -25,7 +25,7 @@ from .._validate import (
 from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError, MeshError, MissingExtraError
 from ._frame import LocalFrame
-from ._ply_header import check_ply_counts, ply_element_counts
+from ._mesh_headers import check_binary_stl_size, check_ply_counts, ply_element_counts
 
 
 @dataclass(frozen=True)
@@ -317,6 +317,8 @@ def load_mesh(
     path_text = existing_path(path, "mesh", MeshError)
     source: Any = path_text
     ply_counts = ply_element_counts(path_text) if path_text.lower().endswith(".ply") else {}
+    if path_text.lower().endswith(".stl"):
+        check_binary_stl_size(path_text)
     if path_text.lower().endswith(".obj"):
         rewritten = obj_absolute_faces(path_text)
         if rewritten is not None:

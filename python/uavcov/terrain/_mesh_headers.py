@@ -1,14 +1,17 @@
-"""What a PLY file's header announces, checked against the file and against what was read.
+"""What a mesh file's header announces (a PLY's element counts, a binary STL's triangle count),
+checked against the file and against what was read.
 
 A PLY header states how many vertices and faces follow (``element vertex 3``). trimesh reads an
 ASCII file that stops short of them without a word (the faces it found), and a header may
-announce more elements than its file could ever hold; both are corrupt files, refused here with
-the counts, before and after trimesh reads the file.
+announce more elements than its file could ever hold; a binary STL states its triangle count,
+and its size must be 84 + 50 bytes a triangle. All are corrupt files, refused here with the
+counts, before and after trimesh reads the file.
 """
 
 from __future__ import annotations
 
 import os
+import struct
 
 from ..errors import MeshError
 
@@ -61,4 +64,31 @@ def check_ply_counts(path: str, counts: dict[str, int], n_vertices: int, n_faces
         raise MeshError(
             f"{path}: the PLY header announces {announced_faces:,} faces, {n_faces:,} triangles were read "
             "(a truncated file, or faces of fewer than 3 vertices)"
+        )
+
+
+def check_binary_stl_size(path: str) -> None:
+    """Refuse a binary STL whose size is not what its triangle count says (84 + 50 bytes each).
+
+    A file that starts with ``solid`` may be ASCII (or a binary one whose header says so, whose
+    size then matches): trimesh decides; any other is binary, and a count that disagrees with the
+    size is a truncated or padded file (trimesh said only "no triangles").
+
+    Raises
+    ------
+    MeshError
+        The size disagrees with the count.
+    """
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(84)
+    except OSError:
+        return
+    if len(head) < 84 or head[:5].lower() == b"solid":
+        return
+    (count,) = struct.unpack("<I", head[80:84])
+    size, expected = os.path.getsize(path), 84 + 50 * count
+    if size != expected:
+        raise MeshError(
+            f"{path}: the binary STL announces {count:,} triangles ({expected:,} bytes), the file has {size:,} bytes (truncated or padded)"
         )
