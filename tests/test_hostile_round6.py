@@ -933,3 +933,24 @@ def test_a_whole_binary_stl_and_one_whose_header_says_solid_still_load(tmp_path:
     assert uavcov.terrain.load_mesh(path).terrain.area == pytest.approx(0.5)
     path.write_bytes(b"solid but binary" + _binary_stl(1, 1)[16:])  # some exporters write "solid" in a binary header
     assert uavcov.terrain.load_mesh(path).terrain.area == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize("pixels", [HUGE, 2**64, 1_000_001])
+@pytest.mark.parametrize("name", ["image_width_px", "image_height_px"])
+def test_a_camera_of_more_pixels_than_any_is_refused(pixels: int, name: str) -> None:
+    sizes = {"image_width_px": 4000, "image_height_px": 3000, name: pixels}
+    refused(InvalidInputError, f"{name} must be at most 1,000,000 pixels", uavcov.Camera, 13.2, 8.8, 8.8, **sizes)
+    refused(InvalidInputError, f"{name} must be at most 1,000,000 pixels", uavcov.Camera.from_fov, 60.0, 45.0, **sizes)
+
+
+def test_a_camera_of_a_million_pixels_a_side_is_one() -> None:
+    camera = uavcov.Camera(13.2, 8.8, 8.8, 1_000_000, 1_000_000)
+    assert camera.gsd_m(10.0) == pytest.approx(10.0 * 13.2 / (8.8 * 1_000_000))
+
+
+@pytest.mark.parametrize("max_sweeps", [HUGE, 2**64, 10**6 + 1])
+def test_closest_admissible_refuses_sweeps_beyond_the_iteration_limit(max_sweeps: int) -> None:
+    from uavcov.limits import closest_admissible
+
+    limits = Constraints().resolve(HILLS)
+    refused(InvalidInputError, "max_sweeps must be at most 1,000,000", closest_admissible, limits, HILLS, UAVS, max_sweeps=max_sweeps)

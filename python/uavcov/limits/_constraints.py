@@ -37,6 +37,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from .._validate import (
+    MAX_ITERATIONS,
     MAX_UAVS,
     as_bounds,
     as_count,
@@ -45,7 +46,6 @@ from .._validate import (
     as_non_negative_float,
     as_points,
     as_positive_float,
-    as_positive_int,
 )
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
@@ -649,7 +649,7 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
     constraints = constraints.resolve(world)
     pos = as_points(x, "x").copy()
     climb = as_non_negative_float(climb, "climb")
-    max_sweeps = as_positive_int(max_sweeps, "max_sweeps")
+    max_sweeps = as_count(max_sweeps, "max_sweeps", MAX_ITERATIONS)  # 10**400 sweeps of an infeasible team never end
     n_uavs = pos.shape[0]
     constraints.check_team(n_uavs, world)
     xmin, ymin, xmax, ymax = constraints.flight_box
