@@ -92,6 +92,8 @@ HOSTILE: dict[str, Callable[[], Any]] = {
     "masked(3,3)": lambda: np.ma.masked_array(np.ones((3, 3)), mask=np.eye(3, dtype=bool)),
     "timedelta(3,3)": lambda: np.ones((3, 3), "m8[s]"),
     "uint64max(3,3)": lambda: np.full((3, 3), 2**64 - 1, np.uint64),
+    "5e-324": lambda: 5e-324,  # the smallest subnormal: a size, step or range whose derived values underflow
+    "-5e-324": lambda: -5e-324,
 }
 # values no argument should take silently (a title or a label aside): accepted ones are listed
 SUSPICIOUS = {"nan", "inf", "-inf", "nan(3,3)", "complex(3,3)", "objarr(1,3)", "1e300(3,3)", "timedelta64", "masked(3,3)", "timedelta(3,3)"}

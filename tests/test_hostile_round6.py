@@ -954,3 +954,36 @@ def test_closest_admissible_refuses_sweeps_beyond_the_iteration_limit(max_sweeps
 
     limits = Constraints().resolve(HILLS)
     refused(InvalidInputError, "max_sweeps must be at most 1,000,000", closest_admissible, limits, HILLS, UAVS, max_sweeps=max_sweeps)
+
+
+# ---------------------------------------------------------------------------------------------
+# Subnormal sizes and rates (the fuzz harness's 5e-324): counts of cells or frames that overflowed
+
+
+@pytest.mark.parametrize("step", [5e-324, 1e-310, 1e-300])
+def test_a_subnormal_cell_is_refused_before_its_count_overflows(step: float) -> None:
+    from uavcov.structures import girder_bridge, height_field_violation
+    from uavcov.terrain import approximation_error, buildings_scene, sample_prior
+
+    refused(InvalidInputError, "step = .* cells, more than 10,000", buildings_scene, spacing=step, rng=0)
+    refused(InvalidInputError, "resolution = .* cells, more than 10,000", height_field_violation, girder_bridge(rng=0), resolution=step)
+    approx = uavcov.terrain.approximate_surface(sample_prior(HILLS, 30, rng=0).points)
+    refused(InvalidInputError, "resolution = .* cells, more than 10,000", approximation_error, HILLS, approx, resolution=step)
+
+
+@pytest.mark.parametrize("dpi", [5e-324, 1e-300, 0.5])
+def test_a_figure_refuses_a_dpi_below_one(mission: Any, dpi: float) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import plot_coverage_curves, plot_coverage_map
+
+    refused(InvalidInputError, "dpi must be at least 1", plot_coverage_map, mission, dpi=dpi)
+    refused(InvalidInputError, "dpi must be at least 1", plot_coverage_curves, [mission], dpi=dpi)
+
+
+@pytest.mark.parametrize("fps", [5e-324, 1e-300, 0.0009])
+def test_an_animation_refuses_an_fps_whose_frames_never_end(mission: Any, tmp_path: Path, fps: float) -> None:
+    pytest.importorskip("matplotlib")
+    from uavcov.plotting import animate_mission
+
+    refused(InvalidInputError, "fps must be at least 0.001", animate_mission, mission, tmp_path / "run.gif", fps=fps)
+    assert list(tmp_path.iterdir()) == []

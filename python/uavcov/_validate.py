@@ -434,6 +434,17 @@ def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
     return float(pair[0]), float(pair[1])
 
 
+def cells_along(length: float, step: float, name: str) -> float:
+    """``length / step``, the cells of side ``step`` along ``length``, refused beyond :data:`MAX_GRID_CELLS`
+    before the caller rounds it (a subnormal ``step`` makes it inf, which no ``int`` holds)."""
+    count = length / step
+    if not count <= MAX_GRID_CELLS + 0.5:
+        raise InvalidInputError(
+            f"{name} = {step} m cuts {length:g} m into {count:,.0f} cells, more than {MAX_GRID_CELLS:,} (uavcov's size limit)"
+        )
+    return count
+
+
 def as_cell_count(length: float, step: float, name: str) -> int:
     """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
     count = length / step

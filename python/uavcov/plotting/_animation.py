@@ -37,6 +37,8 @@ from ._inputs import _as_result, _curve, _d_max, _setting, _trajectory
 from ._views import _TopView
 from ._writers import _write_gif, _write_mp4
 
+_MIN_FPS = 0.001  # frames a second: one frame every 1000 s is already a slide show
+
 
 def _map_legend(ax: Any, quality: bool, *, footprint: bool) -> None:
     """The top view's legend, under it: seen (or the view quality), not seen, start, UAV, footprint."""
@@ -113,6 +115,8 @@ def animate_mission(
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise InvalidInputError("writing .mp4 needs ffmpeg on the PATH; write a .gif instead")
     fps = as_positive_float(fps, "fps")
+    if fps < _MIN_FPS:  # a subnormal fps made each frame last forever (an OverflowError in the GIF writer)
+        raise InvalidInputError(f"fps must be at least {_MIN_FPS:g} (a frame every {1 / _MIN_FPS:g} s), got {fps:g}")
     traj = _trajectory(result.trajectory)
     curve = _curve(result.coverage)
     frames = np.unique(
