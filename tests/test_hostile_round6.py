@@ -965,10 +965,23 @@ def test_a_subnormal_cell_is_refused_before_its_count_overflows(step: float) -> 
     from uavcov.structures import girder_bridge, height_field_violation
     from uavcov.terrain import approximation_error, buildings_scene, sample_prior
 
-    refused(InvalidInputError, "step = .* cells, more than 10,000", buildings_scene, spacing=step, rng=0)
-    refused(InvalidInputError, "resolution = .* cells, more than 10,000", height_field_violation, girder_bridge(rng=0), resolution=step)
+    refused(InvalidInputError, "size \\(24 m\\) in cells of .* m is .* cells, more than 10,000", buildings_scene, spacing=step, rng=0)
+    refused(
+        InvalidInputError,
+        "resolution \\(.* m\\) in cells of .* m is .* cells, more than 10,000",
+        height_field_violation,
+        girder_bridge(rng=0),
+        resolution=step,
+    )
     approx = uavcov.terrain.approximate_surface(sample_prior(HILLS, 30, rng=0).points)
-    refused(InvalidInputError, "resolution = .* cells, more than 10,000", approximation_error, HILLS, approx, resolution=step)
+    refused(
+        InvalidInputError,
+        "resolution \\(.* m\\) in cells of .* m is .* cells, more than 10,000",
+        approximation_error,
+        HILLS,
+        approx,
+        resolution=step,
+    )
 
 
 @pytest.mark.parametrize("dpi", [5e-324, 1e-300, 0.5])

@@ -440,7 +440,7 @@ def cells_along(length: float, step: float, name: str) -> float:
     count = length / step
     if not count <= MAX_GRID_CELLS + 0.5:
         raise InvalidInputError(
-            f"{name} = {step} m cuts {length:g} m into {count:,.0f} cells, more than {MAX_GRID_CELLS:,} (uavcov's size limit)"
+            f"{name} ({length:g} m) in cells of {step:g} m is {count:,.0f} cells, more than {MAX_GRID_CELLS:,} (uavcov's size limit)"
         )
     return count
 
