@@ -35,6 +35,8 @@ limit                          value           what it bounds
 :data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
 :data:`MAX_SWEEP_FILE_BYTES`   1 MiB           one sweep file (TOML), checked before it is read
 :data:`MAX_POLYGONS`           100 000 000     polygons of one figure's surface (``max_polygons``)
+:data:`MAX_FILE_NAME_BYTES`    255             one file name uavcov writes (a run's ``<run_id>.npz``),
+                                               checked before the run
 =============================  ==============  ===================================================
 
 Coordinates have a bound too, :data:`MAX_COORDINATE_M` (1e15 m): the engine refuses a surface
@@ -456,6 +458,21 @@ def as_cell_count(length: float, step: float, name: str) -> int:
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")
     return cells
+
+
+MAX_FILE_NAME_BYTES = 255
+"""The longest file name, bytes, on Linux, macOS and Windows file systems."""
+
+
+def within_file_name_limit(name: str, what: str) -> str:
+    """``name`` (a file name uavcov will write) when a file system can hold it: checked before the
+    work whose result it names, not when that result is saved."""
+    if len(name.encode()) > MAX_FILE_NAME_BYTES:
+        raise InvalidInputError(
+            f"{what} would be named with {len(name.encode())} bytes, past the {MAX_FILE_NAME_BYTES} bytes a file name may have; "
+            "use a shorter name"
+        )
+    return name
 
 
 def read_only(array: np.ndarray) -> np.ndarray:

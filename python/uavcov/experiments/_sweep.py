@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import MAX_RUNS, MAX_UAVS, as_non_negative_int, as_optional_str, as_str, as_tuple, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, as_non_negative_int, as_optional_str, as_str, as_tuple, is_int, within_file_name_limit
 from ..engine import Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsFormatError, ResultsInUseError
 from ..mission import MissionResult, run_mission
@@ -264,9 +264,6 @@ def experiments_hash(experiments: Mapping[str, Experiment]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:8]
 
 
-_MAX_FILE_NAME = 255  # bytes of one file name on Linux, macOS and Windows file systems
-
-
 @dataclass(frozen=True)
 class RunSpec:
     """One mission of a sweep: an experiment's settings, a seed, a team size and a start.
@@ -306,11 +303,7 @@ class RunSpec:
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
         object.__setattr__(self, "label", as_optional_str(self.label, "label") or self.experiment.name)
-        if len(self.run_id.encode()) + len(".npz") > _MAX_FILE_NAME:  # checked before any run, not when each is saved
-            raise InvalidInputError(
-                f"label {self.label[:40]!r}... makes a run id of {len(self.run_id.encode())} bytes: its run file "
-                f"(runs/<run_id>.npz) would pass the {_MAX_FILE_NAME} bytes a file name may have; use a shorter name"
-            )
+        within_file_name_limit(self.run_id + ".npz", f"label {self.label[:40]!r}...: its run file (runs/<run_id>.npz)")
         object.__setattr__(self, "extra", as_extra(self.extra))
         # a swept setting may repeat a column of its row (iterations), never contradict it
         repeated = [(key, value) for key, value in self.extra if key in RUN_COLUMNS]
@@ -615,9 +608,10 @@ def _prepare(
         raise ResultsInUseError(
             f"{folder.runs_csv} already holds {len(stored)} run(s): resume that sweep or write to another folder (nothing was changed)"
         )
-    ids = [r["run_id"] for r in stored]
-    twice = sorted({i for i in ids if ids.count(i) > 1}) if len(set(ids)) < len(ids) else []
-    if twice:  # which of the two rows is the run? resuming would keep one and ignore the other
+    twice = [
+        i for i, n in collections.Counter(r["run_id"] for r in stored).items() if n > 1
+    ]  # a resume would keep one row and ignore the other
+    if twice:
         raise ResultsFormatError(f"{folder.runs_csv} holds the run {twice[0]} twice: keep one of its rows, or write to another folder")
     wanted = {s.run_id for s in specs}
     if exclusive:
