@@ -25,7 +25,7 @@ Run it from anywhere but the repository, in a fresh directory (calls write files
 ``--only SUBSTRING`` restricts the run to the callables whose name contains it; ``--cli-only``
 and ``--no-cli`` choose the parts; ``--list`` prints the cases without running them;
 ``--every-accepted`` lists every accepted case (a string, True or -1 taken), not only the
-suspicious ones.
+suspicious ones; ``--values "10**400;masked(3,3)"`` fuzzes with those hostile values only.
 """
 
 from __future__ import annotations
@@ -44,6 +44,7 @@ import tempfile
 import time
 import traceback
 from collections.abc import Callable
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -83,9 +84,19 @@ HOSTILE: dict[str, Callable[[], Any]] = {
     "strarr(1,3)": lambda: np.array([["a", "b", "c"]]),
     "objarr(1,3)": lambda: np.array([[1.0, None, 2.0]], dtype=object),
     "bool(3,3)": lambda: np.ones((3, 3), bool),
+    # round 6: numbers numpy or Python hold that float() and int() do not take as they look
+    "10**400": lambda: 10**400,
+    "Fraction(10**400)": lambda: Fraction(10**400),
+    "timedelta64": lambda: np.timedelta64(5, "s"),
+    "emptystr": lambda: "",
+    "masked(3,3)": lambda: np.ma.masked_array(np.ones((3, 3)), mask=np.eye(3, dtype=bool)),
+    "timedelta(3,3)": lambda: np.ones((3, 3), "m8[s]"),
+    "uint64max(3,3)": lambda: np.full((3, 3), 2**64 - 1, np.uint64),
+    "5e-324": lambda: 5e-324,  # the smallest subnormal: a size, step or range whose derived values underflow
+    "-5e-324": lambda: -5e-324,
 }
 # values no argument should take silently (a title or a label aside): accepted ones are listed
-SUSPICIOUS = {"nan", "inf", "-inf", "nan(3,3)", "complex(3,3)", "objarr(1,3)", "1e300(3,3)"}
+SUSPICIOUS = {"nan", "inf", "-inf", "nan(3,3)", "complex(3,3)", "objarr(1,3)", "1e300(3,3)", "timedelta64", "masked(3,3)", "timedelta(3,3)"}
 
 # Accepted suspicious values that were reviewed and are right answers: (callable, argument,
 # hostile values) and why. They are counted as "reviewed", not listed for review again.
@@ -107,8 +118,15 @@ REVIEWED: dict[tuple[str, str], tuple[frozenset[str], str]] = {
         "sensed points 1e300 m away are within no radius of a target: no coverage is the right answer",
     ),
     ("wrap_longitude", "lon"): (
-        frozenset({"nan", "nan(3,3)", "1e300(3,3)"}),
-        "documented: NaN (no data) passes through as NaN, and fmod reduces 1e300 exactly (a longitude within [-180, 180])",
+        frozenset({"nan", "nan(3,3)", "1e300(3,3)", "masked(3,3)"}),
+        (
+            "documented: NaN (no data) passes through as NaN, and fmod reduces 1e300 exactly (a longitude within [-180, 180]); "
+            "a masked longitude is no data, NaN"
+        ),
+    ),
+    ("Terrain.from_grid", "z"): (
+        frozenset({"masked(3,3)"}),
+        "a masked height is no data, read as NaN (a hole in the grid), as the docstring says of NaN heights",
     ),
 }
 
@@ -859,7 +877,9 @@ class Worker:
             self.process.wait()
 
 
-def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str], every_accepted: bool = False) -> dict[str, int]:
+def fuzz_api(
+    only: str | None, timeout: float, listing: bool, report: list[str], every_accepted: bool = False, values: tuple[str, ...] = ()
+) -> dict[str, int]:
     fixtures = Fixtures()
     args_table = valid_arguments(fixtures)
     counts = {"callables": 0, "cases": 0, "refused": 0, "accepted": 0, "defects": 0, "review": 0, "reviewed": 0}
@@ -882,7 +902,7 @@ def fuzz_api(only: str | None, timeout: float, listing: bool, report: list[str],
             names = parameters(obj, key)
             counts["callables"] += 1
             cases: list[tuple[str, str | None, str | None]] = [(key, None, None)]
-            cases += [(key, name, hostile) for name in names for hostile in HOSTILE]
+            cases += [(key, name, hostile) for name in names for hostile in (values or tuple(HOSTILE))]
             if listing:
                 print(key, names)
                 continue
@@ -957,6 +977,19 @@ def cli_cases(workdir: Path) -> list[list[str]]:
     (workdir / "runs" / "runs.csv").write_text("run_id,experiment\nx,y\n")
     (workdir / "badruns").mkdir(exist_ok=True)
     (workdir / "badruns" / "runs.csv").write_bytes(b"\xff\xfe\x00garbage")
+    # round 6: files that are no regular file (a read would block or never end), a PLY shorter
+    # than its header, a folder whose config.json is a FIFO
+    special = {"fifo.toml", "fifo.obj", "fifo.ply", "fifo.geojson", "fifo.tif"} if hasattr(os, "mkfifo") else set()
+    for name in special:
+        if not (workdir / name).exists():
+            os.mkfifo(workdir / name)
+    (workdir / "short.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    )
+    (workdir / "fifofolder").mkdir(exist_ok=True)
+    if special and not (workdir / "fifofolder" / "config.json").exists():
+        os.mkfifo(workdir / "fifofolder" / "config.json")
     sample = ["plan", "--sample", "--window", "0,10,0,10", "--iterations", "1", "--threads", "1", "--uavs", "2", "--d-max", "200"]
     cases: list[list[str]] = [
         [],
@@ -1061,6 +1094,29 @@ def cli_cases(workdir: Path) -> list[list[str]]:
         *(["plan", name, "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"] for name in MESH_FILES),
         *(["plan", "--structure", name, "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"] for name in MESH_FILES),
         ["view", "runs", "--run", "../../etc"],
+        *(["sweep", name] for name in sorted(special) if name.endswith(".toml")),
+        ["sweep", "/dev/zero"],
+        *(
+            ["plan", name, "--uavs", "2", "--d-max", "10", "--crs", "EPSG:32617"]
+            for name in ("fifo.obj", "fifo.ply", "fifo.tif", "short.ply")
+            if name in special or name == "short.ply"
+        ),
+        *(
+            ["plan", "--structure", name, "--uavs", "2", "--d-max", "10", "--anchor", "0,0,0"]
+            for name in ("fifo.obj", "short.ply")
+            if name in special or name == "short.ply"
+        ),
+        *([*sample, "--aoi", "fifo.geojson"] for _ in ("once",) if special),
+        ["demo", "--out", "", "--iterations", "1", "--no-plots"],
+        ["demo", "--out", "fifofolder", "--iterations", "1", "--no-plots", "--threads", "1"],
+        ["sweep", ""],
+        ["plot", ""],
+        ["view", "", "--out", "v.html"],
+        ["view", "run.npz", "--out", "/dev/null"],
+        [*sample, "--out", ""],
+        [*sample, "--hold", "1e308"],
+        [*sample, "--d-max", "5e-324"],
+        [*sample, "--camera", "5e-324,40"],
     ]
     return cases
 
@@ -1098,7 +1154,12 @@ def main() -> int:
     parser.add_argument("--no-cli", action="store_true")
     parser.add_argument("--list", action="store_true", help="print the callables and their fuzzed arguments")
     parser.add_argument("--every-accepted", action="store_true", help="list every accepted case, the unsuspicious ones too")
+    parser.add_argument("--values", help='only these hostile values, separated by semicolons (e.g. "10**400;masked(3,3)")')
     args = parser.parse_args()
+    values = tuple(v for v in (args.values or "").split(";") if v)
+    if any(v not in HOSTILE for v in values):
+        print(f"--values: unknown hostile value(s); known: {', '.join(HOSTILE)}", file=sys.stderr)
+        return 2
     if args.worker:
         worker()
         return 0
@@ -1110,7 +1171,7 @@ def main() -> int:
     start = time.monotonic()
     counts: dict[str, int] = {}
     if not args.cli_only:
-        counts.update(fuzz_api(args.only, args.timeout, args.list, report, args.every_accepted))
+        counts.update(fuzz_api(args.only, args.timeout, args.list, report, args.every_accepted, values))
     if not args.no_cli and not args.list:
         counts.update(fuzz_cli(max(args.timeout, 60.0), report))
     summary = f"{counts} in {time.monotonic() - start:.0f} s"

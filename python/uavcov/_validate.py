@@ -33,6 +33,10 @@ limit                          value           what it bounds
                                                (``size / spacing``, a wall's ``height /
                                                spacing``): 10^8 nodes
 :data:`MAX_HILLS`              10 000          Gaussians of one hills terrain (``n_hills``)
+:data:`MAX_SWEEP_FILE_BYTES`   1 MiB           one sweep file (TOML), checked before it is read
+:data:`MAX_POLYGONS`           100 000 000     polygons of one figure's surface (``max_polygons``)
+:data:`MAX_FILE_NAME_BYTES`    255             one file name uavcov writes (a run's ``<run_id>.npz``),
+                                               checked before the run
 =============================  ==============  ===================================================
 
 Coordinates have a bound too, :data:`MAX_COORDINATE_M` (1e15 m): the engine refuses a surface
@@ -45,6 +49,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import stat
 from pathlib import Path
 from typing import Any
 
@@ -84,6 +89,8 @@ __all__ = [
     "MAX_THREADS",
     "MAX_GRID_CELLS",
     "MAX_HILLS",
+    "MAX_SWEEP_FILE_BYTES",
+    "MAX_POLYGONS",
 ]
 
 MAX_UAVS = 1_000
@@ -106,6 +113,10 @@ MAX_GRID_CELLS = 10_000
 """Most cells along one side of a generated terrain (10^8 nodes, checked before the grid is made)."""
 MAX_HILLS = 10_000
 """Most Gaussians of one hills terrain: each costs a pass over every node."""
+MAX_SWEEP_FILE_BYTES = 1 << 20
+"""The largest sweep file read, bytes: a hand-written TOML of settings is a few kB; more is a wrong file."""
+MAX_POLYGONS = 100_000_000
+"""The most polygons a figure draws: far beyond what a picture shows (a count ``area / max_polygons`` divides)."""
 MAX_WORKERS = 4096
 """Most local worker processes: far beyond any one machine; a larger count is a typo."""
 
@@ -132,17 +143,13 @@ def as_float_array(
     else:
         if isinstance(value, (str, bytes)):
             raise InvalidTypeError(f"{name} must be a numeric array, got {type(value).__name__}")
-        try:
-            array = np.asarray(value)
-        except Exception as exc:  # ragged lists and the like
-            raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
-        if array.dtype == object or not (
-            np.issubdtype(array.dtype, np.floating) or np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_
-        ):
+        array = _as_array(value, name, masked_as_nan=allow_nan)
+        if array.dtype.kind not in "fiub":  # timedelta64 counts as an integer to numpy: not a number of metres
             raise InvalidTypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
         if array.dtype == np.bool_ and not allow_bool:
             raise InvalidTypeError(f"{name} must hold real numbers, got booleans")
-        array = np.ascontiguousarray(array, dtype=np.float64)
+        with np.errstate(over="ignore"):  # a longdouble beyond float64 becomes inf, refused below
+            array = np.ascontiguousarray(array, dtype=np.float64)
     if ndim is not None and array.ndim != ndim:
         raise InvalidInputError(f"{name} must be {ndim}-dimensional, got shape {array.shape}")
     if allow_nan:
@@ -153,20 +160,34 @@ def as_float_array(
     return array
 
 
-def as_bool_array(value: Any, name: str, length: int) -> np.ndarray:
-    """Return ``value`` as a ``(length,)`` bool array (a mask or flags); other dtypes are refused."""
+def _as_array(value: Any, name: str, *, masked_as_nan: bool = False) -> np.ndarray:
+    """``np.asarray(value)`` with a uavcov error for what numpy cannot read (ragged lists and the like).
+
+    A masked array's masked entries are not numbers: ``np.asarray`` would read whatever its
+    data holds under the mask. They become NaN (no data) where ``masked_as_nan``, and are
+    refused elsewhere.
+    """
+    if isinstance(value, np.ma.MaskedArray) and np.ma.getmaskarray(value).any():
+        if not masked_as_nan or value.dtype.kind not in "fiu":
+            raise InvalidInputError(f"{name} has masked entries: give the values themselves (np.ma.filled), not a mask over them")
+        return np.ma.filled(value.astype(np.float64), np.nan)
     try:
-        array = np.asarray(value)
+        return np.asarray(value)
     except Exception as exc:  # ragged lists and the like
         raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
+
+
+def as_bool_array(value: Any, name: str, length: int) -> np.ndarray:
+    """Return ``value`` as a ``(length,)`` bool array (a mask or flags); other dtypes are refused."""
+    array = _as_array(value, name)
     if array.shape != (length,) or array.dtype != np.bool_:
         raise InvalidInputError(f"{name} must be a ({length},) bool array, got {array.dtype} {array.shape}")
     return array
 
 
 def is_int(value: Any) -> bool:
-    """An integer (Python or numpy), and not a bool."""
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+    """An integer (Python or numpy), and not a bool (nor a numpy timedelta, an integer to numpy)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.timedelta64))
 
 
 def as_points(value: Any, name: str, *, dim: int = 3, allow_empty: bool = False) -> np.ndarray:
@@ -184,14 +205,14 @@ def as_points(value: Any, name: str, *, dim: int = 3, allow_empty: bool = False)
 def as_index_array(value: Any, name: str, *, columns: int | None = 3) -> np.ndarray:
     """Return ``value`` as a ``(n, columns)`` int64 array (any shape for ``columns=None``);
     floats are refused, not rounded."""
-    try:
-        array = np.asarray(value)
-    except Exception as exc:
-        raise InvalidInputError(f"{name} cannot be read as an array: {exc}") from exc
+    array = _as_array(value, name)
     if array.size == 0 and array.dtype == np.float64:
         array = array.astype(np.int64)  # np.asarray([]) is float64; an empty list is not a float
-    if not np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_:
+    if array.dtype.kind not in "iu":  # not bool, nor timedelta64 (an integer to numpy)
         raise InvalidTypeError(f"{name} must hold integers, got dtype {array.dtype}")
+    if array.dtype.kind == "u" and array.size and int(array.max()) > np.iinfo(np.int64).max:
+        # int64 would wrap it to a negative index
+        raise InvalidInputError(f"{name} holds an index beyond int64, {int(array.max())}")
     if columns is not None and (array.ndim != 2 or array.shape[1] != columns):
         raise InvalidInputError(f"{name} must have shape (n, {columns}), got {array.shape}")
     if array.ndim == 0:
@@ -201,9 +222,12 @@ def as_index_array(value: Any, name: str, *, columns: int | None = 3) -> np.ndar
 
 def as_finite_float(value: Any, name: str) -> float:
     """Return ``value`` as a finite Python float."""
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+    if isinstance(value, (bool, np.timedelta64)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
         raise InvalidTypeError(f"{name} must be a real number, got {type(value).__name__}")
-    result = float(value)
+    try:
+        result = float(value)
+    except OverflowError:  # an int or Fraction beyond the largest float
+        raise InvalidInputError(f"{name} must be finite, got a number beyond the largest float ({str(value)[:20]}...)") from None
     if not math.isfinite(result):
         raise InvalidInputError(f"{name} must be finite, got {result}")
     return result
@@ -226,7 +250,7 @@ def as_non_negative_float(value: Any, name: str) -> float:
 
 
 def _as_int(value: Any, name: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
+    if isinstance(value, (bool, np.timedelta64)) or not isinstance(value, (numbers.Integral, np.integer)):
         raise InvalidTypeError(f"{name} must be an integer, got {type(value).__name__}")
     return int(value)
 
@@ -295,7 +319,22 @@ def as_path(value: Any, name: str) -> Path:
     """``value`` as a :class:`~pathlib.Path`: a string or an ``os.PathLike``, nothing else."""
     if not isinstance(value, (str, os.PathLike)):
         raise InvalidTypeError(f"{name} must be a path string or os.PathLike, got {type(value).__name__}")
-    return Path(value)
+    return Path(checked_path_text(os.fspath(value), name))
+
+
+def checked_path_text(text: str, name: str) -> str:
+    """``text`` (a path's string, ``os.fspath`` of it) unless it is empty or holds a NUL character.
+
+    ``Path("")`` is the working directory: an empty path (an unset variable, ``--out ""``) would
+    write there, or read it, instead of being the mistake it is; no file name holds a NUL.
+    """
+    if not isinstance(text, str):
+        raise InvalidTypeError(f"{name} must be a path string or os.PathLike of one, got {type(text).__name__}")
+    if not text:
+        raise InvalidInputError(f"{name} is an empty path: give a file or folder name ('.' for the working directory)")
+    if "\0" in text:
+        raise InvalidInputError(f"{name} holds a NUL character, which no path may hold")
+    return text
 
 
 def as_optional_str(value: Any, name: str) -> str | None:
@@ -397,6 +436,17 @@ def as_spacing(spacing: Any, name: str = "spacing") -> tuple[float, float]:
     return float(pair[0]), float(pair[1])
 
 
+def cells_along(length: float, step: float, name: str) -> float:
+    """``length / step``, the cells of side ``step`` along ``length``, refused beyond :data:`MAX_GRID_CELLS`
+    before the caller rounds it (a subnormal ``step`` makes it inf, which no ``int`` holds)."""
+    count = length / step
+    if not count <= MAX_GRID_CELLS + 0.5:
+        raise InvalidInputError(
+            f"{name} ({length:g} m) in cells of {step:g} m is {count:,.0f} cells, more than {MAX_GRID_CELLS:,} (uavcov's size limit)"
+        )
+    return count
+
+
 def as_cell_count(length: float, step: float, name: str) -> int:
     """Number of cells of size ``step`` in ``length``; the division must be (nearly) exact."""
     count = length / step
@@ -408,6 +458,21 @@ def as_cell_count(length: float, step: float, name: str) -> int:
     if cells < 1 or abs(count - cells) > 1e-9 * max(1.0, count):
         raise InvalidInputError(f"{name} ({length} m) must be a positive multiple of the spacing ({step} m)")
     return cells
+
+
+MAX_FILE_NAME_BYTES = 255
+"""The longest file name, bytes, on Linux, macOS and Windows file systems."""
+
+
+def within_file_name_limit(name: str, what: str) -> str:
+    """``name`` (a file name uavcov will write) when a file system can hold it: checked before the
+    work whose result it names, not when that result is saved."""
+    if len(name.encode()) > MAX_FILE_NAME_BYTES:
+        raise InvalidInputError(
+            f"{what} would be named with {len(name.encode())} bytes, past the {MAX_FILE_NAME_BYTES} bytes a file name may have; "
+            "use a shorter name"
+        )
+    return name
 
 
 def read_only(array: np.ndarray) -> np.ndarray:
@@ -426,9 +491,30 @@ def existing_path(path: Any, what: str, error: type[Exception]) -> str:
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
-    text = os.fspath(path)
+    text = checked_path_text(os.fspath(path), "path")
     if not os.path.exists(text):
         raise error(f"{what} file {text!r} does not exist")
     if os.path.isdir(text):
         raise error(f"{what} path {text!r} is a directory, not a file")
+    if not os.path.isfile(text):
+        raise error(f"{what} path {text!r} is not a regular file (a FIFO, socket or device): reading it could block or never end")
     return text
+
+
+def regular_file(path: Path, what: str, error: type[Exception], max_bytes: int) -> Path:
+    """``path`` when it names a regular file of at most ``max_bytes``; ``error`` (naming ``what``) when not.
+
+    Checked before a file is read whole: a FIFO would block the read forever, ``/dev/zero``
+    would never end it, and a huge file would fill the memory.
+    """
+    try:
+        info = path.stat()
+    except (OSError, ValueError) as exc:
+        raise error(f"cannot read the {what} {path}: {getattr(exc, 'strerror', None) or exc}") from exc
+    if stat.S_ISDIR(info.st_mode):
+        raise error(f"the {what} {path} is a directory, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        raise error(f"the {what} {path} is not a regular file (a FIFO, socket or device): reading it could block or never end")
+    if info.st_size > max_bytes:
+        raise error(f"the {what} {path} is {info.st_size:,} bytes, more than the {max_bytes:,} it may have")
+    return path

@@ -22,8 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from ._io import atomic_write_with
-from ._validate import read_only
+from ._io import atomic_write_with, make_parent
+from ._validate import as_non_negative_float, checked_path_text, read_only
 from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
 from .mission import MissionResult
@@ -73,7 +73,7 @@ def _require(mapping: Any, names: tuple[str, ...], path: Path) -> None:
 def _as_path(path: Any) -> Path:
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidTypeError(f"path must be a string or os.PathLike, got {type(path).__name__}")
-    return Path(path)
+    return Path(checked_path_text(os.fspath(path), "path"))  # "" would be the working directory
 
 
 # The header's scalars and their types: a file that says n_uavs = "many" is refused, not loaded.
@@ -105,6 +105,39 @@ def _check_fields(record: Any, types: Mapping[str, tuple[type, ...]], where: str
         ok = isinstance(value, kinds) and (kinds == (bool,) or not isinstance(value, bool))
         if not ok:
             raise ResultsFormatError(f"{path}: {where}.{name} = {value!r} is not {'an integer' if kinds is _INT else 'a number'}")
+
+
+def _check_durations(header: Mapping[str, Any], path: Path) -> None:
+    """The record's durations are seconds >= 0 (``start_time_s`` NaN when unknown): a file that
+    says -inf s, 10^400 s or "5" s is refused."""
+    for where, names in (("scalars", ("wall_time_s", "start_time_s")), ("trace", tuple(n for pair in _TRACE_TIMES for n in pair))):
+        record = header[where]
+        for name in names:
+            value = record.get(name, 0.0)
+            if name == "start_time_s" and isinstance(value, float) and math.isnan(value):
+                continue
+            try:
+                as_non_negative_float(value, name)
+            except UavcovError:
+                raise ResultsFormatError(f"{path}: {where}.{name} = {value!r} is not a duration (seconds >= 0)") from None
+
+
+def _check_best(trace: OptimizerTrace, path: Path) -> None:
+    """The trace's best iteration, value and positions and its evaluations restate its arrays, as
+    every optimiser records them (``uavcov.optim._trace``): a file that says otherwise is refused."""
+    best = int(np.argmax(trace.values)) if trace.values.size else 0
+    restated = {
+        "best_iteration": (trace.best_iteration, best),
+        "best_value": (trace.best_value, float(trace.values[best]) if trace.values.size else None),
+        "evaluations": (trace.evaluations, int(trace.values.shape[0])),
+    }
+    for name, (recorded, computed) in restated.items():
+        if recorded != computed:
+            raise ResultsFormatError(
+                f"{path}: trace.{name} = {recorded!r} disagrees with the trace's values stored beside it ({computed!r})"
+            )
+    if trace.values.size and not np.array_equal(trace.best_positions, trace.trajectory[best]):
+        raise ResultsFormatError(f"{path}: trace_best_positions disagrees with the trajectory at the best iteration ({best})")
 
 
 def _check_arrays(arrays: dict[str, np.ndarray], spec: MissionSettings, cvt: Mapping[str, Any] | None, path: Path) -> None:
@@ -224,8 +257,7 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
         arrays.update({f"cvt_{name}": np.asarray(getattr(result.cvt, name)) for name in _CVT_ARRAYS})
         if result.cvt.normals is not None:
             arrays["cvt_normals"] = np.asarray(result.cvt.normals)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_with(path, lambda out: np.savez_compressed(out, **arrays))  # type: ignore[arg-type]
+    atomic_write_with(make_parent(path), lambda out: np.savez_compressed(out, **arrays))  # type: ignore[arg-type]
     return path
 
 
@@ -293,6 +325,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
         if header.get("cvt") is not None:
             _require(arrays, tuple(f"cvt_{n}" for n in _CVT_ARRAYS), path)
         _check_arrays(arrays, spec, header.get("cvt"), path)
+        _check_durations(header, path)
         t = header["trace"]
         trace = OptimizerTrace(
             kind=t["kind"],
@@ -304,6 +337,7 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
             **{new: t[old] if old in t and new not in t else t[new] for new, old in _TRACE_TIMES},
             relocations=_relocations(t.get("relocations", []), arrays["coverage"].shape[0], spec.n_uavs, path),
         )
+        _check_best(trace, path)
         cvt = None
         if header.get("cvt") is not None:
             # Records written before the CVT's facings have none.

@@ -10,6 +10,7 @@ configurations), and :func:`nested_replace` changes its fields by dotted names
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, is_dataclass, replace
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -308,11 +309,19 @@ def nested_replace(obj: _Settings, changes: dict[str, Any]) -> _Settings:
     ------
     InvalidInputError
         A name that is not a field of the object it names.
+    InvalidTypeError
+        ``obj`` is no dataclass, ``changes`` no mapping, or a name no string.
     """
+    if not is_dataclass(obj) or isinstance(obj, type):
+        raise InvalidTypeError(f"nested_replace changes a settings dataclass, got {type(obj).__name__}")
+    if not isinstance(changes, Mapping):
+        raise InvalidTypeError(f"changes must be a mapping of dotted field names to values, got {type(changes).__name__}")
     top: dict[str, Any] = {}
     inner: dict[str, dict[str, Any]] = {}
     names = {f.name for f in fields(obj)}
     for key, value in changes.items():
+        if not isinstance(key, str):
+            raise InvalidTypeError(f"a field name must be a string such as 'start.kind', got {key!r}")
         head, _, rest = key.replace("__", ".").partition(".")
         if head not in names:
             raise InvalidInputError(f"{type(obj).__name__} has no field {head!r}; its fields are {sorted(names)}")

@@ -36,6 +36,14 @@ def _int_list(text: str) -> tuple[int, ...]:
     return values
 
 
+def _path_text(text: str) -> str:
+    """An argparse type for a file or folder: any text but an empty one, which ``Path`` would read
+    as the working directory (``--out "$UNSET"`` writing a run's files there)."""
+    if not text:
+        raise argparse.ArgumentTypeError("expected a file or folder name, got an empty one ('.' for the working directory)")
+    return text
+
+
 def _str_list(text: str) -> tuple[str, ...]:
     values = tuple(v.strip() for v in text.split(",") if v.strip())
     if not values:

@@ -19,6 +19,7 @@ from ._common import (
     _int_at_least,
     _int_list,
     _non_negative_int,
+    _path_text,
     _positive_float,
     _positive_int,
     _prior,
@@ -50,7 +51,7 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     demo = commands.add_parser("demo", help="the paper's illustrative example end to end, in seconds")
-    demo.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
+    demo.add_argument("--out", type=_path_text, default="out/demo", help="output directory (default out/demo)")
     demo.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
     demo.add_argument("--seed", type=_non_negative_int, default=0, help="the scenario: terrain, prior, start, optimiser (default 0)")
     demo.add_argument("--threads", type=_positive_int, help="Rust threads (default: every core)")
@@ -62,7 +63,9 @@ def _parser() -> argparse.ArgumentParser:
         "experiment",
         choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "flown-table1", "all"),
     )
-    reproduce.add_argument("--out", help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md")
+    reproduce.add_argument(
+        "--out", type=_path_text, help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md"
+    )
     reproduce.add_argument("--seeds", help="scenarios, e.g. 0-39 or 1000-1009,2000 (default: the experiment's)")
     reproduce.add_argument("--team-sizes", type=_int_list, metavar="N,N,...", help="a subset of the team sizes")
     reproduce.add_argument("--starts", type=_str_list, metavar="S,S,...", help="a subset of the starts")
@@ -81,21 +84,23 @@ def _parser() -> argparse.ArgumentParser:
     reproduce.set_defaults(run=_reproduce)
 
     sweep = commands.add_parser("sweep", help="a grid of settings from a TOML file (see examples/sweep.toml)")
-    sweep.add_argument("config", metavar="CONFIG.toml")
-    sweep.add_argument("--out", help="output directory (default out/<config name>)")
+    sweep.add_argument("config", type=_path_text, metavar="CONFIG.toml")
+    sweep.add_argument("--out", type=_path_text, help="output directory (default out/<config name>)")
     _add_execution(sweep)
     sweep.set_defaults(run=_sweep)
 
     plot = commands.add_parser("plot", help="redraw every figure from the runs stored in a directory")
-    plot.add_argument("directory", metavar="DIR")
-    plot.add_argument("--out", help="where the figures go (default DIR/figures)")
+    plot.add_argument("directory", type=_path_text, metavar="DIR")
+    plot.add_argument("--out", type=_path_text, help="where the figures go (default DIR/figures)")
     plot.add_argument("--max-runs", type=_non_negative_int, default=6, help="runs drawn one by one (default 6)")
     plot.add_argument("--no-animation", action="store_true", help="skip the animation of the first run")
     plot.set_defaults(run=_plot)
 
     view = commands.add_parser("view", help="one self-contained HTML file with an interactive 3D view of a run")
-    view.add_argument("run_or_dir", metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs")
-    view.add_argument("--out", default="view.html", help="the HTML file to write (default view.html)")
+    view.add_argument(
+        "run_or_dir", type=_path_text, metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs"
+    )
+    view.add_argument("--out", type=_path_text, default="view.html", help="the HTML file to write (default view.html)")
     view.add_argument(
         "--run",
         dest="run_name",
@@ -116,7 +121,11 @@ def _add_plan(commands: Any) -> None:
     """``uavcov plan`` and its flags: the site, the team and its limits, the camera, the run."""
     planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
     planning.add_argument(
-        "dem", nargs="?", metavar="DEM", help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)"
+        "dem",
+        nargs="?",
+        type=_path_text,
+        metavar="DEM",
+        help="GeoTIFF (any projected or geographic CRS) or mesh (.obj/.stl/.ply, with --crs)",
     )
     planning.add_argument("--sample", action="store_true", help="plan on the bundled sample: matplotlib's Jacksboro DEM (WGS 84)")
     planning.add_argument(
@@ -136,6 +145,7 @@ def _add_plan(commands: Any) -> None:
     )
     planning.add_argument(
         "--structure",
+        type=_path_text,
         metavar="SCENE|MESH",
         help="plan round a structure instead of over a DEM: a scene (girder_bridge, arch_bridge, wind_turbine, facade, "
         "lattice_pylon; --seed makes it) or a closed mesh file (.obj/.stl/.ply) in local metres",
@@ -159,7 +169,7 @@ def _add_plan(commands: Any) -> None:
         "--coords", choices=("wgs84", "dem"), default="wgs84", help="--takeoff and --bbox in WGS 84 (default) or the DEM's CRS"
     )
     where = planning.add_mutually_exclusive_group()
-    where.add_argument("--aoi", metavar="AREA", help="area of interest: a GeoJSON or KML polygon file (WGS 84)")
+    where.add_argument("--aoi", type=_path_text, metavar="AREA", help="area of interest: a GeoJSON or KML polygon file (WGS 84)")
     where.add_argument("--bbox", type=_floats(4, "XMIN,YMIN,XMAX,YMAX"), metavar="XMIN,YMIN,XMAX,YMAX", help="area of interest: a box")
     planning.add_argument(
         "--prior", type=_prior, default="full", help="what is known beforehand: full (the DEM) or N sparse points (default full)"
@@ -188,5 +198,5 @@ def _add_plan(commands: Any) -> None:
     planning.add_argument("--hold", type=float, default=60.0, help="seconds each UAV holds its position (default 60)")
     planning.add_argument("--seed", type=_non_negative_int, default=0, help="the random streams (default 0)")
     planning.add_argument("--threads", type=_positive_int, help="Rust threads (default: every core)")
-    planning.add_argument("--out", default="out/plan", help="output folder (default out/plan)")
+    planning.add_argument("--out", type=_path_text, default="out/plan", help="output folder (default out/plan)")
     planning.set_defaults(run=_plan)

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._validate import MAX_UAVS, as_count, as_n_threads, as_non_negative_float, as_points, as_positive_float, read_only
+from .._validate import MAX_UAVS, as_count, as_n_threads, as_non_negative_float, as_points, as_positive_float, is_int, read_only
 from ..engine import Sensor, Visibility, pack_sensors
 from ..errors import InvalidInputError, InvalidTypeError
 from ._dual_bound import DualCertificate, dual_bound
@@ -186,7 +186,7 @@ class CoverageProblem:
 
     def seen(self, c: int) -> np.ndarray:
         """``(T,)`` bool: the targets candidate ``c`` sees."""
-        if isinstance(c, bool) or not isinstance(c, (int, np.integer)):
+        if not is_int(c):
             raise InvalidTypeError(f"c must be an int, got {type(c).__name__}")
         if not 0 <= int(c) < self._viewpoints.n:
             raise InvalidInputError(f"candidate {c} of {self._viewpoints.n}")

@@ -50,6 +50,9 @@ from ..errors import InvalidInputError, InvalidTypeError
 _COLUMNS = 16
 
 
+_MAX_PIXELS_A_SIDE = 1_000_000  # pixels along one side of an image: far beyond any camera made
+
+
 @dataclass(frozen=True)
 class Camera:
     """A pinhole camera, by its sensor and lens (the fields of QGroundControl's camera definitions).
@@ -61,7 +64,7 @@ class Camera:
     focal_length_mm : float
         Millimetres (> 0).
     image_width_px, image_height_px : int
-        The image's size, pixels (>= 1).
+        The image's size, pixels (1 to 1 000 000 a side).
 
     Examples
     --------
@@ -80,7 +83,10 @@ class Camera:
         for name in ("sensor_width_mm", "sensor_height_mm", "focal_length_mm"):
             object.__setattr__(self, name, as_positive_float(getattr(self, name), name))
         for name in ("image_width_px", "image_height_px"):
-            object.__setattr__(self, name, as_positive_int(getattr(self, name), name))
+            pixels = as_positive_int(getattr(self, name), name)
+            if pixels > _MAX_PIXELS_A_SIDE:  # 10**400 px made the ground sample distance an OverflowError
+                raise InvalidInputError(f"{name} must be at most {_MAX_PIXELS_A_SIDE:,} pixels (beyond any camera), got {pixels:,}")
+            object.__setattr__(self, name, pixels)
 
     @classmethod
     def from_fov(cls, hfov_deg: float, vfov_deg: float, image_width_px: int = 4000, image_height_px: int = 3000) -> Camera:
@@ -279,6 +285,8 @@ def _fov(value: Any, name: str) -> float:
     degrees = as_positive_float(value, name)
     if degrees >= 180.0:
         raise InvalidInputError(f"{name} must be in (0, 180) degrees, got {degrees}")
+    if math.tan(math.radians(degrees) / 2) == 0.0:  # a subnormal angle: the sensor it sizes would be 0 mm wide
+        raise InvalidInputError(f"{name} must be in (0, 180) degrees, got {degrees}, too narrow for a float to hold its sensor")
     return math.radians(degrees)
 
 

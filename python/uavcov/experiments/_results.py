@@ -209,6 +209,9 @@ def read_runs(path: str | os.PathLike[str], *, required: Sequence[str] = _REQUIR
         missing = [c for c in required if c not in header]
         if missing:
             raise ResultsFormatError(f"{path} is not a uavcov runs file: it lacks the column(s) {', '.join(missing)}")
+        repeated = sorted({c for c in header if header.count(c) > 1})
+        if repeated:  # a row would keep one of its cells under that name and drop the other
+            raise ResultsFormatError(f"{path} names the column(s) {', '.join(repeated)} twice in its header")
         rows = []
         for line_number, cells in enumerate(reader, start=2):
             if len(cells) != len(header):
@@ -339,6 +342,8 @@ def _is_our_document(document: Any) -> bool:
 
 def _is_our_config(path: Path) -> bool:
     """Whether ``path`` is a ``config.json`` uavcov wrote."""
+    if not path.is_file():  # a FIFO would block the read forever, a device never end it
+        return False
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, ValueError):
@@ -528,8 +533,12 @@ class ResultsFolder:
             write or cannot read.
         """
         path = self.config_json
-        if not path.exists():
+        if not path.exists() and not path.is_symlink():
             return
+        if not path.is_file():  # a FIFO would block the read forever, a device never end it
+            raise ResultsInUseError(
+                f"{path} is not a regular file (a folder, FIFO, device or link to none): move it away or write to another folder"
+            )
         try:
             previous = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError, ValueError) as exc:

@@ -160,11 +160,12 @@ def run_sweep(
     """
     if run_options.get("executor") is None:
         plan_execution(run_options.get("workers"), run_options.get("n_threads"))  # refused before the folder is made
+    specs = config.specs()  # a spec refused (a name too long for its run files) before the folder is made too
     folder = ResultsFolder(out)
     about = {"name": config.name, "base": config.base, "description": config.description, "axes": list(config.axes)}
     with folder.lock():
         folder.claim([*(["sweep.toml"] if source_text is not None else []), "summary.md"])
-        rows = run_specs(config.specs(), out=folder, command="sweep", execution=execution, about=about, **run_options)
+        rows = run_specs(specs, out=folder, command="sweep", execution=execution, about=about, **run_options)
         if source_text is not None:
             folder.write_text("sweep.toml", source_text)
         folder.write_text("summary.md", sweep_markdown(config, rows))

@@ -40,9 +40,9 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import MAX_RUNS, MAX_UAVS, as_non_negative_int, as_optional_str, as_str, as_tuple, is_int
+from .._validate import MAX_RUNS, MAX_UAVS, as_non_negative_int, as_optional_str, as_str, as_tuple, is_int, within_file_name_limit
 from ..engine import Terrain
-from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsInUseError
+from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsFormatError, ResultsInUseError
 from ..mission import MissionResult, run_mission
 from ..placement import START_KINDS
 from ..records import save_mission
@@ -303,6 +303,7 @@ class RunSpec:
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "n_uavs", int(self.n_uavs))
         object.__setattr__(self, "label", as_optional_str(self.label, "label") or self.experiment.name)
+        within_file_name_limit(self.run_id + ".npz", f"label {self.label[:40]!r}...: its run file (runs/<run_id>.npz)")
         object.__setattr__(self, "extra", as_extra(self.extra))
         # a swept setting may repeat a column of its row (iterations), never contradict it
         repeated = [(key, value) for key, value in self.extra if key in RUN_COLUMNS]
@@ -607,6 +608,11 @@ def _prepare(
         raise ResultsInUseError(
             f"{folder.runs_csv} already holds {len(stored)} run(s): resume that sweep or write to another folder (nothing was changed)"
         )
+    twice = [
+        i for i, n in collections.Counter(r["run_id"] for r in stored).items() if n > 1
+    ]  # a resume would keep one row and ignore the other
+    if twice:
+        raise ResultsFormatError(f"{folder.runs_csv} holds the run {twice[0]} twice: keep one of its rows, or write to another folder")
     wanted = {s.run_id for s in specs}
     if exclusive:
         others = [r["run_id"] for r in stored if r["run_id"] not in wanted]

@@ -57,7 +57,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_UAVS, as_path, as_str, is_int
+from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_SWEEP_FILE_BYTES, MAX_UAVS, as_path, as_str, is_int, regular_file
 from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -350,7 +350,7 @@ def load_sweep_config(path: str | os.PathLike[str], *, bases: Mapping[str, Exper
         The file is missing or unreadable, is not valid TOML (with the line), has an unknown key
         (with the closest valid one), a value of the wrong type or out of range.
     """
-    path = as_path(path, "path")
+    path = regular_file(as_path(path, "path"), "sweep file", ConfigError, MAX_SWEEP_FILE_BYTES)
     try:
         text = path.read_bytes()
     except OSError as exc:
@@ -403,7 +403,7 @@ def _terrain_changes(base: Experiment, terrain_table: Any, source: str, src: _So
     kind = terrain_table.pop("kind", "buildings" if isinstance(base.terrain, BuildingsGenerator) else "hills")
     if kind == "file":  # a surface of the user's own, the same for every seed: no terrain setting to sweep
         return dataclasses.replace(base, terrain=terrain_file(terrain_table, source)), {}, {}
-    if kind not in _TERRAINS:
+    if not isinstance(kind, str) or kind not in _TERRAINS:  # a list or table is no kind (and no key of _TERRAINS)
         kinds = (*_TERRAINS, "file")
         raise src.error("terrain.kind", f"must be 'hills', 'buildings' or 'file', got {kind!r}{_suggest(str(kind), kinds)}")
     terrain_cls = _TERRAINS[kind]

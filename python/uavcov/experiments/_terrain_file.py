@@ -75,6 +75,8 @@ def _grid(path: Path, spacing: Any, source: str) -> Terrain:
     """A ``.npy`` of heights as a grid terrain, its size checked before it is read whole."""
     if spacing is None:
         raise ConfigError(f"{source}: terrain.spacing: a .npy grid needs its cell size in metres (spacing = 1.0, or [dx, dy])")
+    if path.exists() and not path.is_file():  # a FIFO would block np.load forever
+        raise ConfigError(f"{source}: terrain.path: {path} is not a regular file")
     try:
         heights = np.load(path, mmap_mode="r", allow_pickle=False)
     except ValueError as exc:  # numpy speaks of pickles for anything that is not an array file

@@ -23,6 +23,7 @@ import numpy as np
 from .._validate import as_finite_float, as_float_array, as_optional_str, as_tuple
 from ..errors import InvalidInputError, InvalidTypeError
 from ..terrain import GeoDem, wrap_longitude
+from ._strict_json import unique_names
 
 AREA_FRAMES = ("wgs84", "dem")
 """What an area's coordinates are in: WGS84 (longitude, latitude) or the DEM's CRS."""
@@ -230,8 +231,8 @@ def _polygon(coordinates: Any, where: str) -> list[list[list[float]]]:
 def _geojson_polygons(text: str, where: str) -> list[list[Any]]:
     """Every polygon of a GeoJSON text, each member checked against RFC 7946 before it is used."""
     try:
-        document = json.loads(text)
-    except json.JSONDecodeError as exc:
+        document = json.loads(text, object_pairs_hook=unique_names)
+    except ValueError as exc:  # JSONDecodeError, or a name given twice
         raise InvalidInputError(f"{where!r} is neither GeoJSON nor KML: {exc}") from None
     except RecursionError:
         raise InvalidInputError(f"{where!r} nests arrays or objects too deeply to be a GeoJSON area") from None

@@ -52,9 +52,9 @@ class GeoAnchor:
     def __post_init__(self) -> None:
         for name, bound in (("longitude", 180.0), ("latitude", 90.0), ("height", _MAX_HEIGHT_M)):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+            if isinstance(value, (bool, np.timedelta64)) or not isinstance(value, (int, float, np.floating, np.integer)):
                 raise InvalidInputError(f"anchor {name} must be a number, got {value!r}")
-            number = float(value)
+            number = float(value) if not isinstance(value, int) or abs(value) <= _MAX_HEIGHT_M else math.inf  # float(10**400) overflows
             if not math.isfinite(number) or abs(number) > bound:
                 raise InvalidInputError(f"anchor {name} must be finite and within [-{bound:g}, {bound:g}], got {value!r}")
             object.__setattr__(self, name, number)

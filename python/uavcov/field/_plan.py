@@ -65,6 +65,19 @@ MAX_RANGE_M = 100_000.0
 every footprint has a longitude and latitude (a range of 1e300 m has no outline on the Earth)."""
 
 
+def _mission_item_value(value: float, name: str) -> float:
+    """``value`` when a 32-bit float holds it: a vehicle gets a ``.plan``'s items as MAVLink float32
+    parameters, where 1e308 s becomes an endless hold and a subnormal speed 0 m/s."""
+    if value != 0.0 and not _FLOAT32_TINY <= value <= _FLOAT32_MAX:
+        raise InvalidInputError(
+            f"{name} = {value} is beyond what a mission item's 32-bit float holds ({_FLOAT32_TINY:.3g} to {_FLOAT32_MAX:.3g})"
+        )
+    return value + 0.0  # -0.0 is 0.0 in a file
+
+
+_FLOAT32_TINY, _FLOAT32_MAX = float(np.finfo(np.float32).tiny), float(np.finfo(np.float32).max)
+
+
 @dataclass(frozen=True)
 class PlanSettings:
     """Everything a plan is made from, besides the DEM and the area. Frozen and picklable.
@@ -156,9 +169,9 @@ class PlanSettings:
             object.__setattr__(self, "prior", as_count(self.prior, "prior (sparse points)", MAX_SAMPLES))
         elif not isinstance(self.prior, str) or self.prior != "full":
             raise InvalidInputError(f"prior must be 'full' or a number of sparse points, got {self.prior!r}")
-        object.__setattr__(self, "hold_s", as_non_negative_float(self.hold_s, "hold_s"))
-        object.__setattr__(self, "cruise_speed", as_positive_float(self.cruise_speed, "cruise_speed"))
-        object.__setattr__(self, "hover_speed", as_positive_float(self.hover_speed, "hover_speed"))
+        object.__setattr__(self, "hold_s", _mission_item_value(as_non_negative_float(self.hold_s, "hold_s"), "hold_s"))
+        object.__setattr__(self, "cruise_speed", _mission_item_value(as_positive_float(self.cruise_speed, "cruise_speed"), "cruise_speed"))
+        object.__setattr__(self, "hover_speed", _mission_item_value(as_positive_float(self.hover_speed, "hover_speed"), "hover_speed"))
         if self.cao is not None and not isinstance(self.cao, CAOSettings):
             raise InvalidTypeError(f"cao must be a CAOSettings or None, got {type(self.cao).__name__}")
         mission = MissionSettings(

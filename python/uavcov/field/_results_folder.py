@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from .._io import file_mode
+from .._validate import checked_path_text
 from ..errors import InvalidTypeError, ResultsFolderError, ResultsInUseError
 
 PLAN_FILE_NAMES = frozenset(
@@ -62,7 +63,7 @@ def check_plan_folder(out: Any) -> None:
     """
     if not isinstance(out, (str, os.PathLike)):
         raise InvalidTypeError(f"out must be a path, got {type(out).__name__}")
-    _check_replaceable(Path(out))
+    _check_replaceable(Path(checked_path_text(os.fspath(out), "out")))  # "" would be the working directory
 
 
 def _check_replaceable(folder: Path) -> bool:
@@ -104,7 +105,7 @@ def write_files(files: dict[str, bytes], out: Any) -> list[Path]:
     """
     if not isinstance(out, (str, os.PathLike)):
         raise InvalidTypeError(f"out must be a path, got {type(out).__name__}")
-    folder = Path(out)
+    folder = Path(checked_path_text(os.fspath(out), "out"))  # "" would replace the working directory
     if any(os.sep in name or name in ("", ".", "..") or not is_plan_file(name) for name in files):
         raise ResultsFolderError(f"not a plan's file names: {sorted(files)}")
     existing = _check_replaceable(folder)
@@ -114,7 +115,7 @@ def write_files(files: dict[str, bytes], out: Any) -> list[Path]:
         parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ResultsFolderError(f"cannot create {parent}: {exc}") from None
-    staging = parent / f".{target.name}.tmp-{secrets.token_hex(4)}"
+    staging = _sibling(target, "tmp")
     try:
         staging.mkdir()  # the mode a folder made by mkdir gets (0o777 less the umask)
         for name, data in files.items():
@@ -132,6 +133,13 @@ def write_files(files: dict[str, bytes], out: Any) -> list[Path]:
     return [folder / name for name in files]
 
 
+def _sibling(folder: Path, kind: str) -> Path:
+    """A fresh name beside ``folder``, ``.NAME.KIND-XXXXXXXX``, its NAME cut to 64 bytes: a folder
+    whose own name nears the 255 bytes a name may have still gets a sibling."""
+    short = folder.name.encode()[:64].decode(errors="ignore")
+    return folder.parent / f".{short}.{kind}-{secrets.token_hex(4)}"
+
+
 def _swap_in(staging: Path, folder: Path, existing: bool) -> None:
     """Rename ``staging`` to ``folder``; an existing ``folder`` is moved aside first, then removed
     (and put back if the second rename fails)."""
@@ -141,7 +149,7 @@ def _swap_in(staging: Path, folder: Path, existing: bool) -> None:
     with contextlib.suppress(OSError):
         mode = folder.stat().st_mode & 0o7777
         os.chmod(staging, mode)  # the folder keeps the mode it had
-    aside = folder.parent / f".{folder.name}.old-{secrets.token_hex(4)}"
+    aside = _sibling(folder, "old")
     os.rename(folder, aside)
     try:
         os.rename(staging, folder)

@@ -33,6 +33,20 @@ def _no_constant(name: str) -> Any:
     raise ValueError(f"{name} is not a JSON number")
 
 
+def unique_names(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object as a dict, refusing a name it gives twice (``object_pairs_hook``).
+
+    RFC 8259 leaves an object with a repeated name to each reader: Python keeps the last value,
+    others the first, so a GIS would show one area and uavcov plan another.
+    """
+    document: dict[str, Any] = {}
+    for name, value in pairs:
+        if name in document:
+            raise ValueError(f"the name {name!r} appears twice in one object (readers disagree on which counts)")
+        document[name] = value
+    return document
+
+
 def read_json(path: Any) -> dict[str, Any]:
     """A JSON object from ``path``, strictly: ``NaN``, ``Infinity`` and ``-Infinity`` are refused.
 
@@ -43,7 +57,7 @@ def read_json(path: Any) -> dict[str, Any]:
     """
     try:
         with open(os.fspath(path), encoding="utf-8") as handle:
-            document = json.load(handle, parse_constant=_no_constant)
+            document = json.load(handle, parse_constant=_no_constant, object_pairs_hook=unique_names)
     except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:
         raise InvalidInputError(f"cannot read {path} as JSON: {exc}") from None
     if not isinstance(document, dict):

@@ -36,7 +36,17 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .._validate import as_bounds, as_finite_float, as_float_array, as_non_negative_float, as_points, as_positive_float, as_positive_int
+from .._validate import (
+    MAX_ITERATIONS,
+    MAX_UAVS,
+    as_bounds,
+    as_count,
+    as_finite_float,
+    as_float_array,
+    as_non_negative_float,
+    as_points,
+    as_positive_float,
+)
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 
 # closest_admissible aims this far inside every bound, so the exact checks of feasible_mask
@@ -216,7 +226,7 @@ class Constraints:
         that radius. Passing them does not prove a
         packing exists; :func:`closest_admissible` reports when it finds none.
         """
-        n_uavs = as_positive_int(n_uavs, "number of UAVs")
+        n_uavs = as_count(n_uavs, "number of UAVs", MAX_UAVS)  # a team, and a count the volume check can multiply
         resolved = self.resolve(world)
         zmin, ztop = (float(z) for z in np.asarray(world.bounds, dtype=np.float64)[:, 2])
         floor = zmin + self.h_min
@@ -374,7 +384,8 @@ def _moves_ok(constraints: Constraints, world: Any, cur: np.ndarray, cand: np.nd
         return ok
     ends = cand[idx]
     longest = float(np.linalg.norm(ends - cur[None], axis=2).max())
-    n_samples = math.ceil(longest / constraints.move_step) - 1  # strictly between the ends
+    ratio = longest / constraints.move_step  # inf for a subnormal move_step: checked before ceil
+    n_samples = math.ceil(ratio) - 1 if ratio <= _MAX_MOVE_SAMPLES + 1 else _MAX_MOVE_SAMPLES + 1  # strictly between the ends
     if n_samples <= 0:
         return ok
     if n_samples > _MAX_MOVE_SAMPLES:
@@ -644,7 +655,7 @@ def closest_admissible(constraints: Constraints, world: World, x: Any, *, climb:
     constraints = constraints.resolve(world)
     pos = as_points(x, "x").copy()
     climb = as_non_negative_float(climb, "climb")
-    max_sweeps = as_positive_int(max_sweeps, "max_sweeps")
+    max_sweeps = as_count(max_sweeps, "max_sweeps", MAX_ITERATIONS)  # 10**400 sweeps of an infeasible team never end
     n_uavs = pos.shape[0]
     constraints.check_team(n_uavs, world)
     xmin, ymin, xmax, ymax = constraints.flight_box

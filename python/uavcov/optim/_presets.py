@@ -7,6 +7,7 @@ times as long. The values were chosen on development seeds (``docs/calibration.m
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import replace
 from types import MappingProxyType
@@ -54,4 +55,8 @@ def cao_preset(name: str, d_max: float = PRESET_RANGE) -> CAOSettings:
     if not isinstance(name, str) or name not in CAO_PRESETS:
         raise InvalidInputError(f"CAO preset must be one of {sorted(CAO_PRESETS)}, got {name!r}")
     preset = CAO_PRESETS[name]
-    return replace(preset, alpha0=preset.alpha0 * as_positive_float(d_max, "d_max") / PRESET_RANGE)
+    d_max = as_positive_float(d_max, "d_max")
+    alpha0 = preset.alpha0 * d_max / PRESET_RANGE
+    if not 0.0 < alpha0 < math.inf:  # a subnormal range rounds its first step to 0 m; one near 1.8e308 overflows it
+        raise InvalidInputError(f"d_max = {d_max} m gives CAO no first step ({preset.alpha0 / PRESET_RANGE:g} d_max = {alpha0} m)")
+    return replace(preset, alpha0=alpha0)

@@ -25,6 +25,8 @@ def read_rows(path: Path, keys: Collection[str] = ()) -> list[dict[str, Any]]:
         a torn row).
     """
     rows = []
+    if path.exists() and not path.is_file():  # a FIFO would block the read forever, a device never end it
+        raise ResultsFormatError(f"{path} is not a regular file (a folder, FIFO or device): no rows of a run")
     if path.exists():
         for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), start=1):
             try:

@@ -268,6 +268,8 @@ def fly_experiment(
         if not resume:
             raise ConfigError(f"{folder} holds a flown experiment already: resume it (--resume) or choose another --out")
         try:
+            if config_path.exists() and not config_path.is_file():  # a FIFO would block the read forever
+                raise OSError(f"{CONFIG} is not a regular file")
             recorded = json.loads(config_path.read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
             raise ResultsFormatError(f"{folder} cannot be resumed: its {CONFIG} is missing or unreadable ({exc})") from None

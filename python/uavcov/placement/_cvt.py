@@ -59,8 +59,8 @@ from .._validate import (
     as_generator,
     as_n_threads,
     as_non_negative_float,
+    as_non_negative_int,
     as_points,
-    as_positive_int,
     not_a_terrain,
     read_only,
 )
@@ -134,6 +134,9 @@ class CVTResult:
     def __post_init__(self) -> None:
         for name in ("generators", "moves", "drift", "energy"):
             object.__setattr__(self, name, read_only(np.array(getattr(self, name), dtype=np.float64)))
+        if as_non_negative_int(self.seed, "seed") >= 2**64:  # a record read back must hold the core's u64 seed
+            raise InvalidInputError(f"seed must be below 2**64 (the core's u64 seed), got {self.seed}")
+        object.__setattr__(self, "iterations", as_non_negative_int(self.iterations, "iterations"))
         if self.normals is not None:
             normals = read_only(np.array(self.normals, dtype=np.float64))
             if normals.shape != self.generators.shape:
@@ -243,7 +246,7 @@ class CVTSettings:
         Stop once the net move per iteration over the last ``window`` iterations, averaged over
         the generators, is below ``tol`` metres (``0`` runs to ``max_iterations``).
     window : int, default 5
-        Iterations the net move is measured over.
+        Iterations the net move is measured over (at most 1 million, like ``max_iterations``).
     max_iterations : int, default 300
         At most 1 million (:data:`uavcov._validate.MAX_ITERATIONS`).
     normal_weight : float, default 0
@@ -286,7 +289,7 @@ class CVTSettings:
         if self.samples_per_iteration is not None:
             object.__setattr__(self, "samples_per_iteration", as_count(self.samples_per_iteration, "samples_per_iteration", MAX_SAMPLES))
         object.__setattr__(self, "tol", as_non_negative_float(self.tol, "tol"))
-        object.__setattr__(self, "window", as_positive_int(self.window, "window"))
+        object.__setattr__(self, "window", as_count(self.window, "window", MAX_ITERATIONS))  # the core counts it in 64 bits
         object.__setattr__(self, "max_iterations", as_count(self.max_iterations, "max_iterations", MAX_ITERATIONS))
         weight = as_non_negative_float(self.normal_weight, "normal_weight")
         if weight > _MAX_NORMAL_WEIGHT:

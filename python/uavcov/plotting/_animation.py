@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from .._io import make_parent, refuse_what_is_no_file
 from .._validate import as_positive_float, as_positive_int
 from ..errors import InvalidInputError
 from ._cameras import footprints
@@ -35,6 +36,8 @@ from ._canvas import (
 from ._inputs import _as_result, _curve, _d_max, _setting, _trajectory
 from ._views import _TopView
 from ._writers import _write_gif, _write_mp4
+
+_MIN_FPS = 0.001  # frames a second: one frame every 1000 s is already a slide show
 
 
 def _map_legend(ax: Any, quality: bool, *, footprint: bool) -> None:
@@ -112,6 +115,8 @@ def animate_mission(
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise InvalidInputError("writing .mp4 needs ffmpeg on the PATH; write a .gif instead")
     fps = as_positive_float(fps, "fps")
+    if fps < _MIN_FPS:  # a subnormal fps made each frame last forever (an OverflowError in the GIF writer)
+        raise InvalidInputError(f"fps must be at least {_MIN_FPS:g} (a frame every {1 / _MIN_FPS:g} s), got {fps:g}")
     traj = _trajectory(result.trajectory)
     curve = _curve(result.coverage)
     frames = np.unique(
@@ -180,7 +185,7 @@ def animate_mission(
         title.set_text(f"iteration {k} of {traj.shape[0] - 1}: {what} {curve[k]:.3f} (d_max = {d:g} m)")
         canvas.draw()
         images.append(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
-    out.parent.mkdir(parents=True, exist_ok=True)
+    refuse_what_is_no_file(make_parent(out))
     if suffix == ".gif":
         _write_gif(images, out, fps)
     else:

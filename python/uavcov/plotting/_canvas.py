@@ -11,11 +11,14 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .._validate import as_positive_float
+from .._io import make_parent, refuse_what_is_no_file
+from .._validate import as_positive_float, checked_path_text
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 
 MAX_DPI = 1200.0
 """Highest ``dpi`` of a figure: a print's; beyond, the canvas grows past what one figure needs."""
+MIN_DPI = 1.0
+"""Lowest ``dpi``: below one dot an inch a figure has no pixel (a subnormal dpi made matplotlib's size NaN)."""
 
 # The paper's colours where it has them: covered surface red, start black, end green.
 SEEN_COLOUR = (0.84, 0.15, 0.16)
@@ -65,15 +68,19 @@ def check_output(out: Any, dpi: Any, *, required: bool = False) -> tuple[Path | 
     dpi = as_positive_float(dpi, "dpi")
     if dpi > MAX_DPI:
         raise InvalidInputError(f"dpi must be at most {MAX_DPI:g}, got {dpi:g}")
-    return (None if out is None else Path(out)), dpi
+    if dpi < MIN_DPI:
+        raise InvalidInputError(f"dpi must be at least {MIN_DPI:g} (a figure with pixels), got {dpi:g}")
+    return (None if out is None else Path(checked_path_text(os.fspath(out), "out"))), dpi  # "" would be the working directory
 
 
 def _finish(fig: Any, out: Any, dpi: float) -> Any:
     """Save ``fig`` to ``out`` (parents made) when given, and return it: every figure's last step."""
     out, dpi = check_output(out, dpi)
     if out is not None:
-        path = Path(out)
-        path.parent.mkdir(parents=True, exist_ok=True)
+        path = refuse_what_is_no_file(make_parent(Path(out)))
+        formats = fig.canvas.get_supported_filetypes()
+        if path.suffix and path.suffix[1:].lower() not in formats:  # matplotlib's ValueError, in our words
+            raise InvalidInputError(f"out {path} names no picture format matplotlib writes ({', '.join(sorted(formats))})")
         fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.15)
     return fig
 

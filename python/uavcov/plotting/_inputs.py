@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_points, within_coordinate_bound
+from .._validate import as_points, is_int, within_coordinate_bound
 from ..engine import Terrain
 from ..errors import InvalidInputError, InvalidTypeError, ResultsFormatError
 from ..records import load_mission
@@ -48,7 +48,7 @@ def _trajectory(value: Any) -> np.ndarray:
     """The positions of every UAV at every iteration: finite float64, ``(K + 1, N, 3)``, metres."""
     try:
         traj = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:  # OverflowError: an int or Fraction past the largest float
         raise ResultsFormatError(f"the trajectory is not numeric: {exc}") from exc
     if traj.ndim != 3 or traj.shape[2] != 3:
         raise ResultsFormatError(f"the trajectory must have shape (K + 1, N, 3), got {traj.shape}")
@@ -119,7 +119,7 @@ def _terrain(value: Any, name: str) -> Terrain:
 def _configuration(result: Any, configuration: Any) -> tuple[np.ndarray, str, int | None]:
     """The positions to show, how to call them, and their iteration (None when unknown)."""
     traj = _trajectory(result.trajectory)
-    if isinstance(configuration, (int, np.integer)) and not isinstance(configuration, bool):
+    if is_int(configuration):
         k = int(configuration)
         if not -traj.shape[0] <= k < traj.shape[0]:
             raise InvalidInputError(f"configuration {k} is outside the trajectory (0..{traj.shape[0] - 1})")

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write
-from .._validate import as_optional_str, as_path
+from .._validate import as_optional_str, as_path, is_int
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError, MissingExtraError, ResultsFormatError
 from ..sim import is_flown_file, load_flown
@@ -270,9 +270,9 @@ def view(result: Any, *, max_vertices: int = DEFAULT_MAX_VERTICES, max_frames: i
 def _checked(result: Any, max_vertices: Any, max_frames: Any) -> tuple[Any, np.ndarray, np.ndarray]:
     """The view's arguments checked: the result (read from its file: a mission's, or a flown
     mission's whose states are drawn), its trajectory and its coverage curve."""
-    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 16:
+    if not is_int(max_vertices) or max_vertices < 16:
         raise InvalidInputError(f"max_vertices must be an integer >= 16, got {max_vertices!r}")
-    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 2:
+    if not is_int(max_frames) or max_frames < 2:
         raise InvalidInputError(f"max_frames must be an integer >= 2, got {max_frames!r}")
     if isinstance(result, (str, os.PathLike)) and is_flown_file(result):
         result = load_flown(result)

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_finite_float, as_positive_int, within_coordinate_bound
+from .._validate import MAX_POLYGONS, as_count, as_finite_float, within_coordinate_bound
 from ..engine import Sensor, Targets, Terrain, Visibility
 from ..errors import InvalidInputError
 from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR
@@ -139,7 +139,7 @@ def _mesh_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
 
 def _surface_polygons(terrain: Terrain, max_polygons: int) -> _Polygons:
     """The polygons that draw ``terrain``: :func:`_grid_polygons` or :func:`_mesh_polygons`."""
-    max_polygons = as_positive_int(max_polygons, "max_polygons")
+    max_polygons = as_count(max_polygons, "max_polygons", MAX_POLYGONS)
     if terrain.grid is not None:
         return _grid_polygons(terrain, max_polygons)
     return _mesh_polygons(terrain, max_polygons)

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .._io import make_parent, refuse_what_is_no_file
 from .._validate import as_path
 from ..errors import InvalidInputError
 from ._inputs import _points
@@ -45,8 +46,7 @@ def write_ply(points: Any, path: Any, colors: Any = None) -> Path:
         elif not np.issubdtype(rgb.dtype, np.integer) or rgb.min(initial=0) < 0 or rgb.max(initial=0) > 255:
             raise InvalidInputError("integer colors must lie in 0..255")
         rgb = rgb.astype(np.int64)
-    path = as_path(path, "path")
-    path.parent.mkdir(parents=True, exist_ok=True)
+    path = refuse_what_is_no_file(make_parent(as_path(path, "path")))
     header = [
         "ply",
         "format ascii 1.0",

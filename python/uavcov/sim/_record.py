@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_with
+from .._io import atomic_write_with, make_parent
 from .._validate import as_path, read_only
 from ..engine import Terrain
 from ..errors import InvalidTypeError, ResultsFormatError
@@ -112,8 +112,7 @@ def save_flown(flown: FlownMission, path: str | os.PathLike[str], terrain: Terra
         "terrain_faces": np.asarray(terrain.faces),
         **{name: np.asarray(getattr(flown, name)) for name in _ARRAYS},
     }
-    out = as_path(path, "path")
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = make_parent(as_path(path, "path"))
     atomic_write_with(out, lambda handle: np.savez_compressed(handle, **arrays))  # type: ignore[arg-type]
     return out
 
@@ -127,6 +126,8 @@ def is_flown_file(path: str | os.PathLike[str]) -> bool:
         ``path`` is not a path (a string or ``os.PathLike``).
     """
     file = as_path(path, "path")  # a number or None is a mistake, not "some other file"
+    if not file.is_file():  # a FIFO would block np.load forever; a folder is no flown run either
+        return False
     try:
         with np.load(file, allow_pickle=False) as data:
             return "header" in data.files and json.loads(str(data["header"])).get("format") == FLOWN_FORMAT

@@ -19,7 +19,17 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_bool, as_bool_array, as_generator, as_positive_float, as_positive_int, existing_path, is_int, read_only
+from .._validate import (
+    as_bool,
+    as_bool_array,
+    as_generator,
+    as_positive_float,
+    as_positive_int,
+    cells_along,
+    existing_path,
+    is_int,
+    read_only,
+)
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
@@ -541,8 +551,8 @@ def height_field_violation(structure: Structure, *, resolution: float | None = N
     hi = vertices[np.unique(faces[solid])].max(axis=0)
     side = float(max(hi[0] - lo[0], hi[1] - lo[1]))
     step = side / 200.0 if resolution is None else as_positive_float(resolution, "resolution")
-    nx = max(1, int(np.ceil((hi[0] - lo[0]) / step)))
-    ny = max(1, int(np.ceil((hi[1] - lo[1]) / step)))
+    nx = max(1, int(np.ceil(cells_along(float(hi[0] - lo[0]), step, "resolution"))))
+    ny = max(1, int(np.ceil(cells_along(float(hi[1] - lo[1]), step, "resolution"))))
     xs = lo[0] + (np.arange(nx) + 0.5) * (hi[0] - lo[0]) / nx
     ys = lo[1] + (np.arange(ny) + 0.5) * (hi[1] - lo[1]) / ny
     lowest = np.full((nx, ny), np.inf)

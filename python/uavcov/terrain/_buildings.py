@@ -25,6 +25,7 @@ from .._validate import (
     as_positive_float,
     as_positive_int,
     as_range,
+    cells_along,
 )
 from ..engine import Terrain
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
@@ -130,6 +131,7 @@ def random_buildings(
     gap = as_non_negative_float(gap, "gap")
     margin = as_non_negative_float(margin, "margin")
     step = as_positive_float(step, "step")
+    cells_along(size, step, "size")  # corners snap to multiples of step: a subnormal one overflows them
     max_attempts = as_positive_int(max_attempts, "max_attempts")
     if side_low > size - 2 * margin:
         raise InfeasibleError(f"a footprint of {side_low} m does not fit in {size} m with margin {margin} m")

@@ -25,6 +25,7 @@ from .._validate import (
 from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError, MeshError, MissingExtraError
 from ._frame import LocalFrame
+from ._mesh_headers import check_binary_stl_size, check_ply_counts, ply_element_counts
 
 
 @dataclass(frozen=True)
@@ -315,6 +316,9 @@ def load_mesh(
         raise MissingExtraError("reading mesh files needs trimesh: pip install 'uavcov[mesh]' (or pip install trimesh)") from exc
     path_text = existing_path(path, "mesh", MeshError)
     source: Any = path_text
+    ply_counts = ply_element_counts(path_text) if path_text.lower().endswith(".ply") else {}
+    if path_text.lower().endswith(".stl"):
+        check_binary_stl_size(path_text)
     if path_text.lower().endswith(".obj"):
         rewritten = obj_absolute_faces(path_text)
         if rewritten is not None:
@@ -328,6 +332,8 @@ def load_mesh(
     faces = getattr(loaded, "faces", None)
     if vertices is None or faces is None or len(faces) == 0:
         raise MeshError(f"{path_text!r} holds no triangles")
+    if ply_counts:
+        check_ply_counts(path_text, ply_counts, len(vertices), len(faces))
     try:
         return mesh_terrain(
             np.asarray(vertices, dtype=np.float64),

@@ -35,6 +35,7 @@ from .._validate import (
     as_non_negative_float,
     as_points,
     as_positive_float,
+    cells_along,
     not_a_terrain,
     within_coordinate_bound,
 )
@@ -395,8 +396,8 @@ def approximation_error(truth: Terrain, approx: Terrain, resolution: float | Non
     approx = _check_terrain(approx)
     xmin, ymin, xmax, ymax = _rectangle(truth)
     step = max(xmax - xmin, ymax - ymin) / 100.0 if resolution is None else as_positive_float(resolution, "resolution")
-    nx = max(1, round((xmax - xmin) / step))
-    ny = max(1, round((ymax - ymin) / step))
+    nx = max(1, round(cells_along(xmax - xmin, step, "resolution")))
+    ny = max(1, round(cells_along(ymax - ymin, step, "resolution")))
     xs = xmin + (np.arange(nx) + 0.5) * ((xmax - xmin) / nx)
     ys = ymin + (np.arange(ny) + 0.5) * ((ymax - ymin) / ny)
     x, y = np.meshgrid(xs, ys)
