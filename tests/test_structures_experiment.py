@@ -235,3 +235,23 @@ def test_rows_without_their_config_are_refused(tmp_path: Path) -> None:
     (folder / "rows.jsonl").write_text('{"family": "pylon"}\n', encoding="utf-8")
     with pytest.raises(ConfigError, match=r"without their config\.json"):
         reproduce_structures(folder, SMALL, resume=True)
+
+
+@pytest.mark.parametrize("kind", ["fifo", "folder"])
+def test_a_config_that_is_no_file_is_refused_before_it_is_read(tmp_path: Path, kind: str) -> None:
+    """A FIFO named config.json blocked a resume's read forever; a folder is no config either."""
+    import os
+
+    from uavcov.errors import ResultsFormatError
+    from uavcov.paper._structures import report_from_folder
+
+    folder = tmp_path / "run"
+    folder.mkdir()
+    if kind == "fifo":
+        os.mkfifo(folder / "config.json")
+    else:
+        (folder / "config.json").mkdir()
+    with pytest.raises(ResultsFormatError, match="not a regular file" if kind == "fifo" else "is a directory"):
+        reproduce_structures(folder, SMALL, resume=True)
+    with pytest.raises(ResultsFormatError, match="not a regular file" if kind == "fifo" else "is a directory"):
+        report_from_folder(folder)

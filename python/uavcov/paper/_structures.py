@@ -63,6 +63,7 @@ import numpy as np
 from .._validate import (
     MAX_ITERATIONS,
     MAX_SAMPLES,
+    MAX_SWEEP_FILE_BYTES,
     MAX_UAVS,
     MAX_WORKERS,
     as_bool,
@@ -71,6 +72,7 @@ from .._validate import (
     as_non_negative_float,
     as_path,
     as_positive_float,
+    regular_file,
 )
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsFormatError, UavcovError
 from ._jsonl import append_row, read_rows
@@ -511,6 +513,8 @@ def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, Setting]) 
 
 
 def _read_config(path: Path) -> dict[str, Any]:
+    # A FIFO named config.json would block the read forever (a resume hung on one).
+    regular_file(path, "structures experiment's config", ResultsFormatError, MAX_SWEEP_FILE_BYTES)
     try:
         config = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, ValueError) as exc:
