@@ -167,7 +167,8 @@ def _highspy(instance: dict[str, Any], time_limit: float, presolve: bool) -> dic
     h.run()
     info = h.getInfo()
     x = np.asarray(h.getSolution().col_value) if info.primal_solution_status == 2 else None
-    return {"x": x, "bound": -float(info.mip_dual_bound), "status": h.modelStatusToString(h.getModelStatus()), "nodes": int(info.mip_node_count)}
+    status = h.modelStatusToString(h.getModelStatus())
+    return {"x": x, "bound": -float(info.mip_dual_bound), "status": status, "nodes": int(info.mip_node_count)}
 
 
 def _cpsat(instance: dict[str, Any], time_limit: float) -> dict[str, Any]:
@@ -179,11 +180,9 @@ def _cpsat(instance: dict[str, Any], time_limit: float) -> dict[str, Any]:
     matrix = instance["matrix"]
     for i in range(matrix.shape[0]):
         lo, hi = matrix.indptr[i], matrix.indptr[i + 1]
-        terms = [int(round(a)) * variables[j] for j, a in zip(matrix.indices[lo:hi], matrix.data[lo:hi], strict=True)]
+        terms = [round(a) * variables[j] for j, a in zip(matrix.indices[lo:hi], matrix.data[lo:hi], strict=True)]
         lower, upper = instance["lower"][i], instance["upper"][i]
-        model.add_linear_constraint(
-            sum(terms), int(lower) if np.isfinite(lower) else -(2**40), int(upper) if np.isfinite(upper) else 2**40
-        )
+        model.add_linear_constraint(sum(terms), int(lower) if np.isfinite(lower) else -(2**40), int(upper) if np.isfinite(upper) else 2**40)
     shares = -instance["cost"][n_x:]
     integer = np.ceil(shares * _SCALE).astype(np.int64)  # ceil: the integer objective over S bounds the true one
     model.maximize(sum(int(w) * variables[n_x + g] for g, w in enumerate(integer)))
