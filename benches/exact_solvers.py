@@ -10,8 +10,10 @@ instances interleaved (for each instance every solver in turn) so that the machi
 all alike. A row per (instance, solver) is appended to ``--rows`` (rerunning skips those there):
 
 * ``scipy``: ``scipy.optimize.milp`` as ``exact_placement`` calls it (presolve off; no start);
+* ``scipy-cutoff``: as ``scipy``, with the row "objective >= the start's" (a cutoff without a start);
 * ``highspy``: the same HiGHS through its own API (its newer release), given the swaps' placement;
 * ``highspy-presolve``: as ``highspy``, presolve on;
+* ``highspy-nostart``: as ``highspy``, without the start (what the newer HiGHS alone does);
 * ``cpsat``: OR-Tools CP-SAT, one worker, hinted with the swaps' placement; integer weights
   ``ceil(W_g S)`` with ``S = 2**40``, so ``best_objective_bound / S`` bounds the true objective;
 * ``scip``: SCIP through ``pyscipopt``, given the swaps' placement.
@@ -120,15 +122,21 @@ def _start_vector(instance: dict[str, Any]) -> np.ndarray:
     return np.concatenate([instance["start_x"], z])
 
 
-def _scipy(instance: dict[str, Any], time_limit: float) -> dict[str, Any]:
+def _scipy(instance: dict[str, Any], time_limit: float, cutoff: bool = False) -> dict[str, Any]:
     from scipy.optimize import Bounds, LinearConstraint, milp
+    from scipy.sparse import csr_matrix, vstack
 
     n = instance["cost"].size
+    matrix, lower, upper = instance["matrix"], instance["lower"], instance["upper"]
+    if cutoff:  # objective >= the start's: what it excludes is no better than the start, so max(bound, start) holds
+        matrix = vstack([matrix, csr_matrix(-instance["cost"][None, :])], format="csr")
+        lower = np.append(lower, instance["start_value"] * (1.0 - 1e-9))
+        upper = np.append(upper, np.inf)
     result = milp(
         c=instance["cost"],
         integrality=instance["integrality"],
         bounds=Bounds(np.zeros(n), np.ones(n)),
-        constraints=LinearConstraint(instance["matrix"], instance["lower"], instance["upper"]),
+        constraints=LinearConstraint(matrix, lower, upper),
         options={"presolve": False, "mip_rel_gap": _GAP, "time_limit": time_limit},
     )
     bound = getattr(result, "mip_dual_bound", None)
@@ -140,7 +148,7 @@ def _scipy(instance: dict[str, Any], time_limit: float) -> dict[str, Any]:
     }
 
 
-def _highspy(instance: dict[str, Any], time_limit: float, presolve: bool) -> dict[str, Any]:
+def _highspy(instance: dict[str, Any], time_limit: float, presolve: bool, start: bool = True) -> dict[str, Any]:
     import highspy
 
     matrix = instance["matrix"].tocsc()
@@ -160,10 +168,11 @@ def _highspy(instance: dict[str, Any], time_limit: float, presolve: bool) -> dic
     for key, value in {"threads": 1, "presolve": "on" if presolve else "off", "mip_rel_gap": _GAP, "time_limit": time_limit}.items():
         h.setOptionValue(key, value)
     h.passModel(lp)
-    solution = highspy.HighsSolution()
-    solution.col_value = list(_start_vector(instance))
-    solution.value_valid = True
-    h.setSolution(solution)
+    if start:
+        solution = highspy.HighsSolution()
+        solution.col_value = list(_start_vector(instance))
+        solution.value_valid = True
+        h.setSolution(solution)
     h.run()
     info = h.getInfo()
     x = np.asarray(h.getSolution().col_value) if info.primal_solution_status == 2 else None
@@ -239,10 +248,10 @@ def _scip(instance: dict[str, Any], time_limit: float) -> dict[str, Any]:
 def _solve(solver: str, path: Path, time_limit: float) -> dict[str, Any]:
     instance = pickle.loads(path.read_bytes())
     started = time.perf_counter()
-    if solver == "scipy":
-        outcome = _scipy(instance, time_limit)
-    elif solver in ("highspy", "highspy-presolve"):
-        outcome = _highspy(instance, time_limit, presolve=solver == "highspy-presolve")
+    if solver in ("scipy", "scipy-cutoff"):
+        outcome = _scipy(instance, time_limit, cutoff=solver == "scipy-cutoff")
+    elif solver in ("highspy", "highspy-presolve", "highspy-nostart"):
+        outcome = _highspy(instance, time_limit, presolve=solver == "highspy-presolve", start=solver != "highspy-nostart")
     elif solver == "cpsat":
         outcome = _cpsat(instance, time_limit)
     elif solver == "scip":
