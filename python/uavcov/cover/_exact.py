@@ -37,7 +37,9 @@ swaps stop at the deadline, and no program is made with under ``_LEAST_SOLVER_S`
 scipy's ``milp`` takes no starting solution, so the swaps' placement is the fallback: when the
 solver stops at its time or node limit (or is killed) the result is the better of that placement
 and the solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and
-the LP dual bound (each certified on its own). Swaps, solver and evaluation are sequential and
+the LP dual bound (each certified on its own). HiGHS through highspy given that placement as its
+start, SCIP and CP-SAT proved no more on Table 1's hardest sizes (benches/README.md, "Which MIP
+solver"), so scipy's stays. Swaps, solver and evaluation are sequential and
 exact: the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with
 the node limit instead of the time limit (and time enough) not on the machine's speed either.
 
