@@ -37,18 +37,17 @@ swaps stop at the deadline, and no program is made with under ``_LEAST_SOLVER_S`
 scipy's ``milp`` takes no starting solution, so the swaps' placement is the fallback: when the
 solver stops at its time or node limit (or is killed) the result is the better of that placement
 and the solver's incumbent, and the bound the smallest of the solver's, greedy's online bound and
-the LP dual bound (each certified on its own). HiGHS through highspy given that placement as its
-start, SCIP and CP-SAT proved no more on Table 1's hardest sizes (benches/README.md, "Which MIP
-solver"), so scipy's stays. Swaps, solver and evaluation are sequential and
+the LP dual bound (each certified on its own). Swaps, solver and evaluation are sequential and
 exact: the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with
 the node limit instead of the time limit (and time enough) not on the machine's speed either.
 
 With ``solver="highspy"`` (the optional extra ``uavcov[highspy]``) the same program goes to
 HiGHS through its own Python API instead, one thread, given the swaps' placement as its starting
 solution (an incumbent from the first node: a cutoff for the root's reduced-cost fixing and
-pruning). On Table 1's terrains 0-4 it proved the same N = 8 instances as scipy's in 0.45-0.96 of
-the time (benches/README.md, "Which MIP solver"); the default stays scipy's, which needs nothing
-beyond scipy.
+pruning). On Table 1's terrains 0-9 at N = 8 it proved the same instances as scipy's, terrains
+0-3 in 0.46-0.96 of the time (0 and 2 in both runs: 0.46-0.66), the others in about the same; at N = 12
+neither leaves its root in a minute; SCIP and CP-SAT did no better (benches/README.md, "Which MIP
+solver"). The default stays scipy's, which needs nothing beyond scipy.
 
 What the optimum is the optimum of: *these candidates* on *these targets* (as every bound of
 :mod:`uavcov.cover._greedy`); positions off the candidates may see more.
@@ -279,9 +278,10 @@ def exact_placement(
     solver : {"highs", "highspy"}, default "highs"
         ``"highs"``: scipy's HiGHS (``scipy.optimize.milp``; nothing beyond scipy needed).
         ``"highspy"``: HiGHS through its own API (``pip install 'uavcov[highspy]'``), one thread,
-        started from the swaps' placement: on Table 1's hardest sizes it proves the same
-        instances in about half the time, so more of them within a limit (benches/README.md).
-        Both are deterministic for any ``n_threads`` when stopped by the gap or ``node_limit``.
+        started from the swaps' placement: on Table 1's terrains at N = 8 it proved the same
+        instances, some in 0.5-0.7 of the time (benches/README.md, "Which MIP solver").
+        Both give the same answer for any ``n_threads`` when stopped by the gap or
+        ``node_limit``; a time limit makes the answer depend on the machine's speed and load.
 
     Returns
     -------
