@@ -38,7 +38,7 @@ from uavcov.paper import TABLE1, OracleRow, oracle
 from uavcov.paper._bounds import optimum_markdown
 
 
-def _sweep(seeds: list[int], sizes: tuple[int, ...], rows_path: Path, time_limit: float, threads: int, solver: str) -> list[OracleRow]:
+def _sweep(seeds: list[int], sizes: tuple[int, ...], rows_path: Path, time_limit: float, threads: int) -> list[OracleRow]:
     done: dict[tuple[int, int], OracleRow] = {}
     if rows_path.exists():
         for line in rows_path.read_text().splitlines():
@@ -49,7 +49,7 @@ def _sweep(seeds: list[int], sizes: tuple[int, ...], rows_path: Path, time_limit
         if not missing:
             continue
         started = time.perf_counter()
-        found = oracle(TABLE1, seeds=[seed], team_sizes=missing, n_threads=threads, exact=True, time_limit=time_limit, exact_solver=solver)
+        found = oracle(TABLE1, seeds=[seed], team_sizes=missing, n_threads=threads, exact=True, time_limit=time_limit)
         with rows_path.open("a") as handle:
             for row in found:
                 handle.write(json.dumps(dataclasses.asdict(row)) + "\n")
@@ -169,7 +169,7 @@ def _structures(families: list[str], seeds: list[int], time_limit: float, rows_p
             )
 
 
-def _direct(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: int, highs: list[str], solver: str) -> None:
+def _direct(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads: int, highs: list[str]) -> None:
     """``exact_placement`` on each terrain and team size with HiGHS's options changed (``key=value``): what each step did."""
     from uavcov.cover import _exact
 
@@ -178,12 +178,12 @@ def _direct(seeds: list[int], sizes: tuple[int, ...], time_limit: float, threads
         _exact._HIGHS_OPTIONS[key] = {"True": True, "False": False}.get(
             value, value if not value.replace(".", "").isdigit() else float(value)
         )
-    print(f"solver {solver}, scipy's HiGHS options {_exact._HIGHS_OPTIONS}, {time_limit:g} s")
+    print(f"HiGHS options {_exact._HIGHS_OPTIONS}, {time_limit:g} s")
     for seed in seeds:
         _, d_safe, problem = _problem(seed, 5.0, threads)
         for n in sizes:
             started = time.perf_counter()
-            r = exact_placement(problem, n, d_safe, time_limit=time_limit, solver=solver)
+            r = exact_placement(problem, n, d_safe, time_limit=time_limit)
             wall = time.perf_counter() - started
             print(
                 f"terrain {seed} N {n}: wall {wall:.1f} s, {r.status}, solver {r.solver}, incumbent {r.incumbent}, "
@@ -207,8 +207,7 @@ def main() -> None:
     parser.add_argument("--cao-seeds", default="0-4")
     parser.add_argument("--direct", action="store_true", help="exact_placement on --direct-seeds x --sizes, one line each")
     parser.add_argument("--direct-seeds", default="0-3")
-    parser.add_argument("--highs", nargs="*", default=[], help="scipy's HiGHS options for --direct, key=value")
-    parser.add_argument("--solver", default="highs", help="exact_placement's solver for --sweep and --direct: highs or highspy")
+    parser.add_argument("--highs", nargs="*", default=[], help="HiGHS options for --direct, key=value")
     parser.add_argument("--structures", action="store_true")
     parser.add_argument("--structure-seeds", default="0-1")
     parser.add_argument("--families", nargs="+", default=["building", "girder_bridge", "arch_bridge", "tower", "pylon"])
@@ -218,7 +217,7 @@ def main() -> None:
     args = parser.parse_args()
     sizes = tuple(args.sizes)
     if args.sweep:
-        rows = _sweep(list(parse_seeds(args.seeds)), sizes, args.rows, args.time_limit, args.threads, args.solver)
+        rows = _sweep(list(parse_seeds(args.seeds)), sizes, args.rows, args.time_limit, args.threads)
         _summary(rows, sizes)
         if args.runs is not None:
             import csv
@@ -230,7 +229,7 @@ def main() -> None:
     if args.cao:
         _cao(list(parse_seeds(args.cao_seeds)), sizes, args.time_limit, args.threads)
     if args.direct:
-        _direct(list(parse_seeds(args.direct_seeds)), sizes, args.time_limit, args.threads, args.highs, args.solver)
+        _direct(list(parse_seeds(args.direct_seeds)), sizes, args.time_limit, args.threads, args.highs)
     if args.structures:
         _structures(args.families, list(parse_seeds(args.structure_seeds)), args.time_limit, args.structure_rows)
 

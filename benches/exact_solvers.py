@@ -20,8 +20,7 @@ all alike. A row per (instance, solver) is appended to ``--rows`` (rerunning ski
 
 What counts for a placement is its true objective (the float shares of the groups it sees) and
 for the bound ``min(pre-solver bound, solver's bound)``: as ``exact_placement`` would report.
-Proved means ``bound - best <= 1e-4 bound``. highspy is the optional extra ``uavcov[highspy]``
-(``exact_placement(solver="highspy")``); ortools and pyscipopt are no dependency of uavcov (they
+Proved means ``bound - best <= 1e-4 bound``. highspy, ortools and pyscipopt are no dependency of uavcov (they
 proved no more: benches/README.md, "Which MIP solver"); to rerun, install all three from wheels:
 ``pip install --only-binary=:all: highspy ortools pyscipopt``.
 

@@ -9,11 +9,6 @@ threads, and no re-import of the caller's script as ``multiprocessing``'s spawn 
 gets a share of the time that remains, and the caller waits until the deadline plus a grace
 period, then kills the child and goes on without the solver's answer (the caller's incumbent and
 bounds stand, each certified on its own).
-
-Two solvers can run there: scipy's HiGHS (``scipy.optimize.milp``, the default: scipy is a
-required dependency) and HiGHS through its own Python API (``highspy``, the optional extra
-``uavcov[highspy]``), which takes a starting solution; both see the same program and answer in
-the same form (scipy's status codes).
 """
 
 from __future__ import annotations
@@ -48,68 +43,6 @@ answer = (
 sys.stdout.buffer.write(pickle.dumps(answer, protocol=pickle.HIGHEST_PROTOCOL))
 """
 
-# The same through highspy: scipy's form of the program read into a HighsLp, the start (if any)
-# handed over, HiGHS's model status mapped to scipy's codes. HiGHS prints a banner on stdout when
-# made, so the answer goes out through a copy of stdout taken before it is pointed at /dev/null.
-_CHILD_HIGHSPY = """
-import os, pickle, sys
-answer_out = os.fdopen(os.dup(1), "wb")
-os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
-import numpy as np
-import highspy
-from scipy.sparse import csc_matrix
-arguments = pickle.load(sys.stdin.buffer)
-constraints = arguments["constraints"]
-matrix = csc_matrix(constraints.A)
-n = arguments["c"].size
-lp = highspy.HighsLp()
-lp.num_col_, lp.num_row_ = n, matrix.shape[0]
-lp.col_cost_ = np.asarray(arguments["c"], dtype=np.float64)
-lp.col_lower_ = np.asarray(arguments["bounds"].lb, dtype=np.float64)
-lp.col_upper_ = np.asarray(arguments["bounds"].ub, dtype=np.float64)
-lp.row_lower_ = np.asarray(constraints.lb, dtype=np.float64)
-lp.row_upper_ = np.asarray(constraints.ub, dtype=np.float64)
-lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, matrix.shape[0]
-lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = matrix.indptr, matrix.indices, matrix.data
-kinds = (highspy.HighsVarType.kContinuous, highspy.HighsVarType.kInteger)
-lp.integrality_ = [kinds[int(v)] for v in arguments["integrality"]]
-highs = highspy.Highs()
-highs.setOptionValue("output_flag", False)
-for key, value in arguments["options"].items():
-    highs.setOptionValue(key, value)
-highs.passModel(lp)
-if arguments.get("start") is not None:
-    start = highspy.HighsSolution()
-    start.col_value = [float(v) for v in arguments["start"]]
-    start.value_valid = True
-    highs.setSolution(start)
-highs.run()
-info = highs.getInfo()
-status = highs.getModelStatus()
-codes = {
-    highspy.HighsModelStatus.kOptimal: 0,
-    highspy.HighsModelStatus.kTimeLimit: 1,
-    highspy.HighsModelStatus.kIterationLimit: 1,
-    highspy.HighsModelStatus.kSolutionLimit: 1,
-    highspy.HighsModelStatus.kInterrupt: 1,
-    highspy.HighsModelStatus.kInfeasible: 2,
-    highspy.HighsModelStatus.kUnbounded: 3,
-}
-feasible = info.primal_solution_status == highspy.SolutionStatus.kSolutionStatusFeasible
-answer = (
-    np.asarray(highs.getSolution().col_value, dtype=np.float64) if feasible else None,
-    float(info.mip_dual_bound),
-    codes.get(status, 4),
-    int(info.mip_node_count),
-)
-answer_out.write(pickle.dumps(answer, protocol=pickle.HIGHEST_PROTOCOL))
-answer_out.flush()
-"""
-
-_CHILDREN = {"highs": _CHILD, "highspy": _CHILD_HIGHSPY}
-"""The child's program for each solver ``exact_placement`` takes."""
-
 
 @dataclass(frozen=True)
 class MilpOutcome:
@@ -142,20 +75,17 @@ class MilpOutcome:
         return self.status == -1
 
 
-def bounded_milp(arguments: dict[str, Any], deadline: float, solver: str = "highs") -> MilpOutcome:
-    """scipy's ``milp(**arguments)`` (or highspy's HiGHS) in a child process that cannot outlive ``deadline`` by more than a grace.
+def bounded_milp(arguments: dict[str, Any], deadline: float) -> MilpOutcome:
+    """scipy's ``milp(**arguments)`` in a child process that cannot outlive ``deadline`` by more than a grace period.
 
     Parameters
     ----------
     arguments : dict
         ``milp``'s keyword arguments (picklable); ``options["time_limit"]`` is replaced by a
-        share of the time left before ``deadline``. For ``"highspy"`` the options are HiGHS's
-        own (``setOptionValue``) and ``start`` may hold a starting solution.
+        share of the time left before ``deadline``.
     deadline : float
         ``time.perf_counter()`` value by which the answer is due; the child is killed
         ``_GRACE_S`` seconds after it.
-    solver : {"highs", "highspy"}, default "highs"
-        scipy's HiGHS or highspy's (the caller checks that highspy is installed).
 
     Returns
     -------
@@ -168,8 +98,7 @@ def bounded_milp(arguments: dict[str, Any], deadline: float, solver: str = "high
     options = dict(arguments.get("options") or {})
     options["time_limit"] = max(_SOLVER_SHARE * left, 1e-3)
     payload = pickle.dumps({**arguments, "options": options}, protocol=pickle.HIGHEST_PROTOCOL)
-    command = [sys.executable, "-c", _CHILDREN[solver]]
-    child = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    child = subprocess.Popen([sys.executable, "-c", _CHILD], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
     output = b""
     try:
         output, _ = child.communicate(payload, timeout=max(deadline + _GRACE_S - time.perf_counter(), 1e-3))

@@ -41,21 +41,12 @@ the LP dual bound (each certified on its own). Swaps, solver and evaluation are 
 exact: the answer does not depend on ``n_threads`` (which only builds the seen-matrix), and with
 the node limit instead of the time limit (and time enough) not on the machine's speed either.
 
-With ``solver="highspy"`` (the optional extra ``uavcov[highspy]``) the same program goes to
-HiGHS through its own Python API instead, one thread, given the swaps' placement as its starting
-solution (an incumbent from the first node: a cutoff for the root's reduced-cost fixing and
-pruning). On Table 1's terrains 0-9 at N = 8 it proved the same instances as scipy's, terrains
-0-3 in 0.46-0.96 of the time (0 and 2 in both runs: 0.46-0.66), the others in about the same; at N = 12
-neither leaves its root in a minute; SCIP and CP-SAT did no better (benches/README.md, "Which MIP
-solver"). The default stays scipy's, which needs nothing beyond scipy.
-
 What the optimum is the optimum of: *these candidates* on *these targets* (as every bound of
 :mod:`uavcov.cover._greedy`); positions off the candidates may see more.
 """
 
 from __future__ import annotations
 
-import importlib.util
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -63,7 +54,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import MAX_UAVS, as_count, as_non_negative_float, as_positive_float, as_positive_int, read_only
-from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError, ModelTooLargeError
+from ..errors import InvalidInputError, InvalidTypeError, ModelTooLargeError
 from ._bounded_milp import bounded_milp
 from ._dual_bound import dual_bound
 from ._greedy import CoverageProblem, GreedyResult
@@ -85,10 +76,6 @@ _DUAL_CELL = 3.0
 _LEAST_SOLVER_S = 2.0
 # More conflict pairs than this many per candidate: one aggregated row per candidate instead.
 _PAIRS_PER_CANDIDATE = 4
-
-SOLVERS = ("highs", "highspy")
-"""What ``exact_placement(solver=...)`` takes: scipy's HiGHS (``scipy.optimize.milp``), or HiGHS
-through ``highspy`` (the optional extra ``uavcov[highspy]``), given the swaps' placement as its start."""
 
 STATUSES = ("optimal", "time limit", "node limit")
 """What :attr:`ExactResult.status` may say: proved optimal (within the gap target), or stopped at
@@ -124,12 +111,10 @@ class ExactResult:
         Where the placement comes from: ``"greedy"``, ``"swaps"`` (greedy's improved by
         swapping one pick at a time) or ``"solver"`` (HiGHS found a better one).
     solver : str
-        What became of the solver: ``"not run"`` (greedy's bound proved it optimal first),
+        What became of HiGHS: ``"not run"`` (greedy's bound proved it optimal first),
         ``"finished"``, ``"stopped at its limit"`` (its own time, node or gap limit), or
         ``"killed at the deadline"`` (it overran; its work is lost, the bounds of greedy and
         the LP stand).
-    mip_solver : str
-        Which solver was asked for: ``"highs"`` (scipy's) or ``"highspy"``.
     d_safe : float
         Separation kept between the chosen candidates, metres.
     greedy_coverage : float
@@ -173,7 +158,6 @@ class ExactResult:
     swap_time_s: float
     solve_time_s: float
     solver: str
-    mip_solver: str = "highs"
 
     @property
     def relative_gap(self) -> float:
@@ -252,7 +236,6 @@ def exact_placement(
     gap: float = 1e-4,
     node_limit: int | None = None,
     max_model_bytes: int = MAX_MODEL_BYTES,
-    solver: str = "highs",
 ) -> ExactResult:
     """The best ``k`` of ``problem``'s candidates kept ``d_safe`` apart, by integer programming.
 
@@ -275,13 +258,6 @@ def exact_placement(
     max_model_bytes : int, default 4 GiB
         Memory the program may take (estimated from the matrix's size and its non-zeros before
         either is built).
-    solver : {"highs", "highspy"}, default "highs"
-        ``"highs"``: scipy's HiGHS (``scipy.optimize.milp``; nothing beyond scipy needed).
-        ``"highspy"``: HiGHS through its own API (``pip install 'uavcov[highspy]'``), one thread,
-        started from the swaps' placement: on Table 1's terrains at N = 8 it proved the same
-        instances, some in 0.5-0.7 of the time (benches/README.md, "Which MIP solver").
-        Both give the same answer for any ``n_threads`` when stopped by the gap or
-        ``node_limit``; a time limit makes the answer depend on the machine's speed and load.
 
     Returns
     -------
@@ -292,11 +268,8 @@ def exact_placement(
     ------
     ModelTooLargeError
         The program would take more than ``max_model_bytes``.
-    MissingExtraError
-        ``solver="highspy"`` without highspy installed.
     InvalidInputError, InvalidTypeError
-        A bad ``k``, ``d_safe``, ``time_limit``, ``gap``, ``node_limit``, ``max_model_bytes`` or
-        ``solver``.
+        A bad ``k``, ``d_safe``, ``time_limit``, ``gap``, ``node_limit`` or ``max_model_bytes``.
 
     Examples
     --------
@@ -320,7 +293,6 @@ def exact_placement(
     if node_limit is not None:
         node_limit = as_count(node_limit, "node_limit", 1 << 40)
     max_model_bytes = as_positive_int(max_model_bytes, "max_model_bytes")
-    _check_solver(solver)
     n_candidates, n_targets = problem.viewpoints.n, problem._matrix.n_targets
     # the dense matrix and the LP dual's float copy of it come first: refused before they are made
     if n_candidates * n_targets * 9 > max_model_bytes:
@@ -339,7 +311,7 @@ def exact_placement(
     certificate = dual_bound(
         seen, targets.weights, k, targets.points, _DUAL_CELL, time_limit=0.5 * max(deadline - time.perf_counter(), 0.0), sparse=seen_csr
     )
-    search = _Search(greedy.picks, greedy.coverage, min(greedy.bound, certificate.bound), mip_solver=solver)
+    search = _Search(greedy.picks, greedy.coverage, min(greedy.bound, certificate.bound))
     survivors, model = np.zeros(0, dtype=np.int64), None
     if search.bound - search.coverage <= gap * search.bound:  # greedy is already proved optimal: no program
         search.status = "optimal"
@@ -360,16 +332,6 @@ def exact_placement(
         if model is not None:  # else the deadline passed while it was made: the solver is not run
             _round(problem, search, survivors, model, k, (deadline, gap, node_limit))
     return _result(problem, greedy, search, survivors, model, k, d_safe, gap)
-
-
-def _check_solver(solver: object) -> None:
-    """A clear error for a solver that is not one of :data:`SOLVERS`, or whose extra is not installed."""
-    if not isinstance(solver, str):
-        raise InvalidTypeError(f"solver must be a str, one of {SOLVERS}, got {type(solver).__name__}")
-    if solver not in SOLVERS:
-        raise InvalidInputError(f"solver must be one of {SOLVERS}, got {solver!r}")
-    if solver == "highspy" and importlib.util.find_spec("highspy") is None:
-        raise MissingExtraError("solver='highspy' needs highspy: pip install 'uavcov[highspy]' (or use solver='highs')")
 
 
 def _improve(
@@ -402,7 +364,6 @@ class _Search:
     coverage: float
     bound: float
     incumbent: str = "greedy"
-    mip_solver: str = "highs"
     solver: str = "not run"
     status: str = "time limit"
     n_nodes: int = 0
@@ -444,17 +405,6 @@ def _model(
 # HiGHS's presolve finds nothing to remove in these programs (Table 1: 0 rows, 0 columns) and
 # took 21.8 s on a 1.5-million-non-zero one before the root LP started: switched off.
 _HIGHS_OPTIONS: dict[str, object] = {"presolve": False}
-# The same through highspy, one thread (its answer then the same on any machine up to the time
-# limit); quiet, its log would go to the child's stdout.
-_HIGHSPY_OPTIONS: dict[str, object] = {"presolve": "off", "threads": 1, "output_flag": False}
-
-
-def _start(model: _Program, survivors: np.ndarray, picks: np.ndarray) -> np.ndarray:
-    """The placement ``picks`` as a point of ``model``: its candidates' ``x`` 1, each group it sees ``z`` 1."""
-    chosen = np.isin(survivors, picks).astype(np.float64)
-    seen_by = model.constraints.A[: model.n_rows, : survivors.size]  # type: ignore[attr-defined]
-    groups_seen = np.asarray(-(seen_by @ chosen)).ravel() >= 1.0  # coverage rows hold -1 where a candidate sees a group
-    return np.concatenate([chosen, groups_seen.astype(np.float64)])
 
 
 def _round(
@@ -467,22 +417,17 @@ def _round(
     (or matched by one of the candidates left), so ``max(bound, coverage)`` holds for all.
     """
     deadline, gap, node_limit = limits
-    arguments: dict[str, object] = {
+    options: dict[str, object] = {"mip_rel_gap": gap, **_HIGHS_OPTIONS}
+    if node_limit is not None:
+        options["node_limit"] = node_limit
+    arguments = {
         "c": model.cost,
         "integrality": model.integrality,
         "bounds": model.bounds,
         "constraints": model.constraints,
+        "options": options,
     }
-    if search.mip_solver == "highspy":  # HiGHS's own option names; the swaps' placement as the start
-        options: dict[str, object] = {"mip_rel_gap": gap, **_HIGHSPY_OPTIONS}
-        if node_limit is not None:
-            options["mip_max_nodes"] = node_limit
-        arguments["start"] = _start(model, survivors, search.picks)
-    else:
-        options = {"mip_rel_gap": gap, **_HIGHS_OPTIONS}
-        if node_limit is not None:
-            options["node_limit"] = node_limit
-    outcome = bounded_milp({**arguments, "options": options}, deadline, search.mip_solver)
+    outcome = bounded_milp(arguments, deadline)
     search.solve_time += outcome.wall_s
     search.n_nodes += outcome.n_nodes
     if outcome.killed:
@@ -529,7 +474,6 @@ def _result(
         k=k,
         incumbent=search.incumbent,
         solver=search.solver,
-        mip_solver=search.mip_solver,
         d_safe=d_safe,
         greedy_coverage=greedy.coverage,
         holds_for=f"the best {k} of these candidates ({problem.viewpoints.description}) kept {d_safe:g} m apart, "

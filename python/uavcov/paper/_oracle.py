@@ -96,7 +96,6 @@ def oracle(
     workers: int | None = None,
     exact: bool = False,
     time_limit: float = 60.0,
-    exact_solver: str = "highs",
 ) -> list[OracleRow]:
     """The full-knowledge oracle of every scenario and team size of ``experiment``.
 
@@ -117,8 +116,6 @@ def oracle(
         Also solve each row to the lattice optimum (:func:`uavcov.cover.exact_placement`).
     time_limit : float, default 60.0
         Seconds the integer program of one row may take (then its gap is stated).
-    exact_solver : {"highs", "highspy"}, default "highs"
-        ``exact_placement``'s ``solver`` (``"highspy"`` needs the extra ``uavcov[highspy]``).
 
     Returns
     -------
@@ -145,7 +142,6 @@ def oracle(
         n_threads=n_threads,
         exact=exact,
         time_limit=time_limit,
-        exact_solver=exact_solver,
     )
     if workers is None or workers <= 1 or len(chosen) <= 1:
         parts = [one(seed) for seed in chosen]
@@ -164,7 +160,6 @@ def _scenario_rows(
     n_threads: int | None,
     exact: bool = False,
     time_limit: float = 60.0,
-    exact_solver: str = "highs",
 ) -> list[OracleRow]:
     """The oracle of one scenario: its lattice and matrix once, then every team size."""
     mission = experiment.mission
@@ -181,7 +176,7 @@ def _scenario_rows(
         result = problem.greedy(n, d_safe)
         certificate = problem.dual_bound(n)
         before = time.perf_counter()
-        best = exact_placement(problem, n, d_safe, time_limit=time_limit, solver=exact_solver) if exact else None
+        best = exact_placement(problem, n, d_safe, time_limit=time_limit) if exact else None
         exact_time = time.perf_counter() - before  # the whole call: greedy, LP, swaps, program, solver
         rows.append(
             OracleRow(
