@@ -14,7 +14,7 @@ surface's tangent plane there (in the air: how far it points into the nearest pa
 the way out from it). Every figure is a share of S''s area (mean over the seeds), so the rows
 of one split add up to the inward share. Besides, H(S->S') (what S' misses, from 4000 points of
 the structure), the mean of the two mean distances, S''s volume over the known points' convex
-hull's, and what the share stands for: the share of
+hull's, the share of S''s volume in the air (outside every real solid), and what the share stands for: the share of
 S' from which a start flown straight out along the normal by the experiment's offsets (2.5 m,
 4 m; before ``fly_out``'s checks) lands inside a real solid::
 
@@ -40,6 +40,8 @@ from uavcov.structures._structure_prior import _sample_faces, _solid_faces
 
 EDGE_BINS = (0.0, 3.0, 6.0, 12.0, np.inf)
 SAMPLES = 4000
+# Uniform points in S''s bounding box that measure the share of its volume in the air.
+AIR_SAMPLES = 20000
 # The experiment's candidate offsets of the 3D starts from S' (m): 2.5 greedy3d's, 4 cvt3d's chosen.
 START_OFFSETS = (2.5, 4.0)
 
@@ -84,6 +86,11 @@ def decompose(family: str, seed: int, method: str) -> dict[str, float]:
     out["mean m"] = error.mean_m
     out["faces"] = float(approx.n_faces)
     out["volume S' / known points' hull"] = signed_volume(approx.vertices, approx.faces) / ConvexHull(prior.points).volume
+    # How much of S''s volume is air (outside every real solid): S' filling the space between
+    # parts (under a deck, between a pylon's legs) is where its faces span the air.
+    box = np.random.default_rng(seed).uniform(approx.bounds[0], approx.bounds[1], size=(AIR_SAMPLES, 3))
+    in_approx = approx.inside(box, n_threads=1)
+    out["volume S' in the air / S'"] = float((in_approx & ~solid.inside(box, n_threads=1)).sum() / max(int(in_approx.sum()), 1))
     for offset in START_OFFSETS:
         # What the inward share is a proxy for: a start flown out along S''s normal lands in a solid.
         out[f"start: {offset:g} m out along n inside a solid (all S')"] = float(solid.inside(points + offset * normals, n_threads=1).mean())
@@ -123,13 +130,13 @@ def main() -> None:
 
 
 def _format(key: str, value: float) -> str:
-    if key in ("H(S->S') m", "mean m", "volume S' / known points' hull"):
+    if key in ("H(S->S') m", "mean m", "volume S' / known points' hull", "volume S' in the air / S'"):
         return f"{value:.2f}"
     return f"{value:.0f}" if key == "faces" else f"{100 * value:.1f} %"
 
 
 def _order(key: str) -> tuple[int, str]:
-    head = ("inward", "H(S->S') m", "mean m", "faces", "volume S' / known points' hull")
+    head = ("inward", "H(S->S') m", "mean m", "faces", "volume S' / known points' hull", "volume S' in the air / S'")
     return (head.index(key), key) if key in head else (len(head), key)
 
 

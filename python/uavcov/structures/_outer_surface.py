@@ -204,6 +204,11 @@ def oriented_labels(
     return solid
 
 
+# How far a corner's known normal must point against a face of S' for _fill_against_normals to
+# fill behind it: any amount (n_i . n_f < -0). Stricter margins were measured and not kept
+# (benches/structure_fill_margin.py: more of S' faces inward, as much of it is air).
+_CONTRADICTION_MARGIN = 0.0
+
 # Rounds of _fill_against_normals: each fills the tetrahedra behind the faces the known normals
 # contradict; the pockets they open close in a few (at most 20 on the families' development seeds).
 _FILL_ROUNDS = 20
@@ -237,7 +242,7 @@ def _fill_against_normals(
             normal, _ = face_normals(points, triangle)
             # Outward: away from the solid tetrahedron's own corner off the face.
             normal[np.einsum("ij,ij->i", normal, points[tetra[face, k]] - a) > 0] *= -1.0
-            contradicted = (np.einsum("ij,itj->it", normal, normals[triangle]) < 0.0).any(axis=1)
+            contradicted = (np.einsum("ij,itj->it", normal, normals[triangle]) < -_CONTRADICTION_MARGIN).any(axis=1)
             if contradicted.any():
                 solid[other[face[contradicted]]] = True
                 filled = True
