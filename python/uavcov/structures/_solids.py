@@ -50,8 +50,8 @@ def wound_inward(vertices: np.ndarray, faces: np.ndarray) -> bool:
 
 
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit right-hand normals ``(F, 3)`` (zero for a degenerate face) and areas ``(F,)`` of the
-    faces, from the engine (the one owner of mesh geometry)."""
+    """Unit right-hand normals ``(F, 3)`` and areas ``(F,)`` of the faces (none of zero area:
+    the engine refuses them), from the engine (the one owner of mesh geometry)."""
     if not faces.shape[0]:
         return np.empty((0, 3)), np.empty(0)
     surface = Terrain(vertices, faces)

@@ -27,7 +27,7 @@ from .._validate import (
     read_only,
     within_coordinate_bound,
 )
-from ..engine import Terrain
+from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._facing import facing_into
 from ._outer_surface import alpha_solid, check_prior_points, normal_vote, oriented_solid, outer_shells
@@ -292,7 +292,10 @@ def _open3d(points: np.ndarray, normals: np.ndarray | None, method: str, depth: 
     except RuntimeError as exc:
         reason = re.sub(r"\x1b\[[0-9;]*m", "", str(exc)).strip()
         raise InvalidInputError(f"Open3D's {method} reconstruction failed on the known points: {reason}") from None
-    return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.triangles, dtype=np.int64)
+    vertices, faces = np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.triangles, dtype=np.int64)
+    # Poisson's marching cubes leaves zero-area triangles on thin parts (arch bridge 1002 at 100
+    # and 3000 points): they have no side, and the engine refuses them.
+    return vertices, faces[~degenerate_faces(vertices, faces)] if faces.shape[0] else faces
 
 
 DEFAULT_METHOD = "oriented"
