@@ -299,11 +299,53 @@ def test_the_known_points_vote_inside_the_box_and_not_outside() -> None:
         prior.behind([[np.nan, 0.0, 0.0]])
 
 
+def test_the_vote_within_a_reach_judges_only_points_near_the_known_ones() -> None:
+    prior = sample_structure_prior(issue_box(), 100, rng=0)
+    centre, near_wall = [6.0, 4.5, 8.0], prior.points[0] - 0.3 * prior.normals[0]
+    distance = np.linalg.norm(prior.points - centre, axis=1).min()
+    assert distance > 2.0  # the box's middle is metres from every known point
+    assert prior.behind([centre, near_wall]).tolist() == [True, True]
+    assert prior.behind([centre, near_wall], reach=distance - 0.1).tolist() == [False, True]
+    assert prior.behind([centre, near_wall], reach=distance + 0.1).tolist() == [True, True]
+    assert prior.behind([centre], reach=0.0).tolist() == [False]
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(InvalidInputError, match="reach"):
+            prior.behind([centre], reach=bad)
+
+
+def test_spacing_is_the_median_distance_to_the_nearest_other_known_point() -> None:
+    grid = np.array([[2.0 * i, 3.0 * j, 0.0] for i in range(4) for j in range(3)])  # nearest: 2 m
+    assert StructurePrior(grid, None, "points").spacing == pytest.approx(2.0)
+    lonely = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [10.0, 0.0, 0.0]])  # 1, 1, 9
+    assert StructurePrior(lonely, None, "points").spacing == pytest.approx(1.0)
+    assert StructurePrior(np.zeros((5, 3)), None, "points").spacing == 0.0  # one distinct point
+
+
+def test_the_cvt_start_takes_the_vote_near_the_known_points_and_greedy_everywhere(monkeypatch) -> None:
+    import uavcov.mission
+    from uavcov.mission import _keep_out
+
+    # One spacing, so that the box's middle is out of reach (the library's reach holds it).
+    spacings = 1.0
+    monkeypatch.setattr(uavcov.mission, "CVT_KEEP_OUT_SPACINGS", spacings)
+    prior = sample_structure_prior(issue_box(), 100, rng=0)
+    queries = np.random.default_rng(1).uniform([-5.0, -5.0, 0.0], [17.0, 14.0, 20.0], (2000, 3))
+    greedy, cvt_start = _keep_out(prior, "greedy"), _keep_out(prior, "cvt")
+    assert greedy is not None and cvt_start is not None
+    near = np.linalg.norm(queries[:, None] - prior.points[None], axis=2).min(axis=1) <= spacings * prior.spacing
+    assert np.array_equal(greedy(queries), prior.behind(queries))
+    assert np.array_equal(cvt_start(queries), prior.behind(queries) & near)
+    assert (greedy(queries) & ~near).any()  # the reach matters on these queries
+    assert _keep_out(StructurePrior(prior.points, None, "points"), "cvt") is None  # no normals, no vote
+    assert _keep_out(None, "cvt") is None
+
+
 @pytest.mark.parametrize("family", sorted(STRUCTURE_FAMILIES))
 def test_the_3d_start_stays_out_of_the_real_structure_on_development_seeds(family: str) -> None:
     # The mission's own start (CVT on S', flown out with the floor and the known points' vote),
     # on development seeds only, judged against the real structure it does not know.
     from uavcov.limits import Constraints
+    from uavcov.mission import _keep_out
     from uavcov.placement import StartSettings, start_configuration
 
     for seed in (1000, 1001):
@@ -312,7 +354,8 @@ def test_the_3d_start_stays_out_of_the_real_structure_on_development_seeds(famil
         surface = reconstruct_structure(prior, rng=seed)
         spec = StartSettings(kind="cvt", altitude=3.0, altitude_reference="normal")
         limits = Constraints(clearance="standoff", h_min=2.0, check_moves=True)
-        positions, _ = start_configuration(spec, surface, structure.surface, 8, rng=seed, constraints=limits, keep_out=prior.behind)
+        keep_out = _keep_out(prior, "cvt")  # the mission's
+        positions, _ = start_configuration(spec, surface, structure.surface, 8, rng=seed, constraints=limits, keep_out=keep_out)
         assert not structure.surface.inside(positions).any(), (family, seed)
         assert (positions[:, 2] >= structure.surface.bounds[0, 2] + 3.0 - 1e-9).all()
 
