@@ -172,6 +172,25 @@ def test_argument_errors_exit_2(capsys):
     capsys.readouterr()
 
 
+def test_reproduce_help_says_how_many_runs_each_experiment_makes(capsys):
+    from uavcov.paper import EXPERIMENTS
+    from uavcov.paper import _data as paper_data
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["reproduce", "--help"])
+    assert exit_info.value.code == 0
+    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines() if line.startswith("  ") and line.split()}
+    for name, experiment in EXPERIMENTS.items():
+        runs = len(experiment.seeds) * len(experiment.team_sizes) * len(experiment.starts)
+        assert f"; {runs} run" in lines[name], (name, runs, lines.get(name))
+    base = paper_data.ABLATION_BASE
+    variants = 1 + len(paper_data.ABLATIONS)
+    assert f"{len(paper_data.ABLATIONS)} single changes" in lines["ablation"]
+    assert f"; {variants * len(base.seeds) * len(base.team_sizes) * len(base.starts)} runs" in lines["ablation"]
+    for name in ("structures", "realistic", "flown-table1", "all"):
+        assert name in lines
+
+
 def test_reproduce_records_failed_runs_and_exits_1(tmp_path, capsys):
     config = write(
         tmp_path / "fail.toml",

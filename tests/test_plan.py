@@ -315,6 +315,7 @@ def test_bad_input_raises_clear_errors(tmp_path: Path, utm_tif: Path):
         ("crowded", "cannot fit"),
         ("nodata", "four valid corners"),
         ("fake", "cannot read"),
+        ("numpy", "dem_from_array"),
         ("both", "not both"),
         ("heading without a camera", "need a camera"),
         ("pitch out of range", "pitch_range"),
@@ -347,6 +348,9 @@ def test_the_cli_answers_bad_input_with_one_line_and_writes_nothing(tmp_path: Pa
     elif case == "fake":
         (tmp_path / "fake.tif").write_text("not a raster")
         dem = str(tmp_path / "fake.tif")
+    elif case == "numpy":  # a height grid saved by numpy: what to do with it instead
+        np.save(tmp_path / "heights.npy", heights())
+        dem = str(tmp_path / "heights.npy")
     elif case == "both":
         extra = ["--sample"]
     elif case == "heading without a camera":

@@ -38,6 +38,23 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
+# What each experiment is and how many runs it makes by default (tests/test_cli.py checks the counts
+# against uavcov.paper.EXPERIMENTS): a new user should not start 640 runs by surprise.
+_REPRODUCE_EPILOG = """\
+experiments (docs/reproduction.md sets each beside the paper):
+  example       Fig. 5: 9 UAVs, d_max 35 m, CVT start, 500 iterations; 1 run, seconds
+  comparison    Fig. 6: corner, random and CVT starts, N = 10, one terrain; 3 runs
+  buildings     Figs. 7-8: 4 UAVs among buildings, CVT from a simplified map against two pairs; 2 runs
+  pyramid       section V-D: S' from the 4 corners and the centre only, N = 12, seeds 0-39; 40 runs
+  table1        Table 1: N = 5, 8, 12, 20 x starts cvt, random, corner, greedy x seeds 0-39; 640 runs
+                (try --seeds 0 first: 16 runs)
+  ablation      the paper's model and 13 single changes, N = 5 and 12, seeds 0-9; 840 runs
+  structures    bridges, a tower, a facade, a pylon: CVT on the 3D prior against others (docs/structures.md)
+  realistic     the realistic scene flown by RotorPy quadrotors (extra uavcov[sim]), serial, resumable
+  flown-table1  Table 1 at N = 12 flown (extra uavcov[sim])
+  all           every experiment, one folder each, then report.md with every claim and its verdict"""
+
+
 def _parser() -> argparse.ArgumentParser:
     """Every command with its flags, each bound to the function it runs (``args.run``)."""
     parser = _Parser(
@@ -58,10 +75,16 @@ def _parser() -> argparse.ArgumentParser:
     demo.add_argument("--no-plots", action="store_true", help="skip the figures")
     demo.set_defaults(run=_demo)
 
-    reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
+    reproduce = commands.add_parser(
+        "reproduce",
+        help="one of the paper's experiments, with its table beside the paper's",
+        epilog=_REPRODUCE_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     reproduce.add_argument(
         "experiment",
         choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "flown-table1", "all"),
+        help="which experiment (see the list below)",
     )
     reproduce.add_argument(
         "--out", type=_path_text, help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md"
@@ -119,7 +142,9 @@ def _parser() -> argparse.ArgumentParser:
 
 def _add_plan(commands: Any) -> None:
     """``uavcov plan`` and its flags: the site, the team and its limits, the camera, the run."""
-    planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
+    planning = commands.add_parser(
+        "plan", help="a flight plan on a real DEM or round a structure: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report"
+    )
     planning.add_argument(
         "dem",
         nargs="?",
@@ -151,7 +176,11 @@ def _add_plan(commands: Any) -> None:
         "lattice_pylon; --seed makes it) or a closed mesh file (.obj/.stl/.ply) in local metres",
     )
     planning.add_argument(
-        "--anchor", type=_floats(3, "LON,LAT,ALT"), metavar="LON,LAT,ALT", help="with --structure: the WGS84 point of its local origin"
+        "--anchor",
+        type=_floats(3, "LON,LAT,ALT"),
+        metavar="LON,LAT,ALT",
+        help="with --structure: WGS 84 longitude, latitude (degrees) and ellipsoidal height (metres) of its local origin: "
+        "a scene's (0, 0, 0), a mesh file's lowest south-west bounding-box corner",
     )
     planning.add_argument(
         "--scale", type=_positive_float, default=1.0, help="with --structure MESH: metres per unit of the file (0.001 for millimetres)"
