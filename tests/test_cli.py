@@ -172,6 +172,27 @@ def test_argument_errors_exit_2(capsys):
     capsys.readouterr()
 
 
+def test_a_warning_is_one_line_naming_the_command(tmp_path, capsys):
+    import warnings
+
+    import numpy as np
+
+    heights = np.full((11, 11), 3.0)
+    heights[0, 0] = np.nan  # a corner without ground: sample_prior warns that S' leaves it out
+    np.save(tmp_path / "heights.npy", heights)
+    text = TINY_TOML.format(iterations=1).replace(
+        "size = 40.0\nspacing = 4.0\nheights = [2.0, 8.0]\nsigma = 6.0", 'kind = "file"\npath = "heights.npy"\nspacing = 4.0'
+    ).replace('starts = ["cvt", "corner"]', 'starts = ["cvt"]')
+    config = write(tmp_path / "nodata.toml", text)
+    before = warnings.showwarning
+    assert main(["sweep", str(config), "--out", str(tmp_path / "out"), "--workers", "1", "--no-progress"]) == EXIT_OK
+    err = capsys.readouterr().err
+    said = [line for line in err.splitlines() if ": warning:" in line]
+    assert said and all(line.startswith("uavcov sweep: warning: 1 corner(s)") for line in said), err
+    assert "mission.py" not in err and "prior = " not in err, err  # no source line of the package
+    assert warnings.showwarning is before  # main() leaves Python's warnings as they were
+
+
 def test_reproduce_help_says_how_many_runs_each_experiment_makes(capsys):
     from uavcov.paper import EXPERIMENTS
     from uavcov.paper import _data as paper_data

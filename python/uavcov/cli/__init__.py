@@ -27,7 +27,9 @@ rerun with ``--resume``).
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from ._common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, _one_line, _say
 from ._parser import _parser
@@ -37,10 +39,27 @@ __all__ = ["main", "EXIT_OK", "EXIT_RUNS_FAILED", "EXIT_BAD_INPUT", "EXIT_INTERR
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (see the module docstring)."""
-    from ..errors import UavcovError
-
     args = _parser().parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)  # the report states the command that made it
+    with warnings.catch_warnings():  # restored on return: main() called from Python leaves no trace
+        warnings.showwarning = _warning_line(args.command)
+        return _run(args)
+
+
+def _warning_line(command: str) -> Callable[..., None]:
+    """A warning as one line, ``uavcov <command>: warning: <message>``, like the errors: not Python's
+    two lines that point into the installed package's source."""
+
+    def show(message: Warning | str, category: type[Warning], filename: str, lineno: int, file: Any = None, line: Any = None) -> None:
+        _say(f"uavcov {command}: warning: {' '.join(str(message).split())}")
+
+    return show
+
+
+def _run(args: Any) -> int:
+    """The command's function, its errors as one line each and an exit code."""
+    from ..errors import UavcovError
+
     try:
         return int(args.run(args))
     except UavcovError as exc:
