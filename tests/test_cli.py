@@ -180,9 +180,11 @@ def test_a_warning_is_one_line_naming_the_command(tmp_path, capsys):
     heights = np.full((11, 11), 3.0)
     heights[0, 0] = np.nan  # a corner without ground: sample_prior warns that S' leaves it out
     np.save(tmp_path / "heights.npy", heights)
-    text = TINY_TOML.format(iterations=1).replace(
-        "size = 40.0\nspacing = 4.0\nheights = [2.0, 8.0]\nsigma = 6.0", 'kind = "file"\npath = "heights.npy"\nspacing = 4.0'
-    ).replace('starts = ["cvt", "corner"]', 'starts = ["cvt"]')
+    text = (
+        TINY_TOML.format(iterations=1)
+        .replace("size = 40.0\nspacing = 4.0\nheights = [2.0, 8.0]\nsigma = 6.0", 'kind = "file"\npath = "heights.npy"\nspacing = 4.0')
+        .replace('starts = ["cvt", "corner"]', 'starts = ["cvt"]')
+    )
     config = write(tmp_path / "nodata.toml", text)
     before = warnings.showwarning
     assert main(["sweep", str(config), "--out", str(tmp_path / "out"), "--workers", "1", "--no-progress"]) == EXIT_OK

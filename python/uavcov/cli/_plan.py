@@ -42,7 +42,7 @@ def _plan(args: argparse.Namespace) -> int:
         raise ConfigError(
             f"{args.dem} is a numpy array, which places no pixel on the Earth: save it as a GeoTIFF with its "
             "geotransform and CRS, or plan it in Python with uavcov.terrain.dem_from_array(z, transform, crs) and "
-            "uavcov.plan (docs/plan.md); `uavcov sweep` runs missions on it as [terrain] kind = \"file\""
+            'uavcov.plan (docs/plan.md); `uavcov sweep` runs missions on it as [terrain] kind = "file"'
         )
     else:
         dem = read_dem(args.dem, crs=args.crs)
