@@ -76,6 +76,23 @@ def utm_plan(utm_tif: Path) -> FlightPlan:
     return plan(read_dem(utm_tif), SETTINGS, rng=0, n_threads=1)
 
 
+def test_a_plan_its_dem_and_its_mission_print_as_one_line_summaries(utm_plan: FlightPlan):
+    # The default dataclass reprs ran to thousands of characters (the CRS's WKT, every array).
+    text = repr(utm_plan)
+    assert text == (
+        f"FlightPlan(3 UAVs over {utm_plan.dem.crs_name}: coverage {utm_plan.coverage:.3f} of "
+        f"{utm_plan.area_m2 / 1e6:.3f} km^2 (start {utm_plan.initial_coverage:.3f}), seed 0)"
+    )
+    assert "UTM zone 33N" in text
+    dem = repr(utm_plan.dem)
+    assert dem.startswith("GeoDem('") and "utm.tif" in dem and "UTM zone 33N" in dem and repr(utm_plan.dem.terrain) in dem
+    assert "PROJCRS" not in dem and len(dem) < 400
+    mission = repr(utm_plan.mission)
+    assert mission.startswith("MissionResult(3 UAVs, d_max 150 m, cvt start, cao 20 iterations: coverage ")
+    assert f"best {utm_plan.mission.best_coverage:.3f} at iteration {utm_plan.mission.best_iteration}" in mission
+    assert "\n" not in text + dem + mission
+
+
 # ---------------------------------------------------------------------------------------------
 # Coordinates
 
