@@ -195,6 +195,17 @@ def test_a_warning_is_one_line_naming_the_command(tmp_path, capsys):
     assert warnings.showwarning is before  # main() leaves Python's warnings as they were
 
 
+@pytest.mark.parametrize("command", ["demo", "reproduce", "sweep", "plot", "view", "plan"])
+def test_each_command_help_says_what_it_does(command, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main([command, "--help"])
+    assert exit_info.value.code == 0
+    help_text = capsys.readouterr().out
+    assert f"\nuavcov {command}: " in help_text, help_text  # its description, not only its flags
+    said = {"sweep": "the sweep file", "plot": "a results folder", "reproduce": "which experiment", "plan": "GeoTIFF"}
+    assert said.get(command, "") in help_text  # and what its positional argument is
+
+
 def test_reproduce_help_says_how_many_runs_each_experiment_makes(capsys):
     from uavcov.paper import EXPERIMENTS
     from uavcov.paper import _data as paper_data

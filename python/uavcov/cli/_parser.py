@@ -55,6 +55,13 @@ experiments (docs/reproduction.md sets each beside the paper):
   all           every experiment, one folder each, then report.md with every claim and its verdict"""
 
 
+def _command(commands: Any, name: str, summary: str, details: str = "", **options: Any) -> argparse.ArgumentParser:
+    """A command: ``summary`` in ``uavcov --help``'s list, and at the top of ``uavcov NAME --help`` with ``details``."""
+    description = f"uavcov {name}: {summary}." + (f" {details}" if details and not details.startswith("\n") else details)
+    parser: argparse.ArgumentParser = commands.add_parser(name, help=summary, description=description, **options)
+    return parser
+
+
 def _parser() -> argparse.ArgumentParser:
     """Every command with its flags, each bound to the function it runs (``args.run``)."""
     parser = _Parser(
@@ -67,7 +74,13 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"uavcov {__version__}", help="print uavcov's version and exit")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    demo = commands.add_parser("demo", help="the paper's illustrative example end to end, in seconds")
+    demo = _command(
+        commands,
+        "demo",
+        "the paper's illustrative example end to end, in seconds",
+        "9 UAVs, d_max 35 m, 30 known points -> S', a CVT start on S', then CAO on the true terrain; "
+        "prints a summary and writes runs.csv, the run and its figures to --out.",
+    )
     demo.add_argument("--out", type=_path_text, default="out/demo", help="output directory (default out/demo)")
     demo.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
     demo.add_argument("--seed", type=_non_negative_int, default=0, help="the scenario: terrain, prior, start, optimiser (default 0)")
@@ -75,9 +88,11 @@ def _parser() -> argparse.ArgumentParser:
     demo.add_argument("--no-plots", action="store_true", help="skip the figures")
     demo.set_defaults(run=_demo)
 
-    reproduce = commands.add_parser(
+    reproduce = _command(
+        commands,
         "reproduce",
-        help="one of the paper's experiments, with its table beside the paper's",
+        "one of the paper's experiments, with its table beside the paper's",
+        "\nRuns the experiment's missions into --out (runs.csv, runs/, config.json, EXPERIMENT.md)\nand prints its table.",
         epilog=_REPRODUCE_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -106,20 +121,28 @@ def _parser() -> argparse.ArgumentParser:
     _add_execution(reproduce)
     reproduce.set_defaults(run=_reproduce)
 
-    sweep = commands.add_parser("sweep", help="a grid of settings from a TOML file (see examples/sweep.toml)")
-    sweep.add_argument("config", type=_path_text, metavar="CONFIG.toml")
+    sweep = _command(
+        commands,
+        "sweep",
+        "a grid of settings from a TOML file (see examples/sweep.toml)",
+        "Every combination of the settings under [sweep], for every seed, team size and start, on the paper's "
+        'terrains or a surface of your own ([terrain] kind = "file"); writes runs.csv and summary.md to --out.',
+    )
+    sweep.add_argument("config", type=_path_text, metavar="CONFIG.toml", help="the sweep file (examples/sweep.toml explains every key)")
     sweep.add_argument("--out", type=_path_text, help="output directory (default out/<config name>)")
     _add_execution(sweep)
     sweep.set_defaults(run=_sweep)
 
-    plot = commands.add_parser("plot", help="redraw every figure from the runs stored in a directory")
-    plot.add_argument("directory", type=_path_text, metavar="DIR")
+    plot = _command(commands, "plot", "redraw every figure from the runs stored in a directory")
+    plot.add_argument(
+        "directory", type=_path_text, metavar="DIR", help="a results folder (runs.csv, runs/*.npz) of demo, reproduce or sweep"
+    )
     plot.add_argument("--out", type=_path_text, help="where the figures go (default DIR/figures)")
     plot.add_argument("--max-runs", type=_non_negative_int, default=6, help="runs drawn one by one (default 6)")
     plot.add_argument("--no-animation", action="store_true", help="skip the animation of the first run")
     plot.set_defaults(run=_plot)
 
-    view = commands.add_parser("view", help="one self-contained HTML file with an interactive 3D view of a run")
+    view = _command(commands, "view", "one self-contained HTML file with an interactive 3D view of a run")
     view.add_argument(
         "run_or_dir", type=_path_text, metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs"
     )
@@ -142,8 +165,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def _add_plan(commands: Any) -> None:
     """``uavcov plan`` and its flags: the site, the team and its limits, the camera, the run."""
-    planning = commands.add_parser(
-        "plan", help="a flight plan on a real DEM or round a structure: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report"
+    planning = _command(
+        commands, "plan", "a flight plan on a real DEM or round a structure: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report"
     )
     planning.add_argument(
         "dem",
