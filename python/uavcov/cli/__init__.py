@@ -15,9 +15,10 @@ Commands
     One self-contained HTML file (opens offline) with an interactive 3D view of a run: the
     surface coloured by what the team sees, the UAVs, paths and footprints, a slider over
     iterations (needs ``uavcov[view]``).
-``uavcov plan DEM.tif|--sample``
-    A flight plan on a real DEM (needs ``uavcov[geo]``): the paper's CVT start and CAO, then
-    QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and a report in ``--out``.
+``uavcov plan DEM.tif|--sample|--structure SCENE|MESH``
+    A flight plan on a real DEM (needs ``uavcov[geo]``) or round a structure: the paper's CVT
+    start and CAO, then QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and
+    a report in ``--out``.
 
 Exit codes: 0 done; 1 done, but some runs failed (their errors are in runs.csv); 2 bad input
 (nothing already in ``--out`` was changed); 130 interrupted (every finished run is in runs.csv;
