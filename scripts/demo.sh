@@ -5,6 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 venv="${UAVCOV_VENV:-.venv}"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+# pip is quiet: say what the silent minutes are (the extension's first compile is the long part).
+echo "== installing uavcov and its [plot] extra into $venv: about 10 minutes the first time (the Rust extension compiles), a minute or two after" >&2
 "$venv/bin/python" -m pip install -q --upgrade pip
 "$venv/bin/python" -m pip install -q ".[plot]"
 "$venv/bin/python" -m uavcov demo "$@"

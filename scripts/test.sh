@@ -8,6 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 venv="${UAVCOV_VENV:-.venv}"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+echo "== installing uavcov with its [test,docs] extras into $venv: about 10 minutes the first time (the Rust extension compiles), a minute or two after"
 "$venv/bin/python" -m pip install -q --upgrade pip
 "$venv/bin/python" -m pip install -q ".[test,docs]"
 # The binding's lints compile PyO3, which looks for this interpreter.

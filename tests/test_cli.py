@@ -172,6 +172,59 @@ def test_argument_errors_exit_2(capsys):
     capsys.readouterr()
 
 
+def test_a_warning_is_one_line_naming_the_command(tmp_path, capsys):
+    import warnings
+
+    import numpy as np
+
+    heights = np.full((11, 11), 3.0)
+    heights[0, 0] = np.nan  # a corner without ground: sample_prior warns that S' leaves it out
+    np.save(tmp_path / "heights.npy", heights)
+    text = (
+        TINY_TOML.format(iterations=1)
+        .replace("size = 40.0\nspacing = 4.0\nheights = [2.0, 8.0]\nsigma = 6.0", 'kind = "file"\npath = "heights.npy"\nspacing = 4.0')
+        .replace('starts = ["cvt", "corner"]', 'starts = ["cvt"]')
+    )
+    config = write(tmp_path / "nodata.toml", text)
+    before = warnings.showwarning
+    assert main(["sweep", str(config), "--out", str(tmp_path / "out"), "--workers", "1", "--no-progress"]) == EXIT_OK
+    err = capsys.readouterr().err
+    said = [line for line in err.splitlines() if ": warning:" in line]
+    assert said and all(line.startswith("uavcov sweep: warning: 1 corner(s)") for line in said), err
+    assert "mission.py" not in err and "prior = " not in err, err  # no source line of the package
+    assert warnings.showwarning is before  # main() leaves Python's warnings as they were
+
+
+@pytest.mark.parametrize("command", ["demo", "reproduce", "sweep", "plot", "view", "plan"])
+def test_each_command_help_says_what_it_does(command, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main([command, "--help"])
+    assert exit_info.value.code == 0
+    help_text = capsys.readouterr().out
+    assert f"\nuavcov {command}: " in help_text, help_text  # its description, not only its flags
+    said = {"sweep": "the sweep file", "plot": "a results folder", "reproduce": "which experiment", "plan": "GeoTIFF"}
+    assert said.get(command, "") in help_text  # and what its positional argument is
+
+
+def test_reproduce_help_says_how_many_runs_each_experiment_makes(capsys):
+    from uavcov.paper import EXPERIMENTS
+    from uavcov.paper import _data as paper_data
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["reproduce", "--help"])
+    assert exit_info.value.code == 0
+    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines() if line.startswith("  ") and line.split()}
+    for name, experiment in EXPERIMENTS.items():
+        runs = len(experiment.seeds) * len(experiment.team_sizes) * len(experiment.starts)
+        assert f"; {runs} run" in lines[name], (name, runs, lines.get(name))
+    base = paper_data.ABLATION_BASE
+    variants = 1 + len(paper_data.ABLATIONS)
+    assert f"{len(paper_data.ABLATIONS)} single changes" in lines["ablation"]
+    assert f"; {variants * len(base.seeds) * len(base.team_sizes) * len(base.starts)} runs" in lines["ablation"]
+    for name in ("structures", "realistic", "flown-table1", "all"):
+        assert name in lines
+
+
 def test_reproduce_records_failed_runs_and_exits_1(tmp_path, capsys):
     config = write(
         tmp_path / "fail.toml",

@@ -49,6 +49,8 @@ def test_the_page_prints_what_it_shows(name: str, tmp_path: Path, monkeypatch: p
     pytest.importorskip("trimesh")
     pytest.importorskip("matplotlib")
     pytest.importorskip("plotly")  # the getting-started page writes the 3D view
+    pytest.importorskip("rasterio")  # the first hour's flight plan: its coverage GeoTIFFs
+    pytest.importorskip("pyproj")  # ... and its UTM DEM
     monkeypatch.setenv("MPLBACKEND", "Agg")
     monkeypatch.chdir(tmp_path)
     outcomes = run_page(DOCS / name)

@@ -76,6 +76,23 @@ def utm_plan(utm_tif: Path) -> FlightPlan:
     return plan(read_dem(utm_tif), SETTINGS, rng=0, n_threads=1)
 
 
+def test_a_plan_its_dem_and_its_mission_print_as_one_line_summaries(utm_plan: FlightPlan):
+    # The default dataclass reprs ran to thousands of characters (the CRS's WKT, every array).
+    text = repr(utm_plan)
+    assert text == (
+        f"FlightPlan(3 UAVs over {utm_plan.dem.crs_name}: coverage {utm_plan.coverage:.3f} of "
+        f"{utm_plan.area_m2 / 1e6:.3f} km^2 (start {utm_plan.initial_coverage:.3f}), seed 0)"
+    )
+    assert "UTM zone 33N" in text
+    dem = repr(utm_plan.dem)
+    assert dem.startswith("GeoDem('") and "utm.tif" in dem and "UTM zone 33N" in dem and repr(utm_plan.dem.terrain) in dem
+    assert "PROJCRS" not in dem and len(dem) < 400
+    mission = repr(utm_plan.mission)
+    assert mission.startswith("MissionResult(3 UAVs, d_max 150 m, cvt start, cao 20 iterations: coverage ")
+    assert f"best {utm_plan.mission.best_coverage:.3f} at iteration {utm_plan.mission.best_iteration}" in mission
+    assert "\n" not in text + dem + mission
+
+
 # ---------------------------------------------------------------------------------------------
 # Coordinates
 
@@ -315,6 +332,7 @@ def test_bad_input_raises_clear_errors(tmp_path: Path, utm_tif: Path):
         ("crowded", "cannot fit"),
         ("nodata", "four valid corners"),
         ("fake", "cannot read"),
+        ("numpy", "dem_from_array"),
         ("both", "not both"),
         ("heading without a camera", "need a camera"),
         ("pitch out of range", "pitch_range"),
@@ -347,6 +365,9 @@ def test_the_cli_answers_bad_input_with_one_line_and_writes_nothing(tmp_path: Pa
     elif case == "fake":
         (tmp_path / "fake.tif").write_text("not a raster")
         dem = str(tmp_path / "fake.tif")
+    elif case == "numpy":  # a height grid saved by numpy: what to do with it instead
+        np.save(tmp_path / "heights.npy", heights())
+        dem = str(tmp_path / "heights.npy")
     elif case == "both":
         extra = ["--sample"]
     elif case == "heading without a camera":

@@ -1,4 +1,4 @@
-"""The README's quick start runs as written, and prints a coverage in [0, 1]."""
+"""The README's quick start and structures snippet run as written and print what the README shows."""
 
 from __future__ import annotations
 
@@ -38,18 +38,26 @@ def _python_block(section: str) -> str:
     return blocks[0]
 
 
-def test_the_quick_start_runs_and_prints_a_coverage():
-    code = _python_block(_section(README.read_text(encoding="utf-8"), "Quick start"))
-    prints = [line.strip() for line in code.splitlines() if line.strip().startswith("print(")]
-    assert prints and prints[0].startswith("print(vis.coverage("), "the quick start's first print should be the coverage"
+def _shown_output(section: str) -> str:
+    """The ```text block that follows the section's python block: what the README says it prints."""
+    found = re.search(r"^```python[ \t]*\n.*?^```[ \t]*$.*?^```text[ \t]*\n(.*?)^```[ \t]*$", section, flags=re.MULTILINE | re.DOTALL)
+    if found is None:
+        pytest.fail("the Quick start should show what it prints in a ```text block after its code")
+    return found.group(1)
+
+
+def test_the_quick_start_prints_what_the_readme_shows():
+    section = _section(README.read_text(encoding="utf-8"), "Quick start")
+    code = _python_block(section)
     out = io.StringIO()
     namespace: dict[str, object] = {"__name__": "__readme__"}
     with contextlib.redirect_stdout(out):
         exec(compile(code, f"{README}:Quick start", "exec"), namespace)
-    lines = out.getvalue().splitlines()
-    assert lines, "the quick start printed nothing"
-    coverage = float(lines[0])  # what print(vis.coverage(uavs)) wrote
-    assert 0.0 <= coverage <= 1.0
+    printed = out.getvalue()
+    shown = _shown_output(section)
+    assert printed.rstrip("\n") == shown.rstrip("\n"), f"the quick start printed\n{printed}\nbut the README shows\n{shown}"
+    coverage = float(printed.splitlines()[0])  # the first line is vis.coverage(uavs): a share
+    assert 0.0 < coverage < 1.0
 
 
 def test_the_structures_snippet_runs_and_prints_what_the_readme_says():

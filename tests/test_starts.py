@@ -107,8 +107,8 @@ def test_corner_that_does_not_fit(terrain: Terrain) -> None:
         place("corner", terrain, 200, spacing=3.0)  # 15 x 14 lattice: 45 m > 40 m
     z = np.zeros((11, 11))
     z[0, 0] = np.nan  # nodata at the south-west corner
-    with pytest.raises(errors.InfeasibleError):
-        place("corner", Terrain.from_grid(z, spacing=1.0), 1, spacing=1.0)
+    with pytest.raises(errors.InfeasibleError, match=r"at x-y \(0\.5, 0\.5\) m stands over no surface .*StartSettings\(corner="):
+        place("corner", Terrain.from_grid(z, spacing=1.0), 1, spacing=1.0)  # plain numbers, and what to do
 
 
 @pytest.mark.parametrize(

@@ -118,6 +118,10 @@ def test_find_run_in_files_and_folders(result: uavcov.MissionResult, tmp_path: P
         plotting.find_run(tmp_path)
     with pytest.raises(ResultsFormatError, match="no run or folder"):
         plotting.find_run(tmp_path / "nothing")
+    (tmp_path / "plan").mkdir()
+    (tmp_path / "plan" / "plan.json").write_text("{}")  # what `uavcov plan` writes keeps no run: say where to look
+    with pytest.raises(ResultsFormatError, match=r"flight plan's folder.*report\.png.*save_mission\(flight_plan\.mission"):
+        plotting.find_run(tmp_path / "plan")
 
 
 def test_bad_arguments(result: uavcov.MissionResult) -> None:

@@ -109,6 +109,11 @@ class MissionResult:
     >>> seen = vis.seen(result.best_positions)
     >>> bool(abs(np.average(seen, weights=vis.targets.weights) - result.best_coverage) < 1e-12)
     True
+
+    Its repr is a summary (the fields hold whole surfaces):
+
+    >>> result  # doctest: +ELLIPSIS
+    MissionResult(3 UAVs, d_max 15 m, cvt start, cao 20 iterations: coverage 0... at the start, best 0... at iteration ...; seed 0, ... s)
     """
 
     settings: MissionSettings
@@ -123,6 +128,16 @@ class MissionResult:
     wall_time_s: float
     start_time_s: float = math.nan
     coverage_by_part: dict[str, float] | None = None
+
+    def __repr__(self) -> str:
+        # A summary, as Terrain's: the fields hold whole surfaces and arrays (thousands of characters).
+        spec = self.settings
+        parts = f", by part { ({part: round(share, 3) for part, share in self.coverage_by_part.items()}) }" if self.coverage_by_part else ""
+        return (
+            f"MissionResult({spec.n_uavs} UAVs, d_max {spec.d_max:g} m, {spec.start.kind} start, {spec.optimizer} "
+            f"{len(self.trace.values) - 1} iterations: coverage {self.initial_coverage:.3f} at the start, best "
+            f"{self.best_coverage:.3f} at iteration {self.best_iteration}{parts}; seed {self.seed}, {self.wall_time_s:.1f} s)"
+        )
 
     @functools.cached_property
     def trajectory(self) -> np.ndarray:

@@ -15,9 +15,10 @@ Commands
     One self-contained HTML file (opens offline) with an interactive 3D view of a run: the
     surface coloured by what the team sees, the UAVs, paths and footprints, a slider over
     iterations (needs ``uavcov[view]``).
-``uavcov plan DEM.tif|--sample``
-    A flight plan on a real DEM (needs ``uavcov[geo]``): the paper's CVT start and CAO, then
-    QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and a report in ``--out``.
+``uavcov plan DEM.tif|--sample|--structure SCENE|MESH``
+    A flight plan on a real DEM (needs ``uavcov[geo]``) or round a structure: the paper's CVT
+    start and CAO, then QGroundControl ``.plan`` files, CSV, GeoJSON, KML, a coverage GeoTIFF and
+    a report in ``--out``.
 
 Exit codes: 0 done; 1 done, but some runs failed (their errors are in runs.csv); 2 bad input
 (nothing already in ``--out`` was changed); 130 interrupted (every finished run is in runs.csv;
@@ -27,7 +28,9 @@ rerun with ``--resume``).
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from ._common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, _one_line, _say
 from ._parser import _parser
@@ -37,10 +40,27 @@ __all__ = ["main", "EXIT_OK", "EXIT_RUNS_FAILED", "EXIT_BAD_INPUT", "EXIT_INTERR
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (see the module docstring)."""
-    from ..errors import UavcovError
-
     args = _parser().parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)  # the report states the command that made it
+    with warnings.catch_warnings():  # restored on return: main() called from Python leaves no trace
+        warnings.showwarning = _warning_line(args.command)
+        return _run(args)
+
+
+def _warning_line(command: str) -> Callable[..., None]:
+    """A warning as one line, ``uavcov <command>: warning: <message>``, like the errors: not Python's
+    two lines that point into the installed package's source."""
+
+    def show(message: Warning | str, category: type[Warning], filename: str, lineno: int, file: Any = None, line: Any = None) -> None:
+        _say(f"uavcov {command}: warning: {' '.join(str(message).split())}")
+
+    return show
+
+
+def _run(args: Any) -> int:
+    """The command's function, its errors as one line each and an exit code."""
+    from ..errors import UavcovError
+
     try:
         return int(args.run(args))
     except UavcovError as exc:

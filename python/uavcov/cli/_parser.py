@@ -38,6 +38,30 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
+# What each experiment is and how many runs it makes by default (tests/test_cli.py checks the counts
+# against uavcov.paper.EXPERIMENTS): a new user should not start 640 runs by surprise.
+_REPRODUCE_EPILOG = """\
+experiments (docs/reproduction.md sets each beside the paper):
+  example       Fig. 5: 9 UAVs, d_max 35 m, CVT start, 500 iterations; 1 run, seconds
+  comparison    Fig. 6: corner, random and CVT starts, N = 10, one terrain; 3 runs
+  buildings     Figs. 7-8: 4 UAVs among buildings, CVT from a simplified map against two pairs; 2 runs
+  pyramid       section V-D: S' from the 4 corners and the centre only, N = 12, seeds 0-39; 40 runs
+  table1        Table 1: N = 5, 8, 12, 20 x starts cvt, random, corner, greedy x seeds 0-39; 640 runs
+                (try --seeds 0 first: 16 runs)
+  ablation      the paper's model and 13 single changes, N = 5 and 12, seeds 0-9; 840 runs
+  structures    bridges, a tower, a facade, a pylon: CVT on the 3D prior against others (docs/structures.md)
+  realistic     the realistic scene flown by RotorPy quadrotors (extra uavcov[sim]), serial, resumable
+  flown-table1  Table 1 at N = 12 flown (extra uavcov[sim])
+  all           every experiment, one folder each, then report.md with every claim and its verdict"""
+
+
+def _command(commands: Any, name: str, summary: str, details: str = "", **options: Any) -> argparse.ArgumentParser:
+    """A command: ``summary`` in ``uavcov --help``'s list, and at the top of ``uavcov NAME --help`` with ``details``."""
+    description = f"uavcov {name}: {summary}." + (f" {details}" if details and not details.startswith("\n") else details)
+    parser: argparse.ArgumentParser = commands.add_parser(name, help=summary, description=description, **options)
+    return parser
+
+
 def _parser() -> argparse.ArgumentParser:
     """Every command with its flags, each bound to the function it runs (``args.run``)."""
     parser = _Parser(
@@ -50,7 +74,13 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"uavcov {__version__}", help="print uavcov's version and exit")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    demo = commands.add_parser("demo", help="the paper's illustrative example end to end, in seconds")
+    demo = _command(
+        commands,
+        "demo",
+        "the paper's illustrative example end to end, in seconds",
+        "9 UAVs, d_max 35 m, 30 known points -> S', a CVT start on S', then CAO on the true terrain; "
+        "prints a summary and writes runs.csv, the run and its figures to --out.",
+    )
     demo.add_argument("--out", type=_path_text, default="out/demo", help="output directory (default out/demo)")
     demo.add_argument("--iterations", type=_non_negative_int, default=300, help="CAO iterations (default 300)")
     demo.add_argument("--seed", type=_non_negative_int, default=0, help="the scenario: terrain, prior, start, optimiser (default 0)")
@@ -58,10 +88,18 @@ def _parser() -> argparse.ArgumentParser:
     demo.add_argument("--no-plots", action="store_true", help="skip the figures")
     demo.set_defaults(run=_demo)
 
-    reproduce = commands.add_parser("reproduce", help="one of the paper's experiments, with its table beside the paper's")
+    reproduce = _command(
+        commands,
+        "reproduce",
+        "one of the paper's experiments, with its table beside the paper's",
+        "\nRuns the experiment's missions into --out (runs.csv, runs/, config.json, EXPERIMENT.md)\nand prints its table.",
+        epilog=_REPRODUCE_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     reproduce.add_argument(
         "experiment",
         choices=("table1", "pyramid", "example", "comparison", "buildings", "ablation", "structures", "realistic", "flown-table1", "all"),
+        help="which experiment (see the list below)",
     )
     reproduce.add_argument(
         "--out", type=_path_text, help="output directory (default out/EXPERIMENT); with all, one folder per experiment and report.md"
@@ -83,20 +121,28 @@ def _parser() -> argparse.ArgumentParser:
     _add_execution(reproduce)
     reproduce.set_defaults(run=_reproduce)
 
-    sweep = commands.add_parser("sweep", help="a grid of settings from a TOML file (see examples/sweep.toml)")
-    sweep.add_argument("config", type=_path_text, metavar="CONFIG.toml")
+    sweep = _command(
+        commands,
+        "sweep",
+        "a grid of settings from a TOML file (see examples/sweep.toml)",
+        "Every combination of the settings under [sweep], for every seed, team size and start, on the paper's "
+        'terrains or a surface of your own ([terrain] kind = "file"); writes runs.csv and summary.md to --out.',
+    )
+    sweep.add_argument("config", type=_path_text, metavar="CONFIG.toml", help="the sweep file (examples/sweep.toml explains every key)")
     sweep.add_argument("--out", type=_path_text, help="output directory (default out/<config name>)")
     _add_execution(sweep)
     sweep.set_defaults(run=_sweep)
 
-    plot = commands.add_parser("plot", help="redraw every figure from the runs stored in a directory")
-    plot.add_argument("directory", type=_path_text, metavar="DIR")
+    plot = _command(commands, "plot", "redraw every figure from the runs stored in a directory")
+    plot.add_argument(
+        "directory", type=_path_text, metavar="DIR", help="a results folder (runs.csv, runs/*.npz) of demo, reproduce or sweep"
+    )
     plot.add_argument("--out", type=_path_text, help="where the figures go (default DIR/figures)")
     plot.add_argument("--max-runs", type=_non_negative_int, default=6, help="runs drawn one by one (default 6)")
     plot.add_argument("--no-animation", action="store_true", help="skip the animation of the first run")
     plot.set_defaults(run=_plot)
 
-    view = commands.add_parser("view", help="one self-contained HTML file with an interactive 3D view of a run")
+    view = _command(commands, "view", "one self-contained HTML file with an interactive 3D view of a run")
     view.add_argument(
         "run_or_dir", type=_path_text, metavar="RUN_OR_DIR", help="a run's .npz, a results folder (runs/*.npz) or a folder of .npz runs"
     )
@@ -119,7 +165,9 @@ def _parser() -> argparse.ArgumentParser:
 
 def _add_plan(commands: Any) -> None:
     """``uavcov plan`` and its flags: the site, the team and its limits, the camera, the run."""
-    planning = commands.add_parser("plan", help="a flight plan on a real DEM: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report")
+    planning = _command(
+        commands, "plan", "a flight plan on a real DEM or round a structure: .plan files, CSV, GeoJSON, KML, coverage GeoTIFF, report"
+    )
     planning.add_argument(
         "dem",
         nargs="?",
@@ -151,7 +199,11 @@ def _add_plan(commands: Any) -> None:
         "lattice_pylon; --seed makes it) or a closed mesh file (.obj/.stl/.ply) in local metres",
     )
     planning.add_argument(
-        "--anchor", type=_floats(3, "LON,LAT,ALT"), metavar="LON,LAT,ALT", help="with --structure: the WGS84 point of its local origin"
+        "--anchor",
+        type=_floats(3, "LON,LAT,ALT"),
+        metavar="LON,LAT,ALT",
+        help="with --structure: WGS 84 longitude, latitude (degrees) and ellipsoidal height (metres) of its local origin: "
+        "a scene's (0, 0, 0), a mesh file's lowest south-west bounding-box corner",
     )
     planning.add_argument(
         "--scale", type=_positive_float, default=1.0, help="with --structure MESH: metres per unit of the file (0.001 for millimetres)"

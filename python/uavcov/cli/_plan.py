@@ -38,6 +38,12 @@ def _plan(args: argparse.Namespace) -> int:
         if args.crs is None:
             raise ConfigError(f"a mesh file states no CRS: give it with --crs (e.g. EPSG:32633) for {args.dem}")
         dem = read_mesh_dem(args.dem, args.crs)
+    elif Path(args.dem).suffix.lower() in (".npy", ".npz"):
+        raise ConfigError(
+            f"{args.dem} is a numpy array, which places no pixel on the Earth: save it as a GeoTIFF with its "
+            "geotransform and CRS, or plan it in Python with uavcov.terrain.dem_from_array(z, transform, crs) and "
+            'uavcov.plan (docs/plan.md); `uavcov sweep` runs missions on it as [terrain] kind = "file"'
+        )
     else:
         dem = read_dem(args.dem, crs=args.crs)
     if args.window is not None and not args.sample:

@@ -77,6 +77,8 @@ class Visibility:
     >>> vis = uavcov.Visibility(t, d_max=50.0)
     >>> vis.coverage([[10.0, 10.0, 5.0]])
     1.0
+    >>> vis
+    Visibility(d_max=50 m, 441 targets, grid path, on Terrain(grid 21x21, 441 vertices, 800 faces, area 400.0 m^2))
     """
 
     __slots__ = ("_core", "_d_max", "_method", "_n_threads", "_targets", "_terrain")
@@ -110,6 +112,9 @@ class Visibility:
     def __reduce__(self) -> tuple[Any, ...]:
         n_threads = self._n_threads or None
         return (_rebuild, (self._terrain, self._d_max, self._targets, n_threads, self._method))
+
+    def __repr__(self) -> str:
+        return f"Visibility(d_max={self._d_max:g} m, {self._core.n_targets} targets, {self._core.path} path, on {self._terrain!r})"
 
     @property
     def terrain(self) -> Terrain:

@@ -305,6 +305,13 @@ class FlightPlan:
     quality: np.ndarray | None = None
     seed: int | None = None
 
+    def __repr__(self) -> str:
+        # A summary: the fields hold the DEM, the mission and per-target arrays (thousands of characters).
+        return (
+            f"FlightPlan({self.n_uavs} UAVs over {self.dem.crs_name}: coverage {self.coverage:.3f} of "
+            f"{self.area_m2 / 1e6:.3f} km^2 (start {self.initial_coverage:.3f}), seed {self.seed})"
+        )
+
     @property
     def n_uavs(self) -> int:
         """Team size."""

@@ -235,8 +235,8 @@ class Constraints:
                 f"the lowest surface point (z = {zmin:g} m) plus h_min = {self.h_min} m is above "
                 f"z_max = {self.z_max} m: no altitude is admissible. z_max is an absolute altitude in the "
                 f"surface's frame (the default 50 m suits the paper's hills at z >= 0): raise it, e.g. "
-                f"Constraints(z_max={math.ceil(ztop) + 50}) for 50 m above the highest point, or give heights "
-                "above a local datum"
+                f"Constraints(z_max={math.ceil(ztop) + 50}) for 50 m above the highest point (z_max = "
+                f"{math.ceil(ztop) + 50} under [constraints] in a sweep file), or give heights above a local datum"
             )
         if n_uavs == 1 or self.d_safe == 0.0:
             return

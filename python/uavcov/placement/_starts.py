@@ -118,7 +118,10 @@ def _corner(surface: Terrain, n: int, corner: str, spacing: float, threads: int 
     z = surface.ground_height(xy, n_threads=threads)
     if not np.isfinite(z).all():
         bad = int(np.flatnonzero(~np.isfinite(z))[0])
-        raise InfeasibleError(f"corner lattice point {bad} at x-y {tuple(xy[bad])} stands over no surface (nodata)")
+        raise InfeasibleError(
+            f"corner lattice point {bad} at x-y ({xy[bad, 0]:g}, {xy[bad, 1]:g}) m stands over no surface (nodata): "
+            f"pick a corner with ground under it (StartSettings(corner=...), one of sw, se, nw, ne) or another start"
+        )
     return np.column_stack([xy, z])
 
 

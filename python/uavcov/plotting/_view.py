@@ -475,6 +475,11 @@ def find_run(path: str | os.PathLike[str], run: str | None = None) -> Path:
     if not where.is_dir():
         raise ResultsFormatError(f"no run or folder at {where}")
     runs = _stored_runs(where) or _stored_runs(where, folder=where) or _stored_runs(where, folder=where / "states")
+    if not runs and (where / "plan.json").is_file():  # `uavcov plan` writes its files, not its mission
+        raise ResultsFormatError(
+            f"{where} is a flight plan's folder, which keeps no run: its map is report.png; to turn the plan's mission "
+            "around in 3D, save it from Python (uavcov.save_mission(flight_plan.mission, 'plan.npz')) and view that file"
+        )
     if not runs:
         raise ResultsFormatError(f"{where} holds no runs (neither runs/*.npz, *.npz nor a flown experiment's states/*.npz)")
     if run is None:

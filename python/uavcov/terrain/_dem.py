@@ -230,6 +230,11 @@ class GeoDem:
     nodata_cells: int = 0
     mesh_report: MeshReport | None = None
 
+    def __repr__(self) -> str:
+        # The CRS's WKT and the frame's arrays run to thousands of characters: name them instead.
+        nodata = f", {self.nodata_cells} nodata cells" if self.nodata_cells else ""
+        return f"GeoDem({self.source!r}, {self.crs_name}, {self.terrain!r}{nodata}, heights: {self.vertical_datum})"
+
     def to_crs(self, local: Any) -> np.ndarray:
         """Local ``(n, 3)`` metres -> ``(n, 3)`` (x, y, height) in the DEM's CRS and vertical datum."""
         return self.frame.to_source(local)
