@@ -129,7 +129,7 @@ def vote(seeds: list[int]) -> None:
         for n in (100, 3000):
             for name, function in votes.items():
                 for rounds in (library_rounds, 0):
-                    _outer_surface.normal_vote = function  # type: ignore[assignment]
+                    _outer_surface.normal_vote = function
                     _outer_surface._FILL_ROUNDS = rounds
                     values = {}
                     for family in STRUCTURE_FAMILIES:
@@ -210,7 +210,7 @@ def main() -> None:
     parser.add_argument("what", choices=("density", "vote", "grow", "missions"))
     parser.add_argument("--seeds", default="1000-1003")
     args = parser.parse_args()
-    {"density": density, "vote": vote, "grow": grow, "missions": missions}[args.what](parse_seeds(args.seeds))
+    {"density": density, "vote": vote, "grow": grow, "missions": missions}[args.what](list(parse_seeds(args.seeds)))
 
 
 if __name__ == "__main__":

@@ -12,6 +12,13 @@ before ``closest_admissible``::
 
     nice python benches/structure_keep_out.py                       # seeds 1000-1007
     nice python benches/structure_keep_out.py --reaches=inf,3 --starts=cvt3d
+    nice python benches/structure_keep_out.py --starts-only           # what the vote does to the starts
+
+``--starts-only`` flies the CVT start's generators out (``fly_out`` as the mission does, 3 m)
+on the pylon and the arch bridge (development seeds 1000-1005, normal weight 10 m) and on report
+seed 5's building (the paper's CVT, the case that chose 4 spacings over 3), for each reach: the
+UAVs lifted over S', the start points inside the real structure, and how far (in spacings) the
+steps the vote marked are from the nearest known point.
 """
 
 from __future__ import annotations
@@ -41,12 +48,51 @@ def _keep_out_within(spacings: float) -> Any:
     return keep_out
 
 
+def starts_only(reaches: list[float]) -> None:
+    from scipy.spatial import cKDTree
+
+    from uavcov.cover import surface_normals
+    from uavcov.placement import CVTSettings, cvt
+    from uavcov.placement._starts3d import facing_directions, fly_out
+    from uavcov.structures import reconstruct_structure, sample_structure_prior
+
+    experiment = experiment_module.StructuresExperiment()
+    cases = [(f, s, 10.0) for f in ("pylon", "arch_bridge") for s in range(1000, 1006)] + [("building", 5, 0.0)]
+    print("| family | seed | normal weight | reach (spacings) | lifted | inside the structure | marked steps (spacings away) |")
+    print("|---|---|---|---|---|---|---|")
+    for family, seed, weight in cases:
+        structure = experiment_module._structure(experiment, family, seed)
+        prior_rng, start_rng, _ = np.random.default_rng(seed).spawn(3)  # run_mission's streams
+        prior = sample_structure_prior(structure, experiment.n_prior, rng=prior_rng)
+        approx = reconstruct_structure(prior, rng=prior_rng)
+        settings = CVTSettings(normal_weight=weight)
+        tessellation = cvt(approx, experiment.n_uavs, settings, rng=start_rng, n_threads=1)
+        anchors, normals = surface_normals(approx, tessellation.generators)
+        normals = facing_directions(tessellation, normals, settings)
+        floor = float(structure.surface.bounds[0, 2])
+        for reach in reaches:
+            keep_out = prior.behind if np.isinf(reach) else functools.partial(prior.behind, reach=reach * prior.spacing)
+            positions, lifted = fly_out(approx, anchors, normals, 3.0, floor=floor, keep_out=keep_out, n_threads=1)
+            inside = int(structure.surface.inside(positions, n_threads=1).sum())
+            steps = anchors[None] + np.array([1.0, 1.5, 2.0, 3.0, 4.0])[:, None, None] * 3.0 * normals[None]
+            steps = steps.reshape(-1, 3)
+            steps[:, 2] = np.maximum(steps[:, 2], floor + 3.0)
+            marked = steps[keep_out(steps) & ~approx.inside(steps, n_threads=1)]
+            far = cKDTree(prior.points).query(marked)[0] / prior.spacing if marked.shape[0] else np.empty(0)
+            span = f"{far.min():.1f}-{far.max():.1f} ({far.size})" if far.size else "-"
+            print(f"| {family} | {seed} | {weight:g} | {reach:g} | {int(lifted.sum())} | {inside} | {span} |", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--reaches", default="inf,1,2,3,4,6")
     parser.add_argument("--starts", default="cvt3d,greedy3d")
     parser.add_argument("--seeds", default="1000-1007")
+    parser.add_argument("--starts-only", action="store_true")
     args = parser.parse_args()
+    if args.starts_only:
+        starts_only([float(r) for r in args.reaches.split(",")])
+        return
     seeds = parse_seeds(args.seeds)
     experiment = experiment_module.StructuresExperiment()
     library = uavcov.mission._keep_out
@@ -56,7 +102,7 @@ def main() -> None:
         for start in args.starts.split(","):
             offset, spacing, weight, step = SETTINGS[start]
             for reach in (float(r) for r in args.reaches.split(",")):
-                uavcov.mission._keep_out = _keep_out_within(reach)  # type: ignore[assignment]
+                uavcov.mission._keep_out = _keep_out_within(reach)
                 best, inside = [], 0
                 for family in experiment.families:
                     rows = [experiment_module._mission(experiment, (family, start, seed, offset, spacing, weight, step)) for seed in seeds]
