@@ -94,9 +94,53 @@ HOSTILE: dict[str, Callable[[], Any]] = {
     "uint64max(3,3)": lambda: np.full((3, 3), 2**64 - 1, np.uint64),
     "5e-324": lambda: 5e-324,  # the smallest subnormal: a size, step or range whose derived values underflow
     "-5e-324": lambda: -5e-324,
+    # round 7: numpy scalars and 0-d arrays, array layouts numpy keeps as views, dtypes that cast
+    # silently, generators of other kinds, values whose arithmetic (a difference, a square) overflows
+    "0d(2.0)": lambda: np.array(2.0),
+    "0d(nan)": lambda: np.array(np.nan),
+    "np.True_": lambda: np.True_,
+    "np.int64(10**12)": lambda: np.int64(10**12),
+    "2.5": lambda: 2.5,
+    "longdouble(1e4000)": lambda: np.longdouble("1e4000"),
+    "float16(3,3)": lambda: np.full((3, 3), 2.0, np.float16),
+    "negstride(3,3)": lambda: np.arange(9.0)[::-1].reshape(3, 3) + 1.0,
+    "noncontig(3,3)": lambda: (np.arange(18.0).reshape(3, 6) + 1.0)[:, ::2],
+    "fortran(3,3)": lambda: np.asfortranarray(np.arange(9.0).reshape(3, 3) + 1.0),
+    "readonly(3,3)": lambda: _read_only(np.arange(9.0).reshape(3, 3) + 1.0),
+    "structured(3,)": lambda: np.zeros(3, dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")]),
+    "pm1e308(3,3)": lambda: np.array([[1e308, -1e308, 1e308], [-1e308, 1e308, -1e308], [1e308, 1e308, -1e308]]),
+    "5e-324(3,3)": lambda: np.full((3, 3), 5e-324),
+    "RandomState": lambda: np.random.RandomState(0),
+    "SeedSequence": lambda: np.random.SeedSequence(0),
+    "object()": object,
+    "bytes": lambda: b"abc",
+    "ctrlstr": lambda: "a\nb\x1b[31m\t",
 }
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
 # values no argument should take silently (a title or a label aside): accepted ones are listed
-SUSPICIOUS = {"nan", "inf", "-inf", "nan(3,3)", "complex(3,3)", "objarr(1,3)", "1e300(3,3)", "timedelta64", "masked(3,3)", "timedelta(3,3)"}
+SUSPICIOUS = {
+    "nan",
+    "inf",
+    "-inf",
+    "nan(3,3)",
+    "complex(3,3)",
+    "objarr(1,3)",
+    "1e300(3,3)",
+    "timedelta64",
+    "masked(3,3)",
+    "timedelta(3,3)",
+    "0d(nan)",
+    "longdouble(1e4000)",
+    "structured(3,)",
+    "pm1e308(3,3)",
+    "RandomState",
+    "object()",
+}
 
 # Accepted suspicious values that were reviewed and are right answers: (callable, argument,
 # hostile values) and why. They are counted as "reviewed", not listed for review again.

@@ -23,6 +23,7 @@ import io
 import json
 import os
 import tempfile
+import unicodedata
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -139,6 +140,8 @@ def _file_name(name: Any, what: str) -> str:
         raise InvalidTypeError(f"{what} must be a file name (a string), got {type(name).__name__}")
     if not name or "\0" in name or name in (".", "..") or os.path.basename(name) != name or "/" in name or "\\" in name:
         raise InvalidInputError(f"{what} must be a plain file name (no directory, '..' or NUL), got {name!r}")
+    if any(unicodedata.category(c) == "Cc" for c in name):  # a newline or an escape: a name no listing shows as it is
+        raise InvalidInputError(f"{what} must be a plain file name without control characters (newline, tab, escape), got {name!r}")
     return name
 
 

@@ -569,7 +569,14 @@ def run_specs(
     if len(set(ids)) != len(ids):
         duplicates = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
         raise ConfigError(f"the sweep lists the same run more than once: {', '.join(duplicates[:5])}")
-    plan = plan_execution(workers, n_threads) if executor is None else ExecutionPlan(workers or 1, n_threads or 1)
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise InvalidTypeError(f"executor must be a concurrent.futures.Executor (or None), got {type(executor).__name__}")
+    if on_result is not None and not callable(on_result):
+        raise InvalidTypeError(f"on_result must be None or a function of (spec, row, result), got {type(on_result).__name__}")
+    if executor is None:
+        plan = plan_execution(workers, n_threads)
+    else:  # the executor decides where runs go; 0 is refused, not read as "unset"
+        plan = ExecutionPlan(1 if workers is None else workers, 1 if n_threads is None else n_threads)
 
     extra_columns: list[str] = []
     for spec in specs:

@@ -57,7 +57,18 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_SWEEP_FILE_BYTES, MAX_UAVS, as_path, as_str, is_int, regular_file
+from .._validate import (
+    MAX_ITERATIONS,
+    MAX_RUNS,
+    MAX_SEEDS,
+    MAX_SWEEP_FILE_BYTES,
+    MAX_UAVS,
+    as_path,
+    as_str,
+    is_0d_array,
+    is_int,
+    regular_file,
+)
 from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -578,7 +589,7 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
             if len(seeds) + (b - a + 1) > MAX_SEEDS:
                 raise ConfigError(f"seeds {text!r}: more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
             seeds.extend(range(a, b + 1))
-    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable):
+    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable) or is_0d_array(text):
         raise ConfigError(f'seeds must be a string like "0-39" or a list of integers, got {text!r}')
     else:
         seeds = []
