@@ -349,7 +349,7 @@ def _is_our_config(path: Path) -> bool:
         return False
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError):  # RecursionError: arrays nested thousands deep
         return False
     return _is_our_document(document)
 
@@ -544,7 +544,7 @@ class ResultsFolder:
             )
         try:
             previous = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError) as exc:
+        except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:  # RecursionError: arrays nested thousands deep
             raise ResultsInUseError(f"cannot read {path}: {exc}; move it away or write to another folder") from None
         if not _is_our_document(previous):
             raise ResultsInUseError(f'{path} is not a uavcov results file (no "format": "{CONFIG_FORMAT}")')

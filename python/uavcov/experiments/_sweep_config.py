@@ -372,6 +372,8 @@ def load_sweep_config(path: str | os.PathLike[str], *, bases: Mapping[str, Exper
         raise ConfigError(f"{path} is not UTF-8 text: {exc}") from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path} is not valid TOML: {exc}") from exc
+    except RecursionError:  # tomllib parses nested arrays recursively
+        raise ConfigError(f"{path} nests arrays or tables too deeply to be a sweep file") from None
     return parse_sweep_config(data, bases=bases, source=str(path), default_name=path.stem)
 
 

@@ -517,7 +517,7 @@ def _read_config(path: Path) -> dict[str, Any]:
     regular_file(path, "structures experiment's config", ResultsFormatError, MAX_SWEEP_FILE_BYTES)
     try:
         config = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:  # RecursionError: arrays nested thousands deep
         raise ResultsFormatError(f"cannot read {path}: {type(exc).__name__}: {exc}") from None
     if not isinstance(config, dict):
         raise ResultsFormatError(f"{path} is not a JSON object")

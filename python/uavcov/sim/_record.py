@@ -178,7 +178,7 @@ def load_flown(path: str | os.PathLike[str]) -> FlownRun:
         first_end = float(arrays["leg_ends_s"][0]) if arrays["leg_ends_s"].size else 0.0
     except ResultsFormatError:
         raise
-    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, json.JSONDecodeError) as exc:
+    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, RecursionError) as exc:
         raise ResultsFormatError(f"{file} is not a readable flown run: {type(exc).__name__}: {exc}") from exc
     except MemoryError:  # a member whose header claims terabytes (a corrupt or hostile file), as load_mission says
         raise ResultsFormatError(f"{file} is not a flown run: an array of it claims more memory than there is") from None
