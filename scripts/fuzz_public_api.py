@@ -122,6 +122,7 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     array.setflags(write=False)
     return array
 
+
 # values no argument should take silently (a title or a label aside): accepted ones are listed
 SUSPICIOUS = {
     "nan",
