@@ -168,3 +168,72 @@ def test_the_command_line_refuses_a_scheduler_timeout_past_a_day_at_once(tmp_pat
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0
     assert words in err
+
+
+# ---------------------------------------------------------------------------------------------
+# A file that changes between its check and its read: swapped for a FIFO (the read blocked
+# forever), or grown past its limit (read whole). The checks are now made on the opened file.
+
+
+def _changing_after_the_check(monkeypatch: Any, change: str) -> None:
+    """Make the check by name pass, then change the file before it is read."""
+    import uavcov._validate as validate
+
+    checked = validate.regular_file
+
+    def check_then_change(path: Path, *args: Any) -> Path:
+        result = checked(path, *args)
+        if change == "fifo":
+            path.unlink()
+            os.mkfifo(path)
+        else:
+            with open(path, "ab") as grown:
+                grown.write(b"#" * (2 << 20))
+        return result
+
+    monkeypatch.setattr(validate, "regular_file", check_then_change)
+
+
+def _with_an_alarm(call: Any, *args: Any, **kwargs: Any) -> None:
+    """``call`` under a 30 s alarm: a read blocked on a FIFO fails the test instead of hanging it."""
+    import signal
+
+    def stop(*_: Any) -> None:
+        raise TimeoutError("the read blocked")
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.alarm(30)
+    try:
+        call(*args, **kwargs)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+CHANGES = [("fifo", "it changed since it was checked"), ("grown", "it grew since it was checked")]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("change, words", CHANGES)
+def test_a_sweep_file_changed_after_its_check_is_refused(tmp_path: Path, monkeypatch: Any, change: str, words: str) -> None:
+    path = tmp_path / "s.toml"
+    path.write_text(SWEEP_HEAD)
+    _changing_after_the_check(monkeypatch, change)
+    refused(ConfigError, words, _with_an_alarm, load_sweep_config, path, bases=dict(EXPERIMENTS))
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("change, words", CHANGES)
+def test_a_structures_config_changed_after_its_check_is_refused(tmp_path: Path, monkeypatch: Any, change: str, words: str) -> None:
+    from uavcov.paper import reproduce_structures
+
+    (tmp_path / "config.json").write_text("{}")
+    _changing_after_the_check(monkeypatch, change)
+    refused(ResultsFormatError, words, _with_an_alarm, reproduce_structures, tmp_path, resume=True)
+
+
+def test_a_sweep_file_that_stays_put_is_read_whole(tmp_path: Path) -> None:
+    path = tmp_path / "s.toml"
+    path.write_text(SWEEP_HEAD + "d_max = 12.5\n")
+    config = load_sweep_config(path, bases=dict(EXPERIMENTS))
+    assert config.specs()[0].experiment.mission.d_max == 12.5

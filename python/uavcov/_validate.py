@@ -549,6 +549,31 @@ def existing_path(path: Any, what: str, error: type[Exception]) -> str:
     return text
 
 
+def read_regular_file(path: Path, what: str, error: type[Exception], max_bytes: int) -> bytes:
+    """The bytes of ``path`` when it is a regular file of at most ``max_bytes``; ``error`` when not.
+
+    :func:`regular_file`'s checks, made on the opened file itself (``fstat``), then at most
+    ``max_bytes + 1`` bytes read: a file replaced by a FIFO, or grown past the limit, between a
+    check by name and the read is refused too (the open does not block on a FIFO: ``O_NONBLOCK``).
+    """
+    regular_file(path, what, error, max_bytes)  # the messages of a missing file, a folder, ...
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError) as exc:
+        raise error(f"cannot read the {what} {path}: {getattr(exc, 'strerror', None) or exc}") from exc
+    with os.fdopen(fd, "rb") as handle:
+        info = os.fstat(handle.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise error(f"the {what} {path} is not a regular file (it changed since it was checked): reading it could block or never end")
+        try:
+            data = handle.read(max_bytes + 1)
+        except OSError as exc:
+            raise error(f"cannot read the {what} {path}: {exc.strerror or exc}") from exc
+    if len(data) > max_bytes:
+        raise error(f"the {what} {path} is more than the {max_bytes:,} bytes it may have (it grew since it was checked)")
+    return data
+
+
 def regular_file(path: Path, what: str, error: type[Exception], max_bytes: int) -> Path:
     """``path`` when it names a regular file of at most ``max_bytes``; ``error`` (naming ``what``) when not.
 

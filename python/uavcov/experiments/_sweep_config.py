@@ -67,7 +67,7 @@ from .._validate import (
     as_str,
     is_0d_array,
     is_int,
-    regular_file,
+    read_regular_file,
 )
 from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
@@ -361,11 +361,8 @@ def load_sweep_config(path: str | os.PathLike[str], *, bases: Mapping[str, Exper
         The file is missing or unreadable, is not valid TOML (with the line), has an unknown key
         (with the closest valid one), a value of the wrong type or out of range.
     """
-    path = regular_file(as_path(path, "path"), "sweep file", ConfigError, MAX_SWEEP_FILE_BYTES)
-    try:
-        text = path.read_bytes()
-    except OSError as exc:
-        raise ConfigError(f"cannot read the sweep file {path}: {exc.strerror or exc}") from exc
+    path = as_path(path, "path")
+    text = read_regular_file(path, "sweep file", ConfigError, MAX_SWEEP_FILE_BYTES)
     try:
         data = tomllib.loads(text.decode("utf-8"))
     except UnicodeDecodeError as exc:
