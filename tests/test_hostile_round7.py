@@ -250,3 +250,31 @@ def test_a_results_file_name_with_control_characters_is_refused(tmp_path: Path, 
 def test_a_results_file_name_in_any_script_is_kept(tmp_path: Path) -> None:
     folder = ResultsFolder(tmp_path / "results")
     assert folder.write_text("résumé-東京.txt", "x").read_text() == "x"
+
+
+# ---------------------------------------------------------------------------------------------
+# run_specs' about: written to config.json unchecked (inf as "Infinity", a set failed the write)
+
+
+@pytest.mark.parametrize(
+    "about, words",
+    [
+        ({"x": float("inf")}, "about must hold JSON values"),  # written as Infinity, no strict reader reads it
+        ({"x": float("nan")}, "about must hold JSON values"),
+        ({"x": {1, 2}}, "about must hold JSON values"),  # a TypeError of the writer
+        ({"x": b"bytes"}, "about must hold JSON values"),
+        ({1: 2}, "about must have non-empty string keys"),  # written as "1"
+        ([("x", 1)], "about must be None or a mapping"),
+    ],
+)
+def test_run_specs_refuses_an_about_config_json_cannot_hold(tmp_path: Path, specs: list[Any], about: Any, words: str) -> None:
+    refused(InvalidTypeError, words, run_specs, specs, out=tmp_path / "out", workers=1, about=about)
+    assert not (tmp_path / "out").exists()
+
+
+def test_run_specs_records_an_about_of_json_values(tmp_path: Path, specs: list[Any]) -> None:
+    import json
+
+    run_specs(specs[:1], out=tmp_path / "out", workers=1, about={"note": "dev seeds", "value": np.float64(1.5), "list": [1, 2]})
+    recorded = json.loads((tmp_path / "out" / "config.json").read_text())["about"]
+    assert recorded == {"note": "dev seeds", "value": 1.5, "list": [1, 2]}

@@ -60,8 +60,17 @@ def check_run_options(
     flags = [as_bool(value, name) for name, value in (("resume", resume), ("save_runs", save_runs), ("exclusive", exclusive))]
     shown = None if progress is None else as_bool(progress, "progress")
     text = as_optional_str(command, "command")
-    if execution is not None and not isinstance(execution, Mapping):
-        raise InvalidTypeError(f"execution must be None or a mapping, got {type(execution).__name__}")
-    record = dict(execution or {})
-    _check_json_record(record, "execution")
-    return flags[0], flags[1], flags[2], shown, text, record
+    return flags[0], flags[1], flags[2], shown, text, as_json_record(execution, "execution")
+
+
+def as_json_record(value: Any, name: str) -> dict[str, Any]:
+    """``value`` (None or a mapping of strings to JSON values) as a dict ``config.json`` can hold.
+
+    Checked before anything is run or written: NaN or inf would be written as ``NaN`` or
+    ``Infinity``, which no strict JSON reader reads back; a set or bytes would fail the write.
+    """
+    if value is not None and not isinstance(value, Mapping):
+        raise InvalidTypeError(f"{name} must be None or a mapping, got {type(value).__name__}")
+    record = dict(value or {})
+    _check_json_record(record, name)
+    return record
