@@ -237,3 +237,60 @@ def test_a_sweep_file_that_stays_put_is_read_whole(tmp_path: Path) -> None:
     path.write_text(SWEEP_HEAD + "d_max = 12.5\n")
     config = load_sweep_config(path, bases=dict(EXPERIMENTS))
     assert config.specs()[0].experiment.mission.d_max == 12.5
+
+
+def _swapped_for_a_fifo_after_is_file(monkeypatch: Any, target: Path) -> None:
+    """``Path.is_file`` answers for ``target`` as it is, then swaps it for a FIFO (the race, made certain)."""
+    answer = Path.is_file
+
+    def is_file_then_swap(self: Path) -> bool:
+        result = answer(self)
+        if self == target and result:
+            self.unlink()
+            os.mkfifo(self)
+        return result
+
+    monkeypatch.setattr(Path, "is_file", is_file_then_swap)
+
+
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory: Any) -> bytes:
+    import uavcov
+
+    hills = uavcov.gaussian_hills(size=20, spacing=2, n_hills=2, rng=0)
+    settings = uavcov.MissionSettings(n_uavs=2, d_max=10.0, n_prior=10, iterations=1, cao=uavcov.CAOSettings(n_candidates=10))
+    path = uavcov.save_mission(uavcov.run_mission(hills, settings, n_threads=1, rng=0), tmp_path_factory.mktemp("run") / "run.npz")
+    return Path(path).read_bytes()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_a_run_file_swapped_for_a_fifo_after_its_check_is_refused(tmp_path: Path, monkeypatch: Any, run_file: bytes) -> None:
+    import uavcov
+
+    path = tmp_path / "run.npz"
+    path.write_bytes(run_file)
+    _swapped_for_a_fifo_after_is_file(monkeypatch, path)
+    refused(ResultsFormatError, "is not a regular file \\(it changed since it was checked\\)", _with_an_alarm, uavcov.load_mission, path)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_a_flown_file_swapped_for_a_fifo_after_its_check_is_refused(tmp_path: Path, monkeypatch: Any, run_file: bytes) -> None:
+    from uavcov.sim import is_flown_file, load_flown
+
+    loaded, asked = tmp_path / "a.npz", tmp_path / "b.npz"
+    loaded.write_bytes(run_file)
+    _swapped_for_a_fifo_after_is_file(monkeypatch, loaded)
+    refused(ResultsFormatError, "it changed since it was checked", _with_an_alarm, load_flown, loaded)
+    asked.write_bytes(run_file)
+    _swapped_for_a_fifo_after_is_file(monkeypatch, asked)
+    answers: list[bool] = []
+    _with_an_alarm(lambda: answers.append(is_flown_file(asked)))
+    assert answers == [False]  # answered, not blocked
+
+
+def test_a_run_file_that_stays_put_still_loads(tmp_path: Path, run_file: bytes) -> None:
+    import uavcov
+
+    path = tmp_path / "run.npz"
+    path.write_bytes(run_file)
+    assert uavcov.load_mission(path).trace.values.shape[0] == 2

@@ -549,6 +549,24 @@ def existing_path(path: Any, what: str, error: type[Exception]) -> str:
     return text
 
 
+def open_regular_file(path: Path, what: str, error: type[Exception]) -> Any:
+    """``path`` opened for reading in binary, when the opened file is a regular file; ``error`` else.
+
+    The check is made on the opened file (``fstat``), not on its name: a file swapped for a FIFO
+    after a check by name would block the read forever (the open itself does not: ``O_NONBLOCK``,
+    which a regular file ignores).
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError) as exc:
+        raise error(f"cannot read the {what} {path}: {getattr(exc, 'strerror', None) or exc}") from exc
+    handle = os.fdopen(fd, "rb")
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        handle.close()
+        raise error(f"the {what} {path} is not a regular file (it changed since it was checked): reading it could block or never end")
+    return handle
+
+
 def read_regular_file(path: Path, what: str, error: type[Exception], max_bytes: int) -> bytes:
     """The bytes of ``path`` when it is a regular file of at most ``max_bytes``; ``error`` when not.
 
@@ -557,16 +575,9 @@ def read_regular_file(path: Path, what: str, error: type[Exception], max_bytes: 
     check by name and the read is refused too (the open does not block on a FIFO: ``O_NONBLOCK``).
     """
     regular_file(path, what, error, max_bytes)  # the messages of a missing file, a folder, ...
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except (OSError, ValueError) as exc:
-        raise error(f"cannot read the {what} {path}: {getattr(exc, 'strerror', None) or exc}") from exc
-    with os.fdopen(fd, "rb") as handle:
-        info = os.fstat(handle.fileno())
-        if not stat.S_ISREG(info.st_mode):
-            raise error(f"the {what} {path} is not a regular file (it changed since it was checked): reading it could block or never end")
+    with open_regular_file(path, what, error) as handle:
         try:
-            data = handle.read(max_bytes + 1)
+            data: bytes = handle.read(max_bytes + 1)
         except OSError as exc:
             raise error(f"cannot read the {what} {path}: {exc.strerror or exc}") from exc
     if len(data) > max_bytes:
