@@ -7,12 +7,14 @@ spec's extra columns. What ``config.json`` records must be JSON: checked here, n
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import json
 from collections.abc import Mapping
 from typing import Any
 
 from .._validate import as_bool, as_optional_str, as_tuple
 from ..errors import InvalidInputError, InvalidTypeError
+from ._executors import ExecutionPlan, plan_execution
 from ._results import json_default
 
 
@@ -74,3 +76,19 @@ def as_json_record(value: Any, name: str) -> dict[str, Any]:
     record = dict(value or {})
     _check_json_record(record, name)
     return record
+
+
+def checked_execution(executor: Any, workers: Any, n_threads: Any, on_result: Any, about: Any) -> tuple[ExecutionPlan, dict[str, Any]]:
+    """:func:`~uavcov.experiments.run_specs`' executor, counts, callback and ``about``, checked before any folder is made.
+
+    Returns the execution plan (with an ``executor``, ``workers`` and ``n_threads`` are only
+    recorded: 0 is refused, not read as "unset") and ``about`` as a dict ``config.json`` can hold.
+    """
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise InvalidTypeError(f"executor must be a concurrent.futures.Executor (or None), got {type(executor).__name__}")
+    if on_result is not None and not callable(on_result):
+        raise InvalidTypeError(f"on_result must be None or a function of (spec, row, result), got {type(on_result).__name__}")
+    record = as_json_record(about, "about")
+    if executor is None:
+        return plan_execution(workers, n_threads), record
+    return ExecutionPlan(1 if workers is None else workers, 1 if n_threads is None else n_threads), record

@@ -48,9 +48,9 @@ from ..placement import START_KINDS
 from ..records import save_mission
 from ..settings import PRIOR_KINDS, MissionSettings, nested_replace
 from ..terrain import BuildingsGenerator, HillsGenerator
-from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
+from ._executors import ExecutionPlan, local_executor, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
-from ._run_options import as_extra, as_json_record, check_run_options
+from ._run_options import as_extra, check_run_options, checked_execution
 from ._scenarios import scenario_surface, surface_settings
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
@@ -569,15 +569,7 @@ def run_specs(
     if len(set(ids)) != len(ids):
         duplicates = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
         raise ConfigError(f"the sweep lists the same run more than once: {', '.join(duplicates[:5])}")
-    about = as_json_record(about, "about")
-    if executor is not None and not isinstance(executor, cf.Executor):
-        raise InvalidTypeError(f"executor must be a concurrent.futures.Executor (or None), got {type(executor).__name__}")
-    if on_result is not None and not callable(on_result):
-        raise InvalidTypeError(f"on_result must be None or a function of (spec, row, result), got {type(on_result).__name__}")
-    if executor is None:
-        plan = plan_execution(workers, n_threads)
-    else:  # the executor decides where runs go; 0 is refused, not read as "unset"
-        plan = ExecutionPlan(1 if workers is None else workers, 1 if n_threads is None else n_threads)
+    plan, about = checked_execution(executor, workers, n_threads, on_result, about)
 
     extra_columns: list[str] = []
     for spec in specs:
