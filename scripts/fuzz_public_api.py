@@ -94,9 +94,54 @@ HOSTILE: dict[str, Callable[[], Any]] = {
     "uint64max(3,3)": lambda: np.full((3, 3), 2**64 - 1, np.uint64),
     "5e-324": lambda: 5e-324,  # the smallest subnormal: a size, step or range whose derived values underflow
     "-5e-324": lambda: -5e-324,
+    # round 7: numpy scalars and 0-d arrays, array layouts numpy keeps as views, dtypes that cast
+    # silently, generators of other kinds, values whose arithmetic (a difference, a square) overflows
+    "0d(2.0)": lambda: np.array(2.0),
+    "0d(nan)": lambda: np.array(np.nan),
+    "np.True_": lambda: np.True_,
+    "np.int64(10**12)": lambda: np.int64(10**12),
+    "2.5": lambda: 2.5,
+    "longdouble(1e4000)": lambda: np.longdouble("1e4000"),
+    "float16(3,3)": lambda: np.full((3, 3), 2.0, np.float16),
+    "negstride(3,3)": lambda: np.arange(9.0)[::-1].reshape(3, 3) + 1.0,
+    "noncontig(3,3)": lambda: (np.arange(18.0).reshape(3, 6) + 1.0)[:, ::2],
+    "fortran(3,3)": lambda: np.asfortranarray(np.arange(9.0).reshape(3, 3) + 1.0),
+    "readonly(3,3)": lambda: _read_only(np.arange(9.0).reshape(3, 3) + 1.0),
+    "structured(3,)": lambda: np.zeros(3, dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")]),
+    "pm1e308(3,3)": lambda: np.array([[1e308, -1e308, 1e308], [-1e308, 1e308, -1e308], [1e308, 1e308, -1e308]]),
+    "5e-324(3,3)": lambda: np.full((3, 3), 5e-324),
+    "RandomState": lambda: np.random.RandomState(0),
+    "SeedSequence": lambda: np.random.SeedSequence(0),
+    "object()": object,
+    "bytes": lambda: b"abc",
+    "ctrlstr": lambda: "a\nb\x1b[31m\t",
 }
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
 # values no argument should take silently (a title or a label aside): accepted ones are listed
-SUSPICIOUS = {"nan", "inf", "-inf", "nan(3,3)", "complex(3,3)", "objarr(1,3)", "1e300(3,3)", "timedelta64", "masked(3,3)", "timedelta(3,3)"}
+SUSPICIOUS = {
+    "nan",
+    "inf",
+    "-inf",
+    "nan(3,3)",
+    "complex(3,3)",
+    "objarr(1,3)",
+    "1e300(3,3)",
+    "timedelta64",
+    "masked(3,3)",
+    "timedelta(3,3)",
+    "0d(nan)",
+    "longdouble(1e4000)",
+    "structured(3,)",
+    "pm1e308(3,3)",
+    "RandomState",
+    "object()",
+}
 
 # Accepted suspicious values that were reviewed and are right answers: (callable, argument,
 # hostile values) and why. They are counted as "reviewed", not listed for review again.
@@ -106,19 +151,22 @@ REVIEWED: dict[tuple[str, str], tuple[frozenset[str], str]] = {
         "the step of iteration k is a formula of any finite k >= 0: at k = 1e300 it is the vanishing step the formula gives",
     ),
     ("facing_attitudes", "directions"): (
-        frozenset({"1e300(3,3)"}),
-        "a direction's yaw and pitch do not depend on its length: 1e300 * (1, 1, 1) faces as (1, 1, 1) does",
+        frozenset({"1e300(3,3)", "pm1e308(3,3)"}),
+        (
+            "a direction's yaw and pitch do not depend on its length: 1e300 * (1, 1, 1) faces as (1, 1, 1) does, "
+            "and (1e308, -1e308, 1e308) as (1, -1, 1)"
+        ),
     ),
     ("observed_targets", "points"): (
-        frozenset({"1e300(3,3)"}),
+        frozenset({"1e300(3,3)", "pm1e308(3,3)"}),
         "sensed points 1e300 m away are within no radius of a target: nothing observed is the right answer",
     ),
     ("sensed_coverage", "points"): (
-        frozenset({"1e300(3,3)"}),
+        frozenset({"1e300(3,3)", "pm1e308(3,3)"}),
         "sensed points 1e300 m away are within no radius of a target: no coverage is the right answer",
     ),
     ("wrap_longitude", "lon"): (
-        frozenset({"nan", "nan(3,3)", "1e300(3,3)", "masked(3,3)"}),
+        frozenset({"nan", "nan(3,3)", "1e300(3,3)", "masked(3,3)", "0d(nan)", "pm1e308(3,3)"}),
         (
             "documented: NaN (no data) passes through as NaN, and fmod reduces 1e300 exactly (a longitude within [-180, 180]); "
             "a masked longitude is no data, NaN"
@@ -1118,7 +1166,33 @@ def cli_cases(workdir: Path) -> list[list[str]]:
         [*sample, "--d-max", "5e-324"],
         [*sample, "--camera", "5e-324,40"],
     ]
-    return cases
+    return cases + round7_cli_cases(workdir)
+
+
+def round7_cli_cases(workdir: Path) -> list[list[str]]:
+    """Round 7: the Dask options (a timeout past the clock hung, two protocols printed a traceback
+    at exit), a sweep file nested thousands deep, a .npy terrain of complex heights, a results
+    folder whose config.json nests thousands deep."""
+    head = 'base = "table1"\nseeds = [0]\nteam_sizes = [2]\nstarts = ["cvt"]\niterations = 0\n'
+    (workdir / "r7.toml").write_text(head)
+    (workdir / "r7deep.toml").write_text(head + "d_max = " + "[" * 5000 + "]" * 5000 + "\n")
+    np.save(workdir / "r7complex.npy", np.zeros((20, 20), complex))
+    (workdir / "r7complex.toml").write_text(head + '[terrain]\nkind = "file"\npath = "r7complex.npy"\nspacing = 1.0\n')
+    (workdir / "r7deepcfg").mkdir(exist_ok=True)
+    (workdir / "r7deepcfg" / "config.json").write_text("[" * 100_000 + "]" * 100_000)
+    dask = ["sweep", "r7.toml", "--out", "r7out", "--scheduler"]
+    return [
+        [*dask, "inproc://x", "--scheduler-timeout", "1"],
+        [*dask, "ucx://host:1", "--scheduler-timeout", "1"],
+        [*dask, "tcp://127.0.0.1:1", "--scheduler-timeout", "1e300"],
+        [*dask, "tcp://127.0.0.1:1", "--scheduler-timeout", "86401"],
+        ["sweep", "r7.toml", "--out", "r7out", "--dask-workers", "1000000000"],
+        ["sweep", "r7deep.toml"],
+        ["sweep", "r7complex.toml", "--workers", "1", "--threads", "1"],
+        ["sweep", "r7.toml", "--out", "r7deepcfg", "--resume", "--workers", "1", "--threads", "1"],
+        ["reproduce", "structures", "--out", "r7deepcfg", "--resume", "--workers", "1"],
+        ["reproduce", "realistic", "--out", "r7deepcfg", "--resume", "--workers", "1", "--seeds", "0"],
+    ]
 
 
 def fuzz_cli(timeout: float, report: list[str]) -> dict[str, int]:

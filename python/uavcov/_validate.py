@@ -287,9 +287,12 @@ MAX_THREADS = 1024
 def as_n_threads(value: Any) -> int:
     """Return the thread count for a Rust call: 1..MAX_THREADS, or 0 for ``None``.
 
-    ``None`` means rayon's default: ``RAYON_NUM_THREADS`` if set, else every core.
+    ``None`` means rayon's default: ``RAYON_NUM_THREADS`` if set, else every core; a
+    ``RAYON_NUM_THREADS`` beyond MAX_THREADS is refused as an ``n_threads`` beyond it is (the
+    core would start that many threads, minutes of thread starts for a typo).
     """
     if value is None:
+        _check_rayon_num_threads()
         return 0  # the Rust side reads 0 as "rayon's default" (rust/threads.rs)
     n = as_positive_int(value, "n_threads")
     if n > MAX_THREADS:
@@ -297,15 +300,48 @@ def as_n_threads(value: Any) -> int:
     return n
 
 
+def _check_rayon_num_threads() -> None:
+    """Refuse a ``RAYON_NUM_THREADS`` the core would read as more than MAX_THREADS threads.
+
+    The core reads it as rayon does (a whole number, blanks around it ignored; anything else is
+    ignored, and every core used): the same reading here, so that only a count it would use is refused.
+    """
+    text = os.environ.get("RAYON_NUM_THREADS", "").strip().removeprefix("+")
+    digits = text.lstrip("0")  # int() of thousands of digits raises: the length says it first
+    if text.isascii() and text.isdigit() and (len(digits) > len(str(MAX_THREADS)) or int(digits or "0") > MAX_THREADS):
+        raise InvalidInputError(
+            f"the environment variable RAYON_NUM_THREADS asks for {digits[:20]}{'...' if len(digits) > 20 else ''} threads, "
+            f"more than {MAX_THREADS} (uavcov's limit); unset it or give a count of threads"
+        )
+
+
+_RNG_KINDS = "None, an int, a SeedSequence or a numpy Generator"
+
+
 def as_generator(rng: Any) -> np.random.Generator:
     """``numpy.random.default_rng(rng)`` (SPEC 7: None, an int, a SeedSequence or a Generator),
-    with a uavcov error for anything else (True and False too: numpy would seed with 1 and 0)."""
+    with a uavcov error for anything else (True and False too: numpy would seed with 1 and 0).
+
+    A legacy ``RandomState`` (or a generator over a legacy-seeded bit generator) is refused too:
+    numpy wraps it without a SeedSequence, and uavcov splits one generator into independent
+    streams (``spawn``), which such a generator cannot do.
+    """
     if isinstance(rng, (bool, np.bool_)):
-        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}")
+        raise InvalidTypeError(f"rng must be {_RNG_KINDS}, got {rng!r}")
+    if isinstance(rng, np.random.RandomState):
+        raise InvalidTypeError(
+            f"rng must be {_RNG_KINDS}, got a legacy RandomState: give its seed, or np.random.default_rng(seed), instead"
+        )
     try:
-        return np.random.default_rng(rng)
+        generator = np.random.default_rng(rng)
     except (TypeError, ValueError) as exc:
-        raise InvalidTypeError(f"rng must be None, an int, a SeedSequence or a numpy Generator, got {rng!r}") from exc
+        raise InvalidTypeError(f"rng must be {_RNG_KINDS}, got {rng!r}") from exc
+    if not isinstance(generator.bit_generator.seed_seq, np.random.SeedSequence):
+        raise InvalidTypeError(
+            f"rng must be {_RNG_KINDS} seeded by a SeedSequence, got one over a legacy-seeded bit generator "
+            "(it cannot be split into independent streams): give np.random.default_rng(seed) instead"
+        )
+    return generator
 
 
 def as_bool(value: Any, name: str) -> bool:
@@ -401,10 +437,22 @@ def as_bounds(value: Any, name: str = "bounds") -> tuple[float, float, float, fl
 
 
 def as_tuple(value: Any, name: str) -> tuple[Any, ...]:
-    """``value`` (a list, tuple, array or other iterable, not a string or a mapping) as a tuple."""
-    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
-        raise InvalidTypeError(f"{name} must be a sequence, got {type(value).__name__}")
+    """``value`` (a list, tuple, array or other iterable, not a string or a mapping) as a tuple.
+
+    A 0-d array is refused: it has ``__iter__`` but no items (numpy raises on iterating it).
+    """
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__") or is_0d_array(value):
+        raise InvalidTypeError(f"{name} must be a sequence, got {_kind_of(value)}")
     return tuple(value)
+
+
+def is_0d_array(value: Any) -> bool:
+    """A numpy array of no dimension (``np.array(3)``): iterable to Python's eyes, not to numpy's."""
+    return isinstance(value, np.ndarray) and value.ndim == 0
+
+
+def _kind_of(value: Any) -> str:
+    return f"a 0-d array of {value.dtype}" if is_0d_array(value) else type(value).__name__
 
 
 def as_range(value: Any, name: str, *, positive: bool = False) -> tuple[float, float]:
@@ -499,6 +547,42 @@ def existing_path(path: Any, what: str, error: type[Exception]) -> str:
     if not os.path.isfile(text):
         raise error(f"{what} path {text!r} is not a regular file (a FIFO, socket or device): reading it could block or never end")
     return text
+
+
+def open_regular_file(path: Path, what: str, error: type[Exception]) -> Any:
+    """``path`` opened for reading in binary, when the opened file is a regular file; ``error`` else.
+
+    The check is made on the opened file (``fstat``), not on its name: a file swapped for a FIFO
+    after a check by name would block the read forever (the open itself does not: ``O_NONBLOCK``,
+    which a regular file ignores).
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError) as exc:
+        raise error(f"cannot read the {what} {path}: {getattr(exc, 'strerror', None) or exc}") from exc
+    handle = os.fdopen(fd, "rb")
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        handle.close()
+        raise error(f"the {what} {path} is not a regular file (it changed since it was checked): reading it could block or never end")
+    return handle
+
+
+def read_regular_file(path: Path, what: str, error: type[Exception], max_bytes: int) -> bytes:
+    """The bytes of ``path`` when it is a regular file of at most ``max_bytes``; ``error`` when not.
+
+    :func:`regular_file`'s checks, made on the opened file itself (``fstat``), then at most
+    ``max_bytes + 1`` bytes read: a file replaced by a FIFO, or grown past the limit, between a
+    check by name and the read is refused too (the open does not block on a FIFO: ``O_NONBLOCK``).
+    """
+    regular_file(path, what, error, max_bytes)  # the messages of a missing file, a folder, ...
+    with open_regular_file(path, what, error) as handle:
+        try:
+            data: bytes = handle.read(max_bytes + 1)
+        except OSError as exc:
+            raise error(f"cannot read the {what} {path}: {exc.strerror or exc}") from exc
+    if len(data) > max_bytes:
+        raise error(f"the {what} {path} is more than the {max_bytes:,} bytes it may have (it grew since it was checked)")
+    return data
 
 
 def regular_file(path: Path, what: str, error: type[Exception], max_bytes: int) -> Path:

@@ -9,7 +9,6 @@ stored runs; a file from an unknown format, or one missing a field, raises
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import numbers
@@ -23,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from ._io import atomic_write_with, make_parent
-from ._validate import as_non_negative_float, checked_path_text, read_only
+from ._validate import as_non_negative_float, checked_path_text, open_regular_file, read_only
 from .engine import Terrain
 from .errors import InvalidTypeError, ResultsFormatError, UavcovError
 from .mission import MissionResult
@@ -261,6 +260,21 @@ def save_mission(result: MissionResult, path: str | os.PathLike[str]) -> Path:
     return path
 
 
+def _npz_arrays(handle: Any, path: Path) -> dict[str, Any]:
+    """Every array of the ``.npz`` archive open in ``handle`` (``path`` names it in errors)."""
+    try:
+        data = np.load(handle, allow_pickle=False)
+        if not isinstance(data, np.lib.npyio.NpzFile):  # a bare .npy array, not an archive
+            raise ValueError("a single array, not an archive of a run's arrays")
+        with data:
+            return {name: data[name] for name in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError, NotImplementedError) as exc:
+        # EOFError: an empty file; zlib.error, BadZipFile: a corrupt member; ValueError: not numpy
+        raise ResultsFormatError(f"{path} is not a readable uavcov run file: {type(exc).__name__}: {exc}") from exc
+    except MemoryError:
+        raise ResultsFormatError(f"{path} is not a uavcov run file: an array of it claims more memory than there is") from None
+
+
 def load_mission(path: str | os.PathLike[str]) -> MissionResult:
     """Read a run written by :func:`save_mission`: the :class:`~uavcov.MissionResult` it held.
 
@@ -281,21 +295,13 @@ def load_mission(path: str | os.PathLike[str]) -> MissionResult:
     path = _as_path(path)
     if not path.is_file():
         raise ResultsFormatError(f"no run file at {path}")
-    with contextlib.suppress(OSError), open(path, "rb") as handle:
+    # one opened file for the checks and the read: a file swapped for a FIFO in between would block np.load
+    with open_regular_file(path, "run file", ResultsFormatError) as handle:
         magic = handle.read(6)
         if magic and not magic.startswith((b"PK", b"\x93NUMPY")):  # numpy would speak of pickles
             raise ResultsFormatError(f"{path} is not a uavcov run file: not a .npz archive (a run is what save_mission writes)")
-    try:
-        data = np.load(path, allow_pickle=False)
-        if not isinstance(data, np.lib.npyio.NpzFile):  # a bare .npy array, not an archive
-            raise ValueError("a single array, not an archive of a run's arrays")
-        with data:
-            arrays: dict[str, Any] = {name: data[name] for name in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError, NotImplementedError) as exc:
-        # EOFError: an empty file; zlib.error, BadZipFile: a corrupt member; ValueError: not numpy
-        raise ResultsFormatError(f"{path} is not a readable uavcov run file: {type(exc).__name__}: {exc}") from exc
-    except MemoryError:
-        raise ResultsFormatError(f"{path} is not a uavcov run file: an array of it claims more memory than there is") from None
+        handle.seek(0)
+        arrays = _npz_arrays(handle, path)
     _require(arrays, ("header",), path)
     if arrays["header"].shape != () or arrays["header"].dtype.kind != "U":
         raise ResultsFormatError(f"{path} has a header that is not a JSON text")

@@ -23,8 +23,17 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_THREADS, MAX_WORKERS, as_count, as_positive_int, is_int
+from .._validate import MAX_THREADS, MAX_WORKERS, as_count, as_positive_float, is_int
 from ..errors import ConfigError, MissingExtraError, SchedulerTimeoutError
+
+MAX_SCHEDULER_TIMEOUT_S = 86_400.0
+"""The longest wait for a Dask scheduler, seconds (a day): a longer one is a typo, and Dask's
+clock overflows far beyond it (a timeout of 1e300 s waited forever)."""
+
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss")
+"""The protocols a scheduler in another process is reached by (``inproc`` is within one process,
+and ``ucx`` needs a transport distributed no longer ships: either left a Client whose clean-up
+printed a traceback at exit)."""
 
 
 def available_cores() -> int:
@@ -47,7 +56,7 @@ class ExecutionPlan:
 
     def __post_init__(self) -> None:
         # also built from a caller's own executor (run_specs): checked here, not only in plan_execution
-        object.__setattr__(self, "workers", as_positive_int(self.workers, "workers"))
+        object.__setattr__(self, "workers", as_count(self.workers, "workers", MAX_WORKERS))
         object.__setattr__(self, "n_threads", as_count(self.n_threads, "n_threads", MAX_THREADS))
 
 
@@ -190,10 +199,11 @@ def _check_address(scheduler: Any) -> None:
         from distributed.comm.addressing import parse_address, parse_host_port
 
         scheme, location = parse_address(scheduler)
-        if scheme in ("tcp", "tls", "ws", "wss"):
-            host, port = parse_host_port(location)
-            if not host or not 0 < int(port) < 65536:
-                raise ValueError("a host and a port from 1 to 65535 are needed")
+        if scheme not in SCHEDULER_SCHEMES:
+            raise ValueError(f"the protocol {scheme!r} is none of {', '.join(SCHEDULER_SCHEMES)}")
+        host, port = parse_host_port(location)
+        if not host or not 0 < int(port) < 65536:
+            raise ValueError("a host and a port from 1 to 65535 are needed")
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"{scheduler!r} is not the address of a Dask scheduler (like tcp://host:8786): {exc}") from None
 
@@ -212,7 +222,8 @@ def dask_executor(
         Without ``scheduler``: start a local cluster of this many worker processes, one thread
         each (every core by default).
     timeout : float
-        Seconds to wait for the scheduler before giving up.
+        Seconds to wait for the scheduler before giving up, in (0, 86400] (a day:
+        :data:`MAX_SCHEDULER_TIMEOUT_S`).
 
     Yields
     ------
@@ -226,8 +237,14 @@ def dask_executor(
     SchedulerTimeoutError
         The scheduler does not answer within ``timeout``.
     ConfigError
-        ``scheduler`` is not the address of a Dask scheduler, or a bad ``n_workers``.
+        ``scheduler`` is not the address of a Dask scheduler (over tcp, tls, ws or wss), a bad
+        ``n_workers`` (an integer in [1, 4096]) or ``timeout``.
     """
+    timeout = as_positive_float(timeout, "timeout")
+    if timeout > MAX_SCHEDULER_TIMEOUT_S:
+        raise ConfigError(f"timeout must be at most {MAX_SCHEDULER_TIMEOUT_S:g} s (a day) to wait for a Dask scheduler, got {timeout:g} s")
+    if n_workers is not None and (not is_int(n_workers) or not 1 <= n_workers <= MAX_WORKERS):
+        raise ConfigError(f"the number of Dask workers must be an integer in [1, {MAX_WORKERS}], got {n_workers!r}")
     try:
         import logging
 
@@ -246,8 +263,6 @@ def dask_executor(
                 raise ConfigError(f"cannot use {scheduler!r} as a Dask scheduler: {type(exc).__name__}: {exc}") from exc
         else:
             workers = available_cores() if n_workers is None else n_workers
-            if not is_int(workers) or workers < 1:
-                raise ConfigError(f"the number of Dask workers must be an integer >= 1, got {workers!r}")
             cluster = LocalCluster(
                 n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
             )

@@ -23,6 +23,7 @@ import io
 import json
 import os
 import tempfile
+import unicodedata
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -139,6 +140,8 @@ def _file_name(name: Any, what: str) -> str:
         raise InvalidTypeError(f"{what} must be a file name (a string), got {type(name).__name__}")
     if not name or "\0" in name or name in (".", "..") or os.path.basename(name) != name or "/" in name or "\\" in name:
         raise InvalidInputError(f"{what} must be a plain file name (no directory, '..' or NUL), got {name!r}")
+    if any(unicodedata.category(c) == "Cc" for c in name):  # a newline or an escape: a name no listing shows as it is
+        raise InvalidInputError(f"{what} must be a plain file name without control characters (newline, tab, escape), got {name!r}")
     return name
 
 
@@ -346,7 +349,7 @@ def _is_our_config(path: Path) -> bool:
         return False
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError):  # RecursionError: arrays nested thousands deep
         return False
     return _is_our_document(document)
 
@@ -541,7 +544,7 @@ class ResultsFolder:
             )
         try:
             previous = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError) as exc:
+        except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:  # RecursionError: arrays nested thousands deep
             raise ResultsInUseError(f"cannot read {path}: {exc}; move it away or write to another folder") from None
         if not _is_our_document(previous):
             raise ResultsInUseError(f'{path} is not a uavcov results file (no "format": "{CONFIG_FORMAT}")')

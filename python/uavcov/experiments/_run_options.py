@@ -7,12 +7,14 @@ spec's extra columns. What ``config.json`` records must be JSON: checked here, n
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import json
 from collections.abc import Mapping
 from typing import Any
 
 from .._validate import as_bool, as_optional_str, as_tuple
 from ..errors import InvalidInputError, InvalidTypeError
+from ._executors import ExecutionPlan, plan_execution
 from ._results import json_default
 
 
@@ -60,8 +62,33 @@ def check_run_options(
     flags = [as_bool(value, name) for name, value in (("resume", resume), ("save_runs", save_runs), ("exclusive", exclusive))]
     shown = None if progress is None else as_bool(progress, "progress")
     text = as_optional_str(command, "command")
-    if execution is not None and not isinstance(execution, Mapping):
-        raise InvalidTypeError(f"execution must be None or a mapping, got {type(execution).__name__}")
-    record = dict(execution or {})
-    _check_json_record(record, "execution")
-    return flags[0], flags[1], flags[2], shown, text, record
+    return flags[0], flags[1], flags[2], shown, text, as_json_record(execution, "execution")
+
+
+def as_json_record(value: Any, name: str) -> dict[str, Any]:
+    """``value`` (None or a mapping of strings to JSON values) as a dict ``config.json`` can hold.
+
+    Checked before anything is run or written: NaN or inf would be written as ``NaN`` or
+    ``Infinity``, which no strict JSON reader reads back; a set or bytes would fail the write.
+    """
+    if value is not None and not isinstance(value, Mapping):
+        raise InvalidTypeError(f"{name} must be None or a mapping, got {type(value).__name__}")
+    record = dict(value or {})
+    _check_json_record(record, name)
+    return record
+
+
+def checked_execution(executor: Any, workers: Any, n_threads: Any, on_result: Any, about: Any) -> tuple[ExecutionPlan, dict[str, Any]]:
+    """:func:`~uavcov.experiments.run_specs`' executor, counts, callback and ``about``, checked before any folder is made.
+
+    Returns the execution plan (with an ``executor``, ``workers`` and ``n_threads`` are only
+    recorded: 0 is refused, not read as "unset") and ``about`` as a dict ``config.json`` can hold.
+    """
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise InvalidTypeError(f"executor must be a concurrent.futures.Executor (or None), got {type(executor).__name__}")
+    if on_result is not None and not callable(on_result):
+        raise InvalidTypeError(f"on_result must be None or a function of (spec, row, result), got {type(on_result).__name__}")
+    record = as_json_record(about, "about")
+    if executor is None:
+        return plan_execution(workers, n_threads), record
+    return ExecutionPlan(1 if workers is None else workers, 1 if n_threads is None else n_threads), record

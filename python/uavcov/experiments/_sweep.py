@@ -48,9 +48,9 @@ from ..placement import START_KINDS
 from ..records import save_mission
 from ..settings import PRIOR_KINDS, MissionSettings, nested_replace
 from ..terrain import BuildingsGenerator, HillsGenerator
-from ._executors import ExecutionPlan, local_executor, plan_execution, stop_pool
+from ._executors import ExecutionPlan, local_executor, stop_pool
 from ._results import RUN_COLUMNS, ResultsFolder, RunsFile, config_document, json_default
-from ._run_options import as_extra, check_run_options
+from ._run_options import as_extra, check_run_options, checked_execution
 from ._scenarios import scenario_surface, surface_settings
 
 # Settings of the mission that an experiment's changes may name without the "mission." prefix.
@@ -569,7 +569,7 @@ def run_specs(
     if len(set(ids)) != len(ids):
         duplicates = sorted(i for i, count in collections.Counter(ids).items() if count > 1)
         raise ConfigError(f"the sweep lists the same run more than once: {', '.join(duplicates[:5])}")
-    plan = plan_execution(workers, n_threads) if executor is None else ExecutionPlan(workers or 1, n_threads or 1)
+    plan, about = checked_execution(executor, workers, n_threads, on_result, about)
 
     extra_columns: list[str] = []
     for spec in specs:

@@ -57,7 +57,18 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .._validate import MAX_ITERATIONS, MAX_RUNS, MAX_SEEDS, MAX_SWEEP_FILE_BYTES, MAX_UAVS, as_path, as_str, is_int, regular_file
+from .._validate import (
+    MAX_ITERATIONS,
+    MAX_RUNS,
+    MAX_SEEDS,
+    MAX_SWEEP_FILE_BYTES,
+    MAX_UAVS,
+    as_path,
+    as_str,
+    is_0d_array,
+    is_int,
+    read_regular_file,
+)
 from ..engine import Camera, Gimbal, Sensor, Terrain
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints
@@ -350,17 +361,16 @@ def load_sweep_config(path: str | os.PathLike[str], *, bases: Mapping[str, Exper
         The file is missing or unreadable, is not valid TOML (with the line), has an unknown key
         (with the closest valid one), a value of the wrong type or out of range.
     """
-    path = regular_file(as_path(path, "path"), "sweep file", ConfigError, MAX_SWEEP_FILE_BYTES)
-    try:
-        text = path.read_bytes()
-    except OSError as exc:
-        raise ConfigError(f"cannot read the sweep file {path}: {exc.strerror or exc}") from exc
+    path = as_path(path, "path")
+    text = read_regular_file(path, "sweep file", ConfigError, MAX_SWEEP_FILE_BYTES)
     try:
         data = tomllib.loads(text.decode("utf-8"))
     except UnicodeDecodeError as exc:
         raise ConfigError(f"{path} is not UTF-8 text: {exc}") from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path} is not valid TOML: {exc}") from exc
+    except RecursionError:  # tomllib parses nested arrays recursively
+        raise ConfigError(f"{path} nests arrays or tables too deeply to be a sweep file") from None
     return parse_sweep_config(data, bases=bases, source=str(path), default_name=path.stem)
 
 
@@ -578,7 +588,7 @@ def parse_seeds(text: str | Iterable[int]) -> tuple[int, ...]:
             if len(seeds) + (b - a + 1) > MAX_SEEDS:
                 raise ConfigError(f"seeds {text!r}: more than {MAX_SEEDS:,} seeds (uavcov's limit); split the sweep")
             seeds.extend(range(a, b + 1))
-    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable):
+    elif isinstance(text, (bytes, Mapping)) or not isinstance(text, Iterable) or is_0d_array(text):
         raise ConfigError(f'seeds must be a string like "0-39" or a list of integers, got {text!r}')
     else:
         seeds = []

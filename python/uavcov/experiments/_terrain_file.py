@@ -85,4 +85,6 @@ def _grid(path: Path, spacing: Any, source: str) -> Terrain:
         raise ConfigError(
             f"{source}: terrain.path: {path}: expected an (ny, nx) grid of at most {MAX_GRID_SIDE} nodes a side, got {heights.shape}"
         )
+    if heights.dtype.kind not in "fiu":  # a cast would drop an imaginary part or read flags as 0 and 1 m
+        raise ConfigError(f"{source}: terrain.path: {path}: heights must be real numbers, got dtype {heights.dtype}")
     return Terrain.from_grid(np.asarray(heights, dtype=np.float64), spacing=spacing)

@@ -514,7 +514,7 @@ def _lift(constraints: Constraints, world: World, pos: np.ndarray, climb: float)
     ground = np.asarray(world.ground_height(np.ascontiguousarray(pos[:, :2])), dtype=np.float64)
     if np.isnan(ground).any():
         bad = int(np.flatnonzero(np.isnan(ground))[0])
-        raise InfeasibleError(f"UAV {bad} at x-y {tuple(pos[bad, :2])} stands over no surface")
+        raise InfeasibleError(f"UAV {bad} at x-y ({pos[bad, 0]:g}, {pos[bad, 1]:g}) stands over no surface")
     floor = ground + constraints.h_min
     # Lifted with a margin, and judged with it: a UAV exactly at ground + h_min can measure a
     # clearance a rounding below h_min and be refused by feasible_mask.

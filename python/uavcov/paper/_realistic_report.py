@@ -240,7 +240,7 @@ def _realistic_config(path: Path) -> dict[str, Any]:
     """A realistic run's ``config.json``, with the lists its report orders the rows by."""
     try:
         config = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:  # RecursionError: arrays nested thousands deep
         raise ResultsFormatError(f"{path} is not JSON: {exc}") from exc
     if not isinstance(config, dict) or not all(isinstance(config.get(key), list) for key in ("seeds", "starts", "measurements")):
         raise ResultsFormatError(f"{path} is not a realistic run's config (it needs the lists seeds, starts and measurements)")

@@ -72,7 +72,7 @@ from .._validate import (
     as_non_negative_float,
     as_path,
     as_positive_float,
-    regular_file,
+    read_regular_file,
 )
 from ..errors import ConfigError, InvalidInputError, InvalidTypeError, ResultsFormatError, UavcovError
 from ._jsonl import append_row, read_rows
@@ -514,10 +514,10 @@ def _report_tasks(experiment: StructuresExperiment, chosen: dict[str, Setting]) 
 
 def _read_config(path: Path) -> dict[str, Any]:
     # A FIFO named config.json would block the read forever (a resume hung on one).
-    regular_file(path, "structures experiment's config", ResultsFormatError, MAX_SWEEP_FILE_BYTES)
+    text = read_regular_file(path, "structures experiment's config", ResultsFormatError, MAX_SWEEP_FILE_BYTES)
     try:
-        config = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        config = json.loads(text.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:  # RecursionError: arrays nested thousands deep
         raise ResultsFormatError(f"cannot read {path}: {type(exc).__name__}: {exc}") from None
     if not isinstance(config, dict):
         raise ResultsFormatError(f"{path} is not a JSON object")

@@ -140,7 +140,7 @@ def _pairs(surface: Terrain, n: int, spacing: float, threads: int | None) -> np.
     z = surface.ground_height(xy, n_threads=threads)
     if not np.isfinite(z).all():
         bad = int(np.flatnonzero(~np.isfinite(z))[0])
-        raise InfeasibleError(f"pairs start point {bad} at x-y {tuple(xy[bad])} stands over no surface (nodata)")
+        raise InfeasibleError(f"pairs start point {bad} at x-y ({xy[bad, 0]:g}, {xy[bad, 1]:g}) stands over no surface (nodata)")
     return np.column_stack([xy, z])
 
 

@@ -13,10 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_positive_float
 from ..engine import Sensor, Terrain, Visibility, camera_axes, pack_sensors
 from ..errors import InvalidInputError, InvalidTypeError
-from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR, _finish, _line, _matplotlib, _patch
+from ._canvas import SEEN_COLOUR, UNSEEN_COLOUR, _finish, _line, _matplotlib, _patch, check_output
 from ._views import _grid_node_mask
 
 
@@ -79,7 +78,7 @@ def plot_camera_views(
     if terrain.grid is None:
         raise InvalidInputError("plot_camera_views draws grid terrains (Terrain.from_grid)")
     positions, _ = pack_sensors(sensors, poses)
-    dpi = as_positive_float(dpi, "dpi")
+    _, dpi = check_output(out, dpi)  # before the drawing: a dpi matplotlib cannot draw text at fails late
     poses_array = np.asarray(poses, dtype=np.float64)
     vis = Visibility(terrain, max(s.reach_m for s in sensors))
     points = vis.targets.points

@@ -17,8 +17,9 @@ from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 
 MAX_DPI = 1200.0
 """Highest ``dpi`` of a figure: a print's; beyond, the canvas grows past what one figure needs."""
-MIN_DPI = 1.0
-"""Lowest ``dpi``: below one dot an inch a figure has no pixel (a subnormal dpi made matplotlib's size NaN)."""
+MIN_DPI = 10.0
+"""Lowest ``dpi``: below it matplotlib's font engine cannot size the figures' text (dpi 5 and below
+raised FreeType's "invalid ppem value"), and a subnormal dpi made matplotlib's size NaN."""
 
 # The paper's colours where it has them: covered surface red, start black, end green.
 SEEN_COLOUR = (0.84, 0.15, 0.16)
@@ -69,7 +70,7 @@ def check_output(out: Any, dpi: Any, *, required: bool = False) -> tuple[Path | 
     if dpi > MAX_DPI:
         raise InvalidInputError(f"dpi must be at most {MAX_DPI:g}, got {dpi:g}")
     if dpi < MIN_DPI:
-        raise InvalidInputError(f"dpi must be at least {MIN_DPI:g} (a figure with pixels), got {dpi:g}")
+        raise InvalidInputError(f"dpi must be at least {MIN_DPI:g} (text matplotlib can draw), got {dpi:g}")
     return (None if out is None else Path(checked_path_text(os.fspath(out), "out"))), dpi  # "" would be the working directory
 
 

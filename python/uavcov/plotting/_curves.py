@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_bool, as_optional_str
+from .._validate import as_bool, as_optional_str, is_0d_array
 from ..errors import InvalidTypeError, ResultsFormatError
 from . import _runs
 from ._canvas import (
@@ -39,7 +39,7 @@ def _group_results(results: Any, group_by: str) -> dict[str, list[Any]]:
     if isinstance(results, Mapping):
         groups = {str(k): list(v) if isinstance(v, (list, tuple)) else [v] for k, v in results.items()}
     else:
-        if isinstance(results, (str, os.PathLike)) or not isinstance(results, Iterable):
+        if isinstance(results, (str, os.PathLike)) or not isinstance(results, Iterable) or is_0d_array(results):
             results = [results]
         groups = {}
         for item in results:
@@ -200,7 +200,7 @@ def plot_table1(
         raise InvalidTypeError(f"metric must be a column name (a string), got {type(metric).__name__}")
     if isinstance(rows, (str, os.PathLike)):
         rows = _runs._read_runs(rows)
-    if isinstance(rows, Mapping) or not isinstance(rows, Iterable):
+    if isinstance(rows, Mapping) or not isinstance(rows, Iterable) or is_0d_array(rows):
         raise InvalidTypeError("rows must be an iterable of mappings (csv.DictReader rows) or a runs.csv path")
     rows = list(rows)
     if not rows:

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import is_0d_array
 from ..errors import InvalidTypeError, ResultsFormatError
 from . import _runs
 from ._canvas import INIT_COLOURS, _finish, _new_axes
@@ -34,7 +35,7 @@ def plot_coverage_distance(rows: Any, *, ax: Any = None, out: Any = None, dpi: f
     """
     if isinstance(rows, (str, os.PathLike)):
         rows = _runs._read_runs(rows)
-    if isinstance(rows, Mapping) or not isinstance(rows, Iterable):
+    if isinstance(rows, Mapping) or not isinstance(rows, Iterable) or is_0d_array(rows):
         raise InvalidTypeError("rows must be an iterable of mappings (csv.DictReader rows) or a runs.csv path")
     points: dict[tuple[str, int], list[tuple[float, float]]] = {}
     for index, row in enumerate(rows):

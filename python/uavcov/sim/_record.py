@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write_with, make_parent
-from .._validate import as_path, read_only
+from .._validate import as_path, open_regular_file, read_only
 from ..engine import Terrain
 from ..errors import InvalidTypeError, ResultsFormatError
 from ..mission import MissionSettings
@@ -128,8 +128,8 @@ def is_flown_file(path: str | os.PathLike[str]) -> bool:
     file = as_path(path, "path")  # a number or None is a mistake, not "some other file"
     if not file.is_file():  # a FIFO would block np.load forever; a folder is no flown run either
         return False
-    try:
-        with np.load(file, allow_pickle=False) as data:
+    try:  # checked again on the opened file: one swapped for a FIFO since would block np.load
+        with open_regular_file(file, "flown run", ResultsFormatError) as handle, np.load(handle, allow_pickle=False) as data:
             return "header" in data.files and json.loads(str(data["header"])).get("format") == FLOWN_FORMAT
     except Exception:  # noqa: BLE001 - any unreadable file is simply not a flown run
         return False
@@ -166,7 +166,7 @@ def load_flown(path: str | os.PathLike[str]) -> FlownRun:
     if not file.is_file():
         raise ResultsFormatError(f"no flown run at {file}")
     try:
-        with np.load(file, allow_pickle=False) as data:
+        with open_regular_file(file, "flown run", ResultsFormatError) as handle, np.load(handle, allow_pickle=False) as data:
             arrays: dict[str, Any] = {name: data[name] for name in data.files}
         header = json.loads(str(arrays["header"]))
         if not isinstance(header, dict) or header.get("format") != FLOWN_FORMAT:
@@ -178,7 +178,7 @@ def load_flown(path: str | os.PathLike[str]) -> FlownRun:
         first_end = float(arrays["leg_ends_s"][0]) if arrays["leg_ends_s"].size else 0.0
     except ResultsFormatError:
         raise
-    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, json.JSONDecodeError) as exc:
+    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error, RecursionError) as exc:
         raise ResultsFormatError(f"{file} is not a readable flown run: {type(exc).__name__}: {exc}") from exc
     except MemoryError:  # a member whose header claims terabytes (a corrupt or hostile file), as load_mission says
         raise ResultsFormatError(f"{file} is not a flown run: an array of it claims more memory than there is") from None
