@@ -316,14 +316,16 @@ def plan_arguments(
     return arguments + (["--open-mesh"] if open_mesh else []) + ["--out", str(out)]
 
 
-def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = False) -> int:
+def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = False, solid: np.ndarray | None = None) -> int:
     """How many route segments of a written structure plan cross the structure (read as the
-    command read it), and how many final positions are nearer than the standoff or inside it."""
+    command read it), and how many final positions are nearer than the standoff or inside it
+    (inside ``solid``'s triangles when given, as :func:`judge`)."""
     import csv
     import json
 
     from uavcov.structures import load_structure
 
+    inside = solid
     structure = load_structure(path, scale=scale, closed=not open_mesh)
     v, f = structure.surface.vertices, structure.surface.faces
     solid = v[f[structure.face_parts != structure.ground_part]]
@@ -338,12 +340,12 @@ def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = F
         violations += int(segment_hits(solid, route[:-1], route[1:], 1e-9).sum())
     positions = np.asarray(plan["positions_local"], float)
     violations += int((point_triangle_distance(positions, v[f]) < H_MIN - 1e-9).sum())
-    violations += int((winding_number(positions, solid) > 0.5).sum())
+    violations += int((winding_number(positions, solid if inside is None else inside) > 0.5).sum())
     return violations
 
 
 def plan_judged(
-    path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False
+    path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False, solid=None
 ) -> PlanOutcome:
     """``uavcov plan --structure FILE`` in a child process, judged by :func:`judge_plan`."""
     import json
@@ -354,7 +356,7 @@ def plan_judged(
     done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False, env=_no_plots_env())
     outcome = PlanOutcome(done.returncode, done.stderr.strip())
     if done.returncode == 0:
-        outcome.violations = judge_plan(path, out, scale=scale, open_mesh=open_mesh)
+        outcome.violations = judge_plan(path, out, scale=scale, open_mesh=open_mesh, solid=solid)
         outcome.coverage = float(json.loads((out / "plan.json").read_text())["results"]["coverage"])
     return outcome
 
@@ -379,6 +381,8 @@ def inside_disagreements(structure, shape: Shape, count: int = 400, seed: int = 
     lo[2] = shape.ground_z  # above the ground sheet: under it, any ray up meets the sheet
     points = np.random.default_rng(seed).uniform(lo, hi, (count, 3))
     points = points[point_triangle_distance(points, triangles) > 1e-3 * max(1.0, float(np.ptp(used, axis=0).max()))]
+    if shape.ground is not None:  # a hillside: not under it either
+        points = points[~below_ground(points, shape.ground[0][shape.ground[1]])]
     expected = np.abs(winding_number(points, triangles)) > 0.5  # a solid wound inward has -1 inside
     said = np.asarray(structure.surface.inside(points), dtype=bool)
     return int((expected & ~said).sum()), int((~expected & said).sum())

@@ -55,12 +55,18 @@ def frustum(r_bottom: float, r_top: float, height: float, sides: int) -> Mesh:
     theta = 2 * np.pi * np.arange(sides) / sides
     ring = np.column_stack([np.cos(theta), np.sin(theta)])
     v = np.vstack(
-        [np.column_stack([r_bottom * ring, np.zeros(sides)]), np.column_stack([r_top * ring, np.full(sides, height)]), [[0, 0, 0], [0, 0, height]]]
+        [
+            np.column_stack([r_bottom * ring, np.zeros(sides)]),
+            np.column_stack([r_top * ring, np.full(sides, height)]),
+            [[0, 0, 0], [0, 0, height]],
+        ]
     )
     k = np.arange(sides)
     k1 = (k + 1) % sides
     side = np.vstack([np.column_stack([k, k1, sides + k1]), np.column_stack([k, sides + k1, sides + k])])
-    caps = np.vstack([np.column_stack([np.full(sides, 2 * sides), k1, k]), np.column_stack([np.full(sides, 2 * sides + 1), sides + k, sides + k1])])
+    caps = np.vstack(
+        [np.column_stack([np.full(sides, 2 * sides), k1, k]), np.column_stack([np.full(sides, 2 * sides + 1), sides + k, sides + k1])]
+    )
     return outward((v, np.vstack([side, caps]).astype(np.int64)))
 
 
@@ -166,8 +172,8 @@ def k_campus(g, kind, seed):
 def k_km_bridge(g, kind, seed):
     length, top = g.uniform(1400, 1600), g.uniform(12, 20)
     parts = [box((0, -6, top - 1.5), (length, 6, top))]
-    for x in np.arange(g.uniform(40, 80), length - 20, g.uniform(60, 100)):
-        parts.append(box((x - 1.5, -3, 0), (x + 1.5, 3, top - 1.0)))  # into the deck's underside
+    # piers every 60-100 m, their tops 0.5 m into the deck's underside
+    parts += [box((x - 1.5, -3, 0), (x + 1.5, 3, top - 1.0)) for x in np.arange(g.uniform(40, 80), length - 20, g.uniform(60, 100))]
     return _with_ground(kind, seed, transform(union(*parts), _rotation_z(g.uniform(0, np.pi))))
 
 
@@ -327,3 +333,20 @@ PRIORS: dict[str, Callable] = {
     "boxes": _coarse("boxes"),
     "decimated": _coarse("decimated"),
 }
+
+
+def through_file2(shape: Shape, directory, form: str, *, closed: bool | None = None):
+    """The shape's file (``file_mesh``) written here and read back by ``load_structure`` as a
+    user would (in the file's frame moved to its minimum corner, the default): the structure,
+    the file's path, and the shape's own solid triangles in the structure's frame (the
+    references' "inside", which a site model's terrain, read as structure, would confuse)."""
+    from pathlib import Path
+
+    from shape_zoo import write_mesh
+    from uavcov.structures import load_structure
+
+    v, f = file_mesh(shape)
+    path = write_mesh(Path(directory), f"{shape.kind}_{shape.seed}", v, f, form)
+    structure = load_structure(path, closed=shape.closed if closed is None else closed)
+    corner = v[np.unique(f)].min(axis=0)
+    return structure, path, shape.vertices[shape.faces] - corner
