@@ -108,33 +108,13 @@ def main() -> None:
                 for route, structure in routes.items():
                     for start in ("cvt", "greedy"):
                         outcome = checks.run_judged(structure, start, args.iterations, seed, shape.closed, targets_count=args.targets)
-                        count["runs"] += 1
-                        if outcome.error is not None:
-                            count["refused" if outcome.clear_refusal else "crashes"] += 1
-                            notes.add(f"{route} {start}: {outcome.error[:120]}")
-                            continue
-                        verdict = outcome.verdict
-                        count["safety"] += verdict.safety
-                        count["raw_inside"] += verdict.raw_start_inside
-                        count["coverage_off"] = max(count["coverage_off"], verdict.coverage_off)
-                        best[start].append(outcome.best)
+                        _tally(outcome, route, count, best, notes)
                 if not args.no_cli and seed == seeds[0]:
                     path = zoo.write_mesh(
                         Path(scratch), f"cli_{kind}_{seed}", shape.vertices * (1000.0 if shape.millimetres else 1.0), shape.faces, form
                     )
                     scale = 0.001 if shape.millimetres else 1.0
-                    planned = checks.plan_judged(path, Path(scratch) / f"plan_{kind}_{seed}", seed, args.iterations, scale=scale)
-                    if planned.returncode == 2 and "--open-mesh" in planned.stderr:  # as the message tells a user
-                        notes.add("CLI refused the file as closed solids, planned with --open-mesh")
-                        planned = checks.plan_judged(
-                            path, Path(scratch) / f"plan_{kind}_{seed}b", seed, args.iterations, scale=scale, open_mesh=True
-                        )
-                    count["cli_runs"] += 1
-                    count["cli_ok"] += planned.returncode == 0
-                    count["cli_violations"] += planned.violations
-                    if planned.returncode != 0:
-                        lines = planned.stderr.splitlines()
-                        notes.add(f"CLI exit {planned.returncode} ({len(lines)} line): {lines[-1][:110] if lines else ''}")
+                    _plan_tally(path, Path(scratch), f"{kind}_{seed}", seed, args.iterations, count, notes, scale=scale)
             rows.append((kind, seeds, count, best, notes))
             print(f"  {kind} done ({time.perf_counter() - began:.0f} s)", file=sys.stderr, flush=True)
     print_table(rows, args)
@@ -239,10 +219,16 @@ def _second_cli(shape: zoo.Shape, scratch: Path, form: str, seed: int, iteration
     v, f = zoo2.file_mesh(shape)
     path = zoo.write_mesh(scratch, f"cli_{shape.kind}_{seed}", v, f, form)
     solid = shape.vertices[shape.faces] - v[np.unique(f)].min(axis=0)  # the terrain in a site's file is no solid
-    planned = checks.plan_judged(path, scratch / f"plan_{shape.kind}_{seed}", seed, iterations, solid=solid)
+    _plan_tally(path, scratch, f"{shape.kind}_{seed}", seed, iterations, count, notes, solid=solid)
+
+
+def _plan_tally(path: Path, scratch: Path, name: str, seed: int, iterations: int, count: dict, notes: set, **judged) -> None:
+    """``uavcov plan --structure FILE``, again with ``--open-mesh`` if refused as the message
+    tells a user, judged (``scale``, ``solid`` as ``checks.plan_judged``) and counted."""
+    planned = checks.plan_judged(path, scratch / f"plan_{name}", seed, iterations, **judged)
     if planned.returncode == 2 and "--open-mesh" in planned.stderr:
         notes.add("CLI refused the file as closed solids, planned with --open-mesh")
-        planned = checks.plan_judged(path, scratch / f"plan_{shape.kind}_{seed}b", seed, iterations, open_mesh=True, solid=solid)
+        planned = checks.plan_judged(path, scratch / f"plan_{name}b", seed, iterations, open_mesh=True, **judged)
     count["cli_runs"] += 1
     count["cli_ok"] += planned.returncode == 0
     count["cli_violations"] += planned.violations

@@ -297,6 +297,18 @@ def run_judged(
     return outcome
 
 
+def assert_kept(outcome: Outcome) -> None:
+    """Assert that the judged mission ran and kept every promise: no crash, no safety violation,
+    the reported coverage within the recount's bounds (and those unambiguous), best >= start."""
+    assert outcome.error is None, outcome.error
+    verdict = outcome.verdict
+    assert (verdict.standoff, verdict.separation, verdict.ceiling, verdict.below_ground) == (0, 0, 0, 0)
+    assert verdict.inside == 0 and verdict.moves_crossing == 0
+    assert verdict.coverage_off <= 1e-12
+    assert verdict.recount[1] - verdict.recount[0] <= 1e-12
+    assert 0.0 < outcome.best <= 1.0 and outcome.best >= outcome.initial
+
+
 @dataclass
 class PlanOutcome:
     returncode: int

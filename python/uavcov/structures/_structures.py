@@ -624,7 +624,8 @@ def load_structure(
         Require closed solids (two solids that share a face make non-manifold edges: merge them
         into one solid, or pass ``closed=False`` to read an open surface).
     add_ground : bool, default True
-        Add the ground plane (its faces are the part ``"ground"``).
+        Add the ground plane (its faces are the part ``"ground"``). A mission needs one:
+        :func:`uavcov.run_mission` refuses a structure with no ground under it.
     max_faces : int, default 2 000 000
         The most faces read.
     max_extent : float, default 1e5
