@@ -350,3 +350,19 @@ def through_file2(shape: Shape, directory, form: str, *, closed: bool | None = N
     structure = load_structure(path, closed=shape.closed if closed is None else closed)
     corner = v[np.unique(f)].min(axis=0)
     return structure, path, shape.vertices[shape.faces] - corner
+
+
+def hairline_slivers(mesh: Mesh, share: float) -> Mesh:
+    """The closed mesh with the edge shared by its first two faces split at ``share`` of its
+    length from one end, in both faces: two slivers (of about zero area for a tiny ``share``)
+    where a CAD exporter mends a T-junction. Still closed and wound alike."""
+    v, f = mesh
+    b, c = (int(x) for x in f[0] if x in f[1])  # in f[0]'s order
+    if list(f[0]).index(c) != (list(f[0]).index(b) + 1) % 3:
+        b, c = c, b  # f[0] runs b -> c; f[1] runs c -> b
+    p = len(v)
+    faces = []
+    for t, (x, y) in ((f[0], (b, c)), (f[1], (c, b))):
+        a = next(int(k) for k in t if k not in (b, c))
+        faces += [(x, p, a), (p, y, a)]  # x -> p -> y along the edge, a the third corner, as t ran
+    return np.vstack([v, v[b] + share * (v[c] - v[b])]), np.vstack([np.array(faces, np.int64), f[2:]])

@@ -19,7 +19,8 @@ import shape_zoo2 as zoo2
 import uavcov
 from uavcov.cli import main
 from uavcov.errors import InvalidInputError, MeshError
-from uavcov.structures import reconstruct_structure, reconstruction_error, sample_structure_prior
+from uavcov.structures import load_structure, reconstruct_structure, reconstruction_error, sample_structure_prior
+from uavcov.structures._cracks import zero_width_cracks
 
 ITERATIONS = 6
 REFUSED = ("no_ground", "small_ground")  # a Structure whose ground does not reach under it
@@ -171,6 +172,29 @@ def test_a_ground_exactly_as_wide_as_the_structure_is_accepted():
     settings = checks.readme_settings(structure, "cvt", 2, n_uavs=2)
     result = uavcov.run_mission(structure, settings, targets=structure.targets(spacing=2.0), rng=0, n_threads=1)
     assert 0.0 < result.best_coverage <= 1.0
+
+
+@pytest.mark.parametrize("share", [1e-13, 1e-15])
+def test_a_closed_solid_with_hairline_slivers_is_read_as_closed(share, tmp_path):
+    # A vertex a hair off an edge of a 1 km block (0.1 nm to 1 pm): its two slivers have less
+    # area than the repair keeps (1e-13 of the squared diagonal); dropping them opened four
+    # edges, and the closed file was refused as "not a closed solid ... pass closed=False".
+    v, f = zoo2.hairline_slivers(zoo.box((0, 0, 0), (1000, 40, 20)), share)
+    assert _edges(f)[:2] == (0, 0)
+    structure = load_structure(zoo.write_mesh(tmp_path, "hair", v, f, "ply_binary"))
+    assert structure.surface.inside(np.array([[500.0, 20.0, 10.0], [500.0, 20.0, 30.0]])).tolist() == [True, False]
+    _assert_kept(checks.run_judged(structure, "cvt", 2, 0, True, n_uavs=4, targets_count=100, solid=v[f]))
+
+
+def test_a_real_hole_beside_dropped_slivers_is_still_refused(tmp_path):
+    v, f = zoo2.hairline_slivers(zoo.box((0, 0, 0), (30, 20, 10)), 1e-15)
+    with pytest.raises(MeshError, match="not a closed solid"):
+        load_structure(zoo.write_mesh(tmp_path, "holed", v, f[:-1], "obj"))  # a whole face missing too
+    # a loop of open edges that encloses an area is a hole, one that encloses none a crack
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 1]], float)
+    pyramid = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])  # open at its base
+    assert not zero_width_cracks(square, pyramid)
+    assert not zero_width_cracks(*zoo.box((0, 0, 0), (1, 1, 1)))  # no open edge at all
 
 
 @pytest.mark.xfail(strict=True, reason="oriented S' spans buildings 200 m apart (structures/_outer_surface.py: reported to the lead)")

@@ -33,6 +33,7 @@ from .._validate import (
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
+from ._cracks import zero_width_cracks
 from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume, wound_inward
 
 GROUND = "ground"
@@ -675,7 +676,9 @@ def load_structure(
         raise MeshError(f"{text}: the model is {extent:.3g} m across, more than max_extent={max_extent:g} m (wrong units?)")
     report = loaded.mesh_report
     if closed:
-        if report.boundary_edges or report.nonmanifold_edges:
+        # Slivers of zero area the repair dropped leave cracks of no width in a closed solid.
+        cracks = report.degenerate_faces and not report.nonmanifold_edges and zero_width_cracks(vertices, faces)
+        if (report.boundary_edges or report.nonmanifold_edges) and not cracks:
             raise MeshError(
                 f"{text}: not a closed solid ({report.boundary_edges} open and {report.nonmanifold_edges} non-manifold edges); "
                 "pass closed=False (uavcov plan: --open-mesh) to read it as an open surface"
