@@ -676,8 +676,7 @@ def load_structure(
         raise MeshError(f"{text}: the model is {extent:.3g} m across, more than max_extent={max_extent:g} m (wrong units?)")
     report = loaded.mesh_report
     if closed:
-        # Slivers of zero area the repair dropped leave cracks of no width in a closed solid.
-        cracks = report.degenerate_faces and not report.nonmanifold_edges and zero_width_cracks(vertices, faces)
+        cracks = report.degenerate_faces and not report.nonmanifold_edges and zero_width_cracks(vertices, faces)  # of dropped slivers
         if (report.boundary_edges or report.nonmanifold_edges) and not cracks:
             raise MeshError(
                 f"{text}: not a closed solid ({report.boundary_edges} open and {report.nonmanifold_edges} non-manifold edges); "
