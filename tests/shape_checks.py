@@ -21,12 +21,21 @@ from shape_zoo import Shape
 # ---------------------------------------------------------------------------------------------
 
 
+_CELLS = 2_000_000  # (point, triangle) pairs held at once: a 200k-face mesh stays in memory
+
+
+def _rows(chunk: int, n_triangles: int) -> int:
+    """At most ``chunk`` points (or segments) at a time, fewer against many triangles."""
+    return max(1, min(chunk, _CELLS // max(1, n_triangles)))
+
+
 def point_triangle_distance(points: np.ndarray, triangles: np.ndarray, chunk: int = 256) -> np.ndarray:
     """``(P,)`` least distance of each point to any of ``triangles`` ``(F, 3, 3)``, by the
     closest-point regions of each triangle (vertex, edge, face)."""
     out = np.empty(len(points))
     a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     ab, ac = b - a, c - a
+    chunk = _rows(chunk, len(triangles))
     for s in range(0, len(points), chunk):
         p = points[s : s + chunk, None, :]
         ap, bp, cp = p - a, p - b, p - c
@@ -55,6 +64,7 @@ def winding_number(points: np.ndarray, triangles: np.ndarray, chunk: int = 128) 
     """``(P,)`` generalised winding number of each point with respect to ``triangles``: 1 inside
     a closed outward solid, 0 outside, 2 where two overlapping solids are both around it."""
     out = np.empty(len(points))
+    chunk = _rows(chunk, len(triangles))
     for s in range(0, len(points), chunk):
         a = triangles[None, :, 0] - points[s : s + chunk, None]
         b = triangles[None, :, 1] - points[s : s + chunk, None]
@@ -70,8 +80,20 @@ def segment_hits(triangles: np.ndarray, a: np.ndarray, b: np.ndarray, eps: float
     """``(S,)`` bool: the segment ``a[k] -> b[k]`` meets some triangle (Moller-Trumbore);
     ``eps > 0`` widens each triangle and the segment by that share, ``eps < 0`` shrinks them."""
     out = np.zeros(len(a), dtype=bool)
-    t0, e1, e2 = triangles[None, :, 0], (triangles[:, 1] - triangles[:, 0])[None], (triangles[:, 2] - triangles[:, 0])[None]
+    # Each chunk meets only the triangles whose boxes overlap its own (a dense mesh's many
+    # triangles far from a short segment cannot be crossed): the same answer, less work.
+    t_lo, t_hi = triangles.min(axis=1), triangles.max(axis=1)
+    pad = 1e-6 * max(1.0, float(np.abs(triangles).max()) if len(triangles) else 1.0)
     for s in range(0, len(a), chunk):
+        ends = np.concatenate([a[s : s + chunk], b[s : s + chunk]])
+        near = ((t_hi >= ends.min(axis=0) - pad) & (t_lo <= ends.max(axis=0) + pad)).all(axis=1)
+        if not near.any():
+            continue
+        here = triangles[near]
+        if len(here) * chunk > _CELLS:  # a dense mesh near the chunk: fewer segments at a time
+            out[s : s + chunk] = segment_hits(here, a[s : s + chunk], b[s : s + chunk], eps, _rows(chunk, len(here)))
+            continue
+        t0, e1, e2 = here[None, :, 0], (here[:, 1] - here[:, 0])[None], (here[:, 2] - here[:, 0])[None]
         o, d = a[s : s + chunk, None], (b - a)[s : s + chunk, None]
         pvec = np.cross(d, e2)
         det = (e1 * pvec).sum(-1)
@@ -123,12 +145,19 @@ class Verdict:
         return self.standoff + self.separation + self.ceiling + self.below_ground + self.inside + self.moves_crossing
 
 
-def judge(structure, result, h_min: float, d_safe: float, z_max: float, closed: bool) -> Verdict:
-    """Every configuration of ``result`` (a MissionResult on ``structure``) against the references."""
+def judge(structure, result, h_min: float, d_safe: float, z_max: float, closed: bool, *, solid: np.ndarray | None = None) -> Verdict:
+    """Every configuration of ``result`` (a MissionResult on ``structure``) against the references.
+
+    ``solid`` ``(F, 3, 3)``: the triangles of the closed solids a UAV must stay out of, when the
+    structure's non-ground faces hold more (a site model read with its terrain as one open mesh);
+    by default the faces of every part but the ground. Below the ground is under its lowest
+    point, or under a face of it (a ray straight up meets it: a hillside); with no ground part,
+    nothing is.
+    """
     v, f = structure.surface.vertices, structure.surface.faces
     triangles = v[f]
-    solid = triangles[structure.face_parts != structure.ground_part]
-    ground_z = float(v[f[structure.face_parts == structure.ground_part]][..., 2].min())
+    on_ground = structure.face_parts == (-1 if structure.ground_part is None else structure.ground_part)
+    solid = triangles[~on_ground] if solid is None else solid
     trajectory = np.asarray(result.trajectory)
     points = trajectory.reshape(-1, 3)
     unique = np.unique(points, axis=0)
@@ -136,7 +165,7 @@ def judge(structure, result, h_min: float, d_safe: float, z_max: float, closed: 
     scale = max(1.0, float(np.abs(v).max()))
     verdict.standoff = int((point_triangle_distance(unique, triangles) < h_min - 1e-9 * scale).sum())
     verdict.ceiling = int((unique[:, 2] > z_max + 1e-9 * scale).sum())
-    verdict.below_ground = int((unique[:, 2] < ground_z).sum())
+    verdict.below_ground = int(below_ground(unique, triangles[on_ground]).sum())
     if closed:
         verdict.inside = int((winding_number(unique, solid) > 0.5).sum())
         raw = np.asarray(result.start_positions)
@@ -148,6 +177,16 @@ def judge(structure, result, h_min: float, d_safe: float, z_max: float, closed: 
     moved = (a != b).any(axis=1)
     verdict.moves_crossing = int(segment_hits(triangles, a[moved], b[moved], 1e-9).sum())
     return verdict
+
+
+def below_ground(points: np.ndarray, ground: np.ndarray) -> np.ndarray:
+    """``(P,)`` bool: under the ground triangles ``(G, 3, 3)`` (facing up): below their lowest
+    point, or with one of them straight above (a ray up meets it, widened by 1e-9)."""
+    if ground.shape[0] == 0:
+        return np.zeros(len(points), dtype=bool)
+    low = points[:, 2] < ground[..., 2].min()
+    above = points + [0.0, 0.0, float(np.ptp(ground[..., 2])) + float(np.abs(ground[..., 2]).max()) + 1.0]
+    return low | segment_hits(ground, points, above, -1e-9)
 
 
 def recount(structure, targets, positions: np.ndarray, d_max: float) -> tuple[float, float]:
@@ -218,8 +257,21 @@ class Outcome:
     initial: float = float("nan")
 
 
-def run_judged(structure, start: str, iterations: int, seed: int, closed: bool, *, n_uavs: int = 8, targets_count: int = 400) -> Outcome:
-    """Run one mission with the README's settings and judge it by the references."""
+def run_judged(
+    structure,
+    start: str,
+    iterations: int,
+    seed: int,
+    closed: bool,
+    *,
+    n_uavs: int = 8,
+    targets_count: int = 400,
+    solid: np.ndarray | None = None,
+    prior=None,
+) -> Outcome:
+    """Run one mission with the README's settings and judge it by the references (``solid`` as
+    :func:`judge`; ``prior(structure, seed) -> StructurePrior`` instead of the README's 100 known
+    points with normals)."""
     import uavcov
     from uavcov import errors
 
@@ -227,13 +279,14 @@ def run_judged(structure, start: str, iterations: int, seed: int, closed: bool, 
     try:
         settings = readme_settings(structure, start, iterations, n_uavs)
         targets = few_targets(structure, targets_count)
-        result = uavcov.run_mission(structure, settings, targets=targets, rng=seed, n_threads=1)
+        known = None if prior is None else prior(structure, seed)
+        result = uavcov.run_mission(structure, settings, known=known, targets=targets, rng=seed, n_threads=1)
     except Exception as exc:  # noqa: BLE001 -- any failure is counted (a crash or a clear refusal), not hidden
         outcome.error = f"{type(exc).__name__}: {exc}"
         outcome.clear_refusal = isinstance(exc, errors.UavcovError)
         return outcome
     z_max = result.settings.constraints.z_max
-    verdict = judge(structure, result, H_MIN, D_SAFE, z_max, closed)
+    verdict = judge(structure, result, H_MIN, D_SAFE, z_max, closed, solid=solid)
     best_lo, best_hi = recount(structure, targets, result.best_positions, D_MAX)
     start_lo, start_hi = recount(structure, targets, result.initial_positions, D_MAX)
     verdict.recount = (best_lo, best_hi)
@@ -242,6 +295,18 @@ def run_judged(structure, start: str, iterations: int, seed: int, closed: bool, 
     verdict.coverage_off = off
     outcome.verdict, outcome.best, outcome.initial = verdict, result.best_coverage, result.initial_coverage
     return outcome
+
+
+def assert_kept(outcome: Outcome) -> None:
+    """Assert that the judged mission ran and kept every promise: no crash, no safety violation,
+    the reported coverage within the recount's bounds (and those unambiguous), best >= start."""
+    assert outcome.error is None, outcome.error
+    verdict = outcome.verdict
+    assert (verdict.standoff, verdict.separation, verdict.ceiling, verdict.below_ground) == (0, 0, 0, 0)
+    assert verdict.inside == 0 and verdict.moves_crossing == 0
+    assert verdict.coverage_off <= 1e-12
+    assert verdict.recount[1] - verdict.recount[0] <= 1e-12
+    assert 0.0 < outcome.best <= 1.0 and outcome.best >= outcome.initial
 
 
 @dataclass
@@ -263,14 +328,16 @@ def plan_arguments(
     return arguments + (["--open-mesh"] if open_mesh else []) + ["--out", str(out)]
 
 
-def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = False) -> int:
+def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = False, solid: np.ndarray | None = None) -> int:
     """How many route segments of a written structure plan cross the structure (read as the
-    command read it), and how many final positions are nearer than the standoff or inside it."""
+    command read it), and how many final positions are nearer than the standoff or inside it
+    (inside ``solid``'s triangles when given, as :func:`judge`)."""
     import csv
     import json
 
     from uavcov.structures import load_structure
 
+    inside = solid
     structure = load_structure(path, scale=scale, closed=not open_mesh)
     v, f = structure.surface.vertices, structure.surface.faces
     solid = v[f[structure.face_parts != structure.ground_part]]
@@ -285,12 +352,12 @@ def judge_plan(path: Path, out: Path, *, scale: float = 1.0, open_mesh: bool = F
         violations += int(segment_hits(solid, route[:-1], route[1:], 1e-9).sum())
     positions = np.asarray(plan["positions_local"], float)
     violations += int((point_triangle_distance(positions, v[f]) < H_MIN - 1e-9).sum())
-    violations += int((winding_number(positions, solid) > 0.5).sum())
+    violations += int((winding_number(positions, solid if inside is None else inside) > 0.5).sum())
     return violations
 
 
 def plan_judged(
-    path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False
+    path: Path, out: Path, seed: int, iterations: int, n_uavs: int = 8, *, scale: float = 1.0, open_mesh: bool = False, solid=None
 ) -> PlanOutcome:
     """``uavcov plan --structure FILE`` in a child process, judged by :func:`judge_plan`."""
     import json
@@ -301,7 +368,7 @@ def plan_judged(
     done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False, env=_no_plots_env())
     outcome = PlanOutcome(done.returncode, done.stderr.strip())
     if done.returncode == 0:
-        outcome.violations = judge_plan(path, out, scale=scale, open_mesh=open_mesh)
+        outcome.violations = judge_plan(path, out, scale=scale, open_mesh=open_mesh, solid=solid)
         outcome.coverage = float(json.loads((out / "plan.json").read_text())["results"]["coverage"])
     return outcome
 
@@ -326,6 +393,8 @@ def inside_disagreements(structure, shape: Shape, count: int = 400, seed: int = 
     lo[2] = shape.ground_z  # above the ground sheet: under it, any ray up meets the sheet
     points = np.random.default_rng(seed).uniform(lo, hi, (count, 3))
     points = points[point_triangle_distance(points, triangles) > 1e-3 * max(1.0, float(np.ptp(used, axis=0).max()))]
+    if shape.ground is not None:  # a hillside: not under it either
+        points = points[~below_ground(points, shape.ground[0][shape.ground[1]])]
     expected = np.abs(winding_number(points, triangles)) > 0.5  # a solid wound inward has -1 inside
     said = np.asarray(structure.surface.inside(points), dtype=bool)
     return int((expected & ~said).sum()), int((~expected & said).sum())

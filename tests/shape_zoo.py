@@ -182,6 +182,11 @@ class Shape:
     closed: bool = True  # closed solids: "inside" is meaningful
     ground_z: float = 0.0
     millimetres: bool = False  # its mesh file is written in millimetres (read with scale=0.001)
+    # The ground as_structure puts under it (tests/shape_zoo2.py): "sheet" a flat sheet round it,
+    # "mesh" the given ``ground`` (a hillside, a valley), "none" no ground at all, "small" a
+    # sheet under the middle of the structure only.
+    ground: Mesh | None = None
+    ground_mode: str = "sheet"
 
 
 def _rotation_x(angle: float) -> np.ndarray:
@@ -389,25 +394,40 @@ def as_structure(shape: Shape):
     from uavcov.structures import Structure
 
     v, f = shape.vertices, shape.faces
+    gv, gf = _ground_of(shape)
+    tri = v[f]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    resting = np.abs(tri[:, :, 2] - shape.ground_z).max(axis=1) <= 1e-9 * max(1.0, abs(shape.ground_z))
+    resting &= normal[:, 2] < 0 if shape.kind != "inverted_winding" else normal[:, 2] > 0
+    if shape.ground_mode == "none":
+        parts = np.where(resting, 1, 0).astype(np.int32)
+        return Structure(shape.kind, uavcov.Terrain(v, f), parts, ("structure", "contact"), None)
+    parts = np.concatenate([np.zeros(len(gf), np.int32), np.where(resting, 2, 1).astype(np.int32)])
+    surface = uavcov.Terrain(np.vstack([gv, v]), np.vstack([gf, f + len(gv)]))
+    return Structure(shape.kind, surface, parts, ("ground", "structure", "contact"), 0)
+
+
+def _ground_of(shape: Shape) -> Mesh:
+    """The ground ``as_structure`` puts under the shape (see ``Shape.ground_mode``), faces up."""
+    if shape.ground_mode == "mesh":
+        return shape.ground
+    v, f = shape.vertices, shape.faces
     used = v[np.unique(f)]
     lo, hi = used.min(axis=0), used.max(axis=0)
-    margin = max(0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1])), 10.0)
+    if shape.ground_mode == "small":  # the middle fifth of the footprint only
+        centre, half = (lo + hi) / 2, (hi - lo) / 10
+        lo, hi, margin = centre - half, centre + half, 0.0
+    else:
+        margin = max(0.5 * float(max(hi[0] - lo[0], hi[1] - lo[1])), 10.0)
     xs = np.linspace(lo[0] - margin, hi[0] + margin, 5)
     ys = np.linspace(lo[1] - margin, hi[1] + margin, 5)
     gx, gy = np.meshgrid(xs, ys, indexing="ij")
     gv = np.column_stack([gx.ravel(), gy.ravel(), np.full(gx.size, shape.ground_z)])
     gf = grid_quads(5, 5, False, False)
-    gf = np.array([(a, b, c) for a, b, c in gf])
     # grid_quads walks the lattice (x outer, y inner): make every ground face face up
     n = np.cross(gv[gf[:, 1]] - gv[gf[:, 0]], gv[gf[:, 2]] - gv[gf[:, 0]])
     gf[n[:, 2] < 0] = gf[n[:, 2] < 0][:, ::-1]
-    tri = v[f]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    resting = np.abs(tri[:, :, 2] - shape.ground_z).max(axis=1) <= 1e-9 * max(1.0, abs(shape.ground_z))
-    resting &= normal[:, 2] < 0 if shape.kind != "inverted_winding" else normal[:, 2] > 0
-    parts = np.concatenate([np.zeros(len(gf), np.int32), np.where(resting, 2, 1).astype(np.int32)])
-    surface = uavcov.Terrain(np.vstack([gv, v]), np.vstack([gf, f + len(gv)]))
-    return Structure(shape.kind, surface, parts, ("ground", "structure", "contact"), 0)
+    return gv, gf
 
 
 # ---------------------------------------------------------------------------------------------

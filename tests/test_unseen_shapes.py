@@ -65,14 +65,7 @@ def test_the_shapes_are_what_they_claim():
 # ---------------------------------------------------------------------------------------------
 
 
-def _assert_kept(outcome: checks.Outcome) -> None:
-    assert outcome.error is None, outcome.error
-    verdict = outcome.verdict
-    assert (verdict.standoff, verdict.separation, verdict.ceiling, verdict.below_ground) == (0, 0, 0, 0)
-    assert verdict.inside == 0 and verdict.moves_crossing == 0
-    assert verdict.coverage_off <= 1e-12  # the reported coverage within the recount's bounds
-    assert verdict.recount[1] - verdict.recount[0] <= 1e-12  # and the recount is not ambiguous here
-    assert 0.0 < outcome.best <= 1.0 and outcome.best >= outcome.initial
+_assert_kept = checks.assert_kept
 
 
 @pytest.mark.parametrize("kind", SAFE_KINDS)

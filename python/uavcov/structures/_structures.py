@@ -33,6 +33,7 @@ from .._validate import (
 from ..engine import Targets, Terrain
 from ..errors import InvalidInputError, InvalidTypeError, MeshError
 from ..terrain import load_mesh
+from ._cracks import zero_width_cracks
 from ._solids import Piece, box, cells, face_normals, frustum, ground, join, loft, refine, signed_volume, wound_inward
 
 GROUND = "ground"
@@ -624,7 +625,8 @@ def load_structure(
         Require closed solids (two solids that share a face make non-manifold edges: merge them
         into one solid, or pass ``closed=False`` to read an open surface).
     add_ground : bool, default True
-        Add the ground plane (its faces are the part ``"ground"``).
+        Add the ground plane (its faces are the part ``"ground"``). A mission needs one:
+        :func:`uavcov.run_mission` refuses a structure with no ground under it.
     max_faces : int, default 2 000 000
         The most faces read.
     max_extent : float, default 1e5
@@ -674,7 +676,8 @@ def load_structure(
         raise MeshError(f"{text}: the model is {extent:.3g} m across, more than max_extent={max_extent:g} m (wrong units?)")
     report = loaded.mesh_report
     if closed:
-        if report.boundary_edges or report.nonmanifold_edges:
+        cracks = report.degenerate_faces and not report.nonmanifold_edges and zero_width_cracks(vertices, faces)  # of dropped slivers
+        if (report.boundary_edges or report.nonmanifold_edges) and not cracks:
             raise MeshError(
                 f"{text}: not a closed solid ({report.boundary_edges} open and {report.nonmanifold_edges} non-manifold edges); "
                 "pass closed=False (uavcov plan: --open-mesh) to read it as an open surface"
