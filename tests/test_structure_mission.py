@@ -322,3 +322,10 @@ def test_the_committed_structures_experiment_is_the_report_of_its_rows():
     report = report_from_folder(docs / "structures_experiment")
     assert report.strip() in section
     assert "Failed runs" not in report
+
+
+def test_the_families_ground_reaches_under_all_of_them() -> None:
+    from uavcov.structures import STRUCTURE_FAMILIES, STRUCTURE_SCENES
+
+    for name, make in {**STRUCTURE_FAMILIES, **STRUCTURE_SCENES}.items():
+        assert make(rng=0).check_ground() is None, name

@@ -411,3 +411,35 @@ def test_tetrahedra_marked_free_stay_outside_and_the_boundary_stays_closed_and_o
     surface = uavcov.Terrain(points, carved, drop_degenerate=True)
     assert not surface.inside(points[tetra[free]].mean(axis=1)).any()
     assert surface.inside(gap).sum() < gap.shape[0]
+
+
+def _box_points(lo, hi, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` points with outward normals on each face of the box ``lo``-``hi``."""
+    generator = np.random.default_rng(seed)
+    points, normals = [], []
+    for axis in range(3):
+        for side, level in ((-1.0, lo[axis]), (1.0, hi[axis])):
+            face = generator.uniform(lo, hi, (n, 3))
+            face[:, axis] = level
+            normal = np.zeros((n, 3))
+            normal[:, axis] = side
+            points.append(face)
+            normals.append(normal)
+    return np.concatenate(points), np.concatenate(normals)
+
+
+@pytest.mark.parametrize("gap, groups", [(300.0, 2), (4.0, 1)])
+def test_structures_far_apart_are_reconstructed_apart(gap: float, groups: int) -> None:
+    from uavcov.structures._outer_surface import separate_groups
+
+    a, na = _box_points((0.0, 0.0, 0.0), (10.0, 10.0, 10.0), 8, 0)
+    b, nb = _box_points((10.0 + gap, 0.0, 0.0), (20.0 + gap, 10.0, 10.0), 8, 1)
+    prior = StructurePrior(np.vstack([a, b]), np.vstack([na, nb]), "points")
+    assert len(separate_groups(prior.points, prior.spacing)) == groups
+    surface = reconstruct_structure(prior)
+    # Apart, S' is the two boxes (1000 m^3 each, up to their sampled corners); together, one
+    # solid spanning the gap.
+    volume = signed_volume(surface.vertices, surface.faces)
+    assert (volume < 2000.0 + 1e-6) if groups == 2 else (volume > 2000.0)
+    lonely = StructurePrior(np.vstack([a, b[:5]]), np.vstack([na, nb[:5]]), "points")  # 5 points: too few alone
+    assert len(separate_groups(lonely.points, lonely.spacing)) == 1

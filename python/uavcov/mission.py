@@ -360,41 +360,12 @@ def _structure_inputs(
             f"a mission on the structure {structure.name!r} needs 3D flight limits: "
             'constraints=Constraints(clearance="standoff", ...) (a vertical clearance forbids flying under a deck)'
         )
-    _check_ground(structure)
+    structure.check_ground()
     if known is None:
         if spec.prior != "random":
             raise InvalidInputError(f"prior={spec.prior!r} is a height field's: a structure's prior is n_prior random points on it")
         known = sample_structure_prior(structure, spec.n_prior, rng=rng)
     return known, structure.targets() if targets is None else targets
-
-
-def _check_ground(structure: Structure) -> None:
-    """Refuse a structure whose ground does not reach under all of it.
-
-    The standoff limits keep every UAV over some surface (a ray straight down must meet one),
-    so with no ground, or one that stops short of the structure, no UAV may stand beside it
-    where the ground is missing: only over its top, and the mission would report that as the
-    coverage the team can reach.
-    """
-    faces = structure.surface.faces
-    ground = np.zeros(faces.shape[0], dtype=bool) if structure.ground_part is None else structure.face_parts == structure.ground_part
-    if not ground.any():
-        raise InvalidInputError(
-            f"the structure {structure.name!r} has no ground: the standoff limits keep every UAV over some surface, so none "
-            "could fly beside it; give it a ground sheet reaching beyond it (load_structure adds one)"
-        )
-    vertices = structure.surface.vertices
-    under, solid = vertices[np.unique(faces[ground])], vertices[np.unique(faces[~ground])]
-    if not solid.shape[0]:
-        return
-    (g_lo, g_hi), (s_lo, s_hi) = ((p[:, :2].min(axis=0), p[:, :2].max(axis=0)) for p in (under, solid))
-    slack = 1e-9 * max(1.0, float(np.abs(structure.surface.bounds).max()))
-    if (g_lo > s_lo + slack).any() or (g_hi < s_hi - slack).any():
-        raise InvalidInputError(
-            f"the ground of {structure.name!r} covers x {g_lo[0]:.6g} to {g_hi[0]:.6g} m, y {g_lo[1]:.6g} to {g_hi[1]:.6g} m, but the "
-            f"structure reaches x {s_lo[0]:.6g} to {s_hi[0]:.6g} m, y {s_lo[1]:.6g} to {s_hi[1]:.6g} m: a UAV beside it there would "
-            "stand over no surface (the standoff limits need one below every UAV); extend the ground beyond the structure"
-        )
 
 
 def run_mission(

@@ -7,6 +7,7 @@ One layer above :mod:`uavcov.terrain` (a structure file is read with its mesh lo
 from __future__ import annotations
 
 from ._families import STRUCTURE_FAMILIES
+from ._height_field import height_field_violation
 from ._structure_prior import (
     ReconstructionError,
     StructurePrior,
@@ -15,7 +16,7 @@ from ._structure_prior import (
     reconstruction_error,
     sample_structure_prior,
 )
-from ._structures import STRUCTURE_SCENES, Structure, StructureTargets, facade, girder_bridge, height_field_violation, load_structure
+from ._structures import STRUCTURE_SCENES, Structure, StructureTargets, facade, girder_bridge, load_structure
 
 __all__ = [
     "Structure",

@@ -19,6 +19,10 @@ Three pieces, shared by every reconstruction method of :func:`reconstruct_struct
     For a surface made elsewhere (Open3D): its connected pieces, each kept only if no other
     piece encloses it (ray parity), turned outward by its signed volume when closed, else by the
     known points' normals.
+
+:func:`separate_groups`
+    Known points in groups far apart (buildings 200 m apart on a campus) are separate
+    structures: each is reconstructed alone, so S' does not span the air between them.
 """
 
 from __future__ import annotations
@@ -331,3 +335,56 @@ def outer_shells(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray, no
             raise InvalidInputError("the reconstruction left an open sheet and the prior has no normals to tell its outside")
         kept.append(piece if outward else piece[:, ::-1])
     return np.concatenate(kept) if kept else np.empty((0, 3), dtype=np.int64)
+
+
+# Known points more than this many of their spacings apart may belong to separate structures:
+# groups of occupied cells this size, joined through their 26 neighbours, are reconstructed
+# alone. Every connected structure measured stays one group (the families' widest gap in
+# their known points is 9 spacings over report and development seeds, tests/shape_zoo.py's
+# guyed mast 27 along its wires); buildings 200 m apart are 67-99 (tests/shape_zoo2.py's campus).
+SEPARATE_CELL_SPACINGS = 15.0
+
+
+# The fewest distinct known points a separate group is reconstructed from (a box's corners).
+MIN_GROUP_POINTS = 8
+
+
+def separate_groups(points: np.ndarray, spacing: float) -> list[np.ndarray]:
+    """Indices of the known points in each group far from the others (a single group when any
+    group would be too small to reconstruct: fewer than :data:`MIN_GROUP_POINTS` distinct
+    points, or no volume)."""
+    everything = [np.arange(points.shape[0])]
+    if not spacing > 0.0:
+        return everything
+    cell = SEPARATE_CELL_SPACINGS * spacing
+    key = np.floor((points - points.min(axis=0)) / cell).astype(np.int64)
+    occupied, point_cell = np.unique(key, axis=0, return_inverse=True)
+    point_cell = point_cell.reshape(-1)
+    if occupied.shape[0] < 2:
+        return everything
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    lookup = {tuple(k): i for i, k in enumerate(occupied.tolist())}
+    rows, cols = [], []
+    for i, k in enumerate(occupied.tolist()):
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    j = lookup.get((k[0] + dx, k[1] + dy, k[2] + dz))
+                    if j is not None:
+                        rows.append(i)
+                        cols.append(j)
+    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(occupied.shape[0],) * 2)
+    count, label = connected_components(graph, directed=False)
+    if count < 2:
+        return everything
+    groups = [np.flatnonzero(label[point_cell] == g) for g in range(count)]
+    for group in groups:
+        distinct = np.unique(points[group], axis=0)
+        if distinct.shape[0] < MIN_GROUP_POINTS:
+            return everything
+        spread = np.linalg.svd(distinct - distinct.mean(axis=0), compute_uv=False)
+        if not spread[2] > FLAT_SHARE * spread[0]:
+            return everything
+    return groups

@@ -30,7 +30,7 @@ from .._validate import (
 from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
 from ._facing import facing_into
-from ._outer_surface import alpha_solid, check_prior_points, normal_vote, oriented_solid, outer_shells
+from ._outer_surface import alpha_solid, check_prior_points, normal_vote, oriented_solid, outer_shells, separate_groups
 from ._solids import box, face_normals, join, signed_volume
 from ._structures import CONTACT, Structure, connected_faces
 
@@ -326,6 +326,30 @@ def _open3d(points: np.ndarray, normals: np.ndarray | None, method: str, depth: 
     return vertices, faces[~degenerate_faces(vertices, faces)] if faces.shape[0] else faces
 
 
+def _each_group(prior: StructurePrior, method: str, alpha: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """``"oriented"`` or ``"alpha"`` on each group of known points far from the others
+    (:func:`separate_groups`), the pieces joined: the air between separate structures is no
+    part of S'. A group that makes no solid alone is made with the others, as one."""
+
+    def solid(points: np.ndarray, normals: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        return oriented_solid(points, normals) if normals is not None else alpha_solid(points, alpha)
+
+    normals = prior.normals if method == "oriented" else None
+    groups = separate_groups(prior.points, prior.spacing)
+    if len(groups) > 1:
+        vertices, faces, offset = [], [], 0
+        try:
+            for group in groups:
+                piece_vertices, piece_faces = solid(prior.points[group], None if normals is None else normals[group])
+                vertices.append(piece_vertices)
+                faces.append(piece_faces + offset)
+                offset += piece_vertices.shape[0]
+            return np.concatenate(vertices), np.concatenate(faces)
+        except InvalidInputError:
+            pass
+    return solid(prior.points, normals)
+
+
 DEFAULT_METHOD = "oriented"
 
 
@@ -402,12 +426,10 @@ def reconstruct_structure(
         raise InvalidInputError(f"{points.shape[0]} known points are too sparse to reconstruct a structure (at least {min_points})")
     # Every method gets the same checked cloud: nothing degenerate reaches scipy or Open3D.
     check_prior_points(points, prior.normals, min_points)
-    if method == "oriented":
-        if prior.normals is None:
+    if method in ("oriented", "alpha"):
+        if method == "oriented" and prior.normals is None:
             raise InvalidInputError("method='oriented' needs points with normals (sample_structure_prior(..., normals=True))")
-        vertices, faces = oriented_solid(points, prior.normals)
-    elif method == "alpha":
-        vertices, faces = alpha_solid(points, alpha)
+        vertices, faces = _each_group(prior, method, alpha)
     elif method == "hulls":
         vertices, faces = _cluster_hulls(points, clusters, generator)
     else:

@@ -5,8 +5,8 @@ A :class:`Structure` is one triangle mesh (:class:`~uavcov.engine.Terrain`) made
 wound outward that may touch but never interpenetrate, plus an open ground sheet. Its
 :meth:`Structure.targets` are area-weighted points with outward normals on every part but the
 ground (optional) and the ``"contact"`` faces (solid faces pressed against another solid or the
-ground, which no camera can see). :func:`height_field_violation` measures how far a scene is from
-``z = f(x, y)``.
+ground, which no camera can see). :func:`height_field_violation` (``_height_field.py``) measures
+how far a scene is from ``z = f(x, y)``.
 """
 
 from __future__ import annotations
@@ -25,7 +25,6 @@ from .._validate import (
     as_generator,
     as_positive_float,
     as_positive_int,
-    cells_along,
     existing_path,
     is_int,
     read_only,
@@ -214,6 +213,40 @@ class Structure:
         tolerance = 1e-7 * float(np.max(bounds[1] - bounds[0]))
         pressed: np.ndarray = np.linalg.norm(contact.closest_point(points) - points, axis=1) <= tolerance
         return pressed
+
+    def check_ground(self) -> None:
+        """Refuse a structure whose ground does not reach under all of it.
+
+        The standoff limits keep every UAV over some surface (a ray straight down must meet one),
+        so with no ground, or one that stops short of the structure, no UAV may stand beside it
+        where the ground is missing: only over its top, and the mission would report that as the
+        coverage the team can reach. :func:`uavcov.run_mission` checks it first; ``load_structure``
+        adds a ground reaching beyond the structure.
+
+        Raises
+        ------
+        InvalidInputError
+            No ground part, or a ground whose x-y extent stops short of the structure's.
+        """
+        faces = self.surface.faces
+        ground = np.zeros(faces.shape[0], dtype=bool) if self.ground_part is None else self.face_parts == self.ground_part
+        if not ground.any():
+            raise InvalidInputError(
+                f"the structure {self.name!r} has no ground: the standoff limits keep every UAV over some surface, so none "
+                "could fly beside it; give it a ground sheet reaching beyond it (load_structure adds one)"
+            )
+        vertices = self.surface.vertices
+        under, solid = vertices[np.unique(faces[ground])], vertices[np.unique(faces[~ground])]
+        if not solid.shape[0]:
+            return
+        (g_lo, g_hi), (s_lo, s_hi) = ((p[:, :2].min(axis=0), p[:, :2].max(axis=0)) for p in (under, solid))
+        slack = 1e-9 * max(1.0, float(np.abs(self.surface.bounds).max()))
+        if (g_lo > s_lo + slack).any() or (g_hi < s_hi - slack).any():
+            raise InvalidInputError(
+                f"the ground of {self.name!r} covers x {g_lo[0]:.6g} to {g_hi[0]:.6g} m, y {g_lo[1]:.6g} to {g_hi[1]:.6g} m, but the "
+                f"structure reaches x {s_lo[0]:.6g} to {s_hi[0]:.6g} m, y {s_lo[1]:.6g} to {s_hi[1]:.6g} m: a UAV beside it there would "
+                "stand over no surface (the standoff limits need one below every UAV); extend the ground beyond the structure"
+            )
 
     def coverage_by_part(self, seen: Any, targets: StructureTargets) -> dict[str, float]:
         """Weighted share of each part's targets that is seen.
@@ -516,74 +549,6 @@ def solid_components(structure: Structure) -> list[np.ndarray]:
     """The face indices of each connected solid (faces sharing a vertex), ground left out."""
     solid = np.nonzero(structure.face_parts != (-1 if structure.ground_part is None else structure.ground_part))[0]
     return [solid[group] for group in connected_faces(structure.surface.faces[solid], structure.surface.n_vertices)]
-
-
-def height_field_violation(structure: Structure, *, resolution: float | None = None) -> tuple[float, float]:
-    """How far a structure is from a height field ``z = f(x, y)``.
-
-    Parameters
-    ----------
-    structure : Structure
-    resolution : float, optional
-        Spacing of the vertical rays (m); default 1/200 of the larger side of the structure's
-        (x, y) bounding box.
-
-    Returns
-    -------
-    double_hit_share : float
-        Share of the footprint (the lattice points over which a vertical ray meets the
-        structure, ground left out) where the ray meets a downward-facing face above the lowest
-        surface under it: free space with structure both above and below. 0 for a height field
-        (a box on the ground included).
-    downward_area_share : float
-        Share of the structure's visible area (ground and contact faces left out) facing down
-        (normal z < -1e-6). 0 for a height field.
-    """
-    if not isinstance(structure, Structure):
-        raise InvalidTypeError(f"expected a Structure, got {type(structure).__name__}")
-    vertices, faces = structure.surface.vertices, structure.surface.faces
-    normals, areas = face_normals(vertices, faces)
-    visible = structure.face_mask(include_ground=False)
-    solid = visible | (structure.face_parts == structure.part_names.index(CONTACT) if CONTACT in structure.part_names else visible)
-    down_area = float(areas[visible & (normals[:, 2] < -1e-6)].sum())
-    downward_share = down_area / float(areas[visible].sum())
-
-    lo = vertices[np.unique(faces[solid])].min(axis=0)
-    hi = vertices[np.unique(faces[solid])].max(axis=0)
-    side = float(max(hi[0] - lo[0], hi[1] - lo[1]))
-    step = side / 200.0 if resolution is None else as_positive_float(resolution, "resolution")
-    nx = max(1, int(np.ceil(cells_along(float(hi[0] - lo[0]), step, "resolution"))))
-    ny = max(1, int(np.ceil(cells_along(float(hi[1] - lo[1]), step, "resolution"))))
-    xs = lo[0] + (np.arange(nx) + 0.5) * (hi[0] - lo[0]) / nx
-    ys = lo[1] + (np.arange(ny) + 0.5) * (hi[1] - lo[1]) / ny
-    lowest = np.full((nx, ny), np.inf)
-    highest_down = np.full((nx, ny), -np.inf)
-    hit_solid = np.zeros((nx, ny), dtype=bool)
-    down = visible & (normals[:, 2] < -1e-6)
-    for f in np.nonzero(np.abs(normals[:, 2]) > 1e-9)[0]:
-        a, b, c = vertices[faces[f]]
-        i0, i1 = np.searchsorted(xs, min(a[0], b[0], c[0])), np.searchsorted(xs, max(a[0], b[0], c[0]), side="right")
-        j0, j1 = np.searchsorted(ys, min(a[1], b[1], c[1])), np.searchsorted(ys, max(a[1], b[1], c[1]), side="right")
-        if i0 >= i1 or j0 >= j1:
-            continue
-        px, py = np.meshgrid(xs[i0:i1], ys[j0:j1], indexing="ij")
-        det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
-        s = ((px - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (py - a[1])) / det
-        t = ((b[0] - a[0]) * (py - a[1]) - (px - a[0]) * (b[1] - a[1])) / det
-        inside = (s >= 0) & (t >= 0) & (s + t <= 1)
-        if not inside.any():
-            continue
-        z = a[2] + s * (b[2] - a[2]) + t * (c[2] - a[2])
-        block = (slice(i0, i1), slice(j0, j1))
-        lowest[block] = np.where(inside, np.minimum(lowest[block], z), lowest[block])
-        if solid[f]:
-            hit_solid[block] |= inside
-        if down[f]:
-            highest_down[block] = np.where(inside, np.maximum(highest_down[block], z), highest_down[block])
-    tolerance = 1e-6 * max(side, float(hi[2] - lo[2]), 1.0)
-    double = hit_solid & (highest_down > lowest + tolerance)
-    footprint = int(hit_solid.sum())
-    return (float(double.sum()) / footprint if footprint else 0.0, downward_share)
 
 
 MAX_MESH_BYTES = 512 * 1024 * 1024
