@@ -222,8 +222,7 @@ def dask_executor(
         Without ``scheduler``: start a local cluster of this many worker processes, one thread
         each (every core by default).
     timeout : float
-        Seconds to wait for the scheduler before giving up, in (0, 86400] (a day:
-        :data:`MAX_SCHEDULER_TIMEOUT_S`).
+        Seconds to wait for the scheduler before giving up, in (0, 86400] (a day).
 
     Yields
     ------
