@@ -4,6 +4,7 @@ refused before any foreign library sees them (issue 43, class 1), starts flown o
 from __future__ import annotations
 
 import importlib.util
+import warnings
 
 import numpy as np
 import pytest
@@ -443,3 +444,15 @@ def test_structures_far_apart_are_reconstructed_apart(gap: float, groups: int) -
     assert (volume < 2000.0 + 1e-6) if groups == 2 else (volume > 2000.0)
     lonely = StructurePrior(np.vstack([a, b[:5]]), np.vstack([na, nb[:5]]), "points")  # 5 points: too few alone
     assert len(separate_groups(lonely.points, lonely.spacing)) == 1
+
+
+def test_groups_of_points_spread_beyond_any_grid_are_kept_together() -> None:
+    from uavcov.structures._outer_surface import separate_groups
+
+    # Pairs 1e-9 m apart at coordinates up to 1e14 m: 15 spacings is a cell of 1.5e-8 m, whose
+    # keys would overflow; such points are not split (no warning, no error).
+    base = np.random.default_rng(0).uniform(-1e14, 1e14, (30, 3))
+    points = np.vstack([base, base + 1e-9])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(separate_groups(points, 1e-9)) == 1

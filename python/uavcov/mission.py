@@ -491,7 +491,8 @@ def run_mission(
 # the best mean on development seeds 1000-1007 (benches/structure_keep_out.py: 0.907 with the
 # vote everywhere, 0.922-0.925 within 1-4 spacings, the most at 4, 0.919 at 6; one start inside
 # a building at 1). Deep inside a large solid the vote is right however far the known points
-# are: 3 spacings left one start 3.01 spacings inside a building (report seed 5, docs/structures.md).
+# are: 3 spacings left one start inside a building, at a step 3.0 spacings from the nearest
+# known point (report seed 5, docs/structures.md).
 CVT_KEEP_OUT_SPACINGS = 4.0
 
 

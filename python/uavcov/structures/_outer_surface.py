@@ -354,17 +354,25 @@ def separate_groups(points: np.ndarray, spacing: float) -> list[np.ndarray]:
     group would be too small to reconstruct: fewer than :data:`MIN_GROUP_POINTS` distinct
     points, or no volume)."""
     everything = [np.arange(points.shape[0])]
-    if not spacing > 0.0:
-        return everything
     cell = SEPARATE_CELL_SPACINGS * spacing
-    key = np.floor((points - points.min(axis=0)) / cell).astype(np.int64)
-    occupied, point_cell = np.unique(key, axis=0, return_inverse=True)
-    point_cell = point_cell.reshape(-1)
-    if occupied.shape[0] < 2:
+    # Cells finer than 2^-40 of the extent say nothing (and their integer keys would overflow).
+    if not (spacing > 0.0 and float(np.ptp(points, axis=0).max()) < 2.0**40 * cell):
         return everything
+    label = _cell_components(points, cell)
+    groups = [np.flatnonzero(label == g) for g in range(int(label.max()) + 1)]
+    if len(groups) < 2 or not all(_reconstructable(points[group]) for group in groups):
+        return everything
+    return groups
+
+
+def _cell_components(points: np.ndarray, cell: float) -> np.ndarray:
+    """Per point, the label of its group of occupied ``cell``-sized cells joined through their
+    26 neighbours."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
+    key = np.floor((points - points.min(axis=0)) / cell).astype(np.int64)
+    occupied, point_cell = np.unique(key, axis=0, return_inverse=True)
     lookup = {tuple(k): i for i, k in enumerate(occupied.tolist())}
     rows, cols = [], []
     for i, k in enumerate(occupied.tolist()):
@@ -376,15 +384,13 @@ def separate_groups(points: np.ndarray, spacing: float) -> list[np.ndarray]:
                         rows.append(i)
                         cols.append(j)
     graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(occupied.shape[0],) * 2)
-    count, label = connected_components(graph, directed=False)
-    if count < 2:
-        return everything
-    groups = [np.flatnonzero(label[point_cell] == g) for g in range(count)]
-    for group in groups:
-        distinct = np.unique(points[group], axis=0)
-        if distinct.shape[0] < MIN_GROUP_POINTS:
-            return everything
-        spread = np.linalg.svd(distinct - distinct.mean(axis=0), compute_uv=False)
-        if not spread[2] > FLAT_SHARE * spread[0]:
-            return everything
-    return groups
+    _, label = connected_components(graph, directed=False)
+    return np.asarray(label[point_cell.reshape(-1)])
+
+
+def _reconstructable(points: np.ndarray) -> bool:
+    distinct = np.unique(points, axis=0)
+    if distinct.shape[0] < MIN_GROUP_POINTS:
+        return False
+    spread = np.linalg.svd(distinct - distinct.mean(axis=0), compute_uv=False)
+    return bool(spread[2] > FLAT_SHARE * spread[0])
