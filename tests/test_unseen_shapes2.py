@@ -199,6 +199,8 @@ def test_a_real_hole_beside_dropped_slivers_is_still_refused(tmp_path):
 
 
 def test_separate_buildings_give_separate_pieces_of_s_prime():
+    from uavcov.structures._structures import connected_faces
+
     # Three buildings 200 m apart: the Delaunay tetrahedra between them lie below the roofs,
     # whose known normals (up) vote them inside; S' had 8-19 times the buildings' area,
     # inventing faces 90-106 m from any, and the CVT start put the team there (coverage 0.000
@@ -207,17 +209,7 @@ def test_separate_buildings_give_separate_pieces_of_s_prime():
     approx = reconstruct_structure(sample_structure_prior(structure, 100, rng=0), rng=0)
     assert reconstruction_error(structure, approx, n_samples=4000, rng=0).area_ratio < 3.0
     # One closed piece per building, each wound outward.
-    assert len(np.unique(_pieces(approx))) == 3
-
-
-def _pieces(surface) -> np.ndarray:
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    faces = surface.faces
-    rows = np.repeat(np.arange(faces.shape[0]), 3)
-    incidence = coo_matrix((np.ones(rows.size), (rows, faces.ravel())), shape=(faces.shape[0], surface.n_vertices)).tocsr()
-    return connected_components(incidence @ incidence.T, directed=False)[1]
+    assert len(connected_faces(approx.faces, approx.n_vertices)) == 3
 
 
 # ---------------------------------------------------------------------------------------------
