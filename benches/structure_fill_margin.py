@@ -28,7 +28,8 @@ def measure(family: str, seed: int) -> tuple[float, float, float]:
     """(inward share, air share of S''s volume, H(S->S') m) of one structure's S'."""
     structure = STRUCTURE_FAMILIES[family](rng=seed)
     prior_rng = np.random.default_rng(seed).spawn(3)[0]
-    approx = reconstruct_structure(sample_structure_prior(structure, 100, rng=prior_rng), rng=prior_rng)
+    # S' through the known points, before its envelope (margin=0): what the fill makes.
+    approx = reconstruct_structure(sample_structure_prior(structure, 100, rng=prior_rng), margin=0.0, rng=prior_rng)
     error = reconstruction_error(structure, approx, n_samples=4000, rng=seed)
     box = np.random.default_rng(0).uniform(approx.bounds[0], approx.bounds[1], size=(AIR_SAMPLES, 3))
     in_approx = approx.inside(box, n_threads=1)

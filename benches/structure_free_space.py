@@ -138,8 +138,9 @@ def surface_maker(variant: str) -> Any:
             assert prior.normals is not None
             unit = prior.normals / np.linalg.norm(prior.normals, axis=1)[:, None]
             lifted = StructurePrior(prior.points + float(variant[len("lifted") :]) * unit, prior.normals, "points")
-            return reconstruct_structure(lifted, method="oriented")
-        return reconstruct_structure(prior, **kwargs) if variant == "oriented" else carved(prior, variant)
+            return reconstruct_structure(lifted, method="oriented", margin=0.0)
+        # S' through the known points, before its envelope (margin=0): what the carving changes.
+        return reconstruct_structure(prior, margin=0.0, **kwargs) if variant == "oriented" else carved(prior, variant)
 
     return make
 

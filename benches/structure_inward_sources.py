@@ -59,7 +59,8 @@ def _prior(family: str, seed: int, n: int) -> tuple[Any, Any, np.random.Generato
 
 def _reconstruct(prior: Any, method: str, prior_rng: np.random.Generator) -> Terrain:
     depth = {"poisson_depth": 8} if method == "poisson" else {}
-    return reconstruct_structure(prior, method=method, rng=prior_rng, **depth)
+    # S' through the known points, before its envelope (margin=0): where the inward faces come from.
+    return reconstruct_structure(prior, method=method, margin=0.0, rng=prior_rng, **depth)
 
 
 def measure(structure: Any, approx: Terrain, seed: int) -> np.ndarray:

@@ -68,7 +68,7 @@ def starts_only(reaches: list[float]) -> None:
         structure = experiment_module._structure(experiment, family, seed)
         prior_rng, start_rng, _ = np.random.default_rng(seed).spawn(3)  # run_mission's streams
         prior = sample_structure_prior(structure, experiment.n_prior, rng=prior_rng)
-        approx = reconstruct_structure(prior, rng=prior_rng)
+        approx = reconstruct_structure(prior, margin=0.0, rng=prior_rng)
         settings = CVTSettings(normal_weight=weight)
         tessellation = cvt(approx, experiment.n_uavs, settings, rng=start_rng, n_threads=1)
         anchors, normals = surface_normals(approx, tessellation.generators)
@@ -112,7 +112,7 @@ def zoo() -> None:
             for weight, offset in ((10.0, 3.0), (0.0, 6.0)):
                 prior_rng, start_rng, _ = np.random.default_rng(seed).spawn(3)
                 prior = sample_structure_prior(structure, 100, rng=prior_rng)
-                approx = reconstruct_structure(prior, rng=prior_rng)
+                approx = reconstruct_structure(prior, margin=0.0, rng=prior_rng)
                 settings = CVTSettings(normal_weight=weight)
                 tessellation = cvt(approx, 8, settings, rng=start_rng, n_threads=1)
                 anchors, normals = surface_normals(approx, tessellation.generators)
@@ -143,6 +143,8 @@ def main() -> None:
         return
     seeds = parse_seeds(args.seeds)
     experiment = experiment_module.StructuresExperiment()
+    # The reach was chosen on S' through the known points, before its envelope (margin=0).
+    uavcov.mission.reconstruct_structure = functools.partial(uavcov.mission.reconstruct_structure, margin=0.0)  # type: ignore[attr-defined]
     library = uavcov.mission._keep_out
     print("| start | reach (spacings) | " + " | ".join(experiment.families) + " | all | starts inside |")
     print("|---|---|" + "---|" * (len(experiment.families) + 2))

@@ -20,6 +20,7 @@ S' from which a start flown straight out along the normal by the experiment's of
 
     python scripts/structure_inward.py                      # development seeds 1000-1003
     python scripts/structure_inward.py --method alpha       # another method of reconstruct_structure
+    python scripts/structure_inward.py --margin 0           # S' through the points, no envelope
 """
 
 from __future__ import annotations
@@ -53,14 +54,14 @@ def _edge_label(edge: float) -> str:
     return "edge ?"
 
 
-def decompose(family: str, seed: int, method: str) -> dict[str, float]:
+def decompose(family: str, seed: int, method: str, margin: float | None = None) -> dict[str, float]:
     """Shares of S''s area (inward ones split several ways) for one structure and prior."""
     structure = STRUCTURE_FAMILIES[family](rng=seed)
     # The S' a mission with rng=seed flies on: run_mission draws its prior from the first of
     # three streams spawned from the seed.
     prior_rng = np.random.default_rng(seed).spawn(3)[0]
     prior = sample_structure_prior(structure, 100, rng=prior_rng)
-    approx = reconstruct_structure(prior, method=method, rng=prior_rng)
+    approx = reconstruct_structure(prior, method=method, margin=margin, rng=prior_rng)
     keep = _solid_faces(structure)
     solid = Terrain(structure.surface.vertices, structure.surface.faces[keep])
     solid_parts = np.asarray(structure.face_parts)[keep]
@@ -112,13 +113,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="1000-1003")
     parser.add_argument("--method", default="oriented")
+    parser.add_argument("--margin", default="default", help="metres S' is grown by (default: reconstruct_structure's)")
     parser.add_argument("--families", default=",".join(STRUCTURE_FAMILIES))
     args = parser.parse_args()
     seeds = parse_seeds(args.seeds)
     families = args.families.split(",")
-    results = {f: [decompose(f, s, args.method) for s in seeds] for f in families}
+    margin = None if args.margin == "default" else float(args.margin)
+    results = {f: [decompose(f, s, args.method, margin) for s in seeds] for f in families}
     keys = sorted({k for rows in results.values() for r in rows for k in r}, key=_order)
-    print(f"method {args.method!r}, seeds {args.seeds}: shares of S''s area, mean over the seeds\n")
+    print(f"method {args.method!r}, margin {args.margin}, seeds {args.seeds}: shares of S''s area, mean over the seeds\n")
     print("| | " + " | ".join(families) + " |")
     print("|---|" + "---|" * len(families))
     for key in keys:

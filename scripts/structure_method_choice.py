@@ -72,7 +72,7 @@ def external(method: str, prior: object) -> object:
 
     points, normals = np.asarray(prior.points), np.asarray(prior.normals)
     if method in ("poisson", "ball_pivoting"):
-        return reconstruct_structure(prior, method=method)
+        return reconstruct_structure(prior, method=method, margin=0.0)
     unit = normals / np.linalg.norm(normals, axis=1)[:, None]
     if method.startswith("winding"):
         import point_cloud_utils as pcu
@@ -121,7 +121,7 @@ def one(task: tuple[str, int, str, float]) -> tuple[str, int, str, float, float,
     prior_rng = np.random.default_rng(seed)
     try:
         prior = sample_structure_prior(structure, experiment.n_prior, rng=prior_rng)
-        surface = external(method, prior) if method in EXTERNAL else reconstruct_structure(prior, method=method, rng=prior_rng)
+        surface = external(method, prior) if method in EXTERNAL else reconstruct_structure(prior, method=method, margin=0.0, rng=prior_rng)
     except UavcovError:
         return family, seed, method, np.nan, np.nan, np.nan
     settings = MissionSettings(

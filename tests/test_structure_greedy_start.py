@@ -32,9 +32,24 @@ def _spec(altitude: float = 3.0, spacing: float = 3.0) -> StartSettings:
     return StartSettings(kind="greedy", altitude=altitude, altitude_reference="normal", greedy=GreedySettings(spacing=spacing))
 
 
+def _spread(surface: uavcov.Terrain, spacing: float) -> uavcov.Targets:
+    """S''s targets at one per spacing^2; on a mesh with more triangles than that (S' grown into its
+    envelope), the first of each cube of side ``spacing`` holding the cube's weight (a loop, as documented)."""
+    targets = surface.default_targets(density=1.0 / spacing**2)
+    if surface.n_faces <= surface.area / spacing**2:
+        return targets
+    low = targets.points.min(axis=0)
+    cubes: dict[tuple[int, ...], list] = {}
+    for point, weight in zip(targets.points, targets.weights, strict=True):
+        key = tuple(int(k) for k in np.floor((point - low) / spacing))
+        cubes.setdefault(key, [point, 0.0])[1] += weight
+    ordered = sorted(cubes.items())
+    return uavcov.Targets(np.array([p for _, (p, _) in ordered]), np.array([w for _, (_, w) in ordered]))
+
+
 def _candidates(surface: uavcov.Terrain, spacing: float, altitude: float, keep_out=None) -> np.ndarray:
     """The start's candidates rebuilt from the pieces it is documented to use (no flight box cut: the box is wide)."""
-    anchors, normals = surface_normals(surface, surface.default_targets(density=1.0 / spacing**2).points)
+    anchors, normals = surface_normals(surface, _spread(surface, spacing).points)
     return fly_out(surface, anchors, normals, altitude, floor=0.0, keep_out=keep_out)[0]
 
 
@@ -53,7 +68,9 @@ def test_the_greedy_start_stays_out_of_s_prime_and_the_box_and_keeps_its_separat
     gaps = np.linalg.norm(positions[:, None] - positions[None], axis=2)[np.triu_indices(8, 1)]
     assert gaps.min() >= 1.0
     # Its coverage is S''s, recounted independently of the seen-matrix; the picks are candidates.
-    assert placed.coverage == pytest.approx(uavcov.Visibility(surface, 15.0).coverage(np.ascontiguousarray(positions)), abs=1e-12)
+    assert surface.n_faces > 1000  # S' is the envelope: the start thins its points
+    recount = uavcov.Visibility(surface, 15.0, _spread(surface, 1.0)).coverage(np.ascontiguousarray(positions))
+    assert placed.coverage == pytest.approx(recount, abs=1e-12)
     candidates = _candidates(surface, 3.0, 3.0, prior.behind)
     assert all(np.isclose(candidates, p).all(axis=1).any() for p in positions)
     assert placed.coverage <= placed.bound + 1e-12
@@ -63,7 +80,7 @@ def test_the_first_pick_is_the_best_single_candidate_by_brute_force() -> None:
     box = _box()
     surface = reconstruct_structure(sample_structure_prior(box, 100, rng=0), rng=0)
     placed = structure_greedy_start(_spec(altitude=4.0, spacing=4.0), surface, box.surface, 1, 15.0, LIMITS)
-    vis = uavcov.Visibility(surface, 15.0)
+    vis = uavcov.Visibility(surface, 15.0, _spread(surface, 1.0))
     alone = [vis.coverage(np.ascontiguousarray(c[None])) for c in _candidates(surface, 4.0, 4.0)]
     assert placed.coverage == pytest.approx(max(alone), abs=1e-12)
 
@@ -79,9 +96,29 @@ def test_the_greedy_start_is_deterministic_and_ignores_the_thread_count() -> Non
     assert np.array_equal(runs[0], runs[1]) and np.array_equal(runs[0], runs[2])
 
 
+@pytest.mark.parametrize("spacing", [1.0, 2.0, 4.0])
+def test_the_start_weighs_as_many_points_as_the_area_asks_whatever_the_tessellation(spacing: float) -> None:
+    from uavcov.placement._starts import _spread as library_spread
+
+    prior = sample_structure_prior(_box(), 100, rng=4)
+    through, envelope = reconstruct_structure(prior, margin=0.0, rng=4), reconstruct_structure(prior, rng=4)
+    # At 1 m the surface through the points has fewer triangles than the area asks: its own targets.
+    assert through.n_faces < through.area
+    assert np.array_equal(library_spread(through, 1.0).points, through.default_targets(density=1.0).points)
+    spread = library_spread(envelope, spacing)
+    assert spread.weights.sum() == pytest.approx(envelope.area, rel=1e-9)
+    # A cube of side s holds at most about 3 s^2 of a surface that bends no tighter than the
+    # envelope, and the surface crosses every cube that holds a point.
+    assert envelope.area / (3.0 * spacing**2) <= len(spread) <= 3.0 * envelope.area / spacing**2
+    assert len(spread) < envelope.n_faces
+    mine = _spread(envelope, spacing)
+    assert np.allclose(spread.points[np.lexsort(spread.points.T[::-1])], mine.points[np.lexsort(mine.points.T[::-1])])
+
+
 def test_bad_greedy_starts_are_clear_errors() -> None:
     box = _box()
-    surface = reconstruct_structure(sample_structure_prior(box, 100, rng=0), rng=0)
+    # The surface through the points: its bottom at the ground, so a 1 m ceiling is under every candidate.
+    surface = reconstruct_structure(sample_structure_prior(box, 100, rng=0), margin=0.0, rng=0)
     with pytest.raises(InvalidInputError, match="d_max"):
         structure_greedy_start(_spec(), surface, box.surface, 8, None, LIMITS)
     with pytest.raises(InvalidInputError, match="altitude"):

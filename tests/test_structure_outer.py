@@ -55,7 +55,8 @@ def test_the_issue_box_gives_no_start_inside(seed: int) -> None:
 @pytest.mark.parametrize("seed", range(3))
 def test_the_alpha_shape_is_one_outward_shell_with_no_cavity(seed: int) -> None:
     box = issue_box()
-    surface = reconstruct_structure(sample_structure_prior(box, 100, rng=seed), rng=seed)
+    # The surface through the points (no envelope): the box holds it.
+    surface = reconstruct_structure(sample_structure_prior(box, 100, rng=seed), margin=0.0, rng=seed)
     error = reconstruction_error(box, surface, n_samples=4000, rng=seed)
     assert error.inward_area_share < 0.01
     # Closed: every edge in two faces, once each way; the volume is the hull's order, not a shell's.
@@ -437,7 +438,7 @@ def test_structures_far_apart_are_reconstructed_apart(gap: float, groups: int) -
     b, nb = _box_points((10.0 + gap, 0.0, 0.0), (20.0 + gap, 10.0, 10.0), 8, 1)
     prior = StructurePrior(np.vstack([a, b]), np.vstack([na, nb]), "points")
     assert len(separate_groups(prior.points, prior.spacing)) == groups
-    surface = reconstruct_structure(prior)
+    surface = reconstruct_structure(prior, margin=0.0)
     # Apart, S' is the two boxes (1000 m^3 each, up to their sampled corners); together, one
     # solid spanning the gap.
     volume = signed_volume(surface.vertices, surface.faces)

@@ -48,7 +48,7 @@ import numpy as np
 
 from .._validate import MAX_SAMPLES, as_count, as_generator, as_non_negative_float, as_positive_float, as_positive_int
 from ..cover import CoverageProblem, GreedyResult, GreedySettings, greedy_placement, surface_normals, viewpoint_lattice
-from ..engine import Terrain, Visibility
+from ..engine import Targets, Terrain, Visibility
 from ..errors import InfeasibleError, InvalidInputError, InvalidTypeError
 from ..limits import Constraints, feasibility
 from ._cvt import CVTResult, CVTSettings, cvt
@@ -447,7 +447,7 @@ def structure_greedy_start(
     started = time.perf_counter()
     limits = _structure_limits(constraints, terrain)
     spacing = spec.greedy.spacing
-    anchors, normals = surface_normals(approximation, approximation.default_targets(density=1.0 / spacing**2).points)
+    anchors, normals = surface_normals(approximation, _spread(approximation, spacing).points)
     floor = float(np.asarray(terrain.bounds)[0, 2])
     candidates, _ = fly_out(approximation, anchors, normals, spec.altitude, floor=floor, keep_out=keep_out, n_threads=n_threads)
     # fly_out keeps the standoff from S'; the flight box and the ceiling are known too. (The limits'
@@ -457,11 +457,30 @@ def structure_greedy_start(
     candidates = candidates[(x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax) & (z <= limits.z_max)]
     if candidates.shape[0] < n:
         raise InfeasibleError(f"only {candidates.shape[0]} of the greedy start's viewpoints around S' are admissible, {n} UAVs to place")
-    visibility = Visibility(approximation, d_max, n_threads=n_threads)
+    visibility = Visibility(approximation, d_max, _spread(approximation, 1.0), n_threads=n_threads)
     placed = greedy_placement(visibility, candidates, n, d_safe=limits.d_safe if spec.greedy.separation else 0.0, n_threads=n_threads)
     if placed.positions.shape[0] < n:
         raise InfeasibleError(f"the greedy start placed only {placed.positions.shape[0]} of {n} UAVs d_safe apart around S'")
     return replace(placed, offline_time_s=time.perf_counter() - started)
+
+
+def _spread(surface: Terrain, spacing: float) -> Targets:
+    """Points of ``surface`` about ``spacing`` metres apart, each weighted by the area it stands for.
+
+    The surface's own targets at one per ``spacing``^2 (:meth:`Terrain.default_targets`), which
+    give at least one point per triangle; on a mesh with more triangles than that (S' grown into
+    an envelope: thousands of triangles smaller than the spacing), one point per cube of side
+    ``spacing``, holding the cube's area, so that the greedy start weighs as many candidates
+    against as many targets as the area asks, whatever the tessellation.
+    """
+    targets = surface.default_targets(density=1.0 / spacing**2)
+    if surface.n_faces <= surface.area / spacing**2:
+        return targets
+    cells = np.floor((targets.points - targets.points.min(axis=0)) / spacing).astype(np.int64)
+    _, first, which = np.unique(cells, axis=0, return_index=True, return_inverse=True)
+    weights = np.zeros(first.size)
+    np.add.at(weights, which.reshape(-1), targets.weights)
+    return Targets(targets.points[first], weights)
 
 
 def _structure_start(

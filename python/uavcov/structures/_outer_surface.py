@@ -299,7 +299,7 @@ def _components(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     return np.asarray(label[: faces.shape[0]])
 
 
-def _is_closed(faces: np.ndarray) -> bool:
+def is_closed(faces: np.ndarray) -> bool:
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     _, counts = np.unique(np.sort(edges, axis=1), axis=0, return_counts=True)
     return bool((counts % 2 == 0).all())
@@ -318,7 +318,7 @@ def outer_shells(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray, no
 
     label = _components(faces, vertices.shape[0])
     pieces = [faces[label == q] for q in np.unique(label)]
-    closed = [_is_closed(piece) for piece in pieces]
+    closed = [is_closed(piece) for piece in pieces]
     kept = []
     for q, piece in enumerate(pieces):
         probe = vertices[piece[0, 0]][None, :]

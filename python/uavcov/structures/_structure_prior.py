@@ -29,8 +29,9 @@ from .._validate import (
 )
 from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError, InvalidTypeError, MissingExtraError
+from ._envelope import ENVELOPE_GAPS, envelope
 from ._facing import facing_into
-from ._outer_surface import alpha_solid, check_prior_points, normal_vote, oriented_solid, outer_shells, separate_groups
+from ._outer_surface import alpha_solid, check_prior_points, is_closed, normal_vote, oriented_solid, outer_shells, separate_groups
 from ._solids import box, face_normals, join, signed_volume
 from ._structures import CONTACT, Structure, connected_faces
 
@@ -361,6 +362,7 @@ def reconstruct_structure(
     clusters: int | None = None,
     poisson_depth: int = 6,
     min_points: int = MIN_POINTS,
+    margin: float | None = None,
     rng: Any = None,
 ) -> Terrain:
     """S', the surface the team is placed on, from a prior.
@@ -388,14 +390,23 @@ def reconstruct_structure(
         Octree depth of ``"poisson"``.
     min_points : int
         Fewer known points than this is too sparse (default 20).
+    margin : float, optional
+        Metres by which a surface made from points is grown outward into an envelope of the
+        structure (:mod:`uavcov.structures._envelope`): the structure bulges out of any surface
+        through its known points between them, and there S' would face into it. Default
+        :data:`~uavcov.structures._envelope.ENVELOPE_GAPS` (0.75) times the mean gap between
+        the known points on S' (``sqrt(area / n)``; 2-3.5 m for 100 points on the families of
+        :data:`STRUCTURE_FAMILIES`); 0 returns the surface through the points. A coarse model
+        (``"model"``) and an open surface (Open3D's sheets) are returned as they are.
     rng : None, int or numpy.random.Generator
         For ``"hulls"``' clustering.
 
     Returns
     -------
     Terrain
-        S' with outward normals: a closed mesh of positive volume for ``"alpha"``, ``"hulls"``
-        and ``"model"``; Open3D's surfaces are turned to agree with the points' normals.
+        S' with outward normals: a closed mesh of positive volume (the envelope, or with
+        ``margin=0`` the surface of ``"oriented"``, ``"alpha"`` and ``"hulls"``, or the model);
+        Open3D's surfaces with ``margin=0`` are turned to agree with the points' normals.
 
     Raises
     ------
@@ -414,6 +425,8 @@ def reconstruct_structure(
     clusters = None if clusters is None else as_count(clusters, "clusters", MAX_PRIOR_POINTS)
     poisson_depth = as_count(poisson_depth, "poisson_depth", 12)
     min_points = as_count(min_points, "min_points", MAX_PRIOR_POINTS, minimum=4)
+    # A margin past the coordinate bound would put the envelope's grid beyond it.
+    margin = None if margin is None else float(within_coordinate_bound(np.array([as_non_negative_float(margin, "margin")]), "margin")[0])
     generator = as_generator(rng)
     if method == "model" or (method == "auto" and prior.model is not None):
         if prior.model is None:
@@ -440,7 +453,11 @@ def reconstruct_structure(
         raise InvalidInputError(f"method={method!r} made no surface from {points.shape[0]} points")
     if method in ("oriented", "alpha", "hulls") and not signed_volume(vertices, faces) > 0:
         raise InvalidInputError(f"method={method!r} made a surface with no outward orientation")
-    return Terrain(vertices, faces, drop_degenerate=True)
+    surface = Terrain(vertices, faces, drop_degenerate=True)
+    if margin is None:
+        margin = ENVELOPE_GAPS * float(np.sqrt(surface.area / points.shape[0]))
+    # Open3D's open sheets have no inside to grow from: they are returned as they are.
+    return envelope(surface, margin) if margin > 0 and is_closed(surface.faces) else surface
 
 
 @dataclass(frozen=True)
