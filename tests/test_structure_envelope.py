@@ -25,7 +25,7 @@ def _grid(low: float, high: float, n: int) -> tuple[np.ndarray, np.ndarray, floa
     return np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1), np.full(3, low), float(axis[1] - axis[0])
 
 
-@pytest.mark.parametrize(("radius", "n"), [(1.5, 41), (0.7, 23), (1.9, 17)])
+@pytest.mark.parametrize("radius, n", [(1.5, 41), (0.7, 23), (1.9, 17)])
 def test_isosurface_of_a_sphere_is_closed_outward_and_on_it(radius: float, n: int) -> None:
     nodes, origin, step = _grid(-2.0, 2.0, n)
     vertices, faces = isosurface(np.linalg.norm(nodes, axis=-1) - radius, origin, step)
@@ -41,7 +41,9 @@ def test_isosurface_of_a_sphere_is_closed_outward_and_on_it(radius: float, n: in
 def test_isosurface_of_a_plane_is_exact_and_faces_up() -> None:
     nodes, origin, step = _grid(0.0, 4.0, 41)
     # A slab from 0.6 to 1.33 m, 2.4 m square: where one plane governs, linear along grid edges.
-    values = np.maximum.reduce([nodes[..., 2] - 1.33, 0.6 - nodes[..., 2], np.abs(nodes[..., 0] - 2) - 1.2, np.abs(nodes[..., 1] - 2) - 1.2])
+    values = np.maximum.reduce(
+        [nodes[..., 2] - 1.33, 0.6 - nodes[..., 2], np.abs(nodes[..., 0] - 2) - 1.2, np.abs(nodes[..., 1] - 2) - 1.2]
+    )
     vertices, faces = isosurface(values, origin, step)
     assert _edges_held_twice_opposite(faces)
     top = np.isclose(vertices[faces][:, :, 2], 1.33).all(axis=1)
@@ -53,12 +55,16 @@ def test_isosurface_of_a_plane_is_exact_and_faces_up() -> None:
 
 
 def _box(low: np.ndarray, high: np.ndarray) -> uavcov.Terrain:
-    corners = np.array([[low[0] if i & 1 == 0 else high[0], low[1] if i & 2 == 0 else high[1], low[2] if i & 4 == 0 else high[2]] for i in range(8)])
-    faces = np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4], [2, 6, 7], [2, 7, 3], [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5]])
+    corners = np.array(
+        [[low[0] if i & 1 == 0 else high[0], low[1] if i & 2 == 0 else high[1], low[2] if i & 4 == 0 else high[2]] for i in range(8)]
+    )
+    faces = np.array(
+        [[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4], [2, 6, 7], [2, 7, 3], [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5]]
+    )
     return uavcov.Terrain(corners, faces)
 
 
-@pytest.mark.parametrize(("size", "margin"), [((12.0, 9.0, 16.0), 3.0), ((1.0, 1.0, 1.0), 0.2), ((40.0, 2.0, 5.0), 1.0)])
+@pytest.mark.parametrize("size, margin", [((12.0, 9.0, 16.0), 3.0), ((1.0, 1.0, 1.0), 0.2), ((40.0, 2.0, 5.0), 1.0)])
 def test_envelope_of_a_box_holds_it_at_the_margin(size: tuple[float, float, float], margin: float) -> None:
     solid = _box(np.zeros(3), np.array(size))
     assert signed_volume(solid.vertices, solid.faces) > 0

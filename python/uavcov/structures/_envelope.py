@@ -3,7 +3,7 @@
 Known points lie on the structure, so a surface through them lies inside it wherever the
 structure bulges between them: a pier's foot below the lowest known point, a balcony's edge, a
 girder between two points of the deck. There S''s faces have a real part in front of them and
-face into the structure (``reconstruction_error(...).inward_area_share``; 7-17 % of S' for 100
+face into the structure (``reconstruction_error(...).inward_area_share``; 2-18 % of S' for 100
 known points on the families of :data:`STRUCTURE_FAMILIES`). The envelope is the set of points
 within ``margin`` of S''s solid, {x : signed distance to S' <= margin}; its boundary is sampled
 on a regular grid and triangulated by marching tetrahedra (each grid cube split into the six
@@ -26,8 +26,9 @@ ENVELOPE_GAPS = 0.75
 
 The least of 0.5, 0.6, 0.75, 0.9 and 1 that keeps the share of S' facing into the structure
 under 1 % on every family (development seeds 1000-1007; at 0.6 the girder bridge's is 1.4 %);
-the missions the structures experiment flies from S' are flat across them (mean best 0.909-0.930
-against 0.925-0.929 without an envelope): ``nice python benches/structure_envelope.py``."""
+the missions the structures experiment flies from S' move by 0.01 across them (mean best
+0.911-0.927 against 0.923-0.925 without an envelope): ``nice python benches/structure_envelope.py``
+(benches/README.md)."""
 
 MAX_ENVELOPE_NODES = 1 << 22
 """Most grid nodes the envelope samples (about 4.2 million, some 150 MB of work arrays): past

@@ -392,9 +392,9 @@ def reconstruct_structure(
         Fewer known points than this is too sparse (default 20).
     margin : float, optional
         Metres by which a surface made from points is grown outward into an envelope of the
-        structure (:mod:`uavcov.structures._envelope`): the structure bulges out of any surface
-        through its known points between them, and there S' would face into it. Default
-        :data:`~uavcov.structures._envelope.ENVELOPE_GAPS` (0.75) times the mean gap between
+        structure (the boundary of the points within ``margin`` of its solid, docs/structures.md):
+        the structure bulges out of any surface through its known points between them, and
+        there S' would face into it. Default 0.75 (``ENVELOPE_GAPS``) times the mean gap between
         the known points on S' (``sqrt(area / n)``; 2-3.5 m for 100 points on the families of
         :data:`STRUCTURE_FAMILIES`); 0 returns the surface through the points. A coarse model
         (``"model"``) and an open surface (Open3D's sheets) are returned as they are.
