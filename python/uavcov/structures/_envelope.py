@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import Terrain
+from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError
 from ._outer_surface import is_closed, outer_shells
 
@@ -57,7 +57,7 @@ def isosurface(values: np.ndarray, origin: np.ndarray, step: float) -> tuple[np.
     vertices : (v, 3) float64 ndarray
     faces : (f, 3) int64 ndarray
         Each triangle's normal points from the negative corners of its tetrahedron to the
-        positive ones.
+        positive ones; none has zero area.
     """
     shape = values.shape
     # A value at or near zero would put a vertex on (or a round-off from) a node, and the
@@ -98,11 +98,14 @@ def isosurface(values: np.ndarray, origin: np.ndarray, step: float) -> tuple[np.
     towards_out = (position * ~is_in[..., None]).sum(axis=1) / (~is_in).sum(axis=1, keepdims=True) - (position * is_in[..., None]).sum(
         axis=1
     ) / is_in.sum(axis=1, keepdims=True)
-    corners = vertices[faces]
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    backwards = np.einsum("ij,ij->i", normal, towards_out) < 0.0
+    # Normals from the engine (the one owner of mesh geometry); the values kept off zero leave no
+    # triangle of zero area, but one would be refused there, so any such is dropped first.
+    faces = faces.astype(np.int64)
+    kept = ~degenerate_faces(vertices, faces)
+    faces, towards_out = faces[kept], towards_out[kept]
+    backwards = np.einsum("ij,ij->i", Terrain(vertices, faces).face_normals, towards_out) < 0.0
     faces[backwards] = faces[backwards][:, ::-1]
-    return vertices, faces.astype(np.int64)
+    return vertices, faces
 
 
 def _grid_nodes(extent: np.ndarray, margin: float, step: float) -> int:
