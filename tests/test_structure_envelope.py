@@ -135,3 +135,20 @@ def test_margin_is_checked_and_zero_returns_the_surface_through_the_points() -> 
     grown = reconstruct_structure(prior, margin=2.0)
     assert grown.inside(through.vertices, n_threads=1).all()
     assert reconstruct_structure(prior, margin=2.0).vertices.tobytes() == grown.vertices.tobytes()  # deterministic
+
+
+@pytest.mark.parametrize("margin", [1e-300, 1e-12, 1e6])
+def test_extreme_margins_stay_within_the_grid_budget(margin: float) -> None:
+    import warnings
+
+    from uavcov.structures._envelope import MAX_ENVELOPE_NODES
+
+    solid = _box(np.zeros(3), np.array([12.0, 9.0, 16.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        grown = envelope(solid, margin)
+    assert _edges_held_twice_opposite(grown.faces)
+    assert grown.inside(solid.vertices, n_threads=1).all()
+    # Triangles of a closed level set on n nodes: well under 2 per node.
+    assert grown.n_faces < 2 * MAX_ENVELOPE_NODES
+    assert grown.bounds[1, 0] - 12.0 >= min(margin, 1e9) * (1 - 1e-9)

@@ -30,9 +30,10 @@ the missions the structures experiment flies from S' move by 0.01 across them (m
 0.911-0.927 against 0.923-0.925 without an envelope): ``nice python benches/structure_envelope.py``
 (benches/README.md)."""
 
-MAX_ENVELOPE_NODES = 1 << 22
-"""Most grid nodes the envelope samples (about 4.2 million, some 150 MB of work arrays): past
-it the grid is coarsened, and the margin raised to two grid steps."""
+MAX_ENVELOPE_NODES = 1 << 20
+"""Most grid nodes the envelope samples (about a million, some 40 MB of work arrays and an
+envelope of up to some 200,000 triangles): past it the grid is coarsened, and the margin raised
+to two grid steps. The families' envelopes at 100 known points take about 10,000."""
 
 # The unit cube's corners, corner k at (k & 1, k >> 1 & 1, k >> 2 & 1), and the six tetrahedra
 # of its Kuhn triangulation (all around the diagonal from corner 0 to corner 7).
@@ -108,9 +109,11 @@ def isosurface(values: np.ndarray, origin: np.ndarray, step: float) -> tuple[np.
     return vertices, faces
 
 
-def _grid_nodes(extent: np.ndarray, margin: float, step: float) -> int:
+def _grid_nodes(extent: np.ndarray, margin: float, step: float) -> float:
     # The margin and two more steps on every side: the outer nodes are outside, the level closed.
-    return int(np.prod(np.ceil((extent + 2.0 * margin + 4.0 * step) / step) + 1))
+    # In logarithms: a step of 1e-300 m would overflow the product.
+    per_axis = np.ceil((extent + 2.0 * margin + 4.0 * step) / step) + 1.0
+    return float(np.exp(np.log(per_axis).sum()))
 
 
 def envelope(surface: Terrain, margin: float, *, max_nodes: int = MAX_ENVELOPE_NODES, n_threads: int | None = 1) -> Terrain:
@@ -137,9 +140,11 @@ def envelope(surface: Terrain, margin: float, *, max_nodes: int = MAX_ENVELOPE_N
     if not is_closed(surface.faces):
         raise InvalidInputError("the envelope grows a closed surface; this one has open edges")
     extent = np.ptp(surface.bounds, axis=0)
-    step = margin / 2.0
+    # Half the margin, or the step that spreads the budget over the extent if that is coarser
+    # (then raised until the padded grid fits): checked before any node is allocated.
+    step = max(margin / 2.0, float(np.cbrt(np.prod(extent) / max_nodes)))
     while _grid_nodes(extent, max(margin, 2.0 * step), step) > max_nodes:
-        step *= 1.25  # the budget is checked before any node is allocated
+        step *= 1.25
     margin = max(margin, 2.0 * step)
     low = surface.bounds[0] - margin - 2.0 * step
     shape = tuple(int(n) for n in np.ceil((extent + 2.0 * margin + 4.0 * step) / step) + 1)
