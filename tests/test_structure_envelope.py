@@ -130,6 +130,9 @@ def test_margin_is_checked_and_zero_returns_the_surface_through_the_points() -> 
     for bad in (-1.0, float("nan"), float("inf"), 1e300, "2"):
         with pytest.raises((InvalidInputError, TypeError)):
             reconstruct_structure(prior, margin=bad)  # type: ignore[arg-type]
+    for past in (5e14, 9e14):  # within the coordinate bound, but S' grown by it is not
+        with pytest.raises(InvalidInputError, match="margin"):
+            reconstruct_structure(prior, margin=past)
     through = reconstruct_structure(prior, margin=0.0)
     assert through.n_faces < 500  # Delaunay faces of 60 points, no grid
     grown = reconstruct_structure(prior, margin=2.0)

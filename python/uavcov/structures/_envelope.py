@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validate import MAX_COORDINATE_M
 from ..engine import Terrain, degenerate_faces
 from ..errors import InvalidInputError
 from ._outer_surface import is_closed, outer_shells
@@ -146,6 +147,8 @@ def envelope(surface: Terrain, margin: float, *, max_nodes: int = MAX_ENVELOPE_N
     while _grid_nodes(extent, max(margin, 2.0 * step), step) > max_nodes:
         step *= 1.25
     margin = max(margin, 2.0 * step)
+    if float(np.abs(surface.bounds).max()) + margin + 3.0 * step > MAX_COORDINATE_M:
+        raise InvalidInputError(f"a margin of {margin:g} m grows S' past {MAX_COORDINATE_M:g} m from the origin, the engine's bound")
     low = surface.bounds[0] - margin - 2.0 * step
     shape = tuple(int(n) for n in np.ceil((extent + 2.0 * margin + 4.0 * step) / step) + 1)
     nodes = np.stack(np.meshgrid(*[low[k] + step * np.arange(shape[k]) for k in range(3)], indexing="ij"), axis=-1).reshape(-1, 3)
