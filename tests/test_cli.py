@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from tiny import TINY_TOML
-from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, main
+from uavcov.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE_CLOSED, EXIT_RUNS_FAILED, main
 from uavcov.experiments import available_cores, read_runs
 from uavcov.experiments._results import CONFIG_FORMAT
 
@@ -351,3 +351,27 @@ def test_version_and_help_texts_match_the_readme(capsys):
         main(["plan", "--help"])
     plan_help = " ".join(capsys.readouterr().out.split())
     assert "N sparse points (default full)" in plan_help
+
+
+def test_a_reader_that_goes_away_stops_the_command_without_a_word(tmp_path):
+    # `uavcov demo | head -1`: the reader closes the pipe after the first line.
+    command = [sys.executable, "-m", "uavcov", "demo", "--out", str(tmp_path / "demo")]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=_env())
+    assert process.stdout is not None and process.stdout.readline().startswith(b"uavcov demo")
+    process.stdout.close()
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == EXIT_PIPE_CLOSED == 141
+    assert err == b""
+
+
+def test_a_broken_pipe_that_is_not_standard_output_is_one_line_of_error(capsys):
+    from types import SimpleNamespace
+
+    from uavcov.cli import _run
+
+    def run(args):
+        raise BrokenPipeError(32, "Broken pipe")  # as a worker's pipe would
+
+    assert _run(SimpleNamespace(run=run, command="sweep")) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "uavcov sweep: error: BrokenPipeError" in err

@@ -22,20 +22,22 @@ Commands
 
 Exit codes: 0 done; 1 done, but some runs failed (their errors are in runs.csv); 2 bad input
 (nothing already in ``--out`` was changed); 130 interrupted (every finished run is in runs.csv;
-rerun with ``--resume``).
+rerun with ``--resume``); 141 the reader of the output went away (``uavcov ... | head``: the
+command stops without a word, as a program the closed pipe killed would).
 """
 
 from __future__ import annotations
 
+import os
 import sys
 import warnings
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from ._common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNS_FAILED, _one_line, _say
+from ._common import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE_CLOSED, EXIT_RUNS_FAILED, _one_line, _say
 from ._parser import _parser
 
-__all__ = ["main", "EXIT_OK", "EXIT_RUNS_FAILED", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED"]
+__all__ = ["main", "EXIT_OK", "EXIT_RUNS_FAILED", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_PIPE_CLOSED"]
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -66,6 +68,12 @@ def _run(args: Any) -> int:
     except UavcovError as exc:
         _say(f"uavcov {args.command}: error: {_one_line(exc)}")
         return EXIT_BAD_INPUT
+    except BrokenPipeError as exc:
+        if _stdout_closed():
+            _quiet_stdout()
+            return EXIT_PIPE_CLOSED
+        _say(f"uavcov {args.command}: error: {type(exc).__name__}: {_one_line(exc)}")  # another pipe broke
+        return EXIT_BAD_INPUT
     except (OSError, MemoryError) as exc:  # the system refused (disk full, no permission, no memory): one line too
         _say(f"uavcov {args.command}: error: {type(exc).__name__}: {_one_line(exc)}")
         return EXIT_BAD_INPUT
@@ -74,3 +82,32 @@ def _run(args: Any) -> int:
         where = f" in {out}/runs.csv" if out else ""
         _say(f"\ninterrupted: every finished run is saved{where}; rerun with --resume to continue")
         return EXIT_INTERRUPTED
+
+
+def _stdout_closed() -> bool:
+    """Whether standard output is a pipe whose reader went away (a broken pipe may also be
+    another one's): the kernel flags the writing end with an error."""
+    import select
+
+    try:
+        descriptor = sys.stdout.fileno()
+        watch = select.poll()
+        watch.register(descriptor, select.POLLOUT)
+        events = watch.poll(0)
+    except (AttributeError, OSError, ValueError):  # not a file (main() called with stdout captured)
+        return False
+    return any(event & (select.POLLERR | select.POLLHUP) for _, event in events)
+
+
+def _quiet_stdout() -> None:
+    """Point standard output at the null device: the reader went away, and the interpreter's own
+    flush at exit would raise the broken pipe again (Python's documented remedy)."""
+    try:
+        descriptor = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # not a file (main() called with stdout captured)
+        return
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, descriptor)
+    finally:
+        os.close(null)

@@ -15,6 +15,8 @@ EXIT_OK = 0
 EXIT_RUNS_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
+EXIT_PIPE_CLOSED = 141
+"""128 + SIGPIPE: what a shell reports for a program whose reader went away (``| head``)."""
 
 
 def _one_line(exc: BaseException) -> str:
