@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import (
+    MAX_COORDINATE_M,
     as_bool,
     as_count,
     as_generator,
@@ -425,8 +426,9 @@ def reconstruct_structure(
     clusters = None if clusters is None else as_count(clusters, "clusters", MAX_PRIOR_POINTS)
     poisson_depth = as_count(poisson_depth, "poisson_depth", 12)
     min_points = as_count(min_points, "min_points", MAX_PRIOR_POINTS, minimum=4)
-    # A margin past the coordinate bound would put the envelope's grid beyond it.
-    margin = None if margin is None else float(within_coordinate_bound(np.array([as_non_negative_float(margin, "margin")]), "margin")[0])
+    margin = None if margin is None else as_non_negative_float(margin, "margin")
+    if margin is not None and margin > MAX_COORDINATE_M:  # the envelope's grid would lie beyond the engine's bound
+        raise InvalidInputError(f"margin must be at most {MAX_COORDINATE_M:g} m, got {margin:g}")
     generator = as_generator(rng)
     if method == "model" or (method == "auto" and prior.model is not None):
         if prior.model is None:
